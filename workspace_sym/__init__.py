@@ -1,0 +1,61 @@
+"""workspace_sym: robot workspaces computed exactly or with proofs.
+
+The flat public API, so that a notebook writes ``ws.DHRobot(...)``::
+
+    import workspace_sym as ws
+    robot = ws.robots.build("glass-handling")
+    robot.to_str(robot.position[0])   # 'c1*(a1 + a2*c2 + a3*c23 + d5*s234)'
+"""
+
+from . import robots
+from .errors import (
+    BoxError,
+    ConstraintError,
+    DHTableError,
+    ExpressionError,
+    InvalidParameterError,
+    JointLimitError,
+    UnknownNameError,
+    WorkspaceError,
+)
+from .kinematics import (
+    AnalyticJacobian,
+    DHJoint,
+    DHRobot,
+    characteristic_polynomial,
+    dh_matrix,
+    eigenvalues_from_charpoly,
+    maximal_minor_factors,
+    numeric_function,
+)
+from .sampling import extent, reach_points, sample_joint_box, sweep_joints
+from .symbolic import factor_trig, shorthand, textbook
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "robots",
+    "WorkspaceError",
+    "BoxError",
+    "ConstraintError",
+    "DHTableError",
+    "ExpressionError",
+    "InvalidParameterError",
+    "JointLimitError",
+    "UnknownNameError",
+    "AnalyticJacobian",
+    "DHJoint",
+    "DHRobot",
+    "characteristic_polynomial",
+    "dh_matrix",
+    "eigenvalues_from_charpoly",
+    "maximal_minor_factors",
+    "numeric_function",
+    "extent",
+    "reach_points",
+    "sample_joint_box",
+    "sweep_joints",
+    "factor_trig",
+    "shorthand",
+    "textbook",
+]

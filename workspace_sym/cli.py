@@ -1,0 +1,203 @@
+"""The ``workspace-sym`` command line (INTERFACE.md is the contract).
+
+Every computing subcommand accepts ``--json``: stdout then holds exactly one JSON
+object, progress and warnings go to stderr.  Bad input exits with status 2 and
+one line on stderr; nothing is written to output paths in that case.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+import sympy as sp
+
+from . import robots
+from .errors import WorkspaceError
+from .kinematics import DHRobot
+
+__all__ = ["main", "build_parser"]
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with a one-line error and exit status 2, like every other bad input."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+def _emit_json(obj) -> None:
+    sys.stdout.write(json.dumps(obj, indent=2) + "\n")
+
+
+def _robot_from_args(args) -> DHRobot:
+    if args.dh is not None:
+        if args.robot is not None:
+            raise WorkspaceError(f"give either a catalog robot ({args.robot!r}) or --dh FILE, not both")
+        return DHRobot.from_file(args.dh)
+    if args.robot is None:
+        raise WorkspaceError("robot: name a catalog robot (see 'workspace-sym robots') or pass --dh FILE")
+    model = robots.build(args.robot)
+    if not isinstance(model, DHRobot):
+        raise WorkspaceError(f"robot {args.robot!r} is not a serial DH robot; fk and jacobian need one")
+    return model
+
+
+def _matrix_strings(M) -> list:
+    return [[sp.sstr(M[i, j]) for j in range(M.cols)] for i in range(M.rows)]
+
+
+# ------------------------------------------------------------------------------ subcommands
+def cmd_robots(args) -> int:
+    entries = robots.catalog()
+    if args.json:
+        _emit_json({"robots": [
+            {"name": e.name, "kind": e.kind, "source": e.source, "units": e.units, "summary": e.summary,
+             "parameters": {k: v for k, v in e.parameters.items()}, "limits": e.limits}
+            for e in entries]})
+        return 0
+    width = max(len(e.name) for e in entries)
+    for e in entries:
+        print(f"{e.name:<{width}}  {e.kind}")
+        print(f"{'':<{width}}  {e.summary}")
+        print(f"{'':<{width}}  source: {e.source}")
+        if e.parameters:
+            params = ", ".join(f"{k} = {v}" for k, v in e.parameters.items())
+            print(f"{'':<{width}}  parameters ({e.units}): {params}")
+        if e.limits:
+            print(f"{'':<{width}}  limits: {e.limits}")
+    return 0
+
+
+def cmd_fk(args) -> int:
+    robot = _robot_from_args(args)
+    start = time.perf_counter()
+    T = robot.fk()
+    seconds = time.perf_counter() - start
+    if args.json:
+        _emit_json({
+            "robot": robot.name,
+            "T": _matrix_strings(T),
+            "position": [sp.sstr(e) for e in robot.position],
+            "textbook": {"T": [[robot.to_str(T[i, j]) for j in range(4)] for i in range(4)],
+                         "position": [robot.to_str(e) for e in robot.position]},
+            "latex": {"T": robot.to_latex(T), "position": [robot.to_latex(e) for e in robot.position]},
+            "seconds": seconds,
+        })
+        return 0
+    if args.latex:
+        print(f"T_0^{robot.n} = {robot.to_latex(T)}")
+        return 0
+    print(f"{robot.name}: T_0^{robot.n} ({robot.convention} DH), c1 = cos(theta1), s23 = sin(theta2 + theta3)")
+    for i in range(3):
+        print(f"  row {i + 1}: " + " | ".join(robot.to_str(T[i, j]) for j in range(4)))
+    for name, e in zip("xyz", robot.position):
+        print(f"  {name} = {robot.to_str(e)}")
+    return 0
+
+
+def cmd_jacobian(args) -> int:
+    robot = _robot_from_args(args)
+    start = time.perf_counter()
+    extra = {}
+    if args.kind == "analytic":
+        aj = robot.analytic_jacobian(args.euler)
+        J = aj.J
+        singular = robot.singular_factors("geometric")
+        extra = {"euler": args.euler, "representation_singularity": sp.sstr(aj.singular_when) + " = 0",
+                 "note": aj.note}
+    else:
+        J = robot.geometric_jacobian
+        singular = robot.singular_factors("geometric")
+    seconds = time.perf_counter() - start
+    if args.json:
+        _emit_json({
+            "robot": robot.name,
+            "kind": args.kind,
+            "J": _matrix_strings(J),
+            "singular": [sp.sstr(f) for f in singular],
+            "textbook": {"J": [[robot.to_str(J[i, j]) for j in range(J.cols)] for i in range(J.rows)],
+                         "singular": [robot.to_str(f) for f in singular]},
+            "latex": {"J": robot.to_latex(J), "singular": [robot.to_latex(f) for f in singular]},
+            **extra,
+            "seconds": seconds,
+        })
+        return 0
+    if args.latex:
+        print(f"J = {robot.to_latex(J)}")
+        print("singular: " + r" \cdot ".join(robot.to_latex(f) for f in singular) + " = 0")
+        return 0
+    print(f"{robot.name}: {args.kind} Jacobian ({J.rows} x {J.cols})")
+    for j in range(J.cols):
+        print(f"  column {j + 1}: " + " | ".join(robot.to_str(J[i, j]) for i in range(J.rows)))
+    shown = " * ".join(robot.to_str(f) for f in singular) if singular else "(no hypersurface of rank loss)"
+    print(f"  singular where: {shown} = 0")
+    if extra:
+        print(f"  {extra['note']}")
+    return 0
+
+
+def cmd_demo(args) -> int:
+    from .report import dh_robot_report
+
+    out = Path(args.out)
+    start = time.perf_counter()
+    robot = robots.build("glass-handling")
+    path = dh_robot_report(robot, out)
+    seconds = time.perf_counter() - start
+    T = robot.fk()
+    print(f"glass-handling arm (paper 004), textbook form, {seconds:.2f} s:")
+    for name, e in zip("xyz", robot.position):
+        print(f"  {name} = {robot.to_str(e)}")
+    print("  rotation: " + " | ".join(robot.to_str(T[i, j]) for i in range(3) for j in range(3)))
+    print(f"report: {path}")
+    return 0
+
+
+# ------------------------------------------------------------------------------ parser
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="workspace-sym", description="Robot workspaces, exactly or with proofs.")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+
+    p = sub.add_parser("robots", help="list the catalog")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=cmd_robots)
+
+    for name, func, help_ in (("fk", cmd_fk, "forward kinematics T_0^n in textbook form"),
+                              ("jacobian", cmd_jacobian, "Jacobian and singular factors")):
+        p = sub.add_parser(name, help=help_)
+        p.add_argument("robot", nargs="?", help="catalog name (see 'robots')")
+        p.add_argument("--dh", metavar="FILE", help="DH table as JSON (see INTERFACE.md)")
+        p.add_argument("--latex", action="store_true", help="print LaTeX")
+        p.add_argument("--json", action="store_true", help="one JSON object on stdout")
+        if name == "jacobian":
+            p.add_argument("--kind", choices=("geometric", "analytic"), default="geometric")
+            p.add_argument("--euler", choices=("zyz", "rpy"), default="zyz",
+                           help="Euler convention of the analytic Jacobian")
+        p.set_defaults(func=func)
+
+    p = sub.add_parser("demo", help="the main job: write the demo report and print its path")
+    p.add_argument("--out", default="demo-report", help="output directory (default: demo-report)")
+    p.set_defaults(func=cmd_demo)
+    return parser
+
+
+def main(argv=None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return args.func(args)
+    except WorkspaceError as exc:
+        message = " ".join(str(exc).split())
+        print(f"workspace-sym {args.command}: error: {message}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print(f"workspace-sym {args.command}: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,67 @@
+"""Exceptions of workspace_sym.
+
+Every error a user can provoke with bad input derives from :class:`WorkspaceError`,
+and its message names the parameter, the value received and what was expected.
+The command line turns any of them into exit status 2 and one line on stderr.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "WorkspaceError",
+    "InvalidParameterError",
+    "DHTableError",
+    "ExpressionError",
+    "JointLimitError",
+    "UnknownNameError",
+    "ConstraintError",
+    "BoxError",
+]
+
+
+class WorkspaceError(ValueError):
+    """Root of every error raised by workspace_sym for bad input."""
+
+
+class InvalidParameterError(WorkspaceError):
+    """A scalar option is outside its allowed range or set."""
+
+
+class DHTableError(WorkspaceError):
+    """A Denavit-Hartenberg row or file is malformed."""
+
+
+class ExpressionError(WorkspaceError):
+    """A string could not be read as a SymPy expression."""
+
+
+class JointLimitError(WorkspaceError):
+    """Joint limits are inverted, non-finite or outside their range."""
+
+
+class UnknownNameError(WorkspaceError):
+    """A name (robot, convention, backend, ...) is not among the allowed ones."""
+
+
+class ConstraintError(WorkspaceError):
+    """A constraint is not an inequality or uses unknown symbols."""
+
+
+class BoxError(WorkspaceError):
+    """A box has inverted or non-finite bounds."""
+
+
+def check_choice(parameter: str, value, allowed) -> None:
+    """Raise :class:`UnknownNameError` unless ``value`` is one of ``allowed``.
+
+    Examples
+    --------
+    >>> check_choice("backend", "numpy", ("numpy", "mpmath"))
+    >>> check_choice("backend", "gpu", ("numpy", "mpmath"))
+    Traceback (most recent call last):
+    ...
+    workspace_sym.errors.UnknownNameError: backend must be one of 'numpy', 'mpmath'; got 'gpu'
+    """
+    if value not in allowed:
+        choices = ", ".join(repr(a) for a in allowed)
+        raise UnknownNameError(f"{parameter} must be one of {choices}; got {value!r}")

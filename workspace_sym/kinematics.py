@@ -1,0 +1,619 @@
+"""Serial robots from Denavit-Hartenberg tables, derived symbolically.
+
+Standard DH (METHODS.md section 1): ``A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)``.
+Modified (Craig) DH: ``A_i = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)``, where
+row ``i`` of the table holds ``alpha_{i-1}, a_{i-1}, theta_i, d_i``.
+
+Every result is a SymPy expression in textbook form (see :mod:`workspace_sym.symbolic`);
+the fast numeric evaluators are generated from those same expressions.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from functools import cached_property
+from itertools import combinations
+from pathlib import Path
+
+import numpy as np
+import sympy as sp
+from sympy.polys.matrices import DomainMatrix
+
+from .errors import DHTableError, InvalidParameterError, JointLimitError, check_choice
+from .expressions import is_finite_value, parse_angle, parse_expr
+from .symbolic import (
+    _reduce_pythagorean_symbols,
+    _to_polynomial,
+    factor_polynomial_trig,
+)
+from .symbolic import shorthand, shorthand_latex, shorthand_str, textbook, textbook_matrix
+
+__all__ = [
+    "DHJoint",
+    "DHRobot",
+    "AnalyticJacobian",
+    "dh_matrix",
+    "characteristic_polynomial",
+    "eigenvalues_from_charpoly",
+    "maximal_minor_factors",
+    "numeric_function",
+    "CONVENTIONS",
+    "EULER_CONVENTIONS",
+]
+
+CONVENTIONS = ("standard", "modified")
+EULER_CONVENTIONS = ("zyz", "rpy")
+JOINT_KINDS = ("R", "P")
+
+
+def _rz(t):
+    c, s = sp.cos(t), sp.sin(t)
+    return sp.Matrix([[c, -s, 0, 0], [s, c, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]])
+
+
+def _rx(t):
+    c, s = sp.cos(t), sp.sin(t)
+    return sp.Matrix([[1, 0, 0, 0], [0, c, -s, 0], [0, s, c, 0], [0, 0, 0, 1]])
+
+
+def _translate(x=0, y=0, z=0):
+    return sp.Matrix([[1, 0, 0, x], [0, 1, 0, y], [0, 0, 1, z], [0, 0, 0, 1]])
+
+
+def dh_matrix(theta, d, a, alpha, *, convention: str = "standard") -> sp.Matrix:
+    """Homogeneous transform of one DH row.
+
+    For ``convention="modified"`` the arguments are ``theta_i, d_i, a_{i-1}, alpha_{i-1}``.
+
+    Examples
+    --------
+    >>> t = sp.Symbol("t")
+    >>> dh_matrix(t, 0, 1, 0)
+    Matrix([
+    [cos(t), -sin(t), 0, cos(t)],
+    [sin(t),  cos(t), 0, sin(t)],
+    [     0,       0, 1,      0],
+    [     0,       0, 0,      1]])
+    """
+    check_choice("convention", convention, CONVENTIONS)
+    if convention == "standard":
+        return _rz(theta) * _translate(z=d) * _translate(x=a) * _rx(alpha)
+    return _rx(alpha) * _translate(x=a) * _rz(theta) * _translate(z=d)
+
+
+@dataclass(frozen=True, slots=True)
+class DHJoint:
+    """One row of a DH table.
+
+    ``theta`` and ``d`` are full expressions: for a revolute joint ``theta``
+    contains the joint variable (``theta_i`` plus any offset), for a prismatic
+    joint ``d`` does.  ``limits`` are in radians (revolute) or length units
+    (prismatic); ``None`` means unlimited.
+    """
+
+    kind: str
+    theta: sp.Expr
+    d: sp.Expr
+    a: sp.Expr
+    alpha: sp.Expr
+    variable: sp.Symbol
+    limits: tuple[sp.Expr, sp.Expr] | None = None
+
+    def __post_init__(self):
+        check_choice("joint type", self.kind, JOINT_KINDS)
+        moving = self.theta if self.kind == "R" else self.d
+        if not moving.has(self.variable):
+            raise DHTableError(
+                f"{'theta' if self.kind == 'R' else 'd'} of a {self.kind} joint must contain its variable "
+                f"{self.variable}; got {moving}"
+            )
+        if self.limits is not None:
+            lo, hi = self.limits
+            for name, v in (("lower", lo), ("upper", hi)):
+                if not v.is_number or not is_finite_value(v):
+                    raise JointLimitError(f"{name} limit of joint {self.variable} must be a finite number; got {v}")
+            if not bool(lo < hi):
+                raise JointLimitError(
+                    f"upper limit of joint {self.variable} ({hi}) must exceed its lower limit ({lo})"
+                )
+
+    @classmethod
+    def revolute(cls, index: int, *, d=0, a=0, alpha=0, offset=0, limits=None, variable=None) -> "DHJoint":
+        """Revolute joint ``index`` (1-based) with variable ``theta{index}``."""
+        q = variable if variable is not None else sp.Symbol(f"theta{index}")
+        return cls("R", q + sp.sympify(offset), sp.sympify(d), sp.sympify(a), sp.sympify(alpha), q,
+                   _limits(limits))
+
+    @classmethod
+    def prismatic(cls, index: int, *, theta=0, a=0, alpha=0, offset=0, limits=None, variable=None) -> "DHJoint":
+        """Prismatic joint ``index`` (1-based) with variable ``d{index}``."""
+        q = variable if variable is not None else sp.Symbol(f"d{index}")
+        return cls("P", sp.sympify(theta), q + sp.sympify(offset), sp.sympify(a), sp.sympify(alpha), q,
+                   _limits(limits))
+
+    def __repr__(self) -> str:
+        lim = "" if self.limits is None else f", limits=[{self.limits[0]}, {self.limits[1]}]"
+        return f"DHJoint({self.kind}: theta={self.theta}, d={self.d}, a={self.a}, alpha={self.alpha}{lim})"
+
+
+def _limits(limits):
+    if limits is None:
+        return None
+    lo, hi = limits
+    return (sp.sympify(lo), sp.sympify(hi))
+
+
+@dataclass(frozen=True, slots=True)
+class AnalyticJacobian:
+    """Analytic Jacobian ``[v; d(angles)/dt] = J q_dot`` for one Euler convention.
+
+    ``angles`` are the three Euler angles as functions of the joint variables,
+    ``singular_when`` an expression whose zero set is the representation
+    singularity (where the angle rates are undefined although the geometric
+    Jacobian is fine).
+    """
+
+    convention: str
+    J: sp.Matrix
+    angles: tuple[sp.Expr, sp.Expr, sp.Expr]
+    singular_when: sp.Expr
+    note: str
+
+
+class DHRobot:
+    """A serial robot described by a DH table.
+
+    Parameters
+    ----------
+    joints : sequence of DHJoint
+    convention : {"standard", "modified"}
+    name : str
+    parameters : dict, optional
+        Default numeric values for the symbolic lengths, used by the numeric
+        evaluators and plots (``{Symbol("a2"): 0.25, ...}``).
+    units : str
+        Length unit of the table and the parameters.
+
+    Examples
+    --------
+    >>> robot = DHRobot([DHJoint.revolute(1, a=1), DHJoint.revolute(2, a=1)])
+    >>> robot.position
+    Matrix([
+    [cos(theta1) + cos(theta1 + theta2)],
+    [sin(theta1) + sin(theta1 + theta2)],
+    [                                 0]])
+    """
+
+    def __init__(self, joints, *, convention: str = "standard", name: str = "robot",
+                 parameters: dict | None = None, units: str = "m"):
+        check_choice("convention", convention, CONVENTIONS)
+        joints = tuple(joints)
+        if not joints:
+            raise DHTableError("joints: a robot needs at least one joint; got an empty table")
+        variables = [j.variable for j in joints]
+        if len(set(variables)) != len(variables):
+            raise DHTableError(f"joint variables must be distinct; got {variables}")
+        self.joints = joints
+        self.convention = convention
+        self.name = name
+        self.units = units
+        self.parameters = {sp.Symbol(str(k)) if isinstance(k, str) else k: v for k, v in (parameters or {}).items()}
+        clash = set(self.parameters) & set(variables)
+        if clash:
+            raise DHTableError(f"parameters {sorted(map(str, clash))} are joint variables, not constants")
+
+    # ------------------------------------------------------------------ construction
+    @classmethod
+    def from_dict(cls, data: dict, *, name: str = "robot") -> "DHRobot":
+        """Build a robot from the DH-file dictionary of INTERFACE.md.
+
+        ``{"convention": "standard" | "modified", "angles": "degrees" | "radians",
+        "joints": [{"type": "R" | "P", "theta": ..., "d": ..., "a": ..., "alpha": ...,
+        "limits": [lo, hi]}], "parameters": {"a2": 0.25}}``.  Plain numbers for
+        angles (theta offsets, alpha, revolute limits) are degrees unless
+        ``"angles": "radians"``; expressions containing ``pi`` or symbols are radians.
+        For a revolute joint ``theta`` is an offset added to ``theta{i}`` unless it
+        already contains that variable; likewise ``d`` for a prismatic joint.
+        """
+        if not isinstance(data, dict):
+            raise DHTableError(f"DH description must be a JSON object; got {type(data).__name__}")
+        convention = data.get("convention", "standard")
+        check_choice("convention", convention, CONVENTIONS)
+        unit = data.get("angles", "degrees")
+        check_choice("angles", unit, ("degrees", "radians"))
+        degrees = unit == "degrees"
+        rows = data.get("joints")
+        if not isinstance(rows, list) or not rows:
+            raise DHTableError(f"joints: expected a non-empty list of DH rows; got {rows!r}")
+        joints = []
+        for i, row in enumerate(rows, start=1):
+            if not isinstance(row, dict):
+                raise DHTableError(f"joint {i}: expected an object with type, theta, d, a, alpha; got {row!r}")
+            kind = row.get("type", "R")
+            if kind not in JOINT_KINDS:
+                raise DHTableError(f"joint {i}: type must be 'R' or 'P'; got {kind!r}")
+            required = ("d", "a", "alpha") if kind == "R" else ("theta", "a", "alpha")
+            missing = [k for k in required if k not in row]
+            if missing:
+                raise DHTableError(f"joint {i}: missing field {missing[0]!r} (a DH row needs {', '.join(required)})")
+            unknown = set(row) - {"type", "theta", "d", "a", "alpha", "limits", "variable"}
+            if unknown:
+                raise DHTableError(f"joint {i}: unknown field {sorted(unknown)[0]!r}")
+            q = sp.Symbol(row["variable"]) if "variable" in row else sp.Symbol(f"theta{i}" if kind == "R" else f"d{i}")
+            a = parse_expr(row["a"], f"joint {i} a")
+            alpha = parse_angle(row["alpha"], f"joint {i} alpha", degrees=degrees)
+            if kind == "R":
+                theta = parse_angle(row.get("theta", 0), f"joint {i} theta", degrees=degrees)
+                theta = theta if theta.has(q) else q + theta
+                d = parse_expr(row["d"], f"joint {i} d")
+            else:
+                theta = parse_angle(row["theta"], f"joint {i} theta", degrees=degrees)
+                d = parse_expr(row.get("d", 0), f"joint {i} d")
+                d = d if d.has(q) else q + d
+            limits = row.get("limits")
+            if limits is not None:
+                if not isinstance(limits, (list, tuple)) or len(limits) != 2:
+                    raise JointLimitError(f"joint {i} limits: expected [lower, upper]; got {limits!r}")
+                if kind == "R":
+                    limits = tuple(parse_angle(v, f"joint {i} limits", degrees=degrees) for v in limits)
+                else:
+                    limits = tuple(parse_expr(v, f"joint {i} limits") for v in limits)
+                for name_, v in zip(("lower", "upper"), limits):
+                    if not v.is_number or not is_finite_value(v):
+                        raise JointLimitError(f"joint {i} {name_} limit must be a finite number; got {v}")
+                if not bool(limits[0] < limits[1]):
+                    shown = [row["limits"][0], row["limits"][1]]
+                    raise JointLimitError(
+                        f"upper limit of joint {i} ({shown[1]}) must exceed its lower limit ({shown[0]})"
+                    )
+            joints.append(DHJoint(kind, theta, d, a, alpha, q, limits))
+        params = {}
+        for k, v in (data.get("parameters") or {}).items():
+            params[sp.Symbol(k)] = float(parse_expr(v, f"parameter {k}"))
+        return cls(joints, convention=convention, name=data.get("name", name), parameters=params,
+                   units=data.get("units", "m"))
+
+    @classmethod
+    def from_file(cls, path) -> "DHRobot":
+        """Read a DH JSON file (see :meth:`from_dict`)."""
+        path = Path(path)
+        try:
+            text = path.read_text()
+        except OSError as exc:
+            raise DHTableError(f"--dh: cannot read {str(path)!r}: {exc.strerror}") from exc
+        try:
+            data = json.loads(text)
+        except json.JSONDecodeError as exc:
+            raise DHTableError(f"--dh: {str(path)!r} is not valid JSON ({exc.msg} at line {exc.lineno})") from exc
+        return cls.from_dict(data, name=path.stem)
+
+    # ------------------------------------------------------------------ basics
+    @property
+    def n(self) -> int:
+        """Number of joints."""
+        return len(self.joints)
+
+    @property
+    def q(self) -> tuple[sp.Symbol, ...]:
+        """Joint variables in order."""
+        return tuple(j.variable for j in self.joints)
+
+    @property
+    def symbols(self) -> set[sp.Symbol]:
+        """Symbolic constants of the table (lengths, offsets)."""
+        out = set()
+        for j in self.joints:
+            for e in (j.theta, j.d, j.a, j.alpha):
+                out |= e.free_symbols
+        return out - set(self.q)
+
+    def __repr__(self) -> str:
+        return f"DHRobot({self.name!r}, {self.n} joints, {self.convention} DH)"
+
+    def _row_matrix(self, k: int) -> sp.Matrix:
+        j = self.joints[k]
+        if self.convention == "standard":
+            return dh_matrix(j.theta, j.d, j.a, j.alpha)
+        return dh_matrix(j.theta, j.d, j.a, j.alpha, convention="modified")
+
+    # ------------------------------------------------------------------ forward kinematics
+    @cached_property
+    def transforms(self) -> tuple[sp.Matrix, ...]:
+        """``(T_0^1, ..., T_0^n)`` in textbook form."""
+        out = []
+        T = sp.eye(4)
+        for k in range(self.n):
+            T = textbook_matrix(T * self._row_matrix(k))
+            out.append(T)
+        return tuple(out)
+
+    def fk(self, k: int | None = None) -> sp.Matrix:
+        """``T_0^k`` (``k = n`` by default, ``k = 0`` is the identity)."""
+        k = self.n if k is None else k
+        if not 0 <= k <= self.n:
+            raise InvalidParameterError(f"k must be between 0 and {self.n}; got {k}")
+        return sp.eye(4) if k == 0 else self.transforms[k - 1]
+
+    @property
+    def position(self) -> sp.Matrix:
+        """Position of the end-effector, a 3x1 matrix."""
+        return self.fk()[:3, 3]
+
+    @property
+    def rotation(self) -> sp.Matrix:
+        """Orientation of the end-effector, a 3x3 matrix."""
+        return self.fk()[:3, :3]
+
+    # ------------------------------------------------------------------ Jacobians
+    def _axis_frames(self):
+        """(z, o) of each joint axis in the base frame."""
+        frames = []
+        for k in range(self.n):
+            # Standard DH: joint k+1 moves about z_k of frame k; modified: about z of frame k+1.
+            T = self.fk(k) if self.convention == "standard" else self.fk(k + 1)
+            frames.append((T[:3, 2], T[:3, 3]))
+        return frames
+
+    @cached_property
+    def geometric_jacobian(self) -> sp.Matrix:
+        """6 x n geometric Jacobian ``[v; omega] = J q_dot``, built column by column.
+
+        Revolute column ``[z x (p - o); z]``, prismatic ``[z; 0]``.
+        """
+        p = self.position
+        cols = []
+        for joint, (z, o) in zip(self.joints, self._axis_frames()):
+            if joint.kind == "R":
+                v = z.cross(p - o)
+                col = list(v) + list(z)
+            else:
+                col = list(z) + [0, 0, 0]
+            cols.append([textbook(e) for e in col])
+        return sp.Matrix(cols).T
+
+    @property
+    def position_jacobian(self) -> sp.Matrix:
+        """3 x n Jacobian of the end-effector position (top rows of the geometric one)."""
+        return self.geometric_jacobian[:3, :]
+
+    def analytic_jacobian(self, convention: str = "zyz") -> AnalyticJacobian:
+        """Analytic Jacobian for ZYZ Euler angles or roll-pitch-yaw (ZYX).
+
+        The angle rows are obtained by differentiating the closed-form angles
+        (``atan2`` of rotation entries), ``d atan2(Y, X) = (X dY - Y dX) / (X^2 + Y^2)``.
+
+        ZYZ, ``R = Rz(phi) Ry(theta) Rz(psi)``: ``phi = atan2(r23, r13)``,
+        ``theta = atan2(sqrt(r13^2 + r23^2), r33)``, ``psi = atan2(r32, -r31)``;
+        singular where ``sin(theta) = 0`` (``r13 = r23 = 0``).
+        Roll-pitch-yaw, ``R = Rz(phi) Ry(theta) Rx(psi)``: ``phi = atan2(r21, r11)``,
+        ``theta = atan2(-r31, sqrt(r11^2 + r21^2))``, ``psi = atan2(r32, r33)``;
+        singular where ``cos(theta) = 0`` (``r11 = r21 = 0``).  The angles of
+        paper 004 (its section 6) are this set with the pitch of opposite sign.
+        """
+        check_choice("convention", convention, EULER_CONVENTIONS)
+        R = self.rotation
+        if convention == "zyz":
+            S = sp.sqrt(textbook(R[0, 2] ** 2 + R[1, 2] ** 2))
+            pairs = [(R[1, 2], R[0, 2]), (S, R[2, 2]), (R[2, 1], -R[2, 0])]
+            singular = textbook(R[0, 2] ** 2 + R[1, 2] ** 2)
+            note = "ZYZ angles are undefined where sin(theta) = 0: r13 = r23 = 0 (z axes of base and tool parallel)."
+        else:
+            S = sp.sqrt(textbook(R[0, 0] ** 2 + R[1, 0] ** 2))
+            pairs = [(R[1, 0], R[0, 0]), (-R[2, 0], S), (R[2, 1], R[2, 2])]
+            singular = textbook(R[0, 0] ** 2 + R[1, 0] ** 2)
+            note = "Roll-pitch-yaw angles are undefined where cos(pitch) = 0: r11 = r21 = 0 (gimbal lock)."
+        angles = tuple(sp.atan2(Y, X) for Y, X in pairs)
+        rows = []
+        for Y, X in pairs:
+            den = textbook(X ** 2 + Y ** 2)
+            row = []
+            for q in self.q:
+                num = textbook(X * sp.diff(Y, q) - Y * sp.diff(X, q))
+                row.append(_quotient(num, den))
+            rows.append(row)
+        J = sp.Matrix.vstack(self.position_jacobian, sp.Matrix(rows))
+        return AnalyticJacobian(convention, J, angles, singular, note)
+
+    def jacobian(self, kind: str = "geometric") -> sp.Matrix:
+        """``"geometric"``, ``"position"`` or ``"analytic"`` (ZYZ) Jacobian."""
+        check_choice("kind", kind, ("geometric", "position", "analytic"))
+        if kind == "geometric":
+            return self.geometric_jacobian
+        if kind == "position":
+            return self.position_jacobian
+        return self.analytic_jacobian().J
+
+    def singular_factors(self, kind: str = "geometric") -> list[sp.Expr]:
+        """Factors whose vanishing makes the Jacobian lose rank.
+
+        For a square Jacobian of full generic rank, the factors of ``det J``;
+        otherwise the factors common to every maximal (generic-rank) minor.
+        """
+        return maximal_minor_factors(self.jacobian(kind), self.q, self.parameters)
+
+    # ------------------------------------------------------------------ printing
+    def shorthand(self, expr) -> sp.Expr:
+        """``expr`` with ``c_i``, ``s_ij`` symbols for this robot's joint variables."""
+        return shorthand(expr, self.q)
+
+    def to_str(self, expr) -> str:
+        """Textbook string with shorthand, e.g. ``c1*(a1 + a2*c2 + a3*c23 + d5*s234)``."""
+        return shorthand_str(expr, self.q)
+
+    def to_latex(self, expr, *, short: bool = True) -> str:
+        """LaTeX of any result, with ``c_{23}`` shorthand when ``short``."""
+        return shorthand_latex(expr, self.q, short=short)
+
+    # ------------------------------------------------------------------ numbers
+    def substitute(self, expr, parameters: dict | None = None):
+        """``expr`` with the default (or given) numeric parameters substituted."""
+        params = self.parameters if parameters is None else {sp.Symbol(str(k)): v for k, v in parameters.items()}
+        return sp.sympify(expr).xreplace({k: sp.Float(v) if isinstance(v, float) else v for k, v in params.items()})
+
+    def numeric(self, expr, parameters: dict | None = None):
+        """Vectorised evaluator of ``expr`` over configurations (see :func:`numeric_function`)."""
+        return numeric_function(self.substitute(expr, parameters), self.q)
+
+    @cached_property
+    def fk_numeric(self):
+        """``f(q) -> (N, 4, 4)`` array of ``T_0^n`` for ``q`` of shape ``(N, n)``, default parameters."""
+        return self.numeric(self.fk())
+
+    @cached_property
+    def jacobian_numeric(self):
+        """``f(q) -> (N, 6, n)`` geometric Jacobians, default parameters."""
+        return self.numeric(self.geometric_jacobian)
+
+    def joint_limits(self, default: float = math.pi) -> np.ndarray:
+        """``(n, 2)`` float array of limits; unlimited joints get ``[-default, default]``."""
+        out = np.empty((self.n, 2))
+        for k, j in enumerate(self.joints):
+            out[k] = (-default, default) if j.limits is None else (float(j.limits[0]), float(j.limits[1]))
+        return out
+
+
+def numeric_function(expr, variables):
+    """Vectorised numpy function generated from a SymPy expression or matrix.
+
+    The returned callable takes ``q`` of shape ``(N, n)`` (or ``(n,)``) and returns
+    an array of shape ``(N, *expr.shape)`` (or ``expr.shape``).  Common
+    subexpressions are shared, so a million configurations cost one pass.
+
+    Examples
+    --------
+    >>> t = sp.symbols("t1 t2")
+    >>> f = numeric_function(sp.Matrix([sp.cos(t[0]) + t[1]]), t)
+    >>> f(np.array([[0.0, 1.0], [np.pi, 0.0]]))[:, 0, 0]
+    array([ 2., -1.])
+    """
+    M = sp.Matrix(expr) if not isinstance(expr, sp.MatrixBase) else expr
+    free = M.free_symbols - set(variables)
+    if free:
+        raise InvalidParameterError(
+            f"parameters: no numeric value for {sorted(map(str, free))}; pass parameters={{...}}"
+        )
+    shape = M.shape
+    entries = list(M)
+    fn = sp.lambdify(list(variables), entries, modules="numpy", cse=True)
+
+    def evaluate(q):
+        q = np.asarray(q, dtype=float)
+        single = q.ndim == 1
+        q2 = np.atleast_2d(q)
+        if q2.shape[-1] != len(variables):
+            raise InvalidParameterError(f"q: expected {len(variables)} joint values per row; got shape {q.shape}")
+        values = fn(*q2.T)
+        out = np.empty((q2.shape[0], len(entries)))
+        for k, v in enumerate(values):
+            out[:, k] = v
+        out = out.reshape((q2.shape[0],) + shape)
+        return out[0] if single else out
+
+    evaluate.expr = M
+    return evaluate
+
+
+def characteristic_polynomial(M, lam: sp.Symbol | None = None, *, gram: bool = False,
+                              simplify=textbook) -> sp.Poly:
+    """``det(lambda I - M)`` (or of ``M M^T`` when ``gram``) as a polynomial in lambda.
+
+    Coefficients are simplified with ``simplify`` (textbook form by default;
+    pass ``sympy.factor`` for rational functions or ``None`` to keep them raw).
+
+    Examples
+    --------
+    >>> lam = sp.Symbol("lambda")
+    >>> characteristic_polynomial(sp.Matrix([[2, 0], [0, 3]]), lam).as_expr()
+    lambda**2 - 5*lambda + 6
+    """
+    M = sp.Matrix(M)
+    if gram:
+        M = M * M.T
+    if M.rows != M.cols:
+        raise InvalidParameterError(f"M: the characteristic polynomial needs a square matrix; got {M.shape}")
+    lam = lam if lam is not None else sp.Symbol("lambda")
+    p = M.charpoly(lam)
+    if simplify is None:
+        return p
+    coeffs = [simplify(c) for c in p.all_coeffs()]
+    return sp.Poly.from_list(coeffs, lam)
+
+
+def eigenvalues_from_charpoly(poly: sp.Poly, values: dict | None = None) -> np.ndarray:
+    """Numeric eigenvalues: roots of the characteristic polynomial at ``values``.
+
+    Returns them sorted; the real parts when every imaginary part is below
+    1e-9 relative (as for the symmetric ``J J^T``).
+    """
+    values = values or {}
+    coeffs = [complex(sp.sympify(c).xreplace(values).evalf()) for c in poly.all_coeffs()]
+    roots = np.roots(coeffs)
+    scale = max(1.0, float(np.max(np.abs(roots)))) if roots.size else 1.0
+    if np.all(np.abs(roots.imag) <= 1e-9 * scale):
+        return np.sort(roots.real)
+    return roots[np.argsort(roots.real)]
+
+
+def maximal_minor_factors(J: sp.Matrix, variables=None, parameters: dict | None = None, *,
+                          seed: int = 0) -> list[sp.Expr]:
+    """Factors common to every maximal non-vanishing minor of ``J``.
+
+    The generic rank ``r`` is found numerically at a random point (joint
+    variables and symbolic constants drawn at random); identically zero and
+    repeated columns are dropped first (they change no rank).  The minors are
+    computed exactly as polynomials in the sines and cosines of the joint
+    angles (fraction-free elimination over a polynomial ring), so a square
+    full-rank ``J`` gives the factorisation of ``det J``.  An empty list means
+    that the rank never drops on a hypersurface of the joint space (a redundant
+    chain, for instance).
+    """
+    J = sp.Matrix(J)
+    rng = np.random.default_rng(seed)
+    point = {s: sp.Float(rng.uniform(0.3, 1.7)) for s in J.free_symbols}
+    cols, seen = [], set()
+    for k in range(J.cols):
+        col = tuple(J[:, k])
+        if all(e == 0 for e in col) or col in seen:
+            continue
+        seen.add(col)
+        cols.append(k)
+    rows = [i for i in range(J.rows) if any(J[i, k] != 0 for k in cols)]
+    if not rows:
+        return [sp.Integer(0)]
+    J = J.extract(rows, cols)
+    numeric = np.array(J.xreplace(point).evalf(), dtype=float)
+    r = int(np.linalg.matrix_rank(numeric))
+    if r == 0:
+        return [sp.Integer(0)]
+    entries, back, pairs = _to_polynomial(list(J))
+    gens = sorted(set().union(*(e.free_symbols for e in entries)), key=str)
+    P = sp.Matrix(J.rows, J.cols, entries)
+    common = None
+    for rr in combinations(range(J.rows), r):
+        for cc in combinations(range(J.cols), r):
+            if abs(np.linalg.det(numeric[np.ix_(rr, cc)])) < 1e-12:
+                continue
+            minor = P.extract(list(rr), list(cc))
+            dm = DomainMatrix.from_Matrix(minor).convert_to(sp.QQ[tuple(gens)] if gens else sp.QQ)
+            det = _reduce_pythagorean_symbols(sp.expand(dm.det().as_expr() if gens else dm.det()), pairs)
+            keys = {_sign_free(f) for f in factor_polynomial_trig(det, back, pairs)}
+            common = keys if common is None else common & keys
+            if not common:
+                return []
+    return sorted(common or [], key=lambda f: (sp.count_ops(f), sp.default_sort_key(f)))
+
+
+def _quotient(num: sp.Expr, den: sp.Expr) -> sp.Expr:
+    """``num / den`` with common polynomial factors cancelled (trig functions as generators)."""
+    if num == 0:
+        return sp.Integer(0)
+    if den.has(sp.sqrt):
+        return num / den
+    return sp.factor_terms(sp.cancel(num / den))
+
+
+def _sign_free(f: sp.Expr) -> sp.Expr:
+    """Representative of ``f`` up to sign, so that ``-s3`` and ``s3`` compare equal."""
+    return -f if f.could_extract_minus_sign() else f

@@ -1,0 +1,188 @@
+"""The catalog: every built-in robot, with its units, source and joint limits in one place.
+
+Each :class:`CatalogEntry` builds its model on demand (``entry.build()``), so
+listing the catalog costs nothing.  Other modules register their own models
+(planar chains, parallel robots) with :func:`register`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+import sympy as sp
+
+from .errors import UnknownNameError
+from .kinematics import DHJoint, DHRobot
+
+__all__ = ["CatalogEntry", "register", "get", "build", "catalog", "glass_handling_arm", "puma560", "scara",
+           "planar_2r", "planar_3r"]
+
+deg = sp.pi / 180
+
+
+@dataclass(frozen=True, slots=True)
+class CatalogEntry:
+    """One built-in robot.
+
+    ``parameters`` maps parameter names to their default values (in ``units``);
+    ``limits`` describes the joint limits as text, the way a table prints them.
+    """
+
+    name: str
+    kind: str
+    source: str
+    units: str
+    summary: str
+    factory: Callable[..., object] = field(repr=False)
+    parameters: dict = field(default_factory=dict)
+    limits: str = ""
+
+    def build(self, **overrides):
+        """Build the model; keyword arguments override default parameters."""
+        return self.factory(**overrides)
+
+
+_CATALOG: dict[str, CatalogEntry] = {}
+
+
+def register(entry: CatalogEntry) -> CatalogEntry:
+    """Add an entry to the catalog (name clashes are programming errors)."""
+    if entry.name in _CATALOG:
+        raise ValueError(f"catalog entry {entry.name!r} registered twice")
+    _CATALOG[entry.name] = entry
+    return entry
+
+
+def catalog() -> list[CatalogEntry]:
+    """Every entry, in registration order."""
+    return list(_CATALOG.values())
+
+
+def get(name: str) -> CatalogEntry:
+    """Entry by name; :class:`UnknownNameError` lists the known names otherwise."""
+    try:
+        return _CATALOG[name]
+    except KeyError:
+        known = ", ".join(sorted(_CATALOG))
+        raise UnknownNameError(f"robot {name!r} is not in the catalog; known robots: {known}") from None
+
+
+def build(name: str, **overrides):
+    """Build the model of a catalog entry."""
+    return get(name).build(**overrides)
+
+
+# ---------------------------------------------------------------------------- glass-handling arm
+GLASS_DEFAULTS = {"d1": 0.30, "a1": 0.05, "a2": 0.25, "a3": 0.20, "d5": 0.10}
+"""Default lengths (m) for plots and numbers.
+
+Paper 004 gives no numeric lengths; these are our choice, the proportions of a
+desktop teaching arm of the same structure (shoulder offset, two equal-order
+links, short wrist).  Every symbolic result keeps ``d1, a1, a2, a3, d5``.
+"""
+
+GLASS_LIMITS_DEG = [(-160, 160), (-30, 120), (-130, 130), (-130, 130), (-180, 180), (-180, 180)]
+"""Joint ranges of paper 004, section 7 (theta1 to theta4); theta5 and theta6 (roll of
+the wrist and gripper) are not limited in the paper and get the full turn."""
+
+
+def glass_handling_arm(**parameters) -> DHRobot:
+    """6R glass-handling arm of Mohammadi & Mirnajafizade (2016), standard DH (METHODS.md section 1).
+
+    Examples
+    --------
+    >>> robot = glass_handling_arm()
+    >>> robot.to_str(robot.position[0])
+    'c1*(a1 + a2*c2 + a3*c23 + d5*s234)'
+    """
+    d1, a1, a2, a3, d5 = sp.symbols("d1 a1 a2 a3 d5")
+    rows = [dict(d=d1, a=a1, alpha=sp.pi / 2), dict(a=a2), dict(a=a3), dict(alpha=sp.pi / 2), dict(d=d5), dict()]
+    joints = [DHJoint.revolute(k + 1, limits=(lo * deg, hi * deg), **row)
+              for k, (row, (lo, hi)) in enumerate(zip(rows, GLASS_LIMITS_DEG))]
+    return DHRobot(joints, name="glass-handling", parameters={**GLASS_DEFAULTS, **parameters}, units="m")
+
+
+register(CatalogEntry(
+    name="glass-handling", kind="serial (DH, 6R)",
+    source="B. Mohammadi, S. A. Mirnajafizade, A six degrees of freedom robot for limited movement of objects, 2016",
+    units="m", summary="glass-handling arm; symbolic lengths d1, a1, a2, a3, d5 (defaults are ours, not the paper's)",
+    factory=glass_handling_arm, parameters=GLASS_DEFAULTS,
+    limits="theta1 [-160, 160], theta2 [-30, 120], theta3 [-130, 130], theta4 [-130, 130], theta5, theta6 free (deg)",
+))
+
+
+# ---------------------------------------------------------------------------- Puma 560
+PUMA_DEFAULTS = {"a2": 0.4318, "a3": 0.0203, "d3": 0.15005, "d4": 0.4318}
+PUMA_LIMITS_DEG = [(-160, 160), (-110, 110), (-135, 135), (-266, 266), (-100, 100), (-266, 266)]
+
+
+def puma560(**parameters) -> DHRobot:
+    """Unimation Puma 560, standard DH, lengths of Corke & Armstrong-Helouvry (1994), as in
+    the Robotics Toolbox model: a2 = 0.4318, a3 = 0.0203, d3 = 0.15005, d4 = 0.4318 m."""
+    a2, a3, d3, d4 = sp.symbols("a2 a3 d3 d4")
+    rows = [dict(alpha=sp.pi / 2), dict(a=a2), dict(d=d3, a=a3, alpha=-sp.pi / 2), dict(d=d4, alpha=sp.pi / 2),
+            dict(alpha=-sp.pi / 2), dict()]
+    joints = [DHJoint.revolute(k + 1, limits=(lo * deg, hi * deg), **row)
+              for k, (row, (lo, hi)) in enumerate(zip(rows, PUMA_LIMITS_DEG))]
+    return DHRobot(joints, name="puma560", parameters={**PUMA_DEFAULTS, **parameters}, units="m")
+
+
+register(CatalogEntry(
+    name="puma560", kind="serial (DH, 6R)",
+    source="P. Corke, B. Armstrong-Helouvry, A search for consensus among model parameters reported for the PUMA 560 robot, ICRA 1994",
+    units="m", summary="Unimation Puma 560, standard DH", factory=puma560, parameters=PUMA_DEFAULTS,
+    limits="[-160, 160], [-110, 110], [-135, 135], [-266, 266], [-100, 100], [-266, 266] (deg)",
+))
+
+
+# ---------------------------------------------------------------------------- SCARA
+SCARA_DEFAULTS = {"d1": 0.387, "a1": 0.325, "a2": 0.275}
+
+
+def scara(**parameters) -> DHRobot:
+    """RRPR SCARA with the dimensions of the Adept Cobra 600 (standard DH, alpha2 = pi so
+    that the prismatic joint moves down): reach 0.325 + 0.275 m, stroke 0.210 m."""
+    d1, a1, a2 = sp.symbols("d1 a1 a2")
+    joints = [
+        DHJoint.revolute(1, d=d1, a=a1, limits=(-50 * deg, 50 * deg)),
+        DHJoint.revolute(2, a=a2, alpha=sp.pi, limits=(-88 * deg, 88 * deg)),
+        DHJoint.prismatic(3, limits=(0, sp.Rational(21, 100))),
+        DHJoint.revolute(4, limits=(-sp.pi, sp.pi)),
+    ]
+    return DHRobot(joints, name="scara", parameters={**SCARA_DEFAULTS, **parameters}, units="m")
+
+
+register(CatalogEntry(
+    name="scara", kind="serial (DH, RRPR)", source="Adept Cobra 600 data sheet dimensions",
+    units="m", summary="SCARA, prismatic third joint", factory=scara, parameters=SCARA_DEFAULTS,
+    limits="theta1 [-50, 50] deg, theta2 [-88, 88] deg, d3 [0, 0.21] m, theta4 [-180, 180] deg",
+))
+
+
+# ---------------------------------------------------------------------------- planar 2R / 3R
+def planar_2r(**parameters) -> DHRobot:
+    """Planar 2R arm with symbolic lengths l1, l2 (defaults 1 and 1/2), joints free."""
+    l1, l2 = sp.symbols("l1 l2")
+    joints = [DHJoint.revolute(1, a=l1, limits=(-sp.pi, sp.pi)), DHJoint.revolute(2, a=l2, limits=(-sp.pi, sp.pi))]
+    return DHRobot(joints, name="planar-2r", parameters={"l1": 1.0, "l2": 0.5, **parameters}, units="m")
+
+
+def planar_3r(**parameters) -> DHRobot:
+    """Planar 3R arm with symbolic lengths l1, l2, l3 (defaults 1, 1/2, 1/4), joints free."""
+    ls = sp.symbols("l1:4")
+    joints = [DHJoint.revolute(k + 1, a=l, limits=(-sp.pi, sp.pi)) for k, l in enumerate(ls)]
+    return DHRobot(joints, name="planar-3r", parameters={"l1": 1.0, "l2": 0.5, "l3": 0.25, **parameters},
+                   units="m")
+
+
+register(CatalogEntry(
+    name="planar-2r", kind="serial (DH, planar 2R)", source="textbook example", units="m",
+    summary="planar two-link arm", factory=planar_2r, parameters={"l1": 1.0, "l2": 0.5},
+    limits="[-180, 180] deg each",
+))
+register(CatalogEntry(
+    name="planar-3r", kind="serial (DH, planar 3R)", source="textbook example", units="m",
+    summary="planar three-link arm", factory=planar_3r, parameters={"l1": 1.0, "l2": 0.5, "l3": 0.25},
+    limits="[-180, 180] deg each",
+))
