@@ -23,12 +23,7 @@ from sympy.polys.matrices import DomainMatrix
 
 from .errors import DHTableError, InvalidParameterError, JointLimitError, check_choice
 from .expressions import is_finite_value, parse_angle, parse_expr
-from .symbolic import (
-    _reduce_pythagorean_symbols,
-    _to_polynomial,
-    factor_polynomial_trig,
-)
-from .symbolic import shorthand, shorthand_latex, shorthand_str, textbook, textbook_matrix
+from .symbolic import HalfAngleRing, factor_half_angle, shorthand, trig_polynomials, shorthand_latex, shorthand_str, textbook, textbook_matrix
 
 __all__ = [
     "DHJoint",
@@ -430,8 +425,16 @@ class DHRobot:
 
         For a square Jacobian of full generic rank, the factors of ``det J``;
         otherwise the factors common to every maximal (generic-rank) minor.
+        The rows are first expressed in the frame of a middle link: rotating
+        the rows changes neither the determinant nor the ideal of maximal
+        minors, and the entries become much shorter (joint 1 drops out).
         """
-        return maximal_minor_factors(self.jacobian(kind), self.q, self.parameters)
+        J = self.jacobian(kind)
+        if kind != "analytic":
+            R = self.fk(self.n // 2)[:3, :3].T
+            blocks = [R] * (J.rows // 3)
+            J = textbook_matrix(sp.diag(*blocks) * J)
+        return maximal_minor_factors(J, self.q, self.parameters)
 
     # ------------------------------------------------------------------ printing
     def shorthand(self, expr) -> sp.Expr:
@@ -587,22 +590,21 @@ def maximal_minor_factors(J: sp.Matrix, variables=None, parameters: dict | None 
     r = int(np.linalg.matrix_rank(numeric))
     if r == 0:
         return [sp.Integer(0)]
-    entries, back, pairs = _to_polynomial(list(J))
-    gens = sorted(set().union(*(e.free_symbols for e in entries)), key=str)
-    P = sp.Matrix(J.rows, J.cols, entries)
+    entries, pairs = trig_polynomials(list(J))
+    ring = HalfAngleRing(pairs, set().union(*(e.free_symbols for e in entries)))
+    P = DomainMatrix([[ring.element(entries[i * J.cols + j]) for j in range(J.cols)] for i in range(J.rows)],
+                     J.shape, ring.domain)
     common = None
     for rr in combinations(range(J.rows), r):
         for cc in combinations(range(J.cols), r):
-            if abs(np.linalg.det(numeric[np.ix_(rr, cc)])) < 1e-12:
-                continue
-            minor = P.extract(list(rr), list(cc))
-            dm = DomainMatrix.from_Matrix(minor).convert_to(sp.QQ[tuple(gens)] if gens else sp.QQ)
-            det = _reduce_pythagorean_symbols(sp.expand(dm.det().as_expr() if gens else dm.det()), pairs)
-            keys = {_sign_free(f) for f in factor_polynomial_trig(det, back, pairs)}
-            common = keys if common is None else common & keys
-            if not common:
+            if abs(np.linalg.det(numeric[np.ix_(rr, cc)])) < 1e-9:
+                continue  # vanishes at a generic point: identically zero, no information
+            det = ring.convert(P.extract(list(rr), list(cc)).det())
+            common = det if common is None else common.gcd(det)
+            if common.is_ground:
                 return []
-    return sorted(common or [], key=lambda f: (sp.count_ops(f), sp.default_sort_key(f)))
+    common = factor_half_angle(ring.to_expr(common), ring.half)
+    return [f for f in common if f != 0]
 
 
 def _quotient(num: sp.Expr, den: sp.Expr) -> sp.Expr:

@@ -32,7 +32,9 @@ __all__ = [
     "textbook",
     "textbook_matrix",
     "factor_trig",
-    "factor_polynomial_trig",
+    "factor_half_angle",
+    "HalfAngleRing",
+    "trig_polynomials",
     "shorthand",
     "shorthand_str",
     "shorthand_latex",
@@ -114,93 +116,158 @@ def trig_atoms_to_symbols(expr: sp.Expr, prefix: str = "_t"):
     return expr.xreplace(forward), syms, back
 
 
-def _to_polynomial(exprs):
-    """Expand grouped angles and write expressions as polynomials in sines and cosines.
+def trig_polynomials(exprs):
+    """Expand grouped angles and write expressions as polynomials in ``c_u, s_u`` symbols.
 
-    Returns the list of polynomial expressions (Pythagorean-reduced), the
-    generator symbols, the inverse substitution and, for every angle ``u``, the
-    pair of symbols ``(c_u, s_u)``.
+    Returns the polynomial expressions (with ``s_u**2`` reduced to ``1 - c_u**2``)
+    and the list of ``(u, c_u, s_u)``.
     """
     exprs = [_reduce_pythagorean(sp.expand(sp.expand_trig(sp.sympify(e)))) for e in exprs]
     atoms = set()
     for e in exprs:
         atoms |= e.atoms(sp.sin, sp.cos)
     angles = sorted({a.args[0] for a in atoms}, key=sp.default_sort_key)
-    forward, back, pairs = {}, {}, []
+    forward, pairs = {}, []
     for k, u in enumerate(angles):
         c, s = sp.Dummy(f"c{k}"), sp.Dummy(f"s{k}")
         forward[sp.cos(u)], forward[sp.sin(u)] = c, s
-        back[c], back[s] = sp.cos(u), sp.sin(u)
-        pairs.append((c, s))
-    return [e.xreplace(forward) for e in exprs], back, pairs
+        pairs.append((u, c, s))
+    return [e.xreplace(forward) for e in exprs], pairs
 
 
-def _split_hidden_sines(f: sp.Expr, pairs) -> list[sp.Expr]:
-    """Pull out factors ``s_u`` that polynomial factoring cannot see.
+class HalfAngleRing:
+    """Polynomials in ``c_u, s_u`` rewritten in half angles inside one sparse polynomial ring.
 
-    In the reduced form ``f = A(c) + s B(c)`` a multiple of ``s`` looks like
-    ``(1 - c**2) A' + s B``: ``s`` divides it on the circle although not as a
-    polynomial.  Test ``f = 0`` at ``s = 0, c = +-1`` and divide in the
-    quotient ring: ``f = s (s A' + B)``.
+    With ``c = C**2 - S**2`` and ``s = 2 S C`` (``S = sin(u/2)``, ``C = cos(u/2)``),
+    polynomials in ``(S, C)`` form a unique factorisation domain, which the
+    Pythagorean-reduced form in ``(c, s)`` is not (there ``s3`` hides as
+    ``1 - c3**2``).  Homogenised with powers of ``S**2 + C**2 = 1``, they are
+    moreover determined by their values on the circle, so equal functions get
+    equal polynomials up to such powers and gcds are meaningful.
+
+    Parameters
+    ----------
+    pairs : list of (u, c_u, s_u) from :func:`trig_polynomials`
+    symbols : other symbols (lengths) that occur in the polynomials
     """
+
+    def __init__(self, pairs, symbols=()):
+        self.pairs = list(pairs)
+        self.half = [(u, sp.Dummy(f"S{k}"), sp.Dummy(f"C{k}")) for k, (u, _, _) in enumerate(self.pairs)]
+        trig = {g for _, c, s in self.pairs for g in (c, s)}
+        others = sorted(set(symbols) - trig, key=str)
+        gens = others + [g for _, c, s in self.pairs for g in (c, s)] + [g for _, S, C in self.half for g in (S, C)]
+        self.domain = sp.QQ[tuple(gens)] if gens else sp.QQ
+        self._subs, self._index, self._unit = [], [], []
+        if not gens:
+            return
+        R = self.domain.ring
+        for (_, c, s), (_, S, C) in zip(self.pairs, self.half):
+            S_, C_ = R(S), R(C)
+            self._subs += [(R(c), C_**2 - S_**2), (R(s), 2 * S_ * C_)]
+            self._index.append((gens.index(S), gens.index(C)))
+            self._unit.append(S_**2 + C_**2)
+
+    def element(self, expr):
+        """Ring element of a polynomial expression in the ``c_u, s_u`` symbols."""
+        return self.domain.from_sympy(sp.expand(expr))
+
+    def convert(self, p):
+        """Half-angle, homogenised form of a ring element in ``c_u, s_u``."""
+        if not self._subs or not p:
+            return p
+        p = p.compose(self._subs)
+        terms = p.terms()
+        top = [max(m[i] + m[j] for m, _ in terms) for i, j in self._index]
+        R = p.ring
+        out = R.zero
+        for monom, coeff in terms:
+            term = R({monom: coeff})
+            for k, (i, j) in enumerate(self._index):
+                gap = (top[k] - monom[i] - monom[j]) // 2
+                if gap:
+                    term *= self._unit[k] ** gap
+            out += term
+        return out
+
+    def to_expr(self, p) -> sp.Expr:
+        """SymPy expression of a ring element."""
+        return self.domain.to_sympy(p)
+
+
+def _full_angle(f: sp.Expr, pairs) -> sp.Expr:
+    """A polynomial of even degree in every (S_k, C_k) back in terms of cos(u_k), sin(u_k)."""
+    gens = [g for _, S, C in pairs for g in (S, C)]
+    P = sp.Poly(f, *gens)
     out = []
-    changed = True
-    while changed:
-        changed = False
-        for c, s in pairs:
-            if not f.has(c) and not f.has(s):
-                continue
-            if sp.expand(f.subs({s: 0, c: 1})) != 0 or sp.expand(f.subs({s: 0, c: -1})) != 0:
-                continue
-            A = sp.expand(f.subs(s, 0))
-            B = sp.expand((f - A) / s)
-            A1, rem = sp.div(A, 1 - c**2, c)
-            if rem != 0:
-                continue
-            out.append(s)
-            f = _reduce_pythagorean_symbols(sp.expand(s * A1 + B), pairs)
-            changed = True
-    return out + [f]
+    for monom, coeff in P.terms():
+        term = coeff
+        for k, (u, _, _) in enumerate(pairs):
+            i, j = monom[2 * k], monom[2 * k + 1]
+            m = min(i, j)
+            # S^i C^j = (S C)^m S^(i-m) C^(j-m), the remaining exponents both even.
+            term *= (sp.sin(u) / 2) ** m * ((1 - sp.cos(u)) / 2) ** ((i - m) // 2) * ((1 + sp.cos(u)) / 2) ** ((j - m) // 2)
+        out.append(term)
+    return sp.expand(sp.Add(*out))
 
 
-def _reduce_pythagorean_symbols(f: sp.Expr, pairs) -> sp.Expr:
-    subs = {}
-    for c, s in pairs:
-        for p in f.atoms(sp.Pow):
-            if p.base == s and p.exp.is_Integer and p.exp >= 2:
-                k = int(p.exp)
-                subs[p] = s ** (k % 2) * (1 - c**2) ** (k // 2)
-    return sp.expand(f.xreplace(subs)) if subs else f
+def _odd_set(f: sp.Expr, pairs) -> frozenset:
+    gens = [g for _, S, C in pairs for g in (S, C)]
+    P = sp.Poly(f, *gens)
+    monom = P.monoms()[0]
+    return frozenset(k for k in range(len(pairs)) if (monom[2 * k] + monom[2 * k + 1]) % 2)
 
 
-def factor_polynomial_trig(poly_expr: sp.Expr, back: dict, pairs) -> list[sp.Expr]:
-    """Factors of a reduced sine/cosine polynomial, regrouped into textbook form."""
+def factor_half_angle(poly_expr: sp.Expr, pairs) -> list[sp.Expr]:
+    """Readable full-angle factors of a half-angle polynomial (see :func:`half_angle_polynomials`).
+
+    ``poly_expr`` must be homogeneous in every ``(S_k, C_k)``.  Factors
+    ``S_k**2 + C_k**2`` (which equal 1) are dropped; factors of odd
+    degree in some half angle are paired (``S5 * C5 = s5 / 2``) so that every
+    returned factor is a polynomial in full-angle sines and cosines.
+    """
     if poly_expr == 0:
         return [sp.Integer(0)]
-    *sines, rest = _split_hidden_sines(poly_expr, pairs)
-    polynomial_factors = sines + [f for f, _m in sp.factor_list(rest)[1]]
+    if not pairs:
+        _, factors = sp.factor_list(poly_expr)
+        return sorted({f for f, _m in factors if f.free_symbols}, key=lambda f: (sp.count_ops(f), sp.default_sort_key(f)))
+    units = {sp.expand(S**2 + C**2) for _, S, C in pairs}
+    _, factors = sp.factor_list(poly_expr)
+    even, odd = [], []
+    for f, _m in factors:
+        if not f.free_symbols or sp.expand(f) in units:
+            continue
+        (odd if _odd_set(f, pairs) else even).append(f)
+    while odd:
+        f = odd.pop(0)
+        key = _odd_set(f, pairs)
+        partner = next((g for g in odd if _odd_set(g, pairs) == key), None)
+        if partner is None:
+            partner = next((g for g in odd if _odd_set(g, pairs) & key), None)
+        if partner is None:  # pragma: no cover - cannot happen for a product of full-angle terms
+            raise ArithmeticError(f"unpaired half-angle factor {f}")
+        odd.remove(partner)
+        g = sp.expand(f * partner)
+        (odd if _odd_set(g, pairs) else even).append(g)
     out = []
-    for f in polynomial_factors:
-        for g in _split_hidden_sines(f, pairs):
-            for h, _m in sp.factor_list(g)[1]:
-                h = h.xreplace(back)
-                if h.free_symbols:
-                    out.append(textbook(h))
-    unique = []
-    for f in out:
-        if f not in unique and -f not in unique:
-            unique.append(f)
-    return sorted(unique, key=lambda f: (sp.count_ops(f), sp.default_sort_key(f)))
+    for f in even:
+        h = textbook(_full_angle(f, pairs))
+        if h.free_symbols:
+            h = sp.factor_terms(h)
+            _, h = h.as_coeff_Mul()
+            if h not in out and -h not in out:
+                out.append(h)
+    return sorted(out, key=lambda f: (sp.count_ops(f), sp.default_sort_key(f)))
 
 
 def factor_trig(expr) -> list[sp.Expr]:
     """Factor a trigonometric polynomial into readable factors.
 
-    Grouped angles are expanded, the Pythagorean identities reduced, the result
-    factored over the rationals as a polynomial in the sines and cosines
-    (with the sine factors that the reduction hides pulled out), and each factor
-    regrouped into textbook form.  Constant factors and repetitions are dropped,
-    so the zero set of the product of the returned factors is that of ``expr``.
+    The expression is written in half-angle sines and cosines, where
+    factorisation is unique, factored over the rationals, and each factor
+    brought back to full angles in textbook form.  Constant factors and
+    repetitions are dropped, so the zero set of the product of the returned
+    factors is that of ``expr``.
 
     Examples
     --------
@@ -213,8 +280,9 @@ def factor_trig(expr) -> list[sp.Expr]:
     >>> factor_trig(sp.Integer(0))
     [0]
     """
-    (poly_expr,), back, pairs = _to_polynomial([expr])
-    return factor_polynomial_trig(poly_expr, back, pairs)
+    (poly_expr,), pairs = trig_polynomials([expr])
+    ring = HalfAngleRing(pairs, poly_expr.free_symbols)
+    return factor_half_angle(ring.to_expr(ring.convert(ring.element(poly_expr))), ring.half)
 
 
 def _angle_label(arg: sp.Expr, index_of: dict) -> str | None:
