@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import json
 import math
+import os
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from functools import cached_property
 from itertools import combinations
@@ -477,6 +479,10 @@ class DHRobot:
         return out
 
 
+_THREADS = max(1, os.cpu_count() or 1)
+_CHUNK_MIN = 50_000
+
+
 def numeric_function(expr, variables):
     """Vectorised numpy function generated from a SymPy expression or matrix.
 
@@ -507,11 +513,25 @@ def numeric_function(expr, variables):
         q2 = np.atleast_2d(q)
         if q2.shape[-1] != len(variables):
             raise InvalidParameterError(f"q: expected {len(variables)} joint values per row; got shape {q.shape}")
-        values = fn(*q2.T)
-        out = np.empty((q2.shape[0], len(entries)))
-        for k, v in enumerate(values):
-            out[:, k] = v
-        out = out.reshape((q2.shape[0],) + shape)
+        # Contiguous joint columns in, contiguous entry rows out: strided access
+        # costs as much as the arithmetic at a million configurations.
+        cols = np.ascontiguousarray(q2.T)
+        out = np.empty((len(entries), q2.shape[0]))
+
+        def fill(lo, hi):
+            for k, v in enumerate(fn(*cols[:, lo:hi])):
+                out[k, lo:hi] = v
+
+        n = q2.shape[0]
+        workers = min(_THREADS, n // _CHUNK_MIN) if n >= 2 * _CHUNK_MIN else 1
+        if workers > 1:
+            # numpy ufuncs release the GIL: large batches run on every core.
+            bounds = np.linspace(0, n, workers + 1).astype(int)
+            with ThreadPoolExecutor(workers) as pool:
+                list(pool.map(fill, bounds[:-1], bounds[1:]))
+        else:
+            fill(0, n)
+        out = np.moveaxis(out.reshape(shape + (n,)), -1, 0)
         return out[0] if single else out
 
     evaluate.expr = M
@@ -537,7 +557,9 @@ def characteristic_polynomial(M, lam: sp.Symbol | None = None, *, gram: bool = F
     if M.rows != M.cols:
         raise InvalidParameterError(f"M: the characteristic polynomial needs a square matrix; got {M.shape}")
     lam = lam if lam is not None else sp.Symbol("lambda")
-    p = M.charpoly(lam)
+    # Matrix.charpoly runs sympy.simplify on every coefficient unless told otherwise:
+    # far too slow on trigonometric entries, and not the form we want anyway.
+    p = M.charpoly(lam, simplify=lambda e: e)
     if simplify is None:
         return p
     coeffs = [simplify(c) for c in p.all_coeffs()]

@@ -1,0 +1,15 @@
+"""Docstring examples run as tests."""
+
+import doctest
+import importlib
+
+import pytest
+
+MODULES = ["errors", "expressions", "symbolic", "kinematics", "robots", "sampling"]
+
+
+@pytest.mark.parametrize("name", MODULES)
+def test_doctests(name):
+    module = importlib.import_module(f"workspace_sym.{name}")
+    result = doctest.testmod(module, optionflags=doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE)
+    assert result.failed == 0

@@ -1,0 +1,249 @@
+"""DH kinematics: exact identities (paper 004), an independent numpy DH product,
+finite differences, and hypothesis properties."""
+
+import numpy as np
+import pytest
+import sympy as sp
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
+
+from conftest import fk_numpy
+from workspace_sym import (
+    DHJoint,
+    DHRobot,
+    DHTableError,
+    ExpressionError,
+    JointLimitError,
+    UnknownNameError,
+    characteristic_polynomial,
+    eigenvalues_from_charpoly,
+    robots,
+)
+
+th = sp.symbols("theta1:7")
+d1, a1, a2, a3, d5 = sp.symbols("d1 a1 a2 a3 d5")
+c = {k: sp.cos(th[k - 1]) for k in range(1, 7)}
+s = {k: sp.sin(th[k - 1]) for k in range(1, 7)}
+c23, s23 = sp.cos(th[1] + th[2]), sp.sin(th[1] + th[2])
+c234, s234 = sp.cos(th[1] + th[2] + th[3]), sp.sin(th[1] + th[2] + th[3])
+
+
+# ---------------------------------------------------------------- paper 004, exact identities
+def test_glass_position_is_exactly_the_papers(glass):
+    """Paper 004, section 6: x = c1 (a1 + a2 c2 + a3 c23 + s234 d5), ... (structural equality, not just value)."""
+    inner = a1 + a2 * c[2] + a3 * c23 + s234 * d5
+    x, y, z = glass.position
+    assert x == c[1] * inner
+    assert y == s[1] * inner
+    assert z == d1 + a2 * s[2] + a3 * s23 - c234 * d5
+
+
+def test_glass_position_prints_as_textbook(glass):
+    assert glass.to_str(glass.position[0]) == "c1*(a1 + a2*c2 + a3*c23 + d5*s234)"
+
+
+def test_glass_rotation_is_the_corrected_form(glass):
+    """Paper 004 with theta6 = 0; row 2 as corrected in METHODS.md section 1 (c234, not s234)."""
+    R = glass.rotation.subs(th[5], 0)
+    expected = sp.Matrix([
+        [s[1] * s[5] + c[1] * c234 * c[5], s[1] * c[5] - c[1] * c234 * s[5], c[1] * s234],
+        [-c[1] * s[5] + s[1] * c234 * c[5], -c[1] * c[5] - s[1] * c234 * s[5], s[1] * s234],
+        [s234 * c[5], -s234 * s[5], -c234],
+    ])
+    assert (R - expected).applyfunc(sp.expand) == sp.zeros(3, 3)
+
+
+def test_glass_paper_misprint_is_not_reproduced(glass):
+    """The paper's first printing has s234 in entry (2, 1); that is not an identity."""
+    R = glass.rotation.subs(th[5], 0)
+    misprint = -c[1] * s[5] + s[1] * s234 * c[5]
+    assert sp.simplify(R[1, 0] - misprint) != 0
+
+
+def test_partial_transforms_chain(glass):
+    """T_0^k = T_0^(k-1) A_k for every k (exact)."""
+    for k in range(1, glass.n + 1):
+        product = glass.fk(k - 1) * glass._row_matrix(k - 1)
+        assert sp.simplify(sp.expand_trig(product - glass.fk(k))) == sp.zeros(4, 4)
+
+
+def test_glass_singular_factors(glass):
+    """Elbow stretched (s3 = 0) is the only joint-space singularity of the 6 x 5 twist map."""
+    assert glass.singular_factors("geometric") == [a2, a3, s[3]]
+    assert glass.singular_factors("position") == [a1 + a2 * c[2] + a3 * c23 + d5 * s234]
+
+
+def test_puma_det_factors(puma):
+    """Textbook Puma 560 determinant: a2 s5 (a3 s3 + d4 c3)(a2 c2 + a3 c23 - d4 s23) up to sign."""
+    A2, A3, D4 = sp.symbols("a2 a3 d4")
+    expected = {A2, s[5], A3 * s[3] + D4 * c[3], A2 * c[2] + A3 * c23 - D4 * s23}
+    got = puma.singular_factors()
+    assert len(got) == 4
+    for f in got:
+        assert f in expected or -f in expected
+
+
+def test_planar_2r_position_singularity():
+    robot = robots.build("planar-2r")
+    assert robot.singular_factors("position") == [sp.Symbol("l1"), sp.Symbol("l2"), s[2]]
+
+
+# ---------------------------------------------------------------- numeric cross-checks
+CATALOG_DH = ["glass-handling", "puma560", "scara", "planar-3r"]
+
+
+@pytest.mark.parametrize("name", CATALOG_DH)
+def test_fk_matches_independent_numpy_product(name):
+    robot = robots.build(name)
+    rng = np.random.default_rng(7)
+    lim = robot.joint_limits()
+    q = lim[:, 0] + (lim[:, 1] - lim[:, 0]) * rng.random((25, robot.n))
+    T = robot.fk_numeric(q)
+    for k in range(len(q)):
+        np.testing.assert_allclose(T[k], fk_numpy(robot, q[k]), atol=1e-12)
+
+
+def test_modified_dh_matches_independent_product():
+    """Craig convention: a planar 3R with a twisted base, compared with a plain numpy product."""
+    L1, L2 = sp.symbols("L1 L2")
+    data = {"convention": "modified", "angles": "degrees", "parameters": {"L1": 0.7, "L2": 0.4},
+            "joints": [{"type": "R", "d": 0.1, "a": 0, "alpha": 0},
+                       {"type": "R", "d": 0, "a": "L1", "alpha": 90},
+                       {"type": "P", "theta": 30, "a": "L2", "alpha": -90, "limits": [0, 0.5]}]}
+    robot = DHRobot.from_dict(data)
+    assert robot.convention == "modified" and robot.joints[2].kind == "P"
+    rng = np.random.default_rng(3)
+    for _ in range(10):
+        q = rng.uniform(-2, 2, 3)
+        np.testing.assert_allclose(robot.fk_numeric(q), fk_numpy(robot, q), atol=1e-12)
+
+
+def _numeric_twist_jacobian(robot, q, h=1e-6):
+    """Central differences of the numeric FK: linear part from p, angular part from dR R^T."""
+    J = np.zeros((6, robot.n))
+    T0 = robot.fk_numeric(q)
+    for k in range(robot.n):
+        dq = np.zeros(robot.n)
+        dq[k] = h
+        Tp, Tm = robot.fk_numeric(q + dq), robot.fk_numeric(q - dq)
+        J[:3, k] = (Tp[:3, 3] - Tm[:3, 3]) / (2 * h)
+        W = (Tp[:3, :3] - Tm[:3, :3]) / (2 * h) @ T0[:3, :3].T
+        J[3:, k] = [W[2, 1], W[0, 2], W[1, 0]]
+    return J
+
+
+@pytest.mark.parametrize("name", CATALOG_DH)
+def test_geometric_jacobian_matches_finite_differences(name):
+    robot = robots.build(name)
+    rng = np.random.default_rng(11)
+    for _ in range(8):
+        q = rng.uniform(-2.5, 2.5, robot.n)
+        np.testing.assert_allclose(robot.jacobian_numeric(q), _numeric_twist_jacobian(robot, q), atol=1e-7)
+
+
+@pytest.mark.parametrize("convention", ["zyz", "rpy"])
+def test_analytic_jacobian_matches_derivative_of_euler_angles(glass, convention):
+    aj = glass.analytic_jacobian(convention)
+    J = glass.numeric(aj.J)
+    angles = glass.numeric(sp.Matrix(aj.angles))
+    rng = np.random.default_rng(5)
+    for _ in range(5):
+        q = rng.uniform(-1.2, 1.2, 6)
+        q[1:4] = rng.uniform(0.2, 0.5, 3)  # away from the representation singularity
+        h = 1e-6
+        for k in range(6):
+            dq = np.zeros(6)
+            dq[k] = h
+            fd = (angles(q + dq) - angles(q - dq))[:, 0] / (2 * h)
+            np.testing.assert_allclose(J(q)[3:, k], fd, atol=1e-6)
+    assert aj.singular_when.has(sp.cos(th[1] + th[2] + th[3])) or aj.singular_when.has(sp.sin(th[4] + th[5]))
+
+
+angles6 = arrays(np.float64, 6, elements=st.floats(-np.pi, np.pi, allow_nan=False))
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(q=angles6)
+def test_rotation_is_orthonormal(glass, q):
+    """Property: R R^T = I and det R = 1 at any configuration (glass arm, default lengths)."""
+    T = glass.fk_numeric(q)
+    R = T[:3, :3]
+    np.testing.assert_allclose(R @ R.T, np.eye(3), atol=1e-12)
+    assert abs(np.linalg.det(R) - 1) < 1e-12
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(q=arrays(np.float64, 4, elements=st.floats(-3, 3, allow_nan=False)))
+def test_prismatic_column_is_axis_and_zero(scara, q):
+    """Property: the prismatic column of the SCARA Jacobian is [z_2; 0] with |z_2| = 1."""
+    J = scara.jacobian_numeric(q)
+    T2 = scara.numeric(scara.fk(2))(q)
+    np.testing.assert_allclose(J[:3, 2], T2[:3, 2], atol=1e-12)
+    np.testing.assert_allclose(J[3:, 2], 0, atol=1e-15)
+
+
+def test_numeric_fk_is_vectorised_over_many_configurations(glass):
+    q = np.random.default_rng(0).uniform(-1, 1, (100_000, 6))
+    T = glass.fk_numeric(q)
+    assert T.shape == (100_000, 4, 4)
+    np.testing.assert_allclose(T[123], fk_numpy(glass, q[123]), atol=1e-12)
+
+
+# ---------------------------------------------------------------- characteristic polynomial
+def test_charpoly_eigenvalues_match_numpy(glass):
+    """Eigenvalues of J J^T (position Jacobian) from the characteristic polynomial vs eigvalsh."""
+    Jp = glass.substitute(glass.position_jacobian)
+    lam = sp.Symbol("lambda")
+    poly = characteristic_polynomial(Jp, lam, gram=True, simplify=None)
+    assert poly.degree() == 3
+    rng = np.random.default_rng(2)
+    for _ in range(5):
+        q = rng.uniform(-1.5, 1.5, 6)
+        values = dict(zip(glass.q, map(sp.Float, q)))
+        Jn = glass.numeric(glass.position_jacobian)(q)
+        np.testing.assert_allclose(eigenvalues_from_charpoly(poly, values), np.linalg.eigvalsh(Jn @ Jn.T),
+                                   rtol=1e-8, atol=1e-12)
+
+
+def test_charpoly_exact_identity():
+    a, b = sp.symbols("a b")
+    p = characteristic_polynomial(sp.Matrix([[a, 1], [0, b]]), sp.Symbol("x"))
+    assert sp.expand(p.as_expr() - (sp.Symbol("x") - a) * (sp.Symbol("x") - b)) == 0
+
+
+# ---------------------------------------------------------------- bad input
+def test_missing_dh_field_names_the_field():
+    with pytest.raises(DHTableError, match=r"joint 2: missing field 'alpha'"):
+        DHRobot.from_dict({"joints": [{"d": 0, "a": 1, "alpha": 0}, {"d": 0, "a": 1}]})
+
+
+def test_unparsable_expression_names_the_field():
+    with pytest.raises(ExpressionError, match=r"joint 1 a: cannot read '2\*\(' "):
+        DHRobot.from_dict({"joints": [{"d": 0, "a": "2*(", "alpha": 0}]})
+
+
+def test_inverted_limits_name_joint_and_values():
+    with pytest.raises(JointLimitError, match=r"upper limit of joint 1 \(-10\) must exceed its lower limit \(25\)"):
+        DHRobot.from_dict({"joints": [{"d": 0, "a": 1, "alpha": 0, "limits": [25, -10]}]})
+
+
+def test_unknown_convention_and_robot():
+    with pytest.raises(UnknownNameError, match="convention must be one of 'standard', 'modified'; got 'craig'"):
+        DHRobot.from_dict({"convention": "craig", "joints": [{"d": 0, "a": 1, "alpha": 0}]})
+    with pytest.raises(UnknownNameError, match="robot 'r2d2' is not in the catalog"):
+        robots.get("r2d2")
+
+
+def test_nan_and_empty_table_refused():
+    with pytest.raises(ExpressionError, match="finite"):
+        DHRobot.from_dict({"joints": [{"d": float("nan"), "a": 1, "alpha": 0}]})
+    with pytest.raises(DHTableError, match="non-empty list"):
+        DHRobot.from_dict({"joints": []})
+
+
+def test_exact_degrees_stay_exact():
+    robot = DHRobot.from_dict({"joints": [{"d": 0, "a": "1/3", "alpha": 90, "limits": [-60, 45]}]})
+    j = robot.joints[0]
+    assert j.alpha == sp.pi / 2 and j.a == sp.Rational(1, 3)
+    assert j.limits == (-sp.pi / 3, sp.pi / 4)

@@ -1,0 +1,48 @@
+"""Joint-box sampling and workspace pictures (artists checked, not pixels)."""
+
+import numpy as np
+import pytest
+
+from workspace_sym import InvalidParameterError, robots
+from workspace_sym.sampling import extent, reach_points, sample_joint_box, sweep_joints
+
+
+def test_samples_stay_in_the_joint_box(glass):
+    q = sample_joint_box(glass, 5000, seed=1)
+    lim = glass.joint_limits()
+    assert q.shape == (5000, 6)
+    assert np.all(q >= lim[:, 0]) and np.all(q <= lim[:, 1])
+
+
+def test_reach_never_exceeds_the_sum_of_lengths(glass):
+    """Independent bound: |p| <= d1 + a1 + a2 + a3 + d5 (triangle inequality)."""
+    pts = reach_points(glass, sample_joint_box(glass, 20000, seed=2))
+    bound = sum(glass.parameters.values())
+    assert extent(pts)["reach"] <= bound + 1e-12
+
+
+def test_sweep_moves_one_joint_at_a_time(glass):
+    q = sweep_joints(glass, [4, 3, 2, 1], n=50)
+    assert q.shape == (200, 6)
+    assert np.ptp(q[:50, [0, 1, 2, 4, 5]], axis=0).max() == 0
+    lim = glass.joint_limits()
+    assert q[0, 3] == lim[3, 0] and q[49, 3] == lim[3, 1]
+
+
+def test_bad_sampling_input():
+    robot = robots.build("planar-2r")
+    with pytest.raises(InvalidParameterError, match="n must be a positive integer; got 0"):
+        sample_joint_box(robot, 0)
+    with pytest.raises(InvalidParameterError, match="joint index must be between 1 and 2; got 3"):
+        sweep_joints(robot, [3])
+
+
+def test_plots_return_artists(glass):
+    from workspace_sym.plotting import plot_reach, plot_sweeps, scatter_workspace_3d
+
+    pts = reach_points(glass, sample_joint_box(glass, 500, seed=3))
+    artist = scatter_workspace_3d(pts)
+    assert len(artist.get_offsets()) == 500
+    lines = plot_sweeps(glass, [1, 2])
+    assert len(lines) == 2 and len(lines[0].get_data_3d()[0]) == 200
+    assert len(plot_reach(pts).get_offsets()) == 500
