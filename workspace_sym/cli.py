@@ -16,7 +16,7 @@ from pathlib import Path
 import sympy as sp
 
 from . import robots
-from .errors import WorkspaceError
+from .errors import InvalidParameterError, WorkspaceError
 from .kinematics import DHRobot
 
 __all__ = ["main", "build_parser"]
@@ -140,6 +140,59 @@ def cmd_jacobian(args) -> int:
     return 0
 
 
+def _parse_var(text: str):
+    name, sep, bounds = text.partition("=")
+    lo, sep2, hi = bounds.partition(":")
+    if not sep or not sep2 or not name.strip():
+        raise InvalidParameterError(f"--var: expected NAME=LOW:HIGH; got {text!r}")
+    try:
+        return name.strip(), (float(lo), float(hi))
+    except ValueError:
+        raise InvalidParameterError(f"--var: bounds of {name.strip()} must be numbers; got {bounds!r}") from None
+
+
+def cmd_pave(args) -> int:
+    from .interval import pave
+    from .parallel import ConstraintModel
+
+    if args.robot is not None:
+        if args.var or args.constraint:
+            raise WorkspaceError("pave: give either a catalog robot or --var/--constraint, not both")
+        overrides = {k: v for k, v in (("l0", args.l0), ("lmin", args.lmin), ("lmax", args.lmax)) if v is not None}
+        model = robots.build(args.robot, **overrides)
+        if not isinstance(model, ConstraintModel):
+            raise WorkspaceError(f"robot {args.robot!r} is not described by constraints; pave needs one (e.g. rpr2)")
+        constraints, box, exact = model.constraints, model.box, model.exact_measure
+    else:
+        if not args.var or not args.constraint:
+            raise WorkspaceError("pave: name a catalog robot (e.g. rpr2) or give --var NAME=LOW:HIGH and --constraint")
+        box = dict(_parse_var(v) for v in args.var)
+        constraints, exact = args.constraint, None
+    progress = None if args.progress is None else args.progress
+    paving = pave(constraints, box, delta=args.delta, backend=args.backend, size=args.size,
+                  max_boxes=args.max_boxes, time_limit=args.time_limit, progress=progress, digits=args.digits,
+                  exact_measure=exact)
+    if args.plot:
+        from .plotting import plot_paving, save_figure
+
+        save_figure(plot_paving(paving), args.plot)
+    result = paving.to_dict()
+    if args.json:
+        _emit_json(result)
+        return 0
+    lo, hi = paving.measure_bounds
+    print(f"delta = {paving.delta} ({paving.size}), backend {paving.backend}: {paving.seconds:.3f} s, "
+          f"{paving.evaluated} boxes evaluated")
+    for kind in ("inner", "boundary", "outer", "pending"):
+        print(f"  {kind:<8} {result[kind]['boxes']:>8} boxes, measure {result[kind]['measure']:.6f}")
+    print(f"  measure in [{lo:.6f}, {hi:.6f}]")
+    if exact is not None:
+        print(f"  exact measure {float(exact):.6f} = {sp.sstr(exact)}")
+    if not paving.complete:
+        print(f"  stopped early: {paving.stop_reason}; pending boxes are unclassified")
+    return 0
+
+
 def cmd_demo(args) -> int:
     from .report import dh_robot_report
 
@@ -178,6 +231,27 @@ def build_parser() -> argparse.ArgumentParser:
             p.add_argument("--euler", choices=("zyz", "rpy"), default="zyz",
                            help="Euler convention of the analytic Jacobian")
         p.set_defaults(func=func)
+
+    p = sub.add_parser("pave", help="certified non-uniform covering of a constraint set")
+    p.add_argument("robot", nargs="?", help="catalog model described by constraints (e.g. rpr2)")
+    p.add_argument("--l0", type=float, help="rpr2: distance between the base joints")
+    p.add_argument("--lmin", type=float, help="rpr2: shortest leg")
+    p.add_argument("--lmax", type=float, help="rpr2: longest leg")
+    p.add_argument("--var", action="append", default=[], metavar="NAME=LOW:HIGH", help="a variable and its range")
+    p.add_argument("--constraint", action="append", default=[], metavar="INEQUALITY",
+                   help='e.g. "x1**2 + x2**2 - 144 <= 0"')
+    p.add_argument("--delta", type=float, required=True, help="size below which undecided boxes stop splitting")
+    p.add_argument("--size", choices=("diameter", "width"), default="diameter",
+                   help="box size compared with delta: diameter (paper) or largest edge")
+    p.add_argument("--backend", choices=("numpy", "mpmath"), default="numpy")
+    p.add_argument("--digits", type=int, default=30, help="precision of the mpmath backend")
+    p.add_argument("--max-boxes", type=int, help="stop after this many boxes (the rest is pending)")
+    p.add_argument("--time-limit", type=float, help="stop after this many seconds (the rest is pending)")
+    p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
+                   help="progress bar on stderr (default: on a terminal, for runs over a second)")
+    p.add_argument("--plot", metavar="FILE", help="draw the boxes to an image file")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=cmd_pave)
 
     p = sub.add_parser("demo", help="the main job: write the demo report and print its path")
     p.add_argument("--out", default="demo-report", help="output directory (default: demo-report)")

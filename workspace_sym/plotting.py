@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["scatter_workspace_3d", "plot_reach", "plot_sweeps", "save_figure"]
+__all__ = ["scatter_workspace_3d", "plot_reach", "plot_sweeps", "plot_paving", "save_figure"]
 
 
 def _pyplot():
@@ -86,12 +86,94 @@ def plot_reach(points, *, ax=None, units="m"):
     return artist
 
 
-def save_figure(artist_or_ax, path, *, dpi=120):
-    """Save the figure that holds ``artist_or_ax`` and close it."""
+def save_figure(artists, path, *, dpi=120):
+    """Save the figure that holds ``artists`` (an artist, axes, list or dict of artists) and close it.
+
+    The file is written under a temporary name and renamed, so a failure never
+    leaves a half-written image.
+    """
+    import os
+    from pathlib import Path
+
     plt = _pyplot()
-    fig = artist_or_ax.figure if hasattr(artist_or_ax, "figure") else artist_or_ax
-    if isinstance(artist_or_ax, list):
-        fig = artist_or_ax[0].figure
-    fig.savefig(path, dpi=dpi, bbox_inches="tight")
-    plt.close(fig)
+    obj = artists
+    if isinstance(obj, dict):
+        obj = next(iter(obj.values()))
+    if isinstance(obj, list):
+        obj = obj[0]
+    fig = obj.figure if hasattr(obj, "figure") and obj.figure is not None else obj
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.partial{path.suffix}")
+    try:
+        fig.savefig(tmp, dpi=dpi, bbox_inches="tight")
+        os.replace(tmp, path)
+    finally:
+        plt.close(fig)
+        if tmp.exists():
+            tmp.unlink()
     return path
+
+
+def plot_paving(paving, *, ax=None, show_outer=False, exact_boundary=None, title=None):
+    """Inner (green) and boundary (yellow) boxes of a 2D or 3D paving (Rybak et al., figure 4).
+
+    ``exact_boundary`` is a callable ``(x, y) -> array`` whose zero level set
+    is drawn over a 2D paving (e.g. ``max_j g_j``).  Returns a dict of the
+    artists drawn, keyed by box kind.
+    """
+    plt = _pyplot()
+    n = len(paving.variables)
+    if n == 3:
+        return _plot_paving_3d(paving, ax=ax, title=title)
+    if n != 2:
+        raise ValueError(f"plot_paving draws 2D or 3D pavings; this one has {n} variables")
+    from matplotlib.collections import PolyCollection
+
+    if ax is None:
+        _, ax = plt.subplots(figsize=(7, 3.5))
+    artists = {}
+    kinds = [("inner", "#4caf50"), ("boundary", "#ffd54f")] + ([("outer", "#e0e0e0")] if show_outer else [])
+    for kind, colour in kinds:
+        boxes = getattr(paving, kind)
+        verts = [[(b[0, 0], b[1, 0]), (b[0, 1], b[1, 0]), (b[0, 1], b[1, 1]), (b[0, 0], b[1, 1])] for b in boxes]
+        coll = PolyCollection(verts, facecolors=colour, edgecolors="k", linewidths=0.2, label=f"{kind} ({len(boxes)})")
+        ax.add_collection(coll)
+        artists[kind] = coll
+    lo, hi = paving.box.lower, paving.box.upper
+    if exact_boundary is not None:
+        xs, ys = np.meshgrid(np.linspace(lo[0], hi[0], 600), np.linspace(lo[1], hi[1], 300))
+        artists["exact"] = ax.contour(xs, ys, exact_boundary(xs, ys), levels=[0.0], colors="r", linewidths=1.0)
+    ax.set_xlim(lo[0], hi[0])
+    ax.set_ylim(lo[1], hi[1])
+    ax.set_aspect("equal")
+    ax.set_xlabel(str(paving.variables[0]))
+    ax.set_ylabel(str(paving.variables[1]))
+    m_lo, m_hi = paving.measure_bounds
+    ax.set_title(title or f"delta = {paving.delta}: area in [{m_lo:.4f}, {m_hi:.4f}]")
+    ax.legend(loc="upper right", fontsize="small")
+    return artists
+
+
+def _plot_paving_3d(paving, *, ax=None, title=None):
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    ax = _axes3d(ax)
+    artists = {}
+    for kind, colour, alpha in (("inner", "#4caf50", 0.5), ("boundary", "#ffd54f", 0.15)):
+        faces = []
+        for b in getattr(paving, kind):
+            (x0, x1), (y0, y1), (z0, z1) = b
+            corners = np.array([[x, y, z] for x in (x0, x1) for y in (y0, y1) for z in (z0, z1)])
+            for quad in ((0, 1, 3, 2), (4, 5, 7, 6), (0, 1, 5, 4), (2, 3, 7, 6), (0, 2, 6, 4), (1, 3, 7, 5)):
+                faces.append(corners[list(quad)])
+        coll = Poly3DCollection(faces, facecolors=colour, edgecolors="none", alpha=alpha)
+        ax.add_collection3d(coll)
+        artists[kind] = coll
+    ax.set_xlim(paving.box.lower[0], paving.box.upper[0])
+    ax.set_ylim(paving.box.lower[1], paving.box.upper[1])
+    ax.set_zlim(paving.box.lower[2], paving.box.upper[2])
+    for setter, v in zip((ax.set_xlabel, ax.set_ylabel, ax.set_zlabel), paving.variables):
+        setter(str(v))
+    if title:
+        ax.set_title(title)
+    return artists

@@ -18,6 +18,8 @@ from .kinematics import DHJoint, DHRobot
 __all__ = ["CatalogEntry", "register", "get", "build", "catalog", "glass_handling_arm", "puma560", "scara",
            "planar_2r", "planar_3r"]
 
+# Entries build on demand; a parallel model imports its module only when built.
+
 deg = sp.pi / 180
 
 
@@ -185,4 +187,20 @@ register(CatalogEntry(
     name="planar-3r", kind="serial (DH, planar 3R)", source="textbook example", units="m",
     summary="planar three-link arm", factory=planar_3r, parameters={"l1": 1.0, "l2": 0.5, "l3": 0.25},
     limits="[-180, 180] deg each",
+))
+
+
+# ---------------------------------------------------------------------------- parallel robots
+def _rpr2(**parameters):
+    from .parallel import rpr2
+
+    return rpr2(**parameters)
+
+
+register(CatalogEntry(
+    name="rpr2", kind="parallel (planar 2-RPR, constraints)",
+    source="L. A. Rybak, M. A. Posypkin, A. V. Turkin, Method for approximating the workspace of the parallel robot, "
+           "IJPT 2016",
+    units="length units of the paper", summary="two prismatic legs from (0, 0) and (l0, 0); box [-12, 17] x [0, 12]",
+    factory=_rpr2, parameters={"l0": 5, "lmin": 8, "lmax": 12}, limits="leg lengths in [lmin, lmax]",
 ))

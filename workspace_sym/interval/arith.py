@@ -1,0 +1,182 @@
+"""Vectorised interval arithmetic on numpy arrays, outward-rounded on every operation.
+
+An interval array is a pair ``(lo, hi)`` of float64 arrays of one shape.  Every
+operation returns an enclosure of the exact result: the float result is pushed
+outward (``numpy.nextafter``, or a few ulps for the library functions whose
+error bound is larger than half an ulp).  NaN anywhere means "no enclosure"
+and makes the caller undecided; the operations never turn a NaN into a
+finite bound.
+
+Pure functions, no I/O.  The module-level names are the interval operations
+used by :mod:`workspace_sym.interval.compiler`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = [
+    "down", "up", "const", "point", "add", "sub", "neg", "mul", "div", "sqr", "ipow", "sqrt", "sin", "cos",
+    "iabs", "intersect", "hull_nan",
+]
+
+_INF = np.inf
+_TWO_PI = 2 * np.pi
+
+
+def down(x):
+    """The next float below ``x`` (outward rounding of a lower bound)."""
+    return np.nextafter(x, -_INF)
+
+
+def up(x):
+    """The next float above ``x``."""
+    return np.nextafter(x, _INF)
+
+
+def _down_ulps(x, k):
+    # k ulps of |x| below x; spacing is the ulp above |x|, so this is at least k ulps.
+    return np.where(np.isfinite(x), x - k * np.abs(np.spacing(x)), x)
+
+
+def _up_ulps(x, k):
+    return np.where(np.isfinite(x), x + k * np.abs(np.spacing(x)), x)
+
+
+def const(lo: float, hi: float, shape=()):
+    """A constant interval broadcast to ``shape``."""
+    return np.full(shape, lo, dtype=float), np.full(shape, hi, dtype=float)
+
+
+def point(x):
+    """The degenerate interval ``[x, x]`` of a float array (exact)."""
+    x = np.asarray(x, dtype=float)
+    return x, x.copy()
+
+
+def add(a, b):
+    return down(a[0] + b[0]), up(a[1] + b[1])
+
+
+def sub(a, b):
+    return down(a[0] - b[1]), up(a[1] - b[0])
+
+
+def neg(a):
+    return -a[1], -a[0]
+
+
+def _nan_to(x, value):
+    return np.where(np.isnan(x), value, x)
+
+
+def mul(a, b):
+    (al, ah), (bl, bh) = a, b
+    with np.errstate(invalid="ignore"):
+        p = (al * bl, al * bh, ah * bl, ah * bh)
+    # 0 * inf is NaN in floats; taking it as -inf / +inf keeps the enclosure sound.
+    lo = np.minimum.reduce([_nan_to(x, -_INF) for x in p])
+    hi = np.maximum.reduce([_nan_to(x, _INF) for x in p])
+    # A genuine NaN input stays NaN.
+    bad = np.isnan(al) | np.isnan(ah) | np.isnan(bl) | np.isnan(bh)
+    return np.where(bad, np.nan, down(lo)), np.where(bad, np.nan, up(hi))
+
+
+def div(a, b):
+    """``a / b``; a divisor that contains zero gives the whole line (sound, possibly loose)."""
+    (al, ah), (bl, bh) = a, b
+    zero = (bl <= 0) & (bh >= 0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        q = (al / bl, al / bh, ah / bl, ah / bh)
+    lo = np.minimum.reduce([_nan_to(x, -_INF) for x in q])
+    hi = np.maximum.reduce([_nan_to(x, _INF) for x in q])
+    lo, hi = np.where(zero, -_INF, down(lo)), np.where(zero, _INF, up(hi))
+    bad = np.isnan(al) | np.isnan(ah) | np.isnan(bl) | np.isnan(bh)
+    return np.where(bad, np.nan, lo), np.where(bad, np.nan, hi)
+
+
+def sqr(a):
+    """Tight square: ``[-1, 2]**2 = [0, 4]``, not ``[-2, 4]`` as ``x*x`` would give."""
+    lo, hi = a
+    l2, h2 = lo * lo, hi * hi
+    low = np.where(lo >= 0, l2, np.where(hi <= 0, h2, 0.0))
+    high = np.maximum(l2, h2)
+    return np.maximum(down(low), 0.0), up(high)
+
+
+def ipow(a, n: int):
+    """``a**n`` for an integer ``n >= 1``; even powers are tight like :func:`sqr`."""
+    if n == 1:
+        return a
+    if n == 2:
+        return sqr(a)
+    lo, hi = a
+    # np.power of a float to an integer is not correctly rounded: allow n ulps.
+    with np.errstate(over="ignore"):
+        pl, ph = np.power(lo, n), np.power(hi, n)
+    if n % 2:
+        return _down_ulps(pl, n), _up_ulps(ph, n)
+    low = np.where(lo >= 0, pl, np.where(hi <= 0, ph, 0.0))
+    return np.maximum(_down_ulps(low, n), 0.0), _up_ulps(np.maximum(pl, ph), n)
+
+
+def sqrt(a):
+    """Square root; an interval reaching below zero is a domain error: NaN (undecided)."""
+    lo, hi = a
+    with np.errstate(invalid="ignore"):
+        r_lo = np.maximum(down(np.sqrt(np.maximum(lo, 0.0))), 0.0)
+        r_hi = up(np.sqrt(hi))
+    bad = lo < 0
+    return np.where(bad, np.nan, r_lo), np.where(bad, np.nan, r_hi)
+
+
+def iabs(a):
+    lo, hi = a
+    low = np.where(lo >= 0, lo, np.where(hi <= 0, -hi, 0.0))
+    return low, np.maximum(np.abs(lo), np.abs(hi))
+
+
+def _contains_phase(lo, hi, phase):
+    """Whether ``[lo, hi]`` may contain ``phase + 2 k pi`` for some integer k.
+
+    Decided with a generous tolerance: answering yes when unsure only loosens
+    the enclosure (an extremum of +-1 is included), never breaks it.
+    """
+    tol = 1e-9 * (1.0 + np.abs(lo) + np.abs(hi))
+    k_lo = np.ceil((lo - tol - phase) / _TWO_PI)
+    k_hi = np.floor((hi + tol - phase) / _TWO_PI)
+    return k_hi >= k_lo
+
+
+def _trig(a, fn, phase_max, phase_min):
+    lo, hi = a
+    with np.errstate(invalid="ignore"):
+        fl, fh = fn(lo), fn(hi)
+    # numpy's sin / cos are faithful (error below one ulp) on this range: widen by 2 ulps.
+    low = _down_ulps(np.minimum(fl, fh), 2)
+    high = _up_ulps(np.maximum(fl, fh), 2)
+    wide = ~((hi - lo) < _TWO_PI) | (np.maximum(np.abs(lo), np.abs(hi)) > 2.0**20)
+    high = np.where(wide | _contains_phase(lo, hi, phase_max), 1.0, np.minimum(high, 1.0))
+    low = np.where(wide | _contains_phase(lo, hi, phase_min), -1.0, np.maximum(low, -1.0))
+    bad = np.isnan(lo) | np.isnan(hi)
+    return np.where(bad, np.nan, low), np.where(bad, np.nan, high)
+
+
+def sin(a):
+    return _trig(a, np.sin, np.pi / 2, -np.pi / 2)
+
+
+def cos(a):
+    return _trig(a, np.cos, 0.0, np.pi)
+
+
+def intersect(a, b):
+    """``a`` intersected with ``b`` where ``b`` is defined; NaN in ``a`` stays NaN."""
+    lo = np.where(np.isnan(b[0]), a[0], np.maximum(a[0], b[0]))
+    hi = np.where(np.isnan(b[1]), a[1], np.minimum(a[1], b[1]))
+    return lo, hi
+
+
+def hull_nan(a):
+    """Replace NaN bounds by the whole line (used for reporting, never for deciding)."""
+    return _nan_to(a[0], -_INF), _nan_to(a[1], _INF)

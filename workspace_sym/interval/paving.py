@@ -1,0 +1,502 @@
+"""Certified boxes: non-uniform covering of ``X = {x in P : g_j(x) <= 0}`` (Rybak et al. 2016).
+
+A box is **inner** when every ``g_j <= 0`` on the whole box (condition 8),
+**outer** when some ``g_j > 0`` on the whole box (condition 7), **boundary**
+when neither is proved and its size is at most ``delta`` (condition 9); larger
+undecided boxes are bisected along their longest edge.  Every decision comes
+from outward-rounded interval arithmetic; anything unproved stays undecided.
+
+The numpy backend processes a whole generation of boxes per call; the mpmath
+backend evaluates one box at a time at any precision and serves as reference.
+"""
+
+from __future__ import annotations
+
+import enum
+import math
+import sys
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import sympy as sp
+
+from ..errors import BoxError, ConstraintError, InvalidParameterError, check_choice
+from . import mp as mpi
+from .compiler import BACKENDS, compile_expr
+
+__all__ = ["Certificate", "Box", "Constraint", "parse_constraints", "certify_box", "pave", "Paving",
+           "hausdorff", "box_measure", "SIZES"]
+
+SIZES = ("diameter", "width")
+
+
+class Certificate(enum.Enum):
+    """Outcome of a box test; only IN and OUT are proved statements."""
+
+    IN = 1
+    OUT = -1
+    UNDECIDED = 0
+
+    def __bool__(self):
+        raise TypeError("a Certificate is not a boolean; compare with Certificate.IN / OUT / UNDECIDED")
+
+
+@dataclass(frozen=True, slots=True)
+class Box:
+    """An axis-aligned box ``[lower_k, upper_k]`` over named variables.
+
+    Examples
+    --------
+    >>> Box.from_bounds({"x": (0, 1), "y": (-1, 2)})
+    Box(x in [0.0, 1.0], y in [-1.0, 2.0])
+    >>> Box.from_bounds({"x": (1, 0)})
+    Traceback (most recent call last):
+    ...
+    workspace_sym.errors.BoxError: box: lower bound of x (1) must not exceed its upper bound (0)
+    """
+
+    variables: tuple
+    lower: tuple
+    upper: tuple
+
+    @classmethod
+    def from_bounds(cls, bounds, variables=None) -> "Box":
+        """From ``{var: (lo, hi)}`` or a sequence of pairs with ``variables``."""
+        if isinstance(bounds, Box):
+            return bounds
+        if isinstance(bounds, dict):
+            variables = tuple(sp.Symbol(v) if isinstance(v, str) else v for v in bounds)
+            pairs = list(bounds.values())
+        else:
+            pairs = list(bounds)
+            if variables is None:
+                raise BoxError("box: a list of bounds needs variables=...; or pass {variable: (lo, hi)}")
+            variables = tuple(sp.Symbol(v) if isinstance(v, str) else v for v in variables)
+            if len(variables) != len(pairs):
+                raise BoxError(f"box: {len(pairs)} bounds for {len(variables)} variables")
+        if not pairs:
+            raise BoxError("box: at least one variable is needed; got an empty box")
+        lower, upper = [], []
+        for v, pair in zip(variables, pairs):
+            try:
+                lo, hi = pair
+                lo_f, hi_f = float(lo), float(hi)
+            except (TypeError, ValueError):
+                raise BoxError(f"box: bounds of {v} must be two numbers; got {pair!r}") from None
+            if not (math.isfinite(lo_f) and math.isfinite(hi_f)):
+                raise BoxError(f"box: bounds of {v} must be finite; got [{lo}, {hi}]")
+            if lo_f > hi_f:
+                raise BoxError(f"box: lower bound of {v} ({lo}) must not exceed its upper bound ({hi})")
+            lower.append(lo_f)
+            upper.append(hi_f)
+        return cls(variables, tuple(lower), tuple(upper))
+
+    @property
+    def array(self) -> np.ndarray:
+        """``(n, 2)`` array of bounds."""
+        return np.array([self.lower, self.upper]).T
+
+    @property
+    def measure(self) -> float:
+        return float(np.prod(np.subtract(self.upper, self.lower)))
+
+    def __repr__(self):
+        parts = ", ".join(f"{v} in [{lo!r}, {hi!r}]" for v, lo, hi in zip(self.variables, self.lower, self.upper))
+        return f"Box({parts})"
+
+
+@dataclass(frozen=True, slots=True)
+class Constraint:
+    """``g(x) <= 0`` (or ``< 0`` when ``strict``)."""
+
+    g: sp.Expr
+    strict: bool = False
+    source: str = ""
+
+    def __repr__(self):
+        return f"Constraint({self.g} {'<' if self.strict else '<='} 0)"
+
+
+def parse_constraints(constraints, variables) -> tuple[Constraint, ...]:
+    """Read inequalities (SymPy relationals or strings) as ``g <= 0`` constraints.
+
+    Examples
+    --------
+    >>> x = sp.Symbol("x")
+    >>> parse_constraints(["x**2 <= 4", x > 1], (x,))
+    (Constraint(x**2 - 4 <= 0), Constraint(1 - x < 0))
+    >>> parse_constraints(["x**2 - 4"], (x,))
+    Traceback (most recent call last):
+    ...
+    workspace_sym.errors.ConstraintError: constraint 1 ('x**2 - 4') is not an inequality; write it as 'g <= 0'
+    """
+    if isinstance(constraints, (str, sp.Basic)):
+        constraints = [constraints]
+    out = []
+    names = {str(v): v for v in variables}
+    for k, c in enumerate(constraints, start=1):
+        text = c if isinstance(c, str) else str(c)
+        if isinstance(c, str):
+            try:
+                c = sp.sympify(c, locals=names)
+            except (sp.SympifyError, SyntaxError, TypeError):
+                raise ConstraintError(f"constraint {k} ({text!r}) cannot be read") from None
+        if not isinstance(c, sp.core.relational.Relational) or isinstance(c, (sp.Eq, sp.Ne)):
+            raise ConstraintError(f"constraint {k} ({text!r}) is not an inequality; write it as 'g <= 0'")
+        if isinstance(c, (sp.LessThan, sp.StrictLessThan)):
+            g = c.lhs - c.rhs
+        else:
+            g = c.rhs - c.lhs
+        unknown = g.free_symbols - set(variables)
+        if unknown:
+            raise ConstraintError(f"constraint {k} ({text!r}) uses unknown symbol(s) "
+                                  f"{', '.join(sorted(map(str, unknown)))}; variables are "
+                                  f"{', '.join(map(str, variables))}")
+        out.append(Constraint(g, isinstance(c, (sp.StrictLessThan, sp.StrictGreaterThan)), text))
+    if not out:
+        raise ConstraintError("constraints: at least one inequality is needed")
+    return tuple(out)
+
+
+# ----------------------------------------------------------------------------- deciding
+def _decide_numpy(compiled, constraints, boxes: np.ndarray):
+    """Codes per box: 1 inner, -1 outer, 0 undecided (numpy backend, vectorised)."""
+    X = [(boxes[:, k, 0], boxes[:, k, 1]) for k in range(boxes.shape[1])]
+    all_in = np.ones(len(boxes), dtype=bool)
+    some_out = np.zeros(len(boxes), dtype=bool)
+    for f, c in zip(compiled, constraints):
+        lo, hi = f(X)
+        lo, hi = np.broadcast_to(lo, (len(boxes),)), np.broadcast_to(hi, (len(boxes),))
+        # NaN compares False both ways: undecided for this constraint.
+        if c.strict:
+            all_in &= hi < 0
+            some_out |= lo >= 0
+        else:
+            all_in &= hi <= 0
+            some_out |= lo > 0
+    return np.where(some_out, -1, np.where(all_in, 1, 0))
+
+
+def _decide_mpmath(compiled, constraints, boxes: np.ndarray, digits: int):
+    codes = np.zeros(len(boxes), dtype=int)
+    with mpi.precision(digits):
+        for i, b in enumerate(boxes):
+            X = [mpi.from_float_bounds(lo, hi) for lo, hi in b]
+            all_in, some_out = True, False
+            for f, c in zip(compiled, constraints):
+                v = f(X)
+                if v is None:
+                    all_in = False
+                    continue
+                lo, hi = v.a, v.b
+                if c.strict:
+                    all_in &= bool(hi < 0)
+                    some_out |= bool(lo >= 0)
+                else:
+                    all_in &= bool(hi <= 0)
+                    some_out |= bool(lo > 0)
+            codes[i] = -1 if some_out else (1 if all_in else 0)
+    return codes
+
+
+class _Decider:
+    def __init__(self, constraints, variables, backend, digits):
+        check_choice("backend", backend, BACKENDS)
+        self.constraints = constraints
+        self.backend = backend
+        self.digits = digits
+        self.compiled = [compile_expr(c.g, variables, backend=backend) for c in constraints]
+
+    def __call__(self, boxes):
+        if self.backend == "numpy":
+            return _decide_numpy(self.compiled, self.constraints, boxes)
+        return _decide_mpmath(self.compiled, self.constraints, boxes, self.digits)
+
+
+def _setup(constraints, box, variables):
+    if isinstance(box, Box):
+        b = box
+    elif isinstance(box, dict):
+        b = Box.from_bounds(box)
+    else:
+        b = Box.from_bounds(box, variables)
+    if variables is not None and tuple(map(str, variables)) != tuple(map(str, b.variables)):
+        raise BoxError(f"box: variables {list(map(str, b.variables))} differ from {list(map(str, variables))}")
+    return parse_constraints(constraints, b.variables), b
+
+
+def certify_box(box, constraints, *, variables=None, backend: str = "numpy", digits: int = 30) -> Certificate:
+    """IN if every constraint holds on the whole box, OUT if one fails on the whole box, else UNDECIDED.
+
+    Examples
+    --------
+    >>> certify_box({"x": (0, 1), "y": (0, 1)}, ["x**2 + y**2 <= 4"])
+    <Certificate.IN: 1>
+    >>> certify_box({"x": (3, 4), "y": (0, 1)}, ["x**2 + y**2 <= 4"])
+    <Certificate.OUT: -1>
+    >>> certify_box({"x": (1, 3), "y": (0, 1)}, ["x**2 + y**2 <= 4"])
+    <Certificate.UNDECIDED: 0>
+    """
+    cons, b = _setup(constraints, box, variables)
+    code = _Decider(cons, b.variables, backend, digits)(b.array[None, :, :])[0]
+    return {1: Certificate.IN, -1: Certificate.OUT, 0: Certificate.UNDECIDED}[int(code)]
+
+
+# ----------------------------------------------------------------------------- paving
+def box_measure(boxes: np.ndarray) -> float:
+    """Total measure (area, volume) of an ``(N, n, 2)`` array of boxes."""
+    if len(boxes) == 0:
+        return 0.0
+    return float(np.sum(np.prod(boxes[:, :, 1] - boxes[:, :, 0], axis=1)))
+
+
+@dataclass(frozen=True, eq=False)
+class Paving:
+    """Result of :func:`pave`: inner, boundary, outer and pending boxes, each an ``(N, n, 2)`` array.
+
+    ``pending`` boxes are those a stopped run (budget, time limit, Ctrl-C)
+    did not examine: they are neither proved nor classified.
+    """
+
+    variables: tuple
+    box: Box
+    constraints: tuple
+    delta: float
+    backend: str
+    size: str
+    inner: np.ndarray
+    boundary: np.ndarray
+    outer: np.ndarray
+    pending: np.ndarray
+    seconds: float
+    complete: bool
+    evaluated: int
+    stop_reason: str = ""
+    exact_measure: object = field(default=None)
+
+    @property
+    def measures(self) -> dict:
+        return {k: box_measure(getattr(self, k)) for k in ("inner", "boundary", "outer", "pending")}
+
+    @property
+    def measure_bounds(self) -> tuple[float, float]:
+        """``(measure(inner), measure(inner) + measure(boundary) + measure(pending))``."""
+        m = self.measures
+        return m["inner"], m["inner"] + m["boundary"] + m["pending"]
+
+    def to_dict(self) -> dict:
+        m = self.measures
+        out = {
+            "inner": {"boxes": len(self.inner), "measure": m["inner"]},
+            "boundary": {"boxes": len(self.boundary), "measure": m["boundary"]},
+            "outer": {"boxes": len(self.outer), "measure": m["outer"]},
+            "pending": {"boxes": len(self.pending), "measure": m["pending"]},
+            "measure_bounds": list(self.measure_bounds),
+            "delta": self.delta,
+            "size": self.size,
+            "backend": self.backend,
+            "complete": self.complete,
+            "boxes_evaluated": self.evaluated,
+            "seconds": self.seconds,
+        }
+        if self.stop_reason:
+            out["stop_reason"] = self.stop_reason
+        if self.exact_measure is not None:
+            out["exact_measure"] = float(sp.N(self.exact_measure, 17))
+            out["exact_measure_expr"] = sp.sstr(self.exact_measure)
+        return out
+
+    def __repr__(self):
+        lo, hi = self.measure_bounds
+        return (f"Paving({len(self.inner)} inner, {len(self.boundary)} boundary, {len(self.outer)} outer, "
+                f"{len(self.pending)} pending; measure in [{lo:.6g}, {hi:.6g}], delta={self.delta})")
+
+
+class _Progress:
+    """A one-line progress bar on stderr: share of the initial measure already decided."""
+
+    def __init__(self, enabled, total, width=30):
+        self.enabled = enabled
+        self.total = total
+        self.width = width
+        self.last = 0.0
+        self.shown = False
+
+    def update(self, decided, boxes, force=False):
+        if not self.enabled:
+            return
+        now = time.perf_counter()
+        if not force and now - self.last < 0.2:
+            return
+        self.last = now
+        frac = min(1.0, decided / self.total) if self.total > 0 else 1.0
+        bar = "#" * int(frac * self.width)
+        sys.stderr.write(f"\rpaving [{bar:<{self.width}}] {100 * frac:5.1f}% of the box decided, {boxes} boxes")
+        sys.stderr.flush()
+        self.shown = True
+
+    def close(self):
+        if self.shown:
+            sys.stderr.write("\n")
+            sys.stderr.flush()
+
+
+def _sizes(boxes: np.ndarray, size: str) -> np.ndarray:
+    w = boxes[:, :, 1] - boxes[:, :, 0]
+    return np.sqrt(np.sum(w * w, axis=1)) if size == "diameter" else np.max(w, axis=1)
+
+
+def _bisect(boxes: np.ndarray):
+    """Split every box along its longest edge; also returns boxes too thin to split."""
+    w = boxes[:, :, 1] - boxes[:, :, 0]
+    k = np.argmax(w, axis=1)
+    rows = np.arange(len(boxes))
+    lo, hi = boxes[rows, k, 0], boxes[rows, k, 1]
+    mid = 0.5 * lo + 0.5 * hi
+    ok = (mid > lo) & (mid < hi)
+    left, right = boxes[ok].copy(), boxes[ok].copy()
+    left[np.arange(ok.sum()), k[ok], 1] = mid[ok]
+    right[np.arange(ok.sum()), k[ok], 0] = mid[ok]
+    children = np.empty((2 * ok.sum(),) + boxes.shape[1:])
+    children[0::2], children[1::2] = left, right
+    return children, boxes[~ok]
+
+
+def pave(constraints, box, *, delta: float, variables=None, backend: str = "numpy", size: str = "diameter",
+         max_boxes: int | None = None, time_limit: float | None = None, progress: bool | None = None,
+         digits: int = 30, chunk: int = 200_000, exact_measure=None) -> Paving:
+    """Non-uniform covering of ``{x in box : every constraint}`` (METHODS.md section 2).
+
+    Parameters
+    ----------
+    constraints : inequalities (SymPy relationals or strings such as ``"x**2 + y**2 <= 144"``)
+    box : ``{variable: (lo, hi)}``, a :class:`Box`, or pairs with ``variables``
+    delta : float
+        Undecided boxes whose size is at most ``delta`` become boundary boxes.
+    backend : {"numpy", "mpmath"}
+    size : {"diameter", "width"}
+        How a box is measured against ``delta``: its diameter (the paper's
+        ``d(P)``, default) or its largest edge (codac's convention).
+    max_boxes, time_limit : optional budget; when exhausted, the remaining
+        boxes are returned as ``pending`` (never classified).
+    progress : show a progress bar on stderr (default: when stderr is a
+        terminal and the run lasts more than a second).
+    digits : precision of the mpmath backend.
+
+    Returns
+    -------
+    Paving
+
+    Examples
+    --------
+    >>> p = pave(["x**2 + y**2 <= 1"], {"x": (-1, 1), "y": (-1, 1)}, delta=0.1)
+    >>> lo, hi = p.measure_bounds
+    >>> bool(lo <= 3.141592653589793 <= hi)
+    True
+    """
+    if not isinstance(delta, (int, float)) or isinstance(delta, bool) or not math.isfinite(delta) or delta <= 0:
+        raise InvalidParameterError(f"delta must be a positive finite number; got {delta!r}")
+    check_choice("size", size, SIZES)
+    check_choice("backend", backend, BACKENDS)
+    if max_boxes is not None and max_boxes < 1:
+        raise InvalidParameterError(f"max_boxes must be at least 1; got {max_boxes!r}")
+    cons, b = _setup(constraints, box, variables)
+    decide = _Decider(cons, b.variables, backend, digits)
+    start = time.perf_counter()
+    show = sys.stderr.isatty() if progress is None else progress
+    bar = _Progress(bool(show), b.measure)
+    if progress is None:
+        bar.enabled = False
+    inner, boundary, outer = [], [], []
+    work = b.array[None, :, :].astype(float)
+    evaluated, decided, reason = 0, 0.0, ""
+    try:
+        while len(work):
+            if time_limit is not None and time.perf_counter() - start > time_limit:
+                reason = f"time limit of {time_limit} s reached"
+                break
+            if max_boxes is not None and evaluated >= max_boxes:
+                reason = f"budget of {max_boxes} boxes reached"
+                break
+            if progress is None and show and time.perf_counter() - start > 1.0:
+                bar.enabled = True
+            take = len(work) if max_boxes is None else min(len(work), max_boxes - evaluated)
+            take = min(take, chunk)
+            batch, work = work[:take], work[take:]
+            codes = decide(batch)
+            evaluated += len(batch)
+            inner.append(batch[codes == 1])
+            outer.append(batch[codes == -1])
+            und = batch[codes == 0]
+            small = _sizes(und, size) <= delta
+            boundary.append(und[small])
+            children, thin = _bisect(und[~small])
+            boundary.append(thin)
+            work = np.concatenate([work, children]) if len(work) else children
+            decided += box_measure(batch[codes != 0]) + box_measure(und[small]) + box_measure(thin)
+            bar.update(decided, evaluated)
+    except KeyboardInterrupt:
+        reason = "interrupted"
+    finally:
+        bar.update(decided, evaluated, force=True)
+        bar.close()
+    n = len(b.variables)
+    empty = np.empty((0, n, 2))
+    stack = lambda parts: np.concatenate(parts) if parts else empty  # noqa: E731
+    return Paving(b.variables, b, cons, float(delta), backend, size, stack(inner), stack(boundary), stack(outer),
+                  work if len(work) else empty, time.perf_counter() - start, not reason, evaluated, reason,
+                  exact_measure)
+
+
+# ----------------------------------------------------------------------------- Hausdorff
+def _corners(boxes: np.ndarray) -> np.ndarray:
+    n = boxes.shape[1]
+    grid = np.array(np.meshgrid(*[[0, 1]] * n, indexing="ij")).reshape(n, -1).T  # (2^n, n)
+    return boxes[:, np.arange(n)[None, :], grid]  # (N, 2^n, n)
+
+
+def _point_box_distance(points: np.ndarray, boxes: np.ndarray) -> np.ndarray:
+    """Euclidean distances ``(P, Q)`` from points ``(P, n)`` to boxes ``(Q, n, 2)``."""
+    lo, hi = boxes[None, :, :, 0], boxes[None, :, :, 1]
+    x = points[:, None, :]
+    gap = np.maximum(np.maximum(lo - x, x - hi), 0.0)
+    return np.sqrt(np.sum(gap * gap, axis=2))
+
+
+def hausdorff(A: np.ndarray, B: np.ndarray, *, block: int = 2048) -> tuple[float, float]:
+    """Bracket of the deviation ``Delta(A, B) = max_{a in A} min_{b in B} |a - b|`` of two box unions.
+
+    The paper's closing formulas replace ``max_a min_j`` by ``min_j max_a``
+    box by box; that exchange gives an upper bound, not an equality (a box of
+    A may be covered by two boxes of B without lying in either).  We return
+    ``(lower, upper)``: the upper bound is the paper's
+    ``max_i min_j rho(P_i, Q_j)``, with ``rho(P, Q)`` exact (the largest
+    distance from a corner of P to Q, distance to a box being convex);
+    the lower bound is ``max_i min_j`` of the distance from the corners and
+    centre of ``P_i`` to ``Q_j``.  Both are equal when A's boxes are small
+    against B's.  The symmetric Hausdorff distance is the max of both
+    directions.
+    """
+    A, B = np.asarray(A, dtype=float), np.asarray(B, dtype=float)
+    if len(A) == 0:
+        return 0.0, 0.0
+    if len(B) == 0:
+        return math.inf, math.inf
+    corners = _corners(A)
+    centres = A.mean(axis=2)
+    lower, upper = 0.0, 0.0
+    for i in range(0, len(A), block):
+        c = corners[i:i + block]  # (m, 2^n, n)
+        m, k, n = c.shape
+        dist = np.full((m, k), np.inf)
+        best_rho = np.full(m, np.inf)
+        dcen = np.full(m, np.inf)
+        for j in range(0, len(B), block):
+            d = _point_box_distance(c.reshape(-1, n), B[j:j + block]).reshape(m, k, -1)
+            dist = np.minimum(dist, d.min(axis=2))
+            best_rho = np.minimum(best_rho, d.max(axis=1).min(axis=1))
+            dcen = np.minimum(dcen, _point_box_distance(centres[i:i + block], B[j:j + block]).min(axis=1))
+        lower = max(lower, float(np.max(np.maximum(dist.max(axis=1), dcen))))
+        upper = max(upper, float(best_rho.max()))
+    return lower, upper
