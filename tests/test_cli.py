@@ -81,3 +81,35 @@ def test_python_dash_m_entry_point():
     assert proc.returncode == 2 and proc.stderr.count("\n") == 1
     proc = subprocess.run([sys.executable, "-m", "workspace_sym", "fk", "--bogus"], capture_output=True, text=True)
     assert proc.returncode == 2 and proc.stderr.count("\n") == 1
+
+
+def test_pave_rpr2_json_contract(capsys):
+    """INTERFACE.md keys; Rybak et al. 2016 delta = 0.07; the exact area is bracketed."""
+    code, out, _ = run(capsys, "pave", "rpr2", "--delta", "0.07", "--json")
+    data = json.loads(out)
+    assert code == 0
+    for key in ("inner", "boundary", "outer"):
+        assert set(data[key]) == {"boxes", "measure"}
+    lo, hi = data["measure_bounds"]
+    assert lo <= data["exact_measure"] <= hi
+    assert data["delta"] == 0.07 and data["backend"] == "numpy" and data["seconds"] >= 0
+
+
+def test_pave_free_constraints_and_plot(tmp_path, capsys):
+    plot = tmp_path / "disc.png"
+    code, out, _ = run(capsys, "pave", "--var", "x=-2:2", "--var", "y=-2:2", "--constraint", "x**2 + y**2 <= 1",
+                       "--delta", "0.05", "--json", "--plot", str(plot))
+    data = json.loads(out)
+    assert code == 0 and plot.stat().st_size > 0
+    assert data["measure_bounds"][0] <= 3.141592653589793 <= data["measure_bounds"][1]
+
+
+def test_pave_bad_input_writes_nothing(tmp_path, capsys):
+    plot = tmp_path / "never.png"
+    code, out, err = run(capsys, "pave", "--var", "x=1:0", "--constraint", "x <= 1", "--delta", "0.1",
+                         "--plot", str(plot))
+    assert code == 2 and not plot.exists() and err.count("\n") == 1 and "x (1.0)" in err
+    code, _, err = run(capsys, "pave", "--var", "x=0:1", "--constraint", "x - 1", "--delta", "0.1")
+    assert code == 2 and "not an inequality" in err
+    code, _, err = run(capsys, "pave", "rpr2", "--delta", "-1")
+    assert code == 2 and "delta" in err

@@ -5,7 +5,8 @@ import importlib
 
 import pytest
 
-MODULES = ["errors", "expressions", "symbolic", "kinematics", "robots", "sampling"]
+MODULES = ["errors", "expressions", "symbolic", "kinematics", "robots", "sampling", "parallel", "interval.mp",
+           "interval.compiler", "interval.paving"]
 
 
 @pytest.mark.parametrize("name", MODULES)

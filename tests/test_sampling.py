@@ -46,3 +46,12 @@ def test_plots_return_artists(glass):
     lines = plot_sweeps(glass, [1, 2])
     assert len(lines) == 2 and len(lines[0].get_data_3d()[0]) == 200
     assert len(plot_reach(pts).get_offsets()) == 500
+
+
+def test_paving_plot_returns_patches():
+    from workspace_sym.plotting import plot_paving
+
+    p = robots.build("rpr2").pave(delta=0.5)
+    artists = plot_paving(p, exact_boundary=lambda a, b: np.maximum(a**2 + b**2 - 144, 64 - a**2 - b**2))
+    assert len(artists["inner"].get_paths()) == len(p.inner)
+    assert len(artists["boundary"].get_paths()) == len(p.boundary)

@@ -55,11 +55,13 @@ def point(x):
 
 
 def add(a, b):
-    return down(a[0] + b[0]), up(a[1] + b[1])
+    with np.errstate(invalid="ignore", over="ignore"):
+        return down(a[0] + b[0]), up(a[1] + b[1])
 
 
 def sub(a, b):
-    return down(a[0] - b[1]), up(a[1] - b[0])
+    with np.errstate(invalid="ignore", over="ignore"):
+        return down(a[0] - b[1]), up(a[1] - b[0])
 
 
 def neg(a):
@@ -72,7 +74,7 @@ def _nan_to(x, value):
 
 def mul(a, b):
     (al, ah), (bl, bh) = a, b
-    with np.errstate(invalid="ignore"):
+    with np.errstate(invalid="ignore", over="ignore"):
         p = (al * bl, al * bh, ah * bl, ah * bh)
     # 0 * inf is NaN in floats; taking it as -inf / +inf keeps the enclosure sound.
     lo = np.minimum.reduce([_nan_to(x, -_INF) for x in p])
@@ -86,7 +88,7 @@ def div(a, b):
     """``a / b``; a divisor that contains zero gives the whole line (sound, possibly loose)."""
     (al, ah), (bl, bh) = a, b
     zero = (bl <= 0) & (bh >= 0)
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         q = (al / bl, al / bh, ah / bl, ah / bh)
     lo = np.minimum.reduce([_nan_to(x, -_INF) for x in q])
     hi = np.maximum.reduce([_nan_to(x, _INF) for x in q])

@@ -48,17 +48,18 @@ def _complete_squares(expr: sp.Expr, variables) -> sp.Expr | None:
         return None
     if poly.total_degree() > 2:
         return None
-    out = expr
-    changed = False
+    rest, squares = sp.expand(expr), []
     for v in variables:
-        p = sp.Poly(sp.expand(out), v)
+        p = sp.Poly(rest, v)
         if p.degree() != 2:
             continue
         a, b, c = p.all_coeffs()
-        if a.free_symbols & set(variables) or b.free_symbols & set(variables) or a == 0:
+        if (a.free_symbols | b.free_symbols) & set(variables):
             continue
-        out = a * (v + b / (2 * a)) ** 2 + (c - b**2 / (4 * a))
-        changed = True
+        squares.append(a * (v + b / (2 * a)) ** 2)
+        rest = sp.expand(c - b**2 / (4 * a))
+    changed = any(sq.args[-1].is_Pow if sq.is_Mul else sq.is_Pow for sq in squares)
+    out = sp.Add(*squares) + rest
     return out if changed else None
 
 
@@ -210,12 +211,9 @@ def _mp_compile(expr: sp.Expr, variables):
         if node in index:
             k = index[node]
             return lambda X: X[k]
-        if node.is_Float or node in (sp.pi, sp.E):
+        if node.is_Rational or node.is_Float or node in (sp.pi, sp.E):
             # Enclosed at call time: the precision may differ between calls.
             return lambda X: _mp_const(node)
-        if node.is_Rational:
-            c = _mp_const(node)
-            return lambda X: c
         if node.is_Add:
             parts = [build(a) for a in node.args]
 

@@ -142,6 +142,10 @@ def parse_constraints(constraints, variables) -> tuple[Constraint, ...]:
                 c = sp.sympify(c, locals=names)
             except (sp.SympifyError, SyntaxError, TypeError):
                 raise ConstraintError(f"constraint {k} ({text!r}) cannot be read") from None
+        if c is sp.true or c is sp.false or isinstance(c, bool):
+            # A constant inequality (SymPy evaluates "-6 <= 0" to True): always / never satisfied.
+            out.append(Constraint(sp.Integer(-1 if bool(c) else 1), False, text))
+            continue
         if not isinstance(c, sp.core.relational.Relational) or isinstance(c, (sp.Eq, sp.Ne)):
             raise ConstraintError(f"constraint {k} ({text!r}) is not an inequality; write it as 'g <= 0'")
         if isinstance(c, (sp.LessThan, sp.StrictLessThan)):
@@ -423,8 +427,9 @@ def pave(constraints, box, *, delta: float, variables=None, backend: str = "nump
                 bar.enabled = True
             take = len(work) if max_boxes is None else min(len(work), max_boxes - evaluated)
             take = min(take, chunk)
-            batch, work = work[:take], work[take:]
-            codes = decide(batch)
+            batch = work[:take]
+            codes = decide(batch)  # an interrupt here leaves the batch in work: pending
+            work = work[take:]
             evaluated += len(batch)
             inner.append(batch[codes == 1])
             outer.append(batch[codes == -1])

@@ -1,0 +1,166 @@
+"""Interval engine soundness: every enclosure contains the exact value (mpmath at 60 digits or exact
+rationals as reference), checked on random inputs with hypothesis."""
+
+from fractions import Fraction
+
+import mpmath
+import numpy as np
+import pytest
+import sympy as sp
+from hypothesis import example, given, settings
+from hypothesis import strategies as st
+
+from workspace_sym import ExpressionError, UnknownNameError
+from workspace_sym.interval import arith, best_form, compile_expr, precision
+
+finite = st.floats(-1e6, 1e6, allow_nan=False, allow_infinity=False)
+
+
+@st.composite
+def interval_and_point(draw, lo=-1e6, hi=1e6):
+    a = draw(st.floats(lo, hi, allow_nan=False))
+    b = draw(st.floats(lo, hi, allow_nan=False))
+    a, b = min(a, b), max(a, b)
+    t = draw(st.floats(0, 1))
+    x = min(max(a + t * (b - a), a), b)
+    return (np.array([a]), np.array([b])), x
+
+
+def _contains(iv_, exact) -> bool:
+    lo, hi = float(iv_[0][0]), float(iv_[1][0])
+    return mpmath.mpf(lo) <= exact <= mpmath.mpf(hi)
+
+
+mpmath.mp.dps = 60
+
+
+@settings(max_examples=300, deadline=None)
+@given(interval_and_point(), interval_and_point())
+def test_add_sub_mul_enclose(ap, bp):
+    (a, x), (b, y) = ap, bp
+    X, Y = mpmath.mpf(x), mpmath.mpf(y)
+    assert _contains(arith.add(a, b), X + Y)
+    assert _contains(arith.sub(a, b), X - Y)
+    assert _contains(arith.mul(a, b), X * Y)
+
+
+@settings(max_examples=300, deadline=None)
+@given(interval_and_point(), interval_and_point())
+def test_div_encloses(ap, bp):
+    (a, x), (b, y) = ap, bp
+    if y == 0:
+        return
+    lo, hi = arith.div(a, b)
+    assert lo[0] <= hi[0]
+    assert _contains((lo, hi), mpmath.mpf(x) / mpmath.mpf(y))
+
+
+@settings(max_examples=300, deadline=None)
+@given(interval_and_point(-1e3, 1e3), st.integers(1, 7))
+@example(((np.array([-1.0]), np.array([2.0])), -1.0), 2)
+def test_powers_enclose_and_even_powers_are_tight(ap, n):
+    a, x = ap
+    lo, hi = arith.ipow(a, n)
+    assert _contains((lo, hi), mpmath.mpf(x) ** n)
+    if n % 2 == 0:
+        assert lo[0] >= 0  # the tight even power never goes negative (x*x would)
+
+
+def test_square_is_tight_not_product():
+    assert arith.sqr((np.array([-1.0]), np.array([2.0])))[0][0] == 0.0
+    assert arith.mul((np.array([-1.0]), np.array([2.0])), (np.array([-1.0]), np.array([2.0])))[0][0] < 0
+
+
+@settings(max_examples=300, deadline=None)
+@given(interval_and_point(0, 1e6))
+def test_sqrt_encloses(ap):
+    a, x = ap
+    assert _contains(arith.sqrt(a), mpmath.sqrt(mpmath.mpf(x)))
+
+
+def test_sqrt_of_possibly_negative_is_undecided():
+    lo, hi = arith.sqrt((np.array([-1e-300]), np.array([4.0])))
+    assert np.isnan(lo[0]) and np.isnan(hi[0])
+
+
+@settings(max_examples=500, deadline=None)
+@given(interval_and_point(-1e4, 1e4))
+@example(((np.array([1.5707963267948966]), np.array([1.5707963267948966])), 1.5707963267948966))
+@example(((np.array([-0.1]), np.array([0.1])), 0.0))
+@example(((np.array([3.0]), np.array([3.3])), np.pi))
+def test_sin_cos_enclose(ap):
+    a, x = ap
+    X = mpmath.mpf(x)
+    s, c = arith.sin(a), arith.cos(a)
+    assert _contains(s, mpmath.sin(X)) and _contains(c, mpmath.cos(X))
+    assert -1 <= s[0][0] <= s[1][0] <= 1 and -1 <= c[0][0] <= c[1][0] <= 1
+
+
+def test_cos_extremum_inside_interval():
+    lo, hi = arith.cos((np.array([3.0]), np.array([3.3])))
+    assert lo[0] == -1.0 and hi[0] < 0
+
+
+def test_nan_propagates_to_undecided():
+    nan = (np.array([np.nan]), np.array([np.nan]))
+    one = (np.array([1.0]), np.array([1.0]))
+    for op in (arith.add, arith.mul, arith.div):
+        lo, hi = op(nan, one)
+        assert np.isnan(lo[0]) or np.isnan(hi[0]) or (lo[0] == -np.inf and hi[0] == np.inf)
+
+
+def test_zero_times_infinity_stays_sound():
+    lo, hi = arith.mul((np.array([0.0]), np.array([0.0])), (np.array([-np.inf]), np.array([np.inf])))
+    assert lo[0] <= 0 <= hi[0]
+
+
+# -------------------------------------------------------------------------- compiler
+x, y = sp.symbols("x y")
+
+
+def test_best_form_completes_squares_for_exact_ranges():
+    assert best_form(x**2 - 10 * x + y**2 - 119, (x, y)) == (x - 5) ** 2 + y**2 - 144
+
+
+def test_compiled_range_of_single_occurrence_form_is_tight():
+    f = compile_expr((x - 5) ** 2 + y**2 - 144, (x, y))
+    lo, hi = f([(np.array([4.0]), np.array([6.0])), (np.array([0.0]), np.array([1.0]))])
+    assert -144 - 1e-12 <= lo[0] <= -144 and 1 + 1 - 144 <= hi[0] <= -142 + 1e-12
+
+
+def test_centred_form_tightens_repeated_variables():
+    e = x**3 - x  # x repeats in every form
+    f = compile_expr(e, (x,))
+    assert f.centred
+    box = [(np.array([0.9]), np.array([1.1]))]
+    lo, hi = f(box)
+    nat = f._natural(box)
+    assert hi[0] - lo[0] < nat[1][0] - nat[0][0]
+    assert lo[0] <= 0.9**3 - 0.9 and hi[0] >= 1.1**3 - 1.1
+
+
+def test_constants_are_enclosed():
+    f = compile_expr(sp.pi * x + sp.Rational(1, 3) + sp.Float("0.1"), (x,))
+    lo, hi = f([(np.array([1.0]), np.array([1.0]))])
+    exact = mpmath.pi + mpmath.mpf(1) / 3 + mpmath.mpf("0.1")
+    assert mpmath.mpf(float(lo[0])) <= exact <= mpmath.mpf(float(hi[0]))
+
+
+def test_mpmath_backend_at_high_precision():
+    f = compile_expr(sp.sqrt(x) - sp.Rational(1, 3), (x,), backend="mpmath")
+    with precision(100):
+        v = f([mpmath.iv.mpf([2, 2])])
+        assert v.b - v.a < mpmath.mpf(10) ** -95
+        with mpmath.workdps(120):
+            exact = mpmath.sqrt(2) - mpmath.mpf(1) / 3
+            assert mpmath.mpf(v.a) <= exact <= mpmath.mpf(v.b)
+    assert mpmath.iv.dps == 15  # restored
+
+
+def test_compiler_errors():
+    with pytest.raises(ExpressionError, match="unknown symbol"):
+        compile_expr(x + y, (x,))
+    with pytest.raises(ExpressionError, match="not supported"):
+        compile_expr(sp.exp(x), (x,))
+    with pytest.raises(UnknownNameError, match="backend"):
+        compile_expr(x, (x,), backend="gpu")
