@@ -7,7 +7,8 @@ error bound is larger than half an ulp).  NaN anywhere means "no enclosure"
 and makes the caller undecided; the operations never turn a NaN into a
 finite bound.
 
-Pure functions, no I/O.  The module-level names are the interval operations
+Pure functions, no I/O.  Overflow to infinity is a valid (outward) result;
+callers that evaluate many boxes silence numpy's floating-point warnings.  The module-level names are the interval operations
 used by :mod:`workspace_sym.interval.compiler`.
 """
 
@@ -55,13 +56,11 @@ def point(x):
 
 
 def add(a, b):
-    with np.errstate(invalid="ignore", over="ignore"):
-        return down(a[0] + b[0]), up(a[1] + b[1])
+    return down(a[0] + b[0]), up(a[1] + b[1])
 
 
 def sub(a, b):
-    with np.errstate(invalid="ignore", over="ignore"):
-        return down(a[0] - b[1]), up(a[1] - b[0])
+    return down(a[0] - b[1]), up(a[1] - b[0])
 
 
 def neg(a):
@@ -100,10 +99,10 @@ def div(a, b):
 def sqr(a):
     """Tight square: ``[-1, 2]**2 = [0, 4]``, not ``[-2, 4]`` as ``x*x`` would give."""
     lo, hi = a
-    l2, h2 = lo * lo, hi * hi
-    low = np.where(lo >= 0, l2, np.where(hi <= 0, h2, 0.0))
-    high = np.maximum(l2, h2)
-    return np.maximum(down(low), 0.0), up(high)
+    # Smallest |x| on [lo, hi] is max(lo, -hi, 0), largest is max(-lo, hi).
+    small = np.maximum(np.maximum(lo, -hi), 0.0)
+    large = np.maximum(-lo, hi)
+    return np.maximum(down(small * small), 0.0), up(large * large)
 
 
 def ipow(a, n: int):

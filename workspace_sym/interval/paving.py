@@ -136,7 +136,7 @@ def parse_constraints(constraints, variables) -> tuple[Constraint, ...]:
     out = []
     names = {str(v): v for v in variables}
     for k, c in enumerate(constraints, start=1):
-        text = c if isinstance(c, str) else str(c)
+        text = c if isinstance(c, str) else ""
         if isinstance(c, str):
             try:
                 c = sp.sympify(c, locals=names)
@@ -147,14 +147,14 @@ def parse_constraints(constraints, variables) -> tuple[Constraint, ...]:
             out.append(Constraint(sp.Integer(-1 if bool(c) else 1), False, text))
             continue
         if not isinstance(c, sp.core.relational.Relational) or isinstance(c, (sp.Eq, sp.Ne)):
-            raise ConstraintError(f"constraint {k} ({text!r}) is not an inequality; write it as 'g <= 0'")
+            raise ConstraintError(f"constraint {k} ({text or str(c)!r}) is not an inequality; write it as 'g <= 0'")
         if isinstance(c, (sp.LessThan, sp.StrictLessThan)):
             g = c.lhs - c.rhs
         else:
             g = c.rhs - c.lhs
         unknown = g.free_symbols - set(variables)
         if unknown:
-            raise ConstraintError(f"constraint {k} ({text!r}) uses unknown symbol(s) "
+            raise ConstraintError(f"constraint {k} ({text or str(c)!r}) uses unknown symbol(s) "
                                   f"{', '.join(sorted(map(str, unknown)))}; variables are "
                                   f"{', '.join(map(str, variables))}")
         out.append(Constraint(g, isinstance(c, (sp.StrictLessThan, sp.StrictGreaterThan)), text))
@@ -170,8 +170,10 @@ def _decide_numpy(compiled, constraints, boxes: np.ndarray):
     all_in = np.ones(len(boxes), dtype=bool)
     some_out = np.zeros(len(boxes), dtype=bool)
     for f, c in zip(compiled, constraints):
-        lo, hi = f(X)
-        lo, hi = np.broadcast_to(lo, (len(boxes),)), np.broadcast_to(hi, (len(boxes),))
+        with np.errstate(all="ignore"):
+            lo, hi = f(X)
+        if np.ndim(lo) == 0 or np.ndim(hi) == 0:  # a constant constraint
+            lo, hi = np.broadcast_to(lo, (len(boxes),)), np.broadcast_to(hi, (len(boxes),))
         # NaN compares False both ways: undecided for this constraint.
         if c.strict:
             all_in &= hi < 0

@@ -1,0 +1,74 @@
+"""Issue 3 benchmark: Rybak's 2-RPR robot (l_min = 8, l_max = 12, l0 = 5, box [-12, 17] x [0, 12]).
+
+Ours (numpy engine) against the paper's timings (Rybak et al. 2016: 0.9 / 2.4 / 6.6 s at
+delta = 0.5 / 0.25 / 0.07, Python on a 2.2 GHz i7) and against codac 2.x run in this
+process: codac.sivia and codac.pave(SepInverse).  codac's eps bounds the largest edge
+of a box, so ours runs with size="width" for the side-by-side comparison and with the
+paper's diameter as well.  Needs the bench extra (pip install -e .[bench]).
+
+Run: python benchmarks/bench_paving.py
+"""
+
+import datetime
+
+from _common import best_of, machine
+from workspace_sym import robots
+
+PAPER = {0.5: 0.9, 0.25: 2.4, 0.07: 6.6}
+
+
+def codac_runs(delta):
+    try:
+        import codac as C
+    except ImportError:
+        return None
+    x = C.VectorVar(2)
+    f = C.AnalyticFunction([x], C.vec(C.sqr(x[0]) + C.sqr(x[1]), C.sqr(x[0] - 5) + C.sqr(x[1])))
+    X0 = C.IntervalVector([[-12, 17], [0, 12]])
+    Y = C.IntervalVector([[64, 144], [64, 144]])
+
+    def area(boxes):
+        return sum((b[0].ub() - b[0].lb()) * (b[1].ub() - b[1].lb()) for b in boxes)
+
+    out = {}
+    for name, run in (("codac.sivia", lambda: C.sivia(X0, f, Y, delta)),
+                      ("codac.pave(SepInverse)", lambda: C.pave(X0, C.SepInverse(f, Y), delta))):
+        t, p = best_of(run, repeat=3)
+        inner, bound = p.boxes(C.PavingInOut.inner), p.boxes(C.PavingInOut.bound)
+        out[name] = (t, area(inner), area(bound), len(inner), len(bound))
+    return out
+
+
+def main():
+    print(f"# bench_paving  {datetime.date.today()}  {machine()}")
+    model = robots.build("rpr2")
+    exact = float(model.exact_measure)
+    print(f"exact area {exact:.6f}")
+    model.pave(delta=0.5)  # compile once
+    header = f"{'delta':>6} {'method':<28} {'seconds':>9} {'inner area':>11} {'boundary area':>14} {'boxes in/bd':>14}"
+    print(header)
+    for delta in (0.5, 0.25, 0.07, 0.01):
+        rows = []
+        for size in ("diameter", "width"):
+            t, p = best_of(lambda: model.pave(delta=delta, size=size), repeat=5)
+            m = p.measures
+            assert m["inner"] <= exact <= m["inner"] + m["boundary"]
+            rows.append((f"workspace_sym ({size})", t, m["inner"], m["boundary"], len(p.inner), len(p.boundary)))
+        if delta in PAPER:
+            rows.append(("paper (Rybak et al. 2016)", PAPER[delta], float("nan"), float("nan"), 0, 0))
+        peers = codac_runs(delta)
+        if peers is None:
+            print("  (codac not installed: pip install -e .[bench])")
+        else:
+            for name, (t, a_in, a_bd, n_in, n_bd) in peers.items():
+                rows.append((name, t, a_in, a_bd, n_in, n_bd))
+        for name, t, a_in, a_bd, n_in, n_bd in rows:
+            print(f"{delta:>6} {name:<28} {t:>9.4f} {a_in:>11.4f} {a_bd:>14.4f} {n_in:>6}/{n_bd:<7}")
+        if peers is not None:
+            ours = rows[1][1]
+            print(f"{'':>6} speed-up vs codac.sivia at the same width: {peers['codac.sivia'][0] / ours:.1f}x; "
+                  f"vs pave(SepInverse): {peers['codac.pave(SepInverse)'][0] / ours:.1f}x")
+
+
+if __name__ == "__main__":
+    main()
