@@ -113,3 +113,12 @@ def test_pave_bad_input_writes_nothing(tmp_path, capsys):
     assert code == 2 and "not an inequality" in err
     code, _, err = run(capsys, "pave", "rpr2", "--delta", "-1")
     assert code == 2 and "delta" in err
+
+
+def test_dextrous_json_contract_and_bad_sigma(capsys):
+    code, out, _ = run(capsys, "dextrous", "orthoglide", "--eps", "0.25", "--json")
+    data = json.loads(out)
+    assert code == 0 and set(data["boxes"]) == {"inner", "undecided", "outer"}
+    assert data["volume_inner"] > 0 and data["sigma"] == [0.25, 4.0] and data["eps"] == 0.25
+    code, _, err = run(capsys, "dextrous", "orthoglide", "--sigma", "4:0.25")
+    assert code == 2 and "sigma_max" in err and err.count("\n") == 1

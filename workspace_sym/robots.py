@@ -204,3 +204,20 @@ register(CatalogEntry(
     units="length units of the paper", summary="two prismatic legs from (0, 0) and (l0, 0); box [-12, 17] x [0, 12]",
     factory=_rpr2, parameters={"l0": 5, "lmin": 8, "lmax": 12}, limits="leg lengths in [lmin, lmax]",
 ))
+
+
+def _orthoglide(**parameters):
+    if parameters:
+        raise UnknownNameError(f"orthoglide takes no parameters (leg length is normalised to 1); got {sorted(parameters)}")
+    from .orthoglide import Orthoglide
+
+    return Orthoglide()
+
+
+register(CatalogEntry(
+    name="orthoglide", kind="parallel (3-PRPaR, translational)",
+    source="D. Chablat, P. Wenger, J.-P. Merlet, Workspace analysis of the Orthoglide using interval analysis, "
+           "ARK 2002",
+    units="leg lengths (L = 1)", summary="three orthogonal linear joints; dextrous workspace sigma in [1/4, 4]",
+    factory=_orthoglide, parameters={"L": 1}, limits="inside the three cylinders x^2 + y^2 <= 1, ...",
+))

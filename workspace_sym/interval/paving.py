@@ -25,7 +25,7 @@ from ..errors import BoxError, ConstraintError, InvalidParameterError, check_cho
 from . import mp as mpi
 from .compiler import BACKENDS, compile_expr
 
-__all__ = ["Certificate", "Box", "Constraint", "parse_constraints", "certify_box", "pave", "Paving",
+__all__ = ["Certificate", "Box", "Constraint", "parse_constraints", "certify_box", "pave", "subdivide", "Paving",
            "hausdorff", "box_measure", "SIZES"]
 
 SIZES = ("diameter", "width")
@@ -322,8 +322,9 @@ class Paving:
 class _Progress:
     """A one-line progress bar on stderr: share of the initial measure already decided."""
 
-    def __init__(self, enabled, total, width=30):
+    def __init__(self, enabled, total, label="paving", width=30):
         self.enabled = enabled
+        self.label = label
         self.total = total
         self.width = width
         self.last = 0.0
@@ -338,7 +339,7 @@ class _Progress:
         self.last = now
         frac = min(1.0, decided / self.total) if self.total > 0 else 1.0
         bar = "#" * int(frac * self.width)
-        sys.stderr.write(f"\rpaving [{bar:<{self.width}}] {100 * frac:5.1f}% of the box decided, {boxes} boxes")
+        sys.stderr.write(f"\r{self.label} [{bar:<{self.width}}] {100 * frac:5.1f}% of the box decided, {boxes} boxes")
         sys.stderr.flush()
         self.shown = True
 
@@ -401,31 +402,51 @@ def pave(constraints, box, *, delta: float, variables=None, backend: str = "nump
     >>> bool(lo <= 3.141592653589793 <= hi)
     True
     """
-    if not isinstance(delta, (int, float)) or isinstance(delta, bool) or not math.isfinite(delta) or delta <= 0:
-        raise InvalidParameterError(f"delta must be a positive finite number; got {delta!r}")
-    check_choice("size", size, SIZES)
+    _check_delta(delta)
     check_choice("backend", backend, BACKENDS)
-    if max_boxes is not None and max_boxes < 1:
-        raise InvalidParameterError(f"max_boxes must be at least 1; got {max_boxes!r}")
     cons, b = _setup(constraints, box, variables)
     decide = _Decider(cons, b.variables, backend, digits)
+    return subdivide(decide, b, delta=delta, size=size, max_boxes=max_boxes, time_limit=time_limit,
+                     progress=progress, chunk=chunk, constraints=cons, backend=backend,
+                     exact_measure=exact_measure)
+
+
+def _check_delta(delta, name="delta"):
+    if not isinstance(delta, (int, float)) or isinstance(delta, bool) or not math.isfinite(delta) or delta <= 0:
+        raise InvalidParameterError(f"{name} must be a positive finite number; got {delta!r}")
+
+
+def subdivide(decide, box: Box, *, delta: float, size: str = "diameter", max_boxes: int | None = None,
+              time_limit: float | None = None, progress: bool | None = None, chunk: int = 200_000,
+              constraints=(), backend: str = "numpy", exact_measure=None, label: str = "paving") -> Paving:
+    """Branch and bisect with any box classifier: the loop behind :func:`pave`.
+
+    ``decide(boxes)`` takes an ``(N, n, 2)`` array and returns codes: 1 for a
+    box proved inside, -1 proved outside, 0 undecided.  Undecided boxes larger
+    than ``delta`` are bisected along their longest edge; the others become
+    boundary boxes.  A budget, time limit or Ctrl-C returns the unexamined
+    boxes as pending.
+    """
+    _check_delta(delta)
+    check_choice("size", size, SIZES)
+    if max_boxes is not None and max_boxes < 1:
+        raise InvalidParameterError(f"max_boxes must be at least 1; got {max_boxes!r}")
     start = time.perf_counter()
-    show = sys.stderr.isatty() if progress is None else progress
-    bar = _Progress(bool(show), b.measure)
-    if progress is None:
-        bar.enabled = False
+    auto = progress is None
+    bar = _Progress(bool(progress), box.measure, label)
     inner, boundary, outer = [], [], []
-    work = b.array[None, :, :].astype(float)
+    work = box.array[None, :, :].astype(float)
     evaluated, decided, reason = 0, 0.0, ""
     try:
         while len(work):
-            if time_limit is not None and time.perf_counter() - start > time_limit:
+            elapsed = time.perf_counter() - start
+            if time_limit is not None and elapsed > time_limit:
                 reason = f"time limit of {time_limit} s reached"
                 break
             if max_boxes is not None and evaluated >= max_boxes:
                 reason = f"budget of {max_boxes} boxes reached"
                 break
-            if progress is None and show and time.perf_counter() - start > 1.0:
+            if auto and not bar.enabled and elapsed > 1.0 and sys.stderr.isatty():
                 bar.enabled = True
             take = len(work) if max_boxes is None else min(len(work), max_boxes - evaluated)
             take = min(take, chunk)
@@ -448,12 +469,12 @@ def pave(constraints, box, *, delta: float, variables=None, backend: str = "nump
     finally:
         bar.update(decided, evaluated, force=True)
         bar.close()
-    n = len(b.variables)
+    n = len(box.variables)
     empty = np.empty((0, n, 2))
     stack = lambda parts: np.concatenate(parts) if parts else empty  # noqa: E731
-    return Paving(b.variables, b, cons, float(delta), backend, size, stack(inner), stack(boundary), stack(outer),
-                  work if len(work) else empty, time.perf_counter() - start, not reason, evaluated, reason,
-                  exact_measure)
+    return Paving(box.variables, box, tuple(constraints), float(delta), backend, size, stack(inner),
+                  stack(boundary), stack(outer), work if len(work) else empty, time.perf_counter() - start,
+                  not reason, evaluated, reason, exact_measure)
 
 
 # ----------------------------------------------------------------------------- Hausdorff

@@ -1,0 +1,118 @@
+"""Orthoglide (Chablat, Wenger, Merlet 2002): the pencil polynomial against numpy eigenvalues,
+certified boxes checked with mpmath eigenvalues at 50 digits, the volume bracket against Monte Carlo."""
+
+import mpmath
+import numpy as np
+import pytest
+import sympy as sp
+
+from workspace_sym import InvalidParameterError
+from workspace_sym.orthoglide import Orthoglide, e1, e2, e3, lam, x, y, z
+
+
+@pytest.fixture(scope="module")
+def ortho():
+    o = Orthoglide()
+    o._compiled(0.25, 4.0)
+    return o
+
+
+def _random_points(rng, n, radius=0.8):
+    pts = []
+    while len(pts) < n:
+        p = rng.uniform(-radius, radius, 3)
+        if p[1] ** 2 + p[2] ** 2 < 0.95 and p[0] ** 2 + p[2] ** 2 < 0.95 and p[0] ** 2 + p[1] ** 2 < 0.95:
+            pts.append(p)
+    return pts
+
+
+def _mp_eigenvalues(p):
+    with mpmath.workdps(50):
+        px, py, pz = (mpmath.mpf(float(v)) for v in p)
+        etas = [mpmath.sqrt(1 - py**2 - pz**2), mpmath.sqrt(1 - px**2 - pz**2), mpmath.sqrt(1 - px**2 - py**2)]
+        A = mpmath.matrix([[etas[0], py, pz], [px, etas[1], pz], [px, py, etas[2]]])
+        J = mpmath.inverse(A) * mpmath.diag(etas)
+        ev, _ = mpmath.eigsy(J * J.T)
+        return sorted(ev)
+
+
+def test_isotropic_at_origin(ortho):
+    """Paper section 3: J = I at the isotropic configuration."""
+    np.testing.assert_allclose(ortho.eigenvalues([0, 0, 0]), [1, 1, 1], atol=1e-15)
+
+
+def test_pencil_roots_are_the_eigenvalues(ortho):
+    """det(lambda A A^T - B^2) has the eigenvalues of J J^T as roots (numpy eigvalsh as reference)."""
+    rng = np.random.default_rng(4)
+    for p in _random_points(rng, 8):
+        subs = {x: p[0], y: p[1], z: p[2]}
+        subs.update({e: float(v.subs(subs)) for e, v in ortho.eta.items()})
+        coeffs = [float(c.subs(subs)) for c in ortho.pencil.all_coeffs()]
+        roots = np.sort(np.roots(coeffs).real)
+        np.testing.assert_allclose(roots, ortho.eigenvalues(p), rtol=1e-8)
+
+
+def test_charpoly_is_pencil_over_det_squared(ortho):
+    """det(lambda I - J J^T) = det(lambda A A^T - B^2) / det(A)^2, compared at 30 digits at a rational point."""
+    pt = {x: sp.Rational(1, 5), y: sp.Rational(-1, 7), z: sp.Rational(1, 3)}
+    etas = {e: sp.sqrt(v.subs(pt)) for e, v in ortho.eta_squared.items()}
+    J = ortho.J.subs(pt).subs(etas).evalf(40)
+    direct = sp.Poly((lam * sp.eye(3) - J * J.T).det(method="berkowitz"), lam).all_coeffs()
+    via = [c.subs(pt).subs(etas).evalf(40) for c in ortho.charpoly.all_coeffs()]
+    for a, b in zip(direct, via):
+        assert abs(sp.N(a - b, 30)) < 1e-25
+
+
+def test_certified_boxes_agree_with_50_digit_eigenvalues(ortho):
+    """Points drawn from boxes certified inside have every eigenvalue in [1/4, 4] (mpmath, 50 digits);
+    points from boxes certified outside (inside the cylinders) have one outside."""
+    r = ortho.dextrous(eps=0.125)
+    rng = np.random.default_rng(9)
+    inner, outer = r.paving.inner, r.paving.outer
+    assert len(inner) > 50 and len(outer) > 50
+    for b in inner[rng.choice(len(inner), 40, replace=False)]:
+        p = b[:, 0] + rng.random(3) * (b[:, 1] - b[:, 0])
+        ev = _mp_eigenvalues(p)
+        assert ev[0] >= mpmath.mpf(1) / 4 and ev[-1] <= 4
+    checked = 0
+    for b in outer:
+        for p in b[:, 0] + rng.random((20, 3)) * (b[:, 1] - b[:, 0]):
+            if max(p[1]**2 + p[2]**2, p[0]**2 + p[2]**2, p[0]**2 + p[1]**2) >= 1:
+                continue  # outside the cylinders: not part of the workspace at all
+            ev = _mp_eigenvalues(p)
+            assert ev[0] < mpmath.mpf(1) / 4 or ev[-1] > 4
+            checked += 1
+    assert checked >= 5  # at eps = 0.125 few certified-outside boxes reach inside the cylinders
+
+
+def test_volume_bracket_contains_monte_carlo(ortho):
+    """Independent estimate: uniform points in [-1, 1]^3, numpy eigenvalues."""
+    r = ortho.dextrous(eps=0.25)
+    rng = np.random.default_rng(1)
+    n, hits = 20000, 0
+    pts = rng.uniform(-1, 1, (n, 3))
+    for p in pts:
+        if max(p[1]**2 + p[2]**2, p[0]**2 + p[2]**2, p[0]**2 + p[1]**2) >= 1:
+            continue
+        ev = ortho.eigenvalues(p)
+        hits += bool(ev[0] >= 0.25 and ev[-1] <= 4)
+    mc = 8 * hits / n
+    sigma = 8 * np.sqrt(hits / n * (1 - hits / n) / n)
+    assert r.volume_inner - 4 * sigma <= mc <= r.volume_inner + r.volume_undecided + 4 * sigma
+    assert r.volume_inner > 0
+
+
+def test_bad_sigma_and_eps(ortho):
+    with pytest.raises(InvalidParameterError, match=r"sigma_max \(0.25\) must exceed sigma_min \(4.0\)"):
+        ortho.dextrous(sigma=(4, 0.25))
+    with pytest.raises(InvalidParameterError, match="sigma_min must be a positive"):
+        ortho.dextrous(sigma=(0, 4))
+    with pytest.raises(InvalidParameterError, match="eps must be a positive number; got 0"):
+        ortho.dextrous(eps=0)
+
+
+def test_boxes_outside_cylinders_never_crash(ortho):
+    """Points outside the legs' cylinders: outside or undecided, never NaN or a crash."""
+    boxes = np.array([[[0.9, 1.0], [0.9, 1.0], [-0.1, 0.1]], [[0.6, 0.8], [0.6, 0.8], [0.0, 0.1]]])
+    codes = ortho.box_module(boxes)
+    assert codes[0] == -1 and codes[1] in (-1, 0)
