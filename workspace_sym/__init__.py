@@ -28,6 +28,9 @@ from .kinematics import (
     maximal_minor_factors,
     numeric_function,
 )
+from .interval import Box, Certificate, Paving, certify_box, hausdorff, pave
+from .orthoglide import Orthoglide
+from .parallel import ConstraintModel, rpr2
 from .sampling import extent, reach_points, sample_joint_box, sweep_joints
 from .symbolic import factor_trig, shorthand, textbook
 
@@ -51,6 +54,15 @@ __all__ = [
     "eigenvalues_from_charpoly",
     "maximal_minor_factors",
     "numeric_function",
+    "Box",
+    "Certificate",
+    "Paving",
+    "certify_box",
+    "hausdorff",
+    "pave",
+    "Orthoglide",
+    "ConstraintModel",
+    "rpr2",
     "extent",
     "reach_points",
     "sample_joint_box",

@@ -74,12 +74,13 @@ def _nan_to(x, value):
 def mul(a, b):
     (al, ah), (bl, bh) = a, b
     with np.errstate(invalid="ignore", over="ignore"):
-        p = (al * bl, al * bh, ah * bl, ah * bh)
-    # 0 * inf is NaN in floats; taking it as -inf / +inf keeps the enclosure sound.
-    lo = np.minimum.reduce([_nan_to(x, -_INF) for x in p])
-    hi = np.maximum.reduce([_nan_to(x, _INF) for x in p])
-    # A genuine NaN input stays NaN.
-    bad = np.isnan(al) | np.isnan(ah) | np.isnan(bl) | np.isnan(bh)
+        p1, p2, p3, p4 = al * bl, al * bh, ah * bl, ah * bh
+        # 0 * inf is NaN in floats and 0 in interval arithmetic (IEEE 1788); fmin / fmax skip it,
+        # which is sound because 0 is then also among the other products (or all four are NaN).
+        lo = np.fmin(np.fmin(p1, p2), np.fmin(p3, p4))
+        hi = np.fmax(np.fmax(p1, p2), np.fmax(p3, p4))
+        # A NaN input (or an unbounded [-inf, inf], whose sum is NaN too) leaves no enclosure.
+        bad = np.isnan(al + ah + bl + bh)
     return np.where(bad, np.nan, down(lo)), np.where(bad, np.nan, up(hi))
 
 
