@@ -103,7 +103,7 @@ def _numpy_const(value: sp.Expr):
         return (float(arith.down(f)), float(arith.up(f)))
     # Floats as typed (decimal), pi, sqrt(2), ...: enclose at 60 digits, then widen.
     with mpi.precision(60):
-        enclosure = _mp_compile(value, ())([])
+        enclosure = _compile_tree(value, (), "mpmath")([])
     if enclosure is None:
         raise ExpressionError(f"constant {value} is not a real number")
     return (float(arith.down(float(enclosure.a))), float(arith.up(float(enclosure.b))))
@@ -129,128 +129,92 @@ def _unsupported(node):
     )
 
 
-def _np_compile(expr: sp.Expr, variables):
+def _lift(fn):
+    """mpmath operations propagate a domain error (None) instead of raising."""
+
+    def g(*vals):
+        if any(v is None for v in vals):
+            return None
+        return fn(*vals)
+
+    return g
+
+
+def _mp_sqrt_recip(v):
+    r = mpi.sqrt(v)
+    return None if r is None else mpi.div(mpi.iv.mpf(1), r)
+
+
+_ONE = (1.0, 1.0)
+
+# One operation table per backend; the tree walk below is shared.  Constants:
+# numpy encloses every number once at compile time; mpmath encloses the leaves
+# at call time because its precision may change between calls.
+_OPS = {
+    "numpy": {
+        "is_const": lambda node: node.is_number,
+        "const": lambda node: (lambda c: lambda X: c)(_numpy_const(node)),
+        "add": arith.add, "mul": arith.mul, "neg": arith.neg, "ipow": arith.ipow,
+        "recip": lambda v: arith.div(_ONE, v), "sqrt": arith.sqrt,
+        "recip_sqrt": lambda v: arith.div(_ONE, arith.sqrt(v)),
+        sp.sin: arith.sin, sp.cos: arith.cos, sp.Abs: arith.iabs,
+    },
+    "mpmath": {
+        "is_const": lambda node: node.is_Rational or node.is_Float or node in (sp.pi, sp.E),
+        "const": lambda node: lambda X: _mp_const(node),
+        "add": _lift(lambda a, b: a + b), "mul": _lift(lambda a, b: a * b), "neg": _lift(lambda a: -a),
+        "ipow": _lift(mpi.ipow), "recip": _lift(lambda v: mpi.div(mpi.iv.mpf(1), v)), "sqrt": _lift(mpi.sqrt),
+        "recip_sqrt": _lift(_mp_sqrt_recip),
+        sp.sin: _lift(mpi.sin), sp.cos: _lift(mpi.cos), sp.Abs: _lift(mpi.iabs),
+    },
+}
+
+
+def _compile_tree(expr: sp.Expr, variables, backend: str):
+    """A closure tree evaluating ``expr`` with the interval operations of ``backend``."""
+    ops = _OPS[backend]
     index = {v: k for k, v in enumerate(variables)}
+
+    def fold(op, parts):
+        def f(X):
+            acc = parts[0](X)
+            for p in parts[1:]:
+                acc = op(acc, p(X))
+            return acc
+
+        return f
 
     def build(node):
         if node in index:
             k = index[node]
             return lambda X: X[k]
-        if node.is_number:
-            lo, hi = _numpy_const(node)
-            return lambda X: (lo, hi)
+        if ops["is_const"](node):
+            return ops["const"](node)
         if node.is_Add:
-            parts = [build(a) for a in node.args]
-
-            def f_add(X):
-                acc = parts[0](X)
-                for p in parts[1:]:
-                    acc = arith.add(acc, p(X))
-                return acc
-
-            return f_add
+            return fold(ops["add"], [build(a) for a in node.args])
         if node.is_Mul:
             coeff, rest = node.as_coeff_Mul()
             if coeff == -1:
-                inner = build(rest)
-                return lambda X: arith.neg(inner(X))
-            parts = [build(a) for a in node.args]
-
-            def f_mul(X):
-                acc = parts[0](X)
-                for p in parts[1:]:
-                    acc = arith.mul(acc, p(X))
-                return acc
-
-            return f_mul
+                inner, neg = build(rest), ops["neg"]
+                return lambda X: neg(inner(X))
+            return fold(ops["mul"], [build(a) for a in node.args])
         if node.is_Pow:
             base, e = node.args
             b = build(base)
+            if e.is_Integer and int(e) >= 1:
+                n, ipow = int(e), ops["ipow"]
+                return lambda X: ipow(b(X), n)
             if e.is_Integer:
-                n = int(e)
-                if n >= 1:
-                    return lambda X: arith.ipow(b(X), n)
-                if n <= -1:
-                    one = (1.0, 1.0)
-                    return lambda X: arith.div(one, arith.ipow(b(X), -n))
-            if e == sp.Rational(1, 2):
-                return lambda X: arith.sqrt(b(X))
-            if e == sp.Rational(-1, 2):
-                one = (1.0, 1.0)
-                return lambda X: arith.div(one, arith.sqrt(b(X)))
+                n, ipow, recip = -int(e), ops["ipow"], ops["recip"]
+                return lambda X: recip(ipow(b(X), n))
+            if e in (sp.Rational(1, 2), sp.Rational(-1, 2)):
+                fn = ops["sqrt"] if e > 0 else ops["recip_sqrt"]
+                return lambda X: fn(b(X))
             _unsupported(node)
-        if isinstance(node, sp.sin):
+        fn = ops.get(type(node))
+        if fn is not None:
             a = build(node.args[0])
-            return lambda X: arith.sin(a(X))
-        if isinstance(node, sp.cos):
-            a = build(node.args[0])
-            return lambda X: arith.cos(a(X))
-        if isinstance(node, sp.Abs):
-            a = build(node.args[0])
-            return lambda X: arith.iabs(a(X))
-        _unsupported(node)
-
-    return build(expr)
-
-
-def _mp_compile(expr: sp.Expr, variables):
-    index = {v: k for k, v in enumerate(variables)}
-
-    def lift(fn):
-        # Propagate a domain error (None) through every operation.
-        def g(*vals):
-            if any(v is None for v in vals):
-                return None
-            return fn(*vals)
-
-        return g
-
-    add, mul, neg = lift(lambda a, b: a + b), lift(lambda a, b: a * b), lift(lambda a: -a)
-
-    def build(node):
-        if node in index:
-            k = index[node]
-            return lambda X: X[k]
-        if node.is_Rational or node.is_Float or node in (sp.pi, sp.E):
-            # Enclosed at call time: the precision may differ between calls.
-            return lambda X: _mp_const(node)
-        if node.is_Add:
-            parts = [build(a) for a in node.args]
-
-            def f_add(X):
-                acc = parts[0](X)
-                for p in parts[1:]:
-                    acc = add(acc, p(X))
-                return acc
-
-            return f_add
-        if node.is_Mul:
-            parts = [build(a) for a in node.args]
-
-            def f_mul(X):
-                acc = parts[0](X)
-                for p in parts[1:]:
-                    acc = mul(acc, p(X))
-                return acc
-
-            return f_mul
-        if node.is_Pow:
-            base, e = node.args
-            b = build(base)
-            if e.is_Integer:
-                n = int(e)
-                if n >= 1:
-                    return lambda X: lift(lambda v: mpi.ipow(v, n))(b(X))
-                return lambda X: lift(lambda v: mpi.div(mpi.iv.mpf(1), mpi.ipow(v, -n)))(b(X))
-            if e == sp.Rational(1, 2):
-                return lambda X: lift(mpi.sqrt)(b(X))
-            if e == sp.Rational(-1, 2):
-                return lambda X: lift(lambda v: None if mpi.sqrt(v) is None else mpi.div(mpi.iv.mpf(1), mpi.sqrt(v)))(b(X))
-            _unsupported(node)
-        if isinstance(node, (sp.sin, sp.cos, sp.Abs)):
-            a = build(node.args[0])
-            fn = {sp.sin: mpi.sin, sp.cos: mpi.cos, sp.Abs: mpi.iabs}[type(node)]
-            return lambda X: lift(fn)(a(X))
+            return lambda X: fn(a(X))
         _unsupported(node)
 
     return build(expr)
@@ -269,7 +233,7 @@ class CompiledExpr:
         self.variables = tuple(variables)
         self.backend = backend
         self.expr = best_form(expr, self.variables)
-        make = _np_compile if backend == "numpy" else _mp_compile
+        make = lambda e, v: _compile_tree(e, v, backend)  # noqa: E731
         self._natural = make(self.expr, self.variables)
         self.centred = repeated_occurrences(self.expr, self.variables) > 0 and backend == "numpy"
         if self.centred:
