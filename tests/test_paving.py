@@ -250,3 +250,9 @@ def test_bad_boxes_and_constraints():
 def test_rpr2_bad_parameters():
     with pytest.raises(InvalidParameterError, match="lmin"):
         rpr2(lmin=12, lmax=8)
+
+
+def test_variables_match_by_name(rybak):
+    """A box typed with names certifies the model's constraints (whose symbols are real=True)."""
+    assert certify_box({"x1": (2, 3), "x2": (9, 10)}, rybak.constraints) is Certificate.IN
+    assert certify_box({"x1": (-12, -11), "x2": (0, 1)}, rybak.constraints) is Certificate.OUT

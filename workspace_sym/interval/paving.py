@@ -148,6 +148,10 @@ def parse_constraints(constraints, variables) -> tuple[Constraint, ...]:
             continue
         if not isinstance(c, sp.core.relational.Relational) or isinstance(c, (sp.Eq, sp.Ne)):
             raise ConstraintError(f"constraint {k} ({text or str(c)!r}) is not an inequality; write it as 'g <= 0'")
+        # Match variables by name: Symbol("x1") and Symbol("x1", real=True) are the same variable here.
+        same_name = {sym: names[str(sym)] for sym in c.free_symbols if str(sym) in names and sym not in variables}
+        if same_name:
+            c = c.xreplace(same_name)
         if isinstance(c, (sp.LessThan, sp.StrictLessThan)):
             g = c.lhs - c.rhs
         else:
