@@ -1,7 +1,6 @@
 """Interval engine soundness: every enclosure contains the exact value (mpmath at 60 digits or exact
 rationals as reference), checked on random inputs with hypothesis."""
 
-from fractions import Fraction
 
 import mpmath
 import numpy as np

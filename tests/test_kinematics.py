@@ -10,7 +10,6 @@ from hypothesis.extra.numpy import arrays
 
 from conftest import fk_numpy
 from workspace_sym import (
-    DHJoint,
     DHRobot,
     DHTableError,
     ExpressionError,

@@ -7,7 +7,7 @@ import pytest
 import sympy as sp
 
 from workspace_sym import InvalidParameterError
-from workspace_sym.orthoglide import Orthoglide, e1, e2, e3, lam, x, y, z
+from workspace_sym.orthoglide import Orthoglide, lam, x, y, z
 
 
 @pytest.fixture(scope="module")

@@ -38,7 +38,6 @@ __all__ = [
     "shorthand",
     "shorthand_str",
     "shorthand_latex",
-    "trig_atoms_to_symbols",
 ]
 
 
@@ -101,19 +100,6 @@ def textbook(expr) -> sp.Expr:
 def textbook_matrix(M: sp.Matrix) -> sp.Matrix:
     """Apply :func:`textbook` to every entry of a matrix."""
     return M.applyfunc(textbook)
-
-
-def trig_atoms_to_symbols(expr: sp.Expr, prefix: str = "_t"):
-    """Replace every ``sin(u)`` / ``cos(u)`` by a fresh symbol.
-
-    Returns the polynomial-like expression, the list of new symbols and the
-    inverse substitution.
-    """
-    atoms = sorted(expr.atoms(sp.sin, sp.cos), key=sp.default_sort_key)
-    syms = [sp.Dummy(f"{prefix}{k}") for k in range(len(atoms))]
-    forward = dict(zip(atoms, syms))
-    back = dict(zip(syms, atoms))
-    return expr.xreplace(forward), syms, back
 
 
 def trig_polynomials(exprs):

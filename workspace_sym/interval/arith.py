@@ -18,7 +18,7 @@ import numpy as np
 
 __all__ = [
     "down", "up", "const", "point", "add", "sub", "neg", "mul", "div", "sqr", "ipow", "sqrt", "sin", "cos",
-    "iabs", "intersect", "hull_nan",
+    "iabs", "intersect",
 ]
 
 _INF = np.inf
@@ -177,8 +177,3 @@ def intersect(a, b):
     lo = np.where(np.isnan(b[0]), a[0], np.maximum(a[0], b[0]))
     hi = np.where(np.isnan(b[1]), a[1], np.minimum(a[1], b[1]))
     return lo, hi
-
-
-def hull_nan(a):
-    """Replace NaN bounds by the whole line (used for reporting, never for deciding)."""
-    return _nan_to(a[0], -_INF), _nan_to(a[1], _INF)

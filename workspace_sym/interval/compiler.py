@@ -16,7 +16,6 @@ from __future__ import annotations
 from fractions import Fraction
 from functools import lru_cache
 
-import numpy as np
 import sympy as sp
 
 from ..errors import ExpressionError, check_choice
@@ -270,6 +269,7 @@ def compile_expr(expr, variables, *, backend: str = "numpy") -> CompiledExpr:
 
     Examples
     --------
+    >>> import numpy as np
     >>> x = sp.Symbol("x")
     >>> f = compile_expr(x**2 - 2*x, (x,))
     >>> lo, hi = f([(np.array([0.0]), np.array([2.0]))])

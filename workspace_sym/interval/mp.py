@@ -13,7 +13,7 @@ from contextlib import contextmanager
 
 import mpmath
 
-__all__ = ["precision", "iv", "lower", "upper", "from_float_bounds", "sqrt", "sqr", "ipow", "sin", "cos", "div",
+__all__ = ["precision", "iv", "from_float_bounds", "sqrt", "sqr", "ipow", "sin", "cos", "div",
            "iabs", "const_rational", "const_float"]
 
 iv = mpmath.iv
@@ -40,14 +40,6 @@ def precision(digits: int | None = None, *, bits: int | None = None):
         yield
     finally:
         iv.prec = old
-
-
-def lower(x) -> mpmath.mpf:
-    return x.a
-
-
-def upper(x) -> mpmath.mpf:
-    return x.b
 
 
 def from_float_bounds(lo: float, hi: float):
