@@ -168,9 +168,8 @@ def cmd_pave(args) -> int:
             raise WorkspaceError("pave: name a catalog robot (e.g. rpr2) or give --var NAME=LOW:HIGH and --constraint")
         box = dict(_parse_var(v) for v in args.var)
         constraints, exact = args.constraint, None
-    progress = None if args.progress is None else args.progress
     paving = pave(constraints, box, delta=args.delta, backend=args.backend, size=args.size,
-                  max_boxes=args.max_boxes, time_limit=args.time_limit, progress=progress, digits=args.digits,
+                  max_boxes=args.max_boxes, time_limit=args.time_limit, progress=args.progress, digits=args.digits,
                   exact_measure=exact)
     if args.plot:
         from .plotting import plot_paving, save_figure

@@ -436,7 +436,7 @@ class DHRobot:
             R = self.fk(self.n // 2)[:3, :3].T
             blocks = [R] * (J.rows // 3)
             J = textbook_matrix(sp.diag(*blocks) * J)
-        return maximal_minor_factors(J, self.q, self.parameters)
+        return maximal_minor_factors(J)
 
     # ------------------------------------------------------------------ printing
     def shorthand(self, expr) -> sp.Expr:
@@ -581,8 +581,7 @@ def eigenvalues_from_charpoly(poly: sp.Poly, values: dict | None = None) -> np.n
     return roots[np.argsort(roots.real)]
 
 
-def maximal_minor_factors(J: sp.Matrix, variables=None, parameters: dict | None = None, *,
-                          seed: int = 0) -> list[sp.Expr]:
+def maximal_minor_factors(J: sp.Matrix, *, seed: int = 0) -> list[sp.Expr]:
     """Factors common to every maximal non-vanishing minor of ``J``.
 
     The generic rank ``r`` is found numerically at a random point (joint

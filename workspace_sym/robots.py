@@ -75,6 +75,12 @@ def build(name: str, **overrides):
     return get(name).build(**overrides)
 
 
+def _revolute_chain(rows, limits_deg):
+    """Revolute joints 1..n from DH rows (keyword dicts) and (lower, upper) limits in degrees."""
+    return [DHJoint.revolute(k + 1, limits=(lo * deg, hi * deg), **row)
+            for k, (row, (lo, hi)) in enumerate(zip(rows, limits_deg))]
+
+
 # ---------------------------------------------------------------------------- glass-handling arm
 GLASS_DEFAULTS = {"d1": 0.30, "a1": 0.05, "a2": 0.25, "a3": 0.20, "d5": 0.10}
 """Default lengths (m) for plots and numbers.
@@ -100,9 +106,7 @@ def glass_handling_arm(**parameters) -> DHRobot:
     """
     d1, a1, a2, a3, d5 = sp.symbols("d1 a1 a2 a3 d5")
     rows = [dict(d=d1, a=a1, alpha=sp.pi / 2), dict(a=a2), dict(a=a3), dict(alpha=sp.pi / 2), dict(d=d5), dict()]
-    joints = [DHJoint.revolute(k + 1, limits=(lo * deg, hi * deg), **row)
-              for k, (row, (lo, hi)) in enumerate(zip(rows, GLASS_LIMITS_DEG))]
-    return DHRobot(joints, name="glass-handling", parameters={**GLASS_DEFAULTS, **parameters}, units="m")
+    return DHRobot(_revolute_chain(rows, GLASS_LIMITS_DEG), name="glass-handling", parameters={**GLASS_DEFAULTS, **parameters}, units="m")
 
 
 register(CatalogEntry(
@@ -125,9 +129,7 @@ def puma560(**parameters) -> DHRobot:
     a2, a3, d3, d4 = sp.symbols("a2 a3 d3 d4")
     rows = [dict(alpha=sp.pi / 2), dict(a=a2), dict(d=d3, a=a3, alpha=-sp.pi / 2), dict(d=d4, alpha=sp.pi / 2),
             dict(alpha=-sp.pi / 2), dict()]
-    joints = [DHJoint.revolute(k + 1, limits=(lo * deg, hi * deg), **row)
-              for k, (row, (lo, hi)) in enumerate(zip(rows, PUMA_LIMITS_DEG))]
-    return DHRobot(joints, name="puma560", parameters={**PUMA_DEFAULTS, **parameters}, units="m")
+    return DHRobot(_revolute_chain(rows, PUMA_LIMITS_DEG), name="puma560", parameters={**PUMA_DEFAULTS, **parameters}, units="m")
 
 
 register(CatalogEntry(

@@ -406,9 +406,8 @@ def pave(constraints, box, *, delta: float, variables=None, backend: str = "nump
     >>> bool(lo <= 3.141592653589793 <= hi)
     True
     """
-    _check_delta(delta)
     check_choice("backend", backend, BACKENDS)
-    cons, b = _setup(constraints, box, variables)
+    cons, b = _setup(constraints, box, variables)  # delta and size are checked by subdivide
     decide = _Decider(cons, b.variables, backend, digits)
     return subdivide(decide, b, delta=delta, size=size, max_boxes=max_boxes, time_limit=time_limit,
                      progress=progress, chunk=chunk, constraints=cons, backend=backend,
