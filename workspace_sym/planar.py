@@ -1,52 +1,46 @@
-"""Planar serial chains with joint limits: the alignment method of Bastien (2018), Steps 0 and 1.
+"""Planar serial chains with joint limits: the alignment method of Bastien (2018).
 
-Notation of METHODS.md section 4: segment ``i`` goes from ``A_{i-1}`` to ``A_i``
-with length ``l_i``; ``theta_1`` is measured from the +y axis, ``theta_i`` from
-segment ``i-1``; ``phi_i = theta_1 + ... + theta_i`` and
-``A_p = sum_i l_i (-sin phi_i, cos phi_i)``.
+Notation of METHODS.md section 4, with 0-based indices in the code: segment
+``k`` goes from ``P_k`` to ``P_{k+1}`` with length ``l_k``; ``theta_0`` is
+measured from the +y axis and ``theta_k`` from segment ``k-1``;
+``phi_k = theta_0 + ... + theta_k`` and ``P_p = sum_k l_k (-sin phi_k, cos phi_k)``.
+Joint numbers shown to users are 1-based, as in the paper.
 
-Step 0 enumerates the candidate circular arcs (alignment of ``A_{j-1}``, j free,
-with ``A_p``); Step 1 keeps the parts of each arc that pass the scalar-product
-test of Lemma 3.1.  Step 2 (the global traversal), exact closed forms and the
-boundary object are not implemented yet.
+* Step 0 (:meth:`PlanarChain.candidate_arcs`) enumerates the arcs allowed by the
+  alignment condition.  It is a breadth-first scan over the joints after the
+  first free one, vectorised over all branches and pruned as soon as an
+  alignment angle leaves its limits.
+* Step 1 (:meth:`PlanarChain.kept_arcs`) keeps the parts of each arc that pass
+  the scalar-product test of Lemma 3.1, vectorised over the candidates.
+* Step 2 (:meth:`PlanarChain.boundary`) builds the arrangement of the kept arcs,
+  proves which of its faces belong to the workspace and returns the boundary
+  loops (:class:`workspace_sym.boundary.Boundary`).
 """
 
 from __future__ import annotations
 
-import itertools
 import math
+import warnings
 from dataclasses import dataclass
+from fractions import Fraction
+from numbers import Integral, Number
 
 import numpy as np
+import sympy as sp
 
-from .errors import InvalidParameterError, JointLimitError
+from .errors import InvalidParameterError, JointLimitError, WorkspaceError
 
 __all__ = ["PlanarChain", "Arc"]
 
-_TOL = 1e-12
+_TOL = 1e-12          # angles (radians) and lengths relative to the chain's reach
+_ZERO_B = 1e-9        # |B_j| <= _ZERO_B |u| |v_j| counts as B_j = 0 (Lemma 3.1)
 
 
-def _u(phi):
-    """Unit vector of direction ``phi`` measured from +y: ``(-sin phi, cos phi)``."""
-    return np.array([-math.sin(phi), math.cos(phi)])
-
-
-def _angle_of(v) -> float:
-    """Inverse of :func:`_u`: the direction of ``v`` measured from +y."""
-    return math.atan2(-v[0], v[1])
-
-
-def _wrap(a: float) -> float:
-    """Angle in (-pi, pi]."""
-    a = math.fmod(a + math.pi, 2 * math.pi)
-    if a <= 0:
-        a += 2 * math.pi
-    return a - math.pi
-
-
-def _sigma(v):
-    """Rotation by +pi/2."""
-    return np.array([-v[1], v[0]])
+def _wrap(a):
+    """Angle(s) in (-pi, pi]."""
+    a = np.fmod(np.asarray(a, dtype=float) + np.pi, 2 * np.pi)
+    a = np.where(a <= 0, a + 2 * np.pi, a)
+    return a - np.pi
 
 
 @dataclass(frozen=True, slots=True)
@@ -70,6 +64,16 @@ class Arc:
     end_angle: float
     side: int = 0
 
+    def configuration(self, theta_free: float) -> np.ndarray:
+        """The joint vector of the point of the arc where the free joint is ``theta_free``."""
+        theta = np.array([s[0] for s in self.theta_sets])
+        theta[self.free_joint - 1] = theta_free
+        return theta
+
+    def point(self, angle: float) -> np.ndarray:
+        """The point of the circle at polar angle ``angle``."""
+        return np.array([self.center[0] + self.radius * math.cos(angle), self.center[1] + self.radius * math.sin(angle)])
+
     def __repr__(self):
         sets = ", ".join("{%.4f}" % math.degrees(s[0]) if len(s) == 1 else
                          "[%.4f, %.4f]" % (math.degrees(s[0]), math.degrees(s[1])) for s in self.theta_sets)
@@ -77,24 +81,56 @@ class Arc:
                 f"r = {self.radius:.6g}, deg: {sets}, side {self.side:+d})")
 
 
+def _read_value(value, name: str):
+    """A user number as ``(float, exact SymPy number)``; decimals are read as the rationals they spell."""
+    if isinstance(value, bool) or value is None:
+        raise InvalidParameterError(f"{name} must be a finite number; got {value!r}")
+    try:
+        if isinstance(value, (Integral, Fraction)):
+            exact = sp.Rational(value if isinstance(value, Fraction) else int(value))
+        elif isinstance(value, (float, np.floating)):
+            if not math.isfinite(value):
+                raise InvalidParameterError(f"{name} must be a finite number; got {value!r}")
+            exact = sp.Rational(repr(float(value)))
+        elif isinstance(value, (str, sp.Basic, Number)):
+            exact = sp.sympify(value, rational=True) if isinstance(value, str) else sp.sympify(value)
+        else:
+            raise TypeError
+    except (TypeError, ValueError, sp.SympifyError, SyntaxError):
+        raise InvalidParameterError(f"{name} must be a finite number; got {value!r}") from None
+    if not (isinstance(exact, sp.Expr) and exact.is_number and exact.is_real is not False):
+        raise InvalidParameterError(f"{name} must be a finite real number; got {value!r}")
+    number = float(exact)
+    if not math.isfinite(number):
+        raise InvalidParameterError(f"{name} must be a finite number; got {value!r}")
+    return number, exact
+
+
 class PlanarChain:
     """A planar chain of revolute joints with limits.
 
     Parameters
     ----------
-    lengths : sequence of positive numbers
+    lengths : sequence of positive numbers (floats, integers, fractions or strings
+        such as ``"3/20"`` or ``"sqrt(2)/10"``)
     lower, upper : joint limits, ``-180 < lower < upper <= 180`` (degrees by default)
     degrees : bool
+
+    Inputs are kept exact as well: a float is read as the decimal it prints as
+    (``0.186`` is ``93/500``), so that :meth:`boundary` can give closed forms.
 
     Examples
     --------
     >>> arm = PlanarChain([0.186, 0.146, 0.108], [-60, 0, -10], [120, 130, 25])   # Bastien, Table 1 (iii)
-    >>> len(arm.candidate_arcs()), len(arm.kept_arcs())
-    (16, 11)
+    >>> len(arm.candidate_arcs()), len(arm.kept_arcs()), len(arm.boundary().arcs)
+    (16, 11, 8)
     """
 
     def __init__(self, lengths, lower, upper, *, degrees: bool = True):
-        lengths, lower, upper = list(lengths), list(lower), list(upper)
+        try:
+            lengths, lower, upper = list(lengths), list(lower), list(upper)
+        except TypeError:
+            raise InvalidParameterError("lengths, lower and upper must be sequences of numbers") from None
         if not lengths:
             raise InvalidParameterError("lengths: a chain needs at least one joint; got none")
         if not len(lengths) == len(lower) == len(upper):
@@ -102,46 +138,127 @@ class PlanarChain:
                                         f"{len(lengths)}, {len(lower)}, {len(upper)}")
         unit = "deg" if degrees else "rad"
         half_turn = 180.0 if degrees else math.pi
+        floats, exact = [], []
         for k, (l, lo, hi) in enumerate(zip(lengths, lower, upper), start=1):
-            for name, v in (("length", l), ("lower limit", lo), ("upper limit", hi)):
-                if not isinstance(v, (int, float)) or isinstance(v, bool) or not math.isfinite(float(v)):
-                    raise InvalidParameterError(f"{name} of joint {k} must be a finite number; got {v!r}")
+            row = [_read_value(v, f"{name} of joint {k}")
+                   for name, v in (("length", l), ("lower limit", lo), ("upper limit", hi))]
+            (l, _), (lo, _), (hi, _) = row
             if l <= 0:
-                raise InvalidParameterError(f"length of joint {k} must be positive; got {l}")
+                raise InvalidParameterError(f"length of joint {k} must be positive; got {lengths[k - 1]}")
             if not (-half_turn < lo and hi <= half_turn):
                 raise JointLimitError(f"limits of joint {k} must lie in (-{half_turn:g}, {half_turn:g}] {unit}; "
-                                      f"got [{lo}, {hi}]")
+                                      f"got [{lower[k - 1]}, {upper[k - 1]}]")
             if not lo < hi:
-                raise JointLimitError(f"upper limit of joint {k} ({hi} {unit}) must exceed its lower limit "
-                                      f"({lo} {unit})")
+                raise JointLimitError(f"upper limit of joint {k} ({upper[k - 1]} {unit}) must exceed its lower "
+                                      f"limit ({lower[k - 1]} {unit})")
+            floats.append((l, lo, hi))
+            exact.append(tuple(e for _, e in row))
         scale = math.pi / 180 if degrees else 1.0
-        self.lengths = tuple(float(l) for l in lengths)
-        self.lower = tuple(float(v) * scale for v in lower)
-        self.upper = tuple(float(v) * scale for v in upper)
+        exact_scale = sp.pi / 180 if degrees else sp.Integer(1)
+        self.lengths = tuple(l for l, _, _ in floats)
+        self.lower = tuple(lo * scale for _, lo, _ in floats)
+        self.upper = tuple(hi * scale for _, _, hi in floats)
+        self.exact_lengths = tuple(e[0] for e in exact)
+        self.exact_lower = tuple(e[1] * exact_scale for e in exact)
+        self.exact_upper = tuple(e[2] * exact_scale for e in exact)
         self.p = len(self.lengths)
+        self.reach = float(sum(self.lengths))
+        self._cache = {}
 
     def __repr__(self):
-        return f"PlanarChain(p={self.p}, lengths={self.lengths})"
+        deg = lambda v: ", ".join(f"{math.degrees(x):g}" for x in v)  # noqa: E731
+        return (f"PlanarChain(lengths={list(self.lengths)}, lower=[{deg(self.lower)}], "
+                f"upper=[{deg(self.upper)}])")
 
     # ------------------------------------------------------------------ kinematics
     def joints_positions(self, theta) -> np.ndarray:
-        """``(p + 1, 2)`` array of ``A_0 = O, A_1, ..., A_p``."""
-        pts = [np.zeros(2)]
-        phi = 0.0
-        for l, t in zip(self.lengths, theta):
-            phi += t
-            pts.append(pts[-1] + l * _u(phi))
-        return np.array(pts)
+        """``(..., p + 1, 2)`` array of ``P_0 = O, P_1, ..., P_p`` (vectorised over leading axes)."""
+        theta = np.asarray(theta, dtype=float)
+        phi = np.cumsum(theta, axis=-1)
+        steps = np.stack([-np.sin(phi), np.cos(phi)], axis=-1) * np.asarray(self.lengths)[:, None]
+        zero = np.zeros(theta.shape[:-1] + (1, 2))
+        return np.concatenate([zero, np.cumsum(steps, axis=-2)], axis=-2)
 
     def forward(self, theta) -> np.ndarray:
-        """End point ``A_p`` (vectorised over a leading axis of ``theta``)."""
+        """End point ``P_p`` (vectorised over leading axes of ``theta``)."""
         theta = np.asarray(theta, dtype=float)
         phi = np.cumsum(theta, axis=-1)
         return np.stack([-(np.sin(phi) * self.lengths).sum(-1), (np.cos(phi) * self.lengths).sum(-1)], axis=-1)
 
+    def sample(self, n: int, *, seed=0, corners: bool = True) -> np.ndarray:
+        """``n`` random configurations (uniform in the joint box), plus up to 4096 corners of the box."""
+        rng = np.random.default_rng(seed)
+        lo, hi = np.array(self.lower), np.array(self.upper)
+        theta = lo + (hi - lo) * rng.random((n, self.p))
+        if corners:
+            m = min(self.p, 12)
+            bits = (np.arange(2 ** m)[:, None] >> np.arange(m)) & 1
+            c = np.tile(lo, (len(bits), 1))
+            c[:, :m] = np.where(bits, hi[:m], lo[:m])
+            theta = np.vstack([c, theta])
+        return theta
+
     # ------------------------------------------------------------------ Step 0
-    def _limit(self, j: int, s: int) -> float:
-        return self.lower[j] if s == 0 else self.upper[j]
+    def _candidates(self) -> dict:
+        """Step 0 as arrays: ``theta`` (n, p) with NaN at the free joint, ``aligned`` (n, p),
+        ``free`` (n,), ``center`` (n, 2), ``radius`` (n,), ``start`` (n,) polar angle at the lower limit."""
+        if "step0" in self._cache:
+            return self._cache["step0"]
+        p, L = self.p, np.array(self.lengths)
+        lo, hi = np.array(self.lower), np.array(self.upper)
+        tol_len = _TOL * self.reach
+        out = []
+        for i in range(p):
+            st = _Scan(p, i, L[i])
+            for j in range(i + 1, p):
+                st = st.branch(j, L[j], lo[j], hi[j], lo, hi, tol_len)
+                if st.n == 0:
+                    break
+            if st.n == 0:
+                continue
+            st = st.close(lo, hi, tol_len)
+            keep = np.abs(st.radius) > tol_len
+            theta_s, aligned_s = st.theta[keep], st.aligned[keep]
+            if not len(theta_s):
+                continue
+            # end point relative to P_i, in the frame where segment i has direction 0
+            local = np.where(np.isnan(theta_s), 0.0, theta_s)
+            local[:, : i + 1] = 0.0
+            phi = np.cumsum(local[:, i:], axis=1)
+            ex = -(np.sin(phi) * L[i:]).sum(1)
+            ey = (np.cos(phi) * L[i:]).sum(1)
+            # prefix: joints before i at their limits
+            bits = (np.arange(2 ** i)[:, None] >> np.arange(i)) & 1
+            pre = np.where(bits, hi[:i], lo[:i]) if i else np.zeros((1, 0))
+            pphi = np.cumsum(pre, axis=1)
+            cx = -(np.sin(pphi) * L[:i]).sum(1)
+            cy = (np.cos(pphi) * L[:i]).sum(1)
+            base = pphi[:, -1] if i else np.zeros(1)
+            ns, npre = len(theta_s), len(pre)
+            theta = np.repeat(theta_s, npre, axis=0)
+            theta[:, :i] = np.tile(pre, (ns, 1))
+            theta[:, i] = np.nan
+            start = (np.arctan2(ey, ex)[:, None] + base[None, :] + lo[i]).ravel()
+            out.append(dict(theta=theta, aligned=np.repeat(aligned_s, npre, axis=0),
+                            free=np.full(ns * npre, i),
+                            center=np.stack([np.tile(cx, ns), np.tile(cy, ns)], axis=1),
+                            radius=np.repeat(np.hypot(ex, ey), npre), start=_wrap(start)))
+        if out:
+            cand = {k: np.concatenate([o[k] for o in out]) for k in out[0]}
+        else:
+            cand = dict(theta=np.zeros((0, p)), aligned=np.zeros((0, p), bool), free=np.zeros(0, int),
+                        center=np.zeros((0, 2)), radius=np.zeros(0), start=np.zeros(0))
+        self._cache["step0"] = cand
+        return cand
+
+    def _make_arc(self, cand, k, a, b, side=0) -> Arc:
+        i = int(cand["free"][k])
+        n_free = int(cand["aligned"][k].sum()) + 1
+        kind = "III" if n_free == 1 else ("I" if n_free == self.p else "II")
+        sets = tuple((float(a), float(b)) if j == i else (float(cand["theta"][k, j]),) for j in range(self.p))
+        start = float(cand["start"][k]) + (a - self.lower[i])
+        return Arc(kind, i + 1, sets, (float(cand["center"][k, 0]), float(cand["center"][k, 1])),
+                   float(cand["radius"][k]), start, start + (b - a), side)
 
     def candidate_arcs(self) -> list[Arc]:
         """Step 0: every arc allowed by the alignment condition (types I, II, III).
@@ -149,142 +266,164 @@ class PlanarChain:
         For each non-empty set J of free joints, each choice of limits for the
         others and each sign pattern of the chords of the rigid bodies between
         free joints, the angles of the free joints after ``i = min J`` are fixed
-        (kept when strictly inside their limits), and ``A_p`` describes an arc
-        of the circle centred at ``A_{i-1}`` as ``theta_i`` runs over its range.
+        (kept when strictly inside their limits), and ``P_p`` describes an arc
+        of the circle centred at ``P_i`` as ``theta_i`` runs over its range.
         """
-        p = self.p
-        arcs = []
-        for m in range(1, p + 1):
-            for J in itertools.combinations(range(p), m):
-                others = [j for j in range(p) if j not in J]
-                for limits in itertools.product((0, 1), repeat=len(others)):
-                    fixed = dict(zip(others, limits))
-                    for signs in itertools.product((0, 1), repeat=m - 1):
-                        arc = self._alignment_arc(J, fixed, signs)
-                        if arc is not None:
-                            arcs.append(arc)
-        return arcs
-
-    def _alignment_arc(self, J, fixed, signs):
-        p = self.p
-        theta = [None] * p
-        for j, s in fixed.items():
-            theta[j] = self._limit(j, s)
-        i = J[0]
-        # Rigid bodies between free joints: body k covers segments J[k] .. J[k+1]-1.
-        ends = list(J[1:]) + [p]
-        chords = []  # (local chord angle gamma, length, internal turn of the body's last segment)
-        for start, end in zip(J, ends):
-            delta, vec = 0.0, np.zeros(2)
-            for s in range(start, end):
-                if s > start:
-                    delta += theta[s]
-                vec = vec + self.lengths[s] * _u(delta)
-            length = float(np.hypot(*vec))
-            if length <= _TOL:
-                return None
-            chords.append((_angle_of(vec), length, delta))
-        signed, orient = chords[0][1], 1
-        for k in range(1, len(J)):
-            gamma_prev, _, turn_prev = chords[k - 1]
-            gamma, length, _ = chords[k]
-            t = _wrap(gamma_prev - gamma - turn_prev + signs[k - 1] * math.pi)
-            j = J[k]
-            if not (self.lower[j] + _TOL < t < self.upper[j] - _TOL):
-                return None
-            theta[j] = t
-            orient = -orient if signs[k - 1] else orient  # relative to the first chord, not the previous one
-            signed += orient * length
-        radius = abs(signed)
-        if radius <= _TOL:
-            return None
-        theta_lo, theta_hi = list(theta), list(theta)
-        theta_lo[i], theta_hi[i] = self.lower[i], self.upper[i]
-        pts = self.joints_positions(theta_lo)
-        centre = pts[i]
-        v = pts[-1] - centre
-        a0 = math.atan2(v[1], v[0])
-        a1 = a0 + (self.upper[i] - self.lower[i])
-        kind = "III" if len(J) == 1 else ("I" if len(J) == p else "II")
-        sets = tuple((self.lower[k], self.upper[k]) if k == i else (theta[k],) for k in range(p))
-        return Arc(kind, i + 1, sets, (float(centre[0]), float(centre[1])), radius, a0, a1)
+        cand = self._candidates()
+        return [self._make_arc(cand, k, self.lower[i], self.upper[i]) for k, i in enumerate(cand["free"])]
 
     # ------------------------------------------------------------------ Step 1
-    def _epsilon(self, arc: Arc, j: int) -> int:
-        s = arc.theta_sets[j]
-        if len(s) == 2:
-            return 0
-        if abs(s[0] - self.lower[j]) <= _TOL:
-            return 1
-        if abs(s[0] - self.upper[j]) <= _TOL:
-            return -1
-        return 0  # an alignment angle strictly inside the limits: a free joint
-
-    def _side(self, arc: Arc, theta_i: float):
-        """epsilon_0 of Lemma 3.1 at one point of the arc, or None when the point is eliminated."""
-        i = arc.free_joint - 1
-        theta = [s[0] for s in arc.theta_sets]
-        theta[i] = theta_i
-        pts = self.joints_positions(theta)
-        u = pts[-1] - pts[i]
-        scale = max(1e-300, float(u @ u))
-        for eps0 in (1, -1):
-            ok = True
-            for j in range(self.p):
-                if j == i:
-                    continue
-                v = pts[-1] - pts[j]
-                B = 2 * float(u @ _sigma(v))
-                if abs(B) <= 1e-12 * scale:
-                    C = float(v @ v - u @ v)
-                    ok = eps0 * C > 0
-                else:
-                    ok = eps0 * self._epsilon(arc, j) * B > 0
-                if not ok:
-                    break
-            if ok:
-                return eps0
-        return None
-
-    def _split_points(self, arc: Arc) -> list[float]:
-        """Values of the free joint where some ``B_j`` (j before the free joint) changes sign."""
-        i = arc.free_joint - 1
-        lo, hi = arc.theta_sets[i]
-        theta = [s[0] for s in arc.theta_sets]
-        theta[i] = lo
-        pts = self.joints_positions(theta)
-        u0 = pts[-1] - pts[i]
-        cuts = []
-        for j in range(i):
-            w = pts[i] - pts[j]  # B_j = 2 u . sigma(w): zero where u is parallel to w
-            if float(np.hypot(*w)) <= _TOL:
+    def _step1(self) -> list[Arc]:
+        if "step1" in self._cache:
+            return self._cache["step1"]
+        cand = self._candidates()
+        lo, hi = np.array(self.lower), np.array(self.upper)
+        kept = []
+        for i in range(self.p):
+            idx = np.flatnonzero(cand["free"] == i)
+            if not len(idx):
                 continue
-            base = math.atan2(w[1], w[0]) - math.atan2(u0[1], u0[0])
-            for k in range(-3, 4):
-                for shift in (0.0, math.pi):
-                    t = lo + base + shift + 2 * math.pi * k
-                    if lo + _TOL < t < hi - _TOL:
-                        cuts.append(t)
-        return sorted(set(cuts))
+            theta = cand["theta"][idx].copy()
+            theta[:, i] = lo[i]
+            pts = self.joints_positions(theta)                        # (n, p+1, 2)
+            u = pts[:, -1] - pts[:, i]                                 # (n, 2)
+            v = pts[:, -1:, :] - pts[:, :-1, :]                        # (n, p, 2): v_j = P_p - P_j
+            B = 2 * (u[:, None, 1] * v[..., 0] - u[:, None, 0] * v[..., 1])
+            C = (v * v).sum(-1) - (u[:, None, :] * v).sum(-1)
+            size = np.hypot(*u.T)[:, None] * np.hypot(v[..., 0], v[..., 1])
+            aligned = cand["aligned"][idx]
+            eps = np.where(aligned, 0, np.where(np.abs(theta - lo) <= _TOL, 1, np.where(np.abs(theta - hi) <= _TOL, -1, 0)))
+            zero = aligned | (np.abs(B) <= _ZERO_B * size)
+            after = np.arange(self.p) > i
+            ok = {}
+            for e0 in (1, -1):
+                good = np.where(zero, e0 * C > 0, e0 * eps * B > 0)
+                ok[e0] = np.all(good | ~after, axis=1)
+            if i == 0:
+                side = np.where(ok[1], 1, np.where(ok[-1], -1, 0))[:, None]
+                bounds = np.stack([np.full(len(idx), lo[0]), np.full(len(idx), hi[0])], axis=1)
+            else:
+                # joints before i: B_j = 2 |w||u| sin(arg u - arg w), w = P_i - P_j, zero twice per turn
+                w = pts[:, i:i + 1, :] - pts[:, :i, :]                 # (n, i, 2)
+                wnorm = np.hypot(w[..., 0], w[..., 1])
+                arg_u0 = np.arctan2(u[:, 1], u[:, 0])
+                rel = np.mod(np.arctan2(w[..., 1], w[..., 0]) - arg_u0[:, None], np.pi)   # in [0, pi)
+                cuts = lo[i] + np.concatenate([rel, rel + np.pi], axis=1)
+                cuts = np.where((cuts > lo[i] + _TOL) & (cuts < hi[i] - _TOL), cuts, hi[i])
+                bounds = np.concatenate([np.full((len(idx), 1), lo[i]), np.sort(cuts, axis=1),
+                                         np.full((len(idx), 1), hi[i])], axis=1)
+                mid = 0.5 * (bounds[:, 1:] + bounds[:, :-1])                        # (n, m)
+                ang = arg_u0[:, None, None] + (mid - lo[i])[:, :, None] - np.arctan2(w[..., 1], w[..., 0])[:, None, :]
+                s = np.sign(np.sin(ang)) * eps[:, None, :i]                      # (n, m, i)
+                plus = np.all(s > 0, axis=2) & ok[1][:, None]
+                minus = np.all(s < 0, axis=2) & ok[-1][:, None]
+                side = np.where(plus, 1, np.where(minus, -1, 0))
+                side[(wnorm <= _TOL * self.reach).any(1)] = 0
+            for r in np.flatnonzero((side != 0).any(axis=1)):
+                pieces = []
+                for m in range(side.shape[1]):
+                    a, b, sd = bounds[r, m], bounds[r, m + 1], side[r, m]
+                    if sd == 0 or b - a <= _TOL:
+                        continue
+                    if pieces and pieces[-1][2] == sd and abs(pieces[-1][1] - a) <= _TOL:
+                        pieces[-1] = (pieces[-1][0], b, sd)
+                    else:
+                        pieces.append((a, b, sd))
+                kept.extend(self._make_arc(cand, idx[r], a, b, int(sd)) for a, b, sd in pieces)
+        self._cache["step1"] = kept
+        return kept
 
     def kept_arcs(self) -> list[Arc]:
         """Step 1: the parts of the candidate arcs kept by Lemma 3.1, with their side."""
-        kept = []
-        for arc in self.candidate_arcs():
-            i = arc.free_joint - 1
-            lo, hi = arc.theta_sets[i]
-            bounds = [lo] + self._split_points(arc) + [hi]
-            pieces = []
-            for a, b in zip(bounds, bounds[1:]):
-                side = self._side(arc, 0.5 * (a + b))
-                if side is None:
-                    continue
-                if pieces and pieces[-1][2] == side and abs(pieces[-1][1] - a) <= _TOL:
-                    pieces[-1] = (pieces[-1][0], b, side)
-                else:
-                    pieces.append((a, b, side))
-            for a, b, side in pieces:
-                sets = tuple((a, b) if k == i else s for k, s in enumerate(arc.theta_sets))
-                start = arc.start_angle + (a - lo)
-                kept.append(Arc(arc.type, arc.free_joint, sets, arc.center, arc.radius, start, start + (b - a), side))
-        return kept
+        return list(self._step1())
+
+    # ------------------------------------------------------------------ Step 2
+    def boundary(self, *, samples: int = 4096, seed: int = 0, max_boxes: int = 200_000):
+        """Step 2: the workspace boundary as loops of arcs (:class:`~workspace_sym.boundary.Boundary`).
+
+        The kept arcs cut the plane into faces; every face lies wholly inside or
+        wholly outside the workspace.  A face is proved inside by Lemma 3.1 (a
+        kept arc whose side points into it) or by a witness configuration that
+        lands in it; a bounded face is proved outside by interval exclusion (no
+        configuration of the joint box reaches a point of it).  A face that
+        resists both within ``max_boxes`` boxes is reported as undecided, with a
+        warning, and the area becomes a bracket.
+        """
+        key = ("step2", samples, seed, max_boxes)
+        if key not in self._cache:
+            from .boundary import build_boundary
+            self._cache[key] = build_boundary(self, samples=samples, seed=seed, max_boxes=max_boxes)
+        return self._cache[key]
+
+
+class _Scan:
+    """Branches of the Step 0 scan after the first free joint ``i``.
+
+    Each branch holds the chord of the rigid body being built (in the frame of
+    its first segment), the pending alignment check of the last free joint, and
+    the signed radius accumulated so far.
+    """
+
+    def __init__(self, p, i, length):
+        self.theta = np.full((1, p), np.nan)
+        self.aligned = np.zeros((1, p), bool)
+        self.vx, self.vy, self.turn = np.zeros(1), np.full(1, float(length)), np.zeros(1)
+        self.pend, self.pend_joint = np.zeros(1), np.full(1, -1)
+        self.orient, self.radius = np.ones(1), np.zeros(1)
+
+    @property
+    def n(self):
+        return len(self.vx)
+
+    def _take(self, rows):
+        new = object.__new__(_Scan)
+        for k, v in vars(self).items():
+            setattr(new, k, v[rows])
+        return new
+
+    def _close_body(self, lo, hi, tol_len):
+        """Close the current body: check the pending alignment angle, add the chord to the radius."""
+        gamma = np.arctan2(-self.vx, self.vy)
+        length = np.hypot(self.vx, self.vy)
+        good = length > tol_len
+        has = self.pend_joint >= 0
+        pj = np.where(has, self.pend_joint, 0)
+        t = _wrap(self.pend - gamma)
+        good &= ~has | ((t > lo[pj] + _TOL) & (t < hi[pj] - _TOL))
+        rows = np.flatnonzero(good)
+        self.theta[rows[has[rows]], pj[rows[has[rows]]]] = t[rows[has[rows]]]
+        self.radius = self.radius + self.orient * length
+        return rows, gamma
+
+    def branch(self, j, length, lo_j, hi_j, lo, hi, tol_len):
+        """Joint ``j`` at its lower limit, at its upper limit, or free with the next chord parallel or anti-parallel."""
+        parts = []
+        for value in (lo_j, hi_j):
+            s = self._take(slice(None))
+            s.theta = self.theta.copy()
+            s.theta[:, j] = value
+            s.turn = self.turn + value
+            s.vx = self.vx - length * np.sin(s.turn)
+            s.vy = self.vy + length * np.cos(s.turn)
+            parts.append(s)
+        base = self._take(slice(None))
+        base.theta = self.theta.copy()
+        rows, gamma = base._close_body(lo, hi, tol_len)
+        for sign in (0, 1):
+            s = base._take(rows)
+            s.theta = s.theta.copy()
+            s.aligned = s.aligned.copy()
+            s.aligned[:, j] = True
+            s.pend = gamma[rows] - self.turn[rows] + sign * np.pi
+            s.pend_joint = np.full(len(rows), j)
+            s.orient = -s.orient if sign else s.orient
+            s.vx, s.vy, s.turn = np.zeros(len(rows)), np.full(len(rows), float(length)), np.zeros(len(rows))
+            parts.append(s)
+        out = object.__new__(_Scan)
+        for k in vars(self):
+            setattr(out, k, np.concatenate([getattr(s, k) for s in parts]))
+        return out
+
+    def close(self, lo, hi, tol_len):
+        rows, _ = self._close_body(lo, hi, tol_len)
+        return self._take(rows)

@@ -1,0 +1,613 @@
+"""Step 2 of the alignment method: the workspace boundary of a planar chain as loops of arcs.
+
+The kept arcs of Step 1 contain the boundary, so every face of their
+arrangement lies wholly inside or wholly outside the workspace (a face meets
+no boundary point, and is connected).  Faces are classified with proofs:
+
+* **inside** when a kept arc has its side (Lemma 3.1) pointing into the face —
+  the configurations on that arc cover a one-sided neighbourhood there — or
+  when a witness configuration lands in the face;
+* **outside** for the unbounded face, and for a bounded face when interval
+  exclusion shows that no configuration of the joint box reaches a point of it
+  (outward-rounded mean-value bound ``|P_p(theta) - P_p(m)| <= sum_j R_j |theta_j - m_j|``
+  with ``R_j = l_j + ... + l_p``, on a bisection of the joint box).
+
+The boundary is made of the edges between an inside and an outside face,
+walked with the workspace on the left: outer loops turn counter-clockwise,
+holes clockwise.  Area and perimeter come from the arcs (Green's theorem).
+:func:`exact_arcs` rebuilds every arc in closed form from the exact inputs.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+import sympy as sp
+
+from .arrangement import Arrangement, _in_span, arc_area_term, arc_distance, parity_inside
+from .interval import arith
+
+__all__ = ["Boundary", "BoundaryArc", "Loop", "build_boundary", "exact_arcs", "prove_unreachable"]
+
+_TWO_PI = 2 * math.pi
+
+
+@dataclass(frozen=True)
+class BoundaryArc:
+    """One arc of a boundary loop, in the loop's direction of travel.
+
+    ``theta_sets`` as in :class:`~workspace_sym.planar.Arc` (radians), with the
+    free joint's interval restricted to this arc; ``start_angle`` and
+    ``end_angle`` are polar angles about ``center`` in the direction of travel
+    (``end < start`` when the loop runs clockwise on this circle); ``side`` is
+    +1 when the workspace lies away from the centre.  ``source`` indexes the
+    Step 1 arc it comes from.
+    """
+
+    type: str
+    free_joint: int
+    theta_sets: tuple
+    center: tuple
+    radius: float
+    start_angle: float
+    end_angle: float
+    side: int
+    source: int
+
+    @property
+    def sweep(self) -> float:
+        return self.end_angle - self.start_angle
+
+    def point(self, angle):
+        return np.array([self.center[0] + self.radius * math.cos(angle), self.center[1] + self.radius * math.sin(angle)])
+
+    @property
+    def start(self):
+        return self.point(self.start_angle)
+
+    @property
+    def end(self):
+        return self.point(self.end_angle)
+
+    def area_term(self) -> float:
+        return float(arc_area_term(*self.center, self.radius, self.start_angle, self.end_angle))
+
+
+@dataclass(frozen=True)
+class Loop:
+    kind: str                 # "outer" or "hole"
+    arcs: tuple               # indices into Boundary.arcs, in order of travel
+    area: float               # signed: positive for an outer loop
+
+
+@dataclass
+class Boundary:
+    """The boundary of a planar chain's workspace (Step 2), with area, perimeter and point queries."""
+
+    chain: object
+    arcs: list
+    loops: list
+    counts: dict
+    faces: dict               # face index -> "inside" / "outside" / "undecided", with the evidence in `evidence`
+    evidence: dict
+    undecided_area: float
+    seconds: float
+    arrangement: Arrangement = field(repr=False)
+    _exact: list | None = field(default=None, repr=False)
+
+    @property
+    def area(self) -> float:
+        """Area enclosed by the loops (Green's theorem over the arcs)."""
+        return float(sum(loop.area for loop in self.loops))
+
+    @property
+    def perimeter(self) -> float:
+        return float(sum(a.radius * abs(a.sweep) for a in self.arcs))
+
+    def _arc_arrays(self):
+        rows = [(a.center[0], a.center[1], a.radius, min(a.start_angle, a.end_angle), abs(a.sweep)) for a in self.arcs]
+        return np.array(rows, dtype=float).reshape(-1, 5).T
+
+    def contains(self, point, *, tol: float = 1e-9) -> str:
+        """``"inside"``, ``"outside"`` or ``"boundary"`` (within ``tol`` times the reach) — ray parity (paper §5)."""
+        q = np.asarray(point, dtype=float).reshape(1, 2)
+        if not self.arcs:
+            return "outside"
+        arr = self._arc_arrays()
+        if arc_distance(q, *arr).min() <= tol * self.chain.reach:
+            return "boundary"
+        return "inside" if parity_inside(q, *arr, tol=tol * self.chain.reach)[0] else "outside"
+
+    def configurations(self, point, *, tol: float = 1e-9) -> np.ndarray:
+        """Every configuration on a kept arc (Step 1) that reaches the boundary point ``point`` (radians, (k, p)).
+
+        Empty when the point is not on the boundary.
+        """
+        q = np.asarray(point, dtype=float)
+        if self.contains(q, tol=tol) != "boundary":
+            return np.zeros((0, self.chain.p))
+        out = []
+        for arc in self.chain.kept_arcs():
+            i = arc.free_joint - 1
+            d = q - np.array(arc.center)
+            if abs(math.hypot(*d) - arc.radius) > tol * self.chain.reach:
+                continue
+            rel = (math.atan2(d[1], d[0]) - arc.start_angle + 1e-12) % _TWO_PI - 1e-12
+            lo, hi = arc.theta_sets[i]
+            if rel <= hi - lo + 1e-12:
+                out.append(arc.configuration(lo + min(max(rel, 0.0), hi - lo)))
+        if not out:
+            return np.zeros((0, self.chain.p))
+        return np.unique(np.round(np.array(out), 12), axis=0)
+
+    def table(self, *, exact: bool = False) -> list[dict]:
+        """Rows in the form of the paper's Table 2: type and the set of every joint, in degrees."""
+        rows = []
+        ex = exact_arcs(self) if exact else None
+        for k, a in enumerate(self.arcs):
+            sets = []
+            for j, s in enumerate(a.theta_sets):
+                if ex is not None:
+                    sets.append(tuple(ex[k]["theta_sets"][j]))
+                else:
+                    sets.append(tuple(math.degrees(v) for v in s))
+            rows.append({"type": a.type, "free_joint": a.free_joint, "theta_sets": sets})
+        return rows
+
+    def to_dict(self, *, exact: bool = False) -> dict:
+        """The JSON object of ``workspace-sym boundary`` (INTERFACE.md)."""
+        arcs = []
+        ex = exact_arcs(self) if exact else None
+        for k, a in enumerate(self.arcs):
+            d = {"type": a.type, "free_joint": a.free_joint,
+                 "theta_sets": [[math.degrees(v) for v in s] for s in a.theta_sets],
+                 "center": [a.center[0], a.center[1]], "radius": a.radius,
+                 "start_angle": a.start_angle, "end_angle": a.end_angle, "side": a.side}
+            if ex is not None:
+                e = ex[k]
+                d["exact"] = {"theta_sets": [[str(v) for v in s] for s in e["theta_sets"]],
+                              "center": [str(v) for v in e["center"]], "radius": str(e["radius"]),
+                              "start_angle": str(e["start_angle"]), "end_angle": str(e["end_angle"])}
+            arcs.append(d)
+        out = {"arcs": arcs, "loops": [{"kind": l.kind, "arcs": list(l.arcs)} for l in self.loops],
+               "area": self.area, "perimeter": self.perimeter, "counts": dict(self.counts),
+               "undecided_area": self.undecided_area, "seconds": self.seconds}
+        if ex is not None:
+            out["area_exact"] = str(exact_area(self, ex))
+        return out
+
+    def polygon(self, *, step: float = 0.01):
+        """The loops as polylines (list of (n, 2) arrays) for drawing and polygon checks."""
+        polys = []
+        for loop in self.loops:
+            pts = []
+            for k in loop.arcs:
+                a = self.arcs[k]
+                n = max(2, int(abs(a.sweep) / step) + 1)
+                t = np.linspace(a.start_angle, a.end_angle, n)
+                pts.append(np.stack([a.center[0] + a.radius * np.cos(t), a.center[1] + a.radius * np.sin(t)], 1))
+            polys.append(np.vstack(pts))
+        return polys
+
+
+# ---------------------------------------------------------------------- classification
+def _tail_levers(lengths, lo, hi):
+    """Upper bounds of ``|P_p - P_j|`` over boxes of relative angles (natural interval extension), (n, m)."""
+    n, m = lo.shape
+    levers = np.zeros((n, m))
+    for j in range(m):
+        phi = (np.zeros(n), np.zeros(n))
+        x = (np.zeros(n), np.zeros(n))
+        y = (np.zeros(n), np.zeros(n))
+        for k in range(j, m):
+            if k > j:
+                phi = arith.add(phi, (lo[:, k], hi[:, k]))
+            lk = arith.point(np.full(n, lengths[k]))
+            x = arith.sub(x, arith.mul(lk, arith.sin(phi)))
+            y = arith.add(y, arith.mul(lk, arith.cos(phi)))
+        levers[:, j] = arith.up(np.sqrt(arith.up(np.maximum(x[0] ** 2, x[1] ** 2) + np.maximum(y[0] ** 2, y[1] ** 2))))
+    return levers
+
+
+def prove_unreachable(chain, q, *, max_boxes: int = 200_000) -> bool | None:
+    """Prove that no configuration of the joint box reaches the point ``q``; None when the budget ran out.
+
+    The first joint is eliminated: ``P_p = R(theta_1) v`` with
+    ``v = l_1 e_y + (the chain of joints 2..p)``, so ``q`` is reached only if
+    ``v`` lies on the arc ``{R(-theta_1) q}``.  The joints 2..p are bisected;
+    a box is discarded when the disc ``|v - v(m)| <= sum_j lever_j h_j``
+    (outward-rounded mean-value bound, levers from an interval enclosure of
+    ``|P_p - P_j|`` over the box) misses that arc by more than a 1e-9 margin.
+    """
+    L = np.array(chain.lengths)
+    q = np.asarray(q, dtype=float)
+    rq = math.hypot(*q)
+    aq = math.atan2(q[1], q[0])
+    arc_start, arc_span = aq - chain.upper[0], chain.upper[0] - chain.lower[0]
+    margin = 1e-9 * chain.reach
+    if chain.p == 1:
+        return abs(rq - L[0]) > margin or None
+    lo = np.array(chain.lower[1:])[None, :]
+    hi = np.array(chain.upper[1:])[None, :]
+    used = 0
+    with np.errstate(all="ignore"):
+        while len(lo):
+            used += len(lo)
+            if used > max_boxes:
+                return None
+            n = len(lo)
+            m = 0.5 * (lo + hi)
+            h = np.maximum(arith.up(hi - m), arith.up(m - lo))
+            # v(m): l_1 e_y plus the tail at the box centre (theta_1 = 0)
+            phi = arith.point(np.zeros(n))
+            vx = arith.point(np.zeros(n))
+            vy = arith.point(np.full(n, L[0]))
+            for k in range(1, chain.p):
+                phi = arith.add(phi, arith.point(m[:, k - 1]))
+                lk = arith.point(np.full(n, L[k]))
+                vx = arith.sub(vx, arith.mul(lk, arith.sin(phi)))
+                vy = arith.add(vy, arith.mul(lk, arith.cos(phi)))
+            levers = _tail_levers(L[1:], lo, hi)
+            weights = arith.up(levers * h)
+            rad = weights[:, 0]
+            for j in range(1, weights.shape[1]):
+                rad = arith.up(rad + weights[:, j])
+            # distance from the enclosure of v(m) to the arc of radius |q| (float, less a margin)
+            cx, cy = 0.5 * (vx[0] + vx[1]), 0.5 * (vy[0] + vy[1])
+            slack = np.maximum(vx[1] - vx[0], vy[1] - vy[0])
+            rho = np.hypot(cx, cy)
+            on = _in_span(np.arctan2(cy, cx), arc_start, arc_span)
+            e0 = np.hypot(cx - rq * math.cos(arc_start), cy - rq * math.sin(arc_start))
+            e1 = np.hypot(cx - rq * math.cos(arc_start + arc_span), cy - rq * math.sin(arc_start + arc_span))
+            dist = np.where(on, np.abs(rho - rq), np.minimum(e0, e1)) - slack - margin
+            alive = ~(dist > rad)
+            lo, hi, weights = lo[alive], hi[alive], weights[alive]
+            if not len(lo):
+                return True
+            j = np.argmax(weights, axis=1)
+            rows = np.arange(len(lo))
+            mid = 0.5 * (lo[rows, j] + hi[rows, j])
+            lo2, hi2 = lo.copy(), hi.copy()
+            hi[rows, j] = mid
+            lo2[rows, j] = mid
+            lo, hi = np.vstack([lo, lo2]), np.vstack([hi, hi2])
+    return True
+
+
+def _local_witness(chain, targets, starts, iterations: int = 60):
+    """Damped least squares projected on the joint box, from several starts per target.
+
+    ``targets`` (m, 2), ``starts`` (m, k, p): returns the best configuration per
+    target (m, p) and its distance to the target (m,).
+    """
+    lo, hi = np.array(chain.lower), np.array(chain.upper)
+    theta = np.array(starts, dtype=float)
+    target = np.broadcast_to(np.asarray(targets, dtype=float)[:, None, :], theta.shape[:2] + (2,))
+    for _ in range(iterations):
+        pts = chain.joints_positions(theta)
+        r = target - pts[..., -1, :]
+        v = pts[..., -1:, :] - pts[..., :-1, :]                   # dP/dtheta_j = sigma(P_p - P_j)
+        J = np.stack([-v[..., 1], v[..., 0]], axis=-2)             # (m, k, 2, p)
+        JJt = J @ np.swapaxes(J, -1, -2) + 1e-9 * np.eye(2)
+        step = (np.swapaxes(J, -1, -2) @ np.linalg.solve(JJt, r[..., None]))[..., 0]
+        theta = np.clip(theta + step, lo, hi)
+    err = np.hypot(*np.moveaxis(chain.forward(theta) - target, -1, 0))
+    k = np.argmin(err, axis=1)
+    rows = np.arange(len(theta))
+    return theta[rows, k], err[rows, k]
+
+
+def _classify(chain, arr: Arrangement, kept, samples, seed, max_boxes):
+    nf = len(arr.face_cycles)
+    status = ["unknown"] * nf
+    evidence = {}
+    notes = []
+    for k, e in enumerate(arr.edges):
+        for s in e.sources:
+            h = 2 * k if kept[s].side == -1 else 2 * k + 1     # the half-edge with the arc's side on its left
+            f = arr.half_face[h]
+            if f < 0:
+                notes.append(f"Step 1 arc {s} points into the unbounded face")
+            elif status[f] == "unknown":
+                status[f], evidence[int(f)] = "inside", {"method": "Lemma 3.1", "arc": int(s)}
+    todo = [f for f in range(nf) if status[f] == "unknown"]
+    if not todo:
+        return status, evidence, notes
+    theta = chain.sample(samples, seed=seed)
+    pts = chain.forward(theta)
+    probes = {}
+    for f in todo:
+        hit = np.flatnonzero(arr.in_face(pts, f))
+        if len(hit):
+            hit = hit[:64][arr.face_clearance(pts[hit[:64]], f) > 10 * arr.tol]
+        if len(hit):
+            status[f], evidence[f] = "inside", {"method": "witness", "configuration": theta[hit[0]].tolist()}
+            continue
+        q, clearance = arr.interior_point(f)
+        if q is None:
+            notes.append(f"face {f}: no interior point with clearance found")
+            status[f] = "undecided"
+            continue
+        probes[f] = (q, clearance)
+    if probes:
+        faces = list(probes)
+        qs = np.array([probes[f][0] for f in faces])
+        near = np.argsort(((pts[None, :, :] - qs[:, None, :]) ** 2).sum(-1), axis=1)[:, :16]
+        found, err = _local_witness(chain, qs, theta[near])
+        for f, th, e in zip(faces, found, err):
+            q, clearance = probes[f]
+            if e < 0.5 * clearance:
+                status[f], evidence[f] = "inside", {"method": "witness", "configuration": th.tolist()}
+            elif prove_unreachable(chain, q, max_boxes=max_boxes):
+                status[f], evidence[f] = "outside", {"method": "interval exclusion", "point": q.tolist()}
+            else:
+                status[f], evidence[f] = "undecided", {"method": "interval exclusion (budget exhausted)",
+                                                       "point": q.tolist()}
+    return status, evidence, notes
+
+
+def build_boundary(chain, *, samples: int = 4096, seed: int = 0, max_boxes: int = 200_000) -> Boundary:
+    """Step 2 for ``chain`` (see :meth:`workspace_sym.planar.PlanarChain.boundary`)."""
+    t0 = time.perf_counter()
+    step0 = len(chain._candidates()["free"])
+    kept = chain._step1()
+    rows = [(*a.center, a.radius, a.start_angle, a.end_angle - a.start_angle) for a in kept]
+    arr = Arrangement(rows, scale=chain.reach)
+    if chain.p == 1:
+        a = kept[0] if kept else None
+        arcs = [] if a is None else [BoundaryArc(a.type, 1, a.theta_sets, a.center, a.radius, a.start_angle,
+                                                 a.end_angle, a.side, 0)]
+        loops = [Loop("outer", (0,), 0.0)] if arcs else []
+        return Boundary(chain, arcs, loops, {"step0": step0, "step1": len(kept), "step2": len(arcs)}, {}, {}, 0.0,
+                        time.perf_counter() - t0, arr)
+    status, evidence, notes = _classify(chain, arr, kept, samples, seed, max_boxes)
+    inside = np.array([s == "inside" for s in status] + [False])      # index -1: unbounded face
+    left_in = inside[arr.half_face]
+    right_in = inside[arr.half_face[np.arange(len(arr.half_face)) ^ 1]]
+    is_boundary = left_in & ~right_in
+    # walk: from the head of h, turn clockwise around the vertex to the next boundary half-edge
+    pos = {h: (v, k) for v, hs in enumerate(arr.outgoing) for k, h in enumerate(hs)}
+    seen = np.zeros(len(is_boundary), bool)
+    loops_h = []
+    for h0 in np.flatnonzero(is_boundary):
+        if seen[h0]:
+            continue
+        loop, h = [], int(h0)
+        while not seen[h]:
+            seen[h] = True
+            loop.append(h)
+            v, k = pos[h ^ 1]
+            hs = arr.outgoing[v]
+            for step in range(1, len(hs) + 1):
+                g = hs[(k - step) % len(hs)]
+                if is_boundary[g]:
+                    break
+            h = g
+        loops_h.append(loop)
+    arcs, loops = [], []
+    for loop in loops_h:
+        pieces = [_piece(arr, kept, h) for h in loop]
+        merged = []
+        for pc in pieces:
+            if merged and merged[-1]["circle"] == pc["circle"] and merged[-1]["source"] == pc["source"]:
+                merged[-1]["a1"] += pc["a1"] - pc["a0"]
+            else:
+                merged.append(dict(pc))
+        if len(merged) > 1 and merged[0]["circle"] == merged[-1]["circle"] and merged[0]["source"] == merged[-1]["source"]:
+            merged[0]["a0"] -= merged[-1]["a1"] - merged[-1]["a0"]
+            merged.pop()
+        area = float(sum(arc_area_term(*arr.circles[m["circle"]], m["a0"], m["a1"]) for m in merged))
+        if area > 0:  # start the outer loop at its point farthest from the origin
+            far = [np.hypot(*arr.circles[m["circle"], :2]) + arr.circles[m["circle"], 2] for m in merged]
+            k = int(np.argmax(far))
+            merged = merged[k:] + merged[:k]
+        base = len(arcs)
+        arcs.extend(_boundary_arc(chain, kept, arr, m) for m in merged)
+        loops.append(Loop("outer" if area > 0 else "hole", tuple(range(base, len(arcs))), area))
+    loops.sort(key=lambda l: (l.kind != "outer", -abs(l.area)))
+    undecided = float(sum(arr.face_area[f] for f, s in enumerate(status) if s == "undecided"))
+    if undecided > 0:
+        warnings.warn(f"{sum(s == 'undecided' for s in status)} face(s) of total area {undecided:.3g} could not be "
+                      f"classified within max_boxes={max_boxes}; the area is a lower bound", stacklevel=3)
+    for note in notes:
+        warnings.warn(note, stacklevel=3)
+    counts = {"step0": step0, "step1": len(kept), "step2": len(arcs)}
+    faces = {f: s for f, s in enumerate(status)}
+    return Boundary(chain, arcs, loops, counts, faces, evidence, undecided, time.perf_counter() - t0, arr)
+
+
+def _piece(arr, kept, h):
+    e = arr.edges[h // 2]
+    want = -1 if h % 2 == 0 else 1
+    srcs = [s for s in e.sources if kept[s].side == want] or list(e.sources)
+    cx, cy, r, a0, a1 = arr.half_edge_arc(h)
+    return {"circle": e.circle, "source": min(srcs), "a0": a0, "a1": a1}
+
+
+def _boundary_arc(chain, kept, arr, m) -> BoundaryArc:
+    src = kept[m["source"]]
+    cx, cy, r = arr.circles[m["circle"]]
+    i = src.free_joint - 1
+    lo_src = src.theta_sets[i][0]
+
+    def theta_at(angle):
+        rel = (angle - src.start_angle + 1e-9) % _TWO_PI - 1e-9
+        return lo_src + min(max(rel, 0.0), src.theta_sets[i][1] - lo_src)
+
+    t0, t1 = sorted((theta_at(m["a0"]), theta_at(m["a1"])))
+    sets = tuple((t0, t1) if k == i else s for k, s in enumerate(src.theta_sets))
+    return BoundaryArc(src.type, src.free_joint, sets, (float(src.center[0]), float(src.center[1])), float(src.radius),
+                       float(m["a0"]), float(m["a1"]), src.side, m["source"])
+
+
+# ---------------------------------------------------------------------- closed forms
+def _u(angle):
+    return sp.Matrix([-sp.sin(angle), sp.cos(angle)])
+
+
+def _fit(expr, value: float, period, tol: float = 1e-9):
+    """``expr + n * period`` equal to ``value`` within ``tol`` for some integer n, or None."""
+    v = float(sp.N(expr, 30))
+    per = float(period)
+    n = round((value - v) / per)
+    if abs(value - v - n * per) <= tol * max(1.0, abs(value)):
+        return expr + n * period
+    return None
+
+
+def _exact_source(chain, arc) -> dict:
+    """The exact configuration, centre, radius and start angle of a Step 1 arc."""
+    p, i = chain.p, arc.free_joint - 1
+    L, lo, hi = chain.exact_lengths, chain.exact_lower, chain.exact_upper
+    theta, aligned = [None] * p, []
+    for j in range(p):
+        if j == i:
+            continue
+        v = arc.theta_sets[j][0]
+        if abs(v - chain.lower[j]) <= 1e-12:
+            theta[j] = lo[j]
+        elif abs(v - chain.upper[j]) <= 1e-12:
+            theta[j] = hi[j]
+        else:
+            aligned.append(j)
+    J = [i] + aligned
+    bodies = []
+    for k, start in enumerate(J):
+        end = J[k + 1] if k + 1 < len(J) else p
+        deltas, delta = [], sp.Integer(0)
+        for s_ in range(start, end):
+            if s_ > start:
+                delta = delta + theta[s_]
+            deltas.append(delta)
+        vx = sum(-L[s_] * sp.sin(d) for s_, d in zip(range(start, end), deltas))
+        vy = sum(L[s_] * sp.cos(d) for s_, d in zip(range(start, end), deltas))
+        segs = list(zip(range(start, end), deltas))
+        length2 = sum(L[a] ** 2 for a, _ in segs) + sum(
+            2 * L[a] * L[b] * sp.cos(db - da) for (a, da), (b, db) in zip_pairs(segs))
+        bodies.append((sp.atan2(-vx, vy), sp.sqrt(length2), delta))
+    signed, orient = bodies[0][1], 1
+    for k in range(1, len(J)):
+        gamma_prev, _, turn_prev = bodies[k - 1]
+        e = gamma_prev - turn_prev - bodies[k][0]
+        t = arc.theta_sets[J[k]][0]
+        n = round((t - float(sp.N(e, 30))) / math.pi)
+        theta[J[k]] = e + n * sp.pi
+        orient = -orient if n % 2 else orient
+        signed = signed + orient * bodies[k][1]
+    positive = float(sp.N(signed, 30)) > 0
+    radius = signed if positive else -signed
+    phi, centre = sp.Integer(0), sp.Matrix([0, 0])
+    for s_ in range(i):
+        phi = phi + theta[s_]
+        centre = centre + L[s_] * _u(phi)
+    a0_float = arc.start_angle - (arc.theta_sets[i][0] - chain.lower[i])
+    a0 = phi + lo[i] + bodies[0][0] + sp.pi / 2 + (0 if positive else sp.pi)
+    a0 = _fit(a0, a0_float, 2 * sp.pi, 1e-7)
+    return {"theta": theta, "i": i, "center": (centre[0], centre[1]), "radius": radius, "a0": a0,
+            "a0_float": a0_float, "lo": lo[i], "hi": hi[i], "span": hi[i] - lo[i]}
+
+
+def zip_pairs(items):
+    """All pairs (a, b) with a before b."""
+    for k, a in enumerate(items):
+        for b in items[k + 1:]:
+            yield a, b
+
+
+def _intersection_angles(c1, r1, c2, r2):
+    dx, dy = c2[0] - c1[0], c2[1] - c1[1]
+    d2 = dx ** 2 + dy ** 2
+    if float(sp.N(d2, 30)) <= 1e-24:
+        return []
+    beta = sp.atan2(dy, dx)
+    gamma = sp.acos((r1 ** 2 + d2 - r2 ** 2) / (2 * r1 * sp.sqrt(d2)))
+    return [beta + gamma, beta - gamma]
+
+
+def _vertex_angle(src, angle, neighbours, sources_all):
+    """Closed form of the polar angle ``angle`` (float) of a loop vertex on the circle of ``src``."""
+    own = [src["a0"], src["a0"] + src["span"]]
+    for e in own:
+        fitted = _fit(e, angle, 2 * sp.pi)
+        if fitted is not None:
+            return fitted
+    for other in neighbours + sources_all:
+        same = (abs(float(sp.N(other["radius"] - src["radius"], 30))) < 1e-12 and
+                all(abs(float(sp.N(other["center"][k] - src["center"][k], 30))) < 1e-12 for k in (0, 1)))
+        cands = ([other["a0"], other["a0"] + other["span"]] if same else
+                 _intersection_angles(src["center"], src["radius"], other["center"], other["radius"]))
+        for e in cands:
+            fitted = _fit(e, angle, 2 * sp.pi)
+            if fitted is not None:
+                return fitted
+    # a Step 1 cut: u parallel to P_i - P_j for a joint j before the free one
+    return sp.Float(angle, 17)
+
+
+def exact_arcs(boundary) -> list[dict]:
+    """Closed forms of every boundary arc: ``center``, ``radius``, ``start_angle``, ``end_angle`` (radians)
+    and ``theta_sets`` (degrees), as SymPy expressions built from the chain's exact inputs.
+
+    The topology comes from the float computation; each closed form is matched
+    to its float value (to 1e-9) and a vertex falls back to a 17-digit float
+    only if no closed form matches (reported by :func:`exact_report`).
+    """
+    if boundary._exact is not None:
+        return boundary._exact
+    chain = boundary.chain
+    kept = chain.kept_arcs()
+    cache = {}
+
+    def source(k):
+        if k not in cache:
+            cache[k] = _exact_source(chain, kept[k])
+        return cache[k]
+
+    out = []
+    for loop in boundary.loops:
+        ids = list(loop.arcs)
+        for pos, k in enumerate(ids):
+            a = boundary.arcs[k]
+            src = source(a.source)
+            prev = boundary.arcs[ids[pos - 1]]
+            nxt = boundary.arcs[ids[(pos + 1) % len(ids)]]
+            others = [source(b.source) for b in boundary.arcs if b.source != a.source]
+            start = _vertex_angle(src, a.start_angle, [source(prev.source)], others)
+            end = _vertex_angle(src, a.end_angle, [source(nxt.source)], others)
+            i = src["i"]
+            sets = []
+            for j in range(chain.p):
+                if j == i:
+                    ts = []
+                    for ang in (start, end):
+                        t = src["lo"] + ang - src["a0"]
+                        ref = a.theta_sets[i][0] if len(ts) == 0 else a.theta_sets[i][1]
+                        cands = [_fit(t, v, 2 * sp.pi) for v in a.theta_sets[i]]
+                        ts.append(next((c for c in cands if c is not None), t))
+                    ts.sort(key=lambda e: float(sp.N(e, 30)))
+                    sets.append(tuple(sp.nsimplify(e * 180 / sp.pi) if e.is_Rational else e * 180 / sp.pi
+                                      for e in ts))
+                else:
+                    sets.append((src["theta"][j] * 180 / sp.pi,))
+            out.append({"center": src["center"], "radius": src["radius"], "start_angle": start, "end_angle": end,
+                        "theta_sets": sets, "exact": not (start.has(sp.Float) or end.has(sp.Float))})
+    order = [k for loop in boundary.loops for k in loop.arcs]
+    result = [None] * len(out)
+    for k, row in zip(order, out):
+        result[k] = row
+    boundary._exact = result
+    return result
+
+
+def exact_area(boundary, rows=None) -> sp.Expr:
+    """The enclosed area as a closed form (Green's theorem over the exact arcs)."""
+    rows = exact_arcs(boundary) if rows is None else rows
+    total = sp.Integer(0)
+    for r in rows:
+        (cx, cy), rad, a0, a1 = r["center"], r["radius"], r["start_angle"], r["end_angle"]
+        total += (rad ** 2 * (a1 - a0) + rad * cx * (sp.sin(a1) - sp.sin(a0)) - rad * cy * (sp.cos(a1) - sp.cos(a0))) / 2
+    return total
