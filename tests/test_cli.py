@@ -122,3 +122,50 @@ def test_dextrous_json_contract_and_bad_sigma(capsys):
     assert data["volume_inner"] > 0 and data["sigma"] == [0.25, 4.0] and data["eps"] == 0.25
     code, _, err = run(capsys, "dextrous", "orthoglide", "--sigma", "4:0.25")
     assert code == 2 and "sigma_max" in err and err.count("\n") == 1
+
+
+def test_boundary_json_contract(tmp_path, capsys):
+    """INTERFACE.md, `boundary`: the human arm of Bastien 2018, Table 1 case iii."""
+    plot = tmp_path / "b.png"
+    code, out, err = run(capsys, "boundary", "--lengths", "0.186,0.146,0.108", "--lower=-60,0,-10",
+                         "--upper=120,130,25", "--json", "--exact", "--plot", str(plot))
+    data = json.loads(out)
+    assert code == 0 and plot.stat().st_size > 0
+    assert data["counts"] == {"step0": 16, "step1": 11, "step2": 8}
+    assert len(data["arcs"]) == 8 and data["loops"][0]["kind"] == "outer"
+    assert abs(float(sp.sympify(data["area_exact"])) - data["area"]) < 1e-12
+    arc = data["arcs"][0]
+    for key in ("center", "radius", "start_angle", "end_angle"):
+        assert key in arc["exact"]
+    assert all(isinstance(s, list) and len(s) in (1, 2) for s in arc["theta_sets"])
+    assert data["seconds"] >= 0
+
+
+def test_boundary_text_and_radians(capsys):
+    code, out, _ = run(capsys, "boundary", "--lengths", "0.3,0.15", "--lower=-2.0943951,-0.5235988",
+                       "--upper=0,0.5235988", "--radians")
+    assert code == 0 and "area" in out and "outer loop" in out
+
+
+def test_boundary_bad_input_writes_nothing(tmp_path, capsys):
+    report = tmp_path / "rep"
+    for argv, needle in ((["--lengths", "0.3,0.15", "--lower=-60,10", "--upper=0,10"], "joint 2"),
+                         (["--lengths", "0.3,-1", "--lower=-60,0", "--upper=0,10"], "length of joint 2"),
+                         (["--lengths", "0.3,", "--lower=-60,0", "--upper=0,10"], "--lengths"),
+                         (["--lengths", "0.3", "--lower=-180", "--upper=0"], "(-180, 180]"),
+                         (["--lengths", "nan", "--lower=-60", "--upper=0"], "length of joint 1"),
+                         (["--lengths", "0.3,0.2", "--lower=-60", "--upper=0,1"], "one value per joint")):
+        code, out, err = run(capsys, "boundary", *argv, "--report", str(report))
+        assert code == 2 and err.count("\n") == 1 and needle in err and not report.exists()
+
+
+def test_demo_writes_the_report(tmp_path, capsys):
+    out_dir = tmp_path / "demo"
+    code, out, _ = run(capsys, "demo", "--out", str(out_dir))
+    assert code == 0 and str(out_dir / "report.md") in out
+    for name in ("report.md", "report.html", "report.tex", "step0.png", "step1.png", "step2.png", "boundary.png",
+                 "paving.png"):
+        assert (out_dir / name).stat().st_size > 0
+    md = (out_dir / "report.md").read_text()
+    assert "-55.1005" in md and "16; after Step 1: 11; on the boundary (Step 2): 8" in md
+    assert "Certified paving of Rybak" in md and "0 outside (must be 0)" in md

@@ -114,13 +114,21 @@ class Boundary:
 
     def contains(self, point, *, tol: float = 1e-9) -> str:
         """``"inside"``, ``"outside"`` or ``"boundary"`` (within ``tol`` times the reach) — ray parity (paper §5)."""
-        q = np.asarray(point, dtype=float).reshape(1, 2)
+        return str(self.classify(np.asarray(point, dtype=float).reshape(1, 2), tol=tol)[0])
+
+    def classify(self, points, *, tol: float = 1e-9) -> np.ndarray:
+        """:meth:`contains` for many points at once: an array of ``"inside"`` / ``"outside"`` / ``"boundary"``."""
+        q = np.atleast_2d(np.asarray(points, dtype=float))
+        out = np.full(len(q), "outside", dtype=object)
         if not self.arcs:
-            return "outside"
+            return out
         arr = self._arc_arrays()
-        if arc_distance(q, *arr).min() <= tol * self.chain.reach:
-            return "boundary"
-        return "inside" if parity_inside(q, *arr, tol=tol * self.chain.reach)[0] else "outside"
+        for k in range(0, len(q), 4096):
+            chunk = q[k:k + 4096]
+            near = arc_distance(chunk, *arr).min(axis=1) <= tol * self.chain.reach
+            inside = parity_inside(chunk, *arr, tol=tol * self.chain.reach)
+            out[k:k + 4096] = np.where(near, "boundary", np.where(inside, "inside", "outside"))
+        return out
 
     def configurations(self, point, *, tol: float = 1e-9) -> np.ndarray:
         """Every configuration on a kept arc (Step 1) that reaches the boundary point ``point`` (radians, (k, p)).

@@ -227,19 +227,107 @@ def cmd_dextrous(args) -> int:
     return 0
 
 
-def cmd_demo(args) -> int:
-    from .report import dh_robot_report
+def _parse_list(text: str, option: str) -> list[str]:
+    items = [t.strip() for t in str(text).split(",")]
+    if not items or any(not t for t in items):
+        raise InvalidParameterError(f"{option}: expected comma-separated numbers such as 0.3,0.15; got {text!r}")
+    return items
 
-    out = Path(args.out)
+
+def _chain_from_args(args):
+    from .planar import PlanarChain
+
+    lengths = _parse_list(args.lengths, "--lengths")
+    lower = _parse_list(args.lower, "--lower")
+    upper = _parse_list(args.upper, "--upper")
+    return PlanarChain(lengths, lower, upper, degrees=not args.radians)
+
+
+def _format_set(values) -> str:
+    if len(values) == 1:
+        return "{%.4f}" % values[0]
+    return "[%.4f, %.4f]" % tuple(values)
+
+
+def cmd_boundary(args) -> int:
+    chain = _chain_from_args(args)
+    boundary = chain.boundary()
+    data = boundary.to_dict(exact=args.exact)
+    if args.plot:
+        from .plotting import plot_planar_step, save_figure
+
+        save_figure(plot_planar_step(chain, 2), args.plot)
+    if args.report:
+        from .report import planar_report
+
+        planar_report(chain, args.report, command=" ".join(["workspace-sym"] + sys.argv[1:]))
+    if args.json:
+        _emit_json(data)
+        return 0
+    c = data["counts"]
+    print(f"planar chain, p = {chain.p}: arcs step 0 / 1 / 2 = {c['step0']} / {c['step1']} / {c['step2']}, "
+          f"{data['seconds']:.3f} s")
+    for loop in data["loops"]:
+        print(f"  {loop['kind']} loop: arcs {', '.join(str(k + 1) for k in loop['arcs'])}")
+    print(f"  {'#':>3} {'type':<4} " + " ".join(f"{'theta_' + str(j + 1) + ' (deg)':>20}" for j in range(chain.p)))
+    for k, arc in enumerate(data["arcs"], start=1):
+        print(f"  {k:>3} {arc['type']:<4} " + " ".join(f"{_format_set(s):>20}" for s in arc["theta_sets"]))
+    print(f"  area {data['area']:.10g}, perimeter {data['perimeter']:.10g}")
+    if args.exact:
+        print(f"  exact area = {data['area_exact']}")
+    if data["undecided_area"]:
+        print(f"  undecided faces of area {data['undecided_area']:.6g}: the area is a lower bound")
+    if args.report:
+        print(f"report: {Path(args.report) / 'report.md'}")
+    return 0
+
+
+def cmd_demo(args) -> int:
+    from .interval import pave
+    from .planar import PlanarChain
+    from .report import planar_report
+
     start = time.perf_counter()
-    robot = robots.build("glass-handling")
-    path = dh_robot_report(robot, out)
-    seconds = time.perf_counter() - start
-    T = robot.fk()
-    print(f"glass-handling arm (paper 004), textbook form, {seconds:.2f} s:")
-    for name, e in zip("xyz", robot.position):
-        print(f"  {name} = {robot.to_str(e)}")
-    print("  rotation: " + " | ".join(robot.to_str(T[i, j]) for i in range(3) for j in range(3)))
+    # Bastien (2018), Table 1, case iii: the human arm (arm, forearm, hand)
+    chain = PlanarChain(["0.186", "0.146", "0.108"], [-60, 0, -10], [120, 130, 25])
+    model = robots.build("rpr2")
+    paving = pave(model.constraints, model.box, delta=0.07, exact_measure=model.exact_measure)
+    path = planar_report(chain, args.out, command=" ".join(["workspace-sym"] + sys.argv[1:]),
+                         title="Human arm of Bastien (2018), Table 1 case iii: exact workspace boundary",
+                         paving=paving, paving_title="Certified paving of Rybak's 2-RPR robot (delta 0.07)")
+    b = chain.boundary()
+    lo, hi = paving.measure_bounds
+    print(f"human arm (Bastien 2018, Table 1 iii): {b.counts['step0']} / {b.counts['step1']} / {b.counts['step2']} "
+          f"arcs after steps 0 / 1 / 2, area {b.area:.10f}")
+    print(f"2-RPR paving (Rybak 2012), delta 0.07: area in [{lo:.4f}, {hi:.4f}], exact {float(model.exact_measure):.4f}")
+    print(f"{time.perf_counter() - start:.1f} s; report: {path} (also {path.with_suffix('.html').name}, "
+          f"{path.with_suffix('.tex').name})")
+    return 0
+
+
+def cmd_report(args) -> int:
+    from .report import dh_robot_report, planar_report
+
+    command = " ".join(["workspace-sym"] + sys.argv[1:])
+    if args.what == "chain":
+        if not (args.lengths and args.lower and args.upper):
+            raise WorkspaceError("report chain: give --lengths, --lower and --upper")
+        path = planar_report(_chain_from_args(args), args.out, command=command)
+    else:
+        from .kinematics import DHRobot
+        from .parallel import ConstraintModel
+
+        model = robots.build(args.what)
+        if isinstance(model, DHRobot):
+            path = dh_robot_report(model, args.out)
+        elif isinstance(model, ConstraintModel):
+            from .interval import pave
+            from .report import paving_report
+
+            paving = pave(model.constraints, model.box, delta=args.delta, exact_measure=model.exact_measure)
+            path = paving_report(paving, args.out, title=f"Certified paving of {args.what}", command=command)
+        else:
+            raise WorkspaceError(f"report: no report for {args.what!r} yet; use 'chain', a DH robot or rpr2")
     print(f"report: {path}")
     return 0
 
@@ -296,6 +384,27 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--plot", metavar="FILE", help="draw the boxes (3D) to an image file")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_dextrous)
+
+    p = sub.add_parser("boundary", help="exact workspace boundary of a planar chain (alignment method)")
+    p.add_argument("--lengths", required=True, help="segment lengths, comma-separated (e.g. 0.186,0.146,0.108)")
+    p.add_argument("--lower", required=True, help="lower joint limits, comma-separated (write --lower=-60,0,-10)")
+    p.add_argument("--upper", required=True, help="upper joint limits, comma-separated")
+    p.add_argument("--radians", action="store_true", help="limits are in radians (default: degrees)")
+    p.add_argument("--exact", action="store_true", help="closed forms of every arc and of the area")
+    p.add_argument("--plot", metavar="FILE", help="draw the boundary (Step 2) to an image file")
+    p.add_argument("--report", metavar="DIR", help="write the full report (Markdown, HTML, LaTeX) to DIR")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=cmd_boundary)
+
+    p = sub.add_parser("report", help="write a report (Markdown, HTML, LaTeX) for a chain or a catalog robot")
+    p.add_argument("what", help="'chain' (with --lengths/--lower/--upper), a DH robot or rpr2")
+    p.add_argument("--lengths")
+    p.add_argument("--lower")
+    p.add_argument("--upper")
+    p.add_argument("--radians", action="store_true")
+    p.add_argument("--delta", type=float, default=0.07, help="paving resolution (rpr2)")
+    p.add_argument("--out", required=True, help="output directory")
+    p.set_defaults(func=cmd_report)
 
     p = sub.add_parser("demo", help="the main job: write the demo report and print its path")
     p.add_argument("--out", default="demo-report", help="output directory (default: demo-report)")

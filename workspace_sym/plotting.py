@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["scatter_workspace_3d", "plot_reach", "plot_sweeps", "plot_paving", "save_figure"]
+__all__ = ["scatter_workspace_3d", "plot_reach", "plot_sweeps", "plot_paving", "save_figure", "plot_planar_step",
+           "plot_boundary_loops"]
 
 
 def _pyplot():
@@ -177,3 +178,85 @@ def _plot_paving_3d(paving, *, ax=None, title=None):
     if title:
         ax.set_title(title)
     return artists
+
+
+_ARC_COLOURS = {"I": "tab:blue", "II": "tab:red", "III": "tab:green"}   # the paper's figures 4 to 6
+
+
+def _draw_arc(ax, center, radius, a0, a1, *, color, lw=1.2, side=0, tick=None):
+    t = np.linspace(a0, a1, max(8, int(abs(a1 - a0) / 0.01)))
+    (line,) = ax.plot(center[0] + radius * np.cos(t), center[1] + radius * np.sin(t), color=color, lw=lw)
+    if side and tick:
+        m = 0.5 * (a0 + a1)
+        r0, r1 = radius, radius + side * tick
+        ax.plot([center[0] + r0 * np.cos(m), center[0] + r1 * np.cos(m)],
+                [center[1] + r0 * np.sin(m), center[1] + r1 * np.sin(m)], color=color, lw=lw)
+    return line
+
+
+def plot_planar_step(chain, step: int, *, ax=None, samples: int = 20000, seed: int = 0, title=None):
+    """One step of the alignment method, drawn like the paper's figures 4 to 6.
+
+    Step 0: the candidate arcs; step 1: the kept arcs, with a tick on the side
+    of the workspace; step 2: the boundary loops and the enclosed workspace.
+    Arcs are blue (type I), red (type II) or green (type III); the gold dots
+    are ``samples`` random configurations (the discrete swept area).
+    """
+    from matplotlib.patches import PathPatch
+    from matplotlib.path import Path as MplPath
+
+    plt = _pyplot()
+    if step not in (0, 1, 2):
+        from .errors import InvalidParameterError
+
+        raise InvalidParameterError(f"step must be 0, 1 or 2; got {step!r}")
+    if ax is None:
+        _, ax = plt.subplots(figsize=(5.5, 5.5))
+    artists = {}
+    if samples:
+        pts = chain.forward(chain.sample(samples, seed=seed, corners=False))
+        artists["samples"] = ax.scatter(pts[:, 0], pts[:, 1], s=0.3, color="gold", alpha=0.5, lw=0)
+    tick = 0.03 * chain.reach
+    if step == 0:
+        arcs = chain.candidate_arcs()
+        artists["arcs"] = [_draw_arc(ax, a.center, a.radius, a.start_angle, a.end_angle,
+                                     color=_ARC_COLOURS[a.type], lw=0.8) for a in arcs]
+    elif step == 1:
+        arcs = chain.kept_arcs()
+        artists["arcs"] = [_draw_arc(ax, a.center, a.radius, a.start_angle, a.end_angle,
+                                     color=_ARC_COLOURS[a.type], side=a.side, tick=tick) for a in arcs]
+    else:
+        b = chain.boundary()
+        arcs = b.arcs
+        polys = b.polygon(step=0.005)
+        if polys:
+            verts = np.vstack([np.vstack([p, p[:1]]) for p in polys])
+            codes = np.concatenate([[MplPath.MOVETO] + [MplPath.LINETO] * (len(p) - 1) + [MplPath.CLOSEPOLY]
+                                    for p in polys])
+            artists["fill"] = ax.add_patch(PathPatch(MplPath(verts, codes), facecolor="khaki", alpha=0.6, lw=0))
+        artists["arcs"] = [_draw_arc(ax, a.center, a.radius, a.start_angle, a.end_angle, color=_ARC_COLOURS[a.type],
+                                     lw=1.8, side=a.side, tick=tick) for a in arcs]
+    ax.plot([0], [0], "k+")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    ax.set_title(title or f"Step {step}: {len(arcs)} arcs")
+    return artists
+
+
+def plot_boundary_loops(boundary, *, ax=None, labels: bool = True, title=None):
+    """The boundary loops with the arcs numbered as in the report's table."""
+    plt = _pyplot()
+    if ax is None:
+        _, ax = plt.subplots(figsize=(5.5, 5.5))
+    lines = []
+    for k, a in enumerate(boundary.arcs):
+        lines.append(_draw_arc(ax, a.center, a.radius, a.start_angle, a.end_angle, color=_ARC_COLOURS[a.type], lw=2))
+        if labels:
+            m = 0.5 * (a.start_angle + a.end_angle)
+            ax.annotate(str(k + 1), (a.center[0] + a.radius * np.cos(m), a.center[1] + a.radius * np.sin(m)),
+                        fontsize=8, ha="center", va="center",
+                        bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.8))
+    ax.set_aspect("equal")
+    ax.set_title(title or f"boundary: {len(boundary.arcs)} arcs, area {boundary.area:.6g}")
+    return lines

@@ -1,21 +1,30 @@
-"""Closed-form reports (Markdown with figures, LaTeX).
+"""Closed-form reports: Markdown with image files, one self-contained HTML file, LaTeX.
 
-Reports are written to a temporary directory first and moved into place only
-when complete, so a failure never leaves a half-written report.
+A report is built once as a list of blocks (:class:`Document`) and rendered to
+the three formats, so they always say the same thing.  Exact expressions are
+LaTeX in Markdown and LaTeX, and MathML in HTML (read by every current browser
+without a network connection).  Reports are written to a temporary directory
+first and moved into place only when complete, so a failure never leaves a
+half-written report.
 """
 
 from __future__ import annotations
 
+import base64
 import datetime as _dt
+import html
+import math
 import platform
+import time
 import shutil
 import sys
 import tempfile
 from pathlib import Path
 
+import numpy as np
 import sympy as sp
 
-__all__ = ["dh_robot_report", "reproducibility"]
+__all__ = ["Document", "dh_robot_report", "paving_report", "planar_report", "reproducibility"]
 
 
 def reproducibility(command: str | None = None) -> dict:
@@ -38,6 +47,153 @@ def reproducibility(command: str | None = None) -> dict:
     }
 
 
+class Document:
+    """A report as blocks, rendered to Markdown, HTML and LaTeX.
+
+    Blocks: headings, paragraphs (plain text with ``$...$`` inline math given
+    separately as SymPy objects through :meth:`math`), tables whose cells are
+    strings or SymPy expressions, figures (PNG files), and key/value lists.
+    """
+
+    def __init__(self, title: str):
+        self.title = title
+        self.blocks = []
+
+    def heading(self, text, level=2):
+        self.blocks.append(("h", level, text))
+
+    def para(self, text):
+        self.blocks.append(("p", text))
+
+    def math(self, lhs: str, expr):
+        """A displayed equation ``lhs = expr`` (expr: SymPy object or LaTeX string)."""
+        self.blocks.append(("math", lhs, expr))
+
+    def table(self, header, rows):
+        self.blocks.append(("table", list(header), [list(r) for r in rows]))
+
+    def figure(self, path: Path, caption: str):
+        self.blocks.append(("fig", Path(path), caption))
+
+    def items(self, pairs):
+        self.blocks.append(("items", list(pairs)))
+
+    # ---------------------------------------------------------------- renderers
+    @staticmethod
+    def _latex(x) -> str:
+        return x if isinstance(x, str) else sp.latex(x)
+
+    @staticmethod
+    def _cell_md(x) -> str:
+        return x if isinstance(x, str) else f"${sp.latex(x)}$"
+
+    @staticmethod
+    def _cell_html(x) -> str:
+        if isinstance(x, str):
+            return html.escape(x)
+        return f'<math display="inline">{sp.mathml(x, printer="presentation")}</math>'
+
+    @staticmethod
+    def _tex_escape(text: str) -> str:
+        """Escape LaTeX specials in text, leaving ``$...$`` math segments alone."""
+        parts = text.split("$")
+        for k in range(0, len(parts), 2):
+            part = parts[k].replace("\\", "\0")
+            for ch in "_%&#{}":
+                part = part.replace(ch, "\\" + ch)
+            parts[k] = part.replace("\0", "\\textbackslash{}")
+        return "$".join(parts)
+
+    def markdown(self) -> str:
+        lines = [f"# {self.title}", ""]
+        for b in self.blocks:
+            if b[0] == "h":
+                lines += ["#" * b[1] + " " + b[2], ""]
+            elif b[0] == "p":
+                lines += [b[1], ""]
+            elif b[0] == "math":
+                lines += [f"$$ {b[1]} = {self._latex(b[2])} $$", ""]
+            elif b[0] == "table":
+                lines.append("| " + " | ".join(b[1]) + " |")
+                lines.append("|" + "---|" * len(b[1]))
+                lines += ["| " + " | ".join(self._cell_md(c) for c in r) + " |" for r in b[2]]
+                lines.append("")
+            elif b[0] == "fig":
+                lines += [f"![{b[2]}]({b[1].name})", "", f"*{b[2]}*", ""]
+            elif b[0] == "items":
+                lines += [f"- **{k}**: {v}" for k, v in b[1]] + [""]
+        return "\n".join(lines)
+
+    def html(self, folder: Path) -> str:
+        body = [f"<h1>{html.escape(self.title)}</h1>"]
+        for b in self.blocks:
+            if b[0] == "h":
+                body.append(f"<h{b[1]}>{html.escape(b[2])}</h{b[1]}>")
+            elif b[0] == "p":
+                body.append(f"<p>{html.escape(b[1])}</p>")
+            elif b[0] == "math":
+                expr = b[2]
+                rhs = (f"<code>{html.escape(expr)}</code>" if isinstance(expr, str)
+                       else f'<math display="block">{sp.mathml(expr, printer="presentation")}</math>')
+                body.append(f"<div class='eq'><code>{html.escape(b[1])}</code> = {rhs}</div>")
+            elif b[0] == "table":
+                head = "".join(f"<th>{html.escape(h)}</th>" for h in b[1])
+                rows = "".join("<tr>" + "".join(f"<td>{self._cell_html(c)}</td>" for c in r) + "</tr>" for r in b[2])
+                body.append(f"<table><thead><tr>{head}</tr></thead><tbody>{rows}</tbody></table>")
+            elif b[0] == "fig":
+                data = base64.b64encode((folder / b[1].name).read_bytes()).decode()
+                body.append(f"<figure><img alt='{html.escape(b[2])}' src='data:image/png;base64,{data}'>"
+                            f"<figcaption>{html.escape(b[2])}</figcaption></figure>")
+            elif b[0] == "items":
+                body.append("<ul>" + "".join(f"<li><b>{html.escape(str(k))}</b>: {html.escape(str(v))}</li>"
+                                             for k, v in b[1]) + "</ul>")
+        style = ("body{font-family:system-ui,sans-serif;max-width:70em;margin:2em auto;padding:0 1em;line-height:1.45}"
+                 "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:.25em .5em;"
+                 "text-align:left;vertical-align:top}img{max-width:100%}.eq{overflow-x:auto;margin:.8em 0}"
+                 "figcaption{font-style:italic;color:#444}")
+        return ("<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'>"
+                f"<title>{html.escape(self.title)}</title><style>{style}</style></head><body>\n"
+                + "\n".join(body) + "\n</body></html>\n")
+
+    def latex(self) -> str:
+        out = ["\\documentclass[a4paper,10pt]{article}", "\\usepackage{amsmath,amssymb,graphicx}",
+               "\\usepackage[margin=2cm]{geometry}", "\\begin{document}",
+               f"\\section*{{{self._tex_escape(self.title)}}}"]
+        for b in self.blocks:
+            if b[0] == "h":
+                out.append(("\\subsection*{" if b[1] <= 2 else "\\subsubsection*{") + self._tex_escape(b[2]) + "}")
+            elif b[0] == "p":
+                out.append(self._tex_escape(b[1]) + "\n")
+            elif b[0] == "math":
+                out.append("\\begin{multline*}\n" + f"{b[1]} = {self._latex(b[2])}" + "\n\\end{multline*}")
+            elif b[0] == "table":
+                cols = "l" * len(b[1])
+                out.append("{\\small\\begin{tabular}{" + cols + "}")
+                out.append(" & ".join(self._tex_escape(h) for h in b[1]) + " \\\\ \\hline")
+                for r in b[2]:
+                    out.append(" & ".join(self._tex_escape(c) if isinstance(c, str) else f"${sp.latex(c)}$"
+                                          for c in r) + " \\\\")
+                out.append("\\end{tabular}}\n")
+            elif b[0] == "fig":
+                out.append("\\begin{figure}[h]\\centering\\includegraphics[width=0.7\\linewidth]{" + b[1].name + "}"
+                           "\\caption*{" + self._tex_escape(b[2]) + "}\\end{figure}")
+            elif b[0] == "items":
+                out.append("\\begin{itemize}")
+                out += [f"\\item \\textbf{{{self._tex_escape(str(k))}}}: {self._tex_escape(str(v))}" for k, v in b[1]]
+                out.append("\\end{itemize}")
+        out.append("\\end{document}")
+        return "\n".join(out) + "\n"
+
+    def write(self, folder: Path, stem: str) -> dict:
+        """Write ``stem.md``, ``stem.html`` and ``stem.tex`` into ``folder`` (figures must already be there)."""
+        folder = Path(folder)
+        paths = {"markdown": folder / f"{stem}.md", "html": folder / f"{stem}.html", "latex": folder / f"{stem}.tex"}
+        paths["markdown"].write_text(self.markdown())
+        paths["html"].write_text(self.html(folder))
+        paths["latex"].write_text(self.latex())
+        return paths
+
+
 def _finalise(tmp: Path, out: Path) -> None:
     out.mkdir(parents=True, exist_ok=True)
     for item in tmp.iterdir():
@@ -50,11 +206,9 @@ def _finalise(tmp: Path, out: Path) -> None:
         shutil.move(str(item), str(target))
 
 
-def dh_robot_report(robot, out, *, samples: int = 20000) -> Path:
-    """Markdown + LaTeX report of a DH robot: FK, Jacobian, singular factors, a workspace picture.
-
-    Returns the path of the Markdown file.
-    """
+def dh_robot_report(robot, out, *, samples: int = 20000, command: str | None = None) -> Path:
+    """Report of a DH robot: DH table, forward kinematics, Jacobian and singular factors in textbook form,
+    a sampled workspace picture (Markdown, HTML, LaTeX).  Returns the path of the Markdown file."""
     from .plotting import save_figure, scatter_workspace_3d
     from .sampling import reach_points, sample_joint_box
 
@@ -64,34 +218,203 @@ def dh_robot_report(robot, out, *, samples: int = 20000) -> Path:
     singular = robot.singular_factors("geometric")
     pts = reach_points(robot, sample_joint_box(robot, samples, seed=1))
     stem = robot.name
+    doc = Document(f"{robot.name}: symbolic kinematics")
+    doc.para("Shorthand: c1 = cos(theta1), s23 = sin(theta2 + theta3).")
+    doc.heading("DH table")
+    doc.table(["i", "type", "theta", "d", "a", "alpha", "limits"],
+              [[str(k), j.kind, j.theta, j.d, j.a, j.alpha,
+                "free" if j.limits is None else f"[{j.limits[0]}, {j.limits[1]}]"]
+               for k, j in enumerate(robot.joints, 1)])
+    doc.heading(f"Forward kinematics T_0^{robot.n}")
+    doc.table(["", "textbook form"], [[name, robot.to_str(e)] for name, e in zip("xyz", robot.position)]
+              + [[f"R{i + 1}{j + 1}", robot.to_str(T[i, j])] for i in range(3) for j in range(3)])
+    doc.math(f"T_0^{{{robot.n}}}", robot.to_latex(T))
+    doc.heading("Geometric Jacobian")
+    doc.table(["column"] + [f"row {i + 1}" for i in range(J.rows)],
+              [[str(k + 1)] + [robot.to_str(J[i, k]) for i in range(J.rows)] for k in range(J.cols)])
+    shown = " * ".join(robot.to_str(f) for f in singular) if singular else "no hypersurface of rank loss"
+    doc.para(f"Singular where {shown} = 0.")
     with tempfile.TemporaryDirectory() as tmpdir:
         tmp = Path(tmpdir)
         save_figure(scatter_workspace_3d(pts, title=f"{robot.name}: {samples} sampled configurations",
                                          units=robot.units), tmp / f"{stem}-workspace.png")
-        lines = [f"# {robot.name}: symbolic kinematics", ""]
-        lines += ["Shorthand: `c1 = cos(theta1)`, `s23 = sin(theta2 + theta3)`.", ""]
-        lines += ["## DH table", "", "| i | type | theta | d | a | alpha | limits |", "|---|---|---|---|---|---|---|"]
-        for k, j in enumerate(robot.joints, 1):
-            lim = "free" if j.limits is None else f"[{j.limits[0]}, {j.limits[1]}]"
-            lines.append(f"| {k} | {j.kind} | {j.theta} | {j.d} | {j.a} | {j.alpha} | {lim} |")
-        lines += ["", f"## Forward kinematics T_0^{robot.n}", ""]
-        for name, e in zip("xyz", robot.position):
-            lines.append(f"- `{name} = {robot.to_str(e)}`")
-        lines += ["", "Rotation:", ""]
-        for i in range(3):
-            lines.append("- `" + " | ".join(robot.to_str(T[i, j]) for j in range(3)) + "`")
-        lines += ["", f"$$T_0^{{{robot.n}}} = {robot.to_latex(T)}$$", "", "## Geometric Jacobian", ""]
-        for k in range(J.cols):
-            lines.append(f"- column {k + 1}: `" + " | ".join(robot.to_str(J[i, k]) for i in range(J.rows)) + "`")
-        shown = " * ".join(robot.to_str(f) for f in singular) if singular else "no hypersurface of rank loss"
-        lines += ["", f"Singular where `{shown} = 0`.", "", "## Workspace (sampled picture, not a proof)", "",
-                  f"![workspace]({stem}-workspace.png)", "", "## Reproducibility", ""]
-        lines += [f"- {k}: {v}" for k, v in reproducibility().items()]
-        (tmp / f"{stem}.md").write_text("\n".join(lines) + "\n")
-        (tmp / f"{stem}.tex").write_text(
-            "\\documentclass{article}\n\\usepackage{amsmath}\n\\usepackage[landscape,margin=1cm]{geometry}\n"
-            "\\begin{document}\n\\tiny\n"
-            f"\\section*{{{robot.name}}}\n\\[ T_0^{{{robot.n}}} = {robot.to_latex(T)} \\]\n"
-            f"\\[ J = {robot.to_latex(J)} \\]\n\\end{{document}}\n")
+        doc.heading("Workspace (sampled picture, not a proof)")
+        doc.figure(tmp / f"{stem}-workspace.png", f"{samples} random configurations")
+        doc.heading("Reproducibility")
+        doc.items(reproducibility(command).items())
+        doc.write(tmp, stem)
         _finalise(tmp, out)
     return out / f"{stem}.md"
+
+
+# ---------------------------------------------------------------------- planar chains
+def _deg(x) -> str:
+    return f"{math.degrees(x):.4f}"
+
+
+def _set_str(values) -> str:
+    return "{" + _deg(values[0]) + "}" if len(values) == 1 else f"[{_deg(values[0])}, {_deg(values[1])}]"
+
+
+def _exact_set(values):
+    values = [sp.nsimplify(v) if v.is_Rational else v for v in values]
+    return sp.FiniteSet(values[0]) if len(values) == 1 else sp.Interval(values[0], values[1])
+
+
+def planar_verification(boundary, exact_rows=None, *, samples: int = 20000, seed: int = 1) -> list[tuple[str, str]]:
+    """Independent cross-checks of a boundary, as (check, result) pairs for a report.
+
+    Exact against float values, random configurations (corners included) never
+    outside the loops, every boundary arc's configurations inside the joint
+    limits and on the arc, and how each face of the arrangement was decided.
+    """
+    from .boundary import exact_area
+
+    chain = boundary.chain
+    checks = []
+    if exact_rows is not None:
+        worst = 0.0
+        for row, arc in zip(exact_rows, boundary.arcs):
+            pairs = [(row["center"][0], arc.center[0]), (row["center"][1], arc.center[1]),
+                     (row["radius"], arc.radius), (row["start_angle"], arc.start_angle),
+                     (row["end_angle"], arc.end_angle)]
+            worst = max(worst, max(abs(float(sp.N(e, 30)) - v) for e, v in pairs))
+        area_err = abs(float(sp.N(exact_area(boundary, exact_rows), 30)) - boundary.area)
+        checks.append(("closed forms vs floats", f"largest difference {worst:.1e} over centres, radii and angles; "
+                                                 f"area {area_err:.1e}"))
+    theta = chain.sample(samples, seed=seed)
+    pts = chain.forward(theta)
+    verdicts = list(boundary.classify(pts, tol=1e-9))
+    outside = verdicts.count("outside")
+    checks.append(("random configurations", f"{len(pts)} (with {min(2 ** chain.p, 4096)} corners of the joint box): "
+                                            f"{verdicts.count('inside')} inside, {verdicts.count('boundary')} on the "
+                                            f"boundary, {outside} outside (must be 0)"))
+    worst_fk, worst_lim = 0.0, 0.0
+    for arc in boundary.arcs:
+        i = arc.free_joint - 1
+        for t in np.linspace(*arc.theta_sets[i], 5):
+            th = [s[0] for s in arc.theta_sets]
+            th[i] = t
+            worst_lim = max(worst_lim, max(max(chain.lower[k] - th[k], th[k] - chain.upper[k], 0.0)
+                                           for k in range(chain.p)))
+            p = chain.forward(th)
+            worst_fk = max(worst_fk, abs(math.dist(p, arc.center) - arc.radius))
+    checks.append(("arc configurations", f"forward kinematics lies on its arc within {worst_fk:.1e}; "
+                                         f"joint limits exceeded by at most {worst_lim:.1e} rad"))
+    methods = {}
+    for ev in boundary.evidence.values():
+        methods[ev["method"]] = methods.get(ev["method"], 0) + 1
+    checks.append(("faces of the arrangement", f"{len(boundary.faces)} bounded faces: " +
+                   ", ".join(f"{n} by {m}" for m, n in sorted(methods.items())) +
+                   "; the unbounded face is outside"))
+    checks.append(("area", f"{boundary.area:.12g} from the loops (Green's theorem); "
+                           f"undecided area {boundary.undecided_area:.3g}"))
+    return checks
+
+
+def planar_report(chain, out, *, command: str | None = None, title: str | None = None, exact: bool = True,
+                  paving=None, paving_title: str | None = None) -> Path:
+    """Full report of a planar chain's workspace boundary in ``out`` (report.md, report.html, report.tex, figures).
+
+    With ``paving`` (a :class:`~workspace_sym.interval.Paving`) a section
+    summarises that certified covering as well.  Returns the Markdown path.
+    """
+    from .boundary import exact_area, exact_arcs
+    from .plotting import plot_boundary_loops, plot_paving, plot_planar_step, save_figure
+
+    out = Path(out)
+    start = time.perf_counter()
+    boundary = chain.boundary()
+    rows = exact_arcs(boundary) if exact else None
+    area_exact = exact_area(boundary, rows) if exact else None
+    doc = Document(title or f"Workspace boundary of a planar {chain.p}-joint chain")
+    doc.para("Alignment method of Bastien (2018): Step 0 lists the circular arcs allowed by the alignment "
+             "condition, Step 1 keeps the parts that pass the local test of Lemma 3.1 and marks the side of the "
+             "workspace, Step 2 walks the arrangement of the kept arcs; every face of that arrangement is proved "
+             "inside (Lemma 3.1 or a witness configuration) or outside (interval exclusion). "
+             "Angles in degrees; theta_1 is measured from the +y axis, theta_k from segment k-1.")
+    doc.heading("Chain")
+    doc.table(["joint", "length", "lower (deg)", "upper (deg)"],
+              [[str(k + 1), chain.exact_lengths[k], sp.nsimplify(chain.exact_lower[k] * 180 / sp.pi),
+                sp.nsimplify(chain.exact_upper[k] * 180 / sp.pi)] for k in range(chain.p)])
+    c = boundary.counts
+    doc.para(f"Arcs after Step 0: {c['step0']}; after Step 1: {c['step1']}; on the boundary (Step 2): {c['step2']}.")
+    with tempfile.TemporaryDirectory() as tmpdir:
+        tmp = Path(tmpdir)
+        doc.heading("Steps 0, 1 and 2")
+        for step in (0, 1, 2):
+            save_figure(plot_planar_step(chain, step), tmp / f"step{step}.png")
+            doc.figure(tmp / f"step{step}.png", f"Step {step} (blue: type I, red: type II, green: type III; "
+                                                 f"ticks point into the workspace; gold: random configurations)")
+        save_figure(plot_boundary_loops(boundary), tmp / "boundary.png")
+        doc.heading("Boundary")
+        for loop in boundary.loops:
+            doc.para(f"{loop.kind} loop, travelled with the workspace on the left: arcs "
+                     + ", ".join(str(k + 1) for k in loop.arcs) + f" (signed area {loop.area:.10g}).")
+        doc.figure(tmp / "boundary.png", "Boundary arcs numbered as in the tables")
+        doc.table(["#", "type"] + [f"Theta_{j + 1} (deg)" for j in range(chain.p)] + ["centre", "radius"],
+                  [[str(k + 1), a.type] + [_set_str(s_) for s_ in a.theta_sets]
+                   + [f"({a.center[0]:.6f}, {a.center[1]:.6f})", f"{a.radius:.6f}"]
+                   for k, a in enumerate(boundary.arcs)])
+        if exact:
+            doc.heading("Closed forms", 3)
+            doc.para("The same table with exact expressions (degrees), from the exact inputs.")
+            doc.table(["#", "type"] + [f"Theta_{j + 1}" for j in range(chain.p)],
+                      [[str(k + 1), a.type] + [_exact_set(s_) for s_ in r["theta_sets"]]
+                       for k, (a, r) in enumerate(zip(boundary.arcs, rows))])
+            for k, r in enumerate(rows):
+                doc.math(f"c_{{{k + 1}}}", sp.Matrix(r["center"]).T)
+                doc.math(f"r_{{{k + 1}}}", r["radius"])
+        doc.heading("Area")
+        doc.para(f"Area {boundary.area:.12g}, perimeter {boundary.perimeter:.12g}.")
+        if exact:
+            doc.math("A", area_exact)
+        doc.heading("Verification")
+        doc.table(["check", "result"], [[k, v] for k, v in planar_verification(boundary, rows)])
+        if paving is not None:
+            doc.heading(paving_title or "Certified paving")
+            d = paving.to_dict()
+            lo, hi = d["measure_bounds"]
+            doc.table(["boxes", "count", "measure"],
+                      [[k, str(d[k]["boxes"]), f"{d[k]['measure']:.6f}"] for k in ("inner", "boundary", "outer")])
+            text = (f"delta {d['delta']}, backend {d['backend']}, {d['seconds']:.3f} s: the measure lies in "
+                    f"[{lo:.6f}, {hi:.6f}] (inner boxes are proved inside, outer boxes proved outside).")
+            if d.get("exact_measure") is not None:
+                text += f" Exact measure {float(sp.sympify(d['exact_measure'])):.6f}."
+            doc.para(text)
+            save_figure(plot_paving(paving), tmp / "paving.png")
+            doc.figure(tmp / "paving.png", "Certified paving: inner (green), boundary (yellow), outer (not drawn)")
+        doc.heading("Reproducibility")
+        info = reproducibility(command)
+        info["seconds"] = f"{time.perf_counter() - start:.2f}"
+        doc.items(info.items())
+        doc.write(tmp, "report")
+        _finalise(tmp, out)
+    return out / "report.md"
+
+
+def paving_report(paving, out, *, title: str = "Certified paving", command: str | None = None) -> Path:
+    """Report of a certified paving: box counts, the measure bracket, a picture, reproducibility."""
+    from .plotting import plot_paving, save_figure
+
+    out = Path(out)
+    d = paving.to_dict()
+    doc = Document(title)
+    doc.para("Boxes are inner (proved inside), outer (proved outside) or boundary (undecided at the resolution "
+             "delta), with outward-rounded interval arithmetic.")
+    doc.table(["boxes", "count", "measure"],
+              [[k, str(d[k]["boxes"]), f"{d[k]['measure']:.6f}"] for k in ("inner", "boundary", "outer")])
+    lo, hi = d["measure_bounds"]
+    text = f"delta {d['delta']}, backend {d['backend']}, {d['seconds']:.3f} s; measure in [{lo:.6f}, {hi:.6f}]."
+    if d.get("exact_measure") is not None:
+        text += f" Exact measure {float(sp.sympify(d['exact_measure'])):.6f}."
+    doc.para(text)
+    with tempfile.TemporaryDirectory() as tmpdir:
+        tmp = Path(tmpdir)
+        save_figure(plot_paving(paving), tmp / "paving.png")
+        doc.figure(tmp / "paving.png", "inner (green) and boundary (yellow) boxes")
+        doc.heading("Reproducibility")
+        doc.items(reproducibility(command).items())
+        doc.write(tmp, "report")
+        _finalise(tmp, out)
+    return out / "report.md"
