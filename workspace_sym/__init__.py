@@ -31,6 +31,8 @@ from .kinematics import (
 from .interval import Box, Certificate, Paving, certify_box, hausdorff, pave
 from .orthoglide import Orthoglide
 from .parallel import ConstraintModel, rpr2
+from .planar import Arc, PlanarChain
+from . import verify
 from .sampling import extent, reach_points, sample_joint_box, sweep_joints
 from .symbolic import factor_trig, shorthand, textbook
 
@@ -63,6 +65,9 @@ __all__ = [
     "Orthoglide",
     "ConstraintModel",
     "rpr2",
+    "Arc",
+    "PlanarChain",
+    "verify",
     "extent",
     "reach_points",
     "sample_joint_box",

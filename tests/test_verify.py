@@ -1,0 +1,68 @@
+"""Teaching helpers: right answers are accepted, wrong ones rejected with the evidence."""
+
+import math
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from workspace_sym import InvalidParameterError, robots
+from workspace_sym.interval import pave
+from workspace_sym.planar import PlanarChain
+from workspace_sym.verify import check_boundary_arc, check_expression, check_measure, check_reachable
+
+ARM = PlanarChain(["0.186", "0.146", "0.108"], [-60, 0, -10], [120, 130, 25])   # Bastien 2018, Table 1 (iii)
+
+
+def test_expression_right_and_wrong(glass):
+    """The glass arm's x coordinate (paper 004): the textbook form is accepted, a sign slip is caught with a
+    counterexample that really is one (re-evaluated here at 30 digits)."""
+    derived = glass.position[0]
+    c = {k: sp.Symbol(f"theta{k}") for k in range(1, 7)}
+    a1, a2, a3, d5 = sp.symbols("a1 a2 a3 d5")
+    right = sp.cos(c[1]) * (a1 + a2 * sp.cos(c[2]) + a3 * sp.cos(c[2] + c[3]) + d5 * sp.sin(c[2] + c[3] + c[4]))
+    wrong = sp.cos(c[1]) * (a1 + a2 * sp.cos(c[2]) - a3 * sp.cos(c[2] + c[3]) + d5 * sp.sin(c[2] + c[3] + c[4]))
+    assert set(derived.free_symbols) >= {c[1], c[2]}
+    assert check_expression(right, derived).ok is True
+    v = check_expression(wrong, derived)
+    assert v.ok is False
+    point = {sp.Symbol(k): sp.Rational(val) for k, val in v.evidence["counterexample"].items()}
+    assert abs(sp.N((wrong - derived).subs(point), 30)) > 1e-20
+
+
+def test_expression_identities():
+    assert check_expression("sin(2*t)", "2*sin(t)*cos(t)").ok is True
+    assert check_expression("sin(t)**2", "1 - cos(t)**2").ok is True
+    assert check_expression("sin(t)", "cos(t)").ok is False
+
+
+def test_reachable_witness_and_proof():
+    v = check_reachable(ARM, (0.0, 0.30))
+    assert v.ok is True and np.allclose(ARM.forward(v.evidence["configuration"]), [0.0, 0.30], atol=1e-10)
+    theta = np.array(v.evidence["configuration"])
+    assert (theta >= np.array(ARM.lower) - 1e-12).all() and (theta <= np.array(ARM.upper) + 1e-12).all()
+    assert check_reachable(ARM, (0.0, -0.30)).ok is False          # behind the shoulder: proved unreachable
+    assert check_reachable(ARM, (0.0, 0.45)).ok is False           # beyond the reach 0.44
+    with pytest.raises(InvalidParameterError, match="point"):
+        check_reachable(ARM, (float("nan"), 0.0))
+
+
+def test_boundary_arc_right_and_wrong():
+    b = ARM.boundary()
+    outer = max(b.arcs, key=lambda a: a.radius)                    # the stretched arm, radius 0.44 about O
+    lo, hi = sorted((outer.start_angle, outer.end_angle))
+    assert check_boundary_arc(ARM, (0, 0), 0.44, lo, hi).ok is True
+    assert check_boundary_arc(ARM, (0, 0), 0.44, lo - 0.3, hi).ok is False   # runs past theta_1 = 120 deg
+    assert check_boundary_arc(ARM, (0, 0), 0.40, lo, hi).ok is False         # inside the workspace
+
+
+def test_measure_against_brackets():
+    b = ARM.boundary()
+    assert check_measure(b.area, b).ok is True
+    assert check_measure(0.27, b).ok is False and check_measure(0.27, b, rel_tol=0.01).ok is True
+    model = robots.build("rpr2")
+    paving = pave(model.constraints, model.box, delta=0.25)
+    assert check_measure(float(model.exact_measure), paving).ok is True    # Rybak: 35.0533 inside the bracket
+    assert check_measure(40.0, paving).ok is False
+    with pytest.raises(InvalidParameterError, match="result"):
+        check_measure(1.0, object())

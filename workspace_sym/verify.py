@@ -1,0 +1,149 @@
+"""Verification helpers for teaching: check a student's answer and say why it is right or wrong.
+
+Every helper returns a :class:`Verdict` whose ``ok`` is True, False, or None
+(undecided), with a sentence for the student and the evidence: an exact
+identity, a counterexample configuration, a witness configuration, an interval
+certificate, or a certified bracket.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import sympy as sp
+
+from .errors import InvalidParameterError
+from .expressions import parse_expr
+
+__all__ = ["Verdict", "check_expression", "check_reachable", "check_boundary_arc", "check_measure"]
+
+
+@dataclass
+class Verdict:
+    ok: bool | None
+    message: str
+    evidence: dict = field(default_factory=dict)
+
+    def __bool__(self):
+        return bool(self.ok)
+
+    def _repr_markdown_(self):
+        mark = {True: "correct", False: "wrong", None: "undecided"}[self.ok]
+        return f"**{mark}**: {self.message}"
+
+
+def check_expression(student, derived, *, samples: int = 50, seed: int = 0) -> Verdict:
+    """Is the student's expression identically equal to the derived one?
+
+    Exact test: the difference, with every sine and cosine of a sum expanded
+    and ``sin^2 = 1 - cos^2`` applied, is a polynomial in ``c_u, s_u`` of
+    degree at most one in each ``s_u``; for independent angle symbols it
+    vanishes identically exactly when that polynomial is zero.  When it is not
+    zero, a counterexample is searched among random rational values of the
+    symbols and confirmed at 30 digits.
+
+    Examples
+    --------
+    >>> check_expression("cos(t1)*cos(t2) - sin(t1)*sin(t2)", "cos(t1 + t2)").ok
+    True
+    >>> v = check_expression("cos(t1)*cos(t2) + sin(t1)*sin(t2)", "cos(t1 + t2)")
+    >>> v.ok, sorted(v.evidence["counterexample"])
+    (False, ['t1', 't2'])
+    """
+    from .symbolic import trig_polynomials
+
+    s = parse_expr(student, "student") if not isinstance(student, sp.Basic) else student
+    d = parse_expr(derived, "derived") if not isinstance(derived, sp.Basic) else derived
+    diff = sp.sympify(s) - sp.sympify(d)
+    (poly,), _ = trig_polynomials([diff])
+    if sp.expand(poly) == 0:
+        return Verdict(True, "equal: the difference reduces to 0 after expanding and sin^2 = 1 - cos^2",
+                       {"method": "exact identity"})
+    symbols = sorted(diff.free_symbols, key=str)
+    rng = np.random.default_rng(seed)
+    for _ in range(samples):
+        values = {x: sp.Rational(int(rng.integers(-3000, 3000)), 1000) for x in symbols}
+        value = sp.N(diff.subs(values), 30)
+        if value.is_number and abs(value) > 1e-20:
+            shown = {str(x): v for x, v in values.items()}
+            return Verdict(False, f"not equal: at {shown} the difference is {sp.N(value, 6)}",
+                           {"method": "counterexample", "counterexample": shown, "difference": float(value)})
+    return Verdict(None, "no counterexample found, but the expressions are not identical after expansion "
+                         "(are some angles dependent?)", {"method": "undecided", "residual": str(poly)})
+
+
+def check_reachable(chain, point, *, max_boxes: int = 500_000, seed: int = 0) -> Verdict:
+    """Can the planar ``chain`` reach ``point``?  A witness configuration, or an interval proof that it cannot."""
+    from .boundary import _local_witness, prove_unreachable
+
+    q = np.asarray(point, dtype=float).reshape(2)
+    if not np.isfinite(q).all():
+        raise InvalidParameterError(f"point must be two finite numbers; got {point!r}")
+    starts = chain.sample(4096, seed=seed)
+    near = np.argsort(np.hypot(*(chain.forward(starts) - q).T))[:64]
+    theta, err = _local_witness(chain, q[None], starts[near][None], iterations=100)
+    if err[0] <= 1e-10 * chain.reach:
+        deg = [round(math.degrees(t), 6) for t in theta[0]]
+        return Verdict(True, f"reachable, e.g. with theta = {deg} deg (end point within {err[0]:.1e})",
+                       {"method": "witness", "configuration": theta[0].tolist(), "distance": float(err[0])})
+    proved = prove_unreachable(chain, q, max_boxes=max_boxes)
+    if proved:
+        return Verdict(False, "unreachable: interval arithmetic shows that no configuration within the joint "
+                              "limits reaches this point", {"method": "interval exclusion"})
+    return Verdict(None, f"undecided: no witness found and no proof within {max_boxes} boxes "
+                         "(the point may be very close to the boundary)", {"method": "undecided"})
+
+
+def check_boundary_arc(chain, center, radius, start_angle, end_angle, *, tol: float = 1e-6,
+                       points: int = 9) -> Verdict:
+    """Does the claimed arc (centre, radius, polar angles in radians, counter-clockwise) lie on the boundary?
+
+    Sample points of the claim are tested against the computed boundary within
+    ``tol`` times the reach; the verdict names the first point that is not.
+    """
+    b = chain.boundary()
+    c = np.asarray(center, dtype=float).reshape(2)
+    if not radius > 0:
+        raise InvalidParameterError(f"radius must be positive; got {radius!r}")
+    angles = np.linspace(start_angle, end_angle, points)
+    pts = c + radius * np.stack([np.cos(angles), np.sin(angles)], axis=1)
+    verdicts = b.classify(pts, tol=tol)
+    bad = np.flatnonzero(verdicts != "boundary")
+    if not len(bad):
+        return Verdict(True, f"all {points} sampled points of the arc lie on the boundary (within {tol:g} x reach)",
+                       {"method": "boundary test", "points": pts.tolist()})
+    k = int(bad[0])
+    return Verdict(False, f"the point at angle {angles[k]:.6f} rad, {pts[k].round(6).tolist()}, is {verdicts[k]} "
+                          "the workspace, not on its boundary", {"method": "boundary test", "point": pts[k].tolist(),
+                                                                 "where": str(verdicts[k])})
+
+
+def check_measure(claimed: float, result, *, rel_tol: float = 0.0) -> Verdict:
+    """Does a claimed area or volume fall inside the certified bracket of ``result``?
+
+    ``result`` is a :class:`~workspace_sym.boundary.Boundary` (bracket: the
+    area, widened by undecided faces), a :class:`~workspace_sym.interval.Paving`
+    (``measure_bounds``) or an Orthoglide ``DextrousResult`` (inside volume,
+    inside + E).  ``rel_tol`` widens the bracket for rounded answers.
+    """
+    claimed = float(claimed)
+    if not math.isfinite(claimed):
+        raise InvalidParameterError(f"claimed must be a finite number; got {claimed!r}")
+    if hasattr(result, "loops"):
+        lo, hi = result.area, result.area + result.undecided_area
+        what = "area from the exact boundary"
+    elif hasattr(result, "measure_bounds"):
+        lo, hi = result.measure_bounds
+        what = "certified paving bracket"
+    elif hasattr(result, "volume_inner"):
+        lo, hi = result.volume_inner, result.volume_inner + result.volume_undecided
+        what = "certified dextrous-volume bracket"
+    else:
+        raise InvalidParameterError(f"result must be a Boundary, a Paving or a DextrousResult; got {type(result).__name__}")
+    slack = rel_tol * max(abs(lo), abs(hi)) + 1e-12 * max(1.0, abs(hi))
+    if lo - slack <= claimed <= hi + slack:
+        return Verdict(True, f"{claimed:g} lies in the {what} [{lo:.6g}, {hi:.6g}]", {"bracket": [lo, hi]})
+    side = "below" if claimed < lo else "above"
+    return Verdict(False, f"{claimed:g} is {side} the {what} [{lo:.6g}, {hi:.6g}]", {"bracket": [lo, hi]})
