@@ -204,3 +204,33 @@ def test_json_contract():
     assert float(sp.sympify(d["area_exact"])) == pytest.approx(d["area"], rel=1e-12)
     assert float(sp.sympify(arc["exact"]["radius"])) == pytest.approx(arc["radius"], rel=1e-12)
     assert d["loops"][0]["kind"] == "outer" and sorted(d["loops"][0]["arcs"]) == list(range(8))
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(2, 5), st.integers(0, 10_000), st.lists(st.floats(0, 1), min_size=5, max_size=5))
+def test_subchain_argument_never_rejects_a_reachable_point(p, seed, u):
+    """Soundness of the argument through the workspace of joints 2..p: the image of a configuration is never
+    declared unreachable, and a witness it returns reaches the point."""
+    from workspace_sym.boundary import unreachable_via_subchain
+
+    c = random_chain(p, seed)
+    theta = np.array(c.lower) + np.array(u[:p]) * (np.array(c.upper) - np.array(c.lower))
+    q = c.forward(theta)
+    decided, witness = unreachable_via_subchain(c, q)
+    assert decided is not True
+    if witness is not None:
+        assert math.dist(c.forward(witness), q) < 1e-9 * c.reach
+        assert (witness >= np.array(c.lower) - 1e-12).all() and (witness <= np.array(c.upper) + 1e-12).all()
+
+
+def test_subchain_argument_agrees_with_interval_exclusion():
+    """Independent cross-check on points of holes: where interval exclusion proves a point unreachable,
+    the argument through joints 2..p says unreachable too."""
+    from workspace_sym.boundary import unreachable_via_subchain
+
+    c = PlanarChain(*P6)
+    b = c.boundary()
+    hole = next(e for e in b.evidence.values() if e["method"] in ("interval exclusion", "workspace of joints 2..p"))
+    q = np.array(hole["point"])
+    assert prove_unreachable(c, q, max_boxes=400_000) is True
+    assert unreachable_via_subchain(c, q) == (True, None)

@@ -1,6 +1,5 @@
 """Teaching helpers: right answers are accepted, wrong ones rejected with the evidence."""
 
-import math
 
 import numpy as np
 import pytest

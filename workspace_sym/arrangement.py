@@ -425,25 +425,33 @@ class Arrangement:
         return arc_distance(points, *self._edge_table()).min(axis=1)
 
     def interior_point(self, f):
-        """A point inside face ``f`` as far from the edges as a few probes find, and its clearance."""
+        """A point inside face ``f``, away from its edges, and its clearance (None, -1 if none is found).
+
+        Probes step off the middle (and quarters) of the face's longest edges
+        into the face, from a third of the edge length down to 1e-5 of it, and
+        keep the probe with the largest clearance.
+        """
         best, best_clear = None, -1.0
-        cyc = sorted(self.cycles[self.face_cycles[f]], key=lambda h: -self.circles[self.edges[h // 2].circle, 2]
-                     * self.edges[h // 2].span)
-        for h in cyc[:8]:
+        hs = list(self.cycles[self.face_cycles[f]])
+        hs.sort(key=lambda h: -self.circles[self.edges[h // 2].circle, 2] * self.edges[h // 2].span)
+        for h in hs[:24]:
             cx, cy, r, a, b = self.half_edge_arc(h)
-            e = self.edges[h // 2]
-            length = r * e.span
+            length = r * self.edges[h // 2].span
             toward_centre = h % 2 == 0       # the left of a counter-clockwise arc is the centre side
             for frac in (0.5, 0.25, 0.75):
                 m = a + frac * (b - a)
-                for step in (0.3, 0.1, 0.03, 0.01, 0.003):
+                for step in (0.3, 0.1, 0.03, 0.01, 3e-3, 1e-3, 1e-4, 1e-5):
                     d = step * min(length, 0.2 * self.scale)
                     rr = r - d if toward_centre else r + d
-                    if rr <= 0:
+                    if rr <= 0 or d <= 20 * self.tol:
                         continue
                     q = np.array([cx + rr * math.cos(m), cy + rr * math.sin(m)])
+                    if not self.in_face(q[None], f)[0]:
+                        continue
                     clear = float(self.face_clearance(q[None], f)[0])
-                    if clear > best_clear and clear > 10 * self.tol and self.in_face(q[None], f)[0]:
+                    if clear > best_clear and clear > 10 * self.tol:
                         best, best_clear = q, clear
-                        break
+                    break
+            if best_clear > 0.05 * self.scale:
+                break
         return best, best_clear

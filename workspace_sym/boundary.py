@@ -9,8 +9,10 @@ no boundary point, and is connected).  Faces are classified with proofs:
   when a witness configuration lands in the face;
 * **outside** for the unbounded face, and for a bounded face when interval
   exclusion shows that no configuration of the joint box reaches a point of it
-  (outward-rounded mean-value bound ``|P_p(theta) - P_p(m)| <= sum_j R_j |theta_j - m_j|``
-  with ``R_j = l_j + ... + l_p``, on a bisection of the joint box).
+  (:func:`prove_unreachable`, outward-rounded, within a budget of boxes), or
+  else when the arc that the point describes in the frame of link 1 misses the
+  workspace of the joints 2..p, computed by this same method
+  (:func:`unreachable_via_subchain`, float geometry with explicit tolerances).
 
 The boundary is made of the edges between an inside and an outside face,
 walked with the workspace on the left: outer loops turn counter-clockwise,
@@ -31,7 +33,8 @@ import sympy as sp
 from .arrangement import Arrangement, _in_span, arc_area_term, arc_distance, parity_inside
 from .interval import arith
 
-__all__ = ["Boundary", "BoundaryArc", "Loop", "build_boundary", "exact_arcs", "prove_unreachable"]
+__all__ = ["Boundary", "BoundaryArc", "Loop", "build_boundary", "exact_arcs", "prove_unreachable",
+           "unreachable_via_subchain"]
 
 _TWO_PI = 2 * math.pi
 
@@ -286,6 +289,88 @@ def prove_unreachable(chain, q, *, max_boxes: int = 200_000) -> bool | None:
     return True
 
 
+def _arc_arc_distance(a, b) -> float:
+    """Smallest distance between two circular arcs ``(cx, cy, r, start, span)`` (counter-clockwise spans)."""
+    (ax, ay, ar, a0, aw), (bx, by, br, b0, bw) = a, b
+    ends_a = np.array([[ax + ar * math.cos(t), ay + ar * math.sin(t)] for t in (a0, a0 + aw)])
+    ends_b = np.array([[bx + br * math.cos(t), by + br * math.sin(t)] for t in (b0, b0 + bw)])
+    best = min(arc_distance(ends_a, *[np.array([v]) for v in b]).min(),
+               arc_distance(ends_b, *[np.array([v]) for v in a]).min())
+    d = math.hypot(bx - ax, by - ay)
+    if d > 0:
+        ex, ey = (bx - ax) / d, (by - ay) / d
+        # the circles' intersection points, and the pairs of points on the line of centres
+        along = (ar * ar - br * br + d * d) / (2 * d)
+        h2 = ar * ar - along * along
+        pts = []
+        if h2 >= 0:
+            h = math.sqrt(h2)
+            pts += [(ax + along * ex - s * h * ey, ay + along * ey + s * h * ex) for s in (1, -1)]
+        pts += [(ax + s * ar * ex, ay + s * ar * ey) for s in (1, -1)]
+        for x, y in pts:
+            if _in_span(math.atan2(y - ay, x - ax), a0, aw):
+                best = min(best, float(arc_distance(np.array([[x, y]]), *[np.array([v]) for v in b])[0, 0]))
+    return float(best)
+
+
+def unreachable_via_subchain(chain, q, *, margin: float = 1e-9):
+    """Decide whether ``q`` is reachable through the workspace ``W`` of the joints 2..p.
+
+    ``P_p = R(theta_1) (l_1 e_y + w)`` with ``w`` in ``W``, so ``q`` is reached
+    exactly when the arc ``{R(-theta_1) q - l_1 e_y}`` meets ``W``.  With
+    ``W``'s boundary from this same method: when a point of the arc lies
+    inside ``W``, a configuration of the subchain reaching it (least squares)
+    completes a witness; when both ends are outside and the arc stays more than
+    ``margin`` times the reach from every boundary arc of ``W``, ``q`` is
+    unreachable.  Float geometry with explicit tolerances, like the rest of Step 2.
+
+    Returns ``(True, None)`` (unreachable), ``(False, theta)`` (reachable, with a
+    witness configuration when one was found) or ``(None, None)``.
+    """
+    from .planar import PlanarChain
+
+    q = np.asarray(q, dtype=float)
+    tol = margin * chain.reach
+    rq = math.hypot(*q)
+    aq = math.atan2(q[1], q[0])
+    start, span = aq - chain.upper[0], chain.upper[0] - chain.lower[0]
+    if chain.p == 1:
+        if abs(rq - chain.lengths[0]) > tol:
+            return True, None
+        return None, None
+    sub = chain._cache.get("subchain")
+    if sub is None:
+        sub = PlanarChain(chain.lengths[1:], chain.lower[1:], chain.upper[1:], degrees=False)
+        chain._cache["subchain"] = sub
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        w = sub.boundary()
+    if w.undecided_area > 0 or not w.arcs:
+        return None, None
+    l1 = chain.lengths[0]
+    theta1 = np.linspace(chain.lower[0], chain.upper[0], 257)
+    pts = np.stack([rq * np.cos(aq - theta1), rq * np.sin(aq - theta1) - l1], axis=1)
+    verdict = w.classify(pts, tol=margin)
+    inside = np.flatnonzero(verdict == "inside")
+    if len(inside):
+        k = inside[len(inside) // 2]
+        starts = sub.sample(2048, seed=k)
+        near = np.argsort(np.hypot(*(sub.forward(starts) - pts[k]).T))[:32]
+        th, err = _local_witness(sub, pts[k][None], starts[near][None], iterations=100)
+        theta = np.concatenate([[theta1[k]], th[0]])
+        return False, (theta if math.dist(chain.forward(theta), q) <= tol else None)
+    if (verdict[[0, -1]] == "boundary").any():
+        return None, None
+    if rq <= tol:
+        return True, None
+    arc = (0.0, -l1, rq, start, span)
+    for a in w.arcs:
+        other = (a.center[0], a.center[1], a.radius, min(a.start_angle, a.end_angle), abs(a.sweep))
+        if _arc_arc_distance(arc, other) <= tol:
+            return None, None
+    return True, None
+
+
 def _local_witness(chain, targets, starts, iterations: int = 60):
     """Damped least squares projected on the joint box, from several starts per target.
 
@@ -350,15 +435,22 @@ def _classify(chain, arr: Arrangement, kept, samples, seed, max_boxes):
             q, clearance = probes[f]
             if e < 0.5 * clearance:
                 status[f], evidence[f] = "inside", {"method": "witness", "configuration": th.tolist()}
-            elif prove_unreachable(chain, q, max_boxes=max_boxes):
+                continue
+            decided, witness = unreachable_via_subchain(chain, q)
+            if decided is False and witness is not None:
+                status[f], evidence[f] = "inside", {"method": "witness through joints 2..p",
+                                                    "configuration": witness.tolist()}
+            elif decided is not False and prove_unreachable(chain, q, max_boxes=max_boxes):
                 status[f], evidence[f] = "outside", {"method": "interval exclusion", "point": q.tolist()}
+            elif decided:
+                status[f], evidence[f] = "outside", {"method": "workspace of joints 2..p", "point": q.tolist()}
             else:
                 status[f], evidence[f] = "undecided", {"method": "interval exclusion (budget exhausted)",
                                                        "point": q.tolist()}
     return status, evidence, notes
 
 
-def build_boundary(chain, *, samples: int = 4096, seed: int = 0, max_boxes: int = 200_000) -> Boundary:
+def build_boundary(chain, *, samples: int = 4096, seed: int = 0, max_boxes: int = 4_000) -> Boundary:
     """Step 2 for ``chain`` (see :meth:`workspace_sym.planar.PlanarChain.boundary`)."""
     t0 = time.perf_counter()
     step0 = len(chain._candidates()["free"])
@@ -552,7 +644,8 @@ def _vertex_angle(src, angle, neighbours, sources_all):
             fitted = _fit(e, angle, 2 * sp.pi)
             if fitted is not None:
                 return fitted
-    # a Step 1 cut: u parallel to P_i - P_j for a joint j before the free one
+    # no closed form matched (e.g. a Step 1 cut where u is parallel to P_i - P_j): keep the float,
+    # which exact_arcs reports through its "exact" flag
     return sp.Float(angle, 17)
 
 
@@ -593,12 +686,10 @@ def exact_arcs(boundary) -> list[dict]:
                     ts = []
                     for ang in (start, end):
                         t = src["lo"] + ang - src["a0"]
-                        ref = a.theta_sets[i][0] if len(ts) == 0 else a.theta_sets[i][1]
                         cands = [_fit(t, v, 2 * sp.pi) for v in a.theta_sets[i]]
                         ts.append(next((c for c in cands if c is not None), t))
                     ts.sort(key=lambda e: float(sp.N(e, 30)))
-                    sets.append(tuple(sp.nsimplify(e * 180 / sp.pi) if e.is_Rational else e * 180 / sp.pi
-                                      for e in ts))
+                    sets.append(tuple(e * 180 / sp.pi for e in ts))
                 else:
                     sets.append((src["theta"][j] * 180 / sp.pi,))
             out.append({"center": src["center"], "radius": src["radius"], "start_angle": start, "end_angle": end,

@@ -20,7 +20,6 @@ Joint numbers shown to users are 1-based, as in the paper.
 from __future__ import annotations
 
 import math
-import warnings
 from dataclasses import dataclass
 from fractions import Fraction
 from numbers import Integral, Number
@@ -28,7 +27,7 @@ from numbers import Integral, Number
 import numpy as np
 import sympy as sp
 
-from .errors import InvalidParameterError, JointLimitError, WorkspaceError
+from .errors import InvalidParameterError, JointLimitError
 
 __all__ = ["PlanarChain", "Arc"]
 
@@ -338,7 +337,7 @@ class PlanarChain:
         return list(self._step1())
 
     # ------------------------------------------------------------------ Step 2
-    def boundary(self, *, samples: int = 4096, seed: int = 0, max_boxes: int = 200_000):
+    def boundary(self, *, samples: int = 4096, seed: int = 0, max_boxes: int = 4_000):
         """Step 2: the workspace boundary as loops of arcs (:class:`~workspace_sym.boundary.Boundary`).
 
         The kept arcs cut the plane into faces; every face lies wholly inside or
