@@ -116,3 +116,35 @@ def test_boxes_outside_cylinders_never_crash(ortho):
     boxes = np.array([[[0.9, 1.0], [0.9, 1.0], [-0.1, 0.1]], [[0.6, 0.8], [0.6, 0.8], [0.0, 0.1]]])
     codes = ortho.box_module(boxes)
     assert codes[0] == -1 and codes[1] in (-1, 0)
+
+
+def test_largest_cube_brackets_the_papers_cube(capsys):
+    """Chablat, Wenger, Merlet 2002, section 5: the largest cube has edge 0.643950 and centre
+    (0.085938, 0.085938, 0.085938).  At alpha = 0.02 our certified bracket must contain that edge, and
+    an independent numeric check (numpy eigenvalues) agrees with both certificates."""
+    import json
+
+    import numpy as np
+
+    from workspace_sym.cli import main
+
+    assert main(["cube", "orthoglide", "--alpha", "0.02", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["edge_lower"] <= 0.643950 <= data["edge_upper"]
+    assert data["edge_upper"] - data["edge_lower"] <= 2 * 0.02 + 1e-12
+    assert np.allclose(data["center"], 0.085938, atol=0.02)
+    ortho = Orthoglide()
+    rng = np.random.default_rng(0)
+    half = data["edge_lower"] / 2
+    pts = np.array(data["center"]) + rng.uniform(-half, half, (2000, 3))
+    assert ortho._numeric_dextrous(pts, (0.25, 4.0)).all()
+    big = np.array(data["center"]) + data["edge_upper"] / 2 * np.vstack([np.eye(3), -np.eye(3), np.ones((1, 3)),
+                                                                         -np.ones((1, 3))])
+    assert not ortho._numeric_dextrous(big, (0.25, 4.0)).all()
+
+
+def test_cube_bad_alpha(capsys):
+    from workspace_sym.cli import main
+
+    assert main(["cube", "orthoglide", "--alpha", "-1"]) == 2
+    assert "--alpha" in capsys.readouterr().err

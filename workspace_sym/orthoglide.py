@@ -238,6 +238,172 @@ class Orthoglide:
         codes = np.where(ok, np.where(all_in, 1, -1), 0)
         return np.where(outside_cyl | surely_out, -1, codes)
 
+    # ------------------------------------------------------------------ largest cube (paper section 5)
+    def _numeric_dextrous(self, pts, sigma) -> np.ndarray:
+        """Whether points are dextrous, by numpy eigenvalues (a guess for the search, never a certificate)."""
+        pts = np.atleast_2d(pts)
+        x, y, z = pts.T
+        e2 = np.stack([1 - y**2 - z**2, 1 - x**2 - z**2, 1 - x**2 - y**2], axis=1)
+        ok = (e2 > 0).all(axis=1)
+        eta = np.sqrt(np.where(ok[:, None], e2, 1.0))
+        A = np.empty((len(pts), 3, 3))
+        A[:, 0] = np.stack([eta[:, 0], y, z], 1)
+        A[:, 1] = np.stack([x, eta[:, 1], z], 1)
+        A[:, 2] = np.stack([x, y, eta[:, 2]], 1)
+        det = np.linalg.det(A)
+        ok &= np.abs(det) > 1e-12
+        A[~ok] = np.eye(3)
+        J = np.linalg.solve(A, eta[:, :, None] * np.eye(3)[None])
+        ev = np.linalg.eigvalsh(J @ np.swapaxes(J, 1, 2))
+        return ok & (ev[:, 0] >= sigma[0]) & (ev[:, -1] <= sigma[1])
+
+    def cube_inside(self, center, half: float, *, sigma=(0.25, 4.0), min_width: float = 1e-3,
+                    max_boxes: int = 200_000):
+        """Prove that the cube of half-edge ``half`` at ``center`` lies in the dextrous workspace.
+
+        Returns True (every sub-box proved inside), False (a sub-box proved
+        outside) or None (undecided boxes narrower than ``min_width``, or the
+        budget ran out), and the number of boxes evaluated.
+        """
+        sigma = _check_sigma(sigma)
+        c = np.asarray(center, dtype=float)
+        work = np.stack([c - half, c + half], axis=1)[None]
+        used = 0
+        while len(work):
+            used += len(work)
+            if used > max_boxes:
+                return None, used
+            codes = self.box_module(work, sigma)
+            if (codes == -1).any():
+                return False, used
+            work = work[codes == 0]
+            if not len(work):
+                return True, used
+            if (work[:, :, 1] - work[:, :, 0]).max() < min_width:
+                return None, used
+            mid = 0.5 * (work[:, :, 0] + work[:, :, 1])
+            parts = []
+            for corner in range(8):
+                part = work.copy()
+                for k in range(3):
+                    if corner >> k & 1:
+                        part[:, k, 0] = mid[:, k]
+                    else:
+                        part[:, k, 1] = mid[:, k]
+                parts.append(part)
+            work = np.concatenate(parts)
+        return True, used
+
+    def no_enclosed_cube(self, half: float, *, sigma=(0.25, 4.0), grid: int = 5, min_width: float = 1e-4,
+                         max_boxes: int = 400_000):
+        """Prove that no cube of half-edge ``half`` lies in the dextrous workspace, wherever its centre.
+
+        Centres are boxed in ``[-1, 1]^3`` (the workspace lies in the three
+        cylinders).  Every cube centred in a box ``B`` of half-width ``u``
+        contains the cube of half-edge ``half - u`` centred at the middle of
+        ``B``; when a point of that smaller cube (a grid on its surface and its
+        centre) is proved outside by the box module, ``B`` is discarded.
+        Returns True, or None when boxes narrower than ``min_width`` remain or
+        the budget ran out, and the number of centre boxes evaluated.
+        """
+        sigma = _check_sigma(sigma)
+        shape = np.vstack([_surface_points(grid), np.zeros((1, 3))])
+        work = np.array([[[-1.0, 1.0]] * 3])
+        used = 0
+        while len(work):
+            used += len(work)
+            if used > max_boxes:
+                return None, used
+            mid = 0.5 * (work[:, :, 0] + work[:, :, 1])
+            u = 0.5 * (work[:, :, 1] - work[:, :, 0]).max(axis=1)
+            shrunk = half - u
+            alive = np.ones(len(work), dtype=bool)
+            usable = shrunk > 0
+            if usable.any():
+                idx = np.flatnonzero(usable)
+                pts = mid[idx, None, :] + shrunk[idx, None, None] * shape[None, :, :]       # (m, s, 3)
+                pts = pts.reshape(-1, 3)
+                codes = self.box_module(np.stack([pts, pts], axis=2), sigma).reshape(len(idx), len(shape))
+                alive[idx] = ~(codes == -1).any(axis=1)
+            work = work[alive]
+            if not len(work):
+                return True, used
+            if (work[:, :, 1] - work[:, :, 0]).max() < min_width:
+                return None, used
+            m = 0.5 * (work[:, :, 0] + work[:, :, 1])
+            parts = []
+            for corner in range(8):
+                part = work.copy()
+                for k in range(3):
+                    if corner >> k & 1:
+                        part[:, k, 0] = m[:, k]
+                    else:
+                        part[:, k, 1] = m[:, k]
+                parts.append(part)
+            work = np.concatenate(parts)
+        return True, used
+
+    def largest_cube(self, *, alpha: float = 0.001, sigma=(0.25, 4.0)) -> CubeResult:
+        """The largest cube enclosed in the dextrous workspace, to ``alpha`` on the half-edge (paper section 5).
+
+        The centre is searched numerically on the diagonal ``x = y = z`` (the
+        mechanism's symmetry, where the paper finds it); the certificates do not
+        assume it: ``cube_inside`` proves the returned cube, and
+        ``no_enclosed_cube`` proves that no cube with half-edge ``alpha`` larger
+        fits anywhere.
+        """
+        import time
+
+        if not isinstance(alpha, (int, float)) or not math.isfinite(alpha) or alpha <= 0:
+            raise InvalidParameterError(f"alpha must be a positive number; got {alpha!r}")
+        sigma = _check_sigma(sigma)
+        start = time.perf_counter()
+        shape = np.vstack([_surface_points(9), np.zeros((1, 3))])
+
+        def fits(t, half):
+            return self._numeric_dextrous(np.full(3, t) + half * shape, sigma).all()
+
+        def best_half(t):
+            lo, hi = 0.0, 1.0
+            if not fits(t, 0.0):
+                return 0.0
+            while hi - lo > alpha / 8:
+                mid = 0.5 * (lo + hi)
+                lo, hi = (mid, hi) if fits(t, mid) else (lo, mid)
+            return lo
+
+        ts = np.linspace(-0.5, 0.5, 41)
+        halves = [best_half(t) for t in ts]
+        k = int(np.argmax(halves))
+        a, b = ts[max(k - 1, 0)], ts[min(k + 1, len(ts) - 1)]
+        for _ in range(30):                      # golden-section refinement of the centre
+            m1, m2 = a + 0.382 * (b - a), a + 0.618 * (b - a)
+            if best_half(m1) >= best_half(m2):
+                b = m2
+            else:
+                a = m1
+        t_best = 0.5 * (a + b)
+        centre = np.full(3, t_best)
+        half = best_half(t_best)
+        boxes = {"inside_proof": 0, "upper_proof": 0}
+        lower = half - alpha / 2
+        while lower > 0:
+            ok, used = self.cube_inside(centre, lower, sigma=sigma, min_width=alpha / 16)
+            boxes["inside_proof"] += used
+            if ok:
+                break
+            lower -= alpha / 2
+        lower = max(lower, 0.0)
+        upper = lower + alpha
+        while upper <= 1.0:
+            ok, used = self.no_enclosed_cube(upper, sigma=sigma, min_width=alpha / 16)
+            boxes["upper_proof"] += used
+            if ok:
+                break
+            upper += alpha / 2
+        return CubeResult(tuple(centre), 2 * lower, 2 * upper, float(alpha), sigma, time.perf_counter() - start,
+                          boxes)
+
     # ------------------------------------------------------------------ dextrous workspace
     def dextrous(self, *, eps: float = 0.05, sigma=(0.25, 4.0), box=None, progress=None, time_limit=None,
                  max_boxes=None) -> DextrousResult:
@@ -253,6 +419,45 @@ class Orthoglide:
         paving = subdivide(lambda boxes: self.box_module(boxes, sigma), b, delta=eps, size="width",
                            progress=progress, time_limit=time_limit, max_boxes=max_boxes, label="dextrous")
         return DextrousResult(paving, sigma, float(eps))
+
+
+@dataclass
+class CubeResult:
+    """Largest axis-aligned cube in the dextrous workspace, with certificates (paper section 5).
+
+    A cube of edge ``edge_lower`` centred at ``center`` is proved inside; no
+    cube of edge larger than ``edge_upper`` is enclosed anywhere (proved: for
+    every possible centre, a point of such a cube is proved outside).
+    """
+
+    center: tuple
+    edge_lower: float
+    edge_upper: float
+    alpha: float
+    sigma: tuple
+    seconds: float
+    boxes: dict
+
+    def to_dict(self) -> dict:
+        return {"center": [float(v) for v in self.center], "edge_lower": self.edge_lower,
+                "edge_upper": self.edge_upper, "alpha": self.alpha, "sigma": list(self.sigma),
+                "seconds": self.seconds, "boxes": dict(self.boxes)}
+
+
+def _surface_points(n: int) -> np.ndarray:
+    """Points of the surface of the cube [-1, 1]^3 on an n x n grid per face, (m, 3)."""
+    g = np.linspace(-1, 1, n)
+    a, b = np.meshgrid(g, g)
+    a, b = a.ravel(), b.ravel()
+    faces = []
+    for axis in range(3):
+        for side in (-1.0, 1.0):
+            pts = np.empty((len(a), 3))
+            pts[:, axis] = side
+            others = [k for k in range(3) if k != axis]
+            pts[:, others[0]], pts[:, others[1]] = a, b
+            faces.append(pts)
+    return np.unique(np.vstack(faces), axis=0)
 
 
 def _enclose_cube(v: float) -> tuple[float, float]:
