@@ -27,6 +27,11 @@ def main(epsilons):
         print(f"eps = {eps}: {d['seconds']:.1f} s, {d['boxes_evaluated']} boxes evaluated, inside "
               f"{d['volume_inner']:.4f} ({d['boxes']['inner']} boxes), E {d['volume_undecided']:.4f} "
               f"({d['boxes']['undecided']} boxes), outside {d['boxes']['outer']} boxes")
+    print("paper, largest cube (alpha = 0.001): centre 0.085938 (x = y = z), edge 0.643950, none above 0.643952")
+    for alpha in (0.01, 0.001):
+        c = o.largest_cube(alpha=alpha).to_dict()
+        print(f"cube, alpha = {alpha}: {c['seconds']:.1f} s, centre {c['center'][0]:.6f}, edge in "
+              f"[{c['edge_lower']:.6f}, {c['edge_upper']:.6f}], boxes {c['boxes']}")
     prof = cProfile.Profile()
     prof.runcall(o.dextrous, eps=0.125)
     print("profile at eps = 0.125 (top 6 by own time):")

@@ -93,3 +93,13 @@ def test_failed_report_leaves_nothing(tmp_path, monkeypatch):
     with pytest.raises(RuntimeError):
         planar_report(PlanarChain([0.3, 0.15], [-120, -30], [0, 30]), tmp_path / "x")
     assert not (tmp_path / "x").exists()
+
+
+def test_orthoglide_report(tmp_path):
+    from workspace_sym.orthoglide import Orthoglide
+    from workspace_sym.report import orthoglide_report
+
+    md = orthoglide_report(Orthoglide(), tmp_path / "o", eps=0.25, alpha=0.05).read_text()
+    assert "## Largest enclosed cube" in md and "0.643950" in md and "inside volume (proved)" in md
+    check_html((tmp_path / "o" / "report.html").read_text(), figures=1)
+    assert latex_is_balanced((tmp_path / "o" / "report.tex").read_text())

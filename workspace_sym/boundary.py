@@ -445,8 +445,7 @@ def _classify(chain, arr: Arrangement, kept, samples, seed, max_boxes):
             elif decided:
                 status[f], evidence[f] = "outside", {"method": "workspace of joints 2..p", "point": q.tolist()}
             else:
-                status[f], evidence[f] = "undecided", {"method": "interval exclusion (budget exhausted)",
-                                                       "point": q.tolist()}
+                status[f], evidence[f] = "undecided", {"method": "none conclusive", "point": q.tolist()}
     return status, evidence, notes
 
 
@@ -512,7 +511,8 @@ def build_boundary(chain, *, samples: int = 4096, seed: int = 0, max_boxes: int 
     undecided = float(sum(arr.face_area[f] for f, s in enumerate(status) if s == "undecided"))
     if undecided > 0:
         warnings.warn(f"{sum(s == 'undecided' for s in status)} face(s) of total area {undecided:.3g} could not be "
-                      f"classified within max_boxes={max_boxes}; the area is a lower bound", stacklevel=3)
+                      f"classified (no witness, interval exclusion within max_boxes={max_boxes} and the argument "
+                      f"through joints 2..p inconclusive); the area is a lower bound", stacklevel=3)
     for note in notes:
         warnings.warn(note, stacklevel=3)
     counts = {"step0": step0, "step1": len(kept), "step2": len(arcs)}

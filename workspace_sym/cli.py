@@ -337,6 +337,7 @@ def cmd_report(args) -> int:
         path = planar_report(_chain_from_args(args), args.out, command=command)
     else:
         from .kinematics import DHRobot
+        from .orthoglide import Orthoglide
         from .parallel import ConstraintModel
 
         model = robots.build(args.what)
@@ -348,8 +349,12 @@ def cmd_report(args) -> int:
 
             paving = pave(model.constraints, model.box, delta=args.delta, exact_measure=model.exact_measure)
             path = paving_report(paving, args.out, title=f"Certified paving of {args.what}", command=command)
+        elif isinstance(model, Orthoglide):
+            from .report import orthoglide_report
+
+            path = orthoglide_report(model, args.out, eps=args.eps, alpha=args.alpha, command=command)
         else:
-            raise WorkspaceError(f"report: no report for {args.what!r} yet; use 'chain', a DH robot or rpr2")
+            raise WorkspaceError(f"report: no report for {args.what!r}; use 'chain', a DH robot, rpr2 or orthoglide")
     print(f"report: {path}")
     return 0
 
@@ -426,12 +431,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_boundary)
 
     p = sub.add_parser("report", help="write a report (Markdown, HTML, LaTeX) for a chain or a catalog robot")
-    p.add_argument("what", help="'chain' (with --lengths/--lower/--upper), a DH robot or rpr2")
+    p.add_argument("what", help="'chain' (with --lengths/--lower/--upper), a DH robot, rpr2 or orthoglide")
     p.add_argument("--lengths")
     p.add_argument("--lower")
     p.add_argument("--upper")
     p.add_argument("--radians", action="store_true")
     p.add_argument("--delta", type=float, default=0.07, help="paving resolution (rpr2)")
+    p.add_argument("--eps", type=float, default=0.125, help="dextrous workspace resolution (orthoglide)")
+    p.add_argument("--alpha", type=float, default=0.01, help="largest-cube accuracy (orthoglide)")
     p.add_argument("--out", required=True, help="output directory")
     p.set_defaults(func=cmd_report)
 
