@@ -88,6 +88,7 @@ def test_closed_forms_match_floats(chain):
 
 @pytest.mark.parametrize("l1, l2, lo, hi", [
     ("0.3", "0.15", (-120, 10), (0, 170)), ("1/2", "1/3", (-170, -150), (100, -20)), ("0.7", "0.9", (0, 5), (179, 95)),
+    ("0.186", "0.254", (-60, 0), (120, 130)),     # Table 1 (ii): the circles about O and A_1 are tangent at theta_2 = 0
 ])
 def test_two_link_area_against_the_jacobian_integral(l1, l2, lo, hi):
     """Independent exact reference: when theta_2 keeps one sign the 2R map is injective, so the area is

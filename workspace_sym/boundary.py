@@ -342,12 +342,15 @@ def unreachable_via_subchain(chain, q, *, margin: float = 1e-9):
     if sub is None:
         sub = PlanarChain(chain.lengths[1:], chain.lower[1:], chain.upper[1:], degrees=False)
         chain._cache["subchain"] = sub
+    l1 = chain.lengths[0]
+    if sub.p == 1:   # W is an arc: q is reached exactly when the two arcs meet
+        w_arc = (0.0, 0.0, sub.lengths[0], sub.lower[0] + math.pi / 2, sub.upper[0] - sub.lower[0])
+        return (True, None) if _arc_arc_distance((0.0, -l1, rq, start, span), w_arc) > tol else (None, None)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         w = sub.boundary()
     if w.undecided_area > 0 or not w.arcs:
         return None, None
-    l1 = chain.lengths[0]
     theta1 = np.linspace(chain.lower[0], chain.upper[0], 257)
     pts = np.stack([rq * np.cos(aq - theta1), rq * np.sin(aq - theta1) - l1], axis=1)
     verdict = w.classify(pts, tol=margin)
