@@ -380,20 +380,6 @@ class Arrangement:
         """Whether each point lies inside cycle ``k`` (ray parity)."""
         return parity_inside(points, *self.cycle_arrays(k), tol=self.tol)
 
-    def locate(self, point) -> int:
-        """The face containing ``point`` (-1 for the unbounded face)."""
-        return int(self.locate_many(np.atleast_2d(point))[0])
-
-    def locate_many(self, points):
-        """Faces of many points at once (vectorised over the points)."""
-        points = np.atleast_2d(points)
-        best = -np.ones(len(points), int)
-        best_area = np.full(len(points), np.inf)
-        for f, k in enumerate(self.face_cycles):
-            inside = self.inside_cycle(points, k) & (self.cycle_area[k] < best_area)
-            best[inside], best_area[inside] = f, self.cycle_area[k]
-        return best
-
     def in_face(self, points, f):
         """Whether each point lies in bounded face ``f``: inside its outer cycle and inside none of its holes."""
         points = np.atleast_2d(points)
@@ -417,12 +403,6 @@ class Arrangement:
     def face_clearance(self, points, f):
         """Distance from points inside face ``f`` to the nearest edge (only the face's own edges can be nearest)."""
         return arc_distance(points, *self._edge_table()[:, self.face_edges(f)]).min(axis=1)
-
-    def clearance(self, points):
-        """Distance from each point to the nearest edge."""
-        if not self.edges:
-            return np.full(len(np.atleast_2d(points)), np.inf)
-        return arc_distance(points, *self._edge_table()).min(axis=1)
 
     def interior_point(self, f):
         """A point inside face ``f``, away from its edges, and its clearance (None, -1 if none is found).
