@@ -281,17 +281,7 @@ class Orthoglide:
                 return True, used
             if (work[:, :, 1] - work[:, :, 0]).max() < min_width:
                 return None, used
-            mid = 0.5 * (work[:, :, 0] + work[:, :, 1])
-            parts = []
-            for corner in range(8):
-                part = work.copy()
-                for k in range(3):
-                    if corner >> k & 1:
-                        part[:, k, 0] = mid[:, k]
-                    else:
-                        part[:, k, 1] = mid[:, k]
-                parts.append(part)
-            work = np.concatenate(parts)
+            work = _octants(work)
         return True, used
 
     def no_enclosed_cube(self, half: float, *, sigma=(0.25, 4.0), grid: int = 5, min_width: float = 1e-4,
@@ -330,17 +320,7 @@ class Orthoglide:
                 return True, used
             if (work[:, :, 1] - work[:, :, 0]).max() < min_width:
                 return None, used
-            m = 0.5 * (work[:, :, 0] + work[:, :, 1])
-            parts = []
-            for corner in range(8):
-                part = work.copy()
-                for k in range(3):
-                    if corner >> k & 1:
-                        part[:, k, 0] = m[:, k]
-                    else:
-                        part[:, k, 1] = m[:, k]
-                parts.append(part)
-            work = np.concatenate(parts)
+            work = _octants(work)
         return True, used
 
     def largest_cube(self, *, alpha: float = 0.001, sigma=(0.25, 4.0)) -> CubeResult:
@@ -442,6 +422,18 @@ class CubeResult:
         return {"center": [float(v) for v in self.center], "edge_lower": self.edge_lower,
                 "edge_upper": self.edge_upper, "alpha": self.alpha, "sigma": list(self.sigma),
                 "seconds": self.seconds, "boxes": dict(self.boxes)}
+
+
+def _octants(boxes: np.ndarray) -> np.ndarray:
+    """The eight halves-in-every-direction of each box of an ``(N, 3, 2)`` array."""
+    mid = 0.5 * (boxes[:, :, 0] + boxes[:, :, 1])
+    parts = []
+    for corner in range(8):
+        part = boxes.copy()
+        for k in range(3):
+            part[:, k, 1 - (corner >> k & 1)] = mid[:, k]
+        parts.append(part)
+    return np.concatenate(parts)
 
 
 def _surface_points(n: int) -> np.ndarray:

@@ -194,6 +194,37 @@ class Document:
         return paths
 
 
+def _publish(doc: "Document", tmp: Path, out: Path, *, stem: str = "report", command: str | None = None,
+             start: float | None = None) -> Path:
+    """Close ``doc`` with the reproducibility block, render it into ``tmp`` and move everything to ``out``."""
+    doc.heading("Reproducibility")
+    info = reproducibility(command)
+    if start is not None:
+        info["seconds"] = f"{time.perf_counter() - start:.2f}"
+    doc.items(info.items())
+    doc.write(tmp, stem)
+    _finalise(tmp, out)
+    return out / f"{stem}.md"
+
+
+def _paving_section(doc: "Document", paving, tmp: Path) -> None:
+    """Box counts, the certified measure bracket and a picture of a paving."""
+    from .plotting import plot_paving, save_figure
+
+    d = paving.to_dict()
+    lo, hi = d["measure_bounds"]
+    doc.table(["boxes", "count", "measure"],
+              [[k, str(d[k]["boxes"]), f"{d[k]['measure']:.6f}"] for k in ("inner", "boundary", "outer")])
+    text = (f"delta {d['delta']}, backend {d['backend']}, {d['seconds']:.3f} s: the measure lies in "
+            f"[{lo:.6f}, {hi:.6f}] (inner boxes are proved inside, outer boxes proved outside, with "
+            "outward-rounded interval arithmetic).")
+    if d.get("exact_measure") is not None:
+        text += f" Exact measure {float(sp.sympify(d['exact_measure'])):.6f}."
+    doc.para(text)
+    save_figure(plot_paving(paving), tmp / "paving.png")
+    doc.figure(tmp / "paving.png", "Certified paving: inner (green), boundary (yellow), outer (not drawn)")
+
+
 def _finalise(tmp: Path, out: Path) -> None:
     out.mkdir(parents=True, exist_ok=True)
     for item in tmp.iterdir():
@@ -240,11 +271,7 @@ def dh_robot_report(robot, out, *, samples: int = 20000, command: str | None = N
                                          units=robot.units), tmp / f"{stem}-workspace.png")
         doc.heading("Workspace (sampled picture, not a proof)")
         doc.figure(tmp / f"{stem}-workspace.png", f"{samples} random configurations")
-        doc.heading("Reproducibility")
-        doc.items(reproducibility(command).items())
-        doc.write(tmp, stem)
-        _finalise(tmp, out)
-    return out / f"{stem}.md"
+        return _publish(doc, tmp, out, stem=stem, command=command)
 
 
 # ---------------------------------------------------------------------- planar chains
@@ -320,7 +347,7 @@ def planar_report(chain, out, *, command: str | None = None, title: str | None =
     summarises that certified covering as well.  Returns the Markdown path.
     """
     from .boundary import exact_area, exact_arcs
-    from .plotting import plot_boundary_loops, plot_paving, plot_planar_step, save_figure
+    from .plotting import plot_boundary_loops, plot_planar_step, save_figure
 
     out = Path(out)
     start = time.perf_counter()
@@ -373,51 +400,17 @@ def planar_report(chain, out, *, command: str | None = None, title: str | None =
         doc.table(["check", "result"], [[k, v] for k, v in planar_verification(boundary, rows)])
         if paving is not None:
             doc.heading(paving_title or "Certified paving")
-            d = paving.to_dict()
-            lo, hi = d["measure_bounds"]
-            doc.table(["boxes", "count", "measure"],
-                      [[k, str(d[k]["boxes"]), f"{d[k]['measure']:.6f}"] for k in ("inner", "boundary", "outer")])
-            text = (f"delta {d['delta']}, backend {d['backend']}, {d['seconds']:.3f} s: the measure lies in "
-                    f"[{lo:.6f}, {hi:.6f}] (inner boxes are proved inside, outer boxes proved outside).")
-            if d.get("exact_measure") is not None:
-                text += f" Exact measure {float(sp.sympify(d['exact_measure'])):.6f}."
-            doc.para(text)
-            save_figure(plot_paving(paving), tmp / "paving.png")
-            doc.figure(tmp / "paving.png", "Certified paving: inner (green), boundary (yellow), outer (not drawn)")
-        doc.heading("Reproducibility")
-        info = reproducibility(command)
-        info["seconds"] = f"{time.perf_counter() - start:.2f}"
-        doc.items(info.items())
-        doc.write(tmp, "report")
-        _finalise(tmp, out)
-    return out / "report.md"
+            _paving_section(doc, paving, tmp)
+        return _publish(doc, tmp, out, command=command, start=start)
 
 
 def paving_report(paving, out, *, title: str = "Certified paving", command: str | None = None) -> Path:
     """Report of a certified paving: box counts, the measure bracket, a picture, reproducibility."""
-    from .plotting import plot_paving, save_figure
-
-    out = Path(out)
-    d = paving.to_dict()
     doc = Document(title)
-    doc.para("Boxes are inner (proved inside), outer (proved outside) or boundary (undecided at the resolution "
-             "delta), with outward-rounded interval arithmetic.")
-    doc.table(["boxes", "count", "measure"],
-              [[k, str(d[k]["boxes"]), f"{d[k]['measure']:.6f}"] for k in ("inner", "boundary", "outer")])
-    lo, hi = d["measure_bounds"]
-    text = f"delta {d['delta']}, backend {d['backend']}, {d['seconds']:.3f} s; measure in [{lo:.6f}, {hi:.6f}]."
-    if d.get("exact_measure") is not None:
-        text += f" Exact measure {float(sp.sympify(d['exact_measure'])):.6f}."
-    doc.para(text)
     with tempfile.TemporaryDirectory() as tmpdir:
         tmp = Path(tmpdir)
-        save_figure(plot_paving(paving), tmp / "paving.png")
-        doc.figure(tmp / "paving.png", "inner (green) and boundary (yellow) boxes")
-        doc.heading("Reproducibility")
-        doc.items(reproducibility(command).items())
-        doc.write(tmp, "report")
-        _finalise(tmp, out)
-    return out / "report.md"
+        _paving_section(doc, paving, tmp)
+        return _publish(doc, tmp, Path(out), command=command)
 
 
 def orthoglide_report(model, out, *, eps: float = 0.125, alpha: float = 0.01, command: str | None = None) -> Path:
@@ -453,10 +446,4 @@ def orthoglide_report(model, out, *, eps: float = 0.125, alpha: float = 0.01, co
         tmp = Path(tmpdir)
         save_figure(plot_paving(dex.paving, title=f"dextrous workspace, eps = {eps}"), tmp / "dextrous.png")
         doc.figure(tmp / "dextrous.png", "inside boxes (green) and undecided boxes (yellow)")
-        doc.heading("Reproducibility")
-        info = reproducibility(command)
-        info["seconds"] = f"{time.perf_counter() - start:.1f}"
-        doc.items(info.items())
-        doc.write(tmp, "report")
-        _finalise(tmp, out)
-    return out / "report.md"
+        return _publish(doc, tmp, out, command=command, start=start)
