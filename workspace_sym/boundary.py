@@ -32,41 +32,29 @@ import sympy as sp
 
 from .arrangement import Arrangement, _in_span, arc_area_term, arc_distance, parity_inside
 from .interval import arith
+from .planar import Arc, PlanarChain
 
 __all__ = ["Boundary", "BoundaryArc", "Loop", "build_boundary", "exact_arcs", "prove_unreachable",
-           "unreachable_via_subchain"]
+           "unreachable_via_subchain", "witness_near"]
 
 _TWO_PI = 2 * math.pi
 
 
-@dataclass(frozen=True)
-class BoundaryArc:
-    """One arc of a boundary loop, in the loop's direction of travel.
+@dataclass(frozen=True, slots=True)
+class BoundaryArc(Arc):
+    """One arc of a boundary loop: an :class:`~workspace_sym.planar.Arc` in the loop's direction of travel.
 
-    ``theta_sets`` as in :class:`~workspace_sym.planar.Arc` (radians), with the
-    free joint's interval restricted to this arc; ``start_angle`` and
-    ``end_angle`` are polar angles about ``center`` in the direction of travel
-    (``end < start`` when the loop runs clockwise on this circle); ``side`` is
-    +1 when the workspace lies away from the centre.  ``source`` indexes the
-    Step 1 arc it comes from.
+    The free joint's interval in ``theta_sets`` is restricted to this arc;
+    ``start_angle`` and ``end_angle`` follow the direction of travel
+    (``end < start`` when the loop runs clockwise on this circle).  ``source``
+    indexes the Step 1 arc it comes from.
     """
 
-    type: str
-    free_joint: int
-    theta_sets: tuple
-    center: tuple
-    radius: float
-    start_angle: float
-    end_angle: float
-    side: int
-    source: int
+    source: int = -1
 
     @property
     def sweep(self) -> float:
         return self.end_angle - self.start_angle
-
-    def point(self, angle):
-        return np.array([self.center[0] + self.radius * math.cos(angle), self.center[1] + self.radius * math.sin(angle)])
 
     @property
     def start(self):
@@ -129,7 +117,8 @@ class Boundary:
         for k in range(0, len(q), 4096):
             chunk = q[k:k + 4096]
             near = arc_distance(chunk, *arr).min(axis=1) <= tol * self.chain.reach
-            inside = parity_inside(chunk, *arr, tol=tol * self.chain.reach)
+            # one joint: the workspace is an open arc with no inside, and ray parity means nothing
+            inside = parity_inside(chunk, *arr, tol=tol * self.chain.reach) if self.chain.p > 1 else False
             out[k:k + 4096] = np.where(near, "boundary", np.where(inside, "inside", "outside"))
         return out
 
@@ -327,8 +316,6 @@ def unreachable_via_subchain(chain, q, *, margin: float = 1e-9):
     Returns ``(True, None)`` (unreachable), ``(False, theta)`` (reachable, with a
     witness configuration when one was found) or ``(None, None)``.
     """
-    from .planar import PlanarChain
-
     q = np.asarray(q, dtype=float)
     tol = margin * chain.reach
     rq = math.hypot(*q)
@@ -343,9 +330,6 @@ def unreachable_via_subchain(chain, q, *, margin: float = 1e-9):
         sub = PlanarChain(chain.lengths[1:], chain.lower[1:], chain.upper[1:], degrees=False)
         chain._cache["subchain"] = sub
     l1 = chain.lengths[0]
-    if sub.p == 1:   # W is an arc: q is reached exactly when the two arcs meet
-        w_arc = (0.0, 0.0, sub.lengths[0], sub.lower[0] + math.pi / 2, sub.upper[0] - sub.lower[0])
-        return (True, None) if _arc_arc_distance((0.0, -l1, rq, start, span), w_arc) > tol else (None, None)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         w = sub.boundary()
@@ -357,9 +341,7 @@ def unreachable_via_subchain(chain, q, *, margin: float = 1e-9):
     inside = np.flatnonzero(verdict == "inside")
     if len(inside):
         k = inside[len(inside) // 2]
-        starts = sub.sample(2048, seed=k)
-        near = np.argsort(np.hypot(*(sub.forward(starts) - pts[k]).T))[:32]
-        th, err = _local_witness(sub, pts[k][None], starts[near][None], iterations=100)
+        th, _ = witness_near(sub, pts[k], samples=2048, seed=int(k), k=32, iterations=100)
         theta = np.concatenate([[theta1[k]], th[0]])
         return False, (theta if math.dist(chain.forward(theta), q) <= tol else None)
     if (verdict[[0, -1]] == "boundary").any():
@@ -397,6 +379,22 @@ def _local_witness(chain, targets, starts, iterations: int = 60):
     return theta[rows, k], err[rows, k]
 
 
+
+def witness_near(chain, targets, *, starts=None, points=None, samples: int = 4096, seed: int = 0, k: int = 16,
+                 iterations: int = 60):
+    """Configurations reaching ``targets`` (m, 2): least squares from the ``k`` sampled configurations whose
+    end points are nearest each target.  ``starts`` (and their end ``points``) may be given to reuse a sample.
+
+    Returns the best configuration per target (m, p) and its distance to the target (m,).
+    """
+    targets = np.atleast_2d(np.asarray(targets, dtype=float))
+    if starts is None:
+        starts = chain.sample(samples, seed=seed)
+    if points is None:
+        points = chain.forward(starts)
+    near = np.argsort(((points[None, :, :] - targets[:, None, :]) ** 2).sum(-1), axis=1)[:, :k]
+    return _local_witness(chain, targets, starts[near], iterations)
+
 def _classify(chain, arr: Arrangement, kept, samples, seed, max_boxes):
     nf = len(arr.face_cycles)
     status = ["unknown"] * nf
@@ -432,8 +430,7 @@ def _classify(chain, arr: Arrangement, kept, samples, seed, max_boxes):
     if probes:
         faces = list(probes)
         qs = np.array([probes[f][0] for f in faces])
-        near = np.argsort(((pts[None, :, :] - qs[:, None, :]) ** 2).sum(-1), axis=1)[:, :16]
-        found, err = _local_witness(chain, qs, theta[near])
+        found, err = witness_near(chain, qs, starts=theta, points=pts)
         for f, th, e in zip(faces, found, err):
             q, clearance = probes[f]
             if e < 0.5 * clearance:
@@ -542,7 +539,7 @@ def _boundary_arc(chain, kept, arr, m) -> BoundaryArc:
         return lo_src + min(max(rel, 0.0), src.theta_sets[i][1] - lo_src)
 
     t0, t1 = sorted((theta_at(m["a0"]), theta_at(m["a1"])))
-    sets = tuple((t0, t1) if k == i else s for k, s in enumerate(src.theta_sets))
+    sets = tuple((float(t0), float(t1)) if k == i else s for k, s in enumerate(src.theta_sets))
     return BoundaryArc(src.type, src.free_joint, sets, (float(src.center[0]), float(src.center[1])), float(src.radius),
                        float(m["a0"]), float(m["a1"]), src.side, m["source"])
 

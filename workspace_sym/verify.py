@@ -76,14 +76,12 @@ def check_expression(student, derived, *, samples: int = 50, seed: int = 0) -> V
 
 def check_reachable(chain, point, *, max_boxes: int = 500_000, seed: int = 0) -> Verdict:
     """Can the planar ``chain`` reach ``point``?  A witness configuration, or an interval proof that it cannot."""
-    from .boundary import _local_witness, prove_unreachable
+    from .boundary import prove_unreachable, witness_near
 
     q = np.asarray(point, dtype=float).reshape(2)
     if not np.isfinite(q).all():
         raise InvalidParameterError(f"point must be two finite numbers; got {point!r}")
-    starts = chain.sample(4096, seed=seed)
-    near = np.argsort(np.hypot(*(chain.forward(starts) - q).T))[:64]
-    theta, err = _local_witness(chain, q[None], starts[near][None], iterations=100)
+    theta, err = witness_near(chain, q, seed=seed, k=64, iterations=100)
     if err[0] <= 1e-10 * chain.reach:
         deg = [round(math.degrees(t), 6) for t in theta[0]]
         return Verdict(True, f"reachable, e.g. with theta = {deg} deg (end point within {err[0]:.1e})",
