@@ -298,26 +298,23 @@ class PlanarChain:
             for e0 in (1, -1):
                 good = np.where(zero, e0 * C > 0, e0 * eps * B > 0)
                 ok[e0] = np.all(good | ~after, axis=1)
-            if i == 0:
-                side = np.where(ok[1], 1, np.where(ok[-1], -1, 0))[:, None]
-                bounds = np.stack([np.full(len(idx), lo[0]), np.full(len(idx), hi[0])], axis=1)
-            else:
-                # joints before i: B_j = 2 |w||u| sin(arg u - arg w), w = P_i - P_j, zero twice per turn
-                w = pts[:, i:i + 1, :] - pts[:, :i, :]                 # (n, i, 2)
-                wnorm = np.hypot(w[..., 0], w[..., 1])
-                arg_u0 = np.arctan2(u[:, 1], u[:, 0])
-                rel = np.mod(np.arctan2(w[..., 1], w[..., 0]) - arg_u0[:, None], np.pi)   # in [0, pi)
-                cuts = lo[i] + np.concatenate([rel, rel + np.pi], axis=1)
-                cuts = np.where((cuts > lo[i] + _TOL) & (cuts < hi[i] - _TOL), cuts, hi[i])
-                bounds = np.concatenate([np.full((len(idx), 1), lo[i]), np.sort(cuts, axis=1),
-                                         np.full((len(idx), 1), hi[i])], axis=1)
-                mid = 0.5 * (bounds[:, 1:] + bounds[:, :-1])                        # (n, m)
-                ang = arg_u0[:, None, None] + (mid - lo[i])[:, :, None] - np.arctan2(w[..., 1], w[..., 0])[:, None, :]
-                s = np.sign(np.sin(ang)) * eps[:, None, :i]                      # (n, m, i)
-                plus = np.all(s > 0, axis=2) & ok[1][:, None]
-                minus = np.all(s < 0, axis=2) & ok[-1][:, None]
-                side = np.where(plus, 1, np.where(minus, -1, 0))
-                side[(wnorm <= _TOL * self.reach).any(1)] = 0
+            # joints before i (none when i = 0): B_j = 2 |w||u| sin(arg u - arg w), w = P_i - P_j, zero twice per turn
+            w = pts[:, i:i + 1, :] - pts[:, :i, :]                 # (n, i, 2)
+            wnorm = np.hypot(w[..., 0], w[..., 1])
+            arg_u0 = np.arctan2(u[:, 1], u[:, 0])
+            arg_w = np.arctan2(w[..., 1], w[..., 0])
+            rel = np.mod(arg_w - arg_u0[:, None], np.pi)                 # in [0, pi)
+            cuts = lo[i] + np.concatenate([rel, rel + np.pi], axis=1)
+            cuts = np.where((cuts > lo[i] + _TOL) & (cuts < hi[i] - _TOL), cuts, hi[i])
+            bounds = np.concatenate([np.full((len(idx), 1), lo[i]), np.sort(cuts, axis=1),
+                                     np.full((len(idx), 1), hi[i])], axis=1)
+            mid = 0.5 * (bounds[:, 1:] + bounds[:, :-1])                        # (n, m)
+            ang = arg_u0[:, None, None] + (mid - lo[i])[:, :, None] - arg_w[:, None, :]
+            s = np.sign(np.sin(ang)) * eps[:, None, :i]                      # (n, m, i)
+            plus = np.all(s > 0, axis=2) & ok[1][:, None]
+            minus = np.all(s < 0, axis=2) & ok[-1][:, None]
+            side = np.where(plus, 1, np.where(minus, -1, 0))
+            side[(wnorm <= _TOL * self.reach).any(1)] = 0
             for r in np.flatnonzero((side != 0).any(axis=1)):
                 pieces = []
                 for m in range(side.shape[1]):
