@@ -2,7 +2,8 @@
 
 The kept arcs of Step 1 contain the boundary, so every face of their
 arrangement lies wholly inside or wholly outside the workspace (a face meets
-no boundary point, and is connected).  Faces are classified with proofs:
+no boundary point, and is connected).  Each face is classified, and
+``Boundary.evidence`` records how:
 
 * **inside** when a kept arc has its side (Lemma 3.1) pointing into the face —
   the configurations on that arc cover a one-sided neighbourhood there — or
@@ -13,6 +14,12 @@ no boundary point, and is connected).  Faces are classified with proofs:
   else when the arc that the point describes in the frame of link 1 misses the
   workspace of the joints 2..p, computed by this same method
   (:func:`unreachable_via_subchain`, float geometry with explicit tolerances).
+
+Only interval exclusion is outward-rounded; the other verdicts are float
+geometry with explicit tolerances, the standard of the whole arrangement (the
+topology of Step 2 is decided in floats).  The planar boundary is therefore an
+exact-geometry result, not a certified-box result; a face that no argument
+decides is reported as undecided.
 
 The boundary is made of the edges between an inside and an outside face,
 walked with the workspace on the left: outer loops turn counter-clockwise,
