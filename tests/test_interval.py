@@ -33,6 +33,48 @@ def _contains(iv_, exact) -> bool:
 mpmath.mp.dps = 60
 
 
+_EDGES = [2.0**k for k in (-1074, -1073, -1022, -1021, -1, 0, 1, 52, 1023)]
+
+
+@settings(max_examples=500, deadline=None)
+@given(st.floats(allow_nan=False, allow_infinity=False, width=64), st.floats(allow_nan=False, allow_infinity=False),
+       st.sampled_from(["+", "*", "/"]))
+@example(1.0, 2.0**-53, "+")           # a tie at a power of two
+@example(2.0**-1074, 0.5, "*")           # underflow to zero
+@example(2.0**-1022, 2.0**-1074, "+")    # subnormal spacing
+@example(-1.0, 2.0**-54, "+")
+def test_down_up_bound_the_exact_result_of_one_operation(a, b, op):
+    """down / up of a round-to-nearest result bracket the exact rational result (Fraction), also at powers of
+    two, for subnormals and after underflow; the bracket is at most a few spacings wide."""
+    from fractions import Fraction
+
+    with np.errstate(all="ignore"):
+        r = {"+": np.float64(a) + np.float64(b), "*": np.float64(a) * np.float64(b),
+             "/": np.float64(a) / np.float64(b) if b else np.float64(np.nan)}[op]
+    if not np.isfinite(r):
+        return
+    exact = {"+": Fraction(a) + Fraction(b), "*": Fraction(a) * Fraction(b),
+             "/": Fraction(a) / Fraction(b) if b else None}[op]
+    with np.errstate(over="ignore"):
+        lo, hi = arith.down(np.full(300, r))[0], arith.up(np.full(300, r))[0]     # the arithmetic branch
+    assert lo < r < hi
+    if np.isinf(lo) or np.isinf(hi):       # next to the largest float: infinity is the outward bound
+        return
+    assert Fraction(float(lo)) <= exact <= Fraction(float(hi))
+    assert hi - lo <= 8 * np.spacing(abs(r)) + 2.0**-1072
+
+
+@pytest.mark.parametrize("size", [1, 300])       # numpy.nextafter below 256 elements, arithmetic above
+def test_down_up_at_the_edges(size):
+    for v in _EDGES + [-e for e in _EDGES] + [0.0]:
+        assert (arith.down(np.full(size, v)) < v).all() and (arith.up(np.full(size, v)) > v).all()
+    big = np.finfo(float).max        # an overflow to +-inf keeps a finite bound on its inner side
+    assert (arith.down(np.full(size, -np.inf)) == -np.inf).all() and (arith.up(np.full(size, np.inf)) == np.inf).all()
+    assert np.isfinite(arith.down(np.full(size, np.inf))).all() and (arith.down(np.full(size, np.inf)) <= big).all()
+    assert np.isfinite(arith.up(np.full(size, -np.inf))).all() and (arith.up(np.full(size, -np.inf)) >= -big).all()
+    assert np.isnan(arith.up(np.full(size, np.nan))).all() and np.isnan(arith.down(np.full(size, np.nan))).all()
+
+
 @settings(max_examples=300, deadline=None)
 @given(interval_and_point(), interval_and_point())
 def test_add_sub_mul_enclose(ap, bp):
