@@ -116,10 +116,10 @@ def test_pave_bad_input_writes_nothing(tmp_path, capsys):
 
 
 def test_dextrous_json_contract_and_bad_sigma(capsys):
-    code, out, _ = run(capsys, "dextrous", "orthoglide", "--eps", "0.25", "--json")
+    code, out, _ = run(capsys, "dextrous", "orthoglide", "--eps", "0.125", "--json")
     data = json.loads(out)
     assert code == 0 and set(data["boxes"]) == {"inner", "undecided", "outer"}
-    assert data["volume_inner"] > 0 and data["sigma"] == [0.25, 4.0] and data["eps"] == 0.25
+    assert data["volume_inner"] > 0 and data["sigma"] == [0.25, 4.0] and data["eps"] == 0.125
     code, _, err = run(capsys, "dextrous", "orthoglide", "--sigma", "4:0.25")
     assert code == 2 and "sigma_max" in err and err.count("\n") == 1
 

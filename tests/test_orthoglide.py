@@ -176,6 +176,7 @@ def test_largest_cube_brackets_the_papers_cube(capsys):
     assert main(["cube", "orthoglide", "--alpha", "0.02", "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
     assert data["edge_lower"] <= 0.643950 <= data["edge_upper"]
+    assert data["edge_exact"] == "(sqrt(2) + sqrt(6))/6" and "closed_form" in data
     assert data["edge_upper"] - data["edge_lower"] <= 2 * 0.02 + 1e-12
     assert np.allclose(data["center"], 0.085938, atol=0.02)
     ortho = Orthoglide()
@@ -186,6 +187,28 @@ def test_largest_cube_brackets_the_papers_cube(capsys):
     big = np.array(data["center"]) + data["edge_upper"] / 2 * np.vstack([np.eye(3), -np.eye(3), np.ones((1, 3)),
                                                                          -np.ones((1, 3))])
     assert not ortho._numeric_dextrous(big, (0.25, 4.0)).all()
+
+
+def test_largest_cube_closed_form_is_exact_and_certified():
+    """The binding points are the two corners on the diagonal; the closed form edge (sqrt(2) + sqrt(6))/6 and
+    centre (sqrt(6) - sqrt(2))/12 are checked as exact SymPy identities (the pencil vanishes at both corners for
+    the bounds found), and the certified bracket at alpha = 1e-5 contains them.  Paper: edge 0.643950."""
+    ortho = Orthoglide()
+    r = ortho.largest_cube(alpha=1e-5)
+    edge, centre = r.exact["edge"], r.exact["center"]
+    assert sp.simplify(edge - (sp.sqrt(2) + sp.sqrt(6)) / 6) == 0
+    assert sp.simplify(centre - (sp.sqrt(6) - sp.sqrt(2)) / 12) == 0
+    assert abs(float(edge) - 0.643950) < 1e-6                  # the paper's edge, to its six digits
+    assert r.edge_lower <= float(edge) <= r.edge_upper and r.edge_upper - r.edge_lower <= 2e-5 + 1e-12
+    u = sp.Symbol("u")
+    q = ortho.pencil.as_expr().subs({x: u, y: u, z: u}).subs({e: sp.sqrt(1 - 2 * u**2) for e in (e1, e2, e3)})
+    plus, minus = centre + edge / 2, centre - edge / 2
+    for corner, bound in ((plus, sp.Rational(1, 4)), (plus, 4), (minus, 4)):
+        assert sp.simplify(q.subs(lam, bound).subs(u, corner)) == 0
+    assert r.exact["bounds"] == {"+": ["sigma_max", "sigma_min"], "-": ["sigma_max"]}
+    # independent: numpy eigenvalues at the exact corners are on the bounds
+    ev_plus, ev_minus = ortho.eigenvalues([float(plus)] * 3), ortho.eigenvalues([float(minus)] * 3)
+    assert abs(ev_plus[0] - 0.25) < 1e-12 and abs(ev_plus[-1] - 4) < 1e-11 and abs(ev_minus[-1] - 4) < 1e-11
 
 
 def test_cube_bad_alpha(capsys):

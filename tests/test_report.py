@@ -99,7 +99,8 @@ def test_orthoglide_report(tmp_path):
     from workspace_sym.orthoglide import Orthoglide
     from workspace_sym.report import orthoglide_report
 
-    md = orthoglide_report(Orthoglide(), tmp_path / "o", eps=0.25, alpha=0.05).read_text()
+    md = orthoglide_report(Orthoglide(), tmp_path / "o", eps=0.125, alpha=0.05).read_text()
     assert "## Largest enclosed cube" in md and "0.643950" in md and "inside volume (proved)" in md
-    check_html((tmp_path / "o" / "report.html").read_text(), figures=1)
+    assert "\\sqrt{2}" in md and "corner (+, +, +)" in md          # the closed form and its binding corners
+    check_html((tmp_path / "o" / "report.html").read_text(), figures=2)
     assert latex_is_balanced((tmp_path / "o" / "report.tex").read_text())

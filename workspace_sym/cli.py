@@ -211,10 +211,15 @@ def cmd_dextrous(args) -> int:
         raise WorkspaceError(f"robot {args.robot!r}: the dextrous workspace is implemented for the orthoglide")
     result = model.dextrous(eps=args.eps, sigma=_parse_sigma(args.sigma), progress=args.progress,
                             time_limit=args.time_limit)
-    if args.plot:
-        from .plotting import plot_paving, save_figure
+    if args.plot or args.slices:
+        from .plotting import plot_paving, plot_paving_slices, save_figure
 
-        save_figure(plot_paving(result.paving, title=f"dextrous workspace, eps = {args.eps}"), args.plot)
+        if args.plot:
+            save_figure(plot_paving(result.paving, title=f"dextrous workspace, eps = {args.eps}"), args.plot)
+        if args.slices:
+            save_figure(plot_paving_slices(result.paving, reference=lambda p: model._numeric_dextrous(p, result.sigma),
+                                           title=f"dextrous workspace, eps = {args.eps}: slices (red: numeric "
+                                                 "eigenvalues)"), args.slices)
     data = result.to_dict()
     if args.json:
         _emit_json(data)
@@ -236,7 +241,7 @@ def cmd_cube(args) -> int:
         raise WorkspaceError(f"robot {args.robot!r}: the largest cube is implemented for the orthoglide")
     if not args.alpha > 0:
         raise InvalidParameterError(f"--alpha must be a positive number; got {args.alpha}")
-    result = model.largest_cube(alpha=args.alpha, sigma=_parse_sigma(args.sigma))
+    result = model.largest_cube(alpha=args.alpha, sigma=_parse_sigma(args.sigma), progress=args.progress)
     data = result.to_dict()
     if args.json:
         _emit_json(data)
@@ -245,8 +250,10 @@ def cmd_cube(args) -> int:
     print(f"orthoglide, largest cube in the dextrous workspace (sigma in {data['sigma']}), alpha = {args.alpha}: "
           f"{data['seconds']:.1f} s")
     print(f"  centre ({c[0]:.6f}, {c[1]:.6f}, {c[2]:.6f})")
-    print(f"  a cube of edge {data['edge_lower']:.6f} there is proved inside; no cube of edge above "
-          f"{data['edge_upper']:.6f} fits anywhere (proved)")
+    print(f"  a cube of edge {data['edge_lower']:.9f} there is proved inside; no cube of edge above "
+          f"{data['edge_upper']:.9f} fits anywhere (proved)")
+    if "closed_form" in data:
+        print(f"  closed form: {data['closed_form']}")
     return 0
 
 
@@ -410,6 +417,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--time-limit", type=float, help="stop after this many seconds (the rest counts in E)")
     p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None)
     p.add_argument("--plot", metavar="FILE", help="draw the boxes (3D) to an image file")
+    p.add_argument("--slices", metavar="FILE", help="draw slices z = -0.4, 0, 0.3 with the numeric boundary")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_dextrous)
 
@@ -417,6 +425,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("robot", help="catalog model (orthoglide)")
     p.add_argument("--alpha", type=float, default=0.001, help="accuracy on the half-edge (paper: 0.001)")
     p.add_argument("--sigma", default="0.25:4", help="range of the eigenvalues of J J^T, MIN:MAX")
+    p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None)
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_cube)
 

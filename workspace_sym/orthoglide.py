@@ -42,7 +42,7 @@ grows with all of them, where the rotated matrix separates them.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
@@ -51,7 +51,7 @@ import sympy as sp
 from .errors import InvalidParameterError
 from .interval import arith, symmetric
 from .interval.arith import Interval
-from .interval.paving import Box, Paving, subdivide
+from .interval.paving import Box, Paving, subdivide, threaded
 
 __all__ = ["Orthoglide", "DextrousResult"]
 
@@ -230,22 +230,19 @@ class Orthoglide:
 
     # ------------------------------------------------------------------ largest cube (paper section 5)
     def _numeric_dextrous(self, pts, sigma) -> np.ndarray:
-        """Whether points are dextrous, by numpy eigenvalues (a guess for the search, never a certificate)."""
-        pts = np.atleast_2d(pts)
-        x, y, z = pts.T
-        e2 = np.stack([1 - y**2 - z**2, 1 - x**2 - z**2, 1 - x**2 - y**2], axis=1)
-        ok = (e2 > 0).all(axis=1)
-        eta = np.sqrt(np.where(ok[:, None], e2, 1.0))
-        A = np.empty((len(pts), 3, 3))
-        A[:, 0] = np.stack([eta[:, 0], y, z], 1)
-        A[:, 1] = np.stack([x, eta[:, 1], z], 1)
-        A[:, 2] = np.stack([x, y, eta[:, 2]], 1)
-        det = np.linalg.det(A)
-        ok &= np.abs(det) > 1e-12
-        A[~ok] = np.eye(3)
-        J = np.linalg.solve(A, eta[:, :, None] * np.eye(3)[None])
-        ev = np.linalg.eigvalsh(J @ np.swapaxes(J, 1, 2))
-        return ok & (ev[:, 0] >= sigma[0]) & (ev[:, -1] <= sigma[1])
+        """Whether points are dextrous, by numpy eigenvalues of ``N = (J J^T)^-1`` (a guess for the search and the
+        tests, never a certificate)."""
+        pts = np.atleast_2d(np.asarray(pts, dtype=float))
+        x_, y_, z_ = pts.T
+        e2 = np.stack([1 - y_**2 - z_**2, 1 - x_**2 - z_**2, 1 - x_**2 - y_**2])
+        ok = (e2 > 0).all(axis=0)
+        s = 1 / np.where(ok, e2, 1.0)
+        entries, _ = inverse_entries(x_, y_, z_, s, np.sqrt(s))
+        N = np.empty((len(pts), 3, 3))
+        for (i, j), v in entries.items():
+            N[:, i, j] = N[:, j, i] = v
+        ev = np.linalg.eigvalsh(N)
+        return ok & (ev[:, 0] >= 1 / sigma[1]) & (ev[:, -1] <= 1 / sigma[0])
 
     def cube_inside(self, center, half: float, *, sigma=(0.25, 4.0), min_width: float = 1e-3,
                     max_boxes: int = 200_000):
@@ -257,7 +254,7 @@ class Orthoglide:
         """
         sigma = _check_sigma(sigma)
         c = np.asarray(center, dtype=float)
-        work = np.stack([c - half, c + half], axis=1)[None]
+        work = np.stack([arith.down(c - half), arith.up(c + half)], axis=1)[None]     # holds the exact cube
         used = 0
         while len(work):
             used += len(work)
@@ -287,7 +284,8 @@ class Orthoglide:
         the budget ran out, and the number of centre boxes evaluated.
         """
         sigma = _check_sigma(sigma)
-        shape = np.vstack([_surface_points(grid), np.zeros((1, 3))])
+        corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
+        shapes = (np.vstack([corners, np.zeros((1, 3))]), np.vstack([_surface_points(grid), np.zeros((1, 3))]))
         work = np.array([[[-1.0, 1.0]] * 3])
         used = 0
         while len(work):
@@ -298,11 +296,11 @@ class Orthoglide:
             u = 0.5 * (work[:, :, 1] - work[:, :, 0]).max(axis=1)
             shrunk = half - u
             alive = np.ones(len(work), dtype=bool)
-            usable = shrunk > 0
-            if usable.any():
-                idx = np.flatnonzero(usable)
-                pts = mid[idx, None, :] + shrunk[idx, None, None] * shape[None, :, :]       # (m, s, 3)
-                pts = pts.reshape(-1, 3)
+            for shape in shapes:                  # the corners and the centre first, then a grid on the faces
+                idx = np.flatnonzero(alive & (shrunk > 0))
+                if not len(idx):
+                    break
+                pts = (mid[idx, None, :] + shrunk[idx, None, None] * shape[None, :, :]).reshape(-1, 3)
                 codes = self.box_module(np.stack([pts, pts], axis=2), sigma).reshape(len(idx), len(shape))
                 alive[idx] = ~(codes == -1).any(axis=1)
             work = work[alive]
@@ -313,14 +311,19 @@ class Orthoglide:
             work = _octants(work)
         return True, used
 
-    def largest_cube(self, *, alpha: float = 0.001, sigma=(0.25, 4.0)) -> CubeResult:
+    def largest_cube(self, *, alpha: float = 0.001, sigma=(0.25, 4.0), progress: bool | None = None) -> CubeResult:
         """The largest cube enclosed in the dextrous workspace, to ``alpha`` on the half-edge (paper section 5).
 
-        The centre is searched numerically on the diagonal ``x = y = z`` (the
-        mechanism's symmetry, where the paper finds it); the certificates do not
-        assume it: ``cube_inside`` proves the returned cube, and
-        ``no_enclosed_cube`` proves that no cube with half-edge ``alpha`` larger
-        fits anywhere.
+        1. The centre is searched numerically on the diagonal ``x = y = z`` (the
+           mechanism's symmetry, where the paper finds it).
+        2. The binding points (those that leave the workspace when the cube
+           grows a little) are identified on a grid of the cube's surface.  When
+           they are the two corners on the diagonal, the pencil restricted to
+           ``x = y = z = u`` is solved exactly for each corner and its bound:
+           the edge and the centre in closed form (SymPy), used from then on.
+        3. Certificates, which assume none of this: ``cube_inside`` proves the
+           cube of half-edge ``R - alpha/2``, ``no_enclosed_cube`` proves that no
+           cube of half-edge ``R + alpha/2`` fits anywhere.
         """
         import time
 
@@ -328,7 +331,10 @@ class Orthoglide:
             raise InvalidParameterError(f"alpha must be a positive number; got {alpha!r}")
         sigma = _check_sigma(sigma)
         start = time.perf_counter()
+        say = _stages(progress, "cube")
+        say("numeric search on the diagonal")
         shape = np.vstack([_surface_points(9), np.zeros((1, 3))])
+        tol = min(alpha / 8, 1e-6)              # the search is cheap; the binding points need it accurate
 
         def fits(t, half):
             return self._numeric_dextrous(np.full(3, t) + half * shape, sigma).all()
@@ -337,7 +343,7 @@ class Orthoglide:
             lo, hi = 0.0, 1.0
             if not fits(t, 0.0):
                 return 0.0
-            while hi - lo > alpha / 8:
+            while hi - lo > tol:
                 mid = 0.5 * (lo + hi)
                 lo, hi = (mid, hi) if fits(t, mid) else (lo, mid)
             return lo
@@ -346,16 +352,28 @@ class Orthoglide:
         halves = [best_half(t) for t in ts]
         k = int(np.argmax(halves))
         a, b = ts[max(k - 1, 0)], ts[min(k + 1, len(ts) - 1)]
-        for _ in range(30):                      # golden-section refinement of the centre
-            m1, m2 = a + 0.382 * (b - a), a + 0.618 * (b - a)
-            if best_half(m1) >= best_half(m2):
-                b = m2
+        g = (math.sqrt(5) - 1) / 2
+        m1, m2 = b - g * (b - a), a + g * (b - a)
+        h1, h2 = best_half(m1), best_half(m2)
+        while b - a > tol:                       # golden-section refinement of the centre
+            if h1 >= h2:
+                b, m2, h2 = m2, m1, h1
+                m1 = b - g * (b - a)
+                h1 = best_half(m1)
             else:
-                a = m1
-        t_best = 0.5 * (a + b)
-        centre = np.full(3, t_best)
-        half = best_half(t_best)
+                a, m1, h1 = m1, m2, h2
+                m2 = a + g * (b - a)
+                h2 = best_half(m2)
+        t_num = 0.5 * (a + b)
+        half = best_half(t_num)
+        say("binding points")
+        binding = self._binding(t_num, half, sigma, step=1e-4)
+        closed = self._closed_form_cube(binding, t_num, half, sigma, tol=1e-3)
+        if closed is not None:
+            t_num, half = float(closed["center"]), float(closed["half"])
+        centre = np.full(3, t_num)
         boxes = {"inside_proof": 0, "upper_proof": 0}
+        say("certificate: the cube is inside")
         lower = half - alpha / 2
         while lower > 0:
             ok, used = self.cube_inside(centre, lower, sigma=sigma, min_width=alpha / 16)
@@ -364,6 +382,7 @@ class Orthoglide:
                 break
             lower -= alpha / 2
         lower = max(lower, 0.0)
+        say("certificate: no larger cube anywhere")
         upper = lower + alpha
         while upper <= 1.0:
             ok, used = self.no_enclosed_cube(upper, sigma=sigma, min_width=alpha / 16)
@@ -371,8 +390,67 @@ class Orthoglide:
             if ok:
                 break
             upper += alpha / 2
+        say(None)
+        if closed is not None and not 2 * lower <= float(2 * closed["half"]) <= 2 * upper:
+            closed = None                        # not what the certificates bracket: do not claim it
         return CubeResult(tuple(centre), 2 * lower, 2 * upper, float(alpha), sigma, time.perf_counter() - start,
-                          boxes)
+                          boxes, binding, closed)
+
+    def _binding(self, t: float, half: float, sigma, *, step: float) -> list[dict]:
+        """Points of the cube's surface (9 x 9 grid per face) that leave the workspace when the half-edge grows by
+        ``step``, with the bounds they cross: ``{"corner": signs, "point": [...], "bounds": [...]}``."""
+        shape = _surface_points(9)
+        pts = t + (half + step) * shape
+        out = []
+        for s_, p in zip(shape, pts):
+            ev = self.eigenvalues(p) if min(1 - p[1]**2 - p[2]**2, 1 - p[0]**2 - p[2]**2,
+                                            1 - p[0]**2 - p[1]**2) > 0 else None
+            if ev is None:
+                out.append({"signs": s_.tolist(), "point": p.tolist(), "bounds": ["cylinder"]})
+                continue
+            bounds = [name for name, hit in (("sigma_min", ev[0] < sigma[0]), ("sigma_max", ev[-1] > sigma[1])) if hit]
+            if bounds:
+                out.append({"signs": s_.tolist(), "point": p.tolist(), "bounds": bounds})
+        return out
+
+    def _closed_form_cube(self, binding, t: float, half: float, sigma, *, tol: float):
+        """Edge and centre in closed form when the binding points are the corners ``c -+ R (1, 1, 1)``.
+
+        On the diagonal the pencil ``det(lambda A A^T - B^2)`` is a polynomial in
+        ``u`` and ``sqrt(1 - 2 u^2)``; every binding corner gives the equation
+        ``q(sigma_bound; u) = 0``, solved exactly, and the root next to the
+        numeric corner is kept.  None when the binding points are elsewhere,
+        the roots disagree, or SymPy finds no root there.
+        """
+        corners = {}
+        for b in binding:
+            signs = tuple(int(v) for v in b["signs"])
+            if signs not in ((1, 1, 1), (-1, -1, -1)) or "cylinder" in b["bounds"]:
+                return None
+            corners.setdefault(signs[0], set()).update(b["bounds"])
+        if set(corners) != {1, -1}:
+            return None
+        u = sp.Symbol("u", real=True)
+        q = self.pencil.as_expr().subs({x: u, y: u, z: u}).subs({e: sp.sqrt(1 - 2 * u**2) for e in (e1, e2, e3)})
+        values = {}
+        for sign, bounds in corners.items():
+            guess = t + sign * half
+            roots = set()
+            for bound in bounds:
+                level = sp.nsimplify(sigma[0] if bound == "sigma_min" else sigma[1])
+                sols = [r for r in sp.solve(sp.expand(q.subs(lam, level)), u) if r.is_real]
+                near = [r for r in sols if abs(float(r) - guess) < tol]
+                if len(near) != 1:
+                    return None
+                roots.add(sp.radsimp(near[0]))
+            if len(roots) != 1:
+                return None
+            values[sign] = roots.pop()
+        half_exact = sp.radsimp((values[1] - values[-1]) / 2)
+        centre_exact = sp.radsimp((values[1] + values[-1]) / 2)
+        return {"half": half_exact, "center": centre_exact, "edge": sp.radsimp(2 * half_exact),
+                "corners": {"+": values[1], "-": values[-1]},
+                "bounds": {("+" if k > 0 else "-"): sorted(v) for k, v in corners.items()}}
 
     # ------------------------------------------------------------------ dextrous workspace
     def dextrous(self, *, eps: float = 0.05, sigma=(0.25, 4.0), box=None, progress=None, time_limit=None,
@@ -386,8 +464,9 @@ class Orthoglide:
             raise InvalidParameterError(f"eps must be a positive number; got {eps!r}")
         sigma = _check_sigma(sigma)
         b = Box.from_bounds(box or {x: (-1, 1), y: (-1, 1), z: (-1, 1)})
-        paving = subdivide(lambda boxes: self.box_module(boxes, sigma), b, delta=eps, size="width",
-                           progress=progress, time_limit=time_limit, max_boxes=max_boxes, label="dextrous")
+        paving = subdivide(threaded(lambda boxes: self.box_module(boxes, sigma)), b, delta=eps, size="width",
+                           progress=progress, time_limit=time_limit, max_boxes=max_boxes, label="dextrous",
+                           chunk=50_000)
         return DextrousResult(paving, sigma, float(eps))
 
 
@@ -407,11 +486,49 @@ class CubeResult:
     sigma: tuple
     seconds: float
     boxes: dict
+    binding: list = field(default_factory=list)
+    exact: dict | None = None
+
+    @property
+    def closed_form(self) -> str | None:
+        """The edge and the centre in closed form, with the binding corners, when they were derived."""
+        if self.exact is None:
+            return None
+        e = self.exact
+        bounds = "; ".join(f"corner ({s}, {s}, {s}) on {', '.join(b)}" for s, b in e["bounds"].items())
+        return (f"edge = {e['edge']} = {float(e['edge']):.9f}, centre x = y = z = {e['center']} = "
+                f"{float(e['center']):.9f} (binding: {bounds})")
 
     def to_dict(self) -> dict:
-        return {"center": [float(v) for v in self.center], "edge_lower": self.edge_lower,
+        data = {"center": [float(v) for v in self.center], "edge_lower": self.edge_lower,
                 "edge_upper": self.edge_upper, "alpha": self.alpha, "sigma": list(self.sigma),
-                "seconds": self.seconds, "boxes": dict(self.boxes)}
+                "seconds": self.seconds, "boxes": dict(self.boxes), "binding": self.binding}
+        if self.exact is not None:
+            data["closed_form"] = self.closed_form
+            data["edge_exact"] = str(self.exact["edge"])
+            data["center_exact"] = str(self.exact["center"])
+        return data
+
+
+def _stages(progress, label):
+    """``say(text)`` writes the stage of a long run on stderr (by default when stderr is a terminal)."""
+    import sys
+
+    enabled = sys.stderr.isatty() if progress is None else bool(progress)
+    shown = [False]
+
+    def say(text):
+        if not enabled:
+            return
+        if text is None:
+            if shown[0]:
+                sys.stderr.write("\n")
+            return
+        sys.stderr.write(f"\r{label}: {text:<45}")
+        sys.stderr.flush()
+        shown[0] = True
+
+    return say
 
 
 def _octants(boxes: np.ndarray) -> np.ndarray:

@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["scatter_workspace_3d", "plot_reach", "plot_sweeps", "plot_paving", "save_figure", "plot_planar_step",
-           "plot_boundary_loops"]
+__all__ = ["scatter_workspace_3d", "plot_reach", "plot_sweeps", "plot_paving", "plot_paving_slices", "save_figure",
+           "plot_planar_step", "plot_boundary_loops"]
 
 
 def _pyplot():
@@ -178,6 +178,49 @@ def _plot_paving_3d(paving, *, ax=None, title=None):
     if title:
         ax.set_title(title)
     return artists
+
+
+def plot_paving_slices(paving, *, axis: int = 2, values=(-0.4, 0.0, 0.3), reference=None, title=None):
+    """2D slices of a 3D paving: the boxes met by the plane ``variable[axis] = value``, one panel per value.
+
+    ``reference`` is an optional callable ``(points (m, 3)) -> bool array`` (for
+    instance numeric eigenvalues) whose boundary is drawn in red on each slice,
+    an independent picture to hold the certified boxes against.  Returns the
+    figure.
+    """
+    from matplotlib.collections import PolyCollection
+
+    plt = _pyplot()
+    if len(paving.variables) != 3:
+        raise ValueError(f"plot_paving_slices draws 3D pavings; this one has {len(paving.variables)} variables")
+    others = [k for k in range(3) if k != axis]
+    lo, hi = paving.box.lower, paving.box.upper
+    fig, axes = plt.subplots(1, len(values), figsize=(3.6 * len(values), 3.6), squeeze=False)
+    for ax, v in zip(axes[0], values):
+        for kind, colour in (("inner", "#4caf50"), ("boundary", "#ffd54f")):
+            boxes = getattr(paving, kind)
+            boxes = boxes[(boxes[:, axis, 0] <= v) & (v <= boxes[:, axis, 1])]
+            a, b = others
+            verts = [[(q[a, 0], q[b, 0]), (q[a, 1], q[b, 0]), (q[a, 1], q[b, 1]), (q[a, 0], q[b, 1])] for q in boxes]
+            ax.add_collection(PolyCollection(verts, facecolors=colour, edgecolors="none", label=f"{kind} ({len(boxes)})"))
+        if reference is not None:
+            u, w = np.meshgrid(np.linspace(lo[others[0]], hi[others[0]], 400),
+                               np.linspace(lo[others[1]], hi[others[1]], 400))
+            pts = np.empty(u.shape + (3,))
+            pts[..., axis], pts[..., others[0]], pts[..., others[1]] = v, u, w
+            inside = np.asarray(reference(pts.reshape(-1, 3)), dtype=float).reshape(u.shape)
+            ax.contour(u, w, inside, levels=[0.5], colors="r", linewidths=0.8)
+        ax.set_xlim(lo[others[0]], hi[others[0]])
+        ax.set_ylim(lo[others[1]], hi[others[1]])
+        ax.set_aspect("equal")
+        ax.set_xlabel(str(paving.variables[others[0]]))
+        ax.set_ylabel(str(paving.variables[others[1]]))
+        ax.set_title(f"{paving.variables[axis]} = {v}", fontsize="medium")
+        ax.legend(loc="upper right", fontsize="x-small")
+    if title:
+        fig.suptitle(title)
+    fig.tight_layout()
+    return fig
 
 
 _ARC_COLOURS = {"I": "tab:blue", "II": "tab:red", "III": "tab:green"}   # the paper's figures 4 to 6

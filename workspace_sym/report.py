@@ -415,7 +415,7 @@ def paving_report(paving, out, *, title: str = "Certified paving", command: str 
 
 def orthoglide_report(model, out, *, eps: float = 0.125, alpha: float = 0.01, command: str | None = None) -> Path:
     """Report of the Orthoglide: J, the pencil polynomial, the certified dextrous volume and the largest cube."""
-    from .plotting import plot_paving, save_figure
+    from .plotting import plot_paving, plot_paving_slices, save_figure
 
     out = Path(out)
     start = time.perf_counter()
@@ -432,6 +432,10 @@ def orthoglide_report(model, out, *, eps: float = 0.125, alpha: float = 0.01, co
              f"(no division), whose coefficients have {', '.join(str(len(sp.Add.make_args(k))) for k in pencil.all_coeffs())} "
              "terms; its leading coefficient is")
     doc.math("[\\lambda^3]\\,q", pencil.all_coeffs()[0])
+    doc.para("Boxes are certified with the inverse N = A^T B^-2 A = (J J^T)^-1 instead: enclosed in mean-value "
+             "form, rotated by the eigenvectors at the box centre, N - I/sigma_max and I/sigma_min - N proved "
+             "positive definite (inside) or a Rayleigh quotient out of range (outside).")
+    doc.math("N", model.inverse)
     doc.heading("Dextrous workspace")
     doc.table(["eps", "inside volume (proved)", "E (undecided)", "boxes in / undecided / out", "seconds"],
               [[str(eps), f"{d['volume_inner']:.6f}", f"{d['volume_undecided']:.6f}",
@@ -441,9 +445,20 @@ def orthoglide_report(model, out, *, eps: float = 0.125, alpha: float = 0.01, co
     doc.table(["centre", "edge proved inside", "no enclosed cube above", "alpha", "seconds"],
               [[", ".join(f"{v:.6f}" for v in c["center"]), f"{c['edge_lower']:.6f}", f"{c['edge_upper']:.6f}",
                 str(alpha), f"{c['seconds']:.1f}"]])
-    doc.para("Paper (alpha = 0.001): centre (0.085938, 0.085938, 0.085938), edge 0.643950, no cube above 0.643952.")
+    if cube.exact is not None:
+        doc.para("The binding points are the corners of the cube on the diagonal x = y = z: "
+                 + "; ".join(f"corner ({k}, {k}, {k}) on {', '.join(v)}" for k, v in cube.exact["bounds"].items())
+                 + ". Solving the pencil there exactly gives the edge and the centre (x = y = z) in closed form; the "
+                 "certified bracket above contains them.")
+        doc.math("\\text{edge}", cube.exact["edge"])
+        doc.math("\\text{centre}", cube.exact["center"])
+    doc.para("Paper (alpha = 0.001): centre (0.085938, 0.085938, 0.085938), edge 0.643950, no cube above 0.643952. "
+             "The paper's centre is 11/128, the point of a 1/128 grid next to the closed form.")
     with tempfile.TemporaryDirectory() as tmpdir:
         tmp = Path(tmpdir)
         save_figure(plot_paving(dex.paving, title=f"dextrous workspace, eps = {eps}"), tmp / "dextrous.png")
         doc.figure(tmp / "dextrous.png", "inside boxes (green) and undecided boxes (yellow)")
+        save_figure(plot_paving_slices(dex.paving, reference=lambda p: model._numeric_dextrous(p, dex.sigma)),
+                    tmp / "slices.png")
+        doc.figure(tmp / "slices.png", "slices of the boxes; red: the boundary from numeric eigenvalues")
         return _publish(doc, tmp, out, command=command, start=start)
