@@ -22,9 +22,10 @@ def main(epsilons):
     print("paper, eps = 0.05: inside 1.468, E = 0.48, about 5 h")
     for eps in epsilons:
         d = o.dextrous(eps=eps).to_dict()
+        ratio = f"{100 * d['volume_undecided'] / d['volume_inner']:.1f} %" if d["volume_inner"] else "-"
         print(f"eps = {eps}: {d['seconds']:.1f} s, {d['boxes_evaluated']} boxes evaluated, inside "
               f"{d['volume_inner']:.4f} ({d['boxes']['inner']} boxes), E {d['volume_undecided']:.4f} "
-              f"({d['boxes']['undecided']} boxes), E / inside {100 * d['volume_undecided'] / d['volume_inner']:.1f} %, "
+              f"({d['boxes']['undecided']} boxes), E / inside {ratio}, "
               f"outside {d['boxes']['outer']} boxes")
     print("paper, largest cube (alpha = 0.001): centre 0.085938 (x = y = z), edge 0.643950, none above 0.643952")
     for alpha in (0.001, 1e-6, 1e-9):

