@@ -34,7 +34,7 @@ rather than with any characteristic polynomial:
 The characteristic polynomial of ``J J^T`` (and the pencil ``det(lambda A A^T - B^2)``)
 is derived symbolically for reports; certifying with it was measured far
 weaker: at eps = 0.05 the pencil form with Descartes' rule left E = 2.66 in
-105 s, the matrix form leaves E = 0.53 in about 4 s (BENCHMARKS.md).  A
+105 s, the matrix form leaves E = 0.53 in about 1 s (BENCHMARKS.md).  A
 polynomial coefficient mixes every eigenvalue and its enclosure over a box
 grows with all of them, where the rotated matrix separates them.
 """
@@ -152,7 +152,7 @@ class Orthoglide:
     def charpoly(self) -> sp.Poly:
         """``det(lambda I - J J^T)`` as a polynomial in lambda (coefficients in x, y, z, eta_i).
 
-        Equal to ``pencil / det(A)^2``; shown for reports, the certificates use the pencil.
+        Equal to ``pencil / det(A)^2``; shown for reports (the certificates use :attr:`inverse`).
         """
         detA = self._reduce(self.A.det())
         coeffs = [c / self._reduce(detA**2) for c in self.pencil.all_coeffs()]
@@ -597,7 +597,10 @@ def inverse_entries(x, y, z, s, r):
 
 
 def _leg_terms(X):
-    """Squares, ``eta_i^2``, ``s_i = 1/eta_i^2`` and ``r_i = 1/eta_i`` as intervals (NaN where ``eta_i^2`` may be <= 0)."""
+    """Squares, ``eta_i^2``, ``s_i = 1/eta_i^2`` and ``r_i = 1/eta_i`` as intervals.
+
+    ``s_i`` and ``r_i`` are NaN (no enclosure) where ``eta_i^2`` may be <= 0.
+    """
     squares = [v.sq() for v in X]
     eta2 = [1 - (squares[1] + squares[2]), 1 - (squares[0] + squares[2]), 1 - (squares[0] + squares[1])]
     s = [Interval(*arith.div((1.0, 1.0), (np.where(e.lo > 0, e.lo, np.nan), e.hi))) for e in eta2]

@@ -202,7 +202,8 @@ def plot_paving_slices(paving, *, axis: int = 2, values=(-0.4, 0.0, 0.3), refere
             boxes = boxes[(boxes[:, axis, 0] <= v) & (v <= boxes[:, axis, 1])]
             a, b = others
             verts = [[(q[a, 0], q[b, 0]), (q[a, 1], q[b, 0]), (q[a, 1], q[b, 1]), (q[a, 0], q[b, 1])] for q in boxes]
-            ax.add_collection(PolyCollection(verts, facecolors=colour, edgecolors="none", label=f"{kind} ({len(boxes)})"))
+            ax.add_collection(PolyCollection(verts, facecolors=colour, edgecolors="none",
+                                             label=f"{kind} ({len(boxes)})"))
         if reference is not None:
             u, w = np.meshgrid(np.linspace(lo[others[0]], hi[others[0]], 400),
                                np.linspace(lo[others[1]], hi[others[1]], 400))

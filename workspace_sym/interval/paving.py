@@ -23,12 +23,12 @@ import numpy as np
 import sympy as sp
 
 from ..errors import BoxError, ConstraintError, InvalidParameterError, check_choice
-from . import mp as mpi
 from . import arith
+from . import mp as mpi
 from .compiler import BACKENDS, compile_expr
 
-__all__ = ["Certificate", "Box", "Constraint", "parse_constraints", "certify_box", "pave", "subdivide", "threaded", "Paving",
-           "hausdorff", "box_measure", "SIZES"]
+__all__ = ["Certificate", "Box", "Constraint", "parse_constraints", "certify_box", "pave", "subdivide", "threaded",
+           "Paving", "hausdorff", "box_measure", "SIZES"]
 
 SIZES = ("diameter", "width")
 
