@@ -4,7 +4,8 @@ Ours (numpy engine) against the paper's timings (Rybak et al. 2016: 0.9 / 2.4 / 
 delta = 0.5 / 0.25 / 0.07, Python on a 2.2 GHz i7) and against codac 2.x run in this
 process: codac.sivia and codac.pave(SepInverse).  codac's eps bounds the largest edge
 of a box, so ours runs with size="width" for the side-by-side comparison and with the
-paper's diameter as well.  Needs the bench extra (pip install -e .[bench]).
+paper's diameter as well; ``contract=True`` (forward-backward contraction, the
+counterpart of SepInverse) runs with the width.  Needs the bench extra (pip install -e .[bench]).
 
 Run: python benchmarks/bench_paving.py
 """
@@ -45,15 +46,16 @@ def main():
     exact = float(model.exact_measure)
     print(f"exact area {exact:.6f}")
     model.pave(delta=0.5)  # compile once
-    header = f"{'delta':>6} {'method':<28} {'seconds':>9} {'inner area':>11} {'boundary area':>14} {'boxes in/bd':>14}"
+    header = f"{'delta':>6} {'method':<34} {'seconds':>9} {'inner area':>11} {'boundary area':>14} {'boxes in/bd':>14}"
     print(header)
     for delta in (0.5, 0.25, 0.07, 0.01):
         rows = []
-        for size in ("diameter", "width"):
-            t, p = best_of(lambda: model.pave(delta=delta, size=size), repeat=10)
+        for size, contract in (("diameter", False), ("width", False), ("width", True)):
+            t, p = best_of(lambda: model.pave(delta=delta, size=size, contract=contract), repeat=10)
             m = p.measures
             assert m["inner"] <= exact <= m["inner"] + m["boundary"]
-            rows.append((f"workspace_sym ({size})", t, m["inner"], m["boundary"], len(p.inner), len(p.boundary)))
+            name = f"workspace_sym ({size}{', contract' if contract else ''})"
+            rows.append((name, t, m["inner"], m["boundary"], len(p.inner), len(p.boundary)))
         if delta in PAPER:
             rows.append(("paper (Rybak et al. 2016)", PAPER[delta], float("nan"), float("nan"), 0, 0))
         peers = codac_runs(delta)
@@ -63,11 +65,14 @@ def main():
             for name, (t, a_in, a_bd, n_in, n_bd) in peers.items():
                 rows.append((name, t, a_in, a_bd, n_in, n_bd))
         for name, t, a_in, a_bd, n_in, n_bd in rows:
-            print(f"{delta:>6} {name:<28} {t:>9.4f} {a_in:>11.4f} {a_bd:>14.4f} {n_in:>6}/{n_bd:<7}")
+            print(f"{delta:>6} {name:<34} {t:>9.4f} {a_in:>11.4f} {a_bd:>14.4f} {n_in:>6}/{n_bd:<7}")
         if peers is not None:
-            ours = rows[1][1]
-            print(f"{'':>6} speed-up vs codac.sivia at the same width: {peers['codac.sivia'][0] / ours:.1f}x; "
-                  f"vs pave(SepInverse): {peers['codac.pave(SepInverse)'][0] / ours:.1f}x")
+            plain, cut = rows[1], rows[2]
+            sivia, sep = peers["codac.sivia"], peers["codac.pave(SepInverse)"]
+            print(f"{'':>6} plain vs codac.sivia at the same width: {sivia[0] / plain[1]:.1f}x faster, boundary "
+                  f"{plain[3]:.4f} vs {sivia[2]:.4f}")
+            print(f"{'':>6} contract vs codac.pave(SepInverse): {sep[0] / cut[1]:.1f}x faster, boundary "
+                  f"{cut[3]:.4f} vs {sep[2]:.4f}")
 
 
 if __name__ == "__main__":

@@ -95,6 +95,20 @@ def test_pave_rpr2_json_contract(capsys):
     assert data["delta"] == 0.07 and data["backend"] == "numpy" and data["seconds"] >= 0
 
 
+def test_pave_with_contraction(capsys):
+    """--contract: the exact area stays bracketed, the bracket is narrower, the key says so."""
+    _, out, _ = run(capsys, "pave", "rpr2", "--delta", "0.07", "--json")
+    plain = json.loads(out)
+    code, out, _ = run(capsys, "pave", "rpr2", "--delta", "0.07", "--json", "--contract")
+    cut = json.loads(out)
+    assert code == 0 and cut["contract"] is True and plain["contract"] is False
+    lo, hi = cut["measure_bounds"]
+    assert lo <= cut["exact_measure"] <= hi
+    assert cut["boundary"]["measure"] < plain["boundary"]["measure"] / 2
+    code, out, err = run(capsys, "pave", "rpr2", "--delta", "0.07", "--contract", "--backend", "mpmath")
+    assert code == 2 and out == "" and err.count("\n") == 1 and "numpy backend" in err
+
+
 def test_pave_free_constraints_and_plot(tmp_path, capsys):
     plot = tmp_path / "disc.png"
     code, out, _ = run(capsys, "pave", "--var", "x=-2:2", "--var", "y=-2:2", "--constraint", "x**2 + y**2 <= 1",

@@ -6,7 +6,7 @@ from fractions import Fraction
 import numpy as np
 import pytest
 import sympy as sp
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from workspace_sym import robots
@@ -58,13 +58,17 @@ def _sample(boxes, rng, k=8):
     return pts
 
 
+@pytest.mark.parametrize("contract", [False, True])
 @settings(max_examples=60, deadline=None)
 @given(constraint_set(), st.integers(0, 2**31))
-def test_inner_points_satisfy_and_outer_points_violate_exactly(cs, seed):
+@example(([x1 <= 0], {x1: (-1, 1), x2: (0, 1)}), 0)  # an exact cut at 0: the face x1 = 0 is not outer
+@example(([x1**2 + x2**2 - 4 <= 0, x1 * x2 - 1 <= 0], {x1: (-3, 3), x2: (-3, 3)}), 1)
+def test_inner_points_satisfy_and_outer_points_violate_exactly(contract, cs, seed):
     """Property: a point of an inner box satisfies every constraint in exact rational arithmetic;
-    a point of an outer box violates one."""
+    a point of an outer box violates one.  With ``contract``, the boxes include the slices cut off
+    by forward-backward contraction."""
     constraints, box = cs
-    p = pave(constraints, box, delta=0.3)
+    p = pave(constraints, box, delta=0.3, contract=contract)
     gs = [c.g for c in parse_constraints(constraints, VARS)]  # g = lhs - rhs; constant True -> -1
     rng = np.random.default_rng(seed)
     for pt in _sample(p.inner, rng):
@@ -104,15 +108,22 @@ def test_refinement_never_loses_a_proved_box(cs):
     assert fine.measures["inner"] >= coarse.measures["inner"]
 
 
+@pytest.mark.parametrize("contract", [False, True])
 @settings(max_examples=30, deadline=None)
 @given(constraint_set())
-def test_measures_add_up_and_bracket(cs):
+def test_measures_add_up_and_bracket(contract, cs):
+    """Property: the boxes tile the initial box (they lie in it and their measures add up to it)."""
     constraints, box = cs
-    p = pave(constraints, box, delta=0.25)
+    p = pave(constraints, box, delta=0.25, contract=contract)
     m = p.measures
-    total = Box.from_bounds(box).measure
+    b = Box.from_bounds(box)
+    total = b.measure
     assert abs(sum(m.values()) - total) <= 1e-9 * total
     assert p.measure_bounds[0] <= p.measure_bounds[1]
+    for kind in ("inner", "boundary", "outer"):
+        boxes = getattr(p, kind)
+        assert np.all(boxes[:, :, 0] <= boxes[:, :, 1])
+        assert np.all(boxes[:, :, 0] >= b.array[:, 0]) and np.all(boxes[:, :, 1] <= b.array[:, 1])
 
 
 def test_interval_trig_constraint_is_sound():
@@ -151,10 +162,11 @@ def test_lens_area_identities():
     assert sp.simplify(lens_area(1, 1, 1) - (2 * sp.pi / 3 - sp.sqrt(3) / 2)) == 0
 
 
+@pytest.mark.parametrize("contract", [False, True])
 @pytest.mark.parametrize("delta", [0.5, 0.25, 0.07])
-def test_every_paving_brackets_the_exact_area(rybak, delta):
+def test_every_paving_brackets_the_exact_area(rybak, delta, contract):
     """Rybak et al. 2016, figure 4a-c: the exact area lies between inner and inner + boundary."""
-    p = rybak.pave(delta=delta)
+    p = rybak.pave(delta=delta, contract=contract)
     lo, hi = p.measure_bounds
     exact = float(rybak.exact_measure)
     assert lo <= exact <= hi

@@ -171,7 +171,7 @@ def cmd_pave(args) -> int:
         constraints, exact = args.constraint, None
     paving = pave(constraints, box, delta=args.delta, backend=args.backend, size=args.size,
                   max_boxes=args.max_boxes, time_limit=args.time_limit, progress=args.progress, digits=args.digits,
-                  exact_measure=exact)
+                  exact_measure=exact, contract=args.contract)
     if args.plot:
         from .plotting import plot_paving, save_figure
 
@@ -181,7 +181,8 @@ def cmd_pave(args) -> int:
         _emit_json(result)
         return 0
     lo, hi = paving.measure_bounds
-    print(f"delta = {paving.delta} ({paving.size}), backend {paving.backend}: {paving.seconds:.3f} s, "
+    how = ", with contraction" if paving.contract else ""
+    print(f"delta = {paving.delta} ({paving.size}), backend {paving.backend}{how}: {paving.seconds:.3f} s, "
           f"{paving.evaluated} boxes evaluated")
     for kind in ("inner", "boundary", "outer", "pending"):
         print(f"  {kind:<8} {result[kind]['boxes']:>8} boxes, measure {result[kind]['measure']:.6f}")
@@ -402,6 +403,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="box size compared with delta: diameter (paper) or largest edge")
     p.add_argument("--backend", choices=("numpy", "mpmath"), default="numpy")
     p.add_argument("--digits", type=int, default=30, help="precision of the mpmath backend")
+    p.add_argument("--contract", action="store_true",
+                   help="also cut proved slices off undecided boxes (forward-backward contraction; numpy backend)")
     p.add_argument("--max-boxes", type=int, help="stop after this many boxes (the rest is pending)")
     p.add_argument("--time-limit", type=float, help="stop after this many seconds (the rest is pending)")
     p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,

@@ -14,10 +14,10 @@ from __future__ import annotations
 
 import enum
 import math
-from functools import lru_cache
 import sys
 import time
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 import sympy as sp
@@ -25,7 +25,8 @@ import sympy as sp
 from ..errors import BoxError, ConstraintError, InvalidParameterError, check_choice
 from . import arith
 from . import mp as mpi
-from .compiler import BACKENDS, compile_expr
+from .compiler import BACKENDS, best_form, compile_expr
+from .contractor import Program
 
 __all__ = ["Certificate", "Box", "Constraint", "parse_constraints", "certify_box", "pave", "subdivide", "threaded",
            "Paving", "hausdorff", "box_measure", "SIZES"]
@@ -280,6 +281,12 @@ def _decider(constraints: tuple, variables: tuple, backend: str, digits: int):
     return _Decider(constraints, variables, backend, digits)
 
 
+@lru_cache(maxsize=256)
+def _program(constraints: tuple, variables: tuple) -> Program:
+    """The contraction program of a constraint set (cached like the deciders)."""
+    return Program([best_form(c.g, variables) for c in constraints], variables)
+
+
 def certify_box(box, constraints, *, variables=None, backend: str = "numpy", digits: int = 30) -> Certificate:
     """IN if every constraint holds on the whole box, OUT if one fails on the whole box, else UNDECIDED.
 
@@ -328,6 +335,7 @@ class Paving:
     evaluated: int
     stop_reason: str = ""
     exact_measure: object = field(default=None)
+    contract: bool = False
 
     @property
     def measures(self) -> dict:
@@ -350,6 +358,7 @@ class Paving:
             "delta": self.delta,
             "size": self.size,
             "backend": self.backend,
+            "contract": self.contract,
             "complete": self.complete,
             "boxes_evaluated": self.evaluated,
             "seconds": self.seconds,
@@ -420,7 +429,7 @@ def _bisect(boxes: np.ndarray):
 
 def pave(constraints, box, *, delta: float, variables=None, backend: str = "numpy", size: str = "diameter",
          max_boxes: int | None = None, time_limit: float | None = None, progress: bool | None = None,
-         digits: int = 30, chunk: int = 200_000, exact_measure=None) -> Paving:
+         digits: int = 30, chunk: int = 200_000, exact_measure=None, contract: bool = False) -> Paving:
     """Non-uniform covering of ``{x in box : every constraint}`` (METHODS.md section 2).
 
     Parameters
@@ -438,6 +447,12 @@ def pave(constraints, box, *, delta: float, variables=None, backend: str = "nump
     progress : show a progress bar on stderr (default: when stderr is a
         terminal and the run lasts more than a second).
     digits : precision of the mpmath backend.
+    contract : bool
+        Also cut proved inner and outer slices off every undecided box by
+        forward-backward contraction of the constraints (numpy backend;
+        :mod:`~workspace_sym.interval.contractor`).  Fewer, tighter boundary
+        boxes at the same ``delta``; the boxes are no longer those of a plain
+        bisection tree.
 
     Returns
     -------
@@ -452,10 +467,15 @@ def pave(constraints, box, *, delta: float, variables=None, backend: str = "nump
     """
     check_choice("backend", backend, BACKENDS)
     cons, b = _setup(constraints, box, variables)  # delta and size are checked by subdivide
+    if contract and backend != "numpy":
+        raise InvalidParameterError("contraction (contract=True, --contract) needs the numpy backend; "
+                                    f"got backend={backend!r}")
     decide = _decider(cons, b.variables, backend, digits)
+    separate = _program(cons, b.variables).separate if contract else None
     return subdivide(decide, b, delta=delta, size=size, max_boxes=max_boxes, time_limit=time_limit,
                      progress=progress, chunk=chunk, constraints=cons, backend=backend,
-                     exact_measure=exact_measure)
+                     exact_measure=exact_measure, separate=separate,
+                     presplit=0 if contract else 512)  # contraction changes the tree: start from the box
 
 
 def _check_delta(delta, name="delta"):
@@ -488,7 +508,7 @@ def threaded(decide, workers: int | None = None, *, min_batch: int = 8192):
 def subdivide(decide, box: Box, *, delta: float, size: str = "diameter", max_boxes: int | None = None,
               time_limit: float | None = None, progress: bool | None = None, chunk: int = 200_000,
               constraints=(), backend: str = "numpy", exact_measure=None, label: str = "paving",
-              presplit: int = 512) -> Paving:
+              presplit: int = 512, separate=None) -> Paving:
     """Branch and bisect with any box classifier: the loop behind :func:`pave`.
 
     ``decide(boxes)`` takes an ``(N, n, 2)`` array and returns codes: 1 for a
@@ -503,6 +523,11 @@ def subdivide(decide, box: Box, *, delta: float, size: str = "diameter", max_box
     has its children decided too, so only the number of boxes changes (the
     measures of the Rybak benchmark are identical with and without; 1.3x to
     1.8x faster).  ``presplit=0`` evaluates from the initial box.
+
+    ``separate(boxes)``, optional, runs on the undecided boxes and returns a
+    :class:`~workspace_sym.interval.contractor.Separation`: proved inner and
+    outer slices and the undecided remainder, which alone goes on to the
+    size test and the bisection.
     """
     _check_delta(delta)
     check_choice("size", size, SIZES)
@@ -533,12 +558,17 @@ def subdivide(decide, box: Box, *, delta: float, size: str = "diameter", max_box
             take = len(work) if max_boxes is None else min(len(work), max_boxes - evaluated)
             take = min(take, chunk)
             batch = work[:take]
-            codes = decide(batch)  # an interrupt here leaves the batch in work: pending
+            codes = decide(batch)  # an interrupt here or in separate leaves the batch in work: pending
+            und = batch[codes == 0]
+            if separate is not None:
+                cut = separate(und)
+                inner.append(cut.inner)
+                outer.append(cut.outer)
+                und = cut.kept
             work = work[take:]
             evaluated += len(batch)
             inner.append(batch[codes == 1])
             outer.append(batch[codes == -1])
-            und = batch[codes == 0]
             small = _sizes(und, size) <= delta
             boundary.append(und[small])
             children, thin = _bisect(und[~small])
@@ -557,7 +587,7 @@ def subdivide(decide, box: Box, *, delta: float, size: str = "diameter", max_box
     stack = lambda parts: np.concatenate(parts) if parts else empty  # noqa: E731
     return Paving(box.variables, box, tuple(constraints), float(delta), backend, size, stack(inner),
                   stack(boundary), stack(outer), work if len(work) else empty, time.perf_counter() - start,
-                  not reason, evaluated, reason, exact_measure)
+                  not reason, evaluated, reason, exact_measure, separate is not None)
 
 
 # ----------------------------------------------------------------------------- Hausdorff

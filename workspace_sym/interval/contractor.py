@@ -1,0 +1,380 @@
+"""Forward-backward contraction (HC4-revise) of a constraint set, on arrays of boxes.
+
+The constraints ``g_j(x) <= 0`` are written once as a straight-line program
+over their expression DAG (common subexpressions shared: Rybak's four
+constraints share ``x^2 + y^2`` and ``(x - 5)^2 + y^2``).  A forward sweep
+encloses every node over a box; a backward sweep intersects each root with a
+target (``[-inf, 0]`` for the constraint, ``[0, inf]`` for its negation) and
+projects it back onto the children through the inverse of each operation,
+outward-rounded, down to the variables.  The result encloses every point of
+the box where the targets are met, so what it cuts off is proved:
+
+* contracting with all constraints at ``[-inf, 0]`` gives ``C_out``: the points
+  of ``B \\ C_out`` violate some constraint (outer);
+* contracting with each ``g_j`` at ``[0, inf]`` and taking the hull gives
+  ``C_in``: the points of ``C_out \\ C_in`` satisfy every constraint (inner).
+
+This is the separator of Jaulin's set inversion (``codac.SepInverse``) on the
+program of the constraints.  A box is contracted only where its whole
+forward sweep is finite: there every function in it is defined and
+continuous, so a point cut off really satisfies, or violates, the
+constraints; a domain error or a divisor containing zero leaves the box as
+it is (undecided).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import sympy as sp
+
+from ..errors import ExpressionError
+from . import arith
+from .compiler import _numpy_const
+
+__all__ = ["Program", "Separation"]
+
+_INF = np.inf
+_ONE = (1.0, 1.0)
+_ROOT_REL = 1e-12   # covers pow(x, 1/n) with 1/n rounded: |ln x| 2^-53 / n < 1e-13 for finite x
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Separation:
+    """Result of :meth:`Program.separate` on ``N`` boxes.
+
+    ``inner`` and ``outer`` are ``(M, n, 2)`` arrays of proved slices;
+    ``kept`` is ``(N', n, 2)``, the undecided remainder of each box that was
+    not wholly decided.  Together they tile the input boxes.
+    """
+
+    inner: np.ndarray
+    outer: np.ndarray
+    kept: np.ndarray
+
+
+def _root(x, n: int, upward: bool):
+    """An outward bound of the real ``n``-th root of ``x`` (odd ``n``: sign kept; even: ``x >= 0``)."""
+    if n == 2:
+        r = np.sqrt(x)
+        return arith.up(r) if upward else np.maximum(arith.down(r), 0.0)
+    r = np.sign(x) * np.power(np.abs(x), 1.0 / n)
+    step = np.abs(r) * _ROOT_REL + 2.0**-1074
+    return r + step if upward else r - step
+
+
+def _square_inverse(z):
+    """``{a : sqrt(a) in z}``, outward."""
+    lo, hi = np.maximum(z[0], 0.0), z[1]
+    return np.maximum(arith.down(lo * lo), 0.0), arith.up(hi * hi)
+
+
+def _intersect(old, new):
+    """``old`` cut by ``new``; a NaN bound of ``new`` (a failed inverse) cuts nothing."""
+    return np.fmax(old[0], new[0]), np.fmin(old[1], new[1])
+
+
+def _columns(boxes):
+    return [(boxes[:, k, 0], boxes[:, k, 1]) for k in range(boxes.shape[1])]
+
+
+def _peel(outer_box, inner_box):
+    """Boxes tiling ``outer_box \\ inner_box`` (``inner_box`` inside it): at most two slabs a dimension."""
+    n = outer_box.shape[1]
+    slabs = []
+    current = outer_box.copy()
+    for k in range(n):
+        below = inner_box[:, k, 0] > current[:, k, 0]
+        if below.any():
+            s = current[below].copy()
+            s[:, k, 1] = inner_box[below, k, 0]
+            slabs.append(s)
+        above = inner_box[:, k, 1] < current[:, k, 1]
+        if above.any():
+            s = current[above].copy()
+            s[:, k, 0] = inner_box[above, k, 1]
+            slabs.append(s)
+        current[:, k, :] = inner_box[:, k, :]
+    return np.concatenate(slabs) if slabs else outer_box[:0]
+
+
+class Program:
+    """The constraints ``g_j <= 0`` as one straight-line program, with forward and backward sweeps.
+
+    Parameters
+    ----------
+    expressions : the ``g_j`` (SymPy)
+    variables : the box's variables, in order
+    min_gain : a contraction by less than this fraction of a box's edge is not
+        applied (the slab it would cut off is not worth a box).
+    passes : forward-backward sweeps per cut, each on the box the previous one
+        left (stops early at a fixed point).  One is the default: on Rybak's
+        robot a second pass shrinks the final boundary by 0.2 % and changes the
+        bisection tree more than it gains.
+
+    Examples
+    --------
+    >>> x, y = sp.symbols("x y")
+    >>> prog = Program([x**2 + y**2 - 1], (x, y))
+    >>> s = prog.separate(np.array([[[0.0, 2.0], [0.0, 0.5]]]))
+    >>> float(s.kept[0, 0, 1]) <= 1.0000001      # x <= 1 wherever x^2 + y^2 <= 1
+    True
+    """
+
+    def __init__(self, expressions, variables, *, min_gain: float = 1e-3, passes: int = 1):
+        self.variables = tuple(variables)
+        self.passes = int(passes)
+        self.min_gain = float(min_gain)
+        self.nodes: list[tuple] = []            # (kind, children, parameter)
+        self._memo: dict = {}
+        for k, v in enumerate(self.variables):
+            self._add(("var", (), k), v)
+        self.roots = [self._build(sp.sympify(g)) for g in expressions]
+        self._order = self._reachable(self.roots)
+
+    # -------------------------------------------------------------- building
+    def _add(self, node, key=None):
+        if key is not None and key in self._memo:
+            return self._memo[key]
+        self.nodes.append(node)
+        i = len(self.nodes) - 1
+        if key is not None:
+            self._memo[key] = i
+        return i
+
+    def _const(self, value):
+        return self._add(("const", (), _numpy_const(value)), ("const", value))
+
+    def _build(self, expr):
+        if expr in self._memo:               # variables and shared subexpressions
+            return self._memo[expr]
+        if expr.is_number:
+            return self._const(expr)
+        if expr.is_Add:
+            # Non-constant terms first, in a fixed order, then the constant: g = e + c shares e.
+            const, rest = expr.as_coeff_Add()
+            terms = sorted(sp.Add.make_args(rest), key=sp.default_sort_key)
+            if len(terms) > 1 and all(t.could_extract_minus_sign() for t in terms):
+                acc = self._add(("neg", (self._build(-rest),), None), rest)
+            else:
+                acc = self._build(terms[0])
+                for t in terms[1:]:
+                    acc = self._add(("add", (acc, self._build(t)), None))
+                self._memo[rest] = acc
+            if const != 0:
+                acc = self._add(("add", (acc, self._const(const)), None))
+            return self._add_key(expr, acc)
+        if expr.is_Mul:
+            coeff, rest = expr.as_coeff_Mul()
+            if coeff == -1:
+                return self._add(("neg", (self._build(rest),), None), expr)
+            factors = sorted(sp.Mul.make_args(expr), key=sp.default_sort_key)
+            acc = self._build(factors[0])
+            for f in factors[1:]:
+                acc = self._add(("mul", (acc, self._build(f)), None))
+            return self._add_key(expr, acc)
+        if expr.is_Pow:
+            base, e = expr.args
+            b = self._build(base)
+            if e.is_Integer and int(e) >= 1:
+                return self._add(("pow", (b,), int(e)), expr)
+            if e.is_Integer:
+                p = b if int(e) == -1 else self._add(("pow", (b,), -int(e)), base ** (-e))
+                return self._add(("recip", (p,), None), expr)
+            if e == sp.Rational(1, 2):
+                return self._add(("sqrt", (b,), None), expr)
+            if e == sp.Rational(-1, 2):
+                r = self._add(("sqrt", (b,), None), sp.sqrt(base))
+                return self._add(("recip", (r,), None), expr)
+        kinds = {sp.sin: "sin", sp.cos: "cos", sp.Abs: "abs"}
+        if type(expr) in kinds:
+            return self._add((kinds[type(expr)], (self._build(expr.args[0]),), None), expr)
+        raise ExpressionError(f"expression: {type(expr).__name__} ({expr}) cannot be contracted; "
+                              "supported: + - * /, integer powers, sqrt, sin, cos, Abs")
+
+    def _add_key(self, expr, i):
+        self._memo[expr] = i
+        return i
+
+    def _reachable(self, roots):
+        """Indices of the nodes under ``roots``, parents before children (the backward order)."""
+        seen, stack = set(), list(roots)
+        while stack:
+            i = stack.pop()
+            if i not in seen:
+                seen.add(i)
+                stack.extend(self.nodes[i][1])
+        return sorted(seen, reverse=True)      # a child is always built before its parents
+
+    # -------------------------------------------------------------- sweeps
+    def forward(self, X):
+        """Enclosures ``(lo, hi)`` of every node over the boxes ``X`` (a list of ``(lo, hi)`` arrays)."""
+        vals = []
+        for kind, ch, p in self.nodes:
+            if kind == "var":
+                vals.append(X[p])
+            elif kind == "const":
+                vals.append(p)
+            elif kind == "add":
+                vals.append(arith.add(vals[ch[0]], vals[ch[1]]))
+            elif kind == "mul":
+                vals.append(arith.mul(vals[ch[0]], vals[ch[1]]))
+            elif kind == "neg":
+                vals.append(arith.neg(vals[ch[0]]))
+            elif kind == "pow":
+                vals.append(arith.ipow(vals[ch[0]], p))
+            elif kind == "recip":
+                vals.append(arith.div(_ONE, vals[ch[0]]))
+            elif kind == "sqrt":
+                vals.append(arith.sqrt(vals[ch[0]]))
+            elif kind == "sin":
+                vals.append(arith.sin(vals[ch[0]]))
+            elif kind == "cos":
+                vals.append(arith.cos(vals[ch[0]]))
+            else:  # abs
+                vals.append(arith.iabs(vals[ch[0]]))
+        return vals
+
+    def _backward(self, forward, targets, order, shape):
+        """Variables' enclosures after cutting ``targets`` (root index -> interval); also the empty mask."""
+        vals = list(forward)
+        empty = np.zeros(shape, dtype=bool)
+        for r, t in targets.items():
+            vals[r] = _intersect(vals[r], t)
+        for i in order:
+            kind, ch, p = self.nodes[i]
+            z = vals[i]
+            empty |= z[0] > z[1]
+            if kind in ("var", "const", "sin", "cos"):
+                continue
+            for pos, c in enumerate(ch):
+                if self.nodes[c][0] != "const":
+                    vals[c] = _intersect(vals[c], self._inverse(kind, pos, [vals[k] for k in ch], z, p))
+        n = len(self.variables)
+        for k in range(n):
+            empty |= vals[k][0] > vals[k][1]
+        return vals[:n], empty
+
+    @classmethod
+    def _inverse(cls, kind, pos, args, z, p):
+        """Enclosure of the values of argument ``pos`` of a node that are consistent with its value ``z``."""
+        if kind == "add":
+            return arith.sub(z, args[1 - pos])
+        if kind == "mul":
+            return arith.div(z, args[1 - pos])        # the whole line when the other factor contains 0
+        if kind == "neg":
+            return arith.neg(z)
+        if kind == "recip":
+            return arith.div(_ONE, z)
+        if kind == "sqrt":
+            return _square_inverse(z)
+        if kind == "abs":
+            return -z[1], z[1]
+        return cls._pow_inverse(args[0], z, p)
+
+    @staticmethod
+    def _pow_inverse(a, z, n):
+        """Enclosure of ``{x in a : x^n in z}``."""
+        if n % 2:
+            return _root(z[0], n, False), _root(z[1], n, True)
+        top = _root(np.maximum(z[1], 0.0), n, True)
+        low = _root(np.maximum(z[0], 0.0), n, False)
+        # x in [-top, -low] or [low, top]; a branch is out when ``a`` misses it (a.lo > -low: no negative
+        # solution in ``a``; a.hi < low: no positive one).  Both out: lo > hi, an empty result.
+        lo = np.where((a[0] >= 0) | (a[0] > -low), low, -top)
+        hi = np.where((a[1] <= 0) | (a[1] < low), -low, top)
+        return lo, hi
+
+    # -------------------------------------------------------------- separation
+    def _defined(self, vals, shape):
+        ok = np.ones(shape, dtype=bool)
+        for (kind, _, _), (lo, hi) in zip(self.nodes, vals):
+            if kind != "const":
+                ok &= np.isfinite(lo) & np.isfinite(hi)
+        return ok
+
+    def _relax(self, boxes, contracted, empty):
+        """The contracted boxes, one float wider each way, with contractions below ``min_gain`` of an edge undone.
+
+        The extra float matters on the faces: a slice cut off is a closed box
+        sharing a face with the contracted box, and a contraction can be
+        exact (``x1 <= 0`` cuts at 0 itself), so the face must lie strictly
+        beyond every point the contraction kept.
+        """
+        out = np.stack([np.stack([np.nextafter(lo, -_INF), np.nextafter(hi, _INF)], axis=-1)
+                        for lo, hi in contracted], axis=1)
+        out = np.clip(out, boxes[:, :, :1], boxes[:, :, 1:])
+        tol = self.min_gain * (boxes[:, :, 1] - boxes[:, :, 0])
+        small_lo = out[:, :, 0] - boxes[:, :, 0] < tol
+        small_hi = boxes[:, :, 1] - out[:, :, 1] < tol
+        out[:, :, 0] = np.where(small_lo, boxes[:, :, 0], out[:, :, 0])
+        out[:, :, 1] = np.where(small_hi, boxes[:, :, 1], out[:, :, 1])
+        bad = np.isnan(out).any(axis=(1, 2)) & ~empty
+        out[bad] = boxes[bad]
+        return out
+
+    def _contract(self, boxes, vals, targets, order, passes):
+        """``boxes`` cut to the points meeting ``targets``, and the mask of boxes with no such point.
+
+        ``vals`` is the forward sweep over ``boxes``; each further pass sweeps
+        the contracted boxes again (tighter enclosures, further cuts) until
+        nothing changes or ``passes`` is reached.
+        """
+        shape = (len(boxes),)
+        empty = np.zeros(shape, dtype=bool)
+        current = boxes
+        for k in range(passes):
+            if k:
+                vals = self.forward(_columns(current))
+            c, e = self._backward(vals, targets, order, shape)
+            empty |= e
+            new = self._relax(current, c, empty)
+            if np.array_equal(new, current):
+                break
+            current = new
+        return current, empty
+
+    def separate(self, boxes: np.ndarray) -> Separation:
+        """Split each box into proved outer slices, proved inner slices and an undecided remainder.
+
+        One backward sweep serves all cuts: the boxes are stacked ``m + 1``
+        times, the first copy cut by every constraint (``g_j <= 0``), copy
+        ``j + 1`` by the negation of constraint ``j`` alone (``g_j >= 0``).
+        """
+        boxes = np.asarray(boxes, dtype=float)
+        N, n = boxes.shape[:2]
+        if N == 0:
+            return Separation(boxes, boxes, boxes)
+        m = len(self.roots)
+        with np.errstate(all="ignore"):
+            vals = self.forward(_columns(boxes))
+            defined = self._defined(vals, (N,))
+            vals = [v if kind == "const" else (np.tile(v[0], m + 1), np.tile(v[1], m + 1))
+                    for (kind, _, _), v in zip(self.nodes, vals)]
+            targets = {}
+            for j, r in enumerate(self.roots):
+                lo, hi = np.full((m + 1, N), -_INF), np.full((m + 1, N), _INF)
+                hi[0] = 0.0
+                lo[j + 1] = 0.0
+                t = (lo.ravel(), hi.ravel())
+                targets[r] = _intersect(targets[r], t) if r in targets else t
+            cut, empty = self._contract(np.tile(boxes, (m + 1, 1, 1)), vals, targets, self._order, self.passes)
+        cut, empty = cut.reshape(m + 1, N, n, 2), empty.reshape(m + 1, N)
+        c_out, out_empty = cut[0], empty[0] & defined
+        # The cut by "some g_j > 0" is the hull of the cuts by each g_j >= 0 (an empty cut adds nothing),
+        # taken within c_out.
+        lo = np.where(empty[1:, :, None], _INF, cut[1:, :, :, 0]).min(axis=0)
+        hi = np.where(empty[1:, :, None], -_INF, cut[1:, :, :, 1]).max(axis=0)
+        c_in = np.stack([np.maximum(lo, c_out[:, :, 0]), np.minimum(hi, c_out[:, :, 1])], axis=-1)
+        # No point violating a constraint in the box, or none within c_out: all of c_out is inner.
+        in_empty = (empty[1:].all(axis=0) | (c_in[:, :, 0] > c_in[:, :, 1]).any(axis=1)) & defined & ~out_empty
+        c_out[~defined] = boxes[~defined]
+        c_in[~defined] = boxes[~defined]
+        outer = [boxes[out_empty]]
+        live = ~out_empty
+        outer.append(_peel(boxes[live], c_out[live]))
+        inner = [c_out[in_empty]]
+        live &= ~in_empty
+        inner.append(_peel(c_out[live], c_in[live]))
+        return Separation(np.concatenate(inner), np.concatenate(outer), c_in[live])
