@@ -45,4 +45,4 @@ def main(epsilons):
 
 
 if __name__ == "__main__":
-    main([float(a) for a in sys.argv[1:]] or [0.25, 0.125, 0.05, 0.01, 0.005])
+    main([float(a) for a in sys.argv[1:]] or [0.25, 0.125, 0.05, 0.01, 0.005, 0.0025])

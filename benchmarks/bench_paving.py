@@ -51,7 +51,7 @@ def main():
     for delta in (0.5, 0.25, 0.07, 0.01):
         rows = []
         for size, contract in (("diameter", False), ("width", False), ("width", True)):
-            t, p = best_of(lambda: model.pave(delta=delta, size=size, contract=contract), repeat=10)
+            t, p = best_of(lambda d=delta, s=size, c=contract: model.pave(delta=d, size=s, contract=c), repeat=10)
             m = p.measures
             assert m["inner"] <= exact <= m["inner"] + m["boundary"]
             name = f"workspace_sym ({size}{', contract' if contract else ''})"

@@ -108,6 +108,39 @@ def test_box_module_never_certifies_falsely(centre, half, corner):
             assert status is False
 
 
+def test_numeric_dextrous_agrees_with_eigvalsh(ortho):
+    """The float Sylvester test against numpy eigenvalues of J J^T at random points of the cylinders
+    (a cross-check of a guess: agreement away from the boundary, where float error cannot flip it)."""
+    rng = np.random.default_rng(4)
+    pts = rng.uniform(-0.7, 0.7, (3000, 3))
+    ev = np.array([ortho.eigenvalues(p) for p in pts])
+    margin = np.minimum(np.abs(ev[:, 0] - 0.25), np.abs(ev[:, -1] - 4)) > 1e-9
+    expected = (ev[:, 0] >= 0.25) & (ev[:, -1] <= 4)
+    got = ortho._numeric_dextrous(pts, (0.25, 4.0))
+    assert 0.2 < expected.mean() < 0.9 and margin.mean() > 0.99
+    assert np.array_equal(got[margin], expected[margin])
+
+
+def test_witnessed_module_skips_only_undecidable_boxes(ortho):
+    """Independent cross-check of both: boxes the witness filter skips (a numerically dextrous and a
+    numerically non-dextrous point among the corners and the centre) are never decided by the
+    certificate, and on the others the verdicts are the certificate's."""
+    rng = np.random.default_rng(5)
+    centres = rng.uniform(-0.8, 0.8, (20000, 3))
+    half = rng.uniform(0.001, 0.03, (20000, 1))
+    boxes = np.stack([centres - half, centres + half], axis=2)
+    full = ortho.box_module(boxes)
+    witnessed = ortho._witnessed_module(boxes, (0.25, 4.0))
+    corners = np.array([[i, j, k] for i in (0, 1) for j in (0, 1) for k in (0, 1)], dtype=float)
+    pts = boxes[:, None, :, 0] + corners[None] * (boxes[:, None, :, 1] - boxes[:, None, :, 0])
+    ok = ortho._numeric_dextrous(pts.reshape(-1, 3), (0.25, 4.0)).reshape(len(boxes), -1)
+    mixed = ok.any(axis=1) & ~ok.all(axis=1)
+    assert mixed.sum() > 500                      # the filter has boxes to skip
+    assert not full[mixed].any()                  # and the certificate decides none of them
+    assert np.array_equal(witnessed, full)
+    assert (full == 1).sum() > 1000 and (full == -1).sum() > 1000
+
+
 def test_certified_boxes_agree_with_50_digit_eigenvalues(ortho):
     """Points drawn from boxes certified inside have every eigenvalue in [1/4, 4] (mpmath, 50 digits);
     points from boxes certified outside (inside the cylinders) have one outside."""
