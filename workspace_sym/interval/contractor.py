@@ -347,11 +347,10 @@ class Program:
         if N == 0:
             return Separation(boxes, boxes, boxes)
         m = len(self.roots)
+        stacked = np.concatenate([boxes] * (m + 1))
         with np.errstate(all="ignore"):
-            vals = self.forward(_columns(boxes))
-            defined = self._defined(vals, (N,))
-            vals = [v if kind == "const" else (np.tile(v[0], m + 1), np.tile(v[1], m + 1))
-                    for (kind, _, _), v in zip(self.nodes, vals)]
+            vals = self.forward(_columns(stacked))
+            defined = self._defined(vals, ((m + 1) * N,))[:N]
             targets = {}
             for j, r in enumerate(self.roots):
                 lo, hi = np.full((m + 1, N), -_INF), np.full((m + 1, N), _INF)
@@ -359,7 +358,7 @@ class Program:
                 lo[j + 1] = 0.0
                 t = (lo.ravel(), hi.ravel())
                 targets[r] = _intersect(targets[r], t) if r in targets else t
-            cut, empty = self._contract(np.tile(boxes, (m + 1, 1, 1)), vals, targets, self._order, self.passes)
+            cut, empty = self._contract(stacked, vals, targets, self._order, self.passes)
         cut, empty = cut.reshape(m + 1, N, n, 2), empty.reshape(m + 1, N)
         c_out, out_empty = cut[0], empty[0] & defined
         # The cut by "some g_j > 0" is the hull of the cuts by each g_j >= 0 (an empty cut adds nothing),
