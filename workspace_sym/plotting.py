@@ -150,7 +150,8 @@ def plot_paving(paving, *, ax=None, show_outer=False, exact_boundary=None, title
     ax.set_xlabel(str(paving.variables[0]))
     ax.set_ylabel(str(paving.variables[1]))
     m_lo, m_hi = paving.measure_bounds
-    ax.set_title(title or f"delta = {paving.delta}: area in [{m_lo:.4f}, {m_hi:.4f}]")
+    how = " with contraction" if paving.contract else ""
+    ax.set_title(title or f"delta = {paving.delta}{how}: area in [{m_lo:.4f}, {m_hi:.4f}]")
     ax.legend(loc="upper right", fontsize="small")
     return artists
 
