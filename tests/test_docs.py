@@ -6,7 +6,8 @@ import importlib
 import pytest
 
 MODULES = ["errors", "expressions", "symbolic", "kinematics", "robots", "sampling", "parallel", "interval.mp",
-           "interval.compiler", "interval.contractor", "interval.paving", "planar", "arrangement", "boundary", "report", "verify"]
+           "interval.compiler", "interval.contractor", "interval.paving", "planar", "arrangement", "boundary",
+           "report", "verify"]
 
 
 @pytest.mark.parametrize("name", MODULES)
