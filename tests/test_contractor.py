@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 
 from workspace_sym import robots
 from workspace_sym.errors import ExpressionError, InvalidParameterError
-from workspace_sym.interval import pave
+from workspace_sym.interval import Certificate, certify_box, pave
 from workspace_sym.interval.contractor import Program
 
 x, y = sp.symbols("x y")
@@ -117,6 +117,22 @@ def test_no_certificate_where_a_constraint_is_undefined(gs, a, b, seed):
                     assert all(v is not None and v <= 0 for v in values), (point, gs)
                 else:
                     assert any(v is not None and v > 0 for v in values), (point, gs)
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.lists(st.tuples(st.integers(-3, 3), st.integers(-3, 3), st.integers(-6, 6)), min_size=1, max_size=3),
+       st.integers(-3, 2), st.integers(-3, 2))
+def test_cut_slices_never_contradict_mpmath_at_100_digits(coeffs, a, b):
+    """Property, second method: every slice the contraction proves inner or outer is never certified the
+    other way by the mpmath backend at 100 digits (which evaluates the constraints on the slice itself)."""
+    constraints = [p * x**2 + q * x * y + y**2 + c <= 0 for p, q, c in coeffs]
+    paving = pave(constraints, {x: (a, a + 3), y: (b, b + 3)}, delta=0.3, contract=True)
+    rng = np.random.default_rng(abs(hash((a, b))) % 2**32)
+    for kind, opposite in (("inner", Certificate.OUT), ("outer", Certificate.IN)):
+        boxes = getattr(paving, kind)
+        for bx in boxes[rng.choice(len(boxes), min(len(boxes), 8), replace=False)] if len(boxes) else []:
+            verdict = certify_box({x: tuple(bx[0]), y: tuple(bx[1])}, constraints, backend="mpmath", digits=100)
+            assert verdict is not opposite, (kind, bx, constraints)
 
 
 @pytest.fixture(scope="module")
