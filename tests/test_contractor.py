@@ -151,6 +151,18 @@ def test_contraction_shrinks_rybak_boundary(rybak, delta):
     assert cut.contract and cut.to_dict()["contract"] is True
 
 
+def test_three_dimensional_ball_is_bracketed_tighter():
+    """n = 3: the ball of radius 1 (volume 4 pi / 3, exact) is bracketed, more tightly than without contraction."""
+    z = sp.Symbol("z")
+    box = {x: (-1.2, 1.2), y: (-1.2, 1.2), z: (-1.2, 1.2)}
+    plain = pave([x**2 + y**2 + z**2 <= 1], box, delta=0.1, size="width")
+    cut = pave([x**2 + y**2 + z**2 <= 1], box, delta=0.1, size="width", contract=True)
+    for p in (plain, cut):
+        lo, hi = p.measure_bounds
+        assert lo <= 4 * np.pi / 3 <= hi
+    assert np.subtract(*cut.measure_bounds[::-1]) < 0.6 * np.subtract(*plain.measure_bounds[::-1])
+
+
 def test_contract_needs_the_numpy_backend(rybak):
     message = r"contraction \(contract=True, --contract\) needs the numpy backend; got backend='mpmath'"
     with pytest.raises(InvalidParameterError, match=message):
