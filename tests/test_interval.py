@@ -178,7 +178,7 @@ def test_centred_form_tightens_repeated_variables():
     assert f.centred
     box = [(np.array([0.9]), np.array([1.1]))]
     lo, hi = f(box)
-    nat = f._natural(box)
+    nat = f.natural(box)
     assert hi[0] - lo[0] < nat[1][0] - nat[0][0]
     assert lo[0] <= 0.9**3 - 0.9 and hi[0] >= 1.1**3 - 1.1
 

@@ -8,24 +8,33 @@ quadratics, the one with the fewest repeated occurrences; when a variable is
 still repeated, the evaluator also computes the centred (mean-value) form
 ``f(m) + grad f(X) . (X - m)`` and intersects the two enclosures.
 
-Compiled evaluators are cached per (expression, variables, backend).
+Rewritings are exact: the constants are made exact first
+(:func:`~workspace_sym.interval.graph.exact_constants`) and hidden behind
+placeholder symbols while SymPy rewrites, and a candidate is kept only when
+it expands back to the expression.  The preparation is bounded: expressions
+larger than ``MAX_REWRITE_OPS`` operations, or a search that has run for
+``REWRITE_SECONDS``, keep the forms found so far (at least the natural one).
+
+The evaluators are :class:`~workspace_sym.interval.graph.Graph` forward
+sweeps; compiled evaluators are cached per (expression, variables, backend).
 """
 
 from __future__ import annotations
 
-from fractions import Fraction
+import time
 from functools import lru_cache
 
 import sympy as sp
 
 from ..errors import ExpressionError, check_choice
 from . import arith
-from . import mp as mpi
+from .graph import Graph, exact_constants
 
 __all__ = ["best_form", "compile_expr", "CompiledExpr", "BACKENDS", "repeated_occurrences"]
 
 BACKENDS = ("numpy", "mpmath")
-_EXACT_INT = 2**53
+MAX_REWRITE_OPS = 400     # larger expressions are evaluated as written
+REWRITE_SECONDS = 2.0     # no further candidate form is tried after this
 
 
 # ----------------------------------------------------------------------------- forms
@@ -62,161 +71,53 @@ def _complete_squares(expr: sp.Expr, variables) -> sp.Expr | None:
     return out if changed else None
 
 
-def best_form(expr, variables) -> sp.Expr:
-    """The rewriting of ``expr`` whose interval extension overestimates least.
+def _hide_constants(expr: sp.Expr):
+    """``expr`` with its non-integer rationals replaced by placeholder symbols, and the way back.
+
+    SymPy's rewritings then see no coefficient they could round or expand
+    into huge integers (a float such as 1e-300 is a rational with a
+    1,000-bit denominator); every rewriting is an identity in the
+    placeholders, so putting the rationals back gives an equal expression.
+    """
+    numbers = sorted((r for r in expr.atoms(sp.Rational) if not r.is_Integer), key=sp.default_sort_key)
+    hide = {r: sp.Dummy(f"k{i}") for i, r in enumerate(numbers)}
+    return expr.xreplace(hide), {d: r for r, d in hide.items()}
+
+
+def best_form(expr, variables, *, seconds: float = REWRITE_SECONDS) -> sp.Expr:
+    """The rewriting of ``expr`` whose interval extension overestimates least (an exact identity).
+
+    Candidates: the expression as given, its factored form, its Horner form
+    and the completed squares of separable quadratics (polynomials only);
+    each is kept only when it expands back to ``expr``.  Floats become the
+    equal rationals.
 
     Examples
     --------
     >>> x, y = sp.symbols("x y")
     >>> best_form(x**2 - 10*x + y**2 - 119, (x, y))
     y**2 + (x - 5)**2 - 144
+    >>> best_form(1e10*x**2*y + 8*x/7, (x, y))      # 8/7 stays exact
+    x*(10000000000*x*y + 8/7)
     """
-    expr = sp.sympify(expr)
+    expr = exact_constants(sp.sympify(expr))
     variables = tuple(variables)
     candidates = [expr]
-    if expr.is_polynomial(*variables):
-        for make in (sp.factor, lambda e: sp.horner(e, *variables) if variables else e,
+    if variables and expr.is_polynomial(*variables) and sp.count_ops(expr) <= MAX_REWRITE_OPS:
+        hidden, back = _hide_constants(expr)
+        reference = sp.expand(hidden)
+        start = time.perf_counter()
+        for make in (sp.factor, lambda e: sp.horner(e, *variables),
                      lambda e: _complete_squares(sp.expand(e), variables)):
+            if time.perf_counter() - start > seconds:
+                break
             try:
-                form = make(expr)
-            except (sp.PolynomialError, ValueError, TypeError):
+                form = make(hidden)
+            except (sp.polys.polyerrors.BasePolynomialError, ValueError, TypeError):
                 continue
-            if form is not None:
-                candidates.append(form)
+            if form is not None and sp.expand(form - reference) == 0:
+                candidates.append(form.xreplace(back))
     return min(candidates, key=lambda e: (repeated_occurrences(e, variables), sp.count_ops(e)))
-
-
-# ----------------------------------------------------------------------------- constants
-def _numpy_const(value: sp.Expr):
-    if value.is_Integer:
-        n = int(value)
-        if abs(n) <= _EXACT_INT:
-            return (float(n), float(n))
-        f = float(n)
-        return (float(arith.down(f)), float(arith.up(f)))
-    if value.is_Rational:
-        p, q = int(value.p), int(value.q)
-        f = p / q  # correctly rounded
-        if Fraction(f) == Fraction(p, q):
-            return (f, f)
-        return (float(arith.down(f)), float(arith.up(f)))
-    # Floats as typed (decimal), pi, sqrt(2), ...: enclose at 60 digits, then widen.
-    with mpi.precision(60):
-        enclosure = _compile_tree(value, (), "mpmath")([])
-    if enclosure is None:
-        raise ExpressionError(f"constant {value} is not a real number")
-    return (float(arith.down(float(enclosure.a))), float(arith.up(float(enclosure.b))))
-
-
-def _mp_const(value: sp.Expr):
-    if value.is_Integer:
-        return mpi.iv.mpf(int(value))
-    if value.is_Rational:
-        return mpi.const_rational(int(value.p), int(value.q))
-    if value.is_Float:
-        return mpi.const_float(str(value))
-    if value == sp.pi:
-        return +mpi.iv.pi
-    return +mpi.iv.e
-
-
-# ----------------------------------------------------------------------------- tree compilation
-def _unsupported(node):
-    raise ExpressionError(
-        f"expression: {type(node).__name__} ({node}) is not supported by the interval compiler; "
-        "supported: + - * /, integer powers, sqrt, sin, cos, Abs"
-    )
-
-
-def _lift(fn):
-    """mpmath operations propagate a domain error (None) instead of raising."""
-
-    def g(*vals):
-        if any(v is None for v in vals):
-            return None
-        return fn(*vals)
-
-    return g
-
-
-def _mp_sqrt_recip(v):
-    r = mpi.sqrt(v)
-    return None if r is None else mpi.div(mpi.iv.mpf(1), r)
-
-
-_ONE = (1.0, 1.0)
-
-# One operation table per backend; the tree walk below is shared.  Constants:
-# numpy encloses every number once at compile time; mpmath encloses the leaves
-# at call time because its precision may change between calls.
-_OPS = {
-    "numpy": {
-        "is_const": lambda node: node.is_number,
-        "const": lambda node: (lambda c: lambda X: c)(_numpy_const(node)),
-        "add": arith.add, "mul": arith.mul, "neg": arith.neg, "ipow": arith.ipow,
-        "recip": lambda v: arith.div(_ONE, v), "sqrt": arith.sqrt,
-        "recip_sqrt": lambda v: arith.div(_ONE, arith.sqrt(v)),
-        sp.sin: arith.sin, sp.cos: arith.cos, sp.Abs: arith.iabs,
-    },
-    "mpmath": {
-        "is_const": lambda node: node.is_Rational or node.is_Float or node in (sp.pi, sp.E),
-        "const": lambda node: lambda X: _mp_const(node),
-        "add": _lift(lambda a, b: a + b), "mul": _lift(lambda a, b: a * b), "neg": _lift(lambda a: -a),
-        "ipow": _lift(mpi.ipow), "recip": _lift(lambda v: mpi.div(mpi.iv.mpf(1), v)), "sqrt": _lift(mpi.sqrt),
-        "recip_sqrt": _lift(_mp_sqrt_recip),
-        sp.sin: _lift(mpi.sin), sp.cos: _lift(mpi.cos), sp.Abs: _lift(mpi.iabs),
-    },
-}
-
-
-def _compile_tree(expr: sp.Expr, variables, backend: str):
-    """A closure tree evaluating ``expr`` with the interval operations of ``backend``."""
-    ops = _OPS[backend]
-    index = {v: k for k, v in enumerate(variables)}
-
-    def fold(op, parts):
-        def f(X):
-            acc = parts[0](X)
-            for p in parts[1:]:
-                acc = op(acc, p(X))
-            return acc
-
-        return f
-
-    def build(node):
-        if node in index:
-            k = index[node]
-            return lambda X: X[k]
-        if ops["is_const"](node):
-            return ops["const"](node)
-        if node.is_Add:
-            return fold(ops["add"], [build(a) for a in node.args])
-        if node.is_Mul:
-            coeff, rest = node.as_coeff_Mul()
-            if coeff == -1:
-                inner, neg = build(rest), ops["neg"]
-                return lambda X: neg(inner(X))
-            return fold(ops["mul"], [build(a) for a in node.args])
-        if node.is_Pow:
-            base, e = node.args
-            b = build(base)
-            if e.is_Integer and int(e) >= 1:
-                n, ipow = int(e), ops["ipow"]
-                return lambda X: ipow(b(X), n)
-            if e.is_Integer:
-                n, ipow, recip = -int(e), ops["ipow"], ops["recip"]
-                return lambda X: recip(ipow(b(X), n))
-            if e in (sp.Rational(1, 2), sp.Rational(-1, 2)):
-                fn = ops["sqrt"] if e > 0 else ops["recip_sqrt"]
-                return lambda X: fn(b(X))
-            _unsupported(node)
-        fn = ops.get(type(node))
-        if fn is not None:
-            a = build(node.args[0])
-            return lambda X: fn(a(X))
-        _unsupported(node)
-
-    return build(expr)
 
 
 # ----------------------------------------------------------------------------- public
@@ -231,31 +132,37 @@ class CompiledExpr:
     def __init__(self, expr, variables, backend):
         self.variables = tuple(variables)
         self.backend = backend
+        expr = exact_constants(sp.sympify(expr))
         self.expr = best_form(expr, self.variables)
-        make = lambda e, v: _compile_tree(e, v, backend)  # noqa: E731
-        self._natural = make(self.expr, self.variables)
         self.centred = repeated_occurrences(self.expr, self.variables) > 0 and backend == "numpy"
+        roots = [self.expr]
         if self.centred:
-            self._f = make(sp.sympify(expr), self.variables)
-            self._grad = [make(best_form(sp.diff(expr, v), self.variables), self.variables)
-                          for v in self.variables]
+            roots += [best_form(sp.diff(expr, v), self.variables) for v in self.variables]
+            self._at_point = Graph([expr], self.variables)
+        self._graph = Graph(roots, self.variables)
 
     def __repr__(self):
         return f"CompiledExpr({self.expr}, backend={self.backend!r}, centred={self.centred})"
 
     def __call__(self, X):
-        value = self._natural(X)
+        values = self._graph.evaluate(X, self.backend)
         if not self.centred:
-            return value
-        return arith.intersect(value, self.mean_value(X))
+            return values[0]
+        return arith.intersect(values[0], self._mean_value(X, values[1:]))
+
+    def natural(self, X):
+        """The natural interval extension of the chosen form alone."""
+        return self._graph.evaluate(X, self.backend)[0]
 
     def mean_value(self, X):
         """Centred form ``f(m) + sum_i G_i(X) (X_i - m_i)`` (numpy backend)."""
+        return self._mean_value(X, self._graph.evaluate(X, self.backend)[1:])
+
+    def _mean_value(self, X, gradients):
         mids = [0.5 * lo + 0.5 * hi for lo, hi in X]
-        M = [arith.point(m) for m in mids]
-        acc = self._f(M)
-        for grad, (lo, hi), m in zip(self._grad, X, mids):
-            acc = arith.add(acc, arith.mul(grad(X), arith.sub((lo, hi), (m, m))))
+        (acc,) = self._at_point.evaluate([arith.point(m) for m in mids])
+        for grad, (lo, hi), m in zip(gradients, X, mids):
+            acc = arith.add(acc, arith.mul(grad, arith.sub((lo, hi), (m, m))))
         return acc
 
 

@@ -29,9 +29,8 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from ..errors import ExpressionError
 from . import arith
-from .compiler import _numpy_const
+from .graph import Graph
 
 __all__ = ["Program", "Separation"]
 
@@ -123,79 +122,13 @@ class Program:
     """
 
     def __init__(self, expressions, variables, *, min_gain: float = 1e-3, passes: int = 1):
-        self.variables = tuple(variables)
+        self.graph = Graph(expressions, variables)
+        self.variables = self.graph.variables
+        self.nodes = self.graph.nodes
+        self.roots = self.graph.roots
         self.passes = int(passes)
         self.min_gain = float(min_gain)
-        self.nodes: list[tuple] = []            # (kind, children, parameter)
-        self._memo: dict = {}
-        for k, v in enumerate(self.variables):
-            self._add(("var", (), k), v)
-        self.roots = [self._build(sp.sympify(g)) for g in expressions]
         self._order = self._reachable(self.roots)
-
-    # -------------------------------------------------------------- building
-    def _add(self, node, key=None):
-        if key is not None and key in self._memo:
-            return self._memo[key]
-        self.nodes.append(node)
-        i = len(self.nodes) - 1
-        if key is not None:
-            self._memo[key] = i
-        return i
-
-    def _const(self, value):
-        return self._add(("const", (), _numpy_const(value)), ("const", value))
-
-    def _build(self, expr):
-        if expr in self._memo:               # variables and shared subexpressions
-            return self._memo[expr]
-        if expr.is_number:
-            return self._const(expr)
-        if expr.is_Add:
-            # Non-constant terms first, in a fixed order, then the constant: g = e + c shares e.
-            const, rest = expr.as_coeff_Add()
-            terms = sorted(sp.Add.make_args(rest), key=sp.default_sort_key)
-            if len(terms) > 1 and all(t.could_extract_minus_sign() for t in terms):
-                acc = self._add(("neg", (self._build(-rest),), None), rest)
-            else:
-                acc = self._build(terms[0])
-                for t in terms[1:]:
-                    acc = self._add(("add", (acc, self._build(t)), None))
-                self._memo[rest] = acc
-            if const != 0:
-                acc = self._add(("add", (acc, self._const(const)), None))
-            return self._add_key(expr, acc)
-        if expr.is_Mul:
-            coeff, rest = expr.as_coeff_Mul()
-            if coeff == -1:
-                return self._add(("neg", (self._build(rest),), None), expr)
-            factors = sorted(sp.Mul.make_args(expr), key=sp.default_sort_key)
-            acc = self._build(factors[0])
-            for f in factors[1:]:
-                acc = self._add(("mul", (acc, self._build(f)), None))
-            return self._add_key(expr, acc)
-        if expr.is_Pow:
-            base, e = expr.args
-            b = self._build(base)
-            if e.is_Integer and int(e) >= 1:
-                return self._add(("pow", (b,), int(e)), expr)
-            if e.is_Integer:
-                p = b if int(e) == -1 else self._add(("pow", (b,), -int(e)), base ** (-e))
-                return self._add(("recip", (p,), None), expr)
-            if e == sp.Rational(1, 2):
-                return self._add(("sqrt", (b,), None), expr)
-            if e == sp.Rational(-1, 2):
-                r = self._add(("sqrt", (b,), None), sp.sqrt(base))
-                return self._add(("recip", (r,), None), expr)
-        kinds = {sp.sin: "sin", sp.cos: "cos", sp.Abs: "abs"}
-        if type(expr) in kinds:
-            return self._add((kinds[type(expr)], (self._build(expr.args[0]),), None), expr)
-        raise ExpressionError(f"expression: {type(expr).__name__} ({expr}) cannot be contracted; "
-                              "supported: + - * /, integer powers, sqrt, sin, cos, Abs")
-
-    def _add_key(self, expr, i):
-        self._memo[expr] = i
-        return i
 
     def _reachable(self, roots):
         """Indices of the nodes under ``roots``, parents before children (the backward order)."""
@@ -210,31 +143,7 @@ class Program:
     # -------------------------------------------------------------- sweeps
     def forward(self, X):
         """Enclosures ``(lo, hi)`` of every node over the boxes ``X`` (a list of ``(lo, hi)`` arrays)."""
-        vals = []
-        for kind, ch, p in self.nodes:
-            if kind == "var":
-                vals.append(X[p])
-            elif kind == "const":
-                vals.append(p)
-            elif kind == "add":
-                vals.append(arith.add(vals[ch[0]], vals[ch[1]]))
-            elif kind == "mul":
-                vals.append(arith.mul(vals[ch[0]], vals[ch[1]]))
-            elif kind == "neg":
-                vals.append(arith.neg(vals[ch[0]]))
-            elif kind == "pow":
-                vals.append(arith.ipow(vals[ch[0]], p))
-            elif kind == "recip":
-                vals.append(arith.div(_ONE, vals[ch[0]]))
-            elif kind == "sqrt":
-                vals.append(arith.sqrt(vals[ch[0]]))
-            elif kind == "sin":
-                vals.append(arith.sin(vals[ch[0]]))
-            elif kind == "cos":
-                vals.append(arith.cos(vals[ch[0]]))
-            else:  # abs
-                vals.append(arith.iabs(vals[ch[0]]))
-        return vals
+        return self.graph.forward(X)
 
     def _backward(self, forward, targets, order, shape):
         """Variables' enclosures after cutting ``targets`` (root index -> interval); also the empty mask."""

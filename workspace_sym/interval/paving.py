@@ -244,7 +244,7 @@ class _Decider:
             e, sign, const = _split_constant(c.g)
             if e not in exprs:
                 exprs.append(e)
-            self.parts.append((exprs.index(e), sign, compile_expr(const, variables)([]) if const else None))
+            self.parts.append((exprs.index(e), sign, compile_expr(const, ())([]) if const else None))
         self.shared = [compile_expr(e, variables) for e in exprs]
 
     def __call__(self, boxes):
