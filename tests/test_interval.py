@@ -208,3 +208,14 @@ def test_compiler_errors():
         compile_expr(sp.exp(x), (x,))
     with pytest.raises(UnknownNameError, match="backend"):
         compile_expr(x, (x,), backend="gpu")
+
+
+def test_best_form_preparation_is_bounded():
+    """Past the size or time bound the expression is evaluated as written (issue 19: extreme constants)."""
+    from workspace_sym.interval.compiler import MAX_REWRITE_OPS
+
+    e = x**2 - 10 * x + y**2 - 119
+    assert best_form(e, (x, y), seconds=0) == e                      # no candidate tried
+    big = sp.Add(*[sp.Rational(k + 1, 3) * x**k * y ** (k % 5) for k in range(MAX_REWRITE_OPS // 4)])
+    assert sp.count_ops(big) > MAX_REWRITE_OPS
+    assert best_form(big, (x, y)) == big

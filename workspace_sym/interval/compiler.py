@@ -109,7 +109,7 @@ def best_form(expr, variables, *, seconds: float = REWRITE_SECONDS) -> sp.Expr:
         start = time.perf_counter()
         for make in (sp.factor, lambda e: sp.horner(e, *variables),
                      lambda e: _complete_squares(sp.expand(e), variables)):
-            if time.perf_counter() - start > seconds:
+            if time.perf_counter() - start >= seconds:
                 break
             try:
                 form = make(hidden)

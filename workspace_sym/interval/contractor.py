@@ -15,7 +15,11 @@ the box where the targets are met, so what it cuts off is proved:
   ``C_in``: the points of ``C_out \\ C_in`` satisfy every constraint (inner).
 
 This is the separator of Jaulin's set inversion (``codac.SepInverse``) on the
-program of the constraints.  A box is contracted only where its whole
+program of the constraints (:class:`~workspace_sym.interval.graph.Graph`).
+:func:`~workspace_sym.interval.paving.pave` takes the slices as proposals
+only: it declares a slice inner or outer when its forward evaluation, the
+test of every other box, proves it too, so that a slip in an inverse
+operation or in a rewriting cannot become a false certificate.  A box is contracted only where its whole
 forward sweep is finite: there every function in it is defined and
 continuous, so a point cut off really satisfies, or violates, the
 constraints; a domain error or a divisor containing zero leaves the box as

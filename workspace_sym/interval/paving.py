@@ -448,11 +448,13 @@ def pave(constraints, box, *, delta: float, variables=None, backend: str = "nump
         terminal and the run lasts more than a second).
     digits : precision of the mpmath backend.
     contract : bool
-        Also cut proved inner and outer slices off every undecided box by
+        Also cut inner and outer slices off every undecided box by
         forward-backward contraction of the constraints (numpy backend;
-        :mod:`~workspace_sym.interval.contractor`).  Fewer, tighter boundary
-        boxes at the same ``delta``; the boxes are no longer those of a plain
-        bisection tree.
+        :mod:`~workspace_sym.interval.contractor`).  The contraction only
+        proposes where to cut: a slice is declared inner or outer when the
+        same forward evaluation that decides every box proves it.  Fewer,
+        tighter boundary boxes at the same ``delta``; the boxes are no
+        longer those of a plain bisection tree.
 
     Returns
     -------
@@ -525,9 +527,12 @@ def subdivide(decide, box: Box, *, delta: float, size: str = "diameter", max_box
     1.8x faster).  ``presplit=0`` evaluates from the initial box.
 
     ``separate(boxes)``, optional, runs on the undecided boxes and returns a
-    :class:`~workspace_sym.interval.contractor.Separation`: proved inner and
-    outer slices and the undecided remainder, which alone goes on to the
-    size test and the bisection.
+    :class:`~workspace_sym.interval.contractor.Separation`: inner and outer
+    slices and the undecided remainder.  A slice is declared inner (outer)
+    only when ``decide`` also proves it so; the remainder and the slices
+    ``decide`` does not confirm go on to the size test and the bisection.
+    So every verdict of the paving comes from ``decide`` (on Rybak's robot
+    it confirms 98 % to 100 % of the slices).
     """
     _check_delta(delta)
     check_choice("size", size, SIZES)
@@ -562,9 +567,12 @@ def subdivide(decide, box: Box, *, delta: float, size: str = "diameter", max_box
             und = batch[codes == 0]
             if separate is not None:
                 cut = separate(und)
-                inner.append(cut.inner)
-                outer.append(cut.outer)
-                und = cut.kept
+                # The contraction proposes slices; each is declared only when the forward evaluation
+                # that decides every other box proves it too.  The rest stays undecided.
+                proved_in, proved_out = decide(cut.inner) == 1, decide(cut.outer) == -1
+                inner.append(cut.inner[proved_in])
+                outer.append(cut.outer[proved_out])
+                und = np.concatenate([cut.kept, cut.inner[~proved_in], cut.outer[~proved_out]])
             work = work[take:]
             evaluated += len(batch)
             inner.append(batch[codes == 1])
