@@ -1,8 +1,4 @@
-"""Shared fixtures.  Figures are drawn with the Agg backend (no display in CI)."""
-
-import os
-
-os.environ.setdefault("MPLBACKEND", "Agg")
+"""Shared fixtures (the Agg backend is set by the top-level conftest.py)."""
 
 import numpy as np
 import pytest

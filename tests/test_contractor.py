@@ -164,7 +164,7 @@ def test_three_dimensional_ball_is_bracketed_tighter():
 
 
 def test_contract_needs_the_numpy_backend(rybak):
-    message = r"contraction \(contract=True, --contract\) needs the numpy backend; got backend='mpmath'"
+    message = r"contract=True needs the numpy backend; got backend='mpmath'"
     with pytest.raises(InvalidParameterError, match=message):
         rybak.pave(delta=0.5, contract=True, backend="mpmath")
 

@@ -9,8 +9,9 @@ and makes the caller undecided; the operations never turn a NaN into a
 finite bound.
 
 Pure functions, no I/O.  Overflow to infinity is a valid (outward) result;
-callers that evaluate many boxes silence numpy's floating-point warnings.  The module-level names are the interval operations
-used by :mod:`workspace_sym.interval.compiler`.
+callers that evaluate many boxes silence numpy's floating-point warnings.
+The module-level names are the interval operations used by
+:mod:`workspace_sym.interval.graph`.
 """
 
 from __future__ import annotations

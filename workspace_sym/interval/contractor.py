@@ -31,7 +31,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import sympy as sp
 
 from . import arith
 from .graph import Graph
@@ -118,6 +117,7 @@ class Program:
 
     Examples
     --------
+    >>> import sympy as sp
     >>> x, y = sp.symbols("x y")
     >>> prog = Program([x**2 + y**2 - 1], (x, y))
     >>> s = prog.separate(np.array([[[0.0, 2.0], [0.0, 0.5]]]))

@@ -17,7 +17,7 @@ import math
 import sys
 import time
 from dataclasses import dataclass, field
-from functools import lru_cache
+from functools import cache, lru_cache
 
 import numpy as np
 import sympy as sp
@@ -64,7 +64,7 @@ class Box:
     upper: tuple
 
     @classmethod
-    def from_bounds(cls, bounds, variables=None) -> "Box":
+    def from_bounds(cls, bounds, variables=None) -> Box:
         """From ``{var: (lo, hi)}`` or a sequence of pairs with ``variables``."""
         if isinstance(bounds, Box):
             return bounds
@@ -470,8 +470,7 @@ def pave(constraints, box, *, delta: float, variables=None, backend: str = "nump
     check_choice("backend", backend, BACKENDS)
     cons, b = _setup(constraints, box, variables)  # delta and size are checked by subdivide
     if contract and backend != "numpy":
-        raise InvalidParameterError("contraction (contract=True, --contract) needs the numpy backend; "
-                                    f"got backend={backend!r}")
+        raise InvalidParameterError(f"contract=True needs the numpy backend; got backend={backend!r}")
     decide = _decider(cons, b.variables, backend, digits)
     separate = _program(cons, b.variables).separate if contract else None
     return subdivide(decide, b, delta=delta, size=size, max_boxes=max_boxes, time_limit=time_limit,
@@ -485,19 +484,27 @@ def _check_delta(delta, name="delta"):
         raise InvalidParameterError(f"{name} must be a positive finite number; got {delta!r}")
 
 
+@cache
+def _thread_pool(workers: int):
+    """One pool per worker count for the whole process (its threads end with the interpreter)."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    return ThreadPoolExecutor(workers, thread_name_prefix="workspace_sym")
+
+
 def threaded(decide, workers: int | None = None, *, min_batch: int = 8192):
-    """``decide`` run on halves of large batches in threads (numpy releases the GIL in its loops).
+    """``decide`` run on parts of large batches in threads (numpy releases the GIL in its loops).
 
     The codes are those of ``decide`` on the whole batch; only the wall time
-    changes.  ``workers`` defaults to the number of cores, at most 4.
+    changes.  ``workers`` defaults to the number of cores, at most 4; the
+    threads come from one pool shared by every call.
     """
     import os
-    from concurrent.futures import ThreadPoolExecutor
 
     workers = workers or min(os.cpu_count() or 1, 4)
     if workers < 2:
         return decide
-    pool = ThreadPoolExecutor(workers)
+    pool = _thread_pool(workers)
 
     def run(boxes):
         if len(boxes) < min_batch:
