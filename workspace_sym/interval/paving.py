@@ -29,6 +29,7 @@ from .compiler import BACKENDS, best_form, compile_expr
 from .contractor import Program
 
 __all__ = ["Certificate", "Box", "Constraint", "parse_constraints", "certify_box", "pave", "subdivide", "threaded",
+           "bisect", "box_sizes", "check_delta", "Progress",
            "Paving", "hausdorff", "box_measure", "SIZES"]
 
 SIZES = ("diameter", "width")
@@ -376,7 +377,7 @@ class Paving:
                 f"{len(self.pending)} pending; measure in [{lo:.6g}, {hi:.6g}], delta={self.delta})")
 
 
-class _Progress:
+class Progress:
     """A one-line progress bar on stderr: share of the initial measure already decided."""
 
     def __init__(self, enabled, total, label="paving", width=30):
@@ -406,12 +407,12 @@ class _Progress:
             sys.stderr.flush()
 
 
-def _sizes(boxes: np.ndarray, size: str) -> np.ndarray:
+def box_sizes(boxes: np.ndarray, size: str) -> np.ndarray:
     w = boxes[:, :, 1] - boxes[:, :, 0]
     return np.sqrt(np.sum(w * w, axis=1)) if size == "diameter" else np.max(w, axis=1)
 
 
-def _bisect(boxes: np.ndarray):
+def bisect(boxes: np.ndarray):
     """Split every box along its longest edge; also returns boxes too thin to split."""
     rows = np.arange(len(boxes))
     k = np.argmax(boxes[:, :, 1] - boxes[:, :, 0], axis=1)
@@ -419,7 +420,7 @@ def _bisect(boxes: np.ndarray):
     mid = 0.5 * lo + 0.5 * hi
     ok = (mid > lo) & (mid < hi)
     if not ok.all():
-        children, _ = _bisect(boxes[ok])
+        children, _ = bisect(boxes[ok])
         return children, boxes[~ok]
     children = np.repeat(boxes, 2, axis=0)          # left, right, left, right, ...
     children[2 * rows, k, 1] = mid
@@ -479,7 +480,7 @@ def pave(constraints, box, *, delta: float, variables=None, backend: str = "nump
                      presplit=0 if contract else 512)  # contraction changes the tree: start from the box
 
 
-def _check_delta(delta, name="delta"):
+def check_delta(delta, name="delta"):
     if not isinstance(delta, (int, float)) or isinstance(delta, bool) or not math.isfinite(delta) or delta <= 0:
         raise InvalidParameterError(f"{name} must be a positive finite number; got {delta!r}")
 
@@ -541,17 +542,17 @@ def subdivide(decide, box: Box, *, delta: float, size: str = "diameter", max_box
     So every verdict of the paving comes from ``decide`` (on Rybak's robot
     it confirms 98 % to 100 % of the slices).
     """
-    _check_delta(delta)
+    check_delta(delta)
     check_choice("size", size, SIZES)
     if max_boxes is not None and max_boxes < 1:
         raise InvalidParameterError(f"max_boxes must be at least 1; got {max_boxes!r}")
     start = time.perf_counter()
     auto = progress is None
-    bar = _Progress(bool(progress), box.measure, label)
+    bar = Progress(bool(progress), box.measure, label)
     inner, boundary, outer = [], [], []
     work = box.array[None, :, :].astype(float)
-    while len(work) < presplit and (_sizes(work, size) > delta).all():
-        work, thin = _bisect(work)
+    while len(work) < presplit and (box_sizes(work, size) > delta).all():
+        work, thin = bisect(work)
         if len(thin):
             work = np.concatenate([work, thin])
             break
@@ -584,9 +585,9 @@ def subdivide(decide, box: Box, *, delta: float, size: str = "diameter", max_box
             evaluated += len(batch)
             inner.append(batch[codes == 1])
             outer.append(batch[codes == -1])
-            small = _sizes(und, size) <= delta
+            small = box_sizes(und, size) <= delta
             boundary.append(und[small])
-            children, thin = _bisect(und[~small])
+            children, thin = bisect(und[~small])
             boundary.append(thin)
             work = np.concatenate([work, children]) if len(work) else children
             if bar.enabled:                  # everything not in work is decided
