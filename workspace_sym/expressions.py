@@ -27,7 +27,7 @@ from sympy.parsing.sympy_parser import parse_expr as _sympy_parse_expr
 
 from .errors import ExpressionError
 
-__all__ = ["parse_expr", "parse_angle", "as_sympy", "is_finite_value", "FUNCTIONS", "CONSTANTS",
+__all__ = ["parse_expr", "parse_angle", "read_symbol", "as_sympy", "is_finite_value", "FUNCTIONS", "CONSTANTS",
            "MAX_LENGTH", "MAX_DEPTH"]
 
 #: Longest text accepted (characters); ``max_length=`` changes it per call.
@@ -416,6 +416,24 @@ give the offset alone in degrees ("theta": 90) or write it in radians: "q1 + pi/
             f"ambiguous; give the offset alone in degrees (\"{field}\": {constant}) or write it in radians: "
             f"\"{hint}\"")
     return expr
+
+
+def read_symbol(name, parameter: str) -> sp.Symbol:
+    """A symbol named by user text: an identifier that text read by :func:`parse_expr` can refer to.
+
+    Examples
+    --------
+    >>> read_symbol("q1", "joint 1 variable")
+    q1
+    >>> read_symbol("__class__", "joint 1 variable")
+    Traceback (most recent call last):
+    ...
+    workspace_sym.errors.ExpressionError: joint 1 variable: expected a name such as q1, got '__class__'
+    """
+    if (not isinstance(name, str) or not name.isidentifier() or name.startswith("_") or name in _RESERVED
+            or name in FUNCTIONS or name in CONSTANTS or len(name) > 100):
+        raise ExpressionError(f"{parameter}: expected a name such as q1, got {_shown(str(name))}")
+    return sp.Symbol(name)
 
 
 def as_sympy(value, parameter: str = "expression"):

@@ -44,6 +44,12 @@ def check_expression(student, derived, *, samples: int = 50, seed: int = 0) -> V
     zero, a counterexample is searched among random rational values of the
     symbols and confirmed at 30 digits.
 
+    Text is read by :func:`~workspace_sym.expressions.parse_expr`: the
+    student's answer may use the symbols of ``derived``, numbers, ``pi``,
+    ``sqrt``, ``sin``, ``cos``, ... and ``^`` for powers; anything else (an
+    unknown name, Python code) raises :class:`~workspace_sym.errors.ExpressionError`
+    naming the allowed names, and nothing of it is evaluated.
+
     Examples
     --------
     >>> check_expression("cos(t1)*cos(t2) - sin(t1)*sin(t2)", "cos(t1 + t2)").ok
@@ -51,12 +57,18 @@ def check_expression(student, derived, *, samples: int = 50, seed: int = 0) -> V
     >>> v = check_expression("cos(t1)*cos(t2) + sin(t1)*sin(t2)", "cos(t1 + t2)")
     >>> v.ok, sorted(v.evidence["counterexample"])
     (False, ['t1', 't2'])
+    >>> check_expression("cos(t1)*cos(t3)", "cos(t1 + t2)")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    workspace_sym.errors.ExpressionError: student answer: cannot read 'cos(t1)*cos(t3)': unknown symbol 't3'; ...
     """
     from .symbolic import trig_polynomials
 
-    s = parse_expr(student, "student") if not isinstance(student, sp.Basic) else student
-    d = parse_expr(derived, "derived") if not isinstance(derived, sp.Basic) else derived
-    diff = sp.sympify(s) - sp.sympify(d)
+    d = parse_expr(derived, "derived")
+    # the student's text is untrusted: it may name the symbols of the derived result and nothing else
+    names = {str(x): x for x in d.free_symbols if str(x).isidentifier() and not str(x).startswith("_")}
+    s = parse_expr(student, "student answer", names=names, new_symbols=False)
+    diff = s - d
     (poly,), _ = trig_polynomials([diff])
     if sp.expand(poly) == 0:
         return Verdict(True, "equal: the difference reduces to 0 after expanding and sin^2 = 1 - cos^2",

@@ -19,6 +19,7 @@ from functools import lru_cache
 import sympy as sp
 
 from ..errors import ExpressionError, check_choice
+from ..expressions import as_sympy
 from . import arith
 from . import mp as mpi
 
@@ -71,7 +72,7 @@ def best_form(expr, variables) -> sp.Expr:
     >>> best_form(x**2 - 10*x + y**2 - 119, (x, y))
     y**2 + (x - 5)**2 - 144
     """
-    expr = sp.sympify(expr)
+    expr = as_sympy(expr)
     variables = tuple(variables)
     candidates = [expr]
     if expr.is_polynomial(*variables):
@@ -236,7 +237,7 @@ class CompiledExpr:
         self._natural = make(self.expr, self.variables)
         self.centred = repeated_occurrences(self.expr, self.variables) > 0 and backend == "numpy"
         if self.centred:
-            self._f = make(sp.sympify(expr), self.variables)
+            self._f = make(as_sympy(expr), self.variables)
             self._grad = [make(best_form(sp.diff(expr, v), self.variables), self.variables)
                           for v in self.variables]
 
@@ -277,7 +278,7 @@ def compile_expr(expr, variables, *, backend: str = "numpy") -> CompiledExpr:
     True
     """
     check_choice("backend", backend, BACKENDS)
-    expr = sp.sympify(expr)
+    expr = as_sympy(expr)
     unknown = expr.free_symbols - set(variables)
     if unknown:
         names = ", ".join(sorted(map(str, unknown)))

@@ -30,6 +30,7 @@ import numpy as np
 import sympy as sp
 
 from ..errors import ExpressionError
+from ..expressions import as_sympy
 from . import arith
 from .compiler import _numpy_const
 
@@ -130,7 +131,7 @@ class Program:
         self._memo: dict = {}
         for k, v in enumerate(self.variables):
             self._add(("var", (), k), v)
-        self.roots = [self._build(sp.sympify(g)) for g in expressions]
+        self.roots = [self._build(as_sympy(g)) for g in expressions]
         self._order = self._reachable(self.roots)
 
     # -------------------------------------------------------------- building
