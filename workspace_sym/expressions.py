@@ -16,8 +16,10 @@ objects, numbers) into SymPy without ever parsing a string.
 from __future__ import annotations
 
 import ast
+import keyword
 import math
 import re
+import warnings
 from collections.abc import Mapping
 from numbers import Number
 
@@ -106,14 +108,19 @@ class _Checker:
             return self._name(node.id)
         if isinstance(node, ast.UnaryOp) and isinstance(node.op, _UNARYOPS):
             return self.visit(node.operand, depth + 1)
-        if isinstance(node, ast.BinOp) and type(node.op) in _BINOPS:
-            left = self.visit(node.left, depth + 1)
-            right = self.visit(node.right, depth + 1)
-            if isinstance(node.op, ast.Pow):
-                return self._power(left, right)
-            if left is None or right is None:
-                return None
-            return left + right + _LOG2
+        if _is_chain(node):
+            # a + b - c*d + ... is long, not deep: walk its left spine without recursion
+            rights = []
+            while _is_chain(node):
+                rights.append(node.right)
+                node = node.left
+            size = self.visit(node, depth + 1)
+            for right in reversed(rights):
+                s = self.visit(right, depth + 1)
+                size = None if size is None or s is None else size + s + _LOG2
+            return size
+        if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Pow):
+            return self._power(self.visit(node.left, depth + 1), self.visit(node.right, depth + 1))
         if isinstance(node, ast.Call):
             return self._call(node, depth)
         if isinstance(node, ast.Compare):
@@ -194,6 +201,10 @@ class _Checker:
         self.visit(node.left, depth + 1)
         self.visit(node.comparators[0], depth + 1)
         return None
+
+
+def _is_chain(node) -> bool:
+    return isinstance(node, ast.BinOp) and type(node.op) in _BINOPS and not isinstance(node.op, ast.Pow)
 
 
 def _describe(node) -> str:
@@ -334,10 +345,13 @@ def _read_text(text: str, parameter: str, *, names, functions, new_symbols, rela
     # '^' is power (textbook spelling).  A plain replace is exact: the grammar has no strings where '^' could hide.
     source = text.replace("^", "**")
     try:
-        tree = ast.parse(source, mode="eval")
-    except (SyntaxError, ValueError, RecursionError, MemoryError, OverflowError):
-        # ValueError: null bytes; RecursionError / MemoryError: Python's own parser on deep nesting
+        with warnings.catch_warnings():  # "invalid decimal literal" in '1if x' must not reach stderr
+            warnings.simplefilter("ignore")
+            tree = ast.parse(source, mode="eval")
+    except (SyntaxError, ValueError, OverflowError):  # ValueError: null bytes
         raise ExpressionError(f"{parameter}: cannot read {shown} as an expression (invalid syntax)") from None
+    except (RecursionError, MemoryError):  # Python's own parser on very deep or long input
+        raise ExpressionError(f"{parameter}: cannot read {shown}: nested too deeply; {allowed}") from None
     checker = _Checker(names=names, functions=functions, new_symbols=new_symbols, relational=relational,
                        max_depth=max_depth)
     try:
@@ -350,10 +364,13 @@ def _read_text(text: str, parameter: str, *, names, functions, new_symbols, rela
     steps = (auto_number, rationalize) + tuple(transformations)
     try:
         # Check the code SymPy will evaluate as well: the transformations only wrap numbers.
-        code = stringify_expr(source, dict(local_dict), dict(global_dict), steps)
-        _Checker(names={**local_dict, **functions}, functions=functions, new_symbols=False, relational=relational,
-                 max_depth=2 * max_depth + 2, generated=True).visit(ast.parse(code, mode="eval"))
-        return _sympy_parse_expr(source, local_dict=local_dict, global_dict=global_dict, transformations=steps)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            code = stringify_expr(source, dict(local_dict), dict(global_dict), steps)
+            generated = ast.parse(code, mode="eval")
+            _Checker(names={**local_dict, **functions}, functions=functions, new_symbols=False,
+                     relational=relational, max_depth=2 * max_depth + 2, generated=True).visit(generated)
+            return _sympy_parse_expr(source, local_dict=local_dict, global_dict=global_dict, transformations=steps)
     except _Refused as exc:
         raise ExpressionError(f"{parameter}: cannot read {shown}: {exc}; {allowed}") from None
     except Exception as exc:  # noqa: BLE001 - SymPy's own errors on validated arithmetic, e.g. sin(1, 2)
@@ -430,7 +447,8 @@ def read_symbol(name, parameter: str) -> sp.Symbol:
     ...
     workspace_sym.errors.ExpressionError: joint 1 variable: expected a name such as q1, got '__class__'
     """
-    if (not isinstance(name, str) or not name.isidentifier() or name.startswith("_") or name in _RESERVED
+    if (not isinstance(name, str) or not name.isidentifier() or keyword.iskeyword(name) or name.startswith("_")
+            or name in _RESERVED
             or name in FUNCTIONS or name in CONSTANTS or len(name) > 100):
         raise ExpressionError(f"{parameter}: expected a name such as q1, got {_shown(str(name))}")
     return sp.Symbol(name)

@@ -91,8 +91,8 @@ class Box:
                 lo, hi = pair
                 lo_f, hi_f = (float(parse_expr(b, f"box: {side} bound of {v}", new_symbols=False))
                               if isinstance(b, str) else float(b) for side, b in (("lower", lo), ("upper", hi)))
-            except ExpressionError as exc:
-                raise BoxError(str(exc)) from None
+            except ExpressionError:
+                raise
             except (TypeError, ValueError):
                 raise BoxError(f"box: bounds of {v} must be two numbers; got {pair!r}") from None
             if not (math.isfinite(lo_f) and math.isfinite(hi_f)):
