@@ -24,8 +24,7 @@ from collections.abc import Mapping
 from numbers import Number
 
 import sympy as sp
-from sympy.parsing.sympy_parser import auto_number, rationalize, stringify_expr
-from sympy.parsing.sympy_parser import parse_expr as _sympy_parse_expr
+from sympy.parsing.sympy_parser import auto_number, eval_expr, rationalize, stringify_expr
 
 from .errors import ExpressionError
 
@@ -40,6 +39,10 @@ MAX_DEPTH = 100
 MAX_EXPONENT = 1000
 #: Largest number of decimal digits a number spelled in the text may reach (``10**1000`` is fine).
 MAX_DIGITS = 10_000
+
+#: Most arguments of all Min and Max calls of one text together.
+MAX_SORTING_ARGUMENTS = 16
+_SORTING = ("Min", "Max")
 
 #: Functions a user may call, by name.
 FUNCTIONS = {
@@ -91,6 +94,7 @@ class _Checker:
         self.max_depth = max_depth
         self.generated = generated
         self.symbols: set[str] = set()
+        self.sorting_arguments = 0
 
     def visit(self, node, depth: int = 0):
         if depth > self.max_depth:
@@ -101,7 +105,7 @@ class _Checker:
             value = node.value
             if type(value) not in (int, float):  # bool, None, str, bytes, complex, Ellipsis
                 raise _Refused(f"{value!r} is not a real number")
-            if not math.isfinite(value):
+            if type(value) is float and not math.isfinite(value):  # 1e999; an int of any length is fine
                 raise _Refused("a number is out of range")
             return math.log10(abs(value)) if abs(value) > 1 else 0.0
         if isinstance(node, ast.Name):
@@ -186,6 +190,11 @@ class _Checker:
             raise _Refused(f"function {name!r} is not allowed")
         if node.keywords or any(isinstance(a, ast.Starred) for a in node.args):
             raise _Refused(f"{name}() takes plain arguments only")
+        if name in _SORTING:
+            # SymPy compares the arguments of Min/Max pairwise: 300 symbols take minutes
+            self.sorting_arguments += len(node.args)
+            if self.sorting_arguments > MAX_SORTING_ARGUMENTS:
+                raise _Refused(f"Min and Max take at most {MAX_SORTING_ARGUMENTS} arguments in all")
         sizes = [self.visit(a, depth + 1) for a in node.args]
         if any(s is None for s in sizes):
             return None
@@ -359,18 +368,19 @@ def _read_text(text: str, parameter: str, *, names, functions, new_symbols, rela
     except _Refused as exc:
         raise ExpressionError(f"{parameter}: cannot read {shown}: {exc}; {allowed}") from None
     local_dict = {n: sp.Symbol(n) for n in checker.symbols}
-    local_dict.update({k: v for k, v in names.items()})
+    local_dict.update(names)
     global_dict = {"__builtins__": {}, **_MACHINERY, **functions}
     steps = (auto_number, rationalize) + tuple(transformations)
     try:
-        # Check the code SymPy will evaluate as well: the transformations only wrap numbers.
+        # Check the code SymPy will evaluate as well: the built-in transformations only wrap numbers.
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            code = stringify_expr(source, dict(local_dict), dict(global_dict), steps)
+            code = stringify_expr(source, local_dict, global_dict, steps)
             generated = ast.parse(code, mode="eval")
             _Checker(names={**local_dict, **functions}, functions=functions, new_symbols=False,
                      relational=relational, max_depth=2 * max_depth + 2, generated=True).visit(generated)
-            return _sympy_parse_expr(source, local_dict=local_dict, global_dict=global_dict, transformations=steps)
+            # sympy's parse_expr is stringify_expr + eval_expr; evaluating the checked code itself leaves no gap
+            return eval_expr(code, local_dict, global_dict)
     except _Refused as exc:
         raise ExpressionError(f"{parameter}: cannot read {shown}: {exc}; {allowed}") from None
     except Exception as exc:  # noqa: BLE001 - SymPy's own errors on validated arithmetic, e.g. sin(1, 2)
