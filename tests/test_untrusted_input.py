@@ -14,6 +14,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 import sympy as sp
 from hypothesis import HealthCheck, example, given, settings
@@ -29,7 +30,7 @@ from workspace_sym.kinematics import DHJoint, DHRobot
 from workspace_sym.parallel import rpr2
 from workspace_sym.planar import PlanarChain
 from workspace_sym.symbolic import textbook
-from workspace_sym.verify import check_expression
+from workspace_sym.verify import check_boundary_arc, check_expression, check_measure, check_reachable
 
 MARKER = "MARKER"
 
@@ -53,6 +54,7 @@ INJECTIONS = [
     "(1).real",
     "f'{1}'",
     "9**9**9**9",            # would not finish: refused before SymPy computes it
+    "sqrt(" + "7" * 1990 + ")",  # seconds of trial division
     "1e-99999999",           # a denominator of 10**99999999
     "1 + " * 300_000 + "1",  # 1.2 MB
     "(" * 10_000 + "1" + ")" * 10_000,
@@ -143,6 +145,11 @@ def test_planar_chain_and_models_refuse(text, in_tmp):
 def test_student_answers_refuse(text, in_tmp):
     _raises_reader_error(lambda: check_expression(text, "cos(t1 + t2)"), "student answer: ")
     _raises_reader_error(lambda: check_expression("cos(t1)", text), "derived: ")
+    _raises_reader_error(lambda: check_measure(text, None), "claimed: ")
+    _raises_reader_error(lambda: check_reachable(None, (text, 0)), "point: ")
+    chain = PlanarChain([1], [0], [90])
+    _raises_reader_error(lambda: check_boundary_arc(chain, (0, text), 1, 0, 1), "center: ")
+    _raises_reader_error(lambda: check_boundary_arc(chain, (0, 0), text, 0, 1), "radius: ")
     _raises_reader_error(lambda: textbook(text), "expression: ")
     _raises_reader_error(lambda: compile_expr(text, (sp.Symbol("x"),)), "expression: ")
 
@@ -263,7 +270,7 @@ def _read_everywhere(text):
 @example("log(0)")
 @example("1/0")
 @example("Float + 1")
-@example("sqrt(" + "7" * 1990 + ")")  # an int too large for a float once crashed the size bound
+@example("sqrt(" + "7" * 1990 + ")")  # crashed the size bound once (int too large for a float), then took 3 s
 def test_random_ascii_raises_only_expression_error(text):
     _read_everywhere(text)
     assert not (_MARKER_DIR / MARKER).exists() and not Path(MARKER).exists()
@@ -298,12 +305,23 @@ q1, q2, x, y = sp.symbols("q1 q2 x y")
     ("atan2(1, 1)", sp.pi / 4),
     ("Abs(-2)", sp.Integer(2)),
     ("x**1000", x**1000),
+    ("10**300", sp.Integer(10) ** 300),
     ("  x + 1  ", x + 1),
     ("gamma", sp.Symbol("gamma")),   # a DH angle name, not SymPy's gamma function
 ])
 def test_legitimate_text_reads_as_before(text, expected):
     value = parse_expr(text, "p")
     assert value == expected and sp.simplify(value - expected) == 0
+
+
+def test_student_numbers_may_be_expressions():
+    """Numeric answers may be exact expressions, e.g. the closed-form area our own JSON prints."""
+    chain = PlanarChain(["0.3", "0.15"], [-120, -30], [0, 30])
+    boundary = chain.boundary()
+    assert check_measure(boundary.to_dict(exact=True)["area_exact"], boundary).ok is True
+    inside = chain.forward(np.radians([[-60.0, 20.0]]))[0]
+    assert check_reachable(chain, tuple(repr(float(v)) for v in inside)).ok is check_reachable(chain, inside).ok is True
+    assert check_reachable(chain, ("3/10", "-sqrt(4)/10")).ok is check_reachable(chain, (0.3, -0.2)).ok is False
 
 
 def test_constraint_text_and_objects():

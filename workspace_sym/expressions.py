@@ -37,8 +37,9 @@ MAX_LENGTH = 2000
 MAX_DEPTH = 100
 #: Largest magnitude of a numeric exponent (``x**1000`` is fine, ``2**2**2**2**2`` is not).
 MAX_EXPONENT = 1000
-#: Largest number of decimal digits a number spelled in the text may reach (``10**1000`` is fine).
-MAX_DIGITS = 10_000
+#: Most decimal digits of a power's value or of a function's numeric argument (``10**300`` is fine).
+#: SymPy extracts roots of big integers by trial division: sqrt of a 2,000-digit integer takes seconds.
+MAX_DIGITS = 300
 
 #: Most arguments of all Min and Max calls of one text together.
 MAX_SORTING_ARGUMENTS = 16
@@ -140,7 +141,7 @@ class _Checker:
         if base is None:
             return None
         digits = base * magnitude
-        if digits > MAX_DIGITS:
+        if digits > MAX_DIGITS * (1 + 1e-9):
             raise _Refused(f"a number in it would have more than {MAX_DIGITS} digits")
         return digits
 
@@ -196,6 +197,8 @@ class _Checker:
             if self.sorting_arguments > MAX_SORTING_ARGUMENTS:
                 raise _Refused(f"Min and Max take at most {MAX_SORTING_ARGUMENTS} arguments in all")
         sizes = [self.visit(a, depth + 1) for a in node.args]
+        if self.generated and any(s is not None and s > MAX_DIGITS for s in sizes):
+            raise _Refused(f"a number given to {name}() may have at most {MAX_DIGITS} digits")
         if any(s is None for s in sizes):
             return None
         return sum(sizes)

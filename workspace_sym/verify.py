@@ -34,6 +34,16 @@ class Verdict:
         return f"**{mark}**: {self.message}"
 
 
+def _number(value, name: str) -> float:
+    """A student's number: text through parse_expr (``"pi/4"``, no symbols), anything else through float()."""
+    if isinstance(value, str):
+        value = parse_expr(value, name, new_symbols=False)
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise InvalidParameterError(f"{name} must be a real number; got {value!r:.60}") from None
+
+
 def check_expression(student, derived, *, samples: int = 50, seed: int = 0) -> Verdict:
     """Is the student's expression identically equal to the derived one?
 
@@ -90,7 +100,7 @@ def check_reachable(chain, point, *, max_boxes: int = 500_000, seed: int = 0) ->
     """Can the planar ``chain`` reach ``point``?  A witness configuration, or an interval proof that it cannot."""
     from .boundary import prove_unreachable, witness_near
 
-    q = np.asarray(point, dtype=float).reshape(2)
+    q = np.array([_number(v, "point") for v in np.ravel(np.asarray(point, dtype=object))]).reshape(2)
     if not np.isfinite(q).all():
         raise InvalidParameterError(f"point must be two finite numbers; got {point!r}")
     theta, err = witness_near(chain, q, seed=seed, k=64, iterations=100)
@@ -114,7 +124,9 @@ def check_boundary_arc(chain, center, radius, start_angle, end_angle, *, tol: fl
     ``tol`` times the reach; the verdict names the first point that is not.
     """
     b = chain.boundary()
-    c = np.asarray(center, dtype=float).reshape(2)
+    c = np.array([_number(v, "center") for v in np.ravel(np.asarray(center, dtype=object))]).reshape(2)
+    radius, start_angle, end_angle = (_number(v, n) for v, n in ((radius, "radius"), (start_angle, "start_angle"),
+                                                                  (end_angle, "end_angle")))
     if not radius > 0:
         raise InvalidParameterError(f"radius must be positive; got {radius!r}")
     angles = np.linspace(start_angle, end_angle, points)
@@ -138,7 +150,7 @@ def check_measure(claimed: float, result, *, rel_tol: float = 0.0) -> Verdict:
     (``measure_bounds``) or an Orthoglide ``DextrousResult`` (inside volume,
     inside + E).  ``rel_tol`` widens the bracket for rounded answers.
     """
-    claimed = float(claimed)
+    claimed = _number(claimed, "claimed")
     if not math.isfinite(claimed):
         raise InvalidParameterError(f"claimed must be a finite number; got {claimed!r}")
     if hasattr(result, "loops"):
