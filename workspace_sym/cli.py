@@ -18,6 +18,7 @@ import sympy as sp
 
 from . import robots
 from .errors import InvalidParameterError, WorkspaceError
+from .expressions import is_finite_value, parse_expr, read_symbol
 from .kinematics import DHRobot
 
 __all__ = ["main", "build_parser"]
@@ -142,14 +143,19 @@ def cmd_jacobian(args) -> int:
 
 
 def _parse_var(text: str):
+    """``NAME=LOW:HIGH``; the name must be an identifier, the bounds numbers or constant expressions (``-pi/2``)."""
     name, sep, bounds = text.partition("=")
     lo, sep2, hi = bounds.partition(":")
     if not sep or not sep2 or not name.strip():
         raise InvalidParameterError(f"--var: expected NAME=LOW:HIGH; got {text!r}")
-    try:
-        return name.strip(), (float(lo), float(hi))
-    except ValueError:
-        raise InvalidParameterError(f"--var: bounds of {name.strip()} must be numbers; got {bounds!r}") from None
+    symbol = read_symbol(name.strip(), "--var")
+    values = []
+    for side, v in (("lower", lo), ("upper", hi)):
+        value = parse_expr(v, f"--var {symbol} {side} bound", new_symbols=False)
+        if not value.is_number or not is_finite_value(value):
+            raise InvalidParameterError(f"--var: bounds of {symbol} must be real numbers; got {bounds!r}")
+        values.append(float(value))
+    return symbol, tuple(values)
 
 
 def cmd_pave(args) -> int:

@@ -43,8 +43,13 @@ class UnknownNameError(WorkspaceError):
     """A name (robot, convention, backend, ...) is not among the allowed ones."""
 
 
-class ConstraintError(WorkspaceError):
-    """A constraint is not an inequality or uses unknown symbols."""
+class ConstraintError(ExpressionError):
+    """A constraint is not an inequality or uses unknown symbols.
+
+    A constraint is an expression read from user text like any other, so this
+    is an :class:`ExpressionError`: ``except ExpressionError`` catches every
+    unreadable input.
+    """
 
 
 class BoxError(WorkspaceError):

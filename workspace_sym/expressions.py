@@ -1,23 +1,289 @@
-"""Reading numbers and SymPy expressions from user input, with clear errors."""
+"""The one reader of user text: numbers and SymPy expressions, validated before SymPy sees them.
+
+Every string a user gives (DH fields, lengths, joint limits, parameters,
+constraints, student answers, command-line options) is read by
+:func:`parse_expr`.  :func:`sympy.sympify` evaluates its input as Python, so
+a DH file holding ``"__import__('os').system(...)"`` would run the command;
+here the text is first parsed with :mod:`ast` and only a small grammar of
+arithmetic is accepted, then SymPy's parser evaluates it in a namespace that
+holds nothing but the allowed names.  Both the user's text and the code SymPy
+generates from it are checked.
+
+Non-strings are not text: :func:`as_sympy` turns internal values (SymPy
+objects, numbers) into SymPy without ever parsing a string.
+"""
 
 from __future__ import annotations
 
+import ast
+import keyword
 import math
+import re
+import warnings
+from collections.abc import Mapping
 from numbers import Number
-from tokenize import TokenError
 
 import sympy as sp
+from sympy.parsing.sympy_parser import auto_number, eval_expr, rationalize, stringify_expr
 
 from .errors import ExpressionError
 
-__all__ = ["parse_expr", "parse_angle", "is_finite_value"]
+__all__ = ["parse_expr", "parse_angle", "read_symbol", "as_sympy", "is_finite_value", "FUNCTIONS", "CONSTANTS",
+           "MAX_LENGTH", "MAX_DEPTH"]
+
+#: Longest text accepted (characters); ``max_length=`` changes it per call.
+MAX_LENGTH = 2000
+#: Deepest nesting of operations and parentheses accepted.
+MAX_DEPTH = 100
+#: Largest magnitude of a numeric exponent (``x**1000`` is fine, ``2**2**2**2**2`` is not).
+MAX_EXPONENT = 1000
+#: Most decimal digits of a power's value or of a function's numeric argument (``10**300`` is fine).
+#: SymPy extracts roots of big integers by trial division: sqrt of a 2,000-digit integer takes seconds.
+MAX_DIGITS = 300
+
+#: Most arguments of all Min and Max calls of one text together.
+MAX_SORTING_ARGUMENTS = 16
+_SORTING = ("Min", "Max")
+
+#: Functions a user may call, by name.
+FUNCTIONS = {
+    "sqrt": sp.sqrt, "sin": sp.sin, "cos": sp.cos, "tan": sp.tan, "asin": sp.asin, "acos": sp.acos,
+    "atan": sp.atan, "atan2": sp.atan2, "exp": sp.exp, "log": sp.log, "Abs": sp.Abs, "Min": sp.Min, "Max": sp.Max,
+}
+#: Named constants.
+CONSTANTS = {"pi": sp.pi, "E": sp.E}
+# Names the generated code itself uses (auto_number writes ``Integer (2 )``, ``Rational ('0.1')``).
+_MACHINERY = {"Integer": sp.Integer, "Float": sp.Float, "Rational": sp.Rational, "Symbol": sp.Symbol}
+# Names a user may not take as symbols: the machinery, and SymPy's spellings of non-finite or complex values.
+_RESERVED = frozenset(_MACHINERY) | {"oo", "zoo", "nan", "I"}
+
+_BINOPS = {ast.Add: "+", ast.Sub: "-", ast.Mult: "*", ast.Div: "/", ast.Pow: "**"}
+_UNARYOPS = (ast.UAdd, ast.USub)
+_COMPARISONS = {ast.Lt: "<", ast.LtE: "<=", ast.Gt: ">", ast.GtE: ">="}
+_SHOWN = 60
+_LOG2 = math.log10(2)
+_DECIMAL = re.compile(r"(?P<int>[0-9_]*)(?:\.(?P<frac>[0-9_]*))?(?:[eE](?P<exp>[+-]?[0-9_]+))?")
 
 
-def parse_expr(value, parameter: str) -> sp.Expr:
-    """Read ``value`` (number, SymPy object or string) as an exact-where-possible expression.
+def _shown(text: str) -> str:
+    """``text`` for a message: quoted, and cut when long."""
+    if len(text) <= _SHOWN:
+        return repr(text)
+    return f"{text[:_SHOWN - 3]!r}... ({len(text)} characters)"
 
-    Integers and rationals stay exact, floats are used as given, strings are read
-    with :func:`sympy.sympify`.  NaN and infinities are refused.
+
+class _Refused(Exception):
+    """Internal: the text is outside the grammar; the reason is the message."""
+
+
+class _Checker:
+    """Walks an :mod:`ast` tree and accepts only arithmetic over the allowed names.
+
+    ``visit`` returns a bound on ``log10`` of the size of the node's value when
+    it is a number (numerator and denominator together), ``None`` when it holds
+    a symbol.  On the code SymPy generates (``generated``, where every number
+    is spelled out as ``Integer (2 )`` or ``Rational ('1e-3')``) the bounds are
+    enforced, so ``9**9**9**9`` or ``1e-99999999`` is refused before SymPy
+    tries to compute it.
+    """
+
+    def __init__(self, *, names, functions, new_symbols, relational, max_depth, generated=False):
+        self.names = names
+        self.functions = functions
+        self.new_symbols = new_symbols
+        self.relational = relational
+        self.max_depth = max_depth
+        self.generated = generated
+        self.symbols: set[str] = set()
+        self.sorting_arguments = 0
+
+    def visit(self, node, depth: int = 0):
+        if depth > self.max_depth:
+            raise _Refused(f"nested more than {self.max_depth} levels deep")
+        if isinstance(node, ast.Expression):
+            return self.visit(node.body, depth)
+        if isinstance(node, ast.Constant):
+            value = node.value
+            if type(value) not in (int, float):  # bool, None, str, bytes, complex, Ellipsis
+                raise _Refused(f"{value!r} is not a real number")
+            if type(value) is float and not math.isfinite(value):  # 1e999; an int of any length is fine
+                raise _Refused("a number is out of range")
+            return math.log10(abs(value)) if abs(value) > 1 else 0.0
+        if isinstance(node, ast.Name):
+            return self._name(node.id)
+        if isinstance(node, ast.UnaryOp) and isinstance(node.op, _UNARYOPS):
+            return self.visit(node.operand, depth + 1)
+        if _is_chain(node):
+            # a + b - c*d + ... is long, not deep: walk its left spine without recursion
+            rights = []
+            while _is_chain(node):
+                rights.append(node.right)
+                node = node.left
+            size = self.visit(node, depth + 1)
+            for right in reversed(rights):
+                s = self.visit(right, depth + 1)
+                size = None if size is None or s is None else size + s + _LOG2
+            return size
+        if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Pow):
+            return self._power(self.visit(node.left, depth + 1), self.visit(node.right, depth + 1))
+        if isinstance(node, ast.Call):
+            return self._call(node, depth)
+        if isinstance(node, ast.Compare):
+            return self._compare(node, depth)
+        raise _Refused(_describe(node))
+
+    def _power(self, base, exponent):
+        if exponent is None or not self.generated:
+            return None if exponent is None or base is None else base * 10.0 ** min(exponent, 300.0)
+        magnitude = 10.0 ** exponent if exponent < 300 else math.inf
+        if magnitude > MAX_EXPONENT * (1 + 1e-9):
+            raise _Refused(f"a numeric exponent may be at most {MAX_EXPONENT} in magnitude")
+        if base is None:
+            return None
+        digits = base * magnitude
+        if digits > MAX_DIGITS * (1 + 1e-9):
+            raise _Refused(f"a number in it would have more than {MAX_DIGITS} digits")
+        return digits
+
+    def _name(self, name: str):
+        if name.startswith("_"):
+            raise _Refused(f"name {name!r} is not allowed")
+        if name in self.names:
+            value = self.names[name]
+            return None if not isinstance(value, sp.Basic) or value.free_symbols else 0.5
+        if name in self.functions:
+            raise _Refused(f"function {name!r} must be called, as in {name}(x)")
+        if name in _RESERVED:
+            raise _Refused(f"name {name!r} is not allowed")
+        if not self.new_symbols:
+            raise _Refused(f"unknown symbol {name!r}")
+        self.symbols.add(name)
+        return None
+
+    def _machinery(self, name: str, node: ast.Call):
+        """auto_number's own wrapping of a number: ``Integer (2 )``, ``Rational ('0.1')``, ``Float ('1e-3')``."""
+        if node.keywords or len(node.args) != 1 or not isinstance(node.args[0], ast.Constant):
+            raise _Refused(f"unexpected call of {name}")
+        value = node.args[0].value
+        if type(value) is int and name != "Symbol":
+            return self.visit(node.args[0])
+        if isinstance(value, str) and name == "Symbol":
+            return self._name(value)
+        match = _DECIMAL.fullmatch(value) if isinstance(value, str) and name != "Symbol" else None
+        if match is None:
+            raise _Refused(f"unexpected call of {name}")
+        digits = len(match["int"].replace("_", "").lstrip("0")) + len((match["frac"] or "").replace("_", ""))
+        exponent = match["exp"].replace("_", "") if match["exp"] else "0"
+        if len(exponent) > 6:
+            raise _Refused(f"the number {value} is out of range")
+        return digits + abs(int(exponent)) + 1.0
+
+    def _call(self, node: ast.Call, depth: int):
+        func = node.func
+        if not isinstance(func, ast.Name):
+            raise _Refused(_describe(func))
+        name = func.id
+        if name.startswith("_"):
+            raise _Refused(f"name {name!r} is not allowed")
+        if self.generated and name in _MACHINERY:
+            return self._machinery(name, node)
+        if name not in self.functions:
+            raise _Refused(f"function {name!r} is not allowed")
+        if node.keywords or any(isinstance(a, ast.Starred) for a in node.args):
+            raise _Refused(f"{name}() takes plain arguments only")
+        if name in _SORTING:
+            # SymPy compares the arguments of Min/Max pairwise: 300 symbols take minutes
+            self.sorting_arguments += len(node.args)
+            if self.sorting_arguments > MAX_SORTING_ARGUMENTS:
+                raise _Refused(f"Min and Max take at most {MAX_SORTING_ARGUMENTS} arguments in all")
+        sizes = [self.visit(a, depth + 1) for a in node.args]
+        if self.generated and any(s is not None and s > MAX_DIGITS for s in sizes):
+            raise _Refused(f"a number given to {name}() may have at most {MAX_DIGITS} digits")
+        if any(s is None for s in sizes):
+            return None
+        return sum(sizes)
+
+    def _compare(self, node: ast.Compare, depth: int):
+        if not self.relational:
+            raise _Refused("a comparison is not allowed here")
+        if len(node.ops) != 1:
+            raise _Refused("one comparison only (write 'a <= x' and 'x <= b' as two inequalities)")
+        if type(node.ops[0]) not in _COMPARISONS:
+            raise _Refused("not an inequality (use <=, <, >= or >)")
+        self.visit(node.left, depth + 1)
+        self.visit(node.comparators[0], depth + 1)
+        return None
+
+
+def _is_chain(node) -> bool:
+    return isinstance(node, ast.BinOp) and type(node.op) in _BINOPS and not isinstance(node.op, ast.Pow)
+
+
+def _describe(node) -> str:
+    """What a refused piece of syntax is, in words."""
+    kinds = {
+        ast.Attribute: "attribute access ('.')", ast.Subscript: "indexing ('[...]')", ast.Lambda: "lambda",
+        ast.IfExp: "'if ... else'", ast.BoolOp: "'and' / 'or'", ast.List: "a list", ast.Tuple: "a tuple",
+        ast.Dict: "a dict", ast.Set: "a set", ast.ListComp: "a comprehension", ast.SetComp: "a comprehension",
+        ast.DictComp: "a comprehension", ast.GeneratorExp: "a generator", ast.JoinedStr: "an f-string",
+        ast.Starred: "'*' unpacking", ast.NamedExpr: "':='", ast.Await: "'await'", ast.Yield: "'yield'",
+        ast.Slice: "a slice",
+    }
+    if isinstance(node, ast.BinOp):
+        return f"operator {type(node.op).__name__} is not allowed (use + - * / ** ^)"
+    if isinstance(node, ast.UnaryOp):
+        return f"operator {type(node.op).__name__} is not allowed"
+    if isinstance(node, ast.Compare):
+        return "a comparison is not allowed here"
+    return f"{kinds.get(type(node), type(node).__name__)} is not allowed"
+
+
+def _allowed(names, functions, new_symbols: bool, relational: bool) -> str:
+    """The 'expected ...' half of a message."""
+    parts = [n for n in names if not n.startswith("_")]
+    if new_symbols:
+        parts.append("symbol names")
+    parts += list(functions)
+    ops = "+ - * / ** ^" + (", one of < <= > >=" if relational else "")
+    return f"allowed: numbers, {ops}, {', '.join(parts)}"
+
+
+def parse_expr(value, parameter: str, *, names: Mapping | None = None, functions=None, new_symbols: bool = True,
+               relational: bool = False, max_length: int = MAX_LENGTH, max_depth: int = MAX_DEPTH,
+               transformations: tuple = ()) -> sp.Basic:
+    """Read ``value`` (number, SymPy object or text) as an exact-where-possible expression.
+
+    Numbers: integers and fractions stay exact, Python floats stay floats
+    (``sp.Float`` of the exact binary value).  SymPy objects pass through.
+    Text is untrusted and read by one rule:
+
+    - it is at most ``max_length`` characters and parses as a Python
+      expression (:func:`ast.parse`) made only of numbers, names, ``+ - * /
+      **``, unary signs, parentheses and calls of the allowed ``functions``
+      (default :data:`FUNCTIONS`: sqrt, sin, cos, tan, asin, acos, atan,
+      atan2, exp, log, Abs, Min, Max) without keywords; with ``relational``
+      also one comparison ``<``, ``<=``, ``>``, ``>=``.  Attributes,
+      subscripts, strings, lambdas, comprehensions, ``if``/``else`` and
+      names starting with ``_`` are refused, as is nesting deeper than
+      ``max_depth`` and a numeric exponent above 1000 in magnitude;
+    - ``^`` means power, as in textbooks: ``"(x - 5)^2"`` is ``(x - 5)**2``;
+    - a decimal is the rational it spells: ``"0.1"`` is ``1/10``, ``"1e-3"``
+      is ``1/1000`` (so results stay exact);
+    - names: those of ``names`` (a mapping ``name -> SymPy object``, e.g. the
+      variables of a box), then ``pi`` and ``E``; any other identifier becomes
+      a plain ``Symbol`` when ``new_symbols`` is true and is refused
+      otherwise.  ``oo``, ``zoo``, ``nan``, ``I`` are never symbols.
+      There is no implicit multiplication: ``2x`` is refused, write ``2*x``.
+
+    ``transformations`` are extra :mod:`sympy.parsing.sympy_parser`
+    transformations run after the built-in ones (the text must still pass the
+    checks above, and so must the code they produce).  NaN and infinities are
+    refused.
+
+    Raises
+    ------
+    ExpressionError
+        Naming ``parameter``, the text (cut when long) and what is allowed.
 
     Examples
     --------
@@ -25,42 +291,132 @@ def parse_expr(value, parameter: str) -> sp.Expr:
     pi/2
     >>> parse_expr(3, "d")
     3
+    >>> parse_expr("0.1 + 1e-3", "a")
+    101/1000
+    >>> parse_expr("(x - 5)^2 + y^2 <= 144", "constraint", relational=True)
+    y**2 + (x - 5)**2 <= 144
     >>> parse_expr("2*(", "a")
     Traceback (most recent call last):
     ...
-    workspace_sym.errors.ExpressionError: a: cannot read '2*(' as an expression
+    workspace_sym.errors.ExpressionError: a: cannot read '2*(' as an expression (invalid syntax)
+    >>> parse_expr("__import__('os')", "joint 2 d", names={"q2": sp.Symbol("q2")}, new_symbols=False)
+    ... # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    workspace_sym.errors.ExpressionError: joint 2 d: cannot read "__import__('os')": name '__import__' is not \
+allowed; allowed: numbers, + - * / ** ^, q2, pi, E, sqrt, sin, cos, ..., Abs, Min, Max
     """
     if isinstance(value, bool) or value is None:
         raise ExpressionError(f"{parameter}: expected a number or an expression, got {value!r}")
-    if isinstance(value, sp.Basic):
+    if isinstance(value, str):
+        expr = _read_text(value, parameter, names=names, functions=functions, new_symbols=new_symbols,
+                          relational=relational, max_length=max_length, max_depth=max_depth,
+                          transformations=transformations)
+    elif isinstance(value, sp.Basic):
         expr = value
     elif isinstance(value, Number):
         if isinstance(value, float) and not math.isfinite(value):
             raise ExpressionError(f"{parameter}: expected a finite number, got {value!r}")
-        expr = sp.sympify(value)
-    elif isinstance(value, str):
-        text = value.strip()
-        if not text:
-            raise ExpressionError(f"{parameter}: expected an expression, got an empty string")
-        try:
-            expr = sp.sympify(text, rational=False)
-        except (sp.SympifyError, SyntaxError, TypeError, AttributeError, TokenError) as exc:
-            raise ExpressionError(f"{parameter}: cannot read {value!r} as an expression") from exc
+        expr = sp.sympify(value)  # a number, never text
     else:
-        raise ExpressionError(f"{parameter}: expected a number or an expression, got {value!r}")
-    if not isinstance(expr, sp.Expr):
-        raise ExpressionError(f"{parameter}: expected an expression, got {value!r}")
-    if expr.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
-        raise ExpressionError(f"{parameter}: expected a finite value, got {value!r}")
+        raise ExpressionError(f"{parameter}: expected a number or an expression, got {type(value).__name__} "
+                              f"{_shown(repr(value))}")
+    if isinstance(expr, sp.Expr):
+        parts = (expr,)
+    elif relational and isinstance(expr, sp.core.relational.Relational):
+        parts = expr.args
+    elif relational and isinstance(expr, sp.logic.boolalg.BooleanAtom):
+        parts = ()
+    else:
+        raise ExpressionError(f"{parameter}: expected an expression, got {_shown(str(value))}")
+    if any(p.has(sp.nan, sp.zoo, sp.oo, -sp.oo) for p in parts):
+        raise ExpressionError(f"{parameter}: expected a finite value, got {_shown(str(value))}")
     return expr
+
+
+def _read_text(text: str, parameter: str, *, names, functions, new_symbols, relational, max_length, max_depth,
+               transformations):
+    shown = _shown(text)
+    if len(text) > max_length:
+        raise ExpressionError(f"{parameter}: {shown} is too long; at most {max_length} characters are read")
+    text = text.strip()
+    if not text:
+        raise ExpressionError(f"{parameter}: expected an expression, got an empty string")
+    names = {**(names or {}), **{k: v for k, v in CONSTANTS.items() if k not in (names or {})}}
+    bad = [n for n in names if not (isinstance(n, str) and n.isidentifier())]
+    if bad:
+        raise TypeError(f"names must be identifiers; got {bad!r}")  # a programming error, not user input
+    if functions is None:
+        functions = FUNCTIONS
+    elif not isinstance(functions, Mapping):
+        functions = {f: FUNCTIONS[f] for f in functions}
+    allowed = _allowed(names, functions, new_symbols, relational)
+    if _paren_depth(text) > max_depth:
+        raise ExpressionError(f"{parameter}: cannot read {shown}: nested more than {max_depth} levels deep; "
+                              f"{allowed}")
+    # '^' is power (textbook spelling).  A plain replace is exact: the grammar has no strings where '^' could hide.
+    source = text.replace("^", "**")
+    try:
+        with warnings.catch_warnings():  # "invalid decimal literal" in '1if x' must not reach stderr
+            warnings.simplefilter("ignore")
+            tree = ast.parse(source, mode="eval")
+    except (SyntaxError, ValueError, OverflowError):  # ValueError: null bytes
+        raise ExpressionError(f"{parameter}: cannot read {shown} as an expression (invalid syntax)") from None
+    except (RecursionError, MemoryError):  # Python's own parser on very deep or long input
+        raise ExpressionError(f"{parameter}: cannot read {shown}: nested too deeply; {allowed}") from None
+    checker = _Checker(names=names, functions=functions, new_symbols=new_symbols, relational=relational,
+                       max_depth=max_depth)
+    try:
+        checker.visit(tree)
+    except _Refused as exc:
+        raise ExpressionError(f"{parameter}: cannot read {shown}: {exc}; {allowed}") from None
+    local_dict = {n: sp.Symbol(n) for n in checker.symbols}
+    local_dict.update(names)
+    global_dict = {"__builtins__": {}, **_MACHINERY, **functions}
+    steps = (auto_number, rationalize) + tuple(transformations)
+    try:
+        # Check the code SymPy will evaluate as well: the built-in transformations only wrap numbers.
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            code = stringify_expr(source, local_dict, global_dict, steps)
+            generated = ast.parse(code, mode="eval")
+            _Checker(names={**local_dict, **functions}, functions=functions, new_symbols=False,
+                     relational=relational, max_depth=2 * max_depth + 2, generated=True).visit(generated)
+            # sympy's parse_expr is stringify_expr + eval_expr; evaluating the checked code itself leaves no gap
+            return eval_expr(code, local_dict, global_dict)
+    except _Refused as exc:
+        raise ExpressionError(f"{parameter}: cannot read {shown}: {exc}; {allowed}") from None
+    except Exception as exc:  # noqa: BLE001 - SymPy's own errors on validated arithmetic, e.g. sin(1, 2)
+        reason = " ".join(str(exc).split())[:120] or type(exc).__name__
+        raise ExpressionError(f"{parameter}: cannot read {shown} as an expression ({reason})") from None
+
+
+def _paren_depth(text: str) -> int:
+    depth = deepest = 0
+    for ch in text:
+        if ch in "([{":
+            depth += 1
+            deepest = max(deepest, depth)
+        elif ch in ")]}":
+            depth -= 1
+    return deepest
 
 
 def parse_angle(value, parameter: str, *, degrees: bool) -> sp.Expr:
     """Read an angle; plain numbers are degrees when ``degrees`` is true.
 
-    An expression that contains ``pi`` or a symbol is taken as radians whatever
-    ``degrees`` says, so ``"pi/2"`` and ``90`` mean the same in a degree table.
-    Integer degrees stay exact: ``90`` becomes ``pi/2``.
+    Rule for a degrees table:
+
+    - a number (no symbol, no ``pi``) is degrees: ``90`` and ``"90"`` become
+      ``pi/2``, integer degrees stay exact;
+    - an expression containing ``pi`` is radians: ``"pi/2"``, ``"q1 + pi/2"``;
+    - a symbol alone or times numbers (``"alpha1"``, ``"-q1"``) is radians;
+    - a symbol plus a number without ``pi`` (``"q1 + 90"``) is refused: it
+      used to mean 90 radians silently.  Give the offset alone as a number of
+      degrees (``"theta": 90`` is added to the joint variable) or write it in
+      radians (``"q1 + pi/2"``).
+
+    With ``degrees`` false every value is radians.
 
     Examples
     --------
@@ -70,11 +426,70 @@ def parse_angle(value, parameter: str, *, degrees: bool) -> sp.Expr:
     pi/2
     >>> parse_angle("alpha1", "alpha", degrees=True)
     alpha1
+    >>> parse_angle("q1 + 90", "joint 1 theta", degrees=True)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    workspace_sym.errors.ExpressionError: joint 1 theta: 'q1 + 90' adds a number without pi to a symbol ... \
+give the offset alone in degrees ("theta": 90) or write it in radians: "q1 + pi/2"
     """
     expr = parse_expr(value, parameter)
-    if degrees and expr.is_number and not expr.has(sp.pi):
+    if not degrees or expr.has(sp.pi):
+        return expr
+    if expr.is_number:
         return expr * sp.pi / 180
+    constant, rest = expr.as_coeff_Add()
+    if constant != 0:
+        field = parameter.rsplit(" ", 1)[-1]
+        hint = sp.sstr(rest + constant * sp.pi / 180)
+        raise ExpressionError(
+            f"{parameter}: {_shown(str(value))} adds a number without pi to a symbol in a degrees table, which is "
+            f"ambiguous; give the offset alone in degrees (\"{field}\": {constant}) or write it in radians: "
+            f"\"{hint}\"")
     return expr
+
+
+def read_symbol(name, parameter: str) -> sp.Symbol:
+    """A symbol named by user text: an identifier that text read by :func:`parse_expr` can refer to.
+
+    Examples
+    --------
+    >>> read_symbol("q1", "joint 1 variable")
+    q1
+    >>> read_symbol("__class__", "joint 1 variable")
+    Traceback (most recent call last):
+    ...
+    workspace_sym.errors.ExpressionError: joint 1 variable: expected a name such as q1, got '__class__'
+    """
+    if (not isinstance(name, str) or not name.isidentifier() or keyword.iskeyword(name) or name.startswith("_")
+            or name in _RESERVED
+            or name in FUNCTIONS or name in CONSTANTS or len(name) > 100):
+        raise ExpressionError(f"{parameter}: expected a name such as q1, got {_shown(str(name))}")
+    return sp.Symbol(name)
+
+
+def as_sympy(value, parameter: str = "expression"):
+    """A SymPy object for an internal value; text goes through :func:`parse_expr`, never :func:`sympy.sympify`.
+
+    SymPy objects and matrices pass through, numbers are converted; any other
+    object (a list or dict could hold strings that ``sympify`` would evaluate)
+    is refused.
+
+    Examples
+    --------
+    >>> as_sympy(sp.Symbol("x") + 1)
+    x + 1
+    >>> as_sympy("x^2")
+    x**2
+    >>> as_sympy(["x"])
+    Traceback (most recent call last):
+    ...
+    workspace_sym.errors.ExpressionError: expression: expected a SymPy expression or a number, got list
+    """
+    if isinstance(value, str):
+        return parse_expr(value, parameter)
+    if isinstance(value, (sp.Basic, sp.MatrixBase, Number)):
+        return sp.sympify(value)  # not text: no parsing happens
+    raise ExpressionError(f"{parameter}: expected a SymPy expression or a number, got {type(value).__name__}")
 
 
 def is_finite_value(expr: sp.Expr) -> bool:

@@ -23,8 +23,8 @@ import numpy as np
 import sympy as sp
 from sympy.polys.matrices import DomainMatrix
 
-from .errors import DHTableError, InvalidParameterError, JointLimitError, check_choice
-from .expressions import is_finite_value, parse_angle, parse_expr
+from .errors import DHTableError, ExpressionError, InvalidParameterError, JointLimitError, check_choice
+from .expressions import as_sympy, is_finite_value, parse_angle, parse_expr, read_symbol
 from .symbolic import HalfAngleRing, factor_half_angle, shorthand, trig_polynomials, shorthand_latex, shorthand_str, textbook, textbook_matrix
 
 __all__ = [
@@ -120,26 +120,42 @@ class DHJoint:
     def revolute(cls, index: int, *, d=0, a=0, alpha=0, offset=0, limits=None, variable=None) -> "DHJoint":
         """Revolute joint ``index`` (1-based) with variable ``theta{index}``."""
         q = variable if variable is not None else sp.Symbol(f"theta{index}")
-        return cls("R", q + sp.sympify(offset), sp.sympify(d), sp.sympify(a), sp.sympify(alpha), q,
-                   _limits(limits))
+        d, a, alpha, offset = (_field(v, index, k) for k, v in (("d", d), ("a", a), ("alpha", alpha),
+                                                                 ("offset", offset)))
+        return cls("R", q + offset, d, a, alpha, q, _limits(limits, index))
 
     @classmethod
     def prismatic(cls, index: int, *, theta=0, a=0, alpha=0, offset=0, limits=None, variable=None) -> "DHJoint":
         """Prismatic joint ``index`` (1-based) with variable ``d{index}``."""
         q = variable if variable is not None else sp.Symbol(f"d{index}")
-        return cls("P", sp.sympify(theta), q + sp.sympify(offset), sp.sympify(a), sp.sympify(alpha), q,
-                   _limits(limits))
+        theta, a, alpha, offset = (_field(v, index, k) for k, v in (("theta", theta), ("a", a), ("alpha", alpha),
+                                                                         ("offset", offset)))
+        return cls("P", theta, q + offset, a, alpha, q, _limits(limits, index))
 
     def __repr__(self) -> str:
         lim = "" if self.limits is None else f", limits=[{self.limits[0]}, {self.limits[1]}]"
         return f"DHJoint({self.kind}: theta={self.theta}, d={self.d}, a={self.a}, alpha={self.alpha}{lim})"
 
 
-def _limits(limits):
+def _field(value, index, field):
+    """A field of joint ``index``: numbers and SymPy objects as given, text through parse_expr (never sympify)."""
+    return parse_expr(value, f"joint {index} {field}")
+
+
+def _limits(limits, index):
     if limits is None:
         return None
     lo, hi = limits
-    return (sp.sympify(lo), sp.sympify(hi))
+    return tuple(parse_expr(v, f"joint {index} {side} limit", new_symbols=False)
+                 for side, v in (("lower", lo), ("upper", hi)))
+
+
+def _parameter_value(value, name: str) -> float:
+    """A default parameter value: a finite real number (text read by parse_expr, without symbols)."""
+    v = parse_expr(value, name, new_symbols=False)
+    if not v.is_number or not is_finite_value(v):
+        raise ExpressionError(f"{name}: expected a finite real number; got {value!r:.60}")
+    return float(v)
 
 
 @dataclass(frozen=True, slots=True)
@@ -196,7 +212,9 @@ class DHRobot:
         self.convention = convention
         self.name = name
         self.units = units
-        self.parameters = {sp.Symbol(str(k)) if isinstance(k, str) else k: v for k, v in (parameters or {}).items()}
+        self.parameters = {sp.Symbol(str(k)) if isinstance(k, str) else k:
+                           _parameter_value(v, f"parameter {k}") if isinstance(v, str) else v
+                           for k, v in (parameters or {}).items()}
         clash = set(self.parameters) & set(variables)
         if clash:
             raise DHTableError(f"parameters {sorted(map(str, clash))} are joint variables, not constants")
@@ -238,7 +256,8 @@ class DHRobot:
             unknown = set(row) - {"type", "theta", "d", "a", "alpha", "limits", "variable"}
             if unknown:
                 raise DHTableError(f"joint {i}: unknown field {sorted(unknown)[0]!r}")
-            q = sp.Symbol(row["variable"]) if "variable" in row else sp.Symbol(f"theta{i}" if kind == "R" else f"d{i}")
+            q = (read_symbol(row["variable"], f"joint {i} variable") if "variable" in row
+                 else sp.Symbol(f"theta{i}" if kind == "R" else f"d{i}"))
             a = parse_expr(row["a"], f"joint {i} a")
             alpha = parse_angle(row["alpha"], f"joint {i} alpha", degrees=degrees)
             if kind == "R":
@@ -256,7 +275,7 @@ class DHRobot:
                 if kind == "R":
                     limits = tuple(parse_angle(v, f"joint {i} limits", degrees=degrees) for v in limits)
                 else:
-                    limits = tuple(parse_expr(v, f"joint {i} limits") for v in limits)
+                    limits = tuple(parse_expr(v, f"joint {i} limits", new_symbols=False) for v in limits)
                 for name_, v in zip(("lower", "upper"), limits):
                     if not v.is_number or not is_finite_value(v):
                         raise JointLimitError(f"joint {i} {name_} limit must be a finite number; got {v}")
@@ -267,8 +286,11 @@ class DHRobot:
                     )
             joints.append(DHJoint(kind, theta, d, a, alpha, q, limits))
         params = {}
-        for k, v in (data.get("parameters") or {}).items():
-            params[sp.Symbol(k)] = float(parse_expr(v, f"parameter {k}"))
+        parameters = data.get("parameters") or {}
+        if not isinstance(parameters, dict):
+            raise DHTableError(f"parameters: expected an object such as {{\"a2\": 0.25}}; got {parameters!r:.60}")
+        for k, v in parameters.items():
+            params[read_symbol(k, "parameters")] = _parameter_value(v, f"parameter {k}")
         return cls(joints, convention=convention, name=data.get("name", name), parameters=params,
                    units=data.get("units", "m"))
 
@@ -455,7 +477,7 @@ class DHRobot:
     def substitute(self, expr, parameters: dict | None = None):
         """``expr`` with the default (or given) numeric parameters substituted."""
         params = self.parameters if parameters is None else {sp.Symbol(str(k)): v for k, v in parameters.items()}
-        return sp.sympify(expr).xreplace({k: sp.Float(v) if isinstance(v, float) else v for k, v in params.items()})
+        return as_sympy(expr).xreplace({k: sp.Float(v) if isinstance(v, float) else v for k, v in params.items()})
 
     def numeric(self, expr, parameters: dict | None = None):
         """Vectorised evaluator of ``expr`` over configurations (see :func:`numeric_function`)."""

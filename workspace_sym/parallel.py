@@ -88,9 +88,9 @@ def rpr2(l0=5, lmin=8, lmax=12, *, lmin2=None, lmax2=None) -> ConstraintModel:
     >>> round(float(m.exact_measure), 6)
     35.05335
     """
-    l0, lmin1, lmax1 = (parse_expr(v, n) for v, n in ((l0, "l0"), (lmin, "lmin"), (lmax, "lmax")))
-    lmin2 = lmin1 if lmin2 is None else parse_expr(lmin2, "lmin2")
-    lmax2 = lmax1 if lmax2 is None else parse_expr(lmax2, "lmax2")
+    l0, lmin1, lmax1 = (parse_expr(v, n, new_symbols=False) for v, n in ((l0, "l0"), (lmin, "lmin"), (lmax, "lmax")))
+    lmin2 = lmin1 if lmin2 is None else parse_expr(lmin2, "lmin2", new_symbols=False)
+    lmax2 = lmax1 if lmax2 is None else parse_expr(lmax2, "lmax2", new_symbols=False)
     for name, v in (("l0", l0), ("lmin", lmin1), ("lmax", lmax1), ("lmin2", lmin2), ("lmax2", lmax2)):
         if not v.is_number or not v.is_real:
             raise InvalidParameterError(f"{name} must be a real number; got {v}")

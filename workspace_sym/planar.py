@@ -27,7 +27,8 @@ from numbers import Integral, Number
 import numpy as np
 import sympy as sp
 
-from .errors import InvalidParameterError, JointLimitError
+from .errors import ExpressionError, InvalidParameterError, JointLimitError
+from .expressions import parse_expr
 
 __all__ = ["PlanarChain", "Arc"]
 
@@ -81,7 +82,10 @@ class Arc:
 
 
 def _read_value(value, name: str):
-    """A user number as ``(float, exact SymPy number)``; decimals are read as the rationals they spell."""
+    """A user number as ``(float, exact SymPy number)``; decimals are read as the rationals they spell.
+
+    Text goes through :func:`~workspace_sym.expressions.parse_expr` (no symbols allowed).
+    """
     if isinstance(value, bool) or value is None:
         raise InvalidParameterError(f"{name} must be a finite number; got {value!r}")
     try:
@@ -91,11 +95,15 @@ def _read_value(value, name: str):
             if not math.isfinite(value):
                 raise InvalidParameterError(f"{name} must be a finite number; got {value!r}")
             exact = sp.Rational(repr(float(value)))
-        elif isinstance(value, (str, sp.Basic, Number)):
-            exact = sp.sympify(value, rational=True) if isinstance(value, str) else sp.sympify(value)
+        elif isinstance(value, str):
+            exact = parse_expr(value, name, new_symbols=False)
+        elif isinstance(value, (sp.Basic, Number)):
+            exact = sp.sympify(value)  # not text
         else:
             raise TypeError
-    except (TypeError, ValueError, sp.SympifyError, SyntaxError):
+    except ExpressionError:
+        raise
+    except (TypeError, ValueError, sp.SympifyError):
         raise InvalidParameterError(f"{name} must be a finite number; got {value!r}") from None
     if not (isinstance(exact, sp.Expr) and exact.is_number and exact.is_real is not False):
         raise InvalidParameterError(f"{name} must be a finite real number; got {value!r}")

@@ -219,7 +219,7 @@ def _paving_section(doc: "Document", paving, tmp: Path) -> None:
             f"[{lo:.6f}, {hi:.6f}] (inner boxes are proved inside, outer boxes proved outside, with "
             "outward-rounded interval arithmetic).")
     if d.get("exact_measure") is not None:
-        text += f" Exact measure {float(sp.sympify(d['exact_measure'])):.6f}."
+        text += f" Exact measure {float(d['exact_measure']):.6f}."  # to_dict stores it as a float
     doc.para(text)
     save_figure(plot_paving(paving), tmp / "paving.png")
     doc.figure(tmp / "paving.png", "Certified paving: inner (green), boundary (yellow), outer (not drawn)")

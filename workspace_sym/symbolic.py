@@ -28,6 +28,8 @@ from __future__ import annotations
 import sympy as sp
 from sympy.simplify.fu import TR10i
 
+from .expressions import as_sympy
+
 __all__ = [
     "textbook",
     "textbook_matrix",
@@ -89,7 +91,7 @@ def textbook(expr) -> sp.Expr:
     >>> textbook(0)
     0
     """
-    expr = sp.sympify(expr)
+    expr = as_sympy(expr)
     if not expr.has(sp.sin, sp.cos):
         return sp.factor_terms(sp.expand(expr))
     expr = _reduce_pythagorean(sp.expand(expr))
@@ -108,7 +110,7 @@ def trig_polynomials(exprs):
     Returns the polynomial expressions (with ``s_u**2`` reduced to ``1 - c_u**2``)
     and the list of ``(u, c_u, s_u)``.
     """
-    exprs = [_reduce_pythagorean(sp.expand(sp.expand_trig(sp.sympify(e)))) for e in exprs]
+    exprs = [_reduce_pythagorean(sp.expand(sp.expand_trig(as_sympy(e)))) for e in exprs]
     atoms = set()
     for e in exprs:
         atoms |= e.atoms(sp.sin, sp.cos)
@@ -303,7 +305,7 @@ def shorthand(expr, variables, *, latex: bool = False) -> sp.Expr:
     c1*s23
     """
     index_of = {v: k + 1 for k, v in enumerate(variables)}
-    expr = sp.sympify(expr)
+    expr = as_sympy(expr)
     subs = {}
     for atom in expr.atoms(sp.sin, sp.cos):
         label = _angle_label(atom.args[0], index_of)
@@ -322,7 +324,7 @@ def shorthand_str(expr, variables) -> str:
 
 def shorthand_latex(expr, variables, *, short: bool = True) -> str:
     """LaTeX of an expression or matrix, with the shorthand when ``short``."""
-    expr = sp.sympify(expr)
+    expr = as_sympy(expr)
     if short:
         expr = shorthand(expr, variables, latex=True)
     return sp.latex(expr)

@@ -34,6 +34,16 @@ class Verdict:
         return f"**{mark}**: {self.message}"
 
 
+def _number(value, name: str) -> float:
+    """A student's number: text through parse_expr (``"pi/4"``, no symbols), anything else through float()."""
+    if isinstance(value, str):
+        value = parse_expr(value, name, new_symbols=False)
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise InvalidParameterError(f"{name} must be a real number; got {value!r:.60}") from None
+
+
 def check_expression(student, derived, *, samples: int = 50, seed: int = 0) -> Verdict:
     """Is the student's expression identically equal to the derived one?
 
@@ -44,6 +54,12 @@ def check_expression(student, derived, *, samples: int = 50, seed: int = 0) -> V
     zero, a counterexample is searched among random rational values of the
     symbols and confirmed at 30 digits.
 
+    Text is read by :func:`~workspace_sym.expressions.parse_expr`: the
+    student's answer may use the symbols of ``derived``, numbers, ``pi``,
+    ``sqrt``, ``sin``, ``cos``, ... and ``^`` for powers; anything else (an
+    unknown name, Python code) raises :class:`~workspace_sym.errors.ExpressionError`
+    naming the allowed names, and nothing of it is evaluated.
+
     Examples
     --------
     >>> check_expression("cos(t1)*cos(t2) - sin(t1)*sin(t2)", "cos(t1 + t2)").ok
@@ -51,12 +67,18 @@ def check_expression(student, derived, *, samples: int = 50, seed: int = 0) -> V
     >>> v = check_expression("cos(t1)*cos(t2) + sin(t1)*sin(t2)", "cos(t1 + t2)")
     >>> v.ok, sorted(v.evidence["counterexample"])
     (False, ['t1', 't2'])
+    >>> check_expression("cos(t1)*cos(t3)", "cos(t1 + t2)")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    workspace_sym.errors.ExpressionError: student answer: cannot read 'cos(t1)*cos(t3)': unknown symbol 't3'; ...
     """
     from .symbolic import trig_polynomials
 
-    s = parse_expr(student, "student") if not isinstance(student, sp.Basic) else student
-    d = parse_expr(derived, "derived") if not isinstance(derived, sp.Basic) else derived
-    diff = sp.sympify(s) - sp.sympify(d)
+    d = parse_expr(derived, "derived")
+    # the student's text is untrusted: it may name the symbols of the derived result and nothing else
+    names = {str(x): x for x in d.free_symbols if str(x).isidentifier() and not str(x).startswith("_")}
+    s = parse_expr(student, "student answer", names=names, new_symbols=False)
+    diff = s - d
     (poly,), _ = trig_polynomials([diff])
     if sp.expand(poly) == 0:
         return Verdict(True, "equal: the difference reduces to 0 after expanding and sin^2 = 1 - cos^2",
@@ -78,7 +100,7 @@ def check_reachable(chain, point, *, max_boxes: int = 500_000, seed: int = 0) ->
     """Can the planar ``chain`` reach ``point``?  A witness configuration, or an interval proof that it cannot."""
     from .boundary import prove_unreachable, witness_near
 
-    q = np.asarray(point, dtype=float).reshape(2)
+    q = np.array([_number(v, "point") for v in np.ravel(np.asarray(point, dtype=object))]).reshape(2)
     if not np.isfinite(q).all():
         raise InvalidParameterError(f"point must be two finite numbers; got {point!r}")
     theta, err = witness_near(chain, q, seed=seed, k=64, iterations=100)
@@ -102,7 +124,9 @@ def check_boundary_arc(chain, center, radius, start_angle, end_angle, *, tol: fl
     ``tol`` times the reach; the verdict names the first point that is not.
     """
     b = chain.boundary()
-    c = np.asarray(center, dtype=float).reshape(2)
+    c = np.array([_number(v, "center") for v in np.ravel(np.asarray(center, dtype=object))]).reshape(2)
+    radius, start_angle, end_angle = (_number(v, n) for v, n in ((radius, "radius"), (start_angle, "start_angle"),
+                                                                  (end_angle, "end_angle")))
     if not radius > 0:
         raise InvalidParameterError(f"radius must be positive; got {radius!r}")
     angles = np.linspace(start_angle, end_angle, points)
@@ -126,7 +150,7 @@ def check_measure(claimed: float, result, *, rel_tol: float = 0.0) -> Verdict:
     (``measure_bounds``) or an Orthoglide ``DextrousResult`` (inside volume,
     inside + E).  ``rel_tol`` widens the bracket for rounded answers.
     """
-    claimed = float(claimed)
+    claimed = _number(claimed, "claimed")
     if not math.isfinite(claimed):
         raise InvalidParameterError(f"claimed must be a finite number; got {claimed!r}")
     if hasattr(result, "loops"):

@@ -27,6 +27,7 @@ from functools import lru_cache
 import sympy as sp
 
 from ..errors import ExpressionError, check_choice
+from ..expressions import as_sympy
 from . import arith
 from .graph import Graph, exact_constants
 
@@ -100,7 +101,7 @@ def best_form(expr, variables, *, seconds: float = REWRITE_SECONDS) -> sp.Expr:
     >>> best_form(1e10*x**2*y + 8*x/7, (x, y))      # 8/7 stays exact
     x*(10000000000*x*y + 8/7)
     """
-    expr = exact_constants(sp.sympify(expr))
+    expr = exact_constants(as_sympy(expr))
     variables = tuple(variables)
     candidates = [expr]
     if variables and expr.is_polynomial(*variables) and sp.count_ops(expr) <= MAX_REWRITE_OPS:
@@ -132,7 +133,7 @@ class CompiledExpr:
     def __init__(self, expr, variables, backend):
         self.variables = tuple(variables)
         self.backend = backend
-        expr = exact_constants(sp.sympify(expr))
+        expr = exact_constants(as_sympy(expr))
         self.expr = best_form(expr, self.variables)
         self.centred = repeated_occurrences(self.expr, self.variables) > 0 and backend == "numpy"
         roots = [self.expr]
@@ -184,7 +185,7 @@ def compile_expr(expr, variables, *, backend: str = "numpy") -> CompiledExpr:
     True
     """
     check_choice("backend", backend, BACKENDS)
-    expr = sp.sympify(expr)
+    expr = as_sympy(expr)
     unknown = expr.free_symbols - set(variables)
     if unknown:
         names = ", ".join(sorted(map(str, unknown)))

@@ -27,6 +27,7 @@ import numpy as np
 import sympy as sp
 
 from ..errors import ExpressionError
+from ..expressions import as_sympy
 from . import arith
 from . import mp as mpi
 
@@ -61,7 +62,7 @@ def _unsupported(node, what="is not supported by the interval compiler"):
 # ----------------------------------------------------------------------------- constants
 def numpy_constant(value: sp.Expr) -> tuple[float, float]:
     """Two floats enclosing the real constant ``value`` (equal when it is a float exactly)."""
-    value = exact_constants(sp.sympify(value))
+    value = exact_constants(as_sympy(value))
     if value.is_Rational:
         p, q = int(value.p), int(value.q)
         try:
@@ -156,7 +157,7 @@ class Graph:
         self._memo: dict = {}
         for k, v in enumerate(self.variables):
             self._add(("var", (), k), v)
-        self.roots = [self._build(exact_constants(sp.sympify(e))) for e in expressions]
+        self.roots = [self._build(exact_constants(as_sympy(e))) for e in expressions]
         self._numpy_consts = {i: numpy_constant(p) for i, (kind, _, p) in enumerate(self.nodes)
                               if kind == "const" and fold}
         self._mp_graphs: dict = {}

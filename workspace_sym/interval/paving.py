@@ -22,7 +22,8 @@ from functools import cache, lru_cache
 import numpy as np
 import sympy as sp
 
-from ..errors import BoxError, ConstraintError, InvalidParameterError, check_choice
+from ..errors import BoxError, ConstraintError, ExpressionError, InvalidParameterError, check_choice
+from ..expressions import parse_expr
 from . import arith
 from . import mp as mpi
 from .compiler import BACKENDS, best_form, compile_expr
@@ -66,7 +67,11 @@ class Box:
 
     @classmethod
     def from_bounds(cls, bounds, variables=None) -> Box:
-        """From ``{var: (lo, hi)}`` or a sequence of pairs with ``variables``."""
+        """From ``{var: (lo, hi)}`` or a sequence of pairs with ``variables``.
+
+        Bounds are numbers or text read by :func:`~workspace_sym.expressions.parse_expr`
+        (``"-pi/2"``), rounded to the nearest float.
+        """
         if isinstance(bounds, Box):
             return bounds
         if isinstance(bounds, dict):
@@ -85,7 +90,10 @@ class Box:
         for v, pair in zip(variables, pairs):
             try:
                 lo, hi = pair
-                lo_f, hi_f = float(lo), float(hi)
+                lo_f, hi_f = (float(parse_expr(b, f"box: {side} bound of {v}", new_symbols=False))
+                              if isinstance(b, str) else float(b) for side, b in (("lower", lo), ("upper", hi)))
+            except ExpressionError:
+                raise
             except (TypeError, ValueError):
                 raise BoxError(f"box: bounds of {v} must be two numbers; got {pair!r}") from None
             if not (math.isfinite(lo_f) and math.isfinite(hi_f)):
@@ -125,6 +133,11 @@ class Constraint:
 def parse_constraints(constraints, variables) -> tuple[Constraint, ...]:
     """Read inequalities (SymPy relationals or strings) as ``g <= 0`` constraints.
 
+    Strings are read by :func:`~workspace_sym.expressions.parse_expr` with the
+    names of ``variables`` as the only symbols, one comparison (``<``, ``<=``,
+    ``>``, ``>=``), ``^`` as power and decimals as exact rationals; anything
+    else raises :class:`ConstraintError`.
+
     Examples
     --------
     >>> x = sp.Symbol("x")
@@ -139,13 +152,15 @@ def parse_constraints(constraints, variables) -> tuple[Constraint, ...]:
         constraints = [constraints]
     out = []
     names = {str(v): v for v in variables}
+    # text may name the variables (and pi, sqrt, ...) and nothing else
+    readable = {n: v for n, v in names.items() if n.isidentifier() and not n.startswith("_")}
     for k, c in enumerate(constraints, start=1):
         text = c if isinstance(c, str) else ""
         if isinstance(c, str):
             try:
-                c = sp.sympify(c, locals=names)
-            except (sp.SympifyError, SyntaxError, TypeError):
-                raise ConstraintError(f"constraint {k} ({text!r}) cannot be read") from None
+                c = parse_expr(c, f"constraint {k}", names=readable, new_symbols=False, relational=True)
+            except ExpressionError as exc:
+                raise ConstraintError(str(exc)) from None
         if c is sp.true or c is sp.false or isinstance(c, bool):
             # A constant inequality (SymPy evaluates "-6 <= 0" to True): always / never satisfied.
             out.append(Constraint(sp.Integer(-1 if bool(c) else 1), False, text))
