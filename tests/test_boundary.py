@@ -10,7 +10,8 @@ import pytest
 import sympy as sp
 from hypothesis import given, settings, strategies as st
 
-from workspace_sym.boundary import _local_witness, exact_area, exact_arcs, prove_unreachable
+from workspace_sym.boundary import prove_unreachable, witness_near
+from workspace_sym.exact import exact_area, exact_arcs
 from workspace_sym.planar import PlanarChain
 
 HUMAN_ARM = (["0.186", "0.146", "0.108"], [-60, 0, -10], [120, 130, 25])     # Table 1, case iii
@@ -127,8 +128,7 @@ def test_sides_proved_by_witnesses_and_exclusion(p, seed):
         q_in = a.point(m) + inward * d * np.array([math.cos(m), math.sin(m)]) * (1 if a.radius > d else 0)
         q_out = a.point(m) - inward * 3 * d * np.array([math.cos(m), math.sin(m)])
         if b.contains(q_in) == "inside":
-            near = np.argsort(np.hypot(*(pts - q_in).T))[:128]
-            _, err = _local_witness(c, q_in[None], starts[near][None], iterations=150)
+            _, err = witness_near(c, q_in, starts=starts, points=pts, k=128, iterations=150)
             assert err[0] < 1e-9
         if b.contains(q_out) == "outside":
             assert prove_unreachable(c, q_out, max_boxes=1_000_000) is True

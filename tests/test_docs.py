@@ -6,7 +6,7 @@ import importlib
 import pytest
 
 MODULES = ["errors", "expressions", "symbolic", "kinematics", "robots", "sampling", "parallel", "interval.mp",
-           "interval.compiler", "interval.contractor", "interval.paving", "planar", "arrangement", "boundary",
+           "interval.compiler", "interval.contractor", "interval.paving", "planar", "arrangement", "boundary", "exact",
            "report", "verify"]
 
 

@@ -24,7 +24,8 @@ decides is reported as undecided.
 The boundary is made of the edges between an inside and an outside face,
 walked with the workspace on the left: outer loops turn counter-clockwise,
 holes clockwise.  Area and perimeter come from the arcs (Green's theorem).
-:func:`exact_arcs` rebuilds every arc in closed form from the exact inputs.
+:attr:`Boundary.exact` holds every arc in closed form from the exact inputs
+(computed by :mod:`workspace_sym.exact` on first use).
 """
 
 from __future__ import annotations
@@ -33,15 +34,16 @@ import math
 import time
 import warnings
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
-import sympy as sp
 
-from .arrangement import Arrangement, _in_span, arc_area_term, arc_distance, parity_inside
+from .arrangement import Arrangement, arc_area_term, arc_distance, in_span, parity_inside
+from .exact import closed_forms, exact_area
 from .interval import arith
-from .planar import Arc, PlanarChain
+from .planar import Arc
 
-__all__ = ["Boundary", "BoundaryArc", "Loop", "build_boundary", "exact_arcs", "prove_unreachable",
+__all__ = ["Boundary", "BoundaryArc", "Loop", "build_boundary", "prove_unreachable",
            "unreachable_via_subchain", "witness_near"]
 
 _TWO_PI = 2 * math.pi
@@ -95,7 +97,6 @@ class Boundary:
     undecided_area: float
     seconds: float
     arrangement: Arrangement = field(repr=False)
-    _exact: list | None = field(default=None, repr=False)
 
     @property
     def area(self) -> float:
@@ -105,6 +106,11 @@ class Boundary:
     @property
     def perimeter(self) -> float:
         return float(sum(a.radius * abs(a.sweep) for a in self.arcs))
+
+    @cached_property
+    def exact(self) -> list[dict]:
+        """Closed forms of the arcs (:func:`workspace_sym.exact.closed_forms`), one dict per arc, computed once."""
+        return closed_forms(self)
 
     def _arc_arrays(self):
         rows = [(a.center[0], a.center[1], a.radius, min(a.start_angle, a.end_angle), abs(a.sweep)) for a in self.arcs]
@@ -154,7 +160,7 @@ class Boundary:
     def table(self, *, exact: bool = False) -> list[dict]:
         """Rows in the form of the paper's Table 2: type and the set of every joint, in degrees."""
         rows = []
-        ex = exact_arcs(self) if exact else None
+        ex = self.exact if exact else None
         for k, a in enumerate(self.arcs):
             sets = []
             for j, s in enumerate(a.theta_sets):
@@ -168,7 +174,7 @@ class Boundary:
     def to_dict(self, *, exact: bool = False) -> dict:
         """The JSON object of ``workspace-sym boundary`` (INTERFACE.md)."""
         arcs = []
-        ex = exact_arcs(self) if exact else None
+        ex = self.exact if exact else None
         for k, a in enumerate(self.arcs):
             d = {"type": a.type, "free_joint": a.free_joint,
                  "theta_sets": [[math.degrees(v) for v in s] for s in a.theta_sets],
@@ -267,7 +273,7 @@ def prove_unreachable(chain, q, *, max_boxes: int = 200_000) -> bool | None:
             cx, cy = 0.5 * (vx[0] + vx[1]), 0.5 * (vy[0] + vy[1])
             slack = np.maximum(vx[1] - vx[0], vy[1] - vy[0])
             rho = np.hypot(cx, cy)
-            on = _in_span(np.arctan2(cy, cx), arc_start, arc_span)
+            on = in_span(np.arctan2(cy, cx), arc_start, arc_span)
             e0 = np.hypot(cx - rq * math.cos(arc_start), cy - rq * math.sin(arc_start))
             e1 = np.hypot(cx - rq * math.cos(arc_start + arc_span), cy - rq * math.sin(arc_start + arc_span))
             dist = np.where(on, np.abs(rho - rq), np.minimum(e0, e1)) - slack - margin
@@ -304,7 +310,7 @@ def _arc_arc_distance(a, b) -> float:
             pts += [(ax + along * ex - s * h * ey, ay + along * ey + s * h * ex) for s in (1, -1)]
         pts += [(ax + s * ar * ex, ay + s * ar * ey) for s in (1, -1)]
         for x, y in pts:
-            if _in_span(math.atan2(y - ay, x - ax), a0, aw):
+            if in_span(math.atan2(y - ay, x - ax), a0, aw):
                 best = min(best, float(arc_distance(np.array([[x, y]]), *[np.array([v]) for v in b])[0, 0]))
     return float(best)
 
@@ -332,10 +338,7 @@ def unreachable_via_subchain(chain, q, *, margin: float = 1e-9):
         if abs(rq - chain.lengths[0]) > tol:
             return True, None
         return None, None
-    sub = chain._cache.get("subchain")
-    if sub is None:
-        sub = PlanarChain(chain.lengths[1:], chain.lower[1:], chain.upper[1:], degrees=False)
-        chain._cache["subchain"] = sub
+    sub = chain.subchain
     l1 = chain.lengths[0]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -459,8 +462,8 @@ def _classify(chain, arr: Arrangement, kept, samples, seed, max_boxes):
 def build_boundary(chain, *, samples: int = 4096, seed: int = 0, max_boxes: int = 4_000) -> Boundary:
     """Step 2 for ``chain`` (see :meth:`workspace_sym.planar.PlanarChain.boundary`)."""
     t0 = time.perf_counter()
-    step0 = len(chain._candidates()["free"])
-    kept = chain._step1()
+    step0 = len(chain.step0["free"])
+    kept = chain.step1
     rows = [(*a.center, a.radius, a.start_angle, a.end_angle - a.start_angle) for a in kept]
     arr = Arrangement(rows, scale=chain.reach)
     if chain.p == 1:
@@ -549,171 +552,3 @@ def _boundary_arc(chain, kept, arr, m) -> BoundaryArc:
     sets = tuple((float(t0), float(t1)) if k == i else s for k, s in enumerate(src.theta_sets))
     return BoundaryArc(src.type, src.free_joint, sets, (float(src.center[0]), float(src.center[1])), float(src.radius),
                        float(m["a0"]), float(m["a1"]), src.side, m["source"])
-
-
-# ---------------------------------------------------------------------- closed forms
-def _u(angle):
-    return sp.Matrix([-sp.sin(angle), sp.cos(angle)])
-
-
-def _fit(expr, value: float, period, tol: float = 1e-9):
-    """``expr + n * period`` equal to ``value`` within ``tol`` for some integer n, or None."""
-    v = float(sp.N(expr, 30))
-    per = float(period)
-    n = round((value - v) / per)
-    if abs(value - v - n * per) <= tol * max(1.0, abs(value)):
-        return expr + n * period
-    return None
-
-
-def _exact_source(chain, arc) -> dict:
-    """The exact configuration, centre, radius and start angle of a Step 1 arc."""
-    p, i = chain.p, arc.free_joint - 1
-    L, lo, hi = chain.exact_lengths, chain.exact_lower, chain.exact_upper
-    theta, aligned = [None] * p, []
-    for j in range(p):
-        if j == i:
-            continue
-        v = arc.theta_sets[j][0]
-        if abs(v - chain.lower[j]) <= 1e-12:
-            theta[j] = lo[j]
-        elif abs(v - chain.upper[j]) <= 1e-12:
-            theta[j] = hi[j]
-        else:
-            aligned.append(j)
-    J = [i] + aligned
-    bodies = []
-    for k, start in enumerate(J):
-        end = J[k + 1] if k + 1 < len(J) else p
-        deltas, delta = [], sp.Integer(0)
-        for s_ in range(start, end):
-            if s_ > start:
-                delta = delta + theta[s_]
-            deltas.append(delta)
-        vx = sum(-L[s_] * sp.sin(d) for s_, d in zip(range(start, end), deltas))
-        vy = sum(L[s_] * sp.cos(d) for s_, d in zip(range(start, end), deltas))
-        segs = list(zip(range(start, end), deltas))
-        length2 = sum(L[a] ** 2 for a, _ in segs) + sum(
-            2 * L[a] * L[b] * sp.cos(db - da) for (a, da), (b, db) in zip_pairs(segs))
-        bodies.append((sp.atan2(-vx, vy), sp.sqrt(length2), delta))
-    signed, orient = bodies[0][1], 1
-    for k in range(1, len(J)):
-        gamma_prev, _, turn_prev = bodies[k - 1]
-        e = gamma_prev - turn_prev - bodies[k][0]
-        t = arc.theta_sets[J[k]][0]
-        n = round((t - float(sp.N(e, 30))) / math.pi)
-        theta[J[k]] = e + n * sp.pi
-        orient = -orient if n % 2 else orient
-        signed = signed + orient * bodies[k][1]
-    positive = float(sp.N(signed, 30)) > 0
-    radius = signed if positive else -signed
-    phi, centre = sp.Integer(0), sp.Matrix([0, 0])
-    for s_ in range(i):
-        phi = phi + theta[s_]
-        centre = centre + L[s_] * _u(phi)
-    a0_float = arc.start_angle - (arc.theta_sets[i][0] - chain.lower[i])
-    a0 = phi + lo[i] + bodies[0][0] + sp.pi / 2 + (0 if positive else sp.pi)
-    a0 = _fit(a0, a0_float, 2 * sp.pi, 1e-7)
-    return {"theta": theta, "i": i, "center": (centre[0], centre[1]), "radius": radius, "a0": a0,
-            "a0_float": a0_float, "lo": lo[i], "hi": hi[i], "span": hi[i] - lo[i]}
-
-
-def zip_pairs(items):
-    """All pairs (a, b) with a before b."""
-    for k, a in enumerate(items):
-        for b in items[k + 1:]:
-            yield a, b
-
-
-def _intersection_angles(c1, r1, c2, r2):
-    dx, dy = c2[0] - c1[0], c2[1] - c1[1]
-    d2 = dx ** 2 + dy ** 2
-    if float(sp.N(d2, 30)) <= 1e-24:
-        return []
-    beta = sp.atan2(dy, dx)
-    gamma = sp.acos((r1 ** 2 + d2 - r2 ** 2) / (2 * r1 * sp.sqrt(d2)))
-    return [beta + gamma, beta - gamma]
-
-
-def _vertex_angle(src, angle, neighbours, sources_all):
-    """Closed form of the polar angle ``angle`` (float) of a loop vertex on the circle of ``src``."""
-    own = [src["a0"], src["a0"] + src["span"]]
-    for e in own:
-        fitted = _fit(e, angle, 2 * sp.pi)
-        if fitted is not None:
-            return fitted
-    for other in neighbours + sources_all:
-        same = (abs(float(sp.N(other["radius"] - src["radius"], 30))) < 1e-12 and
-                all(abs(float(sp.N(other["center"][k] - src["center"][k], 30))) < 1e-12 for k in (0, 1)))
-        cands = ([other["a0"], other["a0"] + other["span"]] if same else
-                 _intersection_angles(src["center"], src["radius"], other["center"], other["radius"]))
-        for e in cands:
-            fitted = _fit(e, angle, 2 * sp.pi)
-            if fitted is not None:
-                return fitted
-    # no closed form matched (e.g. a Step 1 cut where u is parallel to P_i - P_j): keep the float,
-    # which exact_arcs reports through its "exact" flag
-    return sp.Float(angle, 17)
-
-
-def exact_arcs(boundary) -> list[dict]:
-    """Closed forms of every boundary arc: ``center``, ``radius``, ``start_angle``, ``end_angle`` (radians)
-    and ``theta_sets`` (degrees), as SymPy expressions built from the chain's exact inputs.
-
-    The topology comes from the float computation; each closed form is matched
-    to its float value (to 1e-9) and a vertex falls back to a 17-digit float
-    only if no closed form matches (reported by :func:`exact_report`).
-    """
-    if boundary._exact is not None:
-        return boundary._exact
-    chain = boundary.chain
-    kept = chain.kept_arcs()
-    cache = {}
-
-    def source(k):
-        if k not in cache:
-            cache[k] = _exact_source(chain, kept[k])
-        return cache[k]
-
-    out = []
-    for loop in boundary.loops:
-        ids = list(loop.arcs)
-        for pos, k in enumerate(ids):
-            a = boundary.arcs[k]
-            src = source(a.source)
-            prev = boundary.arcs[ids[pos - 1]]
-            nxt = boundary.arcs[ids[(pos + 1) % len(ids)]]
-            others = [source(b.source) for b in boundary.arcs if b.source != a.source]
-            start = _vertex_angle(src, a.start_angle, [source(prev.source)], others)
-            end = _vertex_angle(src, a.end_angle, [source(nxt.source)], others)
-            i = src["i"]
-            sets = []
-            for j in range(chain.p):
-                if j == i:
-                    ts = []
-                    for ang in (start, end):
-                        t = src["lo"] + ang - src["a0"]
-                        cands = [_fit(t, v, 2 * sp.pi) for v in a.theta_sets[i]]
-                        ts.append(next((c for c in cands if c is not None), t))
-                    ts.sort(key=lambda e: float(sp.N(e, 30)))
-                    sets.append(tuple(e * 180 / sp.pi for e in ts))
-                else:
-                    sets.append((src["theta"][j] * 180 / sp.pi,))
-            out.append({"center": src["center"], "radius": src["radius"], "start_angle": start, "end_angle": end,
-                        "theta_sets": sets, "exact": not (start.has(sp.Float) or end.has(sp.Float))})
-    order = [k for loop in boundary.loops for k in loop.arcs]
-    result = [None] * len(out)
-    for k, row in zip(order, out):
-        result[k] = row
-    boundary._exact = result
-    return result
-
-
-def exact_area(boundary, rows=None) -> sp.Expr:
-    """The enclosed area as a closed form (Green's theorem over the exact arcs)."""
-    rows = exact_arcs(boundary) if rows is None else rows
-    total = sp.Integer(0)
-    for r in rows:
-        (cx, cy), rad, a0, a1 = r["center"], r["radius"], r["start_angle"], r["end_angle"]
-        total += (rad ** 2 * (a1 - a0) + rad * cx * (sp.sin(a1) - sp.sin(a0)) - rad * cy * (sp.cos(a1) - sp.cos(a0))) / 2
-    return total

@@ -295,7 +295,7 @@ def planar_verification(boundary, exact_rows=None, *, samples: int = 20000, seed
     outside the loops, every boundary arc's configurations inside the joint
     limits and on the arc, and how each face of the arrangement was decided.
     """
-    from .boundary import exact_area
+    from .exact import exact_area
 
     chain = boundary.chain
     checks = []
@@ -346,13 +346,13 @@ def planar_report(chain, out, *, command: str | None = None, title: str | None =
     With ``paving`` (a :class:`~workspace_sym.interval.Paving`) a section
     summarises that certified covering as well.  Returns the Markdown path.
     """
-    from .boundary import exact_area, exact_arcs
+    from .exact import exact_area
     from .plotting import plot_boundary_loops, plot_planar_step, save_figure
 
     out = Path(out)
     start = time.perf_counter()
     boundary = chain.boundary()
-    rows = exact_arcs(boundary) if exact else None
+    rows = boundary.exact if exact else None
     area_exact = exact_area(boundary, rows) if exact else None
     doc = Document(title or f"Workspace boundary of a planar {chain.p}-joint chain")
     doc.para("Alignment method of Bastien (2018): Step 0 lists the circular arcs allowed by the alignment "
