@@ -41,6 +41,7 @@ import numpy as np
 from .arrangement import Arrangement, arc_area_term, arc_distance, in_span, parity_inside
 from .exact import closed_forms, exact_area
 from .interval import arith
+from .interval.search import prove_all
 from .planar import Arc
 
 __all__ = ["Boundary", "BoundaryArc", "Loop", "build_boundary", "prove_unreachable",
@@ -244,51 +245,41 @@ def prove_unreachable(chain, q, *, max_boxes: int = 200_000) -> bool | None:
     margin = 1e-9 * chain.reach
     if chain.p == 1:
         return abs(rq - L[0]) > margin or None
-    lo = np.array(chain.lower[1:])[None, :]
-    hi = np.array(chain.upper[1:])[None, :]
-    used = 0
+    boxes = np.stack([chain.lower[1:], chain.upper[1:]], axis=1)[None].astype(float)
+
+    def test(boxes):
+        """Code 1 for a box whose disc misses the arc; split the others along their largest ``lever * h``."""
+        lo, hi = boxes[:, :, 0], boxes[:, :, 1]
+        n = len(lo)
+        m = 0.5 * (lo + hi)
+        h = np.maximum(arith.up(hi - m), arith.up(m - lo))
+        # v(m): l_1 e_y plus the tail at the box centre (theta_1 = 0)
+        phi = arith.point(np.zeros(n))
+        vx = arith.point(np.zeros(n))
+        vy = arith.point(np.full(n, L[0]))
+        for k in range(1, chain.p):
+            phi = arith.add(phi, arith.point(m[:, k - 1]))
+            lk = arith.point(np.full(n, L[k]))
+            vx = arith.sub(vx, arith.mul(lk, arith.sin(phi)))
+            vy = arith.add(vy, arith.mul(lk, arith.cos(phi)))
+        levers = _tail_levers(L[1:], lo, hi)
+        weights = arith.up(levers * h)
+        rad = weights[:, 0]
+        for j in range(1, weights.shape[1]):
+            rad = arith.up(rad + weights[:, j])
+        # distance from the enclosure of v(m) to the arc of radius |q| (float, less a margin)
+        cx, cy = 0.5 * (vx[0] + vx[1]), 0.5 * (vy[0] + vy[1])
+        slack = np.maximum(vx[1] - vx[0], vy[1] - vy[0])
+        rho = np.hypot(cx, cy)
+        on = in_span(np.arctan2(cy, cx), arc_start, arc_span)
+        e0 = np.hypot(cx - rq * math.cos(arc_start), cy - rq * math.sin(arc_start))
+        e1 = np.hypot(cx - rq * math.cos(arc_start + arc_span), cy - rq * math.sin(arc_start + arc_span))
+        dist = np.where(on, np.abs(rho - rq), np.minimum(e0, e1)) - slack - margin
+        return np.where(dist > rad, 1, 0), np.argmax(weights, axis=1)
+
     with np.errstate(all="ignore"):
-        while len(lo):
-            used += len(lo)
-            if used > max_boxes:
-                return None
-            n = len(lo)
-            m = 0.5 * (lo + hi)
-            h = np.maximum(arith.up(hi - m), arith.up(m - lo))
-            # v(m): l_1 e_y plus the tail at the box centre (theta_1 = 0)
-            phi = arith.point(np.zeros(n))
-            vx = arith.point(np.zeros(n))
-            vy = arith.point(np.full(n, L[0]))
-            for k in range(1, chain.p):
-                phi = arith.add(phi, arith.point(m[:, k - 1]))
-                lk = arith.point(np.full(n, L[k]))
-                vx = arith.sub(vx, arith.mul(lk, arith.sin(phi)))
-                vy = arith.add(vy, arith.mul(lk, arith.cos(phi)))
-            levers = _tail_levers(L[1:], lo, hi)
-            weights = arith.up(levers * h)
-            rad = weights[:, 0]
-            for j in range(1, weights.shape[1]):
-                rad = arith.up(rad + weights[:, j])
-            # distance from the enclosure of v(m) to the arc of radius |q| (float, less a margin)
-            cx, cy = 0.5 * (vx[0] + vx[1]), 0.5 * (vy[0] + vy[1])
-            slack = np.maximum(vx[1] - vx[0], vy[1] - vy[0])
-            rho = np.hypot(cx, cy)
-            on = in_span(np.arctan2(cy, cx), arc_start, arc_span)
-            e0 = np.hypot(cx - rq * math.cos(arc_start), cy - rq * math.sin(arc_start))
-            e1 = np.hypot(cx - rq * math.cos(arc_start + arc_span), cy - rq * math.sin(arc_start + arc_span))
-            dist = np.where(on, np.abs(rho - rq), np.minimum(e0, e1)) - slack - margin
-            alive = ~(dist > rad)
-            lo, hi, weights = lo[alive], hi[alive], weights[alive]
-            if not len(lo):
-                return True
-            j = np.argmax(weights, axis=1)
-            rows = np.arange(len(lo))
-            mid = 0.5 * (lo[rows, j] + hi[rows, j])
-            lo2, hi2 = lo.copy(), hi.copy()
-            hi[rows, j] = mid
-            lo2[rows, j] = mid
-            lo, hi = np.vstack([lo, lo2]), np.vstack([hi, hi2])
-    return True
+        proved, _ = prove_all(boxes, test, max_boxes=max_boxes, split="given")
+    return proved
 
 
 def _arc_arc_distance(a, b) -> float:
