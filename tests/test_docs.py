@@ -6,7 +6,7 @@ import importlib
 import pytest
 
 MODULES = ["errors", "expressions", "symbolic", "kinematics", "robots", "sampling", "parallel", "interval.mp",
-           "interval.compiler", "interval.contractor", "interval.paving", "interval.search", "planar", "arrangement", "boundary", "exact",
+           "interval.compiler", "interval.contractor", "interval.paving", "interval.search", "planar", "arrangement", "boundary", "exact", "orthoglide.model",
            "report", "verify"]
 
 

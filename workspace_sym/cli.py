@@ -218,7 +218,7 @@ def cmd_dextrous(args) -> int:
         if args.plot:
             save_figure(plot_paving(result.paving, title=f"dextrous workspace, eps = {args.eps}"), args.plot)
         if args.slices:
-            save_figure(plot_paving_slices(result.paving, reference=lambda p: model._numeric_dextrous(p, result.sigma),
+            save_figure(plot_paving_slices(result.paving, reference=lambda p: model.numeric_dextrous(p, result.sigma),
                                            title=f"dextrous workspace, eps = {args.eps}: slices (red: numeric "
                                                  "eigenvalues)"), args.slices)
     data = result.to_dict()

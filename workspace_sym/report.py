@@ -458,7 +458,7 @@ def orthoglide_report(model, out, *, eps: float = 0.125, alpha: float = 0.01, co
         tmp = Path(tmpdir)
         save_figure(plot_paving(dex.paving, title=f"dextrous workspace, eps = {eps}"), tmp / "dextrous.png")
         doc.figure(tmp / "dextrous.png", "inside boxes (green) and undecided boxes (yellow)")
-        save_figure(plot_paving_slices(dex.paving, reference=lambda p: model._numeric_dextrous(p, dex.sigma)),
+        save_figure(plot_paving_slices(dex.paving, reference=lambda p: model.numeric_dextrous(p, dex.sigma)),
                     tmp / "slices.png")
         doc.figure(tmp / "slices.png", "slices of the boxes; red: the boundary from numeric eigenvalues")
         return _publish(doc, tmp, out, command=command, start=start)
