@@ -98,6 +98,7 @@ class Boundary:
     undecided_area: float
     seconds: float
     arrangement: Arrangement = field(repr=False)
+    merged: dict = field(default_factory=dict)   # slivers merged into their neighbours (see _merge_slivers)
 
     @property
     def area(self) -> float:
@@ -189,7 +190,7 @@ class Boundary:
             arcs.append(d)
         out = {"arcs": arcs, "loops": [{"kind": l.kind, "arcs": list(l.arcs)} for l in self.loops],
                "area": self.area, "perimeter": self.perimeter, "counts": dict(self.counts),
-               "undecided_area": self.undecided_area, "seconds": self.seconds}
+               "undecided_area": self.undecided_area, "seconds": self.seconds, "merged": dict(self.merged)}
         if ex is not None:
             out["area_exact"] = str(exact_area(self, ex))
         return out
@@ -396,7 +397,71 @@ def witness_near(chain, targets, *, starts=None, points=None, samples: int = 409
     near = np.argsort(((points[None, :, :] - targets[:, None, :]) ** 2).sum(-1), axis=1)[:, :k]
     return _local_witness(chain, targets, starts[near], iterations)
 
-def _classify(chain, arr: Arrangement, kept, samples, seed, max_boxes):
+SLIVER_WIDTH = 1e-7     # faces narrower than this times the reach are merged into their neighbours
+
+
+def _slivers(chain, arr: Arrangement) -> dict:
+    """Bounded faces whose mean width ``2 area / perimeter`` is at most ``SLIVER_WIDTH`` times the reach.
+
+    Two arcs closer than that (circles nearly tangent or nearly coincident,
+    as when joints span nearly a full turn) enclose such faces.  They are
+    100 times the arrangement's tolerance across, too thin to hold a probe
+    with clearance, so no witness or exclusion can decide them: they are
+    merged instead (:func:`_merge_slivers`).  Returns ``{face: width}``.
+    """
+    out = {}
+    for f in range(len(arr.face_cycles)):
+        edges = arr.face_edges(f)
+        perimeter = sum(arr.circles[arr.edges[k].circle, 2] * arr.edges[k].span for k in edges)
+        width = 2 * abs(arr.face_area[f]) / perimeter if perimeter > 0 else 0.0
+        if width <= SLIVER_WIDTH * chain.reach:
+            out[f] = float(width)
+    return out
+
+
+def _merge_slivers(arr: Arrangement, status, evidence, slivers: dict) -> dict:
+    """Give each group of adjacent slivers the status of the decided faces around it, so that the arcs
+    between them (closer than the sliver width) become one: inside when every decided neighbour is inside,
+    outside when every one is outside (the unbounded face is outside); between inside and outside, a sliver
+    keeps a status proved for it and is outside otherwise; with no decided neighbour it stays undecided.
+    Returns what was merged, for :attr:`Boundary.merged`."""
+    parent = {f: f for f in slivers}
+
+    def find(f):
+        while parent[f] != f:
+            parent[f] = parent[parent[f]]
+            f = parent[f]
+        return f
+
+    sides = [(int(arr.half_face[2 * k]), int(arr.half_face[2 * k + 1])) for k in range(len(arr.edges))]
+    for a, b in sides:
+        if a in slivers and b in slivers:
+            parent[find(a)] = find(b)
+    around = {}
+    for a, b in sides:
+        for f, g in ((a, b), (b, a)):
+            if f in slivers and g not in slivers:
+                around.setdefault(find(f), set()).add("outside" if g < 0 else status[g])
+    into = {"inside": 0, "outside": 0, "undecided": 0}
+    area = 0.0
+    for f, width in slivers.items():
+        near = around.get(find(f), set()) & {"inside", "outside"}
+        if len(near) == 1:
+            new = near.pop()
+        elif not near:
+            new = "undecided"
+        else:
+            new = status[f] if status[f] in ("inside", "outside") else "outside"
+        status[f] = new
+        evidence[f] = {"method": "merged sliver", "width": width, "into": new}
+        into[new] += 1
+        area += float(abs(arr.face_area[f]))
+    if not slivers:
+        return {}
+    return {"faces": len(slivers), "area": area, "width_tolerance": SLIVER_WIDTH, "into": into}
+
+
+def _classify(chain, arr: Arrangement, kept, samples, seed, max_boxes, slivers=()):
     nf = len(arr.face_cycles)
     status = ["unknown"] * nf
     evidence = {}
@@ -409,7 +474,7 @@ def _classify(chain, arr: Arrangement, kept, samples, seed, max_boxes):
                 notes.append(f"Step 1 arc {s} points into the unbounded face")
             elif status[f] == "unknown":
                 status[f], evidence[int(f)] = "inside", {"method": "Lemma 3.1", "arc": int(s)}
-    todo = [f for f in range(nf) if status[f] == "unknown"]
+    todo = [f for f in range(nf) if status[f] == "unknown" and f not in slivers]
     if not todo:
         return status, evidence, notes
     theta = chain.sample(samples, seed=seed)
@@ -464,7 +529,9 @@ def build_boundary(chain, *, samples: int = 4096, seed: int = 0, max_boxes: int 
         loops = [Loop("outer", (0,), 0.0)] if arcs else []
         return Boundary(chain, arcs, loops, {"step0": step0, "step1": len(kept), "step2": len(arcs)}, {}, {}, 0.0,
                         time.perf_counter() - t0, arr)
-    status, evidence, notes = _classify(chain, arr, kept, samples, seed, max_boxes)
+    slivers = _slivers(chain, arr)
+    status, evidence, notes = _classify(chain, arr, kept, samples, seed, max_boxes, slivers)
+    merged_slivers = _merge_slivers(arr, status, evidence, slivers)
     inside = np.array([s == "inside" for s in status] + [False])      # index -1: unbounded face
     left_in = inside[arr.half_face]
     right_in = inside[arr.half_face[np.arange(len(arr.half_face)) ^ 1]]
@@ -518,7 +585,7 @@ def build_boundary(chain, *, samples: int = 4096, seed: int = 0, max_boxes: int 
         warnings.warn(note, stacklevel=3)
     counts = {"step0": step0, "step1": len(kept), "step2": len(arcs)}
     faces = {f: s for f, s in enumerate(status)}
-    return Boundary(chain, arcs, loops, counts, faces, evidence, undecided, time.perf_counter() - t0, arr)
+    return Boundary(chain, arcs, loops, counts, faces, evidence, undecided, time.perf_counter() - t0, arr, merged_slivers)
 
 
 def _piece(arr, kept, h):

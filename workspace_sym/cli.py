@@ -308,6 +308,9 @@ def cmd_boundary(args) -> int:
         print(f"  exact area = {data['area_exact']}")
     if data["undecided_area"]:
         print(f"  undecided faces of area {data['undecided_area']:.6g}: the area is a lower bound")
+    if data["merged"]:
+        m = data["merged"]
+        print(f"  {m['faces']} sliver faces (area {m['area']:.3g}) merged into their neighbours")
     if args.report:
         print(f"report: {Path(args.report) / 'report.md'}")
     return 0

@@ -336,6 +336,11 @@ def planar_verification(boundary, exact_rows=None, *, samples: int = 20000, seed
                    "; the unbounded face is outside"))
     checks.append(("area", f"{boundary.area:.12g} from the loops (Green's theorem); "
                            f"undecided area {boundary.undecided_area:.3g}"))
+    if boundary.merged:
+        m = boundary.merged
+        checks.append(("merged slivers", f"{m['faces']} faces narrower than {m['width_tolerance']:g} times the reach, "
+                                         f"of total area {m['area']:.3g}, merged into their neighbours "
+                                         f"({', '.join(f'{n} {k}' for k, n in m['into'].items() if n)})"))
     return checks
 
 
