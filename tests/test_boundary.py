@@ -10,7 +10,8 @@ import pytest
 import sympy as sp
 from hypothesis import given, settings, strategies as st
 
-from workspace_sym.boundary import _local_witness, exact_area, exact_arcs, prove_unreachable
+from workspace_sym.boundary import prove_unreachable, witness_near
+from workspace_sym.exact import exact_area, exact_arcs
 from workspace_sym.planar import PlanarChain
 
 HUMAN_ARM = (["0.186", "0.146", "0.108"], [-60, 0, -10], [120, 130, 25])     # Table 1, case iii
@@ -127,8 +128,7 @@ def test_sides_proved_by_witnesses_and_exclusion(p, seed):
         q_in = a.point(m) + inward * d * np.array([math.cos(m), math.sin(m)]) * (1 if a.radius > d else 0)
         q_out = a.point(m) - inward * 3 * d * np.array([math.cos(m), math.sin(m)])
         if b.contains(q_in) == "inside":
-            near = np.argsort(np.hypot(*(pts - q_in).T))[:128]
-            _, err = _local_witness(c, q_in[None], starts[near][None], iterations=150)
+            _, err = witness_near(c, q_in, starts=starts, points=pts, k=128, iterations=150)
             assert err[0] < 1e-9
         if b.contains(q_out) == "outside":
             assert prove_unreachable(c, q_out, max_boxes=1_000_000) is True
@@ -262,3 +262,81 @@ def test_area_of_a_thin_joint_range_against_the_sweep():
     c = PlanarChain([0.8083872473993209, 0.27245463311812174, 0.822127745021077],
                     [-149.804, 127.171, -10.0563], [-110.506, 129.339, 134.8])
     assert boundary_of(c).area == pytest.approx(reference_area(c), rel=2e-3)
+
+
+@pytest.mark.parametrize("lengths, hole", [
+    ([0.582, 0.786, 0.944, 0.69, 0.578], False),      # issue 19 item 3a: the longest link is shorter than the rest
+    ([0.582, 0.786, 2.944, 0.69, 0.578], True),       # one link longer than the others together: an annulus
+], ids=["disc", "annulus"])
+def test_near_full_range_slivers_are_merged(lengths, hole):
+    """Issue 19 item 3a: with every joint in [-179.999, 180] deg the arrangement has hundreds of sliver faces
+    (nearly tangent circles); merged, the loops are those of the full-range workspace (every joint in
+    [-180, 180]: a disc of radius sum(l), or an annulus of inner radius 2 max(l) - sum(l)) and the area is
+    within 1e-9 of its closed form.  Before the merge: 17 outer loops, 26 holes, 133 unclassified faces."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        b = PlanarChain(lengths, [-179.999] * 5, [180] * 5).boundary()
+    R, inner = sum(lengths), max(0.0, 2 * max(lengths) - sum(lengths))
+    kinds = sorted(loop.kind for loop in b.loops)
+    assert kinds == (["hole", "outer"] if hole else ["outer"])
+    assert b.area == pytest.approx(math.pi * (R * R - inner * inner), abs=1e-9)
+    assert b.merged["faces"] > 100 and b.merged["area"] < 1e-8 and b.merged["into"]["inside"] > 100
+    assert b.to_dict()["merged"] == b.merged
+    assert b.contains([0.0, 0.0]) == ("outside" if hole else "inside")
+    if not hole:
+        assert b.undecided_area == 0 and "undecided" not in b.faces.values() and not caught
+
+
+def _forward_100_digits(chain, theta):
+    """``P_p`` of the configuration ``theta`` (radians) at 100 digits (mpmath), from the definition."""
+    import mpmath
+
+    with mpmath.workdps(100):
+        phi, x, y = mpmath.mpf(0), mpmath.mpf(0), mpmath.mpf(0)
+        for length, t in zip(chain.exact_lengths, theta):
+            phi += mpmath.mpf(float(t))
+            length = mpmath.mpf(sp.Rational(length).p) / sp.Rational(length).q
+            x -= length * mpmath.sin(phi)
+            y += length * mpmath.cos(phi)
+        return x, y
+
+
+@settings(max_examples=50, deadline=None)
+@given(p=st.integers(2, 4), seed=st.integers(0, 10_000),
+       joints=st.lists(st.sampled_from(["lower", "upper", "free"]), min_size=4, max_size=4),
+       u=st.lists(st.floats(0, 1), min_size=4, max_size=4),
+       offset=st.floats(0, 1e-10), angle=st.floats(0, 2 * math.pi))
+def test_exclusion_never_proves_a_point_near_an_image_unreachable(p, seed, joints, u, offset, angle):
+    """Issue 19 item 1 (ii), false exclusions: a configuration drawn adversarially on the faces and corners of
+    the joint box (where the boundary is made), its image evaluated at 100 digits and moved by at most 1e-10
+    of the reach, well inside the method's 1e-9 margin: interval exclusion never proves that point
+    unreachable."""
+    import mpmath
+
+    c = random_chain(p, seed)
+    lo, hi = np.array(c.lower), np.array(c.upper)
+    theta = np.array([{"lower": lo[k], "upper": hi[k], "free": lo[k] + u[k] * (hi[k] - lo[k])}[joints[k]]
+                      for k in range(p)])
+    x, y = _forward_100_digits(c, theta)
+    with mpmath.workdps(100):
+        q = (float(x + offset * c.reach * mpmath.cos(angle)), float(y + offset * c.reach * mpmath.sin(angle)))
+    assert prove_unreachable(c, q, max_boxes=20_000) is not True
+
+
+def test_faces_proved_outside_are_reached_by_no_sampled_configuration():
+    """Issue 19 item 1 (ii): the probe point of every face of the p = 6 chain proved outside by interval
+    exclusion is farther
+    from the images of 200000 configurations (corners of the joint box included), the nearest 20 re-evaluated
+    at 100 digits, than the 1e-9 margin; and the loops agree that the probe is outside."""
+    c = PlanarChain(*P6)                 # its hole is proved outside by interval exclusion (figure 6)
+    b = boundary_of(c)
+    proved = [e["point"] for e in b.evidence.values() if e["method"] == "interval exclusion"]
+    assert proved
+    theta = c.sample(200_000, seed=6)
+    pts = c.forward(theta)
+    for q in proved:
+        assert b.contains(q) == "outside"
+        near = np.argsort(np.hypot(*(pts - np.array(q)).T))[:20]
+        for k in near:
+            x, y = _forward_100_digits(c, theta[k])
+            assert float(abs((x - q[0]) ** 2 + (y - q[1]) ** 2)) ** 0.5 > 1e-9 * c.reach

@@ -10,6 +10,7 @@ from hypothesis import strategies as st
 
 from workspace_sym import InvalidParameterError
 from workspace_sym.orthoglide import Orthoglide, e1, e2, e3, inverse_entries, lam, x, y, z
+from workspace_sym.orthoglide.certificate import witnessed_module
 
 
 @pytest.fixture(scope="module")
@@ -116,7 +117,7 @@ def test_numeric_dextrous_agrees_with_eigvalsh(ortho):
     ev = np.array([ortho.eigenvalues(p) for p in pts])
     margin = np.minimum(np.abs(ev[:, 0] - 0.25), np.abs(ev[:, -1] - 4)) > 1e-9
     expected = (ev[:, 0] >= 0.25) & (ev[:, -1] <= 4)
-    got = ortho._numeric_dextrous(pts, (0.25, 4.0))
+    got = ortho.numeric_dextrous(pts, (0.25, 4.0))
     assert 0.2 < expected.mean() < 0.9 and margin.mean() > 0.99
     assert np.array_equal(got[margin], expected[margin])
 
@@ -130,10 +131,10 @@ def test_witnessed_module_skips_only_undecidable_boxes(ortho):
     half = rng.uniform(0.001, 0.03, (20000, 1))
     boxes = np.stack([centres - half, centres + half], axis=2)
     full = ortho.box_module(boxes)
-    witnessed = ortho._witnessed_module(boxes, (0.25, 4.0))
+    witnessed = witnessed_module(boxes, (0.25, 4.0))
     corners = np.array([[i, j, k] for i in (0, 1) for j in (0, 1) for k in (0, 1)], dtype=float)
     pts = boxes[:, None, :, 0] + corners[None] * (boxes[:, None, :, 1] - boxes[:, None, :, 0])
-    ok = ortho._numeric_dextrous(pts.reshape(-1, 3), (0.25, 4.0)).reshape(len(boxes), -1)
+    ok = ortho.numeric_dextrous(pts.reshape(-1, 3), (0.25, 4.0)).reshape(len(boxes), -1)
     mixed = ok.any(axis=1) & ~ok.all(axis=1)
     assert mixed.sum() > 500                      # the filter has boxes to skip
     assert not full[mixed].any()                  # and the certificate decides none of them
@@ -216,10 +217,10 @@ def test_largest_cube_brackets_the_papers_cube(capsys):
     rng = np.random.default_rng(0)
     half = data["edge_lower"] / 2
     pts = np.array(data["center"]) + rng.uniform(-half, half, (2000, 3))
-    assert ortho._numeric_dextrous(pts, (0.25, 4.0)).all()
+    assert ortho.numeric_dextrous(pts, (0.25, 4.0)).all()
     big = np.array(data["center"]) + data["edge_upper"] / 2 * np.vstack([np.eye(3), -np.eye(3), np.ones((1, 3)),
                                                                          -np.ones((1, 3))])
-    assert not ortho._numeric_dextrous(big, (0.25, 4.0)).all()
+    assert not ortho.numeric_dextrous(big, (0.25, 4.0)).all()
 
 
 def test_largest_cube_closed_form_is_exact_and_certified():

@@ -28,6 +28,7 @@ from .kinematics import (
     maximal_minor_factors,
     numeric_function,
 )
+from .exact import exact_arcs, exact_area
 from .interval import Box, Certificate, Paving, certify_box, hausdorff, pave
 from .orthoglide import Orthoglide
 from .parallel import ConstraintModel, rpr2
@@ -56,6 +57,8 @@ __all__ = [
     "eigenvalues_from_charpoly",
     "maximal_minor_factors",
     "numeric_function",
+    "exact_arcs",
+    "exact_area",
     "Box",
     "Certificate",
     "Paving",

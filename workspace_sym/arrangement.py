@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["Arrangement", "arc_area_term", "arc_distance", "crossings", "parity_inside"]
+__all__ = ["Arrangement", "arc_area_term", "arc_distance", "crossings", "in_span", "parity_inside"]
 
 _TWO_PI = 2 * math.pi
 
@@ -29,7 +29,7 @@ def arc_area_term(cx, cy, r, a0, a1):
     return 0.5 * (r * r * (a1 - a0) + r * cx * (np.sin(a1) - np.sin(a0)) - r * cy * (np.cos(a1) - np.cos(a0)))
 
 
-def _in_span(angle, start, span, tol=0.0):
+def in_span(angle, start, span, tol=0.0):
     """Whether ``angle`` lies on the counter-clockwise span ``[start, start + span]`` (vectorised)."""
     rel = np.mod(angle - start + tol, _TWO_PI) - tol
     return (rel >= -tol) & (rel <= span + tol)
@@ -41,7 +41,7 @@ def arc_distance(points, cx, cy, r, start, span):
     dx = points[:, 0:1] - cx
     dy = points[:, 1:2] - cy
     rho = np.hypot(dx, dy)
-    on = _in_span(np.arctan2(dy, dx), start, span)
+    on = in_span(np.arctan2(dy, dx), start, span)
     e0 = np.hypot(points[:, 0:1] - (cx + r * np.cos(start)), points[:, 1:2] - (cy + r * np.sin(start)))
     e1 = np.hypot(points[:, 0:1] - (cx + r * np.cos(start + span)), points[:, 1:2] - (cy + r * np.sin(start + span)))
     return np.where(on, np.abs(rho - r), np.minimum(e0, e1))
@@ -62,7 +62,7 @@ def crossings(points, cx, cy, r, start, span, direction: float = 0.0):
     for sgn in (1.0, -1.0):
         x = qx + sgn * h
         ang = np.arctan2(dy, sgn * h)
-        count += ((h2 > 0) & (x > px) & _in_span(ang, start, span)).astype(int)
+        count += ((h2 > 0) & (x > px) & in_span(ang, start, span)).astype(int)
     return count
 
 
@@ -166,7 +166,7 @@ class Arrangement:
         near = np.abs(d - r) <= 4 * self.tol
         on = np.zeros(len(pts), bool)
         for s, w in self.covered[c]:
-            on |= near & _in_span(ang, s, w, 4 * self.tol / r)
+            on |= near & in_span(ang, s, w, 4 * self.tol / r)
         return on, ang
 
     # ------------------------------------------------------------------ vertices
@@ -234,7 +234,7 @@ class Arrangement:
             on, ang = self._on_circle(c, self.vertices)
             vids = np.flatnonzero(on)
             for s, w in self.covered[c]:
-                inside = vids[_in_span(ang[vids], s, w, 4 * self.tol / r)]
+                inside = vids[in_span(ang[vids], s, w, 4 * self.tol / r)]
                 rel = np.mod(ang[inside] - s + 4 * self.tol / r, _TWO_PI) - 4 * self.tol / r
                 rel = np.clip(rel, 0.0, w)
                 order = np.argsort(rel)
@@ -256,7 +256,7 @@ class Arrangement:
         for e in self.edges:
             mid = e.t0 + 0.5 * e.span
             for k in np.flatnonzero(self.arc_circle == e.circle):
-                if _in_span(mid, self.input[k, 3], self.input[k, 4]):
+                if in_span(mid, self.input[k, 3], self.input[k, 4]):
                     e.sources.append(int(k))
 
     def edge_point(self, e: Edge, t: float):

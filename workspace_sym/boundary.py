@@ -24,7 +24,8 @@ decides is reported as undecided.
 The boundary is made of the edges between an inside and an outside face,
 walked with the workspace on the left: outer loops turn counter-clockwise,
 holes clockwise.  Area and perimeter come from the arcs (Green's theorem).
-:func:`exact_arcs` rebuilds every arc in closed form from the exact inputs.
+:attr:`Boundary.exact` holds every arc in closed form from the exact inputs
+(computed by :mod:`workspace_sym.exact` on first use).
 """
 
 from __future__ import annotations
@@ -33,15 +34,17 @@ import math
 import time
 import warnings
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
-import sympy as sp
 
-from .arrangement import Arrangement, _in_span, arc_area_term, arc_distance, parity_inside
+from .arrangement import Arrangement, arc_area_term, arc_distance, in_span, parity_inside
+from .exact import closed_forms, exact_area
 from .interval import arith
-from .planar import Arc, PlanarChain
+from .interval.search import prove_all
+from .planar import Arc
 
-__all__ = ["Boundary", "BoundaryArc", "Loop", "build_boundary", "exact_arcs", "prove_unreachable",
+__all__ = ["Boundary", "BoundaryArc", "Loop", "build_boundary", "prove_unreachable",
            "unreachable_via_subchain", "witness_near"]
 
 _TWO_PI = 2 * math.pi
@@ -95,7 +98,7 @@ class Boundary:
     undecided_area: float
     seconds: float
     arrangement: Arrangement = field(repr=False)
-    _exact: list | None = field(default=None, repr=False)
+    merged: dict = field(default_factory=dict)   # slivers merged into their neighbours (see _merge_slivers)
 
     @property
     def area(self) -> float:
@@ -105,6 +108,11 @@ class Boundary:
     @property
     def perimeter(self) -> float:
         return float(sum(a.radius * abs(a.sweep) for a in self.arcs))
+
+    @cached_property
+    def exact(self) -> list[dict]:
+        """Closed forms of the arcs (:func:`workspace_sym.exact.closed_forms`), one dict per arc, computed once."""
+        return closed_forms(self)
 
     def _arc_arrays(self):
         rows = [(a.center[0], a.center[1], a.radius, min(a.start_angle, a.end_angle), abs(a.sweep)) for a in self.arcs]
@@ -154,7 +162,7 @@ class Boundary:
     def table(self, *, exact: bool = False) -> list[dict]:
         """Rows in the form of the paper's Table 2: type and the set of every joint, in degrees."""
         rows = []
-        ex = exact_arcs(self) if exact else None
+        ex = self.exact if exact else None
         for k, a in enumerate(self.arcs):
             sets = []
             for j, s in enumerate(a.theta_sets):
@@ -168,7 +176,7 @@ class Boundary:
     def to_dict(self, *, exact: bool = False) -> dict:
         """The JSON object of ``workspace-sym boundary`` (INTERFACE.md)."""
         arcs = []
-        ex = exact_arcs(self) if exact else None
+        ex = self.exact if exact else None
         for k, a in enumerate(self.arcs):
             d = {"type": a.type, "free_joint": a.free_joint,
                  "theta_sets": [[math.degrees(v) for v in s] for s in a.theta_sets],
@@ -182,7 +190,7 @@ class Boundary:
             arcs.append(d)
         out = {"arcs": arcs, "loops": [{"kind": l.kind, "arcs": list(l.arcs)} for l in self.loops],
                "area": self.area, "perimeter": self.perimeter, "counts": dict(self.counts),
-               "undecided_area": self.undecided_area, "seconds": self.seconds}
+               "undecided_area": self.undecided_area, "seconds": self.seconds, "merged": dict(self.merged)}
         if ex is not None:
             out["area_exact"] = str(exact_area(self, ex))
         return out
@@ -238,51 +246,41 @@ def prove_unreachable(chain, q, *, max_boxes: int = 200_000) -> bool | None:
     margin = 1e-9 * chain.reach
     if chain.p == 1:
         return abs(rq - L[0]) > margin or None
-    lo = np.array(chain.lower[1:])[None, :]
-    hi = np.array(chain.upper[1:])[None, :]
-    used = 0
+    boxes = np.stack([chain.lower[1:], chain.upper[1:]], axis=1)[None].astype(float)
+
+    def test(boxes):
+        """Code 1 for a box whose disc misses the arc; split the others along their largest ``lever * h``."""
+        lo, hi = boxes[:, :, 0], boxes[:, :, 1]
+        n = len(lo)
+        m = 0.5 * (lo + hi)
+        h = np.maximum(arith.up(hi - m), arith.up(m - lo))
+        # v(m): l_1 e_y plus the tail at the box centre (theta_1 = 0)
+        phi = arith.point(np.zeros(n))
+        vx = arith.point(np.zeros(n))
+        vy = arith.point(np.full(n, L[0]))
+        for k in range(1, chain.p):
+            phi = arith.add(phi, arith.point(m[:, k - 1]))
+            lk = arith.point(np.full(n, L[k]))
+            vx = arith.sub(vx, arith.mul(lk, arith.sin(phi)))
+            vy = arith.add(vy, arith.mul(lk, arith.cos(phi)))
+        levers = _tail_levers(L[1:], lo, hi)
+        weights = arith.up(levers * h)
+        rad = weights[:, 0]
+        for j in range(1, weights.shape[1]):
+            rad = arith.up(rad + weights[:, j])
+        # distance from the enclosure of v(m) to the arc of radius |q| (float, less a margin)
+        cx, cy = 0.5 * (vx[0] + vx[1]), 0.5 * (vy[0] + vy[1])
+        slack = np.maximum(vx[1] - vx[0], vy[1] - vy[0])
+        rho = np.hypot(cx, cy)
+        on = in_span(np.arctan2(cy, cx), arc_start, arc_span)
+        e0 = np.hypot(cx - rq * math.cos(arc_start), cy - rq * math.sin(arc_start))
+        e1 = np.hypot(cx - rq * math.cos(arc_start + arc_span), cy - rq * math.sin(arc_start + arc_span))
+        dist = np.where(on, np.abs(rho - rq), np.minimum(e0, e1)) - slack - margin
+        return np.where(dist > rad, 1, 0), np.argmax(weights, axis=1)
+
     with np.errstate(all="ignore"):
-        while len(lo):
-            used += len(lo)
-            if used > max_boxes:
-                return None
-            n = len(lo)
-            m = 0.5 * (lo + hi)
-            h = np.maximum(arith.up(hi - m), arith.up(m - lo))
-            # v(m): l_1 e_y plus the tail at the box centre (theta_1 = 0)
-            phi = arith.point(np.zeros(n))
-            vx = arith.point(np.zeros(n))
-            vy = arith.point(np.full(n, L[0]))
-            for k in range(1, chain.p):
-                phi = arith.add(phi, arith.point(m[:, k - 1]))
-                lk = arith.point(np.full(n, L[k]))
-                vx = arith.sub(vx, arith.mul(lk, arith.sin(phi)))
-                vy = arith.add(vy, arith.mul(lk, arith.cos(phi)))
-            levers = _tail_levers(L[1:], lo, hi)
-            weights = arith.up(levers * h)
-            rad = weights[:, 0]
-            for j in range(1, weights.shape[1]):
-                rad = arith.up(rad + weights[:, j])
-            # distance from the enclosure of v(m) to the arc of radius |q| (float, less a margin)
-            cx, cy = 0.5 * (vx[0] + vx[1]), 0.5 * (vy[0] + vy[1])
-            slack = np.maximum(vx[1] - vx[0], vy[1] - vy[0])
-            rho = np.hypot(cx, cy)
-            on = _in_span(np.arctan2(cy, cx), arc_start, arc_span)
-            e0 = np.hypot(cx - rq * math.cos(arc_start), cy - rq * math.sin(arc_start))
-            e1 = np.hypot(cx - rq * math.cos(arc_start + arc_span), cy - rq * math.sin(arc_start + arc_span))
-            dist = np.where(on, np.abs(rho - rq), np.minimum(e0, e1)) - slack - margin
-            alive = ~(dist > rad)
-            lo, hi, weights = lo[alive], hi[alive], weights[alive]
-            if not len(lo):
-                return True
-            j = np.argmax(weights, axis=1)
-            rows = np.arange(len(lo))
-            mid = 0.5 * (lo[rows, j] + hi[rows, j])
-            lo2, hi2 = lo.copy(), hi.copy()
-            hi[rows, j] = mid
-            lo2[rows, j] = mid
-            lo, hi = np.vstack([lo, lo2]), np.vstack([hi, hi2])
-    return True
+        proved, _ = prove_all(boxes, test, max_boxes=max_boxes, split="given")
+    return proved
 
 
 def _arc_arc_distance(a, b) -> float:
@@ -304,7 +302,7 @@ def _arc_arc_distance(a, b) -> float:
             pts += [(ax + along * ex - s * h * ey, ay + along * ey + s * h * ex) for s in (1, -1)]
         pts += [(ax + s * ar * ex, ay + s * ar * ey) for s in (1, -1)]
         for x, y in pts:
-            if _in_span(math.atan2(y - ay, x - ax), a0, aw):
+            if in_span(math.atan2(y - ay, x - ax), a0, aw):
                 best = min(best, float(arc_distance(np.array([[x, y]]), *[np.array([v]) for v in b])[0, 0]))
     return float(best)
 
@@ -332,10 +330,7 @@ def unreachable_via_subchain(chain, q, *, margin: float = 1e-9):
         if abs(rq - chain.lengths[0]) > tol:
             return True, None
         return None, None
-    sub = chain._cache.get("subchain")
-    if sub is None:
-        sub = PlanarChain(chain.lengths[1:], chain.lower[1:], chain.upper[1:], degrees=False)
-        chain._cache["subchain"] = sub
+    sub = chain.subchain
     l1 = chain.lengths[0]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -402,7 +397,71 @@ def witness_near(chain, targets, *, starts=None, points=None, samples: int = 409
     near = np.argsort(((points[None, :, :] - targets[:, None, :]) ** 2).sum(-1), axis=1)[:, :k]
     return _local_witness(chain, targets, starts[near], iterations)
 
-def _classify(chain, arr: Arrangement, kept, samples, seed, max_boxes):
+SLIVER_WIDTH = 1e-7     # faces narrower than this times the reach are merged into their neighbours
+
+
+def _slivers(chain, arr: Arrangement) -> dict:
+    """Bounded faces whose mean width ``2 area / perimeter`` is at most ``SLIVER_WIDTH`` times the reach.
+
+    Two arcs closer than that (circles nearly tangent or nearly coincident,
+    as when joints span nearly a full turn) enclose such faces.  They are
+    100 times the arrangement's tolerance across, too thin to hold a probe
+    with clearance, so no witness or exclusion can decide them: they are
+    merged instead (:func:`_merge_slivers`).  Returns ``{face: width}``.
+    """
+    out = {}
+    for f in range(len(arr.face_cycles)):
+        edges = arr.face_edges(f)
+        perimeter = sum(arr.circles[arr.edges[k].circle, 2] * arr.edges[k].span for k in edges)
+        width = 2 * abs(arr.face_area[f]) / perimeter if perimeter > 0 else 0.0
+        if width <= SLIVER_WIDTH * chain.reach:
+            out[f] = float(width)
+    return out
+
+
+def _merge_slivers(arr: Arrangement, status, evidence, slivers: dict) -> dict:
+    """Give each group of adjacent slivers the status of the decided faces around it, so that the arcs
+    between them (closer than the sliver width) become one: inside when every decided neighbour is inside,
+    outside when every one is outside (the unbounded face is outside); between inside and outside, a sliver
+    keeps a status proved for it and is outside otherwise; with no decided neighbour it stays undecided.
+    Returns what was merged, for :attr:`Boundary.merged`."""
+    parent = {f: f for f in slivers}
+
+    def find(f):
+        while parent[f] != f:
+            parent[f] = parent[parent[f]]
+            f = parent[f]
+        return f
+
+    sides = [(int(arr.half_face[2 * k]), int(arr.half_face[2 * k + 1])) for k in range(len(arr.edges))]
+    for a, b in sides:
+        if a in slivers and b in slivers:
+            parent[find(a)] = find(b)
+    around = {}
+    for a, b in sides:
+        for f, g in ((a, b), (b, a)):
+            if f in slivers and g not in slivers:
+                around.setdefault(find(f), set()).add("outside" if g < 0 else status[g])
+    into = {"inside": 0, "outside": 0, "undecided": 0}
+    area = 0.0
+    for f, width in slivers.items():
+        near = around.get(find(f), set()) & {"inside", "outside"}
+        if len(near) == 1:
+            new = near.pop()
+        elif not near:
+            new = "undecided"
+        else:
+            new = status[f] if status[f] in ("inside", "outside") else "outside"
+        status[f] = new
+        evidence[f] = {"method": "merged sliver", "width": width, "into": new}
+        into[new] += 1
+        area += float(abs(arr.face_area[f]))
+    if not slivers:
+        return {}
+    return {"faces": len(slivers), "area": area, "width_tolerance": SLIVER_WIDTH, "into": into}
+
+
+def _classify(chain, arr: Arrangement, kept, samples, seed, max_boxes, slivers=()):
     nf = len(arr.face_cycles)
     status = ["unknown"] * nf
     evidence = {}
@@ -415,7 +474,7 @@ def _classify(chain, arr: Arrangement, kept, samples, seed, max_boxes):
                 notes.append(f"Step 1 arc {s} points into the unbounded face")
             elif status[f] == "unknown":
                 status[f], evidence[int(f)] = "inside", {"method": "Lemma 3.1", "arc": int(s)}
-    todo = [f for f in range(nf) if status[f] == "unknown"]
+    todo = [f for f in range(nf) if status[f] == "unknown" and f not in slivers]
     if not todo:
         return status, evidence, notes
     theta = chain.sample(samples, seed=seed)
@@ -459,8 +518,8 @@ def _classify(chain, arr: Arrangement, kept, samples, seed, max_boxes):
 def build_boundary(chain, *, samples: int = 4096, seed: int = 0, max_boxes: int = 4_000) -> Boundary:
     """Step 2 for ``chain`` (see :meth:`workspace_sym.planar.PlanarChain.boundary`)."""
     t0 = time.perf_counter()
-    step0 = len(chain._candidates()["free"])
-    kept = chain._step1()
+    step0 = len(chain.step0["free"])
+    kept = chain.step1
     rows = [(*a.center, a.radius, a.start_angle, a.end_angle - a.start_angle) for a in kept]
     arr = Arrangement(rows, scale=chain.reach)
     if chain.p == 1:
@@ -470,7 +529,9 @@ def build_boundary(chain, *, samples: int = 4096, seed: int = 0, max_boxes: int 
         loops = [Loop("outer", (0,), 0.0)] if arcs else []
         return Boundary(chain, arcs, loops, {"step0": step0, "step1": len(kept), "step2": len(arcs)}, {}, {}, 0.0,
                         time.perf_counter() - t0, arr)
-    status, evidence, notes = _classify(chain, arr, kept, samples, seed, max_boxes)
+    slivers = _slivers(chain, arr)
+    status, evidence, notes = _classify(chain, arr, kept, samples, seed, max_boxes, slivers)
+    merged_slivers = _merge_slivers(arr, status, evidence, slivers)
     inside = np.array([s == "inside" for s in status] + [False])      # index -1: unbounded face
     left_in = inside[arr.half_face]
     right_in = inside[arr.half_face[np.arange(len(arr.half_face)) ^ 1]]
@@ -524,7 +585,7 @@ def build_boundary(chain, *, samples: int = 4096, seed: int = 0, max_boxes: int 
         warnings.warn(note, stacklevel=3)
     counts = {"step0": step0, "step1": len(kept), "step2": len(arcs)}
     faces = {f: s for f, s in enumerate(status)}
-    return Boundary(chain, arcs, loops, counts, faces, evidence, undecided, time.perf_counter() - t0, arr)
+    return Boundary(chain, arcs, loops, counts, faces, evidence, undecided, time.perf_counter() - t0, arr, merged_slivers)
 
 
 def _piece(arr, kept, h):
@@ -549,171 +610,3 @@ def _boundary_arc(chain, kept, arr, m) -> BoundaryArc:
     sets = tuple((float(t0), float(t1)) if k == i else s for k, s in enumerate(src.theta_sets))
     return BoundaryArc(src.type, src.free_joint, sets, (float(src.center[0]), float(src.center[1])), float(src.radius),
                        float(m["a0"]), float(m["a1"]), src.side, m["source"])
-
-
-# ---------------------------------------------------------------------- closed forms
-def _u(angle):
-    return sp.Matrix([-sp.sin(angle), sp.cos(angle)])
-
-
-def _fit(expr, value: float, period, tol: float = 1e-9):
-    """``expr + n * period`` equal to ``value`` within ``tol`` for some integer n, or None."""
-    v = float(sp.N(expr, 30))
-    per = float(period)
-    n = round((value - v) / per)
-    if abs(value - v - n * per) <= tol * max(1.0, abs(value)):
-        return expr + n * period
-    return None
-
-
-def _exact_source(chain, arc) -> dict:
-    """The exact configuration, centre, radius and start angle of a Step 1 arc."""
-    p, i = chain.p, arc.free_joint - 1
-    L, lo, hi = chain.exact_lengths, chain.exact_lower, chain.exact_upper
-    theta, aligned = [None] * p, []
-    for j in range(p):
-        if j == i:
-            continue
-        v = arc.theta_sets[j][0]
-        if abs(v - chain.lower[j]) <= 1e-12:
-            theta[j] = lo[j]
-        elif abs(v - chain.upper[j]) <= 1e-12:
-            theta[j] = hi[j]
-        else:
-            aligned.append(j)
-    J = [i] + aligned
-    bodies = []
-    for k, start in enumerate(J):
-        end = J[k + 1] if k + 1 < len(J) else p
-        deltas, delta = [], sp.Integer(0)
-        for s_ in range(start, end):
-            if s_ > start:
-                delta = delta + theta[s_]
-            deltas.append(delta)
-        vx = sum(-L[s_] * sp.sin(d) for s_, d in zip(range(start, end), deltas))
-        vy = sum(L[s_] * sp.cos(d) for s_, d in zip(range(start, end), deltas))
-        segs = list(zip(range(start, end), deltas))
-        length2 = sum(L[a] ** 2 for a, _ in segs) + sum(
-            2 * L[a] * L[b] * sp.cos(db - da) for (a, da), (b, db) in zip_pairs(segs))
-        bodies.append((sp.atan2(-vx, vy), sp.sqrt(length2), delta))
-    signed, orient = bodies[0][1], 1
-    for k in range(1, len(J)):
-        gamma_prev, _, turn_prev = bodies[k - 1]
-        e = gamma_prev - turn_prev - bodies[k][0]
-        t = arc.theta_sets[J[k]][0]
-        n = round((t - float(sp.N(e, 30))) / math.pi)
-        theta[J[k]] = e + n * sp.pi
-        orient = -orient if n % 2 else orient
-        signed = signed + orient * bodies[k][1]
-    positive = float(sp.N(signed, 30)) > 0
-    radius = signed if positive else -signed
-    phi, centre = sp.Integer(0), sp.Matrix([0, 0])
-    for s_ in range(i):
-        phi = phi + theta[s_]
-        centre = centre + L[s_] * _u(phi)
-    a0_float = arc.start_angle - (arc.theta_sets[i][0] - chain.lower[i])
-    a0 = phi + lo[i] + bodies[0][0] + sp.pi / 2 + (0 if positive else sp.pi)
-    a0 = _fit(a0, a0_float, 2 * sp.pi, 1e-7)
-    return {"theta": theta, "i": i, "center": (centre[0], centre[1]), "radius": radius, "a0": a0,
-            "a0_float": a0_float, "lo": lo[i], "hi": hi[i], "span": hi[i] - lo[i]}
-
-
-def zip_pairs(items):
-    """All pairs (a, b) with a before b."""
-    for k, a in enumerate(items):
-        for b in items[k + 1:]:
-            yield a, b
-
-
-def _intersection_angles(c1, r1, c2, r2):
-    dx, dy = c2[0] - c1[0], c2[1] - c1[1]
-    d2 = dx ** 2 + dy ** 2
-    if float(sp.N(d2, 30)) <= 1e-24:
-        return []
-    beta = sp.atan2(dy, dx)
-    gamma = sp.acos((r1 ** 2 + d2 - r2 ** 2) / (2 * r1 * sp.sqrt(d2)))
-    return [beta + gamma, beta - gamma]
-
-
-def _vertex_angle(src, angle, neighbours, sources_all):
-    """Closed form of the polar angle ``angle`` (float) of a loop vertex on the circle of ``src``."""
-    own = [src["a0"], src["a0"] + src["span"]]
-    for e in own:
-        fitted = _fit(e, angle, 2 * sp.pi)
-        if fitted is not None:
-            return fitted
-    for other in neighbours + sources_all:
-        same = (abs(float(sp.N(other["radius"] - src["radius"], 30))) < 1e-12 and
-                all(abs(float(sp.N(other["center"][k] - src["center"][k], 30))) < 1e-12 for k in (0, 1)))
-        cands = ([other["a0"], other["a0"] + other["span"]] if same else
-                 _intersection_angles(src["center"], src["radius"], other["center"], other["radius"]))
-        for e in cands:
-            fitted = _fit(e, angle, 2 * sp.pi)
-            if fitted is not None:
-                return fitted
-    # no closed form matched (e.g. a Step 1 cut where u is parallel to P_i - P_j): keep the float,
-    # which exact_arcs reports through its "exact" flag
-    return sp.Float(angle, 17)
-
-
-def exact_arcs(boundary) -> list[dict]:
-    """Closed forms of every boundary arc: ``center``, ``radius``, ``start_angle``, ``end_angle`` (radians)
-    and ``theta_sets`` (degrees), as SymPy expressions built from the chain's exact inputs.
-
-    The topology comes from the float computation; each closed form is matched
-    to its float value (to 1e-9) and a vertex falls back to a 17-digit float
-    only if no closed form matches (reported by :func:`exact_report`).
-    """
-    if boundary._exact is not None:
-        return boundary._exact
-    chain = boundary.chain
-    kept = chain.kept_arcs()
-    cache = {}
-
-    def source(k):
-        if k not in cache:
-            cache[k] = _exact_source(chain, kept[k])
-        return cache[k]
-
-    out = []
-    for loop in boundary.loops:
-        ids = list(loop.arcs)
-        for pos, k in enumerate(ids):
-            a = boundary.arcs[k]
-            src = source(a.source)
-            prev = boundary.arcs[ids[pos - 1]]
-            nxt = boundary.arcs[ids[(pos + 1) % len(ids)]]
-            others = [source(b.source) for b in boundary.arcs if b.source != a.source]
-            start = _vertex_angle(src, a.start_angle, [source(prev.source)], others)
-            end = _vertex_angle(src, a.end_angle, [source(nxt.source)], others)
-            i = src["i"]
-            sets = []
-            for j in range(chain.p):
-                if j == i:
-                    ts = []
-                    for ang in (start, end):
-                        t = src["lo"] + ang - src["a0"]
-                        cands = [_fit(t, v, 2 * sp.pi) for v in a.theta_sets[i]]
-                        ts.append(next((c for c in cands if c is not None), t))
-                    ts.sort(key=lambda e: float(sp.N(e, 30)))
-                    sets.append(tuple(e * 180 / sp.pi for e in ts))
-                else:
-                    sets.append((src["theta"][j] * 180 / sp.pi,))
-            out.append({"center": src["center"], "radius": src["radius"], "start_angle": start, "end_angle": end,
-                        "theta_sets": sets, "exact": not (start.has(sp.Float) or end.has(sp.Float))})
-    order = [k for loop in boundary.loops for k in loop.arcs]
-    result = [None] * len(out)
-    for k, row in zip(order, out):
-        result[k] = row
-    boundary._exact = result
-    return result
-
-
-def exact_area(boundary, rows=None) -> sp.Expr:
-    """The enclosed area as a closed form (Green's theorem over the exact arcs)."""
-    rows = exact_arcs(boundary) if rows is None else rows
-    total = sp.Integer(0)
-    for r in rows:
-        (cx, cy), rad, a0, a1 = r["center"], r["radius"], r["start_angle"], r["end_angle"]
-        total += (rad ** 2 * (a1 - a0) + rad * cx * (sp.sin(a1) - sp.sin(a0)) - rad * cy * (sp.cos(a1) - sp.cos(a0))) / 2
-    return total

@@ -224,7 +224,7 @@ def cmd_dextrous(args) -> int:
         if args.plot:
             save_figure(plot_paving(result.paving, title=f"dextrous workspace, eps = {args.eps}"), args.plot)
         if args.slices:
-            save_figure(plot_paving_slices(result.paving, reference=lambda p: model._numeric_dextrous(p, result.sigma),
+            save_figure(plot_paving_slices(result.paving, reference=lambda p: model.numeric_dextrous(p, result.sigma),
                                            title=f"dextrous workspace, eps = {args.eps}: slices (red: numeric "
                                                  "eigenvalues)"), args.slices)
     data = result.to_dict()
@@ -314,6 +314,9 @@ def cmd_boundary(args) -> int:
         print(f"  exact area = {data['area_exact']}")
     if data["undecided_area"]:
         print(f"  undecided faces of area {data['undecided_area']:.6g}: the area is a lower bound")
+    if data["merged"]:
+        m = data["merged"]
+        print(f"  {m['faces']} sliver faces (area {m['area']:.3g}) merged into their neighbours")
     if args.report:
         print(f"report: {Path(args.report) / 'report.md'}")
     return 0

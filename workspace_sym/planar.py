@@ -6,21 +6,24 @@ measured from the +y axis and ``theta_k`` from segment ``k-1``;
 ``phi_k = theta_0 + ... + theta_k`` and ``P_p = sum_k l_k (-sin phi_k, cos phi_k)``.
 Joint numbers shown to users are 1-based, as in the paper.
 
-* Step 0 (:meth:`PlanarChain.candidate_arcs`) enumerates the arcs allowed by the
+* Step 0 (:attr:`PlanarChain.step0`, :meth:`PlanarChain.candidate_arcs`) enumerates the arcs allowed by the
   alignment condition.  It is a breadth-first scan over the joints after the
   first free one, vectorised over all branches and pruned as soon as an
   alignment angle leaves its limits.
-* Step 1 (:meth:`PlanarChain.kept_arcs`) keeps the parts of each arc that pass
+* Step 1 (:attr:`PlanarChain.step1`, :meth:`PlanarChain.kept_arcs`) keeps the parts of each arc that pass
   the scalar-product test of Lemma 3.1, vectorised over the candidates.
 * Step 2 (:meth:`PlanarChain.boundary`) builds the arrangement of the kept arcs,
   proves which of its faces belong to the workspace and returns the boundary
-  loops (:class:`workspace_sym.boundary.Boundary`).
+  loops (:class:`workspace_sym.boundary.Boundary`).  It lives in
+  :mod:`workspace_sym.boundary`, which builds on this module;
+  :meth:`PlanarChain.boundary` reaches it through a one-way lazy import.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 from fractions import Fraction
 from numbers import Integral, Number
 
@@ -170,7 +173,7 @@ class PlanarChain:
         self.exact_upper = tuple(e[2] * exact_scale for e in exact)
         self.p = len(self.lengths)
         self.reach = float(sum(self.lengths))
-        self._cache = {}
+        self._boundaries = {}
 
     def __repr__(self):
         deg = lambda v: ", ".join(f"{math.degrees(x):g}" for x in v)  # noqa: E731
@@ -206,11 +209,10 @@ class PlanarChain:
         return theta
 
     # ------------------------------------------------------------------ Step 0
-    def _candidates(self) -> dict:
-        """Step 0 as arrays: ``theta`` (n, p) with NaN at the free joint, ``aligned`` (n, p),
+    @cached_property
+    def step0(self) -> dict:
+        """Step 0 as arrays (computed once): ``theta`` (n, p) with NaN at the free joint, ``aligned`` (n, p),
         ``free`` (n,), ``center`` (n, 2), ``radius`` (n,), ``start`` (n,) polar angle at the lower limit."""
-        if "step0" in self._cache:
-            return self._cache["step0"]
         p, L = self.p, np.array(self.lengths)
         lo, hi = np.array(self.lower), np.array(self.upper)
         tol_len = _TOL * self.reach
@@ -255,7 +257,6 @@ class PlanarChain:
         else:
             cand = dict(theta=np.zeros((0, p)), aligned=np.zeros((0, p), bool), free=np.zeros(0, int),
                         center=np.zeros((0, 2)), radius=np.zeros(0), start=np.zeros(0))
-        self._cache["step0"] = cand
         return cand
 
     def _make_arc(self, cand, k, a, b, side=0) -> Arc:
@@ -276,14 +277,14 @@ class PlanarChain:
         (kept when strictly inside their limits), and ``P_p`` describes an arc
         of the circle centred at ``P_i`` as ``theta_i`` runs over its range.
         """
-        cand = self._candidates()
+        cand = self.step0
         return [self._make_arc(cand, k, self.lower[i], self.upper[i]) for k, i in enumerate(cand["free"])]
 
     # ------------------------------------------------------------------ Step 1
-    def _step1(self) -> list[Arc]:
-        if "step1" in self._cache:
-            return self._cache["step1"]
-        cand = self._candidates()
+    @cached_property
+    def step1(self) -> tuple[Arc, ...]:
+        """Step 1 (computed once): the kept arcs, in the order the boundary's ``source`` indices refer to."""
+        cand = self.step0
         lo, hi = np.array(self.lower), np.array(self.upper)
         kept = []
         for i in range(self.p):
@@ -334,12 +335,18 @@ class PlanarChain:
                     else:
                         pieces.append((a, b, sd))
                 kept.extend(self._make_arc(cand, idx[r], a, b, int(sd)) for a, b, sd in pieces)
-        self._cache["step1"] = kept
-        return kept
+        return tuple(kept)
 
     def kept_arcs(self) -> list[Arc]:
         """Step 1: the parts of the candidate arcs kept by Lemma 3.1, with their side."""
-        return list(self._step1())
+        return list(self.step1)
+
+    @cached_property
+    def subchain(self) -> PlanarChain | None:
+        """The chain of joints 2..p in the frame of link 1 (None for one joint), built once."""
+        if self.p == 1:
+            return None
+        return PlanarChain(self.lengths[1:], self.lower[1:], self.upper[1:], degrees=False)
 
     # ------------------------------------------------------------------ Step 2
     def boundary(self, *, samples: int = 4096, seed: int = 0, max_boxes: int = 4_000):
@@ -353,11 +360,12 @@ class PlanarChain:
         resists both within ``max_boxes`` boxes is reported as undecided, with a
         warning, and the area becomes a bracket.
         """
-        key = ("step2", samples, seed, max_boxes)
-        if key not in self._cache:
-            from .boundary import build_boundary
-            self._cache[key] = build_boundary(self, samples=samples, seed=seed, max_boxes=max_boxes)
-        return self._cache[key]
+        key = (samples, seed, max_boxes)
+        if key not in self._boundaries:
+            from .boundary import build_boundary     # boundary builds on this module: import one way, lazily
+
+            self._boundaries[key] = build_boundary(self, samples=samples, seed=seed, max_boxes=max_boxes)
+        return self._boundaries[key]
 
 
 class _Scan:

@@ -295,7 +295,7 @@ def planar_verification(boundary, exact_rows=None, *, samples: int = 20000, seed
     outside the loops, every boundary arc's configurations inside the joint
     limits and on the arc, and how each face of the arrangement was decided.
     """
-    from .boundary import exact_area
+    from .exact import exact_area
 
     chain = boundary.chain
     checks = []
@@ -336,6 +336,11 @@ def planar_verification(boundary, exact_rows=None, *, samples: int = 20000, seed
                    "; the unbounded face is outside"))
     checks.append(("area", f"{boundary.area:.12g} from the loops (Green's theorem); "
                            f"undecided area {boundary.undecided_area:.3g}"))
+    if boundary.merged:
+        m = boundary.merged
+        checks.append(("merged slivers", f"{m['faces']} faces narrower than {m['width_tolerance']:g} times the reach, "
+                                         f"of total area {m['area']:.3g}, merged into their neighbours "
+                                         f"({', '.join(f'{n} {k}' for k, n in m['into'].items() if n)})"))
     return checks
 
 
@@ -346,13 +351,13 @@ def planar_report(chain, out, *, command: str | None = None, title: str | None =
     With ``paving`` (a :class:`~workspace_sym.interval.Paving`) a section
     summarises that certified covering as well.  Returns the Markdown path.
     """
-    from .boundary import exact_area, exact_arcs
+    from .exact import exact_area
     from .plotting import plot_boundary_loops, plot_planar_step, save_figure
 
     out = Path(out)
     start = time.perf_counter()
     boundary = chain.boundary()
-    rows = exact_arcs(boundary) if exact else None
+    rows = boundary.exact if exact else None
     area_exact = exact_area(boundary, rows) if exact else None
     doc = Document(title or f"Workspace boundary of a planar {chain.p}-joint chain")
     doc.para("Alignment method of Bastien (2018): Step 0 lists the circular arcs allowed by the alignment "
@@ -458,7 +463,7 @@ def orthoglide_report(model, out, *, eps: float = 0.125, alpha: float = 0.01, co
         tmp = Path(tmpdir)
         save_figure(plot_paving(dex.paving, title=f"dextrous workspace, eps = {eps}"), tmp / "dextrous.png")
         doc.figure(tmp / "dextrous.png", "inside boxes (green) and undecided boxes (yellow)")
-        save_figure(plot_paving_slices(dex.paving, reference=lambda p: model._numeric_dextrous(p, dex.sigma)),
+        save_figure(plot_paving_slices(dex.paving, reference=lambda p: model.numeric_dextrous(p, dex.sigma)),
                     tmp / "slices.png")
         doc.figure(tmp / "slices.png", "slices of the boxes; red: the boundary from numeric eigenvalues")
         return _publish(doc, tmp, out, command=command, start=start)

@@ -1,0 +1,107 @@
+"""One budgeted box search: prove a statement on every box of a list, bisecting what is undecided.
+
+:func:`workspace_sym.interval.paving.subdivide` keeps every box and measures
+the three kinds; a proof that a whole region has a property needs less: stop
+at the first box proved to break it, give up when the budget runs out or the
+undecided boxes get too thin, and otherwise bisect.  The largest-cube
+certificates of the Orthoglide and the planar interval exclusion are this
+search with different tests.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InvalidParameterError, check_choice
+
+__all__ = ["SPLITS", "prove_all", "bisect_along", "split_every_axis", "split_widest"]
+
+SPLITS = ("widest", "every", "given")
+
+
+def split_every_axis(boxes: np.ndarray) -> np.ndarray:
+    """The ``2^n`` halves-in-every-direction of each box of an ``(N, n, 2)`` array (children grouped by corner)."""
+    mid = 0.5 * (boxes[:, :, 0] + boxes[:, :, 1])
+    n = boxes.shape[1]
+    parts = []
+    for corner in range(2 ** n):
+        part = boxes.copy()
+        for k in range(n):
+            part[:, k, 1 - (corner >> k & 1)] = mid[:, k]
+        parts.append(part)
+    return np.concatenate(parts)
+
+
+def bisect_along(boxes: np.ndarray, axis: np.ndarray) -> np.ndarray:
+    """Each box of an ``(N, n, 2)`` array cut in two at the middle of edge ``axis[i]``: lower halves, then upper."""
+    rows = np.arange(len(boxes))
+    mid = 0.5 * (boxes[rows, axis, 0] + boxes[rows, axis, 1])
+    lower, upper = boxes.copy(), boxes.copy()
+    lower[rows, axis, 1] = mid
+    upper[rows, axis, 0] = mid
+    return np.concatenate([lower, upper])
+
+
+def split_widest(boxes: np.ndarray) -> np.ndarray:
+    """Each box cut in two across its widest edge."""
+    return bisect_along(boxes, np.argmax(boxes[:, :, 1] - boxes[:, :, 0], axis=1))
+
+
+def prove_all(boxes, test, *, max_boxes: int, min_width: float = 0.0, split: str = "widest"):
+    """Prove ``test`` on every box of ``boxes`` (an ``(N, n, 2)`` array), bisecting the undecided ones.
+
+    ``test(boxes)`` returns one code a box: 1 proved, -1 proved false (the
+    statement fails somewhere in the box), 0 undecided.  With
+    ``split="given"`` it returns ``(codes, axis)`` instead, ``axis[i]`` the
+    edge along which box ``i`` is bisected when undecided; ``"widest"``
+    bisects across the widest edge, ``"every"`` halves every edge at once.
+
+    Returns ``(verdict, used)``: ``True`` when every box was proved, ``False``
+    as soon as one box is proved false, ``None`` when the next generation
+    would take the number of boxes evaluated past ``max_boxes`` or when every
+    undecided box is narrower than ``min_width`` on all its edges; ``used`` is
+    the number of boxes evaluated.  Only the test proves anything: the search
+    never turns an undecided box into a verdict.
+
+    Examples
+    --------
+    >>> box = np.array([[[0.0, 1.0], [0.0, 1.0]]])
+    >>> below = lambda b: np.where(b[:, :, 1].sum(1) < 1.5, 1, np.where(b[:, :, 0].sum(1) >= 1.5, -1, 0))
+    >>> prove_all(box, below, max_boxes=100)
+    (False, 21)
+    >>> prove_all(box, lambda b: np.where(b[:, :, 1].sum(1) <= 2.0, 1, 0), max_boxes=100)
+    (True, 1)
+    >>> prove_all(box, lambda b: np.zeros(len(b), int), max_boxes=10)
+    (None, 15)
+    """
+    check_choice("split", split, SPLITS)
+    if max_boxes < 1:
+        raise InvalidParameterError(f"max_boxes must be at least 1; got {max_boxes!r}")
+    if not min_width >= 0:
+        raise InvalidParameterError(f"min_width must be a non-negative number; got {min_width!r}")
+    work = np.asarray(boxes, dtype=float)
+    used = 0
+    while len(work):
+        used += len(work)
+        if used > max_boxes:
+            return None, used
+        if split == "given":
+            codes, axis = test(work)
+        else:
+            codes, axis = test(work), None
+        codes = np.asarray(codes)
+        if (codes == -1).any():
+            return False, used
+        undecided = codes == 0
+        work = work[undecided]
+        if not len(work):
+            return True, used
+        if (work[:, :, 1] - work[:, :, 0]).max() < min_width:
+            return None, used
+        if split == "widest":
+            work = split_widest(work)
+        elif split == "every":
+            work = split_every_axis(work)
+        else:
+            work = bisect_along(work, np.asarray(axis)[undecided])
+    return True, used

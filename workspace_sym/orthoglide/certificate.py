@@ -1,0 +1,268 @@
+"""The Orthoglide's certified box module M(B) and the dextrous workspace paving (Chablat, Wenger, Merlet 2002).
+
+Model (METHODS.md section 3, leg length 1, the working mode of the isotropic
+configuration): ``A = [[eta1, y, z], [x, eta2, z], [x, y, eta3]]``,
+``B = diag(eta1, eta2, eta3)``, ``J = A^-1 B`` with
+``eta1 = sqrt(1 - y^2 - z^2)``, ``eta2 = sqrt(1 - x^2 - z^2)``, ``eta3 = sqrt(1 - x^2 - y^2)``.
+
+Certified box module ``M(B)`` (paper section 4.1, made rigorous).  The
+eigenvalues of ``J J^T`` lie in ``[sigma_min, sigma_max]`` exactly when those of
+its inverse
+
+    ``N = A^T B^-2 A``,  ``N_jk = sum_i A_ij A_ik / eta_i^2``
+
+lie in ``[1 / sigma_max, 1 / sigma_min]``.  We certify with ``N`` as a matrix
+rather than with any characteristic polynomial:
+
+* ``N`` is defined wherever the legs are (no division by ``det A``), is
+  positive semi-definite everywhere, and tends to a singular matrix at the
+  parallel singularity, so boxes there are simply outside; its entries are
+  short (``1 + x^2 (s2 + s3)``, ``y r1 + x r2 + x y s3``, ... with
+  ``s_i = 1/eta_i^2``, ``r_i = 1/eta_i``) and their gradients too;
+* over a box, ``N`` is enclosed in mean-value form ``N(c) + sum_k dN/dx_k (X_k - c_k)``
+  intersected with the natural form, then rotated by the eigenvectors ``Q`` of
+  ``N(c)``: ``Q^T N Q`` is nearly diagonal and its diagonal varies like the
+  eigenvalues themselves (first order);
+* inside (1): ``N - I/sigma_max`` and ``I/sigma_min - N`` are proved positive
+  definite on the whole box (Sylvester's criterion on the rotated enclosure,
+  see :mod:`workspace_sym.interval.symmetric`); outside (-1): a Rayleigh
+  quotient proves ``lambda_min(N) < 1/sigma_max`` or ``lambda_max(N) > 1/sigma_min``
+  on the whole box, or the box lies outside a cylinder, or (for a box that
+  straddles a cylinder) a diagonal entry of ``N`` exceeds ``1/sigma_min`` on its
+  part inside the cylinders.
+
+The characteristic polynomial of ``J J^T`` (and the pencil ``det(lambda A A^T - B^2)``)
+is derived symbolically for reports; certifying with it was measured far
+weaker: at eps = 0.05 the pencil form with Descartes' rule left E = 2.66 in
+105 s, the matrix form leaves E = 0.53 in about 1 s (BENCHMARKS.md).  A
+polynomial coefficient mixes every eigenvalue and its enclosure over a box
+grows with all of them, where the rotated matrix separates them.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InvalidParameterError
+from ..interval import arith, symmetric
+from ..interval.arith import Interval
+from ..interval.paving import Box, Paving, subdivide, threaded
+
+__all__ = ["DextrousResult", "box_module", "check_sigma", "dextrous", "inverse_entries", "leg_terms",
+           "numeric_dextrous", "reciprocal", "witnessed_module"]
+
+
+@dataclass(frozen=True, eq=False)
+class DextrousResult:
+    """Certified dextrous workspace: inside volume and the error index E (volume of undecided boxes)."""
+
+    paving: Paving
+    sigma: tuple[float, float]
+    eps: float
+
+    @property
+    def volume_inner(self) -> float:
+        return self.paving.measures["inner"]
+
+    @property
+    def volume_undecided(self) -> float:
+        m = self.paving.measures
+        return m["boundary"] + m["pending"]
+
+    def to_dict(self) -> dict:
+        p = self.paving
+        return {
+            "volume_inner": self.volume_inner,
+            "volume_undecided": self.volume_undecided,
+            "boxes": {"inner": len(p.inner), "undecided": len(p.boundary) + len(p.pending), "outer": len(p.outer)},
+            "eps": self.eps,
+            "sigma": list(self.sigma),
+            "complete": p.complete,
+            "boxes_evaluated": p.evaluated,
+            "seconds": p.seconds,
+        }
+
+
+def box_module(boxes: np.ndarray, sigma=(0.25, 4.0)) -> np.ndarray:
+    """``M(B)`` for an ``(N, 3, 2)`` array of boxes: 1 inside, -1 outside, 0 undecided (paper 4.1).
+
+    Every 1 and -1 is proved with outward-rounded interval arithmetic (see
+    the module docstring).  A box wholly outside a cylinder is -1; a box
+    that straddles a cylinder can be proved -1 on its part inside the
+    cylinders, never 1.
+    """
+    sigma_min, sigma_max = check_sigma(sigma)
+    a_lo, a_hi = reciprocal(sigma_max)
+    b_lo, b_hi = reciprocal(sigma_min)
+    n = len(boxes)
+    lo, hi = boxes[:, :, 0], boxes[:, :, 1]
+    mid = 0.5 * lo + 0.5 * hi
+    with np.errstate(all="ignore"):
+        X = [Interval(lo[:, k], hi[:, k]) for k in range(3)]
+        squares, eta2, s, r = leg_terms(X)
+        outside_cyl = np.any([e.hi <= 0 for e in eta2], axis=0)
+        # Straddling boxes: on the part inside the cylinders 1/eta_i^2 >= 1/max(eta_i^2).
+        s_low = [Interval(*arith.point(arith.down(1.0 / e.hi))) for e in eta2]
+        diag_low = [1 + squares[0] * (s_low[1] + s_low[2]), 1 + squares[1] * (s_low[0] + s_low[2]),
+                    1 + squares[2] * (s_low[0] + s_low[1])]
+        too_large = np.any([d.lo > b_hi for d in diag_low], axis=0)
+
+        natural, gradient = inverse_entries(*X, s, r)
+        C = [Interval(mid[:, k], mid[:, k].copy()) for k in range(3)]
+        centre, _ = inverse_entries(*C, *leg_terms(C)[2:], gradients=False)
+        N_nat, N_c = symmetric.from_entries(natural), symmetric.from_entries(centre)
+        regular = (np.all([e.lo > 0 for e in eta2], axis=0) & np.isfinite(N_nat[0]).all(axis=(1, 2))
+                   & np.isfinite(N_nat[1]).all(axis=(1, 2)))
+        point = 0.5 * N_c[0] + 0.5 * N_c[1]
+        point[~regular] = np.eye(3)
+        _, Q = np.linalg.eigh(point)
+        S = symmetric.congruence(Q, N_c)
+        for k in range(3):
+            D = symmetric.congruence(Q, symmetric.from_entries(gradient[k]))
+            h = (arith.down(lo[:, k] - mid[:, k])[:, None, None], arith.up(hi[:, k] - mid[:, k])[:, None, None])
+            S = arith.add(S, arith.mul(D, h))
+        S = arith.intersect(S, symmetric.congruence(Q, N_nat))
+        eye = np.broadcast_to(np.eye(3), (n, 3, 3))
+        G = symmetric.congruence(Q, (eye, eye))
+        inside = (regular & symmetric.positive_definite(arith.sub(S, symmetric.scale(a_hi, G)))
+                  & symmetric.positive_definite(arith.sub(symmetric.scale(b_lo, G), S)))
+        small = arith.sub(S, symmetric.scale(a_lo, G))[1][:, 0, 0] < 0         # lambda_min(N) < 1/sigma_max
+        large = arith.sub(S, symmetric.scale(b_hi, G))[0][:, 2, 2] > 0         # lambda_max(N) > 1/sigma_min
+        outside = outside_cyl | too_large | (regular & (small | large))
+    return np.where(outside, -1, np.where(inside, 1, 0))
+
+
+def numeric_dextrous(pts, sigma) -> np.ndarray:
+    """Whether points are dextrous, by float Sylvester tests on ``N = (J J^T)^-1`` (a guess for the search,
+    the pictures and the tests, never a certificate)."""
+    pts = np.atleast_2d(np.asarray(pts, dtype=float))
+    x_, y_, z_ = pts.T
+    e2 = np.stack([1 - y_**2 - z_**2, 1 - x_**2 - z_**2, 1 - x_**2 - y_**2])
+    ok = (e2 > 0).all(axis=0)
+    s = 1 / np.where(ok, e2, 1.0)
+    N, _ = inverse_entries(x_, y_, z_, s, np.sqrt(s), gradients=False)
+    # 1/sigma_max <= every eigenvalue of N <= 1/sigma_min, by Sylvester's criterion on N - I/sigma_max
+    # and I/sigma_min - N (a few flops a point, where a batched eigvalsh costs microseconds).
+    for sign, shift in ((1.0, -1.0 / sigma[1]), (-1.0, 1.0 / sigma[0])):
+        a, b, c = (sign * N[k, k] + shift for k in range(3))
+        d, f, g = sign * N[0, 1], sign * N[0, 2], sign * N[1, 2]
+        det = a * (b * c - g * g) - d * (d * c - g * f) + f * (d * g - b * f)
+        ok = ok & (a > 0) & (a * b - d * d > 0) & (det > 0)
+    return ok
+
+
+def witnessed_module(boxes: np.ndarray, sigma) -> np.ndarray:
+    """:func:`box_module`, skipping boxes that numerically have a dextrous and a non-dextrous point.
+
+    Such a box can be neither proved inside nor outside, and leaving a box
+    undecided needs no proof, so the verdicts are those of ``box_module``
+    on every box it could decide.  The centre and the eight corners are
+    tested (float Sylvester tests, about 4 us a box against about 25 us
+    for the certificate); at fine eps most undecided boxes straddle the
+    boundary this way.
+    """
+    pts = boxes[:, None, :, 0] + _CORNERS_AND_CENTRE[None] * (boxes[:, None, :, 1] - boxes[:, None, :, 0])
+    ok = numeric_dextrous(pts.reshape(-1, 3), sigma).reshape(len(boxes), -1)
+    decidable = ok.all(axis=1) | ~ok.any(axis=1)
+    codes = np.zeros(len(boxes), dtype=int)
+    if decidable.any():
+        codes[decidable] = box_module(boxes[decidable], sigma)
+    return codes
+
+
+def dextrous(variables, *, eps: float = 0.05, sigma=(0.25, 4.0), box=None, progress=None, time_limit=None,
+             max_boxes=None) -> DextrousResult:
+    """Certified dextrous workspace in ``[-1, 1]^3`` (paper section 4.2), ``variables`` naming x, y, z.
+
+    Boxes are bisected while their largest edge exceeds ``eps``; smaller
+    undecided boxes make up the error index E.  Each box goes through
+    :func:`box_module`, except boxes with a numerically dextrous and a
+    numerically non-dextrous point among their corners and centre, which
+    no certificate could decide: they are bisected (or counted in E)
+    straight away (:func:`witnessed_module`).
+    """
+    if not isinstance(eps, (int, float)) or not math.isfinite(eps) or eps <= 0:
+        raise InvalidParameterError(f"eps must be a positive number; got {eps!r}")
+    sigma = check_sigma(sigma)
+    b = Box.from_bounds(box or {v: (-1, 1) for v in variables})
+    paving = subdivide(threaded(lambda boxes: witnessed_module(boxes, sigma)), b, delta=eps, size="width",
+                       progress=progress, time_limit=time_limit, max_boxes=max_boxes, label="dextrous",
+                       chunk=50_000)
+    return DextrousResult(paving, sigma, float(eps))
+
+
+_CORNERS_AND_CENTRE = np.array([[i, j, k] for i in (0, 1) for j in (0, 1) for k in (0, 1)] + [[0.5, 0.5, 0.5]],
+                               dtype=float)
+
+
+def _square(v):
+    return v.sq() if isinstance(v, Interval) else v**2
+
+
+def inverse_entries(x, y, z, s, r, *, gradients: bool = True):
+    """Upper triangle of ``N = A^T B^-2 A`` and of its three partial derivatives.
+
+    ``s_i = 1/eta_i^2`` and ``r_i = 1/eta_i`` are passed in with the position,
+    so one formula serves SymPy symbols (checked against ``Orthoglide.inverse``
+    in the tests), floats and interval arrays.  Returns ``N`` and ``(dN/dx,
+    dN/dy, dN/dz)`` (``None`` unless ``gradients``) as dicts ``{(i, j): entry}``
+    for ``i <= j``; the chain rule used is ``ds1/dy = 2 y s1^2``,
+    ``dr1/dy = y s1 r1`` and the like.
+    """
+    s1, s2, s3 = s
+    r1, r2, r3 = r
+    x2, y2, z2 = _square(x), _square(y), _square(z)
+    N = {(0, 0): 1 + x2 * (s2 + s3), (1, 1): 1 + y2 * (s1 + s3), (2, 2): 1 + z2 * (s1 + s2),
+         (0, 1): y * r1 + x * r2 + x * y * s3, (0, 2): z * r1 + x * z * s2 + x * r3,
+         (1, 2): y * z * s1 + z * r2 + y * r3}
+    if not gradients:
+        return N, None
+    dx = {(0, 0): 2 * x * (s2 + s3 + x2 * (_square(s2) + _square(s3))),
+          (1, 1): 2 * x * y2 * _square(s3), (2, 2): 2 * x * z2 * _square(s2),
+          (0, 1): r2 * (1 + x2 * s2) + y * s3 * (1 + 2 * x2 * s3),
+          (0, 2): z * s2 * (1 + 2 * x2 * s2) + r3 * (1 + x2 * s3),
+          (1, 2): x * (z * r2 * s2 + y * r3 * s3)}
+    dy = {(0, 0): 2 * y * x2 * _square(s3), (1, 1): 2 * y * (s1 + s3 + y2 * (_square(s1) + _square(s3))),
+          (2, 2): 2 * y * z2 * _square(s1),
+          (0, 1): r1 * (1 + y2 * s1) + x * s3 * (1 + 2 * y2 * s3),
+          (0, 2): y * (z * r1 * s1 + x * r3 * s3),
+          (1, 2): z * s1 * (1 + 2 * y2 * s1) + r3 * (1 + y2 * s3)}
+    dz = {(0, 0): 2 * z * x2 * _square(s2), (1, 1): 2 * z * y2 * _square(s1),
+          (2, 2): 2 * z * (s1 + s2 + z2 * (_square(s1) + _square(s2))),
+          (0, 1): z * (y * r1 * s1 + x * r2 * s2),
+          (0, 2): r1 * (1 + z2 * s1) + x * s2 * (1 + 2 * z2 * s2),
+          (1, 2): y * s1 * (1 + 2 * z2 * s1) + r2 * (1 + z2 * s2)}
+    return N, (dx, dy, dz)
+
+
+def leg_terms(X):
+    """Squares, ``eta_i^2``, ``s_i = 1/eta_i^2`` and ``r_i = 1/eta_i`` as intervals.
+
+    ``s_i`` and ``r_i`` are NaN (no enclosure) where ``eta_i^2`` may be <= 0.
+    """
+    squares = [v.sq() for v in X]
+    eta2 = [1 - (squares[1] + squares[2]), 1 - (squares[0] + squares[2]), 1 - (squares[0] + squares[1])]
+    s = [Interval(*arith.div((1.0, 1.0), (np.where(e.lo > 0, e.lo, np.nan), e.hi))) for e in eta2]
+    r = [Interval(*arith.sqrt(v.pair)) for v in s]
+    return squares, eta2, s, r
+
+
+def reciprocal(v: float) -> tuple[float, float]:
+    """Outward enclosure of 1/v for a float v > 0."""
+    q = 1.0 / v
+    return float(arith.down(q)), float(arith.up(q))
+
+
+def check_sigma(sigma):
+    try:
+        lo, hi = (float(v) for v in sigma)
+    except (TypeError, ValueError):
+        raise InvalidParameterError(f"sigma must be two numbers (sigma_min, sigma_max); got {sigma!r}") from None
+    if not (math.isfinite(lo) and math.isfinite(hi)) or lo <= 0:
+        raise InvalidParameterError(f"sigma_min must be a positive finite number; got {lo!r}")
+    if lo >= hi:
+        raise InvalidParameterError(f"sigma_max ({hi}) must exceed sigma_min ({lo})")
+    return lo, hi

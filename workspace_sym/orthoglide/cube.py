@@ -1,0 +1,298 @@
+"""The largest cube enclosed in the Orthoglide's dextrous workspace (Chablat, Wenger, Merlet 2002, section 5).
+
+A numeric search on the diagonal, the binding points and, when they are the
+two diagonal corners, the edge and centre in closed form from the model's
+pencil; then two certificates that assume none of this, both budgeted box
+searches (:func:`workspace_sym.interval.search.prove_all`) over the box
+module of :mod:`.certificate`: the cube is inside, and no larger cube fits
+anywhere.  The model (:class:`~workspace_sym.orthoglide.Orthoglide`) is passed
+in and read for its pencil, symbols and eigenvalues; this module does not
+import it.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import sympy as sp
+
+from ..errors import InvalidParameterError
+from ..interval import arith
+from ..interval.search import prove_all
+from .certificate import box_module, check_sigma, numeric_dextrous
+
+__all__ = ["CubeResult", "binding_points", "closed_form_cube", "cube_inside", "largest_cube", "no_enclosed_cube",
+           "stages", "surface_points"]
+
+
+@dataclass
+class CubeResult:
+    """Largest axis-aligned cube in the dextrous workspace, with certificates (paper section 5).
+
+    A cube of edge ``edge_lower`` centred at ``center`` is proved inside; no
+    cube of edge larger than ``edge_upper`` is enclosed anywhere (proved: for
+    every possible centre, a point of such a cube is proved outside).
+    """
+
+    center: tuple
+    edge_lower: float
+    edge_upper: float
+    alpha: float
+    sigma: tuple
+    seconds: float
+    boxes: dict
+    binding: list = field(default_factory=list)
+    exact: dict | None = None
+
+    @property
+    def closed_form(self) -> str | None:
+        """The edge and the centre in closed form, with the binding corners, when they were derived."""
+        if self.exact is None:
+            return None
+        e = self.exact
+        bounds = "; ".join(f"corner ({s}, {s}, {s}) on {', '.join(b)}" for s, b in e["bounds"].items())
+        return (f"edge = {e['edge']} = {float(e['edge']):.9f}, centre x = y = z = {e['center']} = "
+                f"{float(e['center']):.9f} (binding: {bounds})")
+
+    def to_dict(self) -> dict:
+        data = {"center": [float(v) for v in self.center], "edge_lower": self.edge_lower,
+                "edge_upper": self.edge_upper, "alpha": self.alpha, "sigma": list(self.sigma),
+                "seconds": self.seconds, "boxes": dict(self.boxes), "binding": self.binding}
+        if self.exact is not None:
+            data["closed_form"] = self.closed_form
+            data["edge_exact"] = str(self.exact["edge"])
+            data["center_exact"] = str(self.exact["center"])
+        return data
+
+
+def cube_inside(center, half: float, *, sigma=(0.25, 4.0), min_width: float = 1e-3,
+                max_boxes: int = 200_000):
+    """Prove that the cube of half-edge ``half`` at ``center`` lies in the dextrous workspace.
+
+    Returns True (every sub-box proved inside), False (a sub-box proved
+    outside) or None (undecided boxes narrower than ``min_width``, or the
+    budget ran out), and the number of boxes evaluated.
+    """
+    sigma = check_sigma(sigma)
+    c = np.asarray(center, dtype=float)
+    cube = np.stack([arith.down(c - half), arith.up(c + half)], axis=1)[None]     # holds the exact cube
+    return prove_all(cube, lambda boxes: box_module(boxes, sigma), max_boxes=max_boxes, min_width=min_width,
+                     split="every")
+
+
+def no_enclosed_cube(half: float, *, sigma=(0.25, 4.0), grid: int = 5, min_width: float = 1e-4,
+                     max_boxes: int = 400_000):
+    """Prove that no cube of half-edge ``half`` lies in the dextrous workspace, wherever its centre.
+
+    Centres are boxed in ``[-1, 1]^3`` (the workspace lies in the three
+    cylinders).  Every cube centred in a box ``B`` of half-width ``u``
+    contains the cube of half-edge ``half - u`` centred at the middle of
+    ``B``; when a point of that smaller cube (a grid on its surface and its
+    centre) is proved outside by the box module, ``B`` is discarded.
+    Returns True, or None when boxes narrower than ``min_width`` remain or
+    the budget ran out, and the number of centre boxes evaluated.
+    """
+    sigma = check_sigma(sigma)
+    corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
+    shapes = (np.vstack([corners, np.zeros((1, 3))]), np.vstack([surface_points(grid), np.zeros((1, 3))]))
+
+    def test(centres):
+        """Code 1 for a box of centres where a point of the shrunk cube is proved outside, 0 otherwise."""
+        mid = 0.5 * (centres[:, :, 0] + centres[:, :, 1])
+        u = 0.5 * (centres[:, :, 1] - centres[:, :, 0]).max(axis=1)
+        shrunk = half - u
+        alive = np.ones(len(centres), dtype=bool)
+        for shape in shapes:                  # the corners and the centre first, then a grid on the faces
+            idx = np.flatnonzero(alive & (shrunk > 0))
+            if not len(idx):
+                break
+            pts = (mid[idx, None, :] + shrunk[idx, None, None] * shape[None, :, :]).reshape(-1, 3)
+            codes = box_module(np.stack([pts, pts], axis=2), sigma).reshape(len(idx), len(shape))
+            alive[idx] = ~(codes == -1).any(axis=1)
+        return np.where(alive, 0, 1)
+
+    return prove_all(np.array([[[-1.0, 1.0]] * 3]), test, max_boxes=max_boxes, min_width=min_width, split="every")
+
+
+def largest_cube(model, *, alpha: float = 0.001, sigma=(0.25, 4.0), progress: bool | None = None) -> CubeResult:
+    """The largest cube enclosed in the dextrous workspace, to ``alpha`` on the half-edge (paper section 5).
+
+    1. The centre is searched numerically on the diagonal ``x = y = z`` (the
+       mechanism's symmetry, where the paper finds it).
+    2. The binding points (those that leave the workspace when the cube
+       grows a little) are identified on a grid of the cube's surface.  When
+       they are the two corners on the diagonal, the pencil restricted to
+       ``x = y = z = u`` is solved exactly for each corner and its bound:
+       the edge and the centre in closed form (SymPy), used from then on.
+    3. Certificates, which assume none of this: ``cube_inside`` proves the
+       cube of half-edge ``R - alpha/2``, ``no_enclosed_cube`` proves that no
+       cube of half-edge ``R + alpha/2`` fits anywhere.
+    """
+    if not isinstance(alpha, (int, float)) or not math.isfinite(alpha) or alpha <= 0:
+        raise InvalidParameterError(f"alpha must be a positive number; got {alpha!r}")
+    sigma = check_sigma(sigma)
+    start = time.perf_counter()
+    say = stages(progress, "cube")
+    say("numeric search on the diagonal")
+    shape = np.vstack([surface_points(9), np.zeros((1, 3))])
+    tol = min(alpha / 8, 1e-6)              # the search is cheap; the binding points need it accurate
+
+    def fits(t, half):
+        return numeric_dextrous(np.full(3, t) + half * shape, sigma).all()
+
+    def best_half(t):
+        lo, hi = 0.0, 1.0
+        if not fits(t, 0.0):
+            return 0.0
+        while hi - lo > tol:
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if fits(t, mid) else (lo, mid)
+        return lo
+
+    ts = np.linspace(-0.5, 0.5, 41)
+    halves = [best_half(t) for t in ts]
+    k = int(np.argmax(halves))
+    a, b = ts[max(k - 1, 0)], ts[min(k + 1, len(ts) - 1)]
+    g = (math.sqrt(5) - 1) / 2
+    m1, m2 = b - g * (b - a), a + g * (b - a)
+    h1, h2 = best_half(m1), best_half(m2)
+    while b - a > tol:                       # golden-section refinement of the centre
+        if h1 >= h2:
+            b, m2, h2 = m2, m1, h1
+            m1 = b - g * (b - a)
+            h1 = best_half(m1)
+        else:
+            a, m1, h1 = m1, m2, h2
+            m2 = a + g * (b - a)
+            h2 = best_half(m2)
+    t_num = 0.5 * (a + b)
+    half = best_half(t_num)
+    say("binding points")
+    binding = binding_points(model, t_num, half, sigma, step=1e-4)
+    closed = closed_form_cube(model, binding, t_num, half, sigma, tol=1e-3)
+    if closed is not None:
+        t_num, half = float(closed["center"]), float(closed["half"])
+    centre = np.full(3, t_num)
+    boxes = {"inside_proof": 0, "upper_proof": 0}
+    say("certificate: the cube is inside")
+    lower = half - alpha / 2
+    while lower > 0:
+        ok, used = cube_inside(centre, lower, sigma=sigma, min_width=alpha / 16)
+        boxes["inside_proof"] += used
+        if ok:
+            break
+        lower -= alpha / 2
+    lower = max(lower, 0.0)
+    say("certificate: no larger cube anywhere")
+    upper = lower + alpha
+    while upper <= 1.0:
+        ok, used = no_enclosed_cube(upper, sigma=sigma, min_width=alpha / 16)
+        boxes["upper_proof"] += used
+        if ok:
+            break
+        upper += alpha / 2
+    say(None)
+    if closed is not None and not 2 * lower <= float(2 * closed["half"]) <= 2 * upper:
+        closed = None                        # not what the certificates bracket: do not claim it
+    return CubeResult(tuple(centre), 2 * lower, 2 * upper, float(alpha), sigma, time.perf_counter() - start,
+                      boxes, binding, closed)
+
+
+def binding_points(model, t: float, half: float, sigma, *, step: float) -> list[dict]:
+    """Points of the cube's surface (9 x 9 grid per face) that leave the workspace when the half-edge grows by
+    ``step``, with the bounds they cross: ``{"corner": signs, "point": [...], "bounds": [...]}``."""
+    shape = surface_points(9)
+    pts = t + (half + step) * shape
+    out = []
+    for s_, p in zip(shape, pts):
+        ev = model.eigenvalues(p) if min(1 - p[1]**2 - p[2]**2, 1 - p[0]**2 - p[2]**2,
+                                        1 - p[0]**2 - p[1]**2) > 0 else None
+        if ev is None:
+            out.append({"signs": s_.tolist(), "point": p.tolist(), "bounds": ["cylinder"]})
+            continue
+        bounds = [name for name, hit in (("sigma_min", ev[0] < sigma[0]), ("sigma_max", ev[-1] > sigma[1])) if hit]
+        if bounds:
+            out.append({"signs": s_.tolist(), "point": p.tolist(), "bounds": bounds})
+    return out
+
+
+def closed_form_cube(model, binding, t: float, half: float, sigma, *, tol: float):
+    """Edge and centre in closed form when the binding points are the corners ``c -+ R (1, 1, 1)``.
+
+    On the diagonal the pencil ``det(lambda A A^T - B^2)`` is a polynomial in
+    ``u`` and ``sqrt(1 - 2 u^2)``; every binding corner gives the equation
+    ``q(sigma_bound; u) = 0``, solved exactly, and the root next to the
+    numeric corner is kept.  None when the binding points are elsewhere,
+    the roots disagree, or SymPy finds no root there.
+    """
+    corners = {}
+    for b in binding:
+        signs = tuple(int(v) for v in b["signs"])
+        if signs not in ((1, 1, 1), (-1, -1, -1)) or "cylinder" in b["bounds"]:
+            return None
+        corners.setdefault(signs[0], set()).update(b["bounds"])
+    if set(corners) != {1, -1}:
+        return None
+    u = sp.Symbol("u", real=True)
+    lam = model.pencil.gens[0]
+    q = (model.pencil.as_expr().subs({v: u for v in model.variables})
+         .subs({e: sp.sqrt(1 - 2 * u**2) for e in model.eta}))
+    values = {}
+    for sign, bounds in corners.items():
+        guess = t + sign * half
+        roots = set()
+        for bound in bounds:
+            level = sp.nsimplify(sigma[0] if bound == "sigma_min" else sigma[1])
+            sols = [r for r in sp.solve(sp.expand(q.subs(lam, level)), u) if r.is_real]
+            near = [r for r in sols if abs(float(r) - guess) < tol]
+            if len(near) != 1:
+                return None
+            roots.add(sp.radsimp(near[0]))
+        if len(roots) != 1:
+            return None
+        values[sign] = roots.pop()
+    half_exact = sp.radsimp((values[1] - values[-1]) / 2)
+    centre_exact = sp.radsimp((values[1] + values[-1]) / 2)
+    return {"half": half_exact, "center": centre_exact, "edge": sp.radsimp(2 * half_exact),
+            "corners": {"+": values[1], "-": values[-1]},
+            "bounds": {("+" if k > 0 else "-"): sorted(v) for k, v in corners.items()}}
+
+
+def stages(progress, label):
+    """``say(text)`` writes the stage of a long run on stderr (by default when stderr is a terminal)."""
+    import sys
+
+    enabled = sys.stderr.isatty() if progress is None else bool(progress)
+    shown = [False]
+
+    def say(text):
+        if not enabled:
+            return
+        if text is None:
+            if shown[0]:
+                sys.stderr.write("\n")
+            return
+        sys.stderr.write(f"\r{label}: {text:<45}")
+        sys.stderr.flush()
+        shown[0] = True
+
+    return say
+
+
+def surface_points(n: int) -> np.ndarray:
+    """Points of the surface of the cube [-1, 1]^3 on an n x n grid per face, (m, 3)."""
+    g = np.linspace(-1, 1, n)
+    a, b = np.meshgrid(g, g)
+    a, b = a.ravel(), b.ravel()
+    faces = []
+    for axis in range(3):
+        for side in (-1.0, 1.0):
+            pts = np.empty((len(a), 3))
+            pts[:, axis] = side
+            others = [k for k in range(3) if k != axis]
+            pts[:, others[0]], pts[:, others[1]] = a, b
+            faces.append(pts)
+    return np.unique(np.vstack(faces), axis=0)

@@ -1,0 +1,149 @@
+"""The Orthoglide (Chablat, Wenger, Merlet 2002): the symbolic model, and the entry points to its computations.
+
+Model (METHODS.md section 3, leg length 1, the working mode of the isotropic
+configuration): ``A = [[eta1, y, z], [x, eta2, z], [x, y, eta3]]``,
+``B = diag(eta1, eta2, eta3)``, ``J = A^-1 B`` with
+``eta1 = sqrt(1 - y^2 - z^2)``, ``eta2 = sqrt(1 - x^2 - z^2)``, ``eta3 = sqrt(1 - x^2 - y^2)``.
+
+:class:`Orthoglide` holds the model (SymPy matrices, the pencil and the
+characteristic polynomial of ``J J^T``, float Jacobian and eigenvalues) and
+hands the certified work to two modules that do not import it, the way
+SymPy's ``KanesMethod`` hands linearisation to ``Linearizer``:
+:mod:`.certificate` (the box module ``M(B)`` and the dextrous workspace
+paving) and :mod:`.cube` (the largest enclosed cube and its certificates).
+"""
+
+from __future__ import annotations
+
+import math
+from functools import cached_property
+
+import numpy as np
+import sympy as sp
+
+from . import certificate, cube
+
+__all__ = ["Orthoglide"]
+
+x, y, z = sp.symbols("x y z", real=True)
+e1, e2, e3 = sp.symbols("eta1 eta2 eta3", positive=True)
+lam = sp.Symbol("lambda")
+
+
+class Orthoglide:
+    """Symbolic model and certified computations for the Orthoglide (leg length 1).
+
+    Examples
+    --------
+    >>> o = Orthoglide()
+    >>> np.round(o.eigenvalues([0.0, 0.0, 0.0]), 12)   # isotropic at the origin
+    array([1., 1., 1.])
+    """
+
+    variables = (x, y, z)
+    source = ("D. Chablat, P. Wenger, J.-P. Merlet, Workspace analysis of the Orthoglide using interval "
+              "analysis, ARK 2002")
+
+    # ------------------------------------------------------------------ symbolic model
+    @cached_property
+    def eta(self) -> dict:
+        """``eta_i`` as functions of the position (defined inside the cylinders, paper eq. 6)."""
+        return {e1: sp.sqrt(1 - y**2 - z**2), e2: sp.sqrt(1 - x**2 - z**2), e3: sp.sqrt(1 - x**2 - y**2)}
+
+    @cached_property
+    def eta_squared(self) -> dict:
+        return {e1: 1 - y**2 - z**2, e2: 1 - x**2 - z**2, e3: 1 - x**2 - y**2}
+
+    @cached_property
+    def A(self) -> sp.Matrix:
+        return sp.Matrix([[e1, y, z], [x, e2, z], [x, y, e3]])
+
+    @cached_property
+    def B(self) -> sp.Matrix:
+        return sp.diag(e1, e2, e3)
+
+    @cached_property
+    def J(self) -> sp.Matrix:
+        """``J = A^-1 B`` (in terms of x, y, z and the leg terms eta_i)."""
+        return self.A.adjugate() * self.B / self.A.det()
+
+    def _reduce(self, expr) -> sp.Expr:
+        """Replace ``eta_i**2`` by its polynomial (every even power), keep odd powers linear."""
+        expr = sp.expand(expr)
+        poly = sp.Poly(expr, e1, e2, e3)
+        out = sp.Integer(0)
+        for (k1, k2, k3), c in poly.terms():
+            term = c
+            for e, k in ((e1, k1), (e2, k2), (e3, k3)):
+                term *= self.eta_squared[e] ** (k // 2) * e ** (k % 2)
+            out += term
+        return sp.expand(out)
+
+    @cached_property
+    def pencil(self) -> sp.Poly:
+        """``q(lambda) = det(lambda A A^T - B^2)``, a cubic in lambda whose roots are the eigenvalues of J J^T."""
+        G = self.A * self.A.T
+        D = self.B**2
+        q = (lam * G - D).det(method="berkowitz")
+        return sp.Poly(self._reduce(q), lam)
+
+    @cached_property
+    def charpoly(self) -> sp.Poly:
+        """``det(lambda I - J J^T)`` as a polynomial in lambda (coefficients in x, y, z, eta_i).
+
+        Equal to ``pencil / det(A)^2``; shown for reports (the certificates use :attr:`inverse`).
+        """
+        detA = self._reduce(self.A.det())
+        coeffs = [c / self._reduce(detA**2) for c in self.pencil.all_coeffs()]
+        return sp.Poly.from_list(coeffs, lam)
+
+    def latex(self) -> str:
+        """LaTeX of the pencil polynomial, coefficient by coefficient."""
+        return sp.latex(sp.collect(self.pencil.as_expr(), lam))
+
+    # ------------------------------------------------------------------ numbers
+    def jacobian(self, point) -> np.ndarray:
+        px, py, pz = map(float, point)
+        etas = [math.sqrt(1 - py**2 - pz**2), math.sqrt(1 - px**2 - pz**2), math.sqrt(1 - px**2 - py**2)]
+        A = np.array([[etas[0], py, pz], [px, etas[1], pz], [px, py, etas[2]]])
+        return np.linalg.solve(A, np.diag(etas))
+
+    def eigenvalues(self, point) -> np.ndarray:
+        """Eigenvalues of ``J J^T`` at a point (numpy, for pictures and checks)."""
+        J = self.jacobian(point)
+        return np.linalg.eigvalsh(J @ J.T)
+
+    @cached_property
+    def inverse(self) -> sp.Matrix:
+        """``N = A^T B^-2 A = (J J^T)^-1``, the matrix the box module certifies."""
+        return self.A.T * self.B**-2 * self.A
+
+    # ------------------------------------------------------------------ certified computations (delegated)
+    def box_module(self, boxes: np.ndarray, sigma=(0.25, 4.0)) -> np.ndarray:
+        """``M(B)`` for an ``(N, 3, 2)`` array of boxes: 1 inside, -1 outside, 0 undecided
+        (:func:`.certificate.box_module`, paper 4.1)."""
+        return certificate.box_module(boxes, sigma)
+
+    def numeric_dextrous(self, pts, sigma) -> np.ndarray:
+        """Whether points are dextrous, in floats (:func:`.certificate.numeric_dextrous`; never a certificate)."""
+        return certificate.numeric_dextrous(pts, sigma)
+
+    def dextrous(self, *, eps: float = 0.05, sigma=(0.25, 4.0), box=None, progress=None, time_limit=None,
+                 max_boxes=None) -> certificate.DextrousResult:
+        """Certified dextrous workspace in ``[-1, 1]^3`` (:func:`.certificate.dextrous`, paper section 4.2)."""
+        return certificate.dextrous(self.variables, eps=eps, sigma=sigma, box=box, progress=progress,
+                                    time_limit=time_limit, max_boxes=max_boxes)
+
+    def cube_inside(self, center, half: float, *, sigma=(0.25, 4.0), min_width: float = 1e-3,
+                    max_boxes: int = 200_000):
+        """Prove that a cube lies in the dextrous workspace (:func:`.cube.cube_inside`)."""
+        return cube.cube_inside(center, half, sigma=sigma, min_width=min_width, max_boxes=max_boxes)
+
+    def no_enclosed_cube(self, half: float, *, sigma=(0.25, 4.0), grid: int = 5, min_width: float = 1e-4,
+                         max_boxes: int = 400_000):
+        """Prove that no cube of half-edge ``half`` fits anywhere (:func:`.cube.no_enclosed_cube`)."""
+        return cube.no_enclosed_cube(half, sigma=sigma, grid=grid, min_width=min_width, max_boxes=max_boxes)
+
+    def largest_cube(self, *, alpha: float = 0.001, sigma=(0.25, 4.0), progress: bool | None = None) -> cube.CubeResult:
+        """The largest cube enclosed in the dextrous workspace, certified (:func:`.cube.largest_cube`, paper section 5)."""
+        return cube.largest_cube(self, alpha=alpha, sigma=sigma, progress=progress)
