@@ -1,6 +1,7 @@
 """The command line: JSON contract of INTERFACE.md, exit status 2 and one stderr line on bad input."""
 
 import json
+import math
 import subprocess
 import sys
 
@@ -183,3 +184,15 @@ def test_demo_writes_the_report(tmp_path, capsys):
     md = (out_dir / "report.md").read_text()
     assert "-55.1005" in md and "16; after Step 1: 11; on the boundary (Step 2): 8" in md
     assert "Certified paving of Rybak" in md and "0 outside (must be 0)" in md
+
+
+def test_reach_json_and_plot(tmp_path, capsys):
+    plot = tmp_path / "annulus.png"
+    code, out, _ = run(capsys, "reach", "planar-2r", "--delta", "0.1", "--json", "--plot", str(plot))
+    result = json.loads(out)
+    assert code == 0 and result["variables"] == ["x", "y"] and result["joints_subdivided"] == ["theta1", "theta2"]
+    lo, hi = result["measure_bounds"]
+    assert lo <= 2 * math.pi <= hi                      # planar-2r: l1 = 1, l2 = 0.5, full range: area 2 pi
+    assert result["inner"]["boxes"] > 0 and result["outer"]["boxes"] > 0 and plot.stat().st_size > 0
+    code, out, err = run(capsys, "reach", "orthoglide", "--delta", "0.1")
+    assert code == 2 and out == "" and err.count("\n") == 1 and "not a serial DH robot" in err

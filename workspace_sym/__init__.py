@@ -33,6 +33,7 @@ from .interval import Box, Certificate, Paving, certify_box, hausdorff, pave
 from .orthoglide import Orthoglide
 from .parallel import ConstraintModel, rpr2
 from .planar import Arc, PlanarChain
+from .reach import reach
 from . import verify
 from .sampling import extent, reach_points, sample_joint_box, sweep_joints
 from .symbolic import factor_trig, shorthand, textbook
@@ -70,6 +71,7 @@ __all__ = [
     "rpr2",
     "Arc",
     "PlanarChain",
+    "reach",
     "verify",
     "extent",
     "reach_points",

@@ -44,7 +44,7 @@ def _robot_from_args(args) -> DHRobot:
         raise WorkspaceError("robot: name a catalog robot (see 'workspace-sym robots') or pass --dh FILE")
     model = robots.build(args.robot)
     if not isinstance(model, DHRobot):
-        raise WorkspaceError(f"robot {args.robot!r} is not a serial DH robot; fk and jacobian need one")
+        raise WorkspaceError(f"robot {args.robot!r} is not a serial DH robot; this command needs one")
     return model
 
 
@@ -182,10 +182,16 @@ def cmd_pave(args) -> int:
         from .plotting import plot_paving, save_figure
 
         save_figure(plot_paving(paving), args.plot)
-    result = paving.to_dict()
-    if args.json:
+    _show_paving(paving, args.json)
+    return 0
+
+
+def _show_paving(paving, as_json: bool, extra: dict | None = None) -> None:
+    """A paving's JSON object, or its summary on the terminal."""
+    result = {**paving.to_dict(), **(extra or {})}
+    if as_json:
         _emit_json(result)
-        return 0
+        return
     lo, hi = paving.measure_bounds
     how = ", with contraction" if paving.contract else ""
     print(f"delta = {paving.delta} ({paving.size}), backend {paving.backend}{how}: {paving.seconds:.3f} s, "
@@ -193,10 +199,29 @@ def cmd_pave(args) -> int:
     for kind in ("inner", "boundary", "outer", "pending"):
         print(f"  {kind:<8} {result[kind]['boxes']:>8} boxes, measure {result[kind]['measure']:.6f}")
     print(f"  measure in [{lo:.6f}, {hi:.6f}]")
-    if exact is not None:
-        print(f"  exact measure {float(exact):.6f} = {sp.sstr(exact)}")
+    if paving.exact_measure is not None:
+        print(f"  exact measure {float(paving.exact_measure):.6f} = {sp.sstr(paving.exact_measure)}")
     if not paving.complete:
         print(f"  stopped early: {paving.stop_reason}; pending boxes are unclassified")
+
+
+def cmd_reach(args) -> int:
+    from .reach import ReachModel, reach
+
+    robot = _robot_from_args(args)
+    paving = reach(robot, delta=args.delta, size=args.size, max_boxes=args.max_boxes, time_limit=args.time_limit,
+                   progress=args.progress, inner_depth=args.inner_depth)
+    if args.plot:
+        from .plotting import plot_paving, save_figure
+
+        save_figure(plot_paving(paving, title=f"Certified position workspace of {robot.name}"), args.plot)
+    model = ReachModel(robot)
+    extra = {"robot": robot.name, "variables": [str(v) for v in paving.variables],
+             "joints_subdivided": [str(q) for q in model.variables]}
+    if not args.json:
+        print(f"{robot.name}: position workspace over ({', '.join(extra['variables'])}); joints subdivided: "
+              f"{', '.join(extra['joints_subdivided'])}")
+    _show_paving(paving, args.json, extra)
     return 0
 
 
@@ -421,6 +446,22 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--plot", metavar="FILE", help="draw the boxes to an image file")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_pave)
+
+    p = sub.add_parser("reach", help="certified position workspace of a serial robot (reachable / unreachable boxes)")
+    p.add_argument("robot", nargs="?", help="catalog DH robot (see 'robots')")
+    p.add_argument("--dh", metavar="FILE", help="DH table as JSON (see the README)")
+    p.add_argument("--delta", type=float, required=True, help="size below which undecided boxes stop splitting")
+    p.add_argument("--size", choices=("diameter", "width"), default="diameter",
+                   help="box size compared with delta: diameter or largest edge")
+    p.add_argument("--inner-depth", type=int, default=2,
+                   help="halvings of a last-level box when proving it reachable piece by piece (default 2)")
+    p.add_argument("--max-boxes", type=int, help="stop after this many boxes (the rest is pending)")
+    p.add_argument("--time-limit", type=float, help="stop after this many seconds (the rest is pending)")
+    p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
+                   help="progress bar on stderr (default: on a terminal, for runs over a second)")
+    p.add_argument("--plot", metavar="FILE", help="draw the boxes to an image file")
+    p.add_argument("--json", action="store_true", help="one JSON object on stdout")
+    p.set_defaults(func=cmd_reach)
 
     p = sub.add_parser("dextrous", help="certified dextrous workspace (Orthoglide)")
     p.add_argument("robot", help="catalog model (orthoglide)")
