@@ -219,3 +219,30 @@ def test_best_form_preparation_is_bounded():
     big = sp.Add(*[sp.Rational(k + 1, 3) * x**k * y ** (k % 5) for k in range(MAX_REWRITE_OPS // 4)])
     assert sp.count_ops(big) > MAX_REWRITE_OPS
     assert best_form(big, (x, y)) == big
+
+
+def test_proofs_run_in_round_to_nearest_whatever_mode_is_set():
+    """Importing codac (IBEX) leaves the main thread rounding upward; the paving must not change,
+    and the caller's mode must come back.  Reference: the same paving in the default mode."""
+    import ctypes
+    import ctypes.util
+
+    from workspace_sym import robots
+    from workspace_sym.interval.arith import rounding_mode
+
+    libm = ctypes.CDLL(ctypes.util.find_library("m"))
+    model = robots.build("rpr2")
+    plain = model.pave(delta=0.1, contract=True)
+    fe_upward = {"x86_64": 0x800, "aarch64": 0x400000}.get(__import__("platform").machine())
+    if fe_upward is None:
+        pytest.skip("FE_UPWARD of this architecture is not known to the test")
+    assert libm.fesetround(fe_upward) == 0
+    try:
+        assert rounding_mode() == "upward"
+        again = model.pave(delta=0.1, contract=True)
+        assert rounding_mode() == "upward"
+    finally:
+        libm.fesetround(0)
+    assert rounding_mode() == "nearest"
+    for kind in ("inner", "boundary", "outer"):
+        assert np.array_equal(getattr(plain, kind), getattr(again, kind))

@@ -286,6 +286,7 @@ def _prove_in_pieces(model, T, seeds, depth):
     return proved
 
 
+@arith.nearest_rounding
 def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: dict | None = None,
           max_boxes: int | None = None, time_limit: float | None = None, progress: bool | None = None,
           max_pairs: int = 200_000, inner_depth: int = 2) -> Paving:

@@ -16,9 +16,15 @@ The module-level names are the interval operations used by
 
 from __future__ import annotations
 
+import ctypes
+import ctypes.util
+import functools
+from contextlib import contextmanager
+
 import numpy as np
 
 __all__ = [
+    "round_to_nearest", "rounding_mode", "nearest_rounding",
     "down", "up", "const", "point", "add", "sub", "neg", "mul", "div", "sqr", "ipow", "sqrt", "sin", "cos",
     "iabs", "intersect", "Interval",
 ]
@@ -31,6 +37,71 @@ _REL = 2.0**-52          # |x| * 2^-52 is between one and two spacings of the fl
 _TINY = 2.0**-1074       # the smallest subnormal: covers an underflowed result
 _MAX = np.finfo(float).max
 _SMALL = 256             # below this size numpy.nextafter is the cheaper way out
+
+
+# ----------------------------------------------------------------------------- rounding mode
+# Every bound below assumes IEEE round-to-nearest, the mode C programs start in.  A library
+# in the same process may leave another one set: importing codac (IBEX) switches the main
+# thread to upward rounding for good.  The operations stay outward under a directed mode,
+# but the accuracy of libm's and numpy's sin and cos is only documented for the default,
+# so every proof runs under round_to_nearest().
+_FE_TONEAREST = 0          # glibc (x86-64, aarch64) and macOS
+_PROBE = [1.0, 2.0**-60]
+
+
+def rounding_mode() -> str:
+    """The rounding mode in force in this thread: 'nearest', 'upward', 'downward' or 'toward zero'."""
+    one, tiny = _PROBE                       # variables: a literal sum would be folded when compiled
+    up_, down_ = one + tiny > one, one - tiny < one
+    if not (up_ or down_):
+        return "nearest"
+    if up_:
+        return "upward"
+    return "downward" if -one - tiny < -one else "toward zero"
+
+
+@functools.cache
+def _libm():
+    name = ctypes.util.find_library("m")
+    return ctypes.CDLL(name) if name else None
+
+
+@contextmanager
+def round_to_nearest():
+    """Run the block in round-to-nearest, restoring the thread's previous mode afterwards.
+
+    Examples
+    --------
+    >>> with round_to_nearest():
+    ...     rounding_mode()
+    'nearest'
+    """
+    if rounding_mode() == "nearest":
+        yield
+        return
+    libm = _libm()
+    if libm is None:
+        raise RuntimeError(f"the floating-point rounding mode is {rounding_mode()} and libm is not available to "
+                           "restore round-to-nearest; interval proofs need it")
+    old = libm.fegetround()
+    libm.fesetround(_FE_TONEAREST)
+    try:
+        if rounding_mode() != "nearest":
+            raise RuntimeError("could not set round-to-nearest for interval proofs")
+        yield
+    finally:
+        libm.fesetround(old)
+
+
+def nearest_rounding(fn):
+    """``fn`` run under :func:`round_to_nearest` (for functions that prove)."""
+
+    @functools.wraps(fn)
+    def wrapper(*args, **kwargs):
+        with round_to_nearest():
+            return fn(*args, **kwargs)
+
+    return wrapper
 
 
 def down(x):

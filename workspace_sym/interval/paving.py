@@ -303,6 +303,7 @@ def _program(constraints: tuple, variables: tuple) -> Program:
     return Program([best_form(c.g, variables) for c in constraints], variables)
 
 
+@arith.nearest_rounding
 def certify_box(box, constraints, *, variables=None, backend: str = "numpy", digits: int = 30) -> Certificate:
     """IN if every constraint holds on the whole box, OUT if one fails on the whole box, else UNDECIDED.
 
@@ -522,14 +523,17 @@ def threaded(decide, workers: int | None = None, *, min_batch: int = 8192):
         return decide
     pool = _thread_pool(workers)
 
+    guarded = arith.nearest_rounding(decide)       # a worker thread keeps the mode it was created with
+
     def run(boxes):
         if len(boxes) < min_batch:
             return decide(boxes)
-        return np.concatenate(list(pool.map(decide, np.array_split(boxes, workers))))
+        return np.concatenate(list(pool.map(guarded, np.array_split(boxes, workers))))
 
     return run
 
 
+@arith.nearest_rounding
 def subdivide(decide, box: Box, *, delta: float, size: str = "diameter", max_boxes: int | None = None,
               time_limit: float | None = None, progress: bool | None = None, chunk: int = 200_000,
               constraints=(), backend: str = "numpy", exact_measure=None, label: str = "paving",

@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InvalidParameterError, check_choice
+from . import arith
 
 __all__ = ["SPLITS", "prove_all", "bisect_along", "split_every_axis", "split_widest"]
 
@@ -47,6 +48,7 @@ def split_widest(boxes: np.ndarray) -> np.ndarray:
     return bisect_along(boxes, np.argmax(boxes[:, :, 1] - boxes[:, :, 0], axis=1))
 
 
+@arith.nearest_rounding
 def prove_all(boxes, test, *, max_boxes: int, min_width: float = 0.0, split: str = "widest"):
     """Prove ``test`` on every box of ``boxes`` (an ``(N, n, 2)`` array), bisecting the undecided ones.
 
