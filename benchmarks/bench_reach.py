@@ -1,4 +1,4 @@
-"""Issue 14 benchmark: certified position workspaces of serial arms (``workspace_sym.reach``).
+"""Issue 14 benchmark: certified position workspaces of serial arms (``workspace_sym.serial_workspace``).
 
 For each robot and delta, ours (proved inner / boundary / outer boxes and the measure
 bracket) beside two references computed in the same run: the exact measure where one is
@@ -18,7 +18,7 @@ from _common import machine
 
 from workspace_sym import robots
 from workspace_sym.kinematics import DHJoint, DHRobot
-from workspace_sym.reach import ReachModel, reach
+from workspace_sym.serial_workspace import ReachModel, reach
 
 CASES = [
     ("2R, l = (1, 1/2), full range", DHRobot([DHJoint.revolute(1, a=1), DHJoint.revolute(2, a=sp.Rational(1, 2))]),

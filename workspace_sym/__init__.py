@@ -33,7 +33,7 @@ from .kinematics import (
 from .orthoglide import Orthoglide
 from .parallel import ConstraintModel, rpr2
 from .planar import Arc, PlanarChain
-from .reach import reach
+from .serial_workspace import reach
 from .sampling import extent, reach_points, sample_joint_box, sweep_joints
 from .symbolic import factor_trig, shorthand, textbook
 

@@ -206,7 +206,7 @@ def _show_paving(paving, as_json: bool, extra: dict | None = None) -> None:
 
 
 def cmd_reach(args) -> int:
-    from .reach import ReachModel, reach
+    from .serial_workspace import ReachModel, reach
 
     robot = _robot_from_args(args)
     paving = reach(robot, delta=args.delta, size=args.size, max_boxes=args.max_boxes, time_limit=args.time_limit,

@@ -1,4 +1,4 @@
-"""Certified position workspaces of serial robots (workspace_sym.reach).
+"""Certified position workspaces of serial robots (workspace_sym.serial_workspace).
 
 References, each named in its test:
 * exact: the 2R arm with full joint ranges reaches the annulus ``|l1 - l2| <= r <= l1 + l2``
@@ -22,7 +22,7 @@ from hypothesis import strategies as st
 import workspace_sym as ws
 from workspace_sym.errors import InvalidParameterError, JointLimitError
 from workspace_sym.kinematics import DHJoint, DHRobot
-from workspace_sym.reach import ReachModel, reach
+from workspace_sym.serial_workspace import ReachModel, reach
 
 
 def planar_robot(lengths, lower=None, upper=None):
