@@ -8,10 +8,11 @@ import warnings
 import numpy as np
 import pytest
 import sympy as sp
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from workspace_sym.boundary import prove_unreachable, witness_near
-from workspace_sym.exact import exact_area, exact_arcs
+from workspace_sym.exact import exact_arcs, exact_area
 from workspace_sym.planar import PlanarChain
 
 HUMAN_ARM = (["0.186", "0.146", "0.108"], [-60, 0, -10], [120, 130, 25])     # Table 1, case iii

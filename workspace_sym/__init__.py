@@ -7,7 +7,7 @@ The flat public API, so that a notebook writes ``ws.DHRobot(...)``::
     robot.to_str(robot.position[0])   # 'c1*(a1 + a2*c2 + a3*c23 + d5*s234)'
 """
 
-from . import robots
+from . import robots, verify
 from .errors import (
     BoxError,
     ConstraintError,
@@ -18,6 +18,8 @@ from .errors import (
     UnknownNameError,
     WorkspaceError,
 )
+from .exact import exact_arcs, exact_area
+from .interval import Box, Certificate, Paving, certify_box, hausdorff, pave
 from .kinematics import (
     AnalyticJacobian,
     DHJoint,
@@ -28,13 +30,10 @@ from .kinematics import (
     maximal_minor_factors,
     numeric_function,
 )
-from .exact import exact_arcs, exact_area
-from .interval import Box, Certificate, Paving, certify_box, hausdorff, pave
 from .orthoglide import Orthoglide
 from .parallel import ConstraintModel, rpr2
 from .planar import Arc, PlanarChain
 from .reach import reach
-from . import verify
 from .sampling import extent, reach_points, sample_joint_box, sweep_joints
 from .symbolic import factor_trig, shorthand, textbook
 

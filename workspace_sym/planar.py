@@ -23,8 +23,8 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import cached_property
 from fractions import Fraction
+from functools import cached_property
 from numbers import Integral, Number
 
 import numpy as np
@@ -362,7 +362,7 @@ class PlanarChain:
         """
         key = (samples, seed, max_boxes)
         if key not in self._boundaries:
-            from .boundary import build_boundary     # boundary builds on this module: import one way, lazily
+            from .boundary import build_boundary  # boundary builds on this module: import one way, lazily
 
             self._boundaries[key] = build_boundary(self, samples=samples, seed=seed, max_boxes=max_boxes)
         return self._boundaries[key]

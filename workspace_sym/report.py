@@ -15,10 +15,10 @@ import datetime as _dt
 import html
 import math
 import platform
-import time
 import shutil
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 import numpy as np
@@ -42,7 +42,7 @@ def reproducibility(command: str | None = None) -> dict:
         "numpy": numpy.__version__,
         "mpmath": mpmath.__version__,
         "matplotlib": matplotlib.__version__,
-        "date": _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+        "date": _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M UTC"),
         "command": command if command is not None else " ".join(["workspace-sym"] + sys.argv[1:]),
     }
 
@@ -194,7 +194,7 @@ class Document:
         return paths
 
 
-def _publish(doc: "Document", tmp: Path, out: Path, *, stem: str = "report", command: str | None = None,
+def _publish(doc: Document, tmp: Path, out: Path, *, stem: str = "report", command: str | None = None,
              start: float | None = None) -> Path:
     """Close ``doc`` with the reproducibility block, render it into ``tmp`` and move everything to ``out``."""
     doc.heading("Reproducibility")
@@ -207,7 +207,7 @@ def _publish(doc: "Document", tmp: Path, out: Path, *, stem: str = "report", com
     return out / f"{stem}.md"
 
 
-def _paving_section(doc: "Document", paving, tmp: Path) -> None:
+def _paving_section(doc: Document, paving, tmp: Path) -> None:
     """Box counts, the certified measure bracket and a picture of a paving."""
     from .plotting import plot_paving, save_figure
 

@@ -7,8 +7,8 @@ listing the catalog costs nothing.  Other modules register their own models
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 import sympy as sp
 
