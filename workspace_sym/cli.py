@@ -307,8 +307,8 @@ def _chain_from_args(args):
 
 def _format_set(values) -> str:
     if len(values) == 1:
-        return "{%.4f}" % values[0]
-    return "[%.4f, %.4f]" % tuple(values)
+        return f"{{{values[0]:.4f}}}"
+    return f"[{values[0]:.4f}, {values[1]:.4f}]"
 
 
 def cmd_boundary(args) -> int:
@@ -364,7 +364,8 @@ def cmd_demo(args) -> int:
     lo, hi = paving.measure_bounds
     print(f"human arm (Bastien 2018, Table 1 iii): {b.counts['step0']} / {b.counts['step1']} / {b.counts['step2']} "
           f"arcs after steps 0 / 1 / 2, area {b.area:.10f}")
-    print(f"2-RPR paving (Rybak et al. 2016), delta 0.07: area in [{lo:.4f}, {hi:.4f}], exact {float(model.exact_measure):.4f}")
+    print(f"2-RPR paving (Rybak et al. 2016), delta 0.07: area in [{lo:.4f}, {hi:.4f}], "
+          f"exact {float(model.exact_measure):.4f}")
     print(f"{time.perf_counter() - start:.1f} s; report: {path} (also {path.with_suffix('.html').name}, "
           f"{path.with_suffix('.tex').name})")
     return 0

@@ -433,9 +433,9 @@ def orthoglide_report(model, out, *, eps: float = 0.125, alpha: float = 0.01, co
              "arithmetic; undecided boxes make up the error index E.")
     doc.math("J", model.J)
     pencil = model.pencil
+    term_counts = ", ".join(str(len(sp.Add.make_args(k))) for k in pencil.all_coeffs())
     doc.para(f"The eigenvalues of J J^T are the roots of the cubic q(lambda) = det(lambda A A^T - B^2) "
-             f"(no division), whose coefficients have {', '.join(str(len(sp.Add.make_args(k))) for k in pencil.all_coeffs())} "
-             "terms; its leading coefficient is")
+             f"(no division), whose coefficients have {term_counts} terms; its leading coefficient is")
     doc.math("[\\lambda^3]\\,q", pencil.all_coeffs()[0])
     doc.para("Boxes are certified with the inverse N = A^T B^-2 A = (J J^T)^-1 instead: enclosed in mean-value "
              "form, rotated by the eigenvectors at the box centre, N - I/sigma_max and I/sigma_min - N proved "
