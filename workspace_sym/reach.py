@@ -324,9 +324,9 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     """
     check_delta(delta)
     if size not in ("diameter", "width"):
-        raise InvalidParameterError(f"size must be one of 'diameter', 'width'; got {size!r}")
+        raise InvalidParameterError(f"size must be one of 'diameter', 'width'; got {size!r}", parameter="size")
     if max_boxes is not None and max_boxes < 1:
-        raise InvalidParameterError(f"max_boxes must be at least 1; got {max_boxes!r}")
+        raise InvalidParameterError(f"max_boxes must be at least 1; got {max_boxes!r}", parameter="max_boxes")
     start = time.perf_counter()
     model = ReachModel(robot, parameters)
     Q = model.limits[None].copy()

@@ -497,7 +497,7 @@ def pave(constraints, box, *, delta: float, variables=None, backend: str = "nump
 
 def check_delta(delta, name="delta"):
     if not isinstance(delta, (int, float)) or isinstance(delta, bool) or not math.isfinite(delta) or delta <= 0:
-        raise InvalidParameterError(f"{name} must be a positive finite number; got {delta!r}")
+        raise InvalidParameterError(f"{name} must be a positive finite number; got {delta!r}", parameter=name)
 
 
 @cache
@@ -560,7 +560,7 @@ def subdivide(decide, box: Box, *, delta: float, size: str = "diameter", max_box
     check_delta(delta)
     check_choice("size", size, SIZES)
     if max_boxes is not None and max_boxes < 1:
-        raise InvalidParameterError(f"max_boxes must be at least 1; got {max_boxes!r}")
+        raise InvalidParameterError(f"max_boxes must be at least 1; got {max_boxes!r}", parameter="max_boxes")
     start = time.perf_counter()
     auto = progress is None
     bar = Progress(bool(progress), box.measure, label)
