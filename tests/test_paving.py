@@ -221,16 +221,21 @@ def test_budget_leaves_pending_boxes_unclassified(rybak):
 def test_keyboard_interrupt_returns_partial(monkeypatch, rybak):
     from workspace_sym.interval import paving as mod
 
-    calls = {"n": 0}
-    real = mod._Decider.__call__
+    real = mod.subdivide
 
-    def flaky(self, boxes):
-        calls["n"] += 1
-        if calls["n"] == 4:
-            raise KeyboardInterrupt
-        return real(self, boxes)
+    def interrupted_at_fourth_batch(decide, box, **options):
+        calls = 0
 
-    monkeypatch.setattr(mod._Decider, "__call__", flaky)
+        def flaky(boxes):
+            nonlocal calls
+            calls += 1
+            if calls == 4:
+                raise KeyboardInterrupt
+            return decide(boxes)
+
+        return real(flaky, box, **options)
+
+    monkeypatch.setattr(mod, "subdivide", interrupted_at_fourth_batch)  # pave's loop, with Ctrl-C in the decider
     p = rybak.pave(delta=0.07)
     assert p.stop_reason == "interrupted" and not p.complete and len(p.pending) > 0
     assert abs(sum(p.measures.values()) - 348) < 1e-9  # the interrupted batch is pending, not lost
