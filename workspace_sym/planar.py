@@ -177,7 +177,9 @@ class PlanarChain:
         self._boundaries = {}
 
     def __repr__(self):
-        deg = lambda v: ", ".join(f"{math.degrees(x):g}" for x in v)  # noqa: E731
+        def deg(v):
+            return ", ".join(f"{math.degrees(x):g}" for x in v)
+
         return (f"PlanarChain(lengths={list(self.lengths)}, lower=[{deg(self.lower)}], "
                 f"upper=[{deg(self.upper)}])")
 

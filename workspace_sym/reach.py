@@ -390,7 +390,10 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         bar.close()
     m = len(model.task_variables)
     empty = np.empty((0, m, 2))
-    stack = lambda parts: np.concatenate(parts) if parts else empty  # noqa: E731
+
+    def stack(parts):
+        return np.concatenate(parts) if parts else empty
+
     return Paving(model.task_variables, box, (), float(delta), "numpy", size, stack(inner), stack(boundary),
                   stack(outer), T if len(T) and reason else empty, time.perf_counter() - start, not reason,
                   evaluated, reason)

@@ -615,7 +615,10 @@ def subdivide(decide, box: Box, *, delta: float, size: str = "diameter", max_box
         bar.close()
     n = len(box.variables)
     empty = np.empty((0, n, 2))
-    stack = lambda parts: np.concatenate(parts) if parts else empty  # noqa: E731
+
+    def stack(parts):
+        return np.concatenate(parts) if parts else empty
+
     return Paving(box.variables, box, tuple(constraints), float(delta), backend, size, stack(inner),
                   stack(boundary), stack(outer), work if len(work) else empty, time.perf_counter() - start,
                   not reason, evaluated, reason, exact_measure, separate is not None)
