@@ -14,8 +14,8 @@ import time
 
 import numpy as np
 import sympy as sp
-from _common import machine
 
+from _common import machine
 from workspace_sym import robots
 from workspace_sym.kinematics import DHJoint, DHRobot
 from workspace_sym.serial_workspace import ReachModel, reach

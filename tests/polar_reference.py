@@ -10,6 +10,7 @@ boundary of W computed one level down (checked itself by the same test at p - 1)
 """
 
 import math
+from itertools import pairwise
 
 import numpy as np
 import shapely
@@ -22,7 +23,7 @@ def two_link_region(l1, l2, lo1, hi1, lo2, hi2, n=400):
     cuts = [lo2] + ([0.0] if lo2 < 0 < hi2 else []) + [hi2]
     s = np.linspace(0, 1, n)
     polys = []
-    for c0, c1 in zip(cuts, cuts[1:]):
+    for c0, c1 in pairwise(cuts):
         ta, tb = lo1 + (hi1 - lo1) * s, c0 + (c1 - c0) * s
         edge = np.concatenate([np.stack([ta, np.full(n, c0)], 1), np.stack([np.full(n, hi1), tb], 1),
                                np.stack([ta[::-1], np.full(n, c1)], 1), np.stack([np.full(n, lo1), tb[::-1]], 1)])

@@ -49,7 +49,10 @@ def test_paper_step_counts(chain, counts):
 
 
 def test_table2_reproduced():
-    """Bastien 2018, Table 2: the eight boundary arcs of the human arm, to 5e-5 degrees (the paper prints 4 decimals)."""
+    """Bastien 2018, Table 2: the eight boundary arcs of the human arm, to 5e-5 degrees.
+
+    The paper prints 4 decimals.
+    """
     rows = PlanarChain(*HUMAN_ARM).boundary().table()
     got = sorted((r["type"],) + tuple(tuple(round(v, 4) + 0.0 for v in s) for s in r["theta_sets"]) for r in rows)
     want = sorted((t,) + tuple(tuple(float(v) for v in s) for s in sets) for t, *sets in TABLE2)

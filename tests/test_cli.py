@@ -1,12 +1,16 @@
 """The command line: JSON contract of INTERFACE.md, exit status 2 and one stderr line on bad input."""
 
+import argparse
 import json
 import math
+import re
 import subprocess
 import sys
 
+import pytest
 import sympy as sp
 
+import workspace_sym
 from workspace_sym.cli import main
 
 
@@ -196,3 +200,67 @@ def test_reach_json_and_plot(tmp_path, capsys):
     assert result["inner"]["boxes"] > 0 and result["outer"]["boxes"] > 0 and plot.stat().st_size > 0
     code, out, err = run(capsys, "reach", "orthoglide", "--delta", "0.1")
     assert code == 2 and out == "" and err.count("\n") == 1 and "not a serial DH robot" in err
+
+
+def test_version(capsys):
+    with pytest.raises(SystemExit) as stop:
+        main(["--version"])
+    assert stop.value.code == 0
+    assert capsys.readouterr().out == f"workspace-sym {workspace_sym.__version__}\n"
+
+
+def _undocumented(help_text: str) -> list[str]:
+    """Entries of an argparse help page that have no help text.
+
+    An entry starts two spaces in; its help follows on the same line after two
+    spaces, or on the next line, indented deeper.
+    """
+    lines = help_text.splitlines()
+    missing = []
+    for k, line in enumerate(lines):
+        if not re.match(r"  \S", line):
+            continue
+        entry, _, text = line.strip().partition("  ")
+        continued = k + 1 < len(lines) and re.match(r" {3,}\S", lines[k + 1])
+        if not text.strip() and not continued:
+            missing.append(entry)
+    return missing
+
+
+def _help_page(capsys, *argv) -> str:
+    with pytest.raises(SystemExit) as stop:
+        main([*argv, "--help"])
+    assert stop.value.code == 0
+    return capsys.readouterr().out
+
+
+def test_undocumented_detects_an_option_without_help():
+    parser = argparse.ArgumentParser(prog="x")
+    parser.add_argument("--bare")
+    parser.add_argument("--a-rather-long-option-name", metavar="VALUE")
+    parser.add_argument("--told", help="documented")
+    assert _undocumented(parser.format_help()) == ["--bare BARE", "--a-rather-long-option-name VALUE"]
+
+
+def test_every_option_of_every_subcommand_has_help(capsys, monkeypatch):
+    monkeypatch.setenv("COLUMNS", "100")
+    top = _help_page(capsys)
+    assert "--version" in top
+    commands = re.search(r"\{([a-z,-]+)\}", top).group(1).split(",")
+    expected = {"robots", "fk", "jacobian", "pave", "reach", "dextrous", "cube", "boundary", "report", "demo"}
+    assert expected <= set(commands)
+    for command in commands:
+        page = _help_page(capsys, command)
+        assert "options:" in page and _undocumented(page) == [], command
+        assert "INTERFACE" not in page, command                      # help points inside the repository
+        if "--dh" in page:
+            assert "see README" in page, command
+
+
+def test_library_error_line_names_the_option(capsys):
+    """The library speaks of the parameter (delta); the command line adds the option that set it."""
+    code, out, err = run(capsys, "pave", "rpr2", "--delta", "-1")
+    assert code == 2 and out == ""
+    assert err == "workspace-sym pave: error: --delta: delta must be a positive finite number; got -1.0\n"
+    code, _, err = run(capsys, "reach", "planar-2r", "--delta", "0.1", "--max-boxes", "0")
+    assert code == 2 and err.startswith("workspace-sym reach: error: --max-boxes: max_boxes must be at least 1")

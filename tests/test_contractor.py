@@ -56,8 +56,13 @@ def test_odd_root_and_product_cuts_are_sound():
     s = Program([g], (x, y)).separate(np.array([[[0.0, 2.0], [0.0, 1.0]]]))
     assert s.outer.shape == (1, 2, 2) and 1 < s.outer[0, 0, 0] < 1 + 1e-11  # the odd root is widened by 1e-12 relative
     p = pave([g <= 0], {x: (0, 2), y: (0, 1)}, delta=0.05, contract=True)
-    value = lambda p: Fraction(p[0]) ** 3 + Fraction(p[0]) * Fraction(p[1]) - 1
-    corners = lambda b: [(b[0, i], b[1, j]) for i in (0, 1) for j in (0, 1)]
+
+    def value(point):
+        return Fraction(point[0]) ** 3 + Fraction(point[0]) * Fraction(point[1]) - 1
+
+    def corners(b):
+        return [(b[0, i], b[1, j]) for i in (0, 1) for j in (0, 1)]
+
     assert len(p.outer) and len(p.inner)
     assert all(value(c) > 0 for b in p.outer for c in corners(b))
     assert all(value(c) <= 0 for b in p.inner for c in corners(b))
@@ -170,5 +175,5 @@ def test_contract_needs_the_numpy_backend(rybak):
 
 
 def test_unsupported_function_is_a_clear_error():
-    with pytest.raises(ExpressionError, match="exp.*is not supported.*supported: "):
+    with pytest.raises(ExpressionError, match=r"exp.*is not supported.*supported: "):
         Program([sp.exp(x) - 1], (x, y))

@@ -2,6 +2,7 @@
 refinement, budgets, Rybak's published example and its exact area."""
 
 from fractions import Fraction
+from itertools import pairwise
 
 import numpy as np
 import pytest
@@ -41,7 +42,8 @@ def constraint_set(draw):
 
 def _exact_value(poly, point):
     """Exact rational value at a float point (floats are exact binary fractions)."""
-    return sp.Rational(sp.sympify(poly).subs({x1: sp.Rational(Fraction(point[0])), x2: sp.Rational(Fraction(point[1]))}))
+    exact = {x1: sp.Rational(Fraction(point[0])), x2: sp.Rational(Fraction(point[1]))}
+    return sp.Rational(sp.sympify(poly).subs(exact))
 
 
 def _sample(boxes, rng, k=8):
@@ -176,7 +178,7 @@ def test_every_paving_brackets_the_exact_area(rybak, delta, contract):
 
 def test_bracket_shrinks_with_delta(rybak):
     widths = [np.subtract(*rybak.pave(delta=d).measure_bounds[::-1]) for d in (0.5, 0.25, 0.07, 0.02)]
-    assert all(a > b for a, b in zip(widths, widths[1:]))
+    assert all(a > b for a, b in pairwise(widths))
 
 
 def test_mpmath_backend_gives_the_same_paving(rybak):
@@ -219,16 +221,21 @@ def test_budget_leaves_pending_boxes_unclassified(rybak):
 def test_keyboard_interrupt_returns_partial(monkeypatch, rybak):
     from workspace_sym.interval import paving as mod
 
-    calls = {"n": 0}
-    real = mod._Decider.__call__
+    real = mod.subdivide
 
-    def flaky(self, boxes):
-        calls["n"] += 1
-        if calls["n"] == 4:
-            raise KeyboardInterrupt
-        return real(self, boxes)
+    def interrupted_at_fourth_batch(decide, box, **options):
+        calls = 0
 
-    monkeypatch.setattr(mod._Decider, "__call__", flaky)
+        def flaky(boxes):
+            nonlocal calls
+            calls += 1
+            if calls == 4:
+                raise KeyboardInterrupt
+            return decide(boxes)
+
+        return real(flaky, box, **options)
+
+    monkeypatch.setattr(mod, "subdivide", interrupted_at_fourth_batch)  # pave's loop, with Ctrl-C in the decider
     p = rybak.pave(delta=0.07)
     assert p.stop_reason == "interrupted" and not p.complete and len(p.pending) > 0
     assert abs(sum(p.measures.values()) - 348) < 1e-9  # the interrupted batch is pending, not lost

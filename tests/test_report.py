@@ -8,7 +8,7 @@ import pytest
 from workspace_sym import robots
 from workspace_sym.interval import pave
 from workspace_sym.planar import PlanarChain
-from workspace_sym.report import Document, dh_robot_report, paving_report, planar_report
+from workspace_sym.report import dh_robot_report, paving_report, planar_report, tex_escape
 
 
 def latex_is_balanced(tex: str) -> bool:
@@ -78,7 +78,7 @@ def test_dh_report(tmp_path):
 
 
 def test_latex_escaping():
-    assert Document._tex_escape(r"a_b 50% $x_1$ {c} \ d") == r"a\_b 50\% $x_1$ \{c\} \textbackslash{} d"
+    assert tex_escape(r"a_b 50% $x_1$ {c} \ d") == r"a\_b 50\% $x_1$ \{c\} \textbackslash{} d"
     assert not latex_is_balanced("\\documentclass{article}\\begin{document}{\\end{document}")
 
 

@@ -19,11 +19,16 @@ def test_children_tile_their_parent():
 
 def test_an_undecided_box_is_never_a_verdict():
     """Budget and width limits give None, never True: only the test proves."""
-    never = lambda b: np.zeros(len(b), int)                                     # noqa: E731
+
+    def never(b):
+        return np.zeros(len(b), int)
+
+    def fine(b):
+        """Proves only boxes narrower than 0.3: True at the third generation of halving every edge."""
+        return np.where((b[:, :, 1] - b[:, :, 0]).max(1) < 0.3, 1, 0)
+
     assert prove_all(UNIT, never, max_boxes=100)[0] is None
     assert prove_all(UNIT, never, max_boxes=10**6, min_width=0.1)[0] is None
-    # a test that proves only boxes narrower than 0.3: True at the third generation of halving every edge
-    fine = lambda b: np.where((b[:, :, 1] - b[:, :, 0]).max(1) < 0.3, 1, 0)   # noqa: E731
     assert prove_all(UNIT, fine, max_boxes=100, split="every") == (True, 1 + 4 + 16)
     assert prove_all(UNIT, lambda b: np.where(b[:, 0, 0] > 0.9, -1, 0), max_boxes=1000)[0] is False
 

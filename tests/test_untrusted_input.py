@@ -119,10 +119,11 @@ def test_dh_fields_refuse(text, field, in_tmp):
 def test_dh_limits_parameters_and_names_refuse(text, in_tmp):
     base = {"d": 0, "a": "l1", "alpha": 0}
     for limits in ([text, 1], [-1, text]):
-        _raises_reader_error(lambda: DHRobot.from_dict({"joints": [dict(base, limits=limits)]}), "joint 1 limits: ")
-        _raises_reader_error(lambda: DHRobot.from_dict({"angles": "radians", "joints": [
+        _raises_reader_error(lambda limits=limits: DHRobot.from_dict({"joints": [dict(base, limits=limits)]}),
+                             "joint 1 limits: ")
+        _raises_reader_error(lambda limits=limits: DHRobot.from_dict({"angles": "radians", "joints": [
             {"type": "P", "theta": 0, "a": 0, "alpha": 0, "limits": limits}]}), "joint 1 limits: ")
-        _raises_reader_error(lambda: DHJoint.revolute(1, limits=limits), "joint 1 ")
+        _raises_reader_error(lambda limits=limits: DHJoint.revolute(1, limits=limits), "joint 1 ")
     _raises_reader_error(lambda: DHRobot.from_dict({"joints": [base], "parameters": {"l1": text}}), "parameter l1: ")
     _raises_reader_error(lambda: DHRobot.from_dict({"joints": [dict(base, variable=text)]}), "joint 1 variable: ")
     _raises_reader_error(lambda: DHRobot.from_dict({"joints": [base], "parameters": {text: 1}}), "parameters: ")
@@ -137,7 +138,7 @@ def test_planar_chain_and_models_refuse(text, in_tmp):
     _raises_reader_error(lambda: PlanarChain([1, 1], [0, text], [10, 10]), "lower limit of joint 2")
     _raises_reader_error(lambda: PlanarChain([1, 1], [0, 0], [10, text]), "upper limit of joint 2")
     for name in ("l0", "lmin", "lmax", "lmin2", "lmax2"):
-        _raises_reader_error(lambda: rpr2(**{name: text}), f"{name}: ")
+        _raises_reader_error(lambda name=name: rpr2(**{name: text}), f"{name}: ")
     _raises_reader_error(lambda: robots.build("rpr2", l0=text), "l0: ")
 
 

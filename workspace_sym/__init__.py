@@ -33,8 +33,8 @@ from .kinematics import (
 from .orthoglide import Orthoglide
 from .parallel import ConstraintModel, rpr2
 from .planar import Arc, PlanarChain
-from .serial_workspace import reach
 from .sampling import extent, reach_points, sample_joint_box, sweep_joints
+from .serial_workspace import reach
 from .symbolic import factor_trig, shorthand, textbook
 
 __version__ = "0.1.0"

@@ -281,7 +281,7 @@ class Arrangement:
                 key[h] = math.atan2(q[1], q[0])
                 outgoing[v].append(h)
         self.next = np.zeros(2 * ne, int)
-        for v, hs in enumerate(outgoing):
+        for hs in outgoing:
             hs.sort(key=lambda h: key[h])
             pos = {h: k for k, h in enumerate(hs)}
             for h in hs:

@@ -564,7 +564,8 @@ def build_boundary(chain, *, samples: int = 4096, seed: int = 0, max_boxes: int 
                 merged[-1]["a1"] += pc["a1"] - pc["a0"]
             else:
                 merged.append(dict(pc))
-        if len(merged) > 1 and merged[0]["circle"] == merged[-1]["circle"] and merged[0]["source"] == merged[-1]["source"]:
+        first, last = merged[0], merged[-1]
+        if len(merged) > 1 and first["circle"] == last["circle"] and first["source"] == last["source"]:
             merged[0]["a0"] -= merged[-1]["a1"] - merged[-1]["a0"]
             merged.pop()
         area = float(sum(arc_area_term(*arr.circles[m["circle"]], m["a0"], m["a1"]) for m in merged))
@@ -585,7 +586,8 @@ def build_boundary(chain, *, samples: int = 4096, seed: int = 0, max_boxes: int 
         warnings.warn(note, stacklevel=3)
     counts = {"step0": step0, "step1": len(kept), "step2": len(arcs)}
     faces = {f: s for f, s in enumerate(status)}
-    return Boundary(chain, arcs, loops, counts, faces, evidence, undecided, time.perf_counter() - t0, arr, merged_slivers)
+    return Boundary(chain, arcs, loops, counts, faces, evidence, undecided, time.perf_counter() - t0, arr,
+                    merged_slivers)
 
 
 def _piece(arr, kept, h):

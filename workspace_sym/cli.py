@@ -16,7 +16,7 @@ from pathlib import Path
 
 import sympy as sp
 
-from . import robots
+from . import __version__, robots
 from .errors import InvalidParameterError, WorkspaceError
 from .expressions import is_finite_value, parse_expr, read_symbol
 from .kinematics import DHRobot
@@ -271,8 +271,6 @@ def cmd_cube(args) -> int:
     model = robots.build(args.robot)
     if not isinstance(model, Orthoglide):
         raise WorkspaceError(f"robot {args.robot!r}: the largest cube is implemented for the orthoglide")
-    if not args.alpha > 0:
-        raise InvalidParameterError(f"--alpha must be a positive number; got {args.alpha}")
     result = model.largest_cube(alpha=args.alpha, sigma=_parse_sigma(args.sigma), progress=args.progress)
     data = result.to_dict()
     if args.json:
@@ -307,8 +305,8 @@ def _chain_from_args(args):
 
 def _format_set(values) -> str:
     if len(values) == 1:
-        return "{%.4f}" % values[0]
-    return "[%.4f, %.4f]" % tuple(values)
+        return f"{{{values[0]:.4f}}}"
+    return f"[{values[0]:.4f}, {values[1]:.4f}]"
 
 
 def cmd_boundary(args) -> int:
@@ -364,7 +362,8 @@ def cmd_demo(args) -> int:
     lo, hi = paving.measure_bounds
     print(f"human arm (Bastien 2018, Table 1 iii): {b.counts['step0']} / {b.counts['step1']} / {b.counts['step2']} "
           f"arcs after steps 0 / 1 / 2, area {b.area:.10f}")
-    print(f"2-RPR paving (Rybak et al. 2016), delta 0.07: area in [{lo:.4f}, {hi:.4f}], exact {float(model.exact_measure):.4f}")
+    print(f"2-RPR paving (Rybak et al. 2016), delta 0.07: area in [{lo:.4f}, {hi:.4f}], "
+          f"exact {float(model.exact_measure):.4f}")
     print(f"{time.perf_counter() - start:.1f} s; report: {path} (also {path.with_suffix('.html').name}, "
           f"{path.with_suffix('.tex').name})")
     return 0
@@ -403,28 +402,86 @@ def cmd_report(args) -> int:
 
 
 # ------------------------------------------------------------------------------ parser
+# Options shared by several subcommands, declared once as parent parsers.
+_DH_HELP = "DH table as JSON (format: see README, 'A DH file')"
+
+
+def _json_parent() -> argparse.ArgumentParser:
+    p = _Parser(add_help=False)
+    p.add_argument("--json", action="store_true", help="one JSON object on stdout")
+    return p
+
+
+def _progress_parent() -> argparse.ArgumentParser:
+    p = _Parser(add_help=False)
+    p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
+                   help="progress bar on stderr (default: on a terminal, for runs over a second)")
+    return p
+
+
+def _budget_parent() -> argparse.ArgumentParser:
+    p = _Parser(add_help=False)
+    p.add_argument("--max-boxes", type=int, help="stop after this many boxes (the rest is pending)")
+    p.add_argument("--time-limit", type=float, help="stop after this many seconds (the rest is pending)")
+    return p
+
+
+def _dh_robot_parent() -> argparse.ArgumentParser:
+    p = _Parser(add_help=False)
+    p.add_argument("robot", nargs="?", help="catalog DH robot (see 'workspace-sym robots'), or none with --dh")
+    p.add_argument("--dh", metavar="FILE", help=_DH_HELP)
+    return p
+
+
+def _chain_parent(*, required: bool) -> argparse.ArgumentParser:
+    p = _Parser(add_help=False)
+    p.add_argument("--lengths", required=required,
+                   help="segment lengths, comma-separated (e.g. 0.186,0.146,0.108)")
+    p.add_argument("--lower", required=required,
+                   help="lower joint limits, comma-separated (write --lower=-60,0,-10)")
+    p.add_argument("--upper", required=required, help="upper joint limits, comma-separated")
+    p.add_argument("--radians", action="store_true", help="limits are in radians (default: degrees)")
+    return p
+
+
+def _sigma_parent() -> argparse.ArgumentParser:
+    p = _Parser(add_help=False)
+    p.add_argument("--sigma", default="0.25:4", help="range of the eigenvalues of J J^T, MIN:MAX (default 0.25:4)")
+    return p
+
+
+def _resolution_parent() -> argparse.ArgumentParser:
+    p = _Parser(add_help=False)
+    p.add_argument("--delta", type=float, required=True, help="size below which undecided boxes stop splitting")
+    p.add_argument("--size", choices=("diameter", "width"), default="diameter",
+                   help="box size compared with delta: diameter (default, as in the paper) or largest edge")
+    return p
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="workspace-sym", description="Robot workspaces, exactly or with proofs.")
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    json_, progress, budget = _json_parent(), _progress_parent(), _budget_parent()
+    dh_robot, sigma, resolution = _dh_robot_parent(), _sigma_parent(), _resolution_parent()
 
-    p = sub.add_parser("robots", help="list the catalog")
-    p.add_argument("--json", action="store_true")
+    p = sub.add_parser("robots", help="list the catalog", parents=[json_])
     p.set_defaults(func=cmd_robots)
 
     for name, func, help_ in (("fk", cmd_fk, "forward kinematics T_0^n in textbook form"),
                               ("jacobian", cmd_jacobian, "Jacobian and singular factors")):
-        p = sub.add_parser(name, help=help_)
-        p.add_argument("robot", nargs="?", help="catalog name (see 'robots')")
-        p.add_argument("--dh", metavar="FILE", help="DH table as JSON (see INTERFACE.md)")
+        p = sub.add_parser(name, help=help_, parents=[dh_robot, json_])
         p.add_argument("--latex", action="store_true", help="print LaTeX")
-        p.add_argument("--json", action="store_true", help="one JSON object on stdout")
         if name == "jacobian":
-            p.add_argument("--kind", choices=("geometric", "analytic"), default="geometric")
+            p.add_argument("--kind", choices=("geometric", "analytic"), default="geometric",
+                           help="geometric (default: linear and angular velocity) "
+                                "or analytic (position and Euler-angle rates)")
             p.add_argument("--euler", choices=("zyz", "rpy"), default="zyz",
-                           help="Euler convention of the analytic Jacobian")
+                           help="Euler convention of the analytic Jacobian (default zyz)")
         p.set_defaults(func=func)
 
-    p = sub.add_parser("pave", help="certified non-uniform covering of a constraint set")
+    p = sub.add_parser("pave", help="certified non-uniform covering of a constraint set",
+                       parents=[resolution, budget, progress, json_])
     p.add_argument("robot", nargs="?", help="catalog model described by constraints (e.g. rpr2)")
     p.add_argument("--l0", type=float, help="rpr2: distance between the base joints")
     p.add_argument("--lmin", type=float, help="rpr2: shortest leg")
@@ -432,73 +489,45 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--var", action="append", default=[], metavar="NAME=LOW:HIGH", help="a variable and its range")
     p.add_argument("--constraint", action="append", default=[], metavar="INEQUALITY",
                    help='e.g. "x1**2 + x2**2 - 144 <= 0"')
-    p.add_argument("--delta", type=float, required=True, help="size below which undecided boxes stop splitting")
-    p.add_argument("--size", choices=("diameter", "width"), default="diameter",
-                   help="box size compared with delta: diameter (paper) or largest edge")
-    p.add_argument("--backend", choices=("numpy", "mpmath"), default="numpy")
+    p.add_argument("--backend", choices=("numpy", "mpmath"), default="numpy",
+                   help="interval arithmetic: numpy (default, outward-rounded floats) or mpmath")
     p.add_argument("--digits", type=int, default=30, help="precision of the mpmath backend")
     p.add_argument("--contract", action="store_true",
                    help="also cut proved slices off undecided boxes (forward-backward contraction; numpy backend)")
-    p.add_argument("--max-boxes", type=int, help="stop after this many boxes (the rest is pending)")
-    p.add_argument("--time-limit", type=float, help="stop after this many seconds (the rest is pending)")
-    p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
-                   help="progress bar on stderr (default: on a terminal, for runs over a second)")
     p.add_argument("--plot", metavar="FILE", help="draw the boxes to an image file")
-    p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_pave)
 
-    p = sub.add_parser("reach", help="certified position workspace of a serial robot (reachable / unreachable boxes)")
-    p.add_argument("robot", nargs="?", help="catalog DH robot (see 'robots')")
-    p.add_argument("--dh", metavar="FILE", help="DH table as JSON (see the README)")
-    p.add_argument("--delta", type=float, required=True, help="size below which undecided boxes stop splitting")
-    p.add_argument("--size", choices=("diameter", "width"), default="diameter",
-                   help="box size compared with delta: diameter or largest edge")
+    p = sub.add_parser("reach", help="certified position workspace of a serial robot (reachable / unreachable boxes)",
+                       parents=[dh_robot, resolution, budget, progress, json_])
     p.add_argument("--inner-depth", type=int, default=2,
                    help="halvings of a last-level box when proving it reachable piece by piece (default 2)")
-    p.add_argument("--max-boxes", type=int, help="stop after this many boxes (the rest is pending)")
-    p.add_argument("--time-limit", type=float, help="stop after this many seconds (the rest is pending)")
-    p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
-                   help="progress bar on stderr (default: on a terminal, for runs over a second)")
     p.add_argument("--plot", metavar="FILE", help="draw the boxes to an image file")
-    p.add_argument("--json", action="store_true", help="one JSON object on stdout")
     p.set_defaults(func=cmd_reach)
 
-    p = sub.add_parser("dextrous", help="certified dextrous workspace (Orthoglide)")
+    p = sub.add_parser("dextrous", help="certified dextrous workspace (Orthoglide)", parents=[sigma, progress, json_])
     p.add_argument("robot", help="catalog model (orthoglide)")
     p.add_argument("--eps", type=float, default=0.05, help="boxes narrower than this stay undecided")
-    p.add_argument("--sigma", default="0.25:4", help="range of the eigenvalues of J J^T, MIN:MAX")
     p.add_argument("--time-limit", type=float, help="stop after this many seconds (the rest counts in E)")
-    p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None)
     p.add_argument("--plot", metavar="FILE", help="draw the boxes (3D) to an image file")
     p.add_argument("--slices", metavar="FILE", help="draw slices z = -0.4, 0, 0.3 with the numeric boundary")
-    p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_dextrous)
 
-    p = sub.add_parser("cube", help="largest cube in the dextrous workspace (Orthoglide), certified both ways")
+    p = sub.add_parser("cube", help="largest cube in the dextrous workspace (Orthoglide), certified both ways",
+                       parents=[sigma, progress, json_])
     p.add_argument("robot", help="catalog model (orthoglide)")
     p.add_argument("--alpha", type=float, default=0.001, help="accuracy on the half-edge (paper: 0.001)")
-    p.add_argument("--sigma", default="0.25:4", help="range of the eigenvalues of J J^T, MIN:MAX")
-    p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None)
-    p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_cube)
 
-    p = sub.add_parser("boundary", help="exact workspace boundary of a planar chain (alignment method)")
-    p.add_argument("--lengths", required=True, help="segment lengths, comma-separated (e.g. 0.186,0.146,0.108)")
-    p.add_argument("--lower", required=True, help="lower joint limits, comma-separated (write --lower=-60,0,-10)")
-    p.add_argument("--upper", required=True, help="upper joint limits, comma-separated")
-    p.add_argument("--radians", action="store_true", help="limits are in radians (default: degrees)")
+    p = sub.add_parser("boundary", help="exact workspace boundary of a planar chain (alignment method)",
+                       parents=[_chain_parent(required=True), json_])
     p.add_argument("--exact", action="store_true", help="closed forms of every arc and of the area")
     p.add_argument("--plot", metavar="FILE", help="draw the boundary (Step 2) to an image file")
     p.add_argument("--report", metavar="DIR", help="write the full report (Markdown, HTML, LaTeX) to DIR")
-    p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_boundary)
 
-    p = sub.add_parser("report", help="write a report (Markdown, HTML, LaTeX) for a chain or a catalog robot")
+    p = sub.add_parser("report", help="write a report (Markdown, HTML, LaTeX) for a chain or a catalog robot",
+                       parents=[_chain_parent(required=False)])
     p.add_argument("what", help="'chain' (with --lengths/--lower/--upper), a DH robot, rpr2 or orthoglide")
-    p.add_argument("--lengths")
-    p.add_argument("--lower")
-    p.add_argument("--upper")
-    p.add_argument("--radians", action="store_true")
     p.add_argument("--delta", type=float, default=0.07, help="paving resolution (rpr2)")
     p.add_argument("--eps", type=float, default=0.125, help="dextrous workspace resolution (orthoglide)")
     p.add_argument("--alpha", type=float, default=0.01, help="largest-cube accuracy (orthoglide)")
@@ -511,14 +540,32 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+# Library errors name the API parameter (WorkspaceError.parameter); the command line adds its option when the
+# running subcommand has one of that name (argparse's dest is the parameter name).
+_FLAGS = {
+    "delta": "--delta", "size": "--size", "max_boxes": "--max-boxes", "time_limit": "--time-limit",
+    "backend": "--backend", "digits": "--digits", "inner_depth": "--inner-depth",
+    "l0": "--l0", "lmin": "--lmin", "lmax": "--lmax",
+    "eps": "--eps", "sigma": "--sigma", "alpha": "--alpha",
+}
+
+
+def _error_line(args, exc: WorkspaceError) -> str:
+    """The one stderr line of a bad input, with the option to blame when it is known."""
+    message = " ".join(str(exc).split())
+    flag = _FLAGS.get(exc.parameter)
+    if flag is not None and exc.parameter in vars(args):
+        message = f"{flag}: {message}"
+    return f"workspace-sym {args.command}: error: {message}"
+
+
 def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
         return args.func(args)
     except WorkspaceError as exc:
-        message = " ".join(str(exc).split())
-        print(f"workspace-sym {args.command}: error: {message}", file=sys.stderr)
+        print(_error_line(args, exc), file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print(f"workspace-sym {args.command}: interrupted", file=sys.stderr)

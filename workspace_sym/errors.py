@@ -20,7 +20,24 @@ __all__ = [
 
 
 class WorkspaceError(ValueError):
-    """Root of every error raised by workspace_sym for bad input."""
+    """Root of every error raised by workspace_sym for bad input.
+
+    ``parameter``, when the raiser knows it, is the name of the function
+    argument that was bad (``"delta"``, ``"max_boxes"``): the message speaks
+    of the API, and the command line uses ``parameter`` to name its option.
+
+    Examples
+    --------
+    >>> err = WorkspaceError("delta must be a positive finite number; got -1", parameter="delta")
+    >>> err.parameter, str(err)
+    ('delta', 'delta must be a positive finite number; got -1')
+    >>> WorkspaceError("no parameter to blame").parameter is None
+    True
+    """
+
+    def __init__(self, *args, parameter: str | None = None):
+        super().__init__(*args)
+        self.parameter = parameter
 
 
 class InvalidParameterError(WorkspaceError):
@@ -69,4 +86,4 @@ def check_choice(parameter: str, value, allowed) -> None:
     """
     if value not in allowed:
         choices = ", ".join(repr(a) for a in allowed)
-        raise UnknownNameError(f"{parameter} must be one of {choices}; got {value!r}")
+        raise UnknownNameError(f"{parameter} must be one of {choices}; got {value!r}", parameter=parameter)

@@ -198,5 +198,6 @@ def exact_area(boundary, rows=None) -> sp.Expr:
     total = sp.Integer(0)
     for r in rows:
         (cx, cy), rad, a0, a1 = r["center"], r["radius"], r["start_angle"], r["end_angle"]
-        total += (rad ** 2 * (a1 - a0) + rad * cx * (sp.sin(a1) - sp.sin(a0)) - rad * cy * (sp.cos(a1) - sp.cos(a0))) / 2
+        total += (rad ** 2 * (a1 - a0) + rad * cx * (sp.sin(a1) - sp.sin(a0))
+                  - rad * cy * (sp.cos(a1) - sp.cos(a0))) / 2
     return total

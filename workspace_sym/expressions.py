@@ -386,7 +386,7 @@ def _read_text(text: str, parameter: str, *, names, functions, new_symbols, rela
             return eval_expr(code, local_dict, global_dict)
     except _Refused as exc:
         raise ExpressionError(f"{parameter}: cannot read {shown}: {exc}; {allowed}") from None
-    except Exception as exc:
+    except Exception as exc:  # broad on purpose: SymPy's own errors on validated arithmetic, e.g. sin(1, 2)
         reason = " ".join(str(exc).split())[:120] or type(exc).__name__
         raise ExpressionError(f"{parameter}: cannot read {shown} as an expression ({reason})") from None
 

@@ -93,9 +93,9 @@ def rpr2(l0=5, lmin=8, lmax=12, *, lmin2=None, lmax2=None) -> ConstraintModel:
     lmax2 = lmax1 if lmax2 is None else parse_expr(lmax2, "lmax2", new_symbols=False)
     for name, v in (("l0", l0), ("lmin", lmin1), ("lmax", lmax1), ("lmin2", lmin2), ("lmax2", lmax2)):
         if not v.is_number or not v.is_real:
-            raise InvalidParameterError(f"{name} must be a real number; got {v}")
+            raise InvalidParameterError(f"{name} must be a real number; got {v}", parameter=name)
     if not l0 > 0:
-        raise InvalidParameterError(f"l0 must be positive; got {l0}")
+        raise InvalidParameterError(f"l0 must be positive; got {l0}", parameter="l0")
     for lo_name, lo, hi_name, hi in (("lmin", lmin1, "lmax", lmax1), ("lmin2", lmin2, "lmax2", lmax2)):
         if not 0 <= lo < hi:
             raise InvalidParameterError(f"leg range needs 0 <= {lo_name} < {hi_name}; got {lo_name} = {lo}, "

@@ -75,11 +75,12 @@ class Arc:
 
     def point(self, angle: float) -> np.ndarray:
         """The point of the circle at polar angle ``angle``."""
-        return np.array([self.center[0] + self.radius * math.cos(angle), self.center[1] + self.radius * math.sin(angle)])
+        return np.array([self.center[0] + self.radius * math.cos(angle),
+                         self.center[1] + self.radius * math.sin(angle)])
 
     def __repr__(self):
-        sets = ", ".join("{%.4f}" % math.degrees(s[0]) if len(s) == 1 else
-                         "[%.4f, %.4f]" % (math.degrees(s[0]), math.degrees(s[1])) for s in self.theta_sets)
+        sets = ", ".join(f"{{{math.degrees(s[0]):.4f}}}" if len(s) == 1 else
+                         f"[{math.degrees(s[0]):.4f}, {math.degrees(s[1]):.4f}]" for s in self.theta_sets)
         return (f"Arc({self.type}, joint {self.free_joint}, centre ({self.center[0]:.6g}, {self.center[1]:.6g}), "
                 f"r = {self.radius:.6g}, deg: {sets}, side {self.side:+d})")
 
@@ -176,7 +177,9 @@ class PlanarChain:
         self._boundaries = {}
 
     def __repr__(self):
-        deg = lambda v: ", ".join(f"{math.degrees(x):g}" for x in v)  # noqa: E731
+        def deg(v):
+            return ", ".join(f"{math.degrees(x):g}" for x in v)
+
         return (f"PlanarChain(lengths={list(self.lengths)}, lower=[{deg(self.lower)}], "
                 f"upper=[{deg(self.upper)}])")
 
@@ -300,7 +303,8 @@ class PlanarChain:
             C = (v * v).sum(-1) - (u[:, None, :] * v).sum(-1)
             size = np.hypot(*u.T)[:, None] * np.hypot(v[..., 0], v[..., 1])
             aligned = cand["aligned"][idx]
-            eps = np.where(aligned, 0, np.where(np.abs(theta - lo) <= _TOL, 1, np.where(np.abs(theta - hi) <= _TOL, -1, 0)))
+            eps = np.where(aligned, 0,
+                           np.where(np.abs(theta - lo) <= _TOL, 1, np.where(np.abs(theta - hi) <= _TOL, -1, 0)))
             zero = aligned | (np.abs(B) <= _ZERO_B * size)
             after = np.arange(self.p) > i
             ok = {}

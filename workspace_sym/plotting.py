@@ -32,7 +32,8 @@ def scatter_workspace_3d(points, *, ax=None, color=None, size=1.0, title=None, u
     """3D scatter of reachable points (paper 004, figures 2-5).  Returns the ``PathCollection``."""
     points = np.asarray(points)
     ax = _axes3d(ax)
-    artist = ax.scatter(points[:, 0], points[:, 1], points[:, 2], s=size, c=color if color is not None else points[:, 2],
+    artist = ax.scatter(points[:, 0], points[:, 1], points[:, 2], s=size,
+                        c=color if color is not None else points[:, 2],
                         cmap=None if color is not None else "viridis", depthshade=False)
     ax.set_xlabel(f"x ({units})")
     ax.set_ylabel(f"y ({units})")

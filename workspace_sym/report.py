@@ -24,7 +24,8 @@ from pathlib import Path
 import numpy as np
 import sympy as sp
 
-__all__ = ["Document", "dh_robot_report", "orthoglide_report", "paving_report", "planar_report", "reproducibility"]
+__all__ = ["Document", "dh_robot_report", "orthoglide_report", "paving_report", "planar_report", "reproducibility",
+           "tex_escape"]
 
 
 def reproducibility(command: str | None = None) -> dict:
@@ -45,6 +46,25 @@ def reproducibility(command: str | None = None) -> dict:
         "date": _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M UTC"),
         "command": command if command is not None else " ".join(["workspace-sym"] + sys.argv[1:]),
     }
+
+
+def tex_escape(text: str) -> str:
+    r"""Escape LaTeX specials in text, leaving ``$...$`` math segments alone.
+
+    Examples
+    --------
+    >>> print(tex_escape(r"a_b 50% $x_1$ {c} \ d"))
+    a\_b 50\% $x_1$ \{c\} \textbackslash{} d
+    >>> tex_escape("")
+    ''
+    """
+    parts = text.split("$")
+    for k in range(0, len(parts), 2):
+        part = parts[k].replace("\\", "\0")
+        for ch in "_%&#{}":
+            part = part.replace(ch, "\\" + ch)
+        parts[k] = part.replace("\0", "\\textbackslash{}")
+    return "$".join(parts)
 
 
 class Document:
@@ -92,17 +112,6 @@ class Document:
         if isinstance(x, str):
             return html.escape(x)
         return f'<math display="inline">{sp.mathml(x, printer="presentation")}</math>'
-
-    @staticmethod
-    def _tex_escape(text: str) -> str:
-        """Escape LaTeX specials in text, leaving ``$...$`` math segments alone."""
-        parts = text.split("$")
-        for k in range(0, len(parts), 2):
-            part = parts[k].replace("\\", "\0")
-            for ch in "_%&#{}":
-                part = part.replace(ch, "\\" + ch)
-            parts[k] = part.replace("\0", "\\textbackslash{}")
-        return "$".join(parts)
 
     def markdown(self) -> str:
         lines = [f"# {self.title}", ""]
@@ -158,28 +167,28 @@ class Document:
     def latex(self) -> str:
         out = ["\\documentclass[a4paper,10pt]{article}", "\\usepackage{amsmath,amssymb,graphicx}",
                "\\usepackage[margin=2cm]{geometry}", "\\begin{document}",
-               f"\\section*{{{self._tex_escape(self.title)}}}"]
+               f"\\section*{{{tex_escape(self.title)}}}"]
         for b in self.blocks:
             if b[0] == "h":
-                out.append(("\\subsection*{" if b[1] <= 2 else "\\subsubsection*{") + self._tex_escape(b[2]) + "}")
+                out.append(("\\subsection*{" if b[1] <= 2 else "\\subsubsection*{") + tex_escape(b[2]) + "}")
             elif b[0] == "p":
-                out.append(self._tex_escape(b[1]) + "\n")
+                out.append(tex_escape(b[1]) + "\n")
             elif b[0] == "math":
                 out.append("\\begin{multline*}\n" + f"{b[1]} = {self._latex(b[2])}" + "\n\\end{multline*}")
             elif b[0] == "table":
                 cols = "l" * len(b[1])
                 out.append("{\\small\\begin{tabular}{" + cols + "}")
-                out.append(" & ".join(self._tex_escape(h) for h in b[1]) + " \\\\ \\hline")
+                out.append(" & ".join(tex_escape(h) for h in b[1]) + " \\\\ \\hline")
                 for r in b[2]:
-                    out.append(" & ".join(self._tex_escape(c) if isinstance(c, str) else f"${sp.latex(c)}$"
+                    out.append(" & ".join(tex_escape(c) if isinstance(c, str) else f"${sp.latex(c)}$"
                                           for c in r) + " \\\\")
                 out.append("\\end{tabular}}\n")
             elif b[0] == "fig":
                 out.append("\\begin{figure}[h]\\centering\\includegraphics[width=0.7\\linewidth]{" + b[1].name + "}"
-                           "\\caption*{" + self._tex_escape(b[2]) + "}\\end{figure}")
+                           "\\caption*{" + tex_escape(b[2]) + "}\\end{figure}")
             elif b[0] == "items":
                 out.append("\\begin{itemize}")
-                out += [f"\\item \\textbf{{{self._tex_escape(str(k))}}}: {self._tex_escape(str(v))}" for k, v in b[1]]
+                out += [f"\\item \\textbf{{{tex_escape(str(k))}}}: {tex_escape(str(v))}" for k, v in b[1]]
                 out.append("\\end{itemize}")
         out.append("\\end{document}")
         return "\n".join(out) + "\n"
@@ -433,9 +442,9 @@ def orthoglide_report(model, out, *, eps: float = 0.125, alpha: float = 0.01, co
              "arithmetic; undecided boxes make up the error index E.")
     doc.math("J", model.J)
     pencil = model.pencil
+    term_counts = ", ".join(str(len(sp.Add.make_args(k))) for k in pencil.all_coeffs())
     doc.para(f"The eigenvalues of J J^T are the roots of the cubic q(lambda) = det(lambda A A^T - B^2) "
-             f"(no division), whose coefficients have {', '.join(str(len(sp.Add.make_args(k))) for k in pencil.all_coeffs())} "
-             "terms; its leading coefficient is")
+             f"(no division), whose coefficients have {term_counts} terms; its leading coefficient is")
     doc.math("[\\lambda^3]\\,q", pencil.all_coeffs()[0])
     doc.para("Boxes are certified with the inverse N = A^T B^-2 A = (J J^T)^-1 instead: enclosed in mean-value "
              "form, rotated by the eigenvectors at the box centre, N - I/sigma_max and I/sigma_min - N proved "

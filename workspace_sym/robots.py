@@ -106,7 +106,8 @@ def glass_handling_arm(**parameters) -> DHRobot:
     """
     d1, a1, a2, a3, d5 = sp.symbols("d1 a1 a2 a3 d5")
     rows = [dict(d=d1, a=a1, alpha=sp.pi / 2), dict(a=a2), dict(a=a3), dict(alpha=sp.pi / 2), dict(d=d5), dict()]
-    return DHRobot(_revolute_chain(rows, GLASS_LIMITS_DEG), name="glass-handling", parameters={**GLASS_DEFAULTS, **parameters}, units="m")
+    return DHRobot(_revolute_chain(rows, GLASS_LIMITS_DEG), name="glass-handling",
+                   parameters={**GLASS_DEFAULTS, **parameters}, units="m")
 
 
 register(CatalogEntry(
@@ -129,12 +130,14 @@ def puma560(**parameters) -> DHRobot:
     a2, a3, d3, d4 = sp.symbols("a2 a3 d3 d4")
     rows = [dict(alpha=sp.pi / 2), dict(a=a2), dict(d=d3, a=a3, alpha=-sp.pi / 2), dict(d=d4, alpha=sp.pi / 2),
             dict(alpha=-sp.pi / 2), dict()]
-    return DHRobot(_revolute_chain(rows, PUMA_LIMITS_DEG), name="puma560", parameters={**PUMA_DEFAULTS, **parameters}, units="m")
+    return DHRobot(_revolute_chain(rows, PUMA_LIMITS_DEG), name="puma560",
+                   parameters={**PUMA_DEFAULTS, **parameters}, units="m")
 
 
 register(CatalogEntry(
     name="puma560", kind="serial (DH, 6R)",
-    source="P. Corke, B. Armstrong-Helouvry, A search for consensus among model parameters reported for the PUMA 560 robot, ICRA 1994",
+    source=("P. Corke, B. Armstrong-Helouvry, A search for consensus among model parameters reported for the "
+            "PUMA 560 robot, ICRA 1994"),
     units="m", summary="Unimation Puma 560, standard DH", factory=puma560, parameters=PUMA_DEFAULTS,
     limits="[-160, 160], [-110, 110], [-135, 135], [-266, 266], [-100, 100], [-266, 266] (deg)",
 ))
@@ -210,7 +213,8 @@ register(CatalogEntry(
 
 def _orthoglide(**parameters):
     if parameters:
-        raise UnknownNameError(f"orthoglide takes no parameters (leg length is normalised to 1); got {sorted(parameters)}")
+        raise UnknownNameError(f"orthoglide takes no parameters (leg length is normalised to 1); "
+                               f"got {sorted(parameters)}")
     from .orthoglide import Orthoglide
 
     return Orthoglide()

@@ -325,9 +325,9 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     """
     check_delta(delta)
     if size not in ("diameter", "width"):
-        raise InvalidParameterError(f"size must be one of 'diameter', 'width'; got {size!r}")
+        raise InvalidParameterError(f"size must be one of 'diameter', 'width'; got {size!r}", parameter="size")
     if max_boxes is not None and max_boxes < 1:
-        raise InvalidParameterError(f"max_boxes must be at least 1; got {max_boxes!r}")
+        raise InvalidParameterError(f"max_boxes must be at least 1; got {max_boxes!r}", parameter="max_boxes")
     start = time.perf_counter()
     model = ReachModel(robot, parameters)
     Q = model.limits[None].copy()
@@ -391,7 +391,10 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         bar.close()
     m = len(model.task_variables)
     empty = np.empty((0, m, 2))
-    stack = lambda parts: np.concatenate(parts) if parts else empty  # noqa: E731
+
+    def stack(parts):
+        return np.concatenate(parts) if parts else empty
+
     return Paving(model.task_variables, box, (), float(delta), "numpy", size, stack(inner), stack(boundary),
                   stack(outer), T if len(T) and reason else empty, time.perf_counter() - start, not reason,
                   evaluated, reason)

@@ -163,7 +163,8 @@ def check_measure(claimed: float, result, *, rel_tol: float = 0.0) -> Verdict:
         lo, hi = result.volume_inner, result.volume_inner + result.volume_undecided
         what = "certified dextrous-volume bracket"
     else:
-        raise InvalidParameterError(f"result must be a Boundary, a Paving or a DextrousResult; got {type(result).__name__}")
+        raise InvalidParameterError(f"result must be a Boundary, a Paving or a DextrousResult; "
+                                    f"got {type(result).__name__}")
     slack = rel_tol * max(abs(lo), abs(hi)) + 1e-12 * max(1.0, abs(hi))
     if lo - slack <= claimed <= hi + slack:
         return Verdict(True, f"{claimed:g} lies in the {what} [{lo:.6g}, {hi:.6g}]", {"bracket": [lo, hi]})

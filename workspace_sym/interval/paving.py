@@ -498,7 +498,7 @@ def pave(constraints, box, *, delta: float, variables=None, backend: str = "nump
 
 def check_delta(delta, name="delta"):
     if not isinstance(delta, (int, float)) or isinstance(delta, bool) or not math.isfinite(delta) or delta <= 0:
-        raise InvalidParameterError(f"{name} must be a positive finite number; got {delta!r}")
+        raise InvalidParameterError(f"{name} must be a positive finite number; got {delta!r}", parameter=name)
 
 
 @cache
@@ -564,7 +564,7 @@ def subdivide(decide, box: Box, *, delta: float, size: str = "diameter", max_box
     check_delta(delta)
     check_choice("size", size, SIZES)
     if max_boxes is not None and max_boxes < 1:
-        raise InvalidParameterError(f"max_boxes must be at least 1; got {max_boxes!r}")
+        raise InvalidParameterError(f"max_boxes must be at least 1; got {max_boxes!r}", parameter="max_boxes")
     start = time.perf_counter()
     auto = progress is None
     bar = Progress(bool(progress), box.measure, label)
@@ -619,7 +619,10 @@ def subdivide(decide, box: Box, *, delta: float, size: str = "diameter", max_box
         bar.close()
     n = len(box.variables)
     empty = np.empty((0, n, 2))
-    stack = lambda parts: np.concatenate(parts) if parts else empty  # noqa: E731
+
+    def stack(parts):
+        return np.concatenate(parts) if parts else empty
+
     return Paving(box.variables, box, tuple(constraints), float(delta), backend, size, stack(inner),
                   stack(boundary), stack(outer), work if len(work) else empty, time.perf_counter() - start,
                   not reason, evaluated, reason, exact_measure, separate is not None)

@@ -78,7 +78,7 @@ def prove_all(boxes, test, *, max_boxes: int, min_width: float = 0.0, split: str
     """
     check_choice("split", split, SPLITS)
     if max_boxes < 1:
-        raise InvalidParameterError(f"max_boxes must be at least 1; got {max_boxes!r}")
+        raise InvalidParameterError(f"max_boxes must be at least 1; got {max_boxes!r}", parameter="max_boxes")
     if not min_width >= 0:
         raise InvalidParameterError(f"min_width must be a non-negative number; got {min_width!r}")
     work = np.asarray(boxes, dtype=float)

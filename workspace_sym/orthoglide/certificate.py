@@ -185,7 +185,7 @@ def dextrous(variables, *, eps: float = 0.05, sigma=(0.25, 4.0), box=None, progr
     straight away (:func:`witnessed_module`).
     """
     if not isinstance(eps, (int, float)) or not math.isfinite(eps) or eps <= 0:
-        raise InvalidParameterError(f"eps must be a positive number; got {eps!r}")
+        raise InvalidParameterError(f"eps must be a positive number; got {eps!r}", parameter="eps")
     sigma = check_sigma(sigma)
     b = Box.from_bounds(box or {v: (-1, 1) for v in variables})
     paving = subdivide(threaded(lambda boxes: witnessed_module(boxes, sigma)), b, delta=eps, size="width",
@@ -260,9 +260,10 @@ def check_sigma(sigma):
     try:
         lo, hi = (float(v) for v in sigma)
     except (TypeError, ValueError):
-        raise InvalidParameterError(f"sigma must be two numbers (sigma_min, sigma_max); got {sigma!r}") from None
+        raise InvalidParameterError(f"sigma must be two numbers (sigma_min, sigma_max); got {sigma!r}",
+                                    parameter="sigma") from None
     if not (math.isfinite(lo) and math.isfinite(hi)) or lo <= 0:
-        raise InvalidParameterError(f"sigma_min must be a positive finite number; got {lo!r}")
+        raise InvalidParameterError(f"sigma_min must be a positive finite number; got {lo!r}", parameter="sigma")
     if lo >= hi:
-        raise InvalidParameterError(f"sigma_max ({hi}) must exceed sigma_min ({lo})")
+        raise InvalidParameterError(f"sigma_max ({hi}) must exceed sigma_min ({lo})", parameter="sigma")
     return lo, hi

@@ -132,7 +132,7 @@ def largest_cube(model, *, alpha: float = 0.001, sigma=(0.25, 4.0), progress: bo
        cube of half-edge ``R + alpha/2`` fits anywhere.
     """
     if not isinstance(alpha, (int, float)) or not math.isfinite(alpha) or alpha <= 0:
-        raise InvalidParameterError(f"alpha must be a positive number; got {alpha!r}")
+        raise InvalidParameterError(f"alpha must be a positive number; got {alpha!r}", parameter="alpha")
     sigma = check_sigma(sigma)
     start = time.perf_counter()
     say = stages(progress, "cube")

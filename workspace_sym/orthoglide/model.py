@@ -145,5 +145,8 @@ class Orthoglide:
         return cube.no_enclosed_cube(half, sigma=sigma, grid=grid, min_width=min_width, max_boxes=max_boxes)
 
     def largest_cube(self, *, alpha: float = 0.001, sigma=(0.25, 4.0), progress: bool | None = None) -> cube.CubeResult:
-        """The largest cube enclosed in the dextrous workspace, certified (:func:`.cube.largest_cube`, paper section 5)."""
+        """The largest cube enclosed in the dextrous workspace, certified.
+
+        See :func:`.cube.largest_cube` and the paper's section 5.
+        """
         return cube.largest_cube(self, alpha=alpha, sigma=sigma, progress=progress)
