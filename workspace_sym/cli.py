@@ -406,31 +406,25 @@ def cmd_report(args) -> int:
 _DH_HELP = "DH table as JSON (format: see README, 'A DH file')"
 
 
-def _json_parent() -> argparse.ArgumentParser:
+def _parent(*options) -> argparse.ArgumentParser:
+    """A parent parser holding ``options``, each ``(names, keyword arguments of add_argument)``."""
     p = _Parser(add_help=False)
-    p.add_argument("--json", action="store_true", help="one JSON object on stdout")
+    for names, kwargs in options:
+        p.add_argument(*names, **kwargs)
     return p
 
 
-def _progress_parent() -> argparse.ArgumentParser:
-    p = _Parser(add_help=False)
-    p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
-                   help="progress bar on stderr (default: on a terminal, for runs over a second)")
-    return p
-
-
-def _budget_parent() -> argparse.ArgumentParser:
-    p = _Parser(add_help=False)
-    p.add_argument("--max-boxes", type=int, help="stop after this many boxes (the rest is pending)")
-    p.add_argument("--time-limit", type=float, help="stop after this many seconds (the rest is pending)")
-    return p
-
-
-def _dh_robot_parent() -> argparse.ArgumentParser:
-    p = _Parser(add_help=False)
-    p.add_argument("robot", nargs="?", help="catalog DH robot (see 'workspace-sym robots'), or none with --dh")
-    p.add_argument("--dh", metavar="FILE", help=_DH_HELP)
-    return p
+_JSON = (("--json",), {"action": "store_true", "help": "one JSON object on stdout"})
+_PROGRESS = (("--progress",), {"action": argparse.BooleanOptionalAction, "default": None,
+                               "help": "progress bar on stderr (default: on a terminal, for runs over a second)"})
+_MAX_BOXES = (("--max-boxes",), {"type": int, "help": "stop after this many boxes (the rest is pending)"})
+_TIME_LIMIT = (("--time-limit",), {"type": float, "help": "stop after this many seconds (the rest is pending)"})
+_ROBOT = (("robot",), {"nargs": "?", "help": "catalog DH robot (see 'workspace-sym robots'), or none with --dh"})
+_DH = (("--dh",), {"metavar": "FILE", "help": _DH_HELP})
+_SIGMA = (("--sigma",), {"default": "0.25:4", "help": "range of the eigenvalues of J J^T, MIN:MAX (default 0.25:4)"})
+_DELTA = (("--delta",), {"type": float, "required": True, "help": "size below which undecided boxes stop splitting"})
+_SIZE = (("--size",), {"choices": ("diameter", "width"), "default": "diameter",
+                       "help": "box size compared with delta: diameter (default, as in the paper) or largest edge"})
 
 
 def _chain_parent(*, required: bool) -> argparse.ArgumentParser:
@@ -444,26 +438,12 @@ def _chain_parent(*, required: bool) -> argparse.ArgumentParser:
     return p
 
 
-def _sigma_parent() -> argparse.ArgumentParser:
-    p = _Parser(add_help=False)
-    p.add_argument("--sigma", default="0.25:4", help="range of the eigenvalues of J J^T, MIN:MAX (default 0.25:4)")
-    return p
-
-
-def _resolution_parent() -> argparse.ArgumentParser:
-    p = _Parser(add_help=False)
-    p.add_argument("--delta", type=float, required=True, help="size below which undecided boxes stop splitting")
-    p.add_argument("--size", choices=("diameter", "width"), default="diameter",
-                   help="box size compared with delta: diameter (default, as in the paper) or largest edge")
-    return p
-
-
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="workspace-sym", description="Robot workspaces, exactly or with proofs.")
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    json_, progress, budget = _json_parent(), _progress_parent(), _budget_parent()
-    dh_robot, sigma, resolution = _dh_robot_parent(), _sigma_parent(), _resolution_parent()
+    json_, progress, budget = _parent(_JSON), _parent(_PROGRESS), _parent(_MAX_BOXES, _TIME_LIMIT)
+    dh_robot, sigma, resolution = _parent(_ROBOT, _DH), _parent(_SIGMA), _parent(_DELTA, _SIZE)
 
     p = sub.add_parser("robots", help="list the catalog", parents=[json_])
     p.set_defaults(func=cmd_robots)

@@ -42,8 +42,6 @@ rigorous.
 from __future__ import annotations
 
 import itertools
-import sys
-import time
 
 import numpy as np
 import sympy as sp
@@ -51,7 +49,7 @@ import sympy as sp
 from .errors import InvalidParameterError, JointLimitError
 from .interval import arith
 from .interval.compiler import compile_expr
-from .interval.paving import Box, Paving, Progress, box_sizes, check_delta
+from .interval.paving import Box, Paving, RunBudget, box_measure, box_sizes, check_delta
 from .interval.search import split_every_axis
 from .kinematics import DHRobot
 
@@ -326,9 +324,7 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     check_delta(delta)
     if size not in ("diameter", "width"):
         raise InvalidParameterError(f"size must be one of 'diameter', 'width'; got {size!r}", parameter="size")
-    if max_boxes is not None and max_boxes < 1:
-        raise InvalidParameterError(f"max_boxes must be at least 1; got {max_boxes!r}", parameter="max_boxes")
-    start = time.perf_counter()
+    run = RunBudget(max_boxes=max_boxes, time_limit=time_limit, progress=progress, total=0.0, label="reach")
     model = ReachModel(robot, parameters)
     Q = model.limits[None].copy()
     root = model.enclose(Q)[0]
@@ -339,19 +335,12 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     owner = np.zeros(1, dtype=int)
     inner, boundary, outer = [], [], []
     evaluated, reason = 0, ""
-    bar = Progress(bool(progress), box.measure, "reach")
-    auto = progress is None
+    run.bar.total = box.measure
     try:
         while len(T):
-            elapsed = time.perf_counter() - start
-            if time_limit is not None and elapsed > time_limit:
-                reason = f"time limit of {time_limit} s reached"
+            reason = run.stop_reason(evaluated)
+            if reason:
                 break
-            if max_boxes is not None and evaluated >= max_boxes:
-                reason = f"budget of {max_boxes} boxes reached"
-                break
-            if auto and not bar.enabled and elapsed > 1.0 and sys.stderr.isatty():
-                bar.enabled = True
             Q, owner = _distribute(model, T, Q, owner, max_pairs=max_pairs)
             count = np.bincount(owner, minlength=len(T))
             is_out = count == 0
@@ -382,13 +371,11 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
             Q = np.concatenate([Q, Q])
             owner = np.concatenate([2 * base, 2 * base + 1])
             T = children
-            if bar.enabled:
-                bar.update(box.measure - (float(np.sum(np.prod(T[:, :, 1] - T[:, :, 0], axis=1))) if len(T) else 0.0),
-                           evaluated)
+            run.show(box.measure - box_measure(T), evaluated)
     except KeyboardInterrupt:
         reason = "interrupted"
     finally:
-        bar.close()
+        run.close()
     m = len(model.task_variables)
     empty = np.empty((0, m, 2))
 
@@ -396,5 +383,5 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         return np.concatenate(parts) if parts else empty
 
     return Paving(model.task_variables, box, (), float(delta), "numpy", size, stack(inner), stack(boundary),
-                  stack(outer), T if len(T) and reason else empty, time.perf_counter() - start, not reason,
+                  stack(outer), T if len(T) and reason else empty, run.seconds, not reason,
                   evaluated, reason)

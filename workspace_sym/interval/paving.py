@@ -30,7 +30,7 @@ from .compiler import BACKENDS, best_form, compile_expr
 from .contractor import Program
 
 __all__ = ["Certificate", "Box", "Constraint", "parse_constraints", "certify_box", "pave", "subdivide", "threaded",
-           "bisect", "box_sizes", "check_delta", "Progress",
+           "bisect", "box_sizes", "check_delta", "Progress", "RunBudget",
            "Paving", "hausdorff", "box_measure", "SIZES"]
 
 SIZES = ("diameter", "width")
@@ -423,6 +423,45 @@ class Progress:
             sys.stderr.flush()
 
 
+class RunBudget:
+    """Stopping rules and progress bar of a branch-and-bisect run (:func:`subdivide`, ``reach``).
+
+    ``stop_reason(evaluated)`` is empty while the run may go on, else why it
+    stops (the time limit or the box budget); the progress bar switches itself
+    on after a second on a terminal when ``progress`` is None.
+    """
+
+    def __init__(self, *, max_boxes: int | None, time_limit: float | None, progress: bool | None,
+                 total: float, label: str):
+        if max_boxes is not None and max_boxes < 1:
+            raise InvalidParameterError(f"max_boxes must be at least 1; got {max_boxes!r}", parameter="max_boxes")
+        self.max_boxes, self.time_limit = max_boxes, time_limit
+        self.start = time.perf_counter()
+        self.auto = progress is None
+        self.bar = Progress(bool(progress), total, label)
+
+    @property
+    def seconds(self) -> float:
+        return time.perf_counter() - self.start
+
+    def stop_reason(self, evaluated: int) -> str:
+        elapsed = self.seconds
+        if self.time_limit is not None and elapsed > self.time_limit:
+            return f"time limit of {self.time_limit} s reached"
+        if self.max_boxes is not None and evaluated >= self.max_boxes:
+            return f"budget of {self.max_boxes} boxes reached"
+        if self.auto and not self.bar.enabled and elapsed > 1.0 and sys.stderr.isatty():
+            self.bar.enabled = True
+        return ""
+
+    def show(self, decided: float, evaluated: int, *, force: bool = False) -> None:
+        if self.bar.enabled:
+            self.bar.update(decided, evaluated, force=force)
+
+    def close(self) -> None:
+        self.bar.close()
+
+
 def box_sizes(boxes: np.ndarray, size: str) -> np.ndarray:
     w = boxes[:, :, 1] - boxes[:, :, 0]
     return np.sqrt(np.sum(w * w, axis=1)) if size == "diameter" else np.max(w, axis=1)
@@ -563,11 +602,7 @@ def subdivide(decide, box: Box, *, delta: float, size: str = "diameter", max_box
     """
     check_delta(delta)
     check_choice("size", size, SIZES)
-    if max_boxes is not None and max_boxes < 1:
-        raise InvalidParameterError(f"max_boxes must be at least 1; got {max_boxes!r}", parameter="max_boxes")
-    start = time.perf_counter()
-    auto = progress is None
-    bar = Progress(bool(progress), box.measure, label)
+    run = RunBudget(max_boxes=max_boxes, time_limit=time_limit, progress=progress, total=box.measure, label=label)
     inner, boundary, outer = [], [], []
     work = box.array[None, :, :].astype(float)
     while len(work) < presplit and (box_sizes(work, size) > delta).all():
@@ -578,15 +613,9 @@ def subdivide(decide, box: Box, *, delta: float, size: str = "diameter", max_box
     evaluated, reason = 0, ""
     try:
         while len(work):
-            elapsed = time.perf_counter() - start
-            if time_limit is not None and elapsed > time_limit:
-                reason = f"time limit of {time_limit} s reached"
+            reason = run.stop_reason(evaluated)
+            if reason:
                 break
-            if max_boxes is not None and evaluated >= max_boxes:
-                reason = f"budget of {max_boxes} boxes reached"
-                break
-            if auto and not bar.enabled and elapsed > 1.0 and sys.stderr.isatty():
-                bar.enabled = True
             take = len(work) if max_boxes is None else min(len(work), max_boxes - evaluated)
             take = min(take, chunk)
             batch = work[:take]
@@ -609,14 +638,14 @@ def subdivide(decide, box: Box, *, delta: float, size: str = "diameter", max_box
             children, thin = bisect(und[~small])
             boundary.append(thin)
             work = np.concatenate([work, children]) if len(work) else children
-            if bar.enabled:                  # everything not in work is decided
-                bar.update(box.measure - box_measure(work), evaluated)
+            if run.bar.enabled:              # everything not in work is decided
+                run.show(box.measure - box_measure(work), evaluated)
     except KeyboardInterrupt:
         reason = "interrupted"
     finally:
-        if bar.enabled:
-            bar.update(box.measure - box_measure(work), evaluated, force=True)
-        bar.close()
+        if run.bar.enabled:
+            run.show(box.measure - box_measure(work), evaluated, force=True)
+        run.close()
     n = len(box.variables)
     empty = np.empty((0, n, 2))
 
@@ -624,7 +653,7 @@ def subdivide(decide, box: Box, *, delta: float, size: str = "diameter", max_box
         return np.concatenate(parts) if parts else empty
 
     return Paving(box.variables, box, tuple(constraints), float(delta), backend, size, stack(inner),
-                  stack(boundary), stack(outer), work if len(work) else empty, time.perf_counter() - start,
+                  stack(boundary), stack(outer), work if len(work) else empty, run.seconds,
                   not reason, evaluated, reason, exact_measure, separate is not None)
 
 
