@@ -8,6 +8,7 @@ The flat public API, so that a notebook writes ``ws.DHRobot(...)``::
 """
 
 from . import robots, verify
+from .boundary import Boundary
 from .errors import (
     BoxError,
     ConstraintError,
@@ -57,6 +58,7 @@ __all__ = [
     "eigenvalues_from_charpoly",
     "maximal_minor_factors",
     "numeric_function",
+    "Boundary",
     "exact_arcs",
     "exact_area",
     "Box",

@@ -272,19 +272,22 @@ def cmd_cube(args) -> int:
     if not isinstance(model, Orthoglide):
         raise WorkspaceError(f"robot {args.robot!r}: the largest cube is implemented for the orthoglide")
     result = model.largest_cube(alpha=args.alpha, sigma=_parse_sigma(args.sigma), progress=args.progress)
-    data = result.to_dict()
     if args.json:
-        _emit_json(data)
-        return 0
-    c = data["center"]
-    print(f"orthoglide, largest cube in the dextrous workspace (sigma in {data['sigma']}), alpha = {args.alpha}: "
+        _emit_json(result.to_dict())
+    else:
+        _print_cube(result.to_dict(), args.alpha)
+    return 0
+
+
+def _print_cube(data: dict, alpha: float) -> None:
+    x, y, z = data["center"]
+    print(f"orthoglide, largest cube in the dextrous workspace (sigma in {data['sigma']}), alpha = {alpha}: "
           f"{data['seconds']:.1f} s")
-    print(f"  centre ({c[0]:.6f}, {c[1]:.6f}, {c[2]:.6f})")
+    print(f"  centre ({x:.6f}, {y:.6f}, {z:.6f})")
     print(f"  a cube of edge {data['edge_lower']:.9f} there is proved inside; no cube of edge above "
           f"{data['edge_upper']:.9f} fits anywhere (proved)")
     if "closed_form" in data:
         print(f"  closed form: {data['closed_form']}")
-    return 0
 
 
 def _parse_list(text: str, option: str) -> list[str]:
