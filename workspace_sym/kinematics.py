@@ -25,7 +25,8 @@ from sympy.polys.matrices import DomainMatrix
 
 from .errors import DHTableError, InvalidParameterError, JointLimitError, check_choice
 from .expressions import is_finite_value, parse_angle, parse_expr
-from .symbolic import HalfAngleRing, factor_half_angle, shorthand, trig_polynomials, shorthand_latex, shorthand_str, textbook, textbook_matrix
+from .symbolic import (HalfAngleRing, algebraic_constants, factor_half_angle, generic_constants, restore_constants,
+                       shorthand, shorthand_latex, shorthand_str, textbook, textbook_matrix, trig_polynomials)
 
 __all__ = [
     "DHJoint",
@@ -135,6 +136,26 @@ class DHJoint:
         return f"DHJoint({self.kind}: theta={self.theta}, d={self.d}, a={self.a}, alpha={self.alpha}{lim})"
 
 
+def _homogeneous(M, parameter: str) -> sp.Matrix:
+    """A constant 4 x 4 homogeneous transform, checked."""
+    try:
+        M = sp.Matrix(M)
+    except (TypeError, ValueError, sp.SympifyError) as exc:
+        raise DHTableError(f"{parameter}: expected a 4 x 4 matrix; got {M!r}") from exc
+    if M.shape != (4, 4):
+        raise DHTableError(f"{parameter}: expected a 4 x 4 matrix; got shape {M.shape[0]} x {M.shape[1]}")
+    if list(M[3, :]) != [0, 0, 0, 1]:
+        raise DHTableError(f"{parameter}: last row must be [0, 0, 0, 1]; got {list(M[3, :])}")
+    R = M[:3, :3]
+    if R.free_symbols:
+        raise DHTableError(f"{parameter}: the rotation must be numeric; got symbols {sorted(map(str, R.free_symbols))}")
+    err = np.abs(np.array((R * R.T - sp.eye(3)).evalf(), dtype=float)).max()
+    if err > 1e-9 or float(R.det()) < 0:
+        raise DHTableError(f"{parameter}: the 3 x 3 block must be a rotation (R R^T = I, det R = +1); "
+                           f"got |R R^T - I| = {err:.3g}, det R = {float(R.det()):.6g}")
+    return M
+
+
 def _limits(limits):
     if limits is None:
         return None
@@ -172,6 +193,10 @@ class DHRobot:
         evaluators and plots (``{Symbol("a2"): 0.25, ...}``).
     units : str
         Length unit of the table and the parameters.
+    base, tool : 4 x 4 matrix, optional
+        Constant transforms before the first row and after the last one:
+        ``fk() = base T_0^n tool``.  The Jacobians are those of the tool point,
+        expressed in the world (base) frame.
 
     Examples
     --------
@@ -184,8 +209,10 @@ class DHRobot:
     """
 
     def __init__(self, joints, *, convention: str = "standard", name: str = "robot",
-                 parameters: dict | None = None, units: str = "m"):
+                 parameters: dict | None = None, units: str = "m", base=None, tool=None):
         check_choice("convention", convention, CONVENTIONS)
+        self.base = None if base is None else _homogeneous(base, "base")
+        self.tool = None if tool is None else _homogeneous(tool, "tool")
         joints = tuple(joints)
         if not joints:
             raise DHTableError("joints: a robot needs at least one joint; got an empty table")
@@ -318,7 +345,7 @@ class DHRobot:
     # ------------------------------------------------------------------ forward kinematics
     @cached_property
     def transforms(self) -> tuple[sp.Matrix, ...]:
-        """``(T_0^1, ..., T_0^n)`` in textbook form."""
+        """``(T_0^1, ..., T_0^n)`` of the DH table alone (no base, no tool), in textbook form."""
         out = []
         T = sp.eye(4)
         for k in range(self.n):
@@ -326,47 +353,82 @@ class DHRobot:
             out.append(T)
         return tuple(out)
 
+    @cached_property
+    def _frames(self) -> tuple[sp.Matrix, ...]:
+        """Frames 0..n in the world frame: ``base T_0^k`` (the tool is not included)."""
+        frames = (sp.eye(4),) + self.transforms
+        if self.base is None:
+            return frames
+        return tuple(textbook_matrix(self.base * T) for T in frames)
+
+    @cached_property
+    def _tip(self) -> sp.Matrix:
+        T = self._frames[-1]
+        return T if self.tool is None else textbook_matrix(T * self.tool)
+
     def fk(self, k: int | None = None) -> sp.Matrix:
-        """``T_0^k`` (``k = n`` by default, ``k = 0`` is the identity)."""
+        """``base T_0^k``, with the tool transform appended for ``k = n`` (the default).
+
+        ``k = 0`` is the base transform (the identity without one).
+        """
         k = self.n if k is None else k
         if not 0 <= k <= self.n:
             raise InvalidParameterError(f"k must be between 0 and {self.n}; got {k}")
-        return sp.eye(4) if k == 0 else self.transforms[k - 1]
+        return self._tip if k == self.n else self._frames[k]
 
     @property
     def position(self) -> sp.Matrix:
-        """Position of the end-effector, a 3x1 matrix."""
+        """Position of the end-effector (tool point), a 3x1 matrix."""
         return self.fk()[:3, 3]
 
     @property
     def rotation(self) -> sp.Matrix:
-        """Orientation of the end-effector, a 3x3 matrix."""
+        """Orientation of the end-effector (tool frame), a 3x3 matrix."""
         return self.fk()[:3, :3]
 
     # ------------------------------------------------------------------ Jacobians
-    def _axis_frames(self):
-        """(z, o) of each joint axis in the base frame."""
-        frames = []
-        for k in range(self.n):
-            # Standard DH: joint k+1 moves about z_k of frame k; modified: about z of frame k+1.
-            T = self.fk(k) if self.convention == "standard" else self.fk(k + 1)
-            frames.append((T[:3, 2], T[:3, 3]))
-        return frames
+    def _parameter_twists(self, i: int) -> dict:
+        """Unit twists of the four DH parameters of row ``i`` (0-based), in the world frame.
+
+        ``{"theta": ("R", axis, point), "d": ("P", axis), ...}``: the motion of
+        the tool frame per unit increase of that parameter, all others fixed.
+        Standard DH, ``T_i = T_(i-1) Rz(theta) Tz(d) Tx(a) Rx(alpha)``: theta and d act
+        along ``z_(i-1)`` through ``o_(i-1)``, a and alpha along ``x_i`` through ``o_i``.
+        Modified DH, ``T_i = T_(i-1) Rx(alpha) Tx(a) Rz(theta) Tz(d)``: alpha and a act
+        along ``x_(i-1)`` through ``o_(i-1)``, theta and d along ``z_i`` through ``o_i``.
+        """
+        F0, F1 = self._frames[i], self._frames[i + 1]
+        x0, z0, o0 = F0[:3, 0], F0[:3, 2], F0[:3, 3]
+        x1, z1, o1 = F1[:3, 0], F1[:3, 2], F1[:3, 3]
+        if self.convention == "standard":
+            return {"theta": ("R", z0, o0), "d": ("P", z0), "a": ("P", x1), "alpha": ("R", x1, o1)}
+        return {"alpha": ("R", x0, o0), "a": ("P", x0), "theta": ("R", z1, o1), "d": ("P", z1)}
 
     @cached_property
     def geometric_jacobian(self) -> sp.Matrix:
-        """6 x n geometric Jacobian ``[v; omega] = J q_dot``, built column by column.
+        """6 x n geometric Jacobian ``[v; omega] = J q_dot`` of the tool point, column by column.
 
-        Revolute column ``[z x (p - o); z]``, prismatic ``[z; 0]``.
+        Column ``k`` is the chain rule over every DH entry that depends on ``q_k``:
+        ``sum d(entry)/d(q_k) * twist(entry)``, with the revolute twist
+        ``[u x (p - o); u]`` and the prismatic one ``[u; 0]``
+        (:meth:`_parameter_twists`).  For the usual ``theta_k = q_k + offset`` this is
+        the textbook ``[z_(k-1) x (p - o_(k-1)); z_(k-1)]``; a reversed joint
+        (``theta_k = -q_k``) or a scaled one (``d_k = 2 q_k``) gets the factor
+        ``-1`` or ``2``, and any other dependence its derivative.
         """
         p = self.position
+        twists = [self._parameter_twists(i) for i in range(self.n)]
         cols = []
-        for joint, (z, o) in zip(self.joints, self._axis_frames()):
-            if joint.kind == "R":
-                v = z.cross(p - o)
-                col = list(v) + list(z)
-            else:
-                col = list(z) + [0, 0, 0]
+        for q in self.q:
+            col = sp.zeros(6, 1)
+            for joint, tw in zip(self.joints, twists):
+                for name in ("theta", "d", "a", "alpha"):
+                    rate = sp.diff(getattr(joint, name), q)
+                    if rate == 0:
+                        continue
+                    kind, u, *o = tw[name]
+                    unit = sp.Matrix.vstack(u.cross(p - o[0]), u) if kind == "R" else sp.Matrix.vstack(u, sp.zeros(3, 1))
+                    col += rate * unit
             cols.append([textbook(e) for e in col])
         return sp.Matrix(cols).T
 
@@ -581,7 +643,7 @@ def eigenvalues_from_charpoly(poly: sp.Poly, values: dict | None = None) -> np.n
     return roots[np.argsort(roots.real)]
 
 
-def maximal_minor_factors(J: sp.Matrix, *, seed: int = 0) -> list[sp.Expr]:
+def maximal_minor_factors(J: sp.Matrix, *, seed: int = 0, multiplicity: bool = False) -> list:
     """Factors common to every maximal non-vanishing minor of ``J``.
 
     The generic rank ``r`` is found numerically at a random point (joint
@@ -592,6 +654,24 @@ def maximal_minor_factors(J: sp.Matrix, *, seed: int = 0) -> list[sp.Expr]:
     full-rank ``J`` gives the factorisation of ``det J``.  An empty list means
     that the rank never drops on a hypersurface of the joint space (a redundant
     chain, for instance).
+
+    Coefficients: square roots from constant angles (``alpha = pi/4``) are
+    adjoined to the rationals; floats and ``pi`` are replaced by symbols for
+    the computation and put back in the factors (see
+    :func:`~workspace_sym.symbolic.generic_constants`), so a float table gives
+    ``0.425*c2 + 0.39225*c23``, not 30-digit integers.
+
+    With ``multiplicity`` the result is a list of ``(factor, m)``: ``m`` is the
+    exponent of the factor in the gcd of the minors (in ``det J`` for a square
+    ``J``), e.g. ``[(s2, 1), (s5, 1), (q3, 2)]`` for the Stanford arm.
+
+    Examples
+    --------
+    >>> t = sp.Symbol("t")
+    >>> maximal_minor_factors(sp.Matrix([[sp.sqrt(2) * sp.sin(t), 0], [0, 1]]))
+    [sin(t)]
+    >>> maximal_minor_factors(sp.Matrix([[0, 1], [1, 0]]))
+    []
     """
     J = sp.Matrix(J)
     rng = np.random.default_rng(seed)
@@ -605,14 +685,16 @@ def maximal_minor_factors(J: sp.Matrix, *, seed: int = 0) -> list[sp.Expr]:
         cols.append(k)
     rows = [i for i in range(J.rows) if any(J[i, k] != 0 for k in cols)]
     if not rows:
-        return [sp.Integer(0)]
+        return [(sp.Integer(0), 1)] if multiplicity else [sp.Integer(0)]
     J = J.extract(rows, cols)
     numeric = np.array(J.xreplace(point).evalf(), dtype=float)
     r = int(np.linalg.matrix_rank(numeric))
     if r == 0:
-        return [sp.Integer(0)]
+        return [(sp.Integer(0), 1)] if multiplicity else [sp.Integer(0)]
     entries, pairs = trig_polynomials(list(J))
-    ring = HalfAngleRing(pairs, set().union(*(e.free_symbols for e in entries)))
+    entries, back = generic_constants(entries)
+    extension = algebraic_constants(entries)
+    ring = HalfAngleRing(pairs, set().union(*(e.free_symbols for e in entries)), extension=extension)
     P = DomainMatrix([[ring.element(entries[i * J.cols + j]) for j in range(J.cols)] for i in range(J.rows)],
                      J.shape, ring.domain)
     common = None
@@ -624,8 +706,11 @@ def maximal_minor_factors(J: sp.Matrix, *, seed: int = 0) -> list[sp.Expr]:
             common = det if common is None else common.gcd(det)
             if common.is_ground:
                 return []
-    common = factor_half_angle(ring.to_expr(common), ring.half)
-    return [f for f in common if f != 0]
+    if common is None:  # every minor tiny at the sample point: no factor can be certified
+        return []
+    factors = factor_half_angle(ring.to_expr(common), ring.half, extension=extension, multiplicity=True)
+    factors = [(f, m) for f, m in restore_constants(factors, back) if f != 0]
+    return factors if multiplicity else [f for f, _ in factors]
 
 
 def _quotient(num: sp.Expr, den: sp.Expr) -> sp.Expr:
