@@ -10,6 +10,7 @@ from hypothesis.extra.numpy import arrays
 
 from conftest import fk_numpy
 from workspace_sym import (
+    DHJoint,
     DHRobot,
     DHTableError,
     ExpressionError,
@@ -246,3 +247,140 @@ def test_exact_degrees_stay_exact():
     j = robot.joints[0]
     assert j.alpha == sp.pi / 2 and j.a == sp.Rational(1, 3)
     assert j.limits == (-sp.pi / 3, sp.pi / 4)
+
+
+# ---------------------------------------------------------------- issue 18: any dependence of theta_i / d_i on q_i
+def _twist_from_fk_derivative(robot):
+    """Reference Jacobian by differentiating the symbolic FK: v = dp/dq_k, omega = vee(dR/dq_k R^T)."""
+    T = robot.fk()
+    p, R = T[:3, 3], T[:3, :3]
+    cols = []
+    for q in robot.q:
+        W = sp.diff(R, q) * R.T
+        cols.append(list(sp.diff(p, q)) + [W[2, 1], W[0, 2], W[1, 0]])
+    return sp.Matrix(cols).T
+
+
+def _fd_jacobian_numpy(robot, q, h=1e-6):
+    """Central differences of the plain-numpy DH product (conftest.fk_numpy): independent of the symbolic FK."""
+    J = np.zeros((6, robot.n))
+    R0 = fk_numpy(robot, q)[:3, :3]
+    for k in range(robot.n):
+        dq = np.zeros(robot.n)
+        dq[k] = h
+        Tp, Tm = fk_numpy(robot, q + dq), fk_numpy(robot, q - dq)
+        J[:3, k] = (Tp[:3, 3] - Tm[:3, 3]) / (2 * h)
+        W = (Tp[:3, :3] - Tm[:3, :3]) / (2 * h) @ R0.T
+        J[3:, k] = [W[2, 1], W[0, 2], W[1, 0]]
+    return J
+
+
+REVERSED_RP = {"angles": "radians", "joints": [
+    {"type": "R", "variable": "q1", "theta": "-q1", "d": 0, "a": 1, "alpha": 0},
+    {"type": "P", "variable": "q2", "theta": 0, "d": "-q2", "a": 0, "alpha": 0}]}
+
+
+def test_reversed_joints_issue_18_example():
+    """Issue 18: p = (cos q1, -sin q1, -q2), so the exact columns are (-sin q1, -cos q1, 0) and (0, 0, -1)."""
+    robot = DHRobot.from_dict(REVERSED_RP)
+    q1, q2 = sp.symbols("q1 q2")
+    assert robot.position == sp.Matrix([sp.cos(q1), -sp.sin(q1), -q2])
+    expected = sp.Matrix([[-sp.sin(q1), 0], [-sp.cos(q1), 0], [0, -1], [0, 0], [0, 0], [-1, 0]])
+    assert robot.geometric_jacobian == expected
+    assert robot.analytic_jacobian("rpy").J[:3, :] == expected[:3, :]
+
+
+def test_jaco_like_reversed_first_joint_matches_numpy_differences():
+    """A Kinova-Jaco-style first joint (theta1 = -q1, d1 = 0.2755, alpha1 = pi/2) and a scaled prismatic joint."""
+    data = {"angles": "radians", "joints": [
+        {"type": "R", "variable": "q1", "theta": "-q1", "d": 0.2755, "a": 0, "alpha": "pi/2"},
+        {"type": "R", "variable": "q2", "theta": "q2 - pi/2", "d": 0, "a": 0.41, "alpha": "pi"},
+        {"type": "P", "variable": "q3", "theta": "pi/2", "d": "2*q3 + 1/10", "a": 0, "alpha": "pi/2"},
+        {"type": "R", "variable": "q4", "theta": "q4/2 + pi/6", "d": 0.1, "a": 0.05, "alpha": "-pi/3"}]}
+    robot = DHRobot.from_dict(data)
+    rng = np.random.default_rng(18)
+    for _ in range(5):
+        q = rng.uniform(-2, 2, robot.n)
+        np.testing.assert_allclose(robot.jacobian_numeric(q), _fd_jacobian_numpy(robot, q), atol=1e-7)
+
+
+@pytest.mark.parametrize("convention", ["zyz", "rpy"])
+def test_analytic_jacobian_of_reversed_joints_matches_euler_angle_differences(convention):
+    """Reversed, scaled and nonlinear joints: position rows against numpy DH differences, angle rows
+    against central differences of the Euler angles."""
+    data = {"angles": "radians", "joints": [
+        {"type": "R", "variable": "q1", "theta": "-q1", "d": 0.3, "a": 0, "alpha": "pi/2"},
+        {"type": "R", "variable": "q2", "theta": "2*q2", "d": 0, "a": 0.4, "alpha": 0},
+        {"type": "P", "variable": "q3", "theta": "pi/2", "d": "-q3/2", "a": 0, "alpha": "pi/2"},
+        {"type": "R", "variable": "q4", "theta": "q4 + q4**2/4", "d": 0, "a": 0, "alpha": 0}]}
+    robot = DHRobot.from_dict(data)
+    aj = robot.analytic_jacobian(convention)
+    J, angles = robot.numeric(aj.J), robot.numeric(sp.Matrix(aj.angles))
+    rng, h = np.random.default_rng(9), 1e-6
+    for _ in range(4):
+        q = rng.uniform(-1, 1, robot.n)
+        np.testing.assert_allclose(J(q)[:3], _fd_jacobian_numpy(robot, q)[:3], atol=1e-7)
+        for k in range(robot.n):
+            dq = np.zeros(robot.n)
+            dq[k] = h
+            fd = (angles(q + dq) - angles(q - dq))[:, 0] / (2 * h)
+            np.testing.assert_allclose(J(q)[3:, k], fd, atol=1e-6)
+
+
+_lengths = st.sampled_from([0, 1, sp.Rational(1, 2), sp.Rational(-3, 4), "L"])
+_twelfths = st.integers(-11, 12).map(lambda k: sp.pi * k / 12)
+
+
+@st.composite
+def dh_tables(draw, *, rates=True, max_joints=4):
+    """Random DH tables: R and P joints, alpha and offsets multiples of pi/12, lengths symbolic, rational
+    or zero; with ``rates`` the joint entry is k q + c (k in {1, -1, 2, -1/2}) or the nonlinear q + q^2/4."""
+    n = draw(st.integers(2, max_joints))
+    convention = draw(st.sampled_from(["standard", "modified"]))
+    joints, params = [], {}
+    for i in range(1, n + 1):
+        kind = draw(st.sampled_from(["R", "P"]))
+        q = sp.Symbol(f"q{i}")
+
+        def length(tag):
+            v = draw(_lengths)
+            if v == "L":
+                sym = sp.Symbol(f"{tag}{i}")
+                params[sym] = draw(st.sampled_from([0.3, 0.7, 1.1]))
+                return sym
+            return sp.sympify(v)
+
+        if rates:
+            k = draw(st.sampled_from([1, -1, 2, sp.Rational(-1, 2), "nonlinear"]))
+            motion = q + q ** 2 / 4 if k == "nonlinear" else k * q
+        else:
+            motion = q
+        a, d, alpha, offset = length("a"), length("d"), draw(_twelfths), draw(_twelfths)
+        if kind == "R":
+            joints.append(DHJoint("R", motion + offset, d, a, alpha, q))
+        else:
+            joints.append(DHJoint("P", offset, motion + length("e"), a, alpha, q))
+    return DHRobot(joints, convention=convention, parameters=params)
+
+
+@settings(max_examples=30, deadline=None)
+@given(robot=dh_tables(max_joints=3))
+def test_jacobian_is_the_derivative_of_fk(robot):
+    """Property (issue 18.1): linear rows = dp/dq and angular rows = vee(dR/dq R^T), reference by symbolic
+    differentiation of FK, compared at random points; FK itself against the plain-numpy DH product."""
+    J = robot.numeric(robot.geometric_jacobian)
+    ref = robot.numeric(_twist_from_fk_derivative(robot))
+    rng = np.random.default_rng(0)
+    for _ in range(3):
+        q = rng.uniform(-2, 2, robot.n)
+        np.testing.assert_allclose(robot.fk_numeric(q), fk_numpy(robot, q), atol=1e-12)
+        np.testing.assert_allclose(J(q), ref(q), atol=1e-10)
+
+
+@settings(max_examples=8, deadline=None)
+@given(robot=dh_tables(max_joints=2))
+def test_jacobian_matches_numpy_differences(robot):
+    """Property: the same Jacobians against central differences of the independent numpy DH product."""
+    rng = np.random.default_rng(1)
+    q = rng.uniform(-2, 2, robot.n)
+    np.testing.assert_allclose(robot.jacobian_numeric(q), _fd_jacobian_numpy(robot, q), atol=1e-6)

@@ -717,7 +717,9 @@ def _quotient(num: sp.Expr, den: sp.Expr) -> sp.Expr:
     """``num / den`` with common polynomial factors cancelled (trig functions as generators)."""
     if num == 0:
         return sp.Integer(0)
-    if den.has(sp.sqrt):
+    # cancel() with sqrt(2), sqrt(3) coefficients (constant angles such as pi/12) or a
+    # square root in the denominator can take minutes: keep the plain quotient there.
+    if algebraic_constants([num, den]) or any(not p.exp.is_Integer for p in den.atoms(sp.Pow)):
         return num / den
     return sp.factor_terms(sp.cancel(num / den))
 

@@ -96,8 +96,14 @@ def textbook(expr) -> sp.Expr:
     if not expr.has(sp.sin, sp.cos):
         return sp.factor_terms(sp.expand(expr))
     expr = _reduce_pythagorean(sp.expand(expr))
-    expr = _gather_sums(expr)
-    return sp.factor_terms(expr)
+    # Surds from constant angles (cos(pi/12) = (sqrt(6) + sqrt(2))/4) make TR10i's
+    # coefficient matching crawl (minutes on a 4-joint table); as symbols they are
+    # gathered the same way, and the products were already combined by expand().
+    surds = {p: sp.Dummy(str(p)) for p in algebraic_constants([expr])}
+    if surds:
+        expr = expr.xreplace(surds)
+    expr = sp.factor_terms(_gather_sums(expr))
+    return expr.xreplace({v: k for k, v in surds.items()}) if surds else expr
 
 
 def textbook_matrix(M: sp.Matrix) -> sp.Matrix:
