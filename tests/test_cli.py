@@ -183,3 +183,36 @@ def test_demo_writes_the_report(tmp_path, capsys):
     md = (out_dir / "report.md").read_text()
     assert "-55.1005" in md and "16; after Step 1: 11; on the boundary (Step 2): 8" in md
     assert "Certified paving of Rybak" in md and "0 outside (must be 0)" in md
+
+
+STANFORD_SPONG = {"angles": "degrees", "joints": [
+    {"type": "R", "d": 0, "a": 0, "alpha": -90}, {"type": "R", "d": "d2", "a": 0, "alpha": 90},
+    {"type": "P", "variable": "q3", "theta": 0, "a": 0, "alpha": 0}, {"type": "R", "d": 0, "a": 0, "alpha": -90},
+    {"type": "R", "d": 0, "a": 0, "alpha": 90}, {"type": "R", "d": 0, "a": 0, "alpha": 0}]}
+
+
+def test_jacobian_reports_multiplicities(capsys, tmp_path):
+    """Stanford arm (Spong, Hutchinson & Vidyasagar, Robot Modeling and Control, table 3.5): det J = ±q3^2 s2 s5."""
+    path = tmp_path / "stanford.json"
+    path.write_text(json.dumps(STANFORD_SPONG))
+    code, out, _ = run(capsys, "jacobian", "--dh", str(path), "--json")
+    data = json.loads(out)
+    assert code == 0
+    assert sorted(data["singular"]) == ["q3", "sin(theta2)", "sin(theta5)"]  # the old key is unchanged
+    got = {d["factor"]: d["multiplicity"] for d in data["singularities"]}
+    assert got == {"q3": 2, "sin(theta2)": 1, "sin(theta5)": 1}
+
+
+def test_jacobian_no_singular_skips_the_factors(capsys, monkeypatch):
+    from workspace_sym.kinematics import DHRobot
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("singular_factors must not run with --no-singular")
+
+    monkeypatch.setattr(DHRobot, "singular_factors", refuse)
+    code, out, _ = run(capsys, "jacobian", "planar-3r", "--json", "--no-singular")
+    data = json.loads(out)
+    assert code == 0 and len(data["J"]) == 6
+    assert data["singular"] is None and data["singularities"] is None
+    code, out, _ = run(capsys, "jacobian", "planar-3r", "--no-singular")
+    assert code == 0 and "singular where" not in out

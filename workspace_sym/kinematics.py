@@ -156,6 +156,26 @@ def _homogeneous(M, parameter: str) -> sp.Matrix:
     return M
 
 
+def _read_transform(value, key: str, degrees: bool) -> sp.Matrix:
+    """``{"xyz": [x, y, z], "rpy": [r, p, y]}`` (``Rz(y) Ry(p) Rx(r)``, angles in the file's unit) or a 4 x 4 list."""
+    if isinstance(value, dict):
+        unknown = set(value) - {"xyz", "rpy"}
+        if unknown:
+            raise DHTableError(f"{key}: unknown field {sorted(unknown)[0]!r} (expected 'xyz' and/or 'rpy')")
+        xyz, rpy = value.get("xyz", [0, 0, 0]), value.get("rpy", [0, 0, 0])
+        for field_, v in (("xyz", xyz), ("rpy", rpy)):
+            if not isinstance(v, (list, tuple)) or len(v) != 3:
+                raise DHTableError(f"{key} {field_}: expected a list of 3 numbers; got {v!r}")
+        x, y, z = (parse_expr(v, f"{key} xyz") for v in xyz)
+        r, p, w = (parse_angle(v, f"{key} rpy", degrees=degrees) for v in rpy)
+        Ry = sp.Matrix([[sp.cos(p), 0, sp.sin(p), 0], [0, 1, 0, 0], [-sp.sin(p), 0, sp.cos(p), 0], [0, 0, 0, 1]])
+        return _translate(x, y, z) * _rz(w) * Ry * _rx(r)
+    if isinstance(value, (list, tuple)) and len(value) == 4 and all(isinstance(r, (list, tuple)) and len(r) == 4
+                                                                   for r in value):
+        return sp.Matrix([[parse_expr(v, f"{key} matrix") for v in row] for row in value])
+    raise DHTableError(f"{key}: expected {{\"xyz\": [..], \"rpy\": [..]}} or a 4 x 4 list; got {value!r}")
+
+
 def _limits(limits):
     if limits is None:
         return None
@@ -235,7 +255,10 @@ class DHRobot:
 
         ``{"convention": "standard" | "modified", "angles": "degrees" | "radians",
         "joints": [{"type": "R" | "P", "theta": ..., "d": ..., "a": ..., "alpha": ...,
-        "limits": [lo, hi]}], "parameters": {"a2": 0.25}}``.  Plain numbers for
+        "limits": [lo, hi]}], "parameters": {"a2": 0.25}, "base": ..., "tool": ...}``.
+        ``base`` and ``tool`` (optional) are ``{"xyz": [x, y, z], "rpy": [roll, pitch, yaw]}``
+        (rotation ``Rz(yaw) Ry(pitch) Rx(roll)``, angles in the file's unit) or a 4 x 4 list;
+        ``fk() = base T_0^n tool``.  Plain numbers for
         angles (theta offsets, alpha, revolute limits) are degrees unless
         ``"angles": "radians"``; expressions containing ``pi`` or symbols are radians.
         For a revolute joint ``theta`` is an offset added to ``theta{i}`` unless it
@@ -296,8 +319,10 @@ class DHRobot:
         params = {}
         for k, v in (data.get("parameters") or {}).items():
             params[sp.Symbol(k)] = float(parse_expr(v, f"parameter {k}"))
+        base, tool = (_read_transform(data[key], key, degrees) if data.get(key) is not None else None
+                      for key in ("base", "tool"))
         return cls(joints, convention=convention, name=data.get("name", name), parameters=params,
-                   units=data.get("units", "m"))
+                   units=data.get("units", "m"), base=base, tool=tool)
 
     @classmethod
     def from_file(cls, path) -> "DHRobot":
@@ -484,7 +509,7 @@ class DHRobot:
             return self.position_jacobian
         return self.analytic_jacobian().J
 
-    def singular_factors(self, kind: str = "geometric") -> list[sp.Expr]:
+    def singular_factors(self, kind: str = "geometric", *, multiplicity: bool = False) -> list:
         """Factors whose vanishing makes the Jacobian lose rank.
 
         For a square Jacobian of full generic rank, the factors of ``det J``;
@@ -492,13 +517,32 @@ class DHRobot:
         The rows are first expressed in the frame of a middle link: rotating
         the rows changes neither the determinant nor the ideal of maximal
         minors, and the entries become much shorter (joint 1 drops out).
+
+        Computed on the first call for each ``kind`` and kept (a 7-joint arm
+        takes tens of seconds); nothing else computes it.  With ``multiplicity``
+        the result is a list of ``(factor, m)`` pairs (see
+        :func:`maximal_minor_factors`).
+
+        Examples
+        --------
+        >>> q3 = sp.Symbol("q3")
+        >>> stanford = DHRobot([DHJoint.revolute(1, alpha=-sp.pi / 2), DHJoint.revolute(2, d=sp.Symbol("d2"), alpha=sp.pi / 2),
+        ...                     DHJoint.prismatic(3, variable=q3), DHJoint.revolute(4, alpha=-sp.pi / 2),
+        ...                     DHJoint.revolute(5, alpha=sp.pi / 2), DHJoint.revolute(6)])
+        >>> stanford.singular_factors(multiplicity=True)
+        [(q3, 2), (sin(theta2), 1), (sin(theta5), 1)]
         """
-        J = self.jacobian(kind)
-        if kind != "analytic":
-            R = self.fk(self.n // 2)[:3, :3].T
-            blocks = [R] * (J.rows // 3)
-            J = textbook_matrix(sp.diag(*blocks) * J)
-        return maximal_minor_factors(J)
+        check_choice("kind", kind, ("geometric", "position", "analytic"))
+        cache = self.__dict__.setdefault("_singular_cache", {})
+        if kind not in cache:
+            J = self.jacobian(kind)
+            if kind != "analytic":
+                R = self._frames[self.n // 2][:3, :3].T
+                blocks = [R] * (J.rows // 3)
+                J = textbook_matrix(sp.diag(*blocks) * J)
+            cache[kind] = maximal_minor_factors(J, multiplicity=True)
+        pairs = cache[kind]
+        return list(pairs) if multiplicity else [f for f, _ in pairs]
 
     # ------------------------------------------------------------------ printing
     def shorthand(self, expr) -> sp.Expr:

@@ -249,8 +249,11 @@ def factor_half_angle(poly_expr: sp.Expr, pairs, *, extension=(), multiplicity: 
             partner = next((g for g in odd if _odd_set(g, pairs) == key), None)
         if partner is None:
             partner = next((g for g in odd if _odd_set(g, pairs) & key), None)
-        if partner is None:  # pragma: no cover - cannot happen for a product of full-angle terms
-            raise ArithmeticError(f"unpaired half-angle factor {f}")
+        if partner is None:
+            # A gcd of full-angle polynomials may keep a lone half-angle factor: C2 = cos(theta2/2)
+            # vanishes at theta2 = pi, and so does its square (1 + c2)/2, a full-angle factor.
+            odd.append(f)
+            partner = f
         odd.remove(partner)
         g = sp.expand(f * partner)
         (odd if _odd_set(g, pairs) else even).append(g)
