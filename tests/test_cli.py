@@ -264,3 +264,36 @@ def test_library_error_line_names_the_option(capsys):
     assert err == "workspace-sym pave: error: --delta: delta must be a positive finite number; got -1.0\n"
     code, _, err = run(capsys, "reach", "planar-2r", "--delta", "0.1", "--max-boxes", "0")
     assert code == 2 and err.startswith("workspace-sym reach: error: --max-boxes: max_boxes must be at least 1")
+
+
+STANFORD_SPONG = {"angles": "degrees", "joints": [
+    {"type": "R", "d": 0, "a": 0, "alpha": -90}, {"type": "R", "d": "d2", "a": 0, "alpha": 90},
+    {"type": "P", "variable": "q3", "theta": 0, "a": 0, "alpha": 0}, {"type": "R", "d": 0, "a": 0, "alpha": -90},
+    {"type": "R", "d": 0, "a": 0, "alpha": 90}, {"type": "R", "d": 0, "a": 0, "alpha": 0}]}
+
+
+def test_jacobian_reports_multiplicities(capsys, tmp_path):
+    """Stanford arm (Spong, Hutchinson & Vidyasagar, Robot Modeling and Control, table 3.5): det J = ±q3^2 s2 s5."""
+    path = tmp_path / "stanford.json"
+    path.write_text(json.dumps(STANFORD_SPONG))
+    code, out, _ = run(capsys, "jacobian", "--dh", str(path), "--json")
+    data = json.loads(out)
+    assert code == 0
+    assert sorted(data["singular"]) == ["q3", "sin(theta2)", "sin(theta5)"]  # the old key is unchanged
+    got = {d["factor"]: d["multiplicity"] for d in data["singularities"]}
+    assert got == {"q3": 2, "sin(theta2)": 1, "sin(theta5)": 1}
+
+
+def test_jacobian_no_singular_skips_the_factors(capsys, monkeypatch):
+    from workspace_sym.kinematics import DHRobot
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("singular_factors must not run with --no-singular")
+
+    monkeypatch.setattr(DHRobot, "singular_factors", refuse)
+    code, out, _ = run(capsys, "jacobian", "planar-3r", "--json", "--no-singular")
+    data = json.loads(out)
+    assert code == 0 and len(data["J"]) == 6
+    assert data["singular"] is None and data["singularities"] is None
+    code, out, _ = run(capsys, "jacobian", "planar-3r", "--no-singular")
+    assert code == 0 and "singular where" not in out

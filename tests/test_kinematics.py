@@ -10,6 +10,7 @@ from hypothesis.extra.numpy import arrays
 
 from conftest import fk_numpy
 from workspace_sym import (
+    DHJoint,
     DHRobot,
     DHTableError,
     ExpressionError,
@@ -246,3 +247,320 @@ def test_exact_degrees_stay_exact():
     j = robot.joints[0]
     assert j.alpha == sp.pi / 2 and j.a == sp.Rational(1, 3)
     assert j.limits == (-sp.pi / 3, sp.pi / 4)
+
+
+# ---------------------------------------------------------------- issue 18: any dependence of theta_i / d_i on q_i
+def _twist_from_fk_derivative(robot):
+    """Reference Jacobian by differentiating the symbolic FK: v = dp/dq_k, omega = vee(dR/dq_k R^T)."""
+    T = robot.fk()
+    p, R = T[:3, 3], T[:3, :3]
+    cols = []
+    for q in robot.q:
+        W = sp.diff(R, q) * R.T
+        cols.append(list(sp.diff(p, q)) + [W[2, 1], W[0, 2], W[1, 0]])
+    return sp.Matrix(cols).T
+
+
+def _fd_jacobian_numpy(robot, q, h=1e-6):
+    """Central differences of the plain-numpy DH product (conftest.fk_numpy): independent of the symbolic FK."""
+    J = np.zeros((6, robot.n))
+    R0 = fk_numpy(robot, q)[:3, :3]
+    for k in range(robot.n):
+        dq = np.zeros(robot.n)
+        dq[k] = h
+        Tp, Tm = fk_numpy(robot, q + dq), fk_numpy(robot, q - dq)
+        J[:3, k] = (Tp[:3, 3] - Tm[:3, 3]) / (2 * h)
+        W = (Tp[:3, :3] - Tm[:3, :3]) / (2 * h) @ R0.T
+        J[3:, k] = [W[2, 1], W[0, 2], W[1, 0]]
+    return J
+
+
+REVERSED_RP = {"angles": "radians", "joints": [
+    {"type": "R", "variable": "q1", "theta": "-q1", "d": 0, "a": 1, "alpha": 0},
+    {"type": "P", "variable": "q2", "theta": 0, "d": "-q2", "a": 0, "alpha": 0}]}
+
+
+def test_reversed_joints_issue_18_example():
+    """Issue 18: p = (cos q1, -sin q1, -q2), so the exact columns are (-sin q1, -cos q1, 0) and (0, 0, -1)."""
+    robot = DHRobot.from_dict(REVERSED_RP)
+    q1, q2 = sp.symbols("q1 q2")
+    assert robot.position == sp.Matrix([sp.cos(q1), -sp.sin(q1), -q2])
+    expected = sp.Matrix([[-sp.sin(q1), 0], [-sp.cos(q1), 0], [0, -1], [0, 0], [0, 0], [-1, 0]])
+    assert robot.geometric_jacobian == expected
+    assert robot.analytic_jacobian("rpy").J[:3, :] == expected[:3, :]
+
+
+def test_jaco_like_reversed_first_joint_matches_numpy_differences():
+    """A Kinova-Jaco-style first joint (theta1 = -q1, d1 = 0.2755, alpha1 = pi/2) and a scaled prismatic joint."""
+    data = {"angles": "radians", "joints": [
+        {"type": "R", "variable": "q1", "theta": "-q1", "d": 0.2755, "a": 0, "alpha": "pi/2"},
+        {"type": "R", "variable": "q2", "theta": "q2 - pi/2", "d": 0, "a": 0.41, "alpha": "pi"},
+        {"type": "P", "variable": "q3", "theta": "pi/2", "d": "2*q3 + 1/10", "a": 0, "alpha": "pi/2"},
+        {"type": "R", "variable": "q4", "theta": "q4/2 + pi/6", "d": 0.1, "a": 0.05, "alpha": "-pi/3"}]}
+    robot = DHRobot.from_dict(data)
+    rng = np.random.default_rng(18)
+    for _ in range(5):
+        q = rng.uniform(-2, 2, robot.n)
+        np.testing.assert_allclose(robot.jacobian_numeric(q), _fd_jacobian_numpy(robot, q), atol=1e-7)
+
+
+@pytest.mark.parametrize("convention", ["zyz", "rpy"])
+def test_analytic_jacobian_of_reversed_joints_matches_euler_angle_differences(convention):
+    """Reversed, scaled and nonlinear joints: position rows against numpy DH differences, angle rows
+    against central differences of the Euler angles."""
+    data = {"angles": "radians", "joints": [
+        {"type": "R", "variable": "q1", "theta": "-q1", "d": 0.3, "a": 0, "alpha": "pi/2"},
+        {"type": "R", "variable": "q2", "theta": "2*q2", "d": 0, "a": 0.4, "alpha": 0},
+        {"type": "P", "variable": "q3", "theta": "pi/2", "d": "-q3/2", "a": 0, "alpha": "pi/2"},
+        {"type": "R", "variable": "q4", "theta": "q4 + q4**2/4", "d": 0, "a": 0, "alpha": 0}]}
+    robot = DHRobot.from_dict(data)
+    aj = robot.analytic_jacobian(convention)
+    J, angles = robot.numeric(aj.J), robot.numeric(sp.Matrix(aj.angles))
+    rng, h = np.random.default_rng(9), 1e-6
+    for _ in range(4):
+        q = rng.uniform(-1, 1, robot.n)
+        np.testing.assert_allclose(J(q)[:3], _fd_jacobian_numpy(robot, q)[:3], atol=1e-7)
+        for k in range(robot.n):
+            dq = np.zeros(robot.n)
+            dq[k] = h
+            fd = (angles(q + dq) - angles(q - dq))[:, 0] / (2 * h)
+            np.testing.assert_allclose(J(q)[3:, k], fd, atol=1e-6)
+
+
+_lengths = st.sampled_from([0, 1, sp.Rational(1, 2), sp.Rational(-3, 4), "L"])
+_twelfths = st.integers(-11, 12).map(lambda k: sp.pi * k / 12)
+
+
+@st.composite
+def dh_tables(draw, *, rates=True, max_joints=4):
+    """Random DH tables: R and P joints, alpha and offsets multiples of pi/12, lengths symbolic, rational
+    or zero; with ``rates`` the joint entry is k q + c (k in {1, -1, 2, -1/2}) or the nonlinear q + q^2/4."""
+    n = draw(st.integers(2, max_joints))
+    convention = draw(st.sampled_from(["standard", "modified"]))
+    joints, params = [], {}
+    for i in range(1, n + 1):
+        kind = draw(st.sampled_from(["R", "P"]))
+        q = sp.Symbol(f"q{i}")
+
+        def length(tag, i=i):
+            v = draw(_lengths)
+            if v == "L":
+                sym = sp.Symbol(f"{tag}{i}")
+                params[sym] = draw(st.sampled_from([0.3, 0.7, 1.1]))
+                return sym
+            return sp.sympify(v)
+
+        if rates:
+            k = draw(st.sampled_from([1, -1, 2, sp.Rational(-1, 2), "nonlinear"]))
+            motion = q + q ** 2 / 4 if k == "nonlinear" else k * q
+        else:
+            motion = q
+        a, d, alpha, offset = length("a"), length("d"), draw(_twelfths), draw(_twelfths)
+        if kind == "R":
+            joints.append(DHJoint("R", motion + offset, d, a, alpha, q))
+        else:
+            joints.append(DHJoint("P", offset, motion + length("e"), a, alpha, q))
+    return DHRobot(joints, convention=convention, parameters=params)
+
+
+@settings(max_examples=30, deadline=None)
+@given(robot=dh_tables(max_joints=3))
+def test_jacobian_is_the_derivative_of_fk(robot):
+    """Property (issue 18.1): linear rows = dp/dq and angular rows = vee(dR/dq R^T), reference by symbolic
+    differentiation of FK, compared at random points; FK itself against the plain-numpy DH product."""
+    J = robot.numeric(robot.geometric_jacobian)
+    ref = robot.numeric(_twist_from_fk_derivative(robot))
+    rng = np.random.default_rng(0)
+    for _ in range(3):
+        q = rng.uniform(-2, 2, robot.n)
+        np.testing.assert_allclose(robot.fk_numeric(q), fk_numpy(robot, q), atol=1e-12)
+        np.testing.assert_allclose(J(q), ref(q), atol=1e-10)
+
+
+@settings(max_examples=8, deadline=None)
+@given(robot=dh_tables(max_joints=2))
+def test_jacobian_matches_numpy_differences(robot):
+    """Property: the same Jacobians against central differences of the independent numpy DH product."""
+    rng = np.random.default_rng(1)
+    q = rng.uniform(-2, 2, robot.n)
+    np.testing.assert_allclose(robot.jacobian_numeric(q), _fd_jacobian_numpy(robot, q), atol=1e-6)
+
+
+# ---------------------------------------------------------------- issue 18.2: singular factors on any DH table
+def _rank_loss_at_zero_of(robot, kind, factor, seed=0):
+    """Find a real point where ``factor`` vanishes (bisection along one variable from a random point) and
+    return (r-th singular value / largest) of the Jacobian there, r its generic rank; None if no real zero
+    was found (a factor without real zeros cannot report a false singularity)."""
+    syms = list(robot.q) + sorted(robot.symbols, key=str)
+    J = sp.lambdify(syms, robot.jacobian(kind), "numpy")
+    f = sp.lambdify(syms, factor, "numpy")
+    rng = np.random.default_rng(seed)
+    x0 = np.concatenate([rng.uniform(-2, 2, robot.n), rng.uniform(0.3, 1.5, len(syms) - robot.n)])
+    sv = np.linalg.svd(np.array(J(*x0), dtype=float), compute_uv=False)
+    r = int(np.sum(sv > 1e-9 * sv[0]))
+    for k in sorted(range(len(syms)), key=lambda k: syms[k] not in factor.free_symbols):
+        if syms[k] not in factor.free_symbols:
+            continue
+        grid = np.linspace(-3.1, 3.1, 621)
+        vals = []
+        for g in grid:
+            x = x0.copy()
+            x[k] = g
+            vals.append(float(f(*x)))
+        vals = np.array(vals)
+        hits = np.nonzero(np.sign(vals[:-1]) * np.sign(vals[1:]) <= 0)[0]
+        if not hits.size:
+            continue
+        lo, hi = grid[hits[0]], grid[hits[0] + 1]
+        x = x0.copy()
+        for _ in range(80):
+            x[k] = (lo + hi) / 2
+            x_lo = x0.copy()
+            x_lo[k] = lo
+            if np.sign(f(*x)) == np.sign(f(*x_lo)):
+                lo = x[k]
+            else:
+                hi = x[k]
+        x[k] = (lo + hi) / 2
+        sv = np.linalg.svd(np.array(J(*x), dtype=float), compute_uv=False)
+        return sv[r - 1] / max(1.0, sv[0])
+    return None
+
+
+PINNED_TABLES = [
+    DHRobot([DHJoint.revolute(1, a=1, alpha=sp.pi / 4), DHJoint.revolute(2, a=1)]),  # crashed: sqrt(2)
+    DHRobot([DHJoint.revolute(1, a=1, alpha=sp.pi / 3, offset=sp.pi / 4), DHJoint.revolute(2, a=1)]),
+    DHRobot([DHJoint.revolute(1, a=1), DHJoint.prismatic(2)]),  # crashed: constant rotated Jacobian
+]
+
+
+@pytest.mark.parametrize("robot", PINNED_TABLES, ids=["alpha-pi/4", "alpha-pi/3-offset-pi/4", "R-then-P"])
+def test_pinned_crashes_of_issue_18(robot):
+    """These raised ValueError / AttributeError; now the factors are exact and vanish where the rank drops."""
+    assert robot.singular_factors() == []  # twist maps of rank 2 everywhere: the two angular columns differ
+    factors = robot.singular_factors("position")
+    assert all(f.free_symbols for f in factors)
+    for f in factors:
+        ratio = _rank_loss_at_zero_of(robot, "position", f)
+        assert ratio is None or ratio < 1e-8
+
+
+def test_surd_table_folded_elbow_factor():
+    """2R with alpha1 = pi/4 and equal links: the 3 x 2 position Jacobian loses rank only at theta2 = pi,
+    where the tip folds back onto the first axis (column 1 = z0 x p = 0); stretched (theta2 = 0) it does not,
+    the two axes being 45 degrees apart.  The gcd of the minors is cos(theta2/2), reported as 1 + c2."""
+    robot = PINNED_TABLES[0]
+    assert robot.singular_factors("position") == [sp.cos(th[1]) + 1]
+    J = robot.numeric(robot.position_jacobian)
+    assert np.linalg.svd(J([0.7, np.pi]), compute_uv=False)[1] < 1e-12
+    assert np.linalg.svd(J([0.7, 0.0]), compute_uv=False)[1] > 0.1
+
+
+# 2-joint tables only: on some 3- and 4-joint tables with several pi/12 twists the textbook FK and the
+# minors over QQ(sqrt 2, sqrt 3) take minutes (open work, issue 18); no crash was seen on them.
+@settings(max_examples=25, deadline=None)
+@given(robot=dh_tables(rates=False, max_joints=2))
+def test_singular_factors_never_crash_and_vanish_where_rank_drops(robot):
+    """Property (issue 18.2): fk, jacobian and singular_factors finish on random 2-joint tables (alpha, offsets
+    multiples of pi/12, R and P, lengths symbolic / rational / zero), and at a numerically found zero of
+    every reported factor the Jacobian's generic-rank singular value vanishes."""
+    assert robot.fk().shape == (4, 4) and robot.jacobian().shape == (6, robot.n)
+    for kind in ("geometric", "position"):
+        for f, m in robot.singular_factors(kind, multiplicity=True):
+            assert m >= 1
+            if f == 0:
+                continue  # Jacobian identically zero (all rows dropped)
+            assert f.free_symbols
+            ratio = _rank_loss_at_zero_of(robot, kind, f)
+            assert ratio is None or ratio < 1e-7, (kind, f, ratio)
+
+
+# ---------------------------------------------------------------- issue 18.3: multiplicities, float lengths
+def test_stanford_multiplicities_divide_det():
+    """Stanford arm (Spong et al., table 3.5): det J = +-q3^2 s2 s5; factors with exponents."""
+    q3, d2 = sp.Symbol("q3"), sp.Symbol("d2")
+    robot = DHRobot([DHJoint.revolute(1, alpha=-sp.pi / 2), DHJoint.revolute(2, d=d2, alpha=sp.pi / 2),
+                     DHJoint.prismatic(3, variable=q3), DHJoint.revolute(4, alpha=-sp.pi / 2),
+                     DHJoint.revolute(5, alpha=sp.pi / 2), DHJoint.revolute(6)])
+    pairs = robot.singular_factors(multiplicity=True)
+    assert pairs == [(q3, 2), (s[2], 1), (s[5], 1)]
+    # det J / (q3^2 s2 s5) is the same constant of modulus 1 at random points (numeric, independent of factoring).
+    J = robot.numeric(robot.geometric_jacobian, {d2: 0.3})
+    rng = np.random.default_rng(6)
+    ratios = []
+    for _ in range(4):
+        q = rng.uniform(-2, 2, 6)
+        ratios.append(np.linalg.det(J(q)) / (q[2] ** 2 * np.sin(q[1]) * np.sin(q[4])))
+    np.testing.assert_allclose(np.abs(ratios), 1, rtol=1e-9)
+    assert len({np.sign(r) for r in ratios}) == 1
+    assert robot.singular_factors() == [q3, s[2], s[5]]
+
+
+UR5_FLOAT = [dict(d=0.089159, alpha=sp.pi / 2), dict(a=-0.425), dict(a=-0.39225),
+             dict(d=0.10915, alpha=sp.pi / 2), dict(d=0.09465, alpha=-sp.pi / 2), dict(d=0.0823)]
+
+
+def test_float_lengths_give_readable_factors():
+    """UR5 with the float lengths of roboticstoolbox-python's models/DH/UR5.py: the factors keep the decimals
+    (they were 28-digit integers) and equal those of the symbolic-length UR5 with the values put back."""
+    robot = DHRobot([DHJoint.revolute(k + 1, **row) for k, row in enumerate(UR5_FLOAT)])
+    factors = robot.singular_factors()
+    assert all(abs(n) < 10 for f in factors for n in f.atoms(sp.Number))
+    assert s[3] in factors and s[5] in factors
+    wrist = [f for f in factors if f not in (s[3], s[5])]
+    assert len(wrist) == 1
+    expected = 0.425 * c[2] + 0.39225 * c23 - 0.09465 * s234  # a2 c2 + a3 c23 - d5 s234 with a2 = 0.425 ...
+    g = sp.lambdify(th[:6], wrist[0] / expected)
+    ratios = [g(*np.random.default_rng(k).uniform(-2, 2, 6)) for k in range(4)]
+    np.testing.assert_allclose(ratios, ratios[0], rtol=1e-12)  # the same factor up to a constant
+
+
+# ---------------------------------------------------------------- issue 18.4: base and tool transforms
+def _rpy_numpy(xyz, rpy):
+    """Independent homogeneous transform Trans(xyz) Rz(yaw) Ry(pitch) Rx(roll), radians."""
+    r, p, y = rpy
+    Rx = np.array([[1, 0, 0], [0, np.cos(r), -np.sin(r)], [0, np.sin(r), np.cos(r)]])
+    Ry = np.array([[np.cos(p), 0, np.sin(p)], [0, 1, 0], [-np.sin(p), 0, np.cos(p)]])
+    Rz = np.array([[np.cos(y), -np.sin(y), 0], [np.sin(y), np.cos(y), 0], [0, 0, 1]])
+    T = np.eye(4)
+    T[:3, :3], T[:3, 3] = Rz @ Ry @ Rx, xyz
+    return T
+
+
+def test_base_and_tool_match_numpy_product_and_differences():
+    """fk = base T_0^n tool against a plain numpy product; the Jacobian of the tool point against central
+    differences of that product (the tool offset moves the reference point)."""
+    base = {"xyz": [0.1, -0.2, 0.5], "rpy": [10, -20, 30]}
+    data = {"angles": "degrees", "base": base, "tool": [[0, -1, 0, 0.05], [1, 0, 0, 0], [0, 0, 1, 0.12], [0, 0, 0, 1]],
+            "joints": [{"type": "R", "d": 0.3, "a": 0, "alpha": 90}, {"type": "R", "d": 0, "a": 0.4, "alpha": 0},
+                       {"type": "R", "variable": "q3", "theta": "-q3", "d": 0, "a": 0.3, "alpha": -90}]}
+    robot = DHRobot.from_dict(data)
+    B = _rpy_numpy(base["xyz"], np.radians(base["rpy"]))
+    Tt = np.array(data["tool"], dtype=float)
+
+    def world(q):
+        return B @ fk_numpy(robot, q) @ Tt
+
+    rng, h = np.random.default_rng(4), 1e-6
+    for _ in range(5):
+        q = rng.uniform(-2, 2, 3)
+        np.testing.assert_allclose(robot.fk_numeric(q), world(q), atol=1e-12)
+        J = np.zeros((6, 3))
+        for k in range(3):
+            dq = np.zeros(3)
+            dq[k] = h
+            Tp, Tm = world(q + dq), world(q - dq)
+            J[:3, k] = (Tp[:3, 3] - Tm[:3, 3]) / (2 * h)
+            W = (Tp[:3, :3] - Tm[:3, :3]) / (2 * h) @ world(q)[:3, :3].T
+            J[3:, k] = [W[2, 1], W[0, 2], W[1, 0]]
+        np.testing.assert_allclose(robot.jacobian_numeric(q), J, atol=1e-7)
+
+
+def test_bad_base_and_tool_are_refused():
+    row = [{"type": "R", "d": 0, "a": 1, "alpha": 0}]
+    with pytest.raises(DHTableError, match=r"tool: the 3 x 3 block must be a rotation"):
+        DHRobot.from_dict({"joints": row, "tool": [[2, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]})
+    with pytest.raises(DHTableError, match=r"base xyz: expected a list of 3 numbers; got \[1, 2\]"):
+        DHRobot.from_dict({"joints": row, "base": {"xyz": [1, 2]}})
+    with pytest.raises(DHTableError, match=r"base: expected .* or a 4 x 4 list; got 7"):
+        DHRobot.from_dict({"joints": row, "base": 7})

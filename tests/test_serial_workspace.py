@@ -114,6 +114,12 @@ def test_no_configuration_lands_in_an_outer_box_and_inner_points_are_reached():
     assert reached.all()
 
 
+def test_method_on_the_robot_is_the_function():
+    robot = planar_robot([sp.Integer(1), sp.Rational(1, 2)])
+    a, b = robot.reach(delta=0.2), reach(robot, delta=0.2)
+    assert all(np.array_equal(getattr(a, k), getattr(b, k)) for k in ("inner", "boundary", "outer"))
+
+
 def test_only_position_joints_are_subdivided():
     """The glass-handling arm's theta5 and theta6 do not move the position (paper 004's arm)."""
     model = ReachModel(ws.robots.build("glass-handling"))

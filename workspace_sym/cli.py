@@ -108,38 +108,53 @@ def cmd_jacobian(args) -> int:
     if args.kind == "analytic":
         aj = robot.analytic_jacobian(args.euler)
         J = aj.J
-        singular = robot.singular_factors("geometric")
         extra = {"euler": args.euler, "representation_singularity": sp.sstr(aj.singular_when) + " = 0",
                  "note": aj.note}
     else:
         J = robot.geometric_jacobian
-        singular = robot.singular_factors("geometric")
+    # Singular factors can cost far more than J itself (45 s for a 7-joint arm):
+    # --no-singular skips them, and "singular" is then null in the JSON.
+    pairs = None if args.no_singular else robot.singular_factors("geometric", multiplicity=True)
+    singular = None if pairs is None else [f for f, _ in pairs]
     seconds = time.perf_counter() - start
     if args.json:
         _emit_json({
             "robot": robot.name,
             "kind": args.kind,
             "J": _matrix_strings(J),
-            "singular": [sp.sstr(f) for f in singular],
+            "singular": None if singular is None else [sp.sstr(f) for f in singular],
+            "singularities": None if pairs is None else [{"factor": sp.sstr(f), "multiplicity": m,
+                                                          "textbook": robot.to_str(f)} for f, m in pairs],
             "textbook": {"J": [[robot.to_str(J[i, j]) for j in range(J.cols)] for i in range(J.rows)],
-                         "singular": [robot.to_str(f) for f in singular]},
-            "latex": {"J": robot.to_latex(J), "singular": [robot.to_latex(f) for f in singular]},
+                         "singular": None if singular is None else [robot.to_str(f) for f in singular]},
+            "latex": {"J": robot.to_latex(J),
+                      "singular": None if singular is None else [robot.to_latex(f) for f in singular]},
             **extra,
             "seconds": seconds,
         })
         return 0
     if args.latex:
         print(f"J = {robot.to_latex(J)}")
-        print("singular: " + r" \cdot ".join(robot.to_latex(f) for f in singular) + " = 0")
+        if pairs is not None:
+            print("singular: " + r" \cdot ".join(_power(robot.to_latex(f), m, latex=True) for f, m in pairs) + " = 0")
         return 0
     print(f"{robot.name}: {args.kind} Jacobian ({J.rows} x {J.cols})")
     for j in range(J.cols):
         print(f"  column {j + 1}: " + " | ".join(robot.to_str(J[i, j]) for i in range(J.rows)))
-    shown = " * ".join(robot.to_str(f) for f in singular) if singular else "(no hypersurface of rank loss)"
-    print(f"  singular where: {shown} = 0")
+    if pairs is not None:
+        shown = " * ".join(_power(robot.to_str(f), m) for f, m in pairs) if pairs else "(no hypersurface of rank loss)"
+        print(f"  singular where: {shown} = 0")
     if extra:
         print(f"  {extra['note']}")
     return 0
+
+
+def _power(text: str, m: int, *, latex: bool = False) -> str:
+    """``f`` or ``(f)^m`` for a factor of multiplicity ``m``."""
+    if m == 1:
+        return text
+    base = text if text.replace("_", "").replace("{", "").replace("}", "").isalnum() else f"({text})"
+    return f"{base}^{{{m}}}" if latex else f"{base}**{m}"
 
 
 def _parse_var(text: str):
@@ -461,6 +476,8 @@ def build_parser() -> argparse.ArgumentParser:
                                 "or analytic (position and Euler-angle rates)")
             p.add_argument("--euler", choices=("zyz", "rpy"), default="zyz",
                            help="Euler convention of the analytic Jacobian (default zyz)")
+            p.add_argument("--no-singular", action="store_true",
+                           help="skip the singular factors (slow for 7-joint arms); JSON 'singular' is null")
         p.set_defaults(func=func)
 
     p = sub.add_parser("pave", help="certified non-uniform covering of a constraint set",

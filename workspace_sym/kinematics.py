@@ -25,7 +25,19 @@ from sympy.polys.matrices import DomainMatrix
 
 from .errors import DHTableError, ExpressionError, InvalidParameterError, JointLimitError, check_choice
 from .expressions import as_sympy, is_finite_value, parse_angle, parse_expr, read_symbol
-from .symbolic import HalfAngleRing, factor_half_angle, shorthand, trig_polynomials, shorthand_latex, shorthand_str, textbook, textbook_matrix
+from .symbolic import (
+    HalfAngleRing,
+    algebraic_constants,
+    factor_half_angle,
+    generic_constants,
+    restore_constants,
+    shorthand,
+    shorthand_latex,
+    shorthand_str,
+    textbook,
+    textbook_matrix,
+    trig_polynomials,
+)
 
 __all__ = [
     "DHJoint",
@@ -117,7 +129,7 @@ class DHJoint:
                 )
 
     @classmethod
-    def revolute(cls, index: int, *, d=0, a=0, alpha=0, offset=0, limits=None, variable=None) -> "DHJoint":
+    def revolute(cls, index: int, *, d=0, a=0, alpha=0, offset=0, limits=None, variable=None) -> DHJoint:
         """Revolute joint ``index`` (1-based) with variable ``theta{index}``."""
         q = variable if variable is not None else sp.Symbol(f"theta{index}")
         d, a, alpha, offset = (_field(v, index, k) for k, v in (("d", d), ("a", a), ("alpha", alpha),
@@ -125,7 +137,7 @@ class DHJoint:
         return cls("R", q + offset, d, a, alpha, q, _limits(limits, index))
 
     @classmethod
-    def prismatic(cls, index: int, *, theta=0, a=0, alpha=0, offset=0, limits=None, variable=None) -> "DHJoint":
+    def prismatic(cls, index: int, *, theta=0, a=0, alpha=0, offset=0, limits=None, variable=None) -> DHJoint:
         """Prismatic joint ``index`` (1-based) with variable ``d{index}``."""
         q = variable if variable is not None else sp.Symbol(f"d{index}")
         theta, a, alpha, offset = (_field(v, index, k) for k, v in (("theta", theta), ("a", a), ("alpha", alpha),
@@ -135,6 +147,47 @@ class DHJoint:
     def __repr__(self) -> str:
         lim = "" if self.limits is None else f", limits=[{self.limits[0]}, {self.limits[1]}]"
         return f"DHJoint({self.kind}: theta={self.theta}, d={self.d}, a={self.a}, alpha={self.alpha}{lim})"
+
+
+def _homogeneous(M, parameter: str) -> sp.Matrix:
+    """A constant 4 x 4 homogeneous transform, checked."""
+    if not isinstance(M, sp.MatrixBase):
+        try:
+            M = sp.Matrix([[as_sympy(v, parameter) for v in row] for row in M])   # text only through the reader
+        except TypeError as exc:
+            raise DHTableError(f"{parameter}: expected a 4 x 4 matrix; got {M!r:.80}") from exc
+    if M.shape != (4, 4):
+        raise DHTableError(f"{parameter}: expected a 4 x 4 matrix; got shape {M.shape[0]} x {M.shape[1]}")
+    if list(M[3, :]) != [0, 0, 0, 1]:
+        raise DHTableError(f"{parameter}: last row must be [0, 0, 0, 1]; got {list(M[3, :])}")
+    R = M[:3, :3]
+    if R.free_symbols:
+        raise DHTableError(f"{parameter}: the rotation must be numeric; got symbols {sorted(map(str, R.free_symbols))}")
+    err = np.abs(np.array((R * R.T - sp.eye(3)).evalf(), dtype=float)).max()
+    if err > 1e-9 or float(R.det()) < 0:
+        raise DHTableError(f"{parameter}: the 3 x 3 block must be a rotation (R R^T = I, det R = +1); "
+                           f"got |R R^T - I| = {err:.3g}, det R = {float(R.det()):.6g}")
+    return M
+
+
+def _read_transform(value, key: str, degrees: bool) -> sp.Matrix:
+    """``{"xyz": [x, y, z], "rpy": [r, p, y]}`` (``Rz(y) Ry(p) Rx(r)``, angles in the file's unit) or a 4 x 4 list."""
+    if isinstance(value, dict):
+        unknown = set(value) - {"xyz", "rpy"}
+        if unknown:
+            raise DHTableError(f"{key}: unknown field {sorted(unknown)[0]!r} (expected 'xyz' and/or 'rpy')")
+        xyz, rpy = value.get("xyz", [0, 0, 0]), value.get("rpy", [0, 0, 0])
+        for field_, v in (("xyz", xyz), ("rpy", rpy)):
+            if not isinstance(v, (list, tuple)) or len(v) != 3:
+                raise DHTableError(f"{key} {field_}: expected a list of 3 numbers; got {v!r}")
+        x, y, z = (parse_expr(v, f"{key} xyz") for v in xyz)
+        r, p, w = (parse_angle(v, f"{key} rpy", degrees=degrees) for v in rpy)
+        Ry = sp.Matrix([[sp.cos(p), 0, sp.sin(p), 0], [0, 1, 0, 0], [-sp.sin(p), 0, sp.cos(p), 0], [0, 0, 0, 1]])
+        return _translate(x, y, z) * _rz(w) * Ry * _rx(r)
+    if isinstance(value, (list, tuple)) and len(value) == 4 and all(isinstance(r, (list, tuple)) and len(r) == 4
+                                                                   for r in value):
+        return sp.Matrix([[parse_expr(v, f"{key} matrix") for v in row] for row in value])
+    raise DHTableError(f"{key}: expected {{\"xyz\": [..], \"rpy\": [..]}} or a 4 x 4 list; got {value!r}")
 
 
 def _field(value, index, field):
@@ -188,6 +241,10 @@ class DHRobot:
         evaluators and plots (``{Symbol("a2"): 0.25, ...}``).
     units : str
         Length unit of the table and the parameters.
+    base, tool : 4 x 4 matrix, optional
+        Constant transforms before the first row and after the last one:
+        ``fk() = base T_0^n tool``.  The Jacobians are those of the tool point,
+        expressed in the world (base) frame.
 
     Examples
     --------
@@ -200,8 +257,10 @@ class DHRobot:
     """
 
     def __init__(self, joints, *, convention: str = "standard", name: str = "robot",
-                 parameters: dict | None = None, units: str = "m"):
+                 parameters: dict | None = None, units: str = "m", base=None, tool=None):
         check_choice("convention", convention, CONVENTIONS)
+        self.base = None if base is None else _homogeneous(base, "base")
+        self.tool = None if tool is None else _homogeneous(tool, "tool")
         joints = tuple(joints)
         if not joints:
             raise DHTableError("joints: a robot needs at least one joint; got an empty table")
@@ -221,12 +280,15 @@ class DHRobot:
 
     # ------------------------------------------------------------------ construction
     @classmethod
-    def from_dict(cls, data: dict, *, name: str = "robot") -> "DHRobot":
+    def from_dict(cls, data: dict, *, name: str = "robot") -> DHRobot:
         """Build a robot from the DH-file dictionary of INTERFACE.md.
 
         ``{"convention": "standard" | "modified", "angles": "degrees" | "radians",
         "joints": [{"type": "R" | "P", "theta": ..., "d": ..., "a": ..., "alpha": ...,
-        "limits": [lo, hi]}], "parameters": {"a2": 0.25}}``.  Plain numbers for
+        "limits": [lo, hi]}], "parameters": {"a2": 0.25}, "base": ..., "tool": ...}``.
+        ``base`` and ``tool`` (optional) are ``{"xyz": [x, y, z], "rpy": [roll, pitch, yaw]}``
+        (rotation ``Rz(yaw) Ry(pitch) Rx(roll)``, angles in the file's unit) or a 4 x 4 list;
+        ``fk() = base T_0^n tool``.  Plain numbers for
         angles (theta offsets, alpha, revolute limits) are degrees unless
         ``"angles": "radians"``; expressions containing ``pi`` or symbols are radians.
         For a revolute joint ``theta`` is an offset added to ``theta{i}`` unless it
@@ -291,11 +353,13 @@ class DHRobot:
             raise DHTableError(f"parameters: expected an object such as {{\"a2\": 0.25}}; got {parameters!r:.60}")
         for k, v in parameters.items():
             params[read_symbol(k, "parameters")] = _parameter_value(v, f"parameter {k}")
+        base, tool = (_read_transform(data[key], key, degrees) if data.get(key) is not None else None
+                      for key in ("base", "tool"))
         return cls(joints, convention=convention, name=data.get("name", name), parameters=params,
-                   units=data.get("units", "m"))
+                   units=data.get("units", "m"), base=base, tool=tool)
 
     @classmethod
-    def from_file(cls, path) -> "DHRobot":
+    def from_file(cls, path) -> DHRobot:
         """Read a DH JSON file (see :meth:`from_dict`)."""
         path = Path(path)
         try:
@@ -340,7 +404,7 @@ class DHRobot:
     # ------------------------------------------------------------------ forward kinematics
     @cached_property
     def transforms(self) -> tuple[sp.Matrix, ...]:
-        """``(T_0^1, ..., T_0^n)`` in textbook form."""
+        """``(T_0^1, ..., T_0^n)`` of the DH table alone (no base, no tool), in textbook form."""
         out = []
         T = sp.eye(4)
         for k in range(self.n):
@@ -348,47 +412,85 @@ class DHRobot:
             out.append(T)
         return tuple(out)
 
+    @cached_property
+    def _frames(self) -> tuple[sp.Matrix, ...]:
+        """Frames 0..n in the world frame: ``base T_0^k`` (the tool is not included)."""
+        frames = (sp.eye(4),) + self.transforms
+        if self.base is None:
+            return frames
+        return tuple(textbook_matrix(self.base * T) for T in frames)
+
+    @cached_property
+    def _tip(self) -> sp.Matrix:
+        T = self._frames[-1]
+        return T if self.tool is None else textbook_matrix(T * self.tool)
+
     def fk(self, k: int | None = None) -> sp.Matrix:
-        """``T_0^k`` (``k = n`` by default, ``k = 0`` is the identity)."""
+        """``base T_0^k``, with the tool transform appended for ``k = n`` (the default).
+
+        ``k = 0`` is the base transform (the identity without one).
+        """
         k = self.n if k is None else k
         if not 0 <= k <= self.n:
             raise InvalidParameterError(f"k must be between 0 and {self.n}; got {k}")
-        return sp.eye(4) if k == 0 else self.transforms[k - 1]
+        return self._tip if k == self.n else self._frames[k]
 
     @property
     def position(self) -> sp.Matrix:
-        """Position of the end-effector, a 3x1 matrix."""
+        """Position of the end-effector (tool point), a 3x1 matrix."""
         return self.fk()[:3, 3]
 
     @property
     def rotation(self) -> sp.Matrix:
-        """Orientation of the end-effector, a 3x3 matrix."""
+        """Orientation of the end-effector (tool frame), a 3x3 matrix."""
         return self.fk()[:3, :3]
 
     # ------------------------------------------------------------------ Jacobians
-    def _axis_frames(self):
-        """(z, o) of each joint axis in the base frame."""
-        frames = []
-        for k in range(self.n):
-            # Standard DH: joint k+1 moves about z_k of frame k; modified: about z of frame k+1.
-            T = self.fk(k) if self.convention == "standard" else self.fk(k + 1)
-            frames.append((T[:3, 2], T[:3, 3]))
-        return frames
+    def _parameter_twists(self, i: int) -> dict:
+        """Unit twists of the four DH parameters of row ``i`` (0-based), in the world frame.
+
+        ``{"theta": ("R", axis, point), "d": ("P", axis), ...}``: the motion of
+        the tool frame per unit increase of that parameter, all others fixed.
+        Standard DH, ``T_i = T_(i-1) Rz(theta) Tz(d) Tx(a) Rx(alpha)``: theta and d act
+        along ``z_(i-1)`` through ``o_(i-1)``, a and alpha along ``x_i`` through ``o_i``.
+        Modified DH, ``T_i = T_(i-1) Rx(alpha) Tx(a) Rz(theta) Tz(d)``: alpha and a act
+        along ``x_(i-1)`` through ``o_(i-1)``, theta and d along ``z_i`` through ``o_i``.
+        """
+        F0, F1 = self._frames[i], self._frames[i + 1]
+        x0, z0, o0 = F0[:3, 0], F0[:3, 2], F0[:3, 3]
+        x1, z1, o1 = F1[:3, 0], F1[:3, 2], F1[:3, 3]
+        if self.convention == "standard":
+            return {"theta": ("R", z0, o0), "d": ("P", z0), "a": ("P", x1), "alpha": ("R", x1, o1)}
+        return {"alpha": ("R", x0, o0), "a": ("P", x0), "theta": ("R", z1, o1), "d": ("P", z1)}
 
     @cached_property
     def geometric_jacobian(self) -> sp.Matrix:
-        """6 x n geometric Jacobian ``[v; omega] = J q_dot``, built column by column.
+        """6 x n geometric Jacobian ``[v; omega] = J q_dot`` of the tool point, column by column.
 
-        Revolute column ``[z x (p - o); z]``, prismatic ``[z; 0]``.
+        Column ``k`` is the chain rule over every DH entry that depends on ``q_k``:
+        ``sum d(entry)/d(q_k) * twist(entry)``, with the revolute twist
+        ``[u x (p - o); u]`` and the prismatic one ``[u; 0]``
+        (:meth:`_parameter_twists`).  For the usual ``theta_k = q_k + offset`` this is
+        the textbook ``[z_(k-1) x (p - o_(k-1)); z_(k-1)]``; a reversed joint
+        (``theta_k = -q_k``) or a scaled one (``d_k = 2 q_k``) gets the factor
+        ``-1`` or ``2``, and any other dependence its derivative.
         """
         p = self.position
+        twists = [self._parameter_twists(i) for i in range(self.n)]
         cols = []
-        for joint, (z, o) in zip(self.joints, self._axis_frames()):
-            if joint.kind == "R":
-                v = z.cross(p - o)
-                col = list(v) + list(z)
-            else:
-                col = list(z) + [0, 0, 0]
+        for q in self.q:
+            col = sp.zeros(6, 1)
+            for joint, tw in zip(self.joints, twists):
+                for name in ("theta", "d", "a", "alpha"):
+                    rate = sp.diff(getattr(joint, name), q)
+                    if rate == 0:
+                        continue
+                    kind, u, *o = tw[name]
+                    if kind == "R":
+                        unit = sp.Matrix.vstack(u.cross(p - o[0]), u)
+                    else:
+                        unit = sp.Matrix.vstack(u, sp.zeros(3, 1))
+                    col += rate * unit
             cols.append([textbook(e) for e in col])
         return sp.Matrix(cols).T
 
@@ -444,7 +546,7 @@ class DHRobot:
             return self.position_jacobian
         return self.analytic_jacobian().J
 
-    def singular_factors(self, kind: str = "geometric") -> list[sp.Expr]:
+    def singular_factors(self, kind: str = "geometric", *, multiplicity: bool = False) -> list:
         """Factors whose vanishing makes the Jacobian lose rank.
 
         For a square Jacobian of full generic rank, the factors of ``det J``;
@@ -452,13 +554,33 @@ class DHRobot:
         The rows are first expressed in the frame of a middle link: rotating
         the rows changes neither the determinant nor the ideal of maximal
         minors, and the entries become much shorter (joint 1 drops out).
+
+        Computed on the first call for each ``kind`` and kept (a 7-joint arm
+        takes tens of seconds); nothing else computes it.  With ``multiplicity``
+        the result is a list of ``(factor, m)`` pairs (see
+        :func:`maximal_minor_factors`).
+
+        Examples
+        --------
+        >>> q3 = sp.Symbol("q3")
+        >>> stanford = DHRobot([DHJoint.revolute(1, alpha=-sp.pi / 2),
+        ...                     DHJoint.revolute(2, d=sp.Symbol("d2"), alpha=sp.pi / 2),
+        ...                     DHJoint.prismatic(3, variable=q3), DHJoint.revolute(4, alpha=-sp.pi / 2),
+        ...                     DHJoint.revolute(5, alpha=sp.pi / 2), DHJoint.revolute(6)])
+        >>> stanford.singular_factors(multiplicity=True)
+        [(q3, 2), (sin(theta2), 1), (sin(theta5), 1)]
         """
-        J = self.jacobian(kind)
-        if kind != "analytic":
-            R = self.fk(self.n // 2)[:3, :3].T
-            blocks = [R] * (J.rows // 3)
-            J = textbook_matrix(sp.diag(*blocks) * J)
-        return maximal_minor_factors(J)
+        check_choice("kind", kind, ("geometric", "position", "analytic"))
+        cache = self.__dict__.setdefault("_singular_cache", {})
+        if kind not in cache:
+            J = self.jacobian(kind)
+            if kind != "analytic":
+                R = self._frames[self.n // 2][:3, :3].T
+                blocks = [R] * (J.rows // 3)
+                J = textbook_matrix(sp.diag(*blocks) * J)
+            cache[kind] = maximal_minor_factors(J, multiplicity=True)
+        pairs = cache[kind]
+        return list(pairs) if multiplicity else [f for f, _ in pairs]
 
     # ------------------------------------------------------------------ printing
     def shorthand(self, expr) -> sp.Expr:
@@ -492,6 +614,12 @@ class DHRobot:
     def jacobian_numeric(self):
         """``f(q) -> (N, 6, n)`` geometric Jacobians, default parameters."""
         return self.numeric(self.geometric_jacobian)
+
+    def reach(self, *, delta: float, **options):
+        """Certified position workspace within the joint limits: :func:`workspace_sym.serial_workspace.reach`."""
+        from .serial_workspace import reach   # one way: serial_workspace builds on this module
+
+        return reach(self, delta=delta, **options)
 
     def joint_limits(self, default: float = math.pi) -> np.ndarray:
         """``(n, 2)`` float array of limits; unlimited joints get ``[-default, default]``."""
@@ -573,7 +701,8 @@ def characteristic_polynomial(M, lam: sp.Symbol | None = None, *, gram: bool = F
     >>> characteristic_polynomial(sp.Matrix([[2, 0], [0, 3]]), lam).as_expr()
     lambda**2 - 5*lambda + 6
     """
-    M = sp.Matrix(M)
+    if not isinstance(M, sp.MatrixBase):
+        M = sp.Matrix([[as_sympy(v, "M") for v in row] for row in M])      # text only through the reader
     if gram:
         M = M * M.T
     if M.rows != M.cols:
@@ -603,7 +732,7 @@ def eigenvalues_from_charpoly(poly: sp.Poly, values: dict | None = None) -> np.n
     return roots[np.argsort(roots.real)]
 
 
-def maximal_minor_factors(J: sp.Matrix, *, seed: int = 0) -> list[sp.Expr]:
+def maximal_minor_factors(J: sp.Matrix, *, seed: int = 0, multiplicity: bool = False) -> list:
     """Factors common to every maximal non-vanishing minor of ``J``.
 
     The generic rank ``r`` is found numerically at a random point (joint
@@ -614,6 +743,24 @@ def maximal_minor_factors(J: sp.Matrix, *, seed: int = 0) -> list[sp.Expr]:
     full-rank ``J`` gives the factorisation of ``det J``.  An empty list means
     that the rank never drops on a hypersurface of the joint space (a redundant
     chain, for instance).
+
+    Coefficients: square roots from constant angles (``alpha = pi/4``) are
+    adjoined to the rationals; floats and ``pi`` are replaced by symbols for
+    the computation and put back in the factors (see
+    :func:`~workspace_sym.symbolic.generic_constants`), so a float table gives
+    ``0.425*c2 + 0.39225*c23``, not 30-digit integers.
+
+    With ``multiplicity`` the result is a list of ``(factor, m)``: ``m`` is the
+    exponent of the factor in the gcd of the minors (in ``det J`` for a square
+    ``J``), e.g. ``[(s2, 1), (s5, 1), (q3, 2)]`` for the Stanford arm.
+
+    Examples
+    --------
+    >>> t = sp.Symbol("t")
+    >>> maximal_minor_factors(sp.Matrix([[sp.sqrt(2) * sp.sin(t), 0], [0, 1]]))
+    [sin(t)]
+    >>> maximal_minor_factors(sp.Matrix([[0, 1], [1, 0]]))
+    []
     """
     J = sp.Matrix(J)
     rng = np.random.default_rng(seed)
@@ -627,14 +774,16 @@ def maximal_minor_factors(J: sp.Matrix, *, seed: int = 0) -> list[sp.Expr]:
         cols.append(k)
     rows = [i for i in range(J.rows) if any(J[i, k] != 0 for k in cols)]
     if not rows:
-        return [sp.Integer(0)]
+        return [(sp.Integer(0), 1)] if multiplicity else [sp.Integer(0)]
     J = J.extract(rows, cols)
     numeric = np.array(J.xreplace(point).evalf(), dtype=float)
     r = int(np.linalg.matrix_rank(numeric))
     if r == 0:
-        return [sp.Integer(0)]
+        return [(sp.Integer(0), 1)] if multiplicity else [sp.Integer(0)]
     entries, pairs = trig_polynomials(list(J))
-    ring = HalfAngleRing(pairs, set().union(*(e.free_symbols for e in entries)))
+    entries, back = generic_constants(entries)
+    extension = algebraic_constants(entries)
+    ring = HalfAngleRing(pairs, set().union(*(e.free_symbols for e in entries)), extension=extension)
     P = DomainMatrix([[ring.element(entries[i * J.cols + j]) for j in range(J.cols)] for i in range(J.rows)],
                      J.shape, ring.domain)
     common = None
@@ -646,15 +795,20 @@ def maximal_minor_factors(J: sp.Matrix, *, seed: int = 0) -> list[sp.Expr]:
             common = det if common is None else common.gcd(det)
             if common.is_ground:
                 return []
-    common = factor_half_angle(ring.to_expr(common), ring.half)
-    return [f for f in common if f != 0]
+    if common is None:  # every minor tiny at the sample point: no factor can be certified
+        return []
+    factors = factor_half_angle(ring.to_expr(common), ring.half, extension=extension, multiplicity=True)
+    factors = [(f, m) for f, m in restore_constants(factors, back) if f != 0]
+    return factors if multiplicity else [f for f, _ in factors]
 
 
 def _quotient(num: sp.Expr, den: sp.Expr) -> sp.Expr:
     """``num / den`` with common polynomial factors cancelled (trig functions as generators)."""
     if num == 0:
         return sp.Integer(0)
-    if den.has(sp.sqrt):
+    # cancel() with sqrt(2), sqrt(3) coefficients (constant angles such as pi/12) or a
+    # square root in the denominator can take minutes: keep the plain quotient there.
+    if algebraic_constants([num, den]) or any(not p.exp.is_Integer for p in den.atoms(sp.Pow)):
         return num / den
     return sp.factor_terms(sp.cancel(num / den))
 

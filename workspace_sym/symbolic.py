@@ -35,6 +35,9 @@ __all__ = [
     "textbook_matrix",
     "factor_trig",
     "factor_half_angle",
+    "algebraic_constants",
+    "generic_constants",
+    "restore_constants",
     "HalfAngleRing",
     "trig_polynomials",
     "shorthand",
@@ -95,8 +98,14 @@ def textbook(expr) -> sp.Expr:
     if not expr.has(sp.sin, sp.cos):
         return sp.factor_terms(sp.expand(expr))
     expr = _reduce_pythagorean(sp.expand(expr))
-    expr = _gather_sums(expr)
-    return sp.factor_terms(expr)
+    # Surds from constant angles (cos(pi/12) = (sqrt(6) + sqrt(2))/4) make TR10i's
+    # coefficient matching crawl (minutes on a 4-joint table); as symbols they are
+    # gathered the same way, and the products were already combined by expand().
+    surds = {p: sp.Dummy(str(p)) for p in algebraic_constants([expr])}
+    if surds:
+        expr = expr.xreplace(surds)
+    expr = sp.factor_terms(_gather_sums(expr))
+    return expr.xreplace({v: k for k, v in surds.items()}) if surds else expr
 
 
 def textbook_matrix(M: sp.Matrix) -> sp.Matrix:
@@ -139,16 +148,21 @@ class HalfAngleRing:
     symbols : other symbols (lengths) that occur in the polynomials
     """
 
-    def __init__(self, pairs, symbols=()):
+    def __init__(self, pairs, symbols=(), *, extension=()):
         self.pairs = list(pairs)
         self.half = [(u, sp.Dummy(f"S{k}"), sp.Dummy(f"C{k}")) for k, (u, _, _) in enumerate(self.pairs)]
         trig = {g for _, c, s in self.pairs for g in (c, s)}
         others = sorted(set(symbols) - trig, key=str)
         gens = others + [g for _, c, s in self.pairs for g in (c, s)] + [g for _, S, C in self.half for g in (S, C)]
-        self.domain = sp.QQ[tuple(gens)] if gens else sp.QQ
+        # Constant angles such as alpha = pi/4 bring sqrt(2), sqrt(3) into the entries:
+        # the coefficients then live in QQ(sqrt 2, sqrt 3), where gcds and factorisation
+        # are still exact (sympy's algebraic fields).
+        self.extension = tuple(sorted(set(extension), key=sp.default_sort_key))
+        ground = sp.QQ.algebraic_field(*self.extension) if self.extension else sp.QQ
+        # A ring with no generator would hand back bare field elements (no gcd, no
+        # is_ground): constant entries get one unused generator instead.
+        self.domain = ground[tuple(gens or [sp.Dummy("unused")])]
         self._subs, self._index, self._unit = [], [], []
-        if not gens:
-            return
         R = self.domain.ring
         for (_, c, s), (_, S, C) in zip(self.pairs, self.half):
             S_, C_ = R(S), R(C)
@@ -194,7 +208,8 @@ def _full_angle(f: sp.Expr, pairs) -> sp.Expr:
             i, j = monom[2 * k], monom[2 * k + 1]
             m = min(i, j)
             # S^i C^j = (S C)^m S^(i-m) C^(j-m), the remaining exponents both even.
-            term *= (sp.sin(u) / 2) ** m * ((1 - sp.cos(u)) / 2) ** ((i - m) // 2) * ((1 + sp.cos(u)) / 2) ** ((j - m) // 2)
+            sc, ss, cc = sp.sin(u) / 2, (1 - sp.cos(u)) / 2, (1 + sp.cos(u)) / 2     # S C, S^2, C^2
+            term *= sc**m * ss ** ((i - m) // 2) * cc ** ((j - m) // 2)
         out.append(term)
     return sp.expand(sp.Add(*out))
 
@@ -206,56 +221,105 @@ def _odd_set(f: sp.Expr, pairs) -> frozenset:
     return frozenset(k for k in range(len(pairs)) if (monom[2 * k] + monom[2 * k + 1]) % 2)
 
 
-def factor_half_angle(poly_expr: sp.Expr, pairs) -> list[sp.Expr]:
-    """Readable full-angle factors of a half-angle polynomial (see :func:`half_angle_polynomials`).
+def factor_half_angle(poly_expr: sp.Expr, pairs, *, extension=(), multiplicity: bool = False) -> list:
+    """Readable full-angle factors of a half-angle polynomial (see :class:`HalfAngleRing`).
 
     ``poly_expr`` must be homogeneous in every ``(S_k, C_k)``.  Factors
     ``S_k**2 + C_k**2`` (which equal 1) are dropped; factors of odd
     degree in some half angle are paired (``S5 * C5 = s5 / 2``) so that every
     returned factor is a polynomial in full-angle sines and cosines.
+    ``extension`` lists the algebraic numbers (``sqrt(2)``) of the coefficient
+    field.  With ``multiplicity`` the result is a list of ``(factor, m)``
+    pairs, ``m`` the exponent of the factor in ``poly_expr``.
     """
     if poly_expr == 0:
-        return [sp.Integer(0)]
-    if not pairs:
-        _, factors = sp.factor_list(poly_expr)
-        return sorted({f for f, _m in factors if f.free_symbols}, key=lambda f: (sp.count_ops(f), sp.default_sort_key(f)))
+        return [(sp.Integer(0), 1)] if multiplicity else [sp.Integer(0)]
+    _, factors = sp.factor_list(poly_expr, extension=list(extension)) if extension else sp.factor_list(poly_expr)
     units = {sp.expand(S**2 + C**2) for _, S, C in pairs}
-    _, factors = sp.factor_list(poly_expr)
     even, odd = [], []
-    for f, _m in factors:
+    for f, m in factors:
         if not f.free_symbols or sp.expand(f) in units:
             continue
-        (odd if _odd_set(f, pairs) else even).append(f)
+        for _ in range(m):  # one entry per power, so that S5**2 C5**2 pairs into s5 twice
+            (odd if pairs and _odd_set(f, pairs) else even).append(f)
     while odd:
         f = odd.pop(0)
         key = _odd_set(f, pairs)
-        partner = next((g for g in odd if _odd_set(g, pairs) == key), None)
+        # Prefer a different polynomial with the same odd half angles (S5 with C5 -> s5),
+        # then the same one (S5 with S5 -> (1 - c5)/2), then any overlapping one.
+        partner = next((g for g in odd if _odd_set(g, pairs) == key and g != f), None)
+        if partner is None:
+            partner = next((g for g in odd if _odd_set(g, pairs) == key), None)
         if partner is None:
             partner = next((g for g in odd if _odd_set(g, pairs) & key), None)
-        if partner is None:  # pragma: no cover - cannot happen for a product of full-angle terms
-            raise ArithmeticError(f"unpaired half-angle factor {f}")
+        if partner is None:
+            # A gcd of full-angle polynomials may keep a lone half-angle factor: C2 = cos(theta2/2)
+            # vanishes at theta2 = pi, and so does its square (1 + c2)/2, a full-angle factor.
+            odd.append(f)
+            partner = f
         odd.remove(partner)
         g = sp.expand(f * partner)
         (odd if _odd_set(g, pairs) else even).append(g)
-    out = []
+    counts: dict = {}
     for f in even:
-        h = textbook(_full_angle(f, pairs))
-        if h.free_symbols:
-            h = sp.factor_terms(h)
-            _, h = h.as_coeff_Mul()
-            if h not in out and -h not in out:
-                out.append(h)
-    return sorted(out, key=lambda f: (sp.count_ops(f), sp.default_sort_key(f)))
+        h = textbook(_full_angle(f, pairs)) if pairs else f
+        if not h.free_symbols:
+            continue
+        h = sp.factor_terms(h)
+        _, h = h.as_independent(*h.free_symbols, as_Add=False)  # drop numeric factors, sqrt(2) included
+        if h.could_extract_minus_sign():
+            h = -h
+        counts[h] = counts.get(h, 0) + 1
+    out = sorted(counts, key=lambda f: (sp.count_ops(f), sp.default_sort_key(f)))
+    return [(f, counts[f]) for f in out] if multiplicity else out
 
 
-def factor_trig(expr) -> list[sp.Expr]:
+def algebraic_constants(exprs) -> tuple:
+    """The roots of positive rationals (``sqrt(2)``, ``2**(1/3)``) occurring in ``exprs``.
+
+    They come from constant angles (``cos(pi/4) = sqrt(2)/2``) and are adjoined to
+    the rationals so that polynomial arithmetic stays exact.
+
+    Examples
+    --------
+    >>> algebraic_constants([sp.sqrt(6) / 4 + sp.sqrt(2) / 4, sp.Symbol("x") / 2])
+    (sqrt(2), sqrt(6))
+    """
+    out = set()
+    for e in exprs:
+        for p in sp.sympify(e).atoms(sp.Pow):
+            if p.base.is_Rational and p.base > 0 and p.exp.is_Rational and not p.exp.is_Integer:
+                out.add(sp.Pow(p.base, sp.Rational(1, p.exp.q)))
+    return tuple(sorted(out, key=sp.default_sort_key))
+
+
+def generic_constants(exprs):
+    """Replace floats and transcendental constants (``pi``, ``E``) by symbols.
+
+    Returns the new expressions and the substitution back.  Exact rational
+    arithmetic on a float turns ``0.425`` into ``7656119366529843/18014398509481984``
+    and factors into 30-digit integers; with symbols the factors keep their
+    structure and read ``0.425*c2 + 0.39225*c23`` once the values are put back.
+    A factor found with symbols divides the expression at every value of them.
+    """
+    exprs = [sp.sympify(e) for e in exprs]
+    atoms = set()
+    for e in exprs:
+        atoms |= {a for a in e.atoms(sp.Float, sp.NumberSymbol) if a not in (sp.Integer(0),)}
+    ordered = sorted(atoms, key=sp.default_sort_key)
+    forward = {a: sp.Dummy(f"k{i}") for i, a in enumerate(ordered)}
+    back = {v: k for k, v in forward.items()}
+    return [e.xreplace(forward) for e in exprs], back
+
+
+def factor_trig(expr, *, multiplicity: bool = False) -> list:
     """Factor a trigonometric polynomial into readable factors.
 
     The expression is written in half-angle sines and cosines, where
-    factorisation is unique, factored over the rationals, and each factor
-    brought back to full angles in textbook form.  Constant factors and
-    repetitions are dropped, so the zero set of the product of the returned
-    factors is that of ``expr``.
+    factorisation is unique, factored over the rationals (extended by the
+    square roots that constant angles bring), and each factor brought back to
+    full angles in textbook form.  Constant factors are dropped; repetitions
+    too, unless ``multiplicity`` asks for ``(factor, exponent)`` pairs.
 
     Examples
     --------
@@ -263,14 +327,41 @@ def factor_trig(expr) -> list[sp.Expr]:
     >>> e = a2*a3*(sp.cos(t2)*sp.sin(t2 + t3) - sp.sin(t2)*sp.cos(t2 + t3))
     >>> factor_trig(e)
     [a2, a3, sin(theta3)]
+    >>> factor_trig(a2**2 * sp.sin(t3) * sp.cos(t3), multiplicity=True)
+    [(a2, 2), (sin(theta3), 1), (cos(theta3), 1)]
     >>> factor_trig(1 - sp.cos(t3)**2)
     [sin(theta3)]
     >>> factor_trig(sp.Integer(0))
     [0]
     """
     (poly_expr,), pairs = trig_polynomials([expr])
-    ring = HalfAngleRing(pairs, poly_expr.free_symbols)
-    return factor_half_angle(ring.to_expr(ring.convert(ring.element(poly_expr))), ring.half)
+    (poly_expr,), back = generic_constants([poly_expr])
+    extension = algebraic_constants([poly_expr])
+    ring = HalfAngleRing(pairs, poly_expr.free_symbols, extension=extension)
+    factors = factor_half_angle(ring.to_expr(ring.convert(ring.element(poly_expr))), ring.half,
+                                extension=extension, multiplicity=True)
+    factors = restore_constants(factors, back)
+    return factors if multiplicity else [f for f, _ in factors]
+
+
+def restore_constants(factors, back) -> list:
+    """``(factor, m)`` pairs with the constants of :func:`generic_constants` put back.
+
+    Factors that become numbers are dropped, equal ones (up to sign and a
+    numeric factor) merged.
+    """
+    if not back:
+        return factors
+    counts: dict = {}
+    for f, m in factors:
+        h = textbook(f.xreplace(back))
+        if not h.free_symbols:
+            continue
+        _, h = h.as_independent(*h.free_symbols, as_Add=False)
+        if h.could_extract_minus_sign():
+            h = -h
+        counts[h] = counts.get(h, 0) + m
+    return sorted(counts.items(), key=lambda fm: (sp.count_ops(fm[0]), sp.default_sort_key(fm[0])))
 
 
 def _angle_label(arg: sp.Expr, index_of: dict) -> str | None:
