@@ -120,13 +120,13 @@ def test_base_and_tool_transforms_refuse(text, in_tmp):
     """The base / tool fields of a DH file (xyz, rpy, 4 x 4) and the constructor's matrices read text by the reader."""
     joints = [{"d": 0, "a": 1, "alpha": 0}]
     matrix = [[1, 0, 0, text], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]
+    robot = DHRobot.from_dict({"joints": joints})
     for key in ("base", "tool"):
         _raises_reader_error(lambda key=key: DHRobot.from_dict({"joints": joints, key: {"xyz": [text, 0, 0]}}),
                              f"{key} xyz: ")
         _raises_reader_error(lambda key=key: DHRobot.from_dict({"joints": joints, key: {"rpy": [0, text, 0]}}),
                              f"{key} rpy: ")
         _raises_reader_error(lambda key=key: DHRobot.from_dict({"joints": joints, key: matrix}), f"{key} matrix: ")
-        robot = DHRobot.from_dict({"joints": joints})
         _raises_reader_error(lambda key=key: DHRobot(robot.joints, **{key: matrix}), key)
 
 

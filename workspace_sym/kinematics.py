@@ -617,7 +617,7 @@ class DHRobot:
 
     def reach(self, *, delta: float, **options):
         """Certified position workspace within the joint limits: :func:`workspace_sym.serial_workspace.reach`."""
-        from .serial_workspace import reach   # one way: serial_workspace builds on this module
+        from .serial_workspace import reach  # one way: serial_workspace builds on this module
 
         return reach(self, delta=delta, **options)
 
