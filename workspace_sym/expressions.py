@@ -26,10 +26,10 @@ from numbers import Number
 import sympy as sp
 from sympy.parsing.sympy_parser import auto_number, eval_expr, rationalize, stringify_expr
 
-from .errors import ExpressionError
+from .errors import ExpressionError, JointLimitError
 
-__all__ = ["parse_expr", "parse_angle", "read_symbol", "as_sympy", "is_finite_value", "FUNCTIONS", "CONSTANTS",
-           "MAX_LENGTH", "MAX_DEPTH"]
+__all__ = ["parse_expr", "parse_angle", "read_symbol", "as_sympy", "is_finite_value", "check_joint_limits",
+           "FUNCTIONS", "CONSTANTS", "MAX_LENGTH", "MAX_DEPTH"]
 
 #: Longest text accepted (characters); ``max_length=`` changes it per call.
 MAX_LENGTH = 2000
@@ -490,6 +490,32 @@ def as_sympy(value, parameter: str = "expression"):
     if isinstance(value, (sp.Basic, sp.MatrixBase, Number)):
         return sp.sympify(value)  # not text: no parsing happens
     raise ExpressionError(f"{parameter}: expected a SymPy expression or a number, got {type(value).__name__}")
+
+
+def check_joint_limits(joint, lower, upper, *, shown=None, unit: str = "") -> None:
+    """Raise :class:`JointLimitError` unless ``lower < upper``, both finite real numbers.
+
+    ``shown`` are the limits as the user wrote them (for the message),
+    ``unit`` follows them ("deg").  The one check behind every joint table.
+
+    Examples
+    --------
+    >>> check_joint_limits(3, sp.Integer(25), sp.Integer(-10), unit="deg")
+    Traceback (most recent call last):
+    ...
+    workspace_sym.errors.JointLimitError: upper limit of joint 3 (-10 deg) must exceed its lower limit (25 deg)
+    """
+    shown_lo, shown_hi = shown if shown is not None else (lower, upper)
+    suffix = f" {unit}" if unit else ""
+    values = []
+    for name, value, text in (("lower", lower, shown_lo), ("upper", upper, shown_hi)):
+        value = as_sympy(value, f"{name} limit of joint {joint}")
+        if not value.is_number or not is_finite_value(value):
+            raise JointLimitError(f"{name} limit of joint {joint} must be a finite number; got {text}")
+        values.append(value)
+    if not bool(values[0] < values[1]):
+        raise JointLimitError(f"upper limit of joint {joint} ({shown_hi}{suffix}) must exceed its lower limit "
+                              f"({shown_lo}{suffix})")
 
 
 def is_finite_value(expr: sp.Expr) -> bool:

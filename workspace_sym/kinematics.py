@@ -24,7 +24,7 @@ import sympy as sp
 from sympy.polys.matrices import DomainMatrix
 
 from .errors import DHTableError, ExpressionError, InvalidParameterError, JointLimitError, check_choice
-from .expressions import as_sympy, is_finite_value, parse_angle, parse_expr, read_symbol
+from .expressions import as_sympy, check_joint_limits, is_finite_value, parse_angle, parse_expr, read_symbol
 from .symbolic import (
     HalfAngleRing,
     algebraic_constants,
@@ -119,14 +119,7 @@ class DHJoint:
                 f"{self.variable}; got {moving}"
             )
         if self.limits is not None:
-            lo, hi = self.limits
-            for name, v in (("lower", lo), ("upper", hi)):
-                if not v.is_number or not is_finite_value(v):
-                    raise JointLimitError(f"{name} limit of joint {self.variable} must be a finite number; got {v}")
-            if not bool(lo < hi):
-                raise JointLimitError(
-                    f"upper limit of joint {self.variable} ({hi}) must exceed its lower limit ({lo})"
-                )
+            check_joint_limits(self.variable, *self.limits)
 
     @classmethod
     def revolute(cls, index: int, *, d=0, a=0, alpha=0, offset=0, limits=None, variable=None) -> DHJoint:
@@ -338,14 +331,7 @@ class DHRobot:
                     limits = tuple(parse_angle(v, f"joint {i} limits", degrees=degrees) for v in limits)
                 else:
                     limits = tuple(parse_expr(v, f"joint {i} limits", new_symbols=False) for v in limits)
-                for name_, v in zip(("lower", "upper"), limits):
-                    if not v.is_number or not is_finite_value(v):
-                        raise JointLimitError(f"joint {i} {name_} limit must be a finite number; got {v}")
-                if not bool(limits[0] < limits[1]):
-                    shown = [row["limits"][0], row["limits"][1]]
-                    raise JointLimitError(
-                        f"upper limit of joint {i} ({shown[1]}) must exceed its lower limit ({shown[0]})"
-                    )
+                check_joint_limits(i, *limits, shown=(row["limits"][0], row["limits"][1]))
             joints.append(DHJoint(kind, theta, d, a, alpha, q, limits))
         params = {}
         parameters = data.get("parameters") or {}

@@ -31,7 +31,7 @@ import numpy as np
 import sympy as sp
 
 from .errors import ExpressionError, InvalidParameterError, JointLimitError
-from .expressions import parse_expr
+from .expressions import check_joint_limits, parse_expr
 
 __all__ = ["PlanarChain", "Arc"]
 
@@ -159,9 +159,7 @@ class PlanarChain:
             if not (-half_turn < lo and hi <= half_turn):
                 raise JointLimitError(f"limits of joint {k} must lie in (-{half_turn:g}, {half_turn:g}] {unit}; "
                                       f"got [{lower[k - 1]}, {upper[k - 1]}]")
-            if not lo < hi:
-                raise JointLimitError(f"upper limit of joint {k} ({upper[k - 1]} {unit}) must exceed its lower "
-                                      f"limit ({lower[k - 1]} {unit})")
+            check_joint_limits(k, lo, hi, shown=(lower[k - 1], upper[k - 1]), unit=unit)
             floats.append((l, lo, hi))
             exact.append(tuple(e for _, e in row))
         scale = math.pi / 180 if degrees else 1.0
