@@ -64,7 +64,7 @@ def test_glass_paper_misprint_is_not_reproduced(glass):
 def test_partial_transforms_chain(glass):
     """T_0^k = T_0^(k-1) A_k for every k (exact)."""
     for k in range(1, glass.n + 1):
-        product = glass.fk(k - 1) * glass._row_matrix(k - 1)
+        product = glass.fk(k - 1) * glass.row_matrix(k)
         assert sp.simplify(sp.expand_trig(product - glass.fk(k))) == sp.zeros(4, 4)
 
 

@@ -381,8 +381,11 @@ class DHRobot:
     def __repr__(self) -> str:
         return f"DHRobot({self.name!r}, {self.n} joints, {self.convention} DH)"
 
-    def _row_matrix(self, k: int) -> sp.Matrix:
-        j = self.joints[k]
+    def row_matrix(self, k: int) -> sp.Matrix:
+        """``A_k``, the DH matrix of row ``k`` (1-based), so that ``T_0^k = T_0^(k-1) A_k`` (no base or tool)."""
+        if not 1 <= k <= self.n:
+            raise InvalidParameterError(f"k must be between 1 and {self.n}; got {k}", parameter="k")
+        j = self.joints[k - 1]
         if self.convention == "standard":
             return dh_matrix(j.theta, j.d, j.a, j.alpha)
         return dh_matrix(j.theta, j.d, j.a, j.alpha, convention="modified")
@@ -394,7 +397,7 @@ class DHRobot:
         out = []
         T = sp.eye(4)
         for k in range(self.n):
-            T = textbook_matrix(T * self._row_matrix(k))
+            T = textbook_matrix(T * self.row_matrix(k + 1))
             out.append(T)
         return tuple(out)
 
