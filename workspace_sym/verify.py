@@ -30,8 +30,14 @@ class Verdict:
         return bool(self.ok)
 
     def _repr_markdown_(self):
-        mark = {True: "correct", False: "wrong", None: "undecided"}[self.ok]
-        return f"**{mark}**: {self.message}"
+        return f"**{_MARK[self.ok]}**: {self.message}"
+
+    def __repr__(self):
+        text = " ".join(self.message.split())
+        return f"Verdict({_MARK[self.ok]}: {text if len(text) <= 72 else text[:71] + '...'})"
+
+
+_MARK = {True: "correct", False: "wrong", None: "undecided"}
 
 
 def _number(value, name: str) -> float:
