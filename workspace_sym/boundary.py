@@ -52,7 +52,7 @@ __all__ = ["Boundary", "BoundaryArc", "Loop", "build_boundary", "format_set", "p
 _TWO_PI = 2 * math.pi
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, repr=False)     # the one-line repr of Arc
 class BoundaryArc(Arc):
     """One arc of a boundary loop: an :class:`~workspace_sym.planar.Arc` in the loop's direction of travel.
 
@@ -191,8 +191,8 @@ class Boundary:
         """The JSON object of ``workspace-sym boundary`` (INTERFACE.md)."""
         arcs = []
         ex = self.exact if exact else None
+        reach = self.chain.reach
         for k, a in enumerate(self.arcs):
-            reach = self.chain.reach
             d = {"type": a.type, "free_joint": a.free_joint,
                  "theta_sets": [[_degrees(v) for v in s] for s in a.theta_sets],
                  "center": [clean(a.center[0], scale=reach), clean(a.center[1], scale=reach)],

@@ -86,6 +86,11 @@ class Arc:
                 f"{fmt(self.center[1], 6, 'g')}), r = {fmt(self.radius, 6, 'g')}, deg: {sets}, side {self.side:+d})")
 
 
+def _degrees_text(radians: float) -> str:
+    """A joint limit as given in degrees: ``-60``, not ``-59.99999999999999``."""
+    return fmt(clean(math.degrees(radians), scale=360.0), 10, "g")
+
+
 def _read_value(value, name: str):
     """A user number as ``(float, exact SymPy number)``; decimals are read as the rationals they spell.
 
@@ -177,7 +182,7 @@ class PlanarChain:
 
     def __repr__(self):
         def deg(v):
-            return ", ".join(fmt(clean(math.degrees(x), scale=360.0), 10, "g") for x in v)
+            return ", ".join(_degrees_text(x) for x in v)
 
         return (f"PlanarChain(lengths={list(self.lengths)}, lower=[{deg(self.lower)}], "
                 f"upper=[{deg(self.upper)}])")
@@ -186,8 +191,8 @@ class PlanarChain:
         """The joints (exact lengths, limits in degrees) and the reach (Jupyter)."""
         from .display import html_table
 
-        rows = [(k + 1, sp.sstr(self.exact_lengths[k]), fmt(clean(math.degrees(self.lower[k]), scale=360.0), 10, "g"),
-                 fmt(clean(math.degrees(self.upper[k]), scale=360.0), 10, "g")) for k in range(self.p)]
+        rows = [(k + 1, sp.sstr(self.exact_lengths[k]), _degrees_text(self.lower[k]), _degrees_text(self.upper[k]))
+                for k in range(self.p)]
         return html_table(("joint", "length", "lower (deg)", "upper (deg)"), rows,
                           caption=f"planar chain of {self.p} revolute joints, reach {fmt(self.reach, 10, 'g')}")
 

@@ -341,6 +341,9 @@ def box_measure(boxes: np.ndarray) -> float:
     return float(np.sum(np.prod(boxes[:, :, 1] - boxes[:, :, 0], axis=1)))
 
 
+MAX_3D_BOXES_SHOWN = 20_000     # a notebook draws a 3D paving up to this many boxes (matplotlib 3D is slow)
+
+
 @dataclass(frozen=True, eq=False)
 class Paving:
     """Result of :func:`pave`: inner, boundary, outer and pending boxes, each an ``(N, n, 2)`` array.
@@ -422,7 +425,12 @@ class Paving:
             lines.append(f"exact measure {fmt(float(self.exact_measure), 6)} = {sp.sstr(self.exact_measure)}")
         if not self.complete:
             lines.append(f"stopped early: {self.stop_reason}; pending boxes are unclassified")
-        picture = figure_html(plot_paving(self), alt="paving") if len(self.variables) in (2, 3) else ""
+        drawn, n = len(self.inner) + len(self.boundary), len(self.variables)
+        picture = ""
+        if n == 2 or (n == 3 and drawn <= MAX_3D_BOXES_SHOWN):
+            picture = figure_html(plot_paving(self), alt="paving")
+        elif n == 3:
+            picture = f"<p>(no picture of {drawn} boxes in 3D here: see plotting.plot_paving_slices)</p>"
         return ("<p>" + "<br/>".join(html.escape(t) for t in lines) + "</p>"
                 + html_table(("boxes", "number", "measure"), rows) + picture)
 

@@ -55,9 +55,12 @@ class CubeResult:
         if self.exact is None:
             return None
         e = self.exact
-        bounds = "; ".join(f"corner ({s}, {s}, {s}) on {', '.join(b)}" for s, b in e["bounds"].items())
         return (f"edge = {e['edge']} = {float(e['edge']):.9f}, centre x = y = z = {e['center']} = "
-                f"{float(e['center']):.9f} (binding: {bounds})")
+                f"{float(e['center']):.9f} (binding: {self._binding()})")
+
+    def _binding(self) -> str:
+        """The corners that bind the closed form and the bounds they meet."""
+        return "; ".join(f"corner ({s}, {s}, {s}) on {', '.join(b)}" for s, b in self.exact["bounds"].items())
 
     def __repr__(self):
         return (f"CubeResult(edge in [{fmt(self.edge_lower, 6)}, {fmt(self.edge_upper, 6)}], centre "
@@ -84,8 +87,7 @@ class CubeResult:
                f"- no cube of edge above {fmt(self.edge_upper, 9)} fits anywhere (proved)."]
         lines = self._latex_lines()
         if lines:
-            bounds = "; ".join(f"corner ({s}, {s}, {s}) on {', '.join(b)}" for s, b in self.exact["bounds"].items())
-            out += ["", "Closed form (binding: " + bounds + "):", ""] + [f"$${line}$$" for line in lines]
+            out += ["", f"Closed form (binding: {self._binding()}):", ""] + [f"$${line}$$" for line in lines]
         return "\n".join(out)
 
     def to_dict(self) -> dict:
