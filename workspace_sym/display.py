@@ -29,6 +29,7 @@ from __future__ import annotations
 import base64
 import html
 import io
+import re
 from functools import lru_cache
 
 import sympy as sp
@@ -135,13 +136,16 @@ def plain(expr):
 # ------------------------------------------------------------------ HTML pieces
 _GREEK = {"theta": "\u03b8", "alpha": "\u03b1", "pi": "\u03c0", "lambda": "\u03bb", "sigma": "\u03c3",
           "eta": "\u03b7"}
+_GREEK_NAME = re.compile(r"\b(" + "|".join(_GREEK) + r")(?=\d|_|\b)")      # theta2, pi; not "pitch"
 
 
 def expr_text(expr) -> str:
-    """One line of text for a SymPy value in an HTML cell: ``θ1 + π/2`` (escaped)."""
-    text = sp.sstr(expr)
-    for name, letter in _GREEK.items():
-        text = text.replace(name, letter)
+    """One line of text for a SymPy value in an HTML cell: ``θ1 + π/2`` (escaped).
+
+    >>> expr_text(sp.Symbol("theta2") + sp.pi / 2 + sp.Symbol("pitch"))
+    'pitch + θ2 + π/2'
+    """
+    text = _GREEK_NAME.sub(lambda m: _GREEK[m.group(1)], sp.sstr(expr))
     return html.escape(text.replace("**", "^"))
 
 
