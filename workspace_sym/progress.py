@@ -74,7 +74,7 @@ def stage_bar(progress: bool | None, label: str, total: int):
     """``say(text)`` starts the stage ``text`` of a run of ``total`` stages on a progress bar; ``say(None)``
     ends the run (the bar closes).  For runs made of a few long steps rather than many small ones."""
     bar = progress_bar(progress, total=total, desc=label, unit="stage",
-                       bar_format="{desc}: stage {n_fmt}/{total_fmt}, {postfix} |{bar}| [{elapsed}]")
+                       bar_format="{desc}: stage {n_fmt}/{total_fmt}{postfix} |{bar}| [{elapsed}]")
     started = [False]
 
     def say(text):

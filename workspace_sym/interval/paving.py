@@ -456,7 +456,7 @@ class RunBudget:
         self.start = time.perf_counter()
         self.total = total
         self.bar = progress_bar(progress, total=100.0, desc=label, unit="%",
-                                bar_format="{desc}: {percentage:5.1f}% of the box decided |{bar}| {postfix} "
+                                bar_format="{desc}: {percentage:5.1f}% of the box decided{postfix} |{bar}| "
                                            "[{elapsed}]")
 
     @property
