@@ -228,3 +228,24 @@ def test_planar_step_and_slices_plot_into_given_axes():
     assert plot_paving_slices(dex.paving, values=(0.0, 0.3), ax=axes) is fig
     assert axes[0].get_title() == "z = 0.0" and axes[0].get_legend() is not None
     plt.close("all")
+
+
+def test_a_jupyter_kernel_gets_a_progress_widget_and_rich_outputs():
+    """In a real kernel (as tests/test_notebooks.py runs them): tqdm.auto draws an ipywidgets bar, results
+    come with their HTML / LaTeX representations."""
+    nbformat = pytest.importorskip("nbformat")
+    from nbclient import NotebookClient
+
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [nbformat.v4.new_code_cell("import workspace_sym as ws\n"
+                                          "p = ws.pave(['x**2 + y**2 <= 1'], {'x': (-1, 1), 'y': (-1, 1)}, "
+                                          "delta=0.01, progress=True)\np"),
+                nbformat.v4.new_code_cell("r = ws.robots.build('glass-handling')\nr.textbook(r.position)"),
+                nbformat.v4.new_code_cell("r")]
+    NotebookClient(nb, timeout=300, kernel_name="python3").execute()
+    kinds = [[sorted(o.get("data", {})) for o in cell.outputs] for cell in nb.cells]
+    assert ["application/vnd.jupyter.widget-view+json", "text/plain"] in kinds[0]
+    assert ["text/html", "text/plain"] in kinds[0]                                 # the paving itself
+    latex = nb.cells[1].outputs[-1]["data"]["text/latex"]
+    assert r"c_{1} \left(a_{1} + a_{2} c_{2} + a_{3} c_{23} + d_{5} s_{234}\right)" in latex
+    assert "[-160°, 160°]" in nb.cells[2].outputs[-1]["data"]["text/html"]
