@@ -76,15 +76,6 @@ def _robot(name):
     return DHRobot.from_file(DATA / f"{name}.json") if name in RTB_TABLES + ["panda"] else robots.build(name)
 
 
-def _raw_product(robot):
-    """The DH product without any simplification (base and tool included)."""
-    T = sp.eye(4)
-    for k in range(1, robot.n + 1):
-        T = T * robot.row_matrix(k)
-    base = robot.base if robot.base is not None else sp.eye(4)
-    return base * T * (robot.tool if robot.tool is not None else sp.eye(4))
-
-
 def _same_function(A, B, robot, points=4):
     """A == B at random joint values and parameter values (float check of an exact rewrite)."""
     rng = np.random.default_rng(7)
@@ -101,7 +92,7 @@ def test_textbook_fk_no_longer_than_simplify(name):
     """Every entry of T_0^n in textbook form has at most the count_ops of sympy.simplify of the raw DH product
     (the reference is computed here, with this SymPy), and it is the same function."""
     robot = _robot(name)
-    T, raw = robot.fk(), _raw_product(robot)
+    T, raw = robot.fk(), robot.raw_fk()
     _same_function(T, raw, robot)
     for i in range(3):
         for j in range(4):
@@ -113,7 +104,7 @@ def test_textbook_panda_no_longer_than_simplify_on_the_approach_axis():
     column; simplify of the full T takes over a minute, see benchmarks/bench_kinematics.py) is no longer than
     sympy.simplify's, entry by entry."""
     robot = _robot("panda")
-    T, raw = robot.fk(), _raw_product(robot)
+    T, raw = robot.fk(), robot.raw_fk()
     _same_function(T, raw, robot, points=2)
     assert sum(sp.count_ops(e) for e in T) < sum(sp.count_ops(e) for e in raw)
     for i in range(3):
