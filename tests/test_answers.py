@@ -110,7 +110,7 @@ def test_wrong_answers_have_a_real_counterexample(glass, wrong):
     ("c1 $ a2", 4, "unexpected character"),
     (r"\cos\theta_1 \foo{a_1}", 14, "command '\\foo' is not allowed"),
     (r"c_1 (a_1 + ", 10, "nothing on its right"),
-    (r"a_1^{x}", 4, "small integer"),
+    (r"a_1^{x} \cdot c_1", 5, "small integer"),
     ("import os", 1, "unknown name 'import'"),
 ])
 def test_nonsense_cannot_be_read(glass, text, column, words):
