@@ -18,7 +18,9 @@ from .answers import Notation, read_answer
 from .errors import ExpressionError, InvalidParameterError
 from .expressions import as_sympy, parse_expr
 
-__all__ = ["Verdict", "cannot_read", "check_expression", "check_reachable", "check_boundary_arc", "check_measure"]
+__all__ = ["Verdict", "cannot_read", "check_expression", "check_factors", "check_reachable", "check_boundary_arc",
+           "check_measure",
+           "assert_expression", "assert_factors", "assert_reachable", "assert_boundary_arc", "assert_measure"]
 
 
 @dataclass
@@ -162,6 +164,73 @@ def check_expression(student, derived, *, robot=None, angles: str = "radians", s
     return _scalar_verdict(s, d, samples=samples, seed=seed)
 
 
+def _read_list(student, notation, angles) -> list:
+    """A list of expressions: text split at top-level commas (``"s3, a2 c2 + a3 c23"``) or a sequence."""
+    if not isinstance(student, str):
+        return [_read_student(x, notation, angles) for x in student]
+    pieces, depth, start = [], 0, 0
+    for k, ch in enumerate(student + ","):
+        depth += ch in "([{"
+        depth -= ch in ")]}"
+        if ch == "," and depth == 0:
+            pieces.append(student[start:k])
+            start = k + 1
+    if all(not p.strip() for p in pieces):
+        raise ExpressionError("student answer: expected a list of factors separated by commas, got nothing",
+                              parameter="student answer")
+    return [_read_student(p, notation, angles) for p in pieces if p.strip()]
+
+
+def _proportional(g, f, *, seed: int = 0) -> bool:
+    """Is ``g`` a nonzero constant times ``f``?  The constant is guessed at a random point, then proved exact."""
+    symbols = sorted(f.free_symbols | g.free_symbols, key=str)
+    rng = np.random.default_rng(seed)
+    for _ in range(5):
+        point = {x: sp.Rational(int(rng.integers(-3000, 3000)), 1000) for x in symbols}
+        fv = sp.N(f.subs(point), 40)
+        if fv.is_number and abs(fv) > 1e-12:
+            ratio = sp.nsimplify(sp.N(g.subs(point), 40) / fv, tolerance=1e-25, rational=False)
+            return ratio != 0 and _scalar_verdict(g, ratio * f, samples=5, seed=seed).ok is True
+    return False
+
+
+def check_factors(student, derived, *, robot=None, angles: str = "radians", seed: int = 0) -> Verdict:
+    """Are the student's singular factors those derived, each up to a nonzero constant factor?
+
+    ``student`` is text (factors separated by commas, in any notation that
+    :func:`check_expression` reads) or a sequence; ``derived`` the list of
+    factors (e.g. ``robot.singular_factors()``).  Each derived factor must
+    match one of the student's (``g = k f`` for a constant ``k``, proved as
+    an exact identity) and each of the student's factors one derived.
+
+    Examples
+    --------
+    >>> t2, t3, a2, a3 = sp.symbols("theta2 theta3 a2 a3")
+    >>> derived = [sp.sin(t3), a2*sp.cos(t2) + a3*sp.cos(t2 + t3)]
+    >>> check_factors("s3, -(a2 c2 + a3 c23)", derived).ok
+    True
+    >>> v = check_factors("s3", derived)
+    >>> v.status, v.evidence["missing"]
+    ('wrong', ['a2*cos(theta2) + a3*cos(theta2 + theta3)'])
+    """
+    derived = [as_sympy(f, "derived factor") for f in derived]
+    symbols = set().union(*(f.free_symbols for f in derived)) if derived else set()
+    notation = Notation.from_robot(robot) if robot is not None else Notation.from_symbols(symbols)
+    try:
+        given = _read_list(student, notation, angles)
+    except ExpressionError as exc:
+        return cannot_read(exc)
+    matched = [[_proportional(g, f, seed=seed) for f in derived] for g in given]
+    missing = [str(f) for j, f in enumerate(derived) if not any(row[j] for row in matched)]
+    extra = [str(g) for g, row in zip(given, matched) if not any(row)]
+    if not missing and not extra:
+        return Verdict(True, f"the {len(derived)} factors match (each up to a constant, exact identities)",
+                       {"method": "exact identity"})
+    parts = ([f"missing {', '.join(missing)}"] if missing else []) + (
+        [f"not a singular factor: {', '.join(extra)}"] if extra else [])
+    return Verdict(False, "; ".join(parts), {"method": "factor match", "missing": missing, "extra": extra})
+
+
 def check_reachable(chain, point, *, max_boxes: int = 500_000, seed: int = 0) -> Verdict:
     """Can the planar ``chain`` reach ``point``?  A witness configuration, or an interval proof that it cannot."""
     from .boundary import prove_unreachable, witness_near
@@ -236,3 +305,68 @@ def check_measure(claimed: float, result, *, rel_tol: float = 0.0) -> Verdict:
         return Verdict(True, f"{claimed:g} lies in the {what} [{lo:.6g}, {hi:.6g}]", {"bracket": [lo, hi]})
     side = "below" if claimed < lo else "above"
     return Verdict(False, f"{claimed:g} is {side} the {what} [{lo:.6g}, {hi:.6g}]", {"bracket": [lo, hi]})
+
+
+# ------------------------------------------------------------------------------ assertions for autograders
+def _assert(verdict: Verdict) -> Verdict:
+    if verdict.ok is not True:
+        raise AssertionError(f"{verdict.status}: {verdict.message}")
+    return verdict
+
+
+def assert_expression(student, derived, **options) -> Verdict:
+    """:func:`check_expression` for an autograder cell: return the verdict if correct, else raise
+    :class:`AssertionError` whose message is the explanation (the counterexample, or what could not be read).
+
+    Examples
+    --------
+    >>> assert_expression("c1 c2 - s1 s2", "cos(t1 + t2)").status
+    'correct'
+    >>> assert_expression("c1 c2 + s1 s2", "cos(t1 + t2)")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    AssertionError: wrong: not equal: at t1 = ..., t2 = ... the answer is ... but the derived value is ...
+    """
+    return _assert(check_expression(student, derived, **options))
+
+
+def assert_factors(student, derived, **options) -> Verdict:
+    """:func:`check_factors` raising :class:`AssertionError` with the explanation unless correct."""
+    return _assert(check_factors(student, derived, **options))
+
+
+def assert_reachable(chain, point, claimed: bool = True, **options) -> Verdict:
+    """Assert the student's claim that ``point`` is (``claimed=True``) or is not reachable by ``chain``.
+
+    Passes only when the library proves the claim (a witness configuration,
+    or an interval proof of unreachability); raises :class:`AssertionError`
+    with the evidence otherwise, also when it cannot decide.
+
+    Examples
+    --------
+    >>> from workspace_sym.planar import PlanarChain
+    >>> arm = PlanarChain([1, 1], [-90, 0], [90, 90])
+    >>> assert_reachable(arm, (0, 2)).status
+    'correct'
+    >>> assert_reachable(arm, (0, 2), claimed=False)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    AssertionError: wrong: claimed unreachable, but it is reachable, e.g. with theta = ...
+    """
+    verdict = check_reachable(chain, point, **options)
+    if verdict.ok is None:
+        raise AssertionError(f"undecided: {verdict.message}")
+    word = "reachable" if claimed else "unreachable"
+    if verdict.ok is bool(claimed):
+        return Verdict(True, f"{word}: {verdict.message}", verdict.evidence)
+    raise AssertionError(f"wrong: claimed {word}, but it is {verdict.message}")
+
+
+def assert_boundary_arc(chain, center, radius, start_angle, end_angle, **options) -> Verdict:
+    """:func:`check_boundary_arc` raising :class:`AssertionError` with the explanation unless correct."""
+    return _assert(check_boundary_arc(chain, center, radius, start_angle, end_angle, **options))
+
+
+def assert_measure(claimed, result, **options) -> Verdict:
+    """:func:`check_measure` raising :class:`AssertionError` with the explanation unless correct."""
+    return _assert(check_measure(claimed, result, **options))
