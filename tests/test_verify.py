@@ -115,7 +115,7 @@ def test_assertions_for_autograders():
     outer = max(b.arcs, key=lambda a: a.radius)
     lo, hi = sorted((outer.start_angle, outer.end_angle))
     assert assert_boundary_arc(ARM, (0, 0), 0.44, lo, hi).ok is True
-    with pytest.raises(AssertionError, match="^wrong: the point at angle .* the workspace, not on its boundary"):
+    with pytest.raises(AssertionError, match=r"^wrong: the point at angle .* the workspace, not on its boundary"):
         assert_boundary_arc(ARM, (0, 0), 0.40, lo, hi)
     assert assert_measure(b.area, b).ok is True
     with pytest.raises(AssertionError, match="above the area"):
