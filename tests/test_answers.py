@@ -142,5 +142,7 @@ def test_degrees_stated():
     assert check_expression("cos(q1 + 90)", -sp.sin(t1), angles="degrees").ok is True
     assert check_expression("cos(q1 + pi/2)", -sp.sin(t1), angles="degrees").ok is True   # pi: radians
     assert check_expression("cos(q1 + 90)", -sp.sin(t1)).status == "wrong"               # 90 radians
+    assert check_expression(r"\cos\left(\theta_1 + \frac{\pi}{2}\right)", -sp.sin(t1)).ok is True
+    assert check_expression("cos(θ1 + π/2)", -sp.sin(t1)).ok is True
     with pytest.raises(WorkspaceError, match="angles must be one of"):
         read_answer("c1", Notation.from_symbols([t1]), angles="grads")

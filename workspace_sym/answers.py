@@ -280,7 +280,7 @@ class _LatexRewriter:
             raise self.error(column, f"command '\\{base}' is not allowed (allowed: Greek letters, \\pi, \\sin, "
                                      f"\\cos, \\tan, \\sqrt, \\frac, \\cdot, \\times, \\left, \\right, pmatrix)")
         if base == "pi" and backslash and not sub:
-            return r"\pi"
+            return self.name_constant("pi")   # the Lark grammar has no \pi
         plain = subscript_name(f"{base}_{{{sub}}}") if sub else base
         candidates = [plain] if not sub else [plain, f"{base}_{sub}"]
         for candidate in candidates:
