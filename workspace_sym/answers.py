@@ -34,7 +34,7 @@ import sympy as sp
 from .errors import ExpressionError, check_choice
 from .expressions import CONSTANTS, MAX_DEPTH, MAX_LENGTH, parse_math, subscript_name
 
-__all__ = ["Notation", "read_answer", "read_latex", "ANGLE_UNITS"]
+__all__ = ["Notation", "read_answer", "read_latex", "split_top_level", "ANGLE_UNITS"]
 
 #: How numbers inside sin, cos and tan are read.
 ANGLE_UNITS = ("radians", "degrees")
@@ -144,15 +144,19 @@ class Notation:
 
 
 # ------------------------------------------------------------------------------ plain text and matrices
-def _split_top(text: str, offset: int, parameter: str) -> list[tuple[str, int]]:
-    """Pieces of ``text`` between top-level commas, each with its column offset."""
+def split_top_level(text: str, offset: int = 0) -> list[tuple[str, int]]:
+    """Pieces of ``text`` between commas outside brackets, each with its column offset.
+
+    Examples
+    --------
+    >>> split_top_level("s3, atan2(y, x), [a, b]")
+    [('s3', 0), (' atan2(y, x)', 3), (' [a, b]', 16)]
+    """
     pieces, depth, start = [], 0, 0
     for k, ch in enumerate(text):
-        if ch in "([":
-            depth += 1
-        elif ch in ")]":
-            depth -= 1
-        elif ch == "," and depth == 0:
+        depth += ch in "([{"
+        depth -= ch in ")]}"
+        if ch == "," and depth == 0:
             pieces.append((text[start:k], offset + start))
             start = k + 1
     pieces.append((text[start:], offset + start))
@@ -164,13 +168,13 @@ def _plain_matrix(text: str, parameter: str, read) -> sp.Matrix:
     stripped = text.strip()
     lead = text.index("[")
     inner = stripped[1:-1]
-    pieces = _split_top(inner, lead + 1, parameter)
+    pieces = split_top_level(inner, lead + 1)
     nested = [p.strip().startswith("[") and p.strip().endswith("]") for p, _ in pieces]
     if all(nested):
         rows = []
         for piece, column in pieces:
             start = column + piece.index("[") + 1
-            rows.append([read(p, c) for p, c in _split_top(piece.strip()[1:-1], start, parameter)])
+            rows.append([read(p, c) for p, c in split_top_level(piece.strip()[1:-1], start)])
         if len({len(r) for r in rows}) != 1:
             raise ExpressionError(f"{parameter}: cannot read {_shown(text)}: rows of different lengths",
                                   parameter=parameter)
@@ -461,20 +465,18 @@ class _LatexRewriter:
         return rows
 
     def _cell(self) -> str:
-        out, depth = [], 0
-        while (tok := self.peek()) is not None:
-            if depth == 0 and tok[0] in ("colsep", "rowsep", "end"):
-                break
+        """One cell of a matrix: the tokens up to the next top-level ``&``, ``\\\\`` or ``\\end``, rewritten."""
+        start, depth = self.i, 0
+        while (tok := self.peek()) is not None and not (depth == 0 and tok[0] in ("colsep", "rowsep", "end")):
             depth += tok[0] in ("open", "lbrace")
             depth -= tok[0] in ("close", "rbrace")
-            self.take()
-            out.append(tok)
-        sub = _LatexRewriter.__new__(_LatexRewriter)
-        sub.__dict__.update(self.__dict__)
-        sub.tokens, sub.i = out, 0
-        text = sub.sequence()
-        self.power_product = sub.power_product
-        return text
+            self.i += 1
+        tokens, end = self.tokens, self.i
+        self.tokens, self.i = tokens[start:end], 0       # sequence() reads to the end of its tokens
+        try:
+            return self.sequence()
+        finally:
+            self.tokens, self.i = tokens, end
 
 
 _ALLOWED_FUNCTIONS = (sp.sin, sp.cos, sp.tan)

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from .answers import Notation, read_answer
+from .answers import Notation, read_answer, split_top_level
 from .errors import ExpressionError, InvalidParameterError
 from .expressions import as_sympy, parse_expr
 
@@ -168,13 +168,7 @@ def _read_list(student, notation, angles) -> list:
     """A list of expressions: text split at top-level commas (``"s3, a2 c2 + a3 c23"``) or a sequence."""
     if not isinstance(student, str):
         return [_read_student(x, notation, angles) for x in student]
-    pieces, depth, start = [], 0, 0
-    for k, ch in enumerate(student + ","):
-        depth += ch in "([{"
-        depth -= ch in ")]}"
-        if ch == "," and depth == 0:
-            pieces.append(student[start:k])
-            start = k + 1
+    pieces = [p for p, _ in split_top_level(student)]
     if all(not p.strip() for p in pieces):
         raise ExpressionError("student answer: expected a list of factors separated by commas, got nothing",
                               parameter="student answer")
