@@ -120,7 +120,8 @@ def test_nonsense_cannot_be_read(glass, text, column, words):
 
 
 def test_empty_and_huge_answers_cannot_be_read(glass):
-    for text in ("", "   ", r"10^{10^{10}}", r"\frac{1}{0}", "x" * 5000, r"\sqrt[3]{a_1}", "9^9^9^9"):
+    for text in ("", "   ", r"10^{10^{10}}", r"\frac{1}{0}", "x" * 5000, r"\sqrt[3]{a_1}", "9^9^9^9",
+                 "(c1 + s1 + c2 + s2 + a1)^1000", r"(c_1 + s_1 + c_2 + s_2)^{999}", "(c1 + s2)^40 (a1 + a2)^40"):
         assert check_expression(text, glass.position[0], robot=glass).status == "cannot read", text
 
 

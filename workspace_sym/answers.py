@@ -25,6 +25,7 @@ column) when the reader knows where the problem is.
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass, field
 from string import ascii_lowercase
@@ -34,7 +35,8 @@ import sympy as sp
 from .errors import ExpressionError, check_choice
 from .expressions import CONSTANTS, MAX_DEPTH, MAX_LENGTH, parse_math, subscript_name
 
-__all__ = ["Notation", "read_answer", "read_latex", "split_top_level", "ANGLE_UNITS"]
+__all__ = ["Notation", "read_answer", "read_latex", "split_top_level", "expansion_size", "ANGLE_UNITS",
+           "MAX_EXPANSION"]
 
 #: How numbers inside sin, cos and tan are read.
 ANGLE_UNITS = ("radians", "degrees")
@@ -561,6 +563,40 @@ def read_latex(text: str, notation: Notation, *, parameter: str = "answer", max_
 
 
 # ------------------------------------------------------------------------------ the entry point
+def expansion_size(expr, cap: int = 10**9) -> int:
+    """An upper estimate of the number of terms of ``expr`` once sines and cosines of sums and products are
+    expanded (what checking an answer does), stopped at ``cap``.
+
+    ``(c1 + s1 + c2 + s2)^1000`` is a short text whose expansion would not finish: its estimate is the cap.
+
+    Examples
+    --------
+    >>> t1, t2, a = sp.symbols("theta1 theta2 a")
+    >>> expansion_size(a * sp.cos(t1 + t2) + 1), expansion_size((sp.cos(t1) + sp.sin(t1) + a) ** 100, cap=10**6)
+    (3, 1000000)
+    """
+    def size(e) -> int:
+        if isinstance(e, sp.Add):
+            return min(cap, sum(size(a) for a in e.args))
+        if isinstance(e, sp.Mul):
+            out = 1
+            for a in e.args:
+                out = min(cap, out * size(a))
+            return out
+        if isinstance(e, sp.Pow) and e.exp.is_Integer and e.exp > 1 and e.base.free_symbols:
+            base = size(e.base)
+            return cap if base > 1 and int(e.exp) * math.log(base) > math.log(cap) else min(cap, base ** int(e.exp))
+        if isinstance(e, (*_ALLOWED_FUNCTIONS,)) and isinstance(e.args[0], sp.Add):
+            return min(cap, 2 ** min(60, len(e.args[0].args) - 1))
+        return 1
+    return size(expr)
+
+
+#: Largest :func:`expansion_size` of an answer that is checked (bigger ones are refused as too large).
+MAX_EXPANSION = 20_000
+
+
+
 def _degrees(expr):
     """Numbers added to an angle inside sin, cos, tan are degrees: ``cos(theta1 + 90)`` is ``cos(theta1 + pi/2)``."""
     def convert(f):
@@ -617,4 +653,8 @@ def read_answer(text, notation: Notation, *, angles: str = "radians", parameter:
                                   parameter=parameter)
     if angles == "degrees":
         result = result.applyfunc(_degrees) if isinstance(result, sp.MatrixBase) else _degrees(result)
+    entries = list(result) if isinstance(result, sp.MatrixBase) else [result]
+    if any(expansion_size(e, MAX_EXPANSION + 1) > MAX_EXPANSION for e in entries):
+        raise ExpressionError(f"{parameter}: cannot check {_shown(text)}: expanded it would have more than "
+                              f"{MAX_EXPANSION} terms", parameter=parameter)
     return result
