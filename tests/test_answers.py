@@ -147,3 +147,11 @@ def test_degrees_stated():
     assert check_expression("cos(θ1 + π/2)", -sp.sin(t1)).ok is True
     with pytest.raises(WorkspaceError, match="angles must be one of"):
         read_answer("c1", Notation.from_symbols([t1]), angles="grads")
+
+
+def test_issue_13_reproduction_without_robot(glass):
+    """The calls of issue 13, as written there (no robot= given): the shorthand is read from the symbols of the
+    derived result, and the paper's juxtaposed notation is accepted instead of raising."""
+    x = glass.position[0]
+    assert check_expression("c1*(a1 + a2*c2 + a3*c23 + d5*s234)", x).ok is True
+    assert check_expression("c1 (a1 + a2 c2 + a3 c23 + d5 s234)", x).ok is True
