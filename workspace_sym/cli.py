@@ -432,6 +432,39 @@ def cmd_report(args) -> int:
     return 0
 
 
+def cmd_grade(args) -> int:
+    """Grade a CSV of students' answers against a key; write the graded CSV and the report."""
+    from .grading import AnswerKey, grade_answers, read_answers_csv, write_grading
+
+    key = AnswerKey.from_file(args.key)
+    graded = grade_answers(key, read_answers_csv(args.answers))
+    paths = write_grading(key, graded, args.out)
+    total = sum(q.points for q in key.questions)
+    scores = {}
+    for g in graded:
+        scores[g.student] = scores.get(g.student, 0.0) + g.points
+    if args.json:
+        _emit_json({"students": scores, "total": total, "answers": len(graded),
+                    "files": {k: str(v) for k, v in paths.items()}})
+    else:
+        for student, score in scores.items():
+            print(f"{student}: {score:g} / {total:g}")
+        print(f"wrote {paths['csv']} and {paths['html']}")
+    return 0
+
+
+def cmd_exercises(args) -> int:
+    """Write an exercise sheet, its answer key and the machine-readable key."""
+    from .exercises import write_exercises
+
+    paths = write_exercises(args.out, seed=args.seed, count=args.count, max_joints=args.max_joints)
+    if args.json:
+        _emit_json({"seed": args.seed, "count": args.count, "files": {k: str(v) for k, v in paths.items()}})
+    else:
+        print(f"wrote {', '.join(sorted(paths))} to {args.out}")
+    return 0
+
+
 # ------------------------------------------------------------------------------ parser
 # Options shared by several subcommands, declared once as parent parsers.
 _DH_HELP = "DH table as JSON (format: see README, 'A DH file')"
@@ -550,6 +583,21 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True, help="output directory")
     p.set_defaults(func=cmd_report)
 
+    p = sub.add_parser("grade", help="grade students' answers (CSV: student, question, answer) against a key",
+                       parents=[json_])
+    p.add_argument("key", help="answer key (JSON, as written by 'workspace-sym exercises')")
+    p.add_argument("answers", help="CSV with columns student, question, answer")
+    p.add_argument("--out", required=True, help="output directory (graded.csv, grades.html, grades.md)")
+    p.set_defaults(func=cmd_grade)
+
+    p = sub.add_parser("exercises", help="exercise sheet with a certified answer key (Markdown, HTML, LaTeX, JSON)",
+                       parents=[json_])
+    p.add_argument("--seed", type=int, default=0, help="random seed: the same seed gives the same sheet")
+    p.add_argument("--count", type=int, default=4, help="number of problems (robots and chains alternate)")
+    p.add_argument("--max-joints", type=int, default=6, help="largest DH robot drawn, 3 to 6 joints (default 6)")
+    p.add_argument("--out", required=True, help="output directory")
+    p.set_defaults(func=cmd_exercises)
+
     p = sub.add_parser("demo", help="the main job: write the demo report and print its path")
     p.add_argument("--out", default="demo-report", help="output directory (default: demo-report)")
     p.set_defaults(func=cmd_demo)
@@ -563,6 +611,7 @@ _FLAGS = {
     "backend": "--backend", "digits": "--digits", "inner_depth": "--inner-depth",
     "l0": "--l0", "lmin": "--lmin", "lmax": "--lmax",
     "eps": "--eps", "sigma": "--sigma", "alpha": "--alpha",
+    "seed": "--seed", "count": "--count", "max_joints": "--max-joints",
 }
 
 
