@@ -188,7 +188,7 @@ class Boundary:
         return rows
 
     def to_dict(self, *, exact: bool = False) -> dict:
-        """The JSON object of ``workspace-sym boundary`` (INTERFACE.md)."""
+        """The JSON object of ``workspace-sym boundary`` (docs/cli.md)."""
         arcs = []
         ex = self.exact if exact else None
         reach = self.chain.reach
