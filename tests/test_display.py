@@ -107,6 +107,17 @@ def test_textbook_of_jacobian_factors_and_charpoly():
     assert sp.simplify(plain(shown) - poly.as_expr()) == 0
 
 
+def test_textbook_charpoly_of_a_3r_arm_prints():
+    """Regression: powers of shorthand functions beside powers of symbols (l3**2*s3**2) once broke SymPy's
+    ordering of factors (a tuple compared with a str)."""
+    arm = ws.robots.build("planar-3r")
+    poly = arm.characteristic_polynomial("position")
+    shown = arm.textbook(poly)
+    text = sp.latex(shown)
+    assert "l_{3}^{2} s_{3}^{2}" in text and "c_{23}" in text
+    assert sp.expand(plain(shown) - poly.as_expr()) == 0                  # the same polynomial, exactly
+
+
 def test_textbook_form_leaves_other_angles_alone():
     t1, t2, u = sp.symbols("theta1 theta2 u")
     e = textbook_form(sp.cos(2 * t1) + sp.sin(u) + sp.cos(t1 - t2), (t1, t2))

@@ -57,12 +57,9 @@ class _Shorthand:
 
     @classmethod
     def class_key(cls):
-        return sp.Symbol.class_key()
-
-    def sort_key(self, order=None):
-        # ordered as the symbol c23 would be, so products read as in a textbook: c1*(a1 + a2*c2), c1*s23
-        name = f"{self.letter}{self._short() or self.args[0]}"
-        return self.class_key(), (1, (name,)), sp.S.One.sort_key(), sp.S.One
+        # after symbols and numbers (class 2, 0), before products and sums (class 3): products read as in a
+        # textbook, c1*(a1 + a2*c2), and c before s, c1*s23
+        return 2, 1, cls.letter
 
     def _short(self):
         return _label(self.args[0], self.index_of)
