@@ -132,6 +132,15 @@ def test_group_terms_is_an_identity_and_never_longer(terms):
     assert sp.count_ops(grouped) <= sp.count_ops(sp.factor_terms(sp.expand(expr)))
 
 
+def test_constant_with_square_roots_has_no_factor():
+    """A constant such as sqrt(6) - sqrt(2) (it reached the factoriser through a drawn DH table) has no factor;
+    SymPy cannot make a polynomial of it over QQ(sqrt 2, sqrt 3)."""
+    from workspace_sym.symbolic import _factor_list
+
+    assert _factor_list(sp.sqrt(6) - sp.sqrt(2), (sp.sqrt(2), sp.sqrt(3))) == []
+    assert factor_trig(sp.sqrt(6) - sp.sqrt(2)) == []
+
+
 def test_large_factorisation_with_square_roots_keeps_an_exact_product():
     """Above EXTENSION_FACTOR_TERMS the roots are symbols while factoring: the factors' product is still the
     polynomial (exact identity), and a planted factor is found when no product of roots was reduced

@@ -311,6 +311,8 @@ def _factor_list(poly_expr: sp.Expr, extension) -> list:
     each factor still divides the polynomial once the roots are put back, it is
     only possibly coarser than over the field.
     """
+    if not poly_expr.free_symbols:
+        return []   # a number, sqrt(6) - sqrt(2) included: no factor (and no polynomial to build)
     if not extension:
         return sp.factor_list(poly_expr)[1]
     if len(sp.Add.make_args(sp.expand(poly_expr))) <= EXTENSION_FACTOR_TERMS:
