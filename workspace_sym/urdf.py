@@ -112,18 +112,20 @@ def _load(path: Path):
     errors = _Collect()
     logger.addHandler(errors)
     propagate, logger.propagate = logger.propagate, False
+    model, failure = None, None
     try:
         model = yourdfpy.URDF.load(str(path), build_scene_graph=False, build_collision_scene_graph=False,
                                    load_meshes=False, load_collision_meshes=False)
     except Exception as exc:  # broad on purpose: lxml, KeyError on a missing attribute, float('abc'), ...
-        reason = " ".join(str(exc).split())[:120] or type(exc).__name__
-        raise URDFError(f"--urdf: cannot read {str(path)!r} as URDF ({reason})", parameter="urdf") from None
+        failure = " ".join(str(exc).split())[:120] or type(exc).__name__
     finally:
         logger.removeHandler(errors)
         logger.propagate = propagate
-    if errors.messages:
+    if errors.messages:   # the XML itself is broken: say so rather than what the recovery tripped on
         raise URDFError(f"--urdf: {str(path)!r} is not well-formed XML ({errors.messages[0][:120]})",
                         parameter="urdf")
+    if failure is not None:
+        raise URDFError(f"--urdf: cannot read {str(path)!r} as URDF ({failure})", parameter="urdf")
     return model
 
 
