@@ -54,7 +54,7 @@ def test_fk_equals_the_urdf_library(name):
     reference = _library_fk(path, tip or "tool0", qs)
     # nothing snapped (tol = 0: only angles that are exactly 0 or a multiple of pi/360 as floats): the DH
     # extraction alone, to 1e-12 (reference: yourdfpy)
-    as_written = DHRobot.from_urdf(path, tip_link=tip, tol=0.0)
+    as_written = DHRobot.from_urdf(path, tip_link=tip, tol=0.0) if SNAP_GAP[name] else robot   # same when no snap
     assert np.abs(as_written.fk_numeric(qs) - reference).max() < 1e-12
     # exact (default): off by the snapped amount only, times a reach of about 3 m
     assert np.abs(robot.fk_numeric(qs) - reference).max() < 1e-12 + 4 * SNAP_GAP[name]
@@ -291,3 +291,37 @@ def test_cli_urdf_and_float_dh(tmp_path, capsys):
     assert json.loads(out)["position"] == [sp.sstr(e) for e in DHRobot.from_dict(_puma(False)).position]
     assert main(["fk", "--dh", str(dh), "--tip", "x"]) == 2
     assert main(["fk", "puma560", "--urdf", str(path)]) == 2
+
+
+SKEW = """<?xml version="1.0"?>
+<robot name="skew">
+  <link name="base"/><link name="a"/><link name="b"/><link name="c"/><link name="d"/><link name="tip"/>
+  <joint name="slide" type="prismatic"><parent link="base"/><child link="a"/>
+    <origin xyz="0.1 -0.2 0.3" rpy="0.3 0 0.7853981633974483"/><axis xyz="0 0.6 0.8"/>
+    <limit lower="-0.25" upper="0.5" effort="1" velocity="1"/></joint>
+  <joint name="spin" type="continuous"><parent link="a"/><child link="b"/>
+    <origin xyz="0.05 0.4 0" rpy="0 0.2 0"/><axis xyz="1 1 0"/></joint>
+  <joint name="bolt" type="fixed"><parent link="b"/><child link="c"/>
+    <origin xyz="0 0 0.12" rpy="1.5707963267948966 0 0"/></joint>
+  <joint name="swing" type="revolute"><parent link="c"/><child link="d"/>
+    <origin xyz="0.3 0 0" rpy="0 0 0"/><axis xyz="0 0 -1"/>
+    <limit lower="-1.5" upper="2" effort="1" velocity="1"/></joint>
+  <joint name="flange" type="fixed"><parent link="d"/><child link="tip"/>
+    <origin xyz="0.07 0.01 0" rpy="0 0.5 0"/></joint>
+</robot>"""
+
+
+@pytest.mark.parametrize("exact", [True, False])
+def test_skew_prismatic_continuous_chain_equals_the_library(tmp_path, exact):
+    """Skew axes, a tilted non-unit-looking axis, a prismatic and a continuous joint, fixed joints between:
+    the DH table with base and tool reproduces yourdfpy's FK (floats kept unchopped with exact=False)."""
+    path = tmp_path / "skew.urdf"
+    path.write_text(SKEW)
+    robot = DHRobot.from_urdf(path, exact=exact, tol=1e-9 if exact else 0.0)
+    assert [j.kind for j in robot.joints] == ["P", "R", "R"] and robot.q == sp.symbols("d1 theta2 theta3")
+    assert robot.joints[1].limits is None                                  # continuous
+    assert robot.joints[0].limits == ((sp.Rational(-1, 4), sp.Rational(1, 2)) if exact else
+                                      (sp.Float(-0.25), sp.Float(0.5)))
+    qs = np.random.default_rng(11).uniform(-2.0, 2.0, size=(15, 3))
+    reference = _library_fk(path, "tip", qs)
+    assert np.abs(robot.fk_numeric(qs) - reference).max() < 1e-12

@@ -42,7 +42,7 @@ import sympy as sp
 from .errors import URDFError
 from .expressions import check_joint_limits
 from .kinematics import DHJoint, DHRobot
-from .snap import DEFAULT_TOL, Snapper
+from .snap import DEFAULT_TOL, Snapper, chop
 
 __all__ = ["read_urdf", "MOVING", "UNSUPPORTED"]
 
@@ -50,6 +50,7 @@ __all__ = ["read_urdf", "MOVING", "UNSUPPORTED"]
 MOVING = ("revolute", "continuous", "prismatic")
 #: Joint types refused on the chain (several degrees of freedom).
 UNSUPPORTED = ("floating", "planar")
+_DUST = 1e-14
 
 
 def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None, exact: bool = True,
@@ -248,10 +249,12 @@ def _axis(joint, snapper: Snapper) -> tuple[sp.Matrix, sp.Expr]:
 
 
 def _clean(e):
-    """Exact constants in their simplest radical form; floats as they are."""
+    """Exact constants in their simplest radical form; a constant holding a float evaluated to one float."""
     e = sp.sympify(e)
-    if e.is_Rational or e.has(sp.Float) or not e.is_number:
+    if e.is_Rational or not e.is_number:
         return e
+    if e.has(sp.Float):   # exactness is lost already: one float, not a tree of sqrt(2) times floats
+        return e.evalf(17)
     return sp.radsimp(sp.simplify(e))
 
 
@@ -293,7 +296,8 @@ def _dh_robot(name, chain, snapper: Snapper, base_link, tip_link, tol) -> DHRobo
         names.append(f"{q} = {j.name}")
     base = frames[0]
     tool = _rigid_inverse(frames[-1]) * T_tip
-    base, tool = (snapper.chop(M.applyfunc(_clean)) for M in (base, tool))
+    # Floats (angles that did not snap) leave rounding dust of 1e-17 in exact zeros: dropped at 1e-14.
+    base, tool = (snapper.chop(chop(M.applyfunc(_clean), _DUST)) for M in (base, tool))
     if base == sp.eye(4):
         notes.insert(0, f"DH table (standard) from {base_link!r}: frame 0 is the base link's frame")
     else:
