@@ -80,6 +80,25 @@ def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None
         Unreadable file, xacro, unknown or unconnected links, a branching tree
         without ``tip_link``, a mimic, floating or planar joint on the chain, a
         revolute or prismatic joint without ``<limit>``, a chain without joints.
+    Examples
+    --------
+    A planar 2R arm (links 0.4 and 0.3), its limits written as floats:
+
+    >>> import pathlib, tempfile
+    >>> joint = ('<joint name="{0}" type="revolute"><parent link="{1}"/><child link="{2}"/>'
+    ...          '<origin xyz="{3} 0 0"/><axis xyz="0 0 1"/>'
+    ...          '<limit lower="-2.6179938779914944" upper="2.6179938779914944"/></joint>')
+    >>> text = ('<robot name="arm"><link name="base"/><link name="upper"/><link name="fore"/><link name="tip"/>'
+    ...         + joint.format("shoulder", "base", "upper", 0) + joint.format("elbow", "upper", "fore", 0.4)
+    ...         + '<joint name="flange" type="fixed"><parent link="fore"/><child link="tip"/>'
+    ...           '<origin xyz="0.3 0 0"/></joint></robot>')
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "arm.urdf"
+    >>> _ = path.write_text(text)
+    >>> robot = read_urdf(path)
+    >>> robot.joints[0]
+    DHJoint(R: theta=theta1, d=0, a=2/5, alpha=0, limits=[-5*pi/6, 5*pi/6])
+    >>> robot.to_str(robot.position[0])
+    '2*c1/5 + 3*c12/10'
     """
     path = Path(path)
     model = _load(path)
