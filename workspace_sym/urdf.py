@@ -109,7 +109,7 @@ def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None
     tip_link = _tip(links, joints, by_child, base_link, tip_link, path)
     chain = _path(by_child, base_link, tip_link, path)
     snapper = Snapper(exact=exact, tol=tol)
-    return _dh_robot(model.robot.name or path.stem, chain, snapper, base_link, tip_link, tol)
+    return _dh_robot(model.robot.name or path.stem, chain, snapper, base_link, tip_link)
 
 
 # ---------------------------------------------------------------------------- reading the file
@@ -285,7 +285,7 @@ def _is_zero(e, tol: float) -> bool:
 
 
 # ---------------------------------------------------------------------------- DH extraction
-def _dh_robot(name, chain, snapper: Snapper, base_link, tip_link, tol) -> DHRobot:
+def _dh_robot(name, chain, snapper: Snapper, base_link, tip_link) -> DHRobot:
     lines, pending, notes = [], sp.eye(4), []
     moving = []
     for j in chain:
@@ -296,7 +296,8 @@ def _dh_robot(name, chain, snapper: Snapper, base_link, tip_link, tol) -> DHRobo
         lines.append((pending[:3, 3].applyfunc(_clean), (pending[:3, :3] * u).applyfunc(_clean)))
         moving.append((j, scale))
     T_tip = pending   # the tip link at q = 0, in the base link's frame
-    frames, rows = _dh_frames(lines, tol, notes, [j.name for j, _ in moving])
+    # Float axes 1e-17 from parallel are parallel: their common normal would be 1e17 away.
+    frames, rows = _dh_frames(lines, max(snapper.tol, 1e-12), notes, [j.name for j, _ in moving])
     joints, names = [], []
     for k, ((j, scale), (theta0, d0, a, alpha)) in enumerate(zip(moving, rows), start=1):
         if j.type == "prismatic":
