@@ -6,6 +6,7 @@ import math
 import re
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 import sympy as sp
@@ -255,7 +256,8 @@ def test_every_option_of_every_subcommand_has_help(capsys, monkeypatch):
         assert "options:" in page and _undocumented(page) == [], command
         assert "INTERFACE" not in page, command                      # help points inside the repository
         if "--dh" in page:
-            assert "see README" in page, command
+            assert "docs/cli.md" in page, command
+    assert (Path(__file__).parents[1] / "docs" / "cli.md").is_file()     # the page the help texts name exists
 
 
 def test_library_error_line_names_the_option(capsys):
@@ -318,3 +320,89 @@ def test_jacobian_no_singular_skips_the_factors(capsys, monkeypatch):
     assert data["singular"] is None and data["singularities"] is None
     code, out, _ = run(capsys, "jacobian", "planar-3r", "--no-singular")
     assert code == 0 and "singular where" not in out
+
+
+# ------------------------------------------------------------------ issue 12: numbers, lists, files, bad options
+_NUMBER = re.compile(r"-?\d+(?:\.\d+)?(?:e[-+]?\d+)?")
+
+
+def negative_zeros_in_text(text: str) -> list[str]:
+    """Every number printed with a minus sign whose value is zero ('-0.0000', '-0', '-0.0e+00')."""
+    return [m.group() for m in _NUMBER.finditer(text) if m.group().startswith("-") and float(m.group()) == 0]
+
+
+def negative_zeros_in_json(obj) -> int:
+    if isinstance(obj, float):
+        return int(obj == 0 and math.copysign(1.0, obj) < 0)
+    if isinstance(obj, dict):
+        return sum(negative_zeros_in_json(v) for v in obj.values())
+    if isinstance(obj, list):
+        return sum(negative_zeros_in_json(v) for v in obj)
+    return 0
+
+
+def test_negative_zero_detectors_find_what_they_look_for():
+    assert negative_zeros_in_text("[-120.0000, -0.0000] x -0 y 3-0.5 -1e-3 -0.0e+00") == ["-0.0000", "-0", "-0.0e+00"]
+    assert negative_zeros_in_json({"a": [-0.0, 0.0, -1.0], "b": {"c": -0.0}}) == 2
+
+
+CHAINS = {"table1-iii": ["--lengths", "0.186,0.146,0.108", "--lower", "-60,0,-10", "--upper", "120,130,25"],
+          "two-joint": ["--lengths", "0.3,0.15", "--lower", "-120,-30", "--upper", "0,30"]}
+
+
+@pytest.mark.parametrize("chain", list(CHAINS), ids=list(CHAINS))
+def test_boundary_prints_no_negative_zero(capsys, chain):
+    """Before issue 12 the two-joint chain printed [-120.0000, -0.0000] and its JSON held -0.0 centres and
+    -2.5e-14 degrees; the Table 1 iii JSON held 7.95e-15 and -59.99999999999999 degrees."""
+    code, out, _ = run(capsys, "boundary", *CHAINS[chain])
+    assert code == 0 and negative_zeros_in_text(out) == []
+    code, out, _ = run(capsys, "boundary", *CHAINS[chain], "--json", "--exact")
+    data = json.loads(out)
+    assert code == 0 and negative_zeros_in_json(data) == 0
+    degrees = [v for arc in data["arcs"] for s in arc["theta_sets"] for v in s]
+    # Limits and alignment angles of these chains are whole degrees but for the -55.1005 of Table 2
+    whole = [v for v in degrees if abs(v - round(v)) < 1e-6]
+    assert all(v == round(v) for v in whole) and len(whole) >= len(degrees) - 1
+
+
+def test_demo_and_chain_report_print_no_negative_zero(capsys, tmp_path):
+    code, out, err = run(capsys, "demo", "--out", str(tmp_path / "demo"))
+    assert code == 0 and negative_zeros_in_text(out) == []
+    assert f"wrote {tmp_path / 'demo' / 'report.md'}" in err
+    code, out, err = run(capsys, "report", "chain", *CHAINS["two-joint"], "--out", str(tmp_path / "p2"))
+    assert code == 0 and negative_zeros_in_text(out) == [] and "report.md" in err
+
+
+def test_negative_lists_after_lower_and_upper(capsys):
+    """``--lower -60,0,-10`` (refused by argparse before) means what ``--lower=-60,0,-10`` means."""
+    code, spaced, err = run(capsys, "boundary", *CHAINS["table1-iii"], "--json")
+    assert code == 0 and err == ""
+    argv = ["--lengths", "0.186,0.146,0.108", "--lower=-60,0,-10", "--upper=120,130,25", "--json"]
+    code, joined, _ = run(capsys, "boundary", *argv)
+    strip = re.compile(r'"seconds": [0-9.e-]+')
+    assert code == 0 and strip.sub("", spaced) == strip.sub("", joined)
+    code, _, _ = run(capsys, "boundary", "--lengths", "0.3", "--lower", "-pi/2", "--upper", "0", "--radians")
+    assert code == 0
+
+
+def test_files_written_are_named_on_stderr(capsys, tmp_path):
+    plot = tmp_path / "b.png"
+    code, out, err = run(capsys, "boundary", *CHAINS["two-joint"], "--json", "--plot", str(plot),
+                         "--report", str(tmp_path / "rep"))
+    json.loads(out)                                   # stdout still holds only the JSON object
+    assert code == 0 and plot.is_file()
+    assert f"workspace-sym: wrote {plot}\n" in err
+    assert f"wrote {tmp_path / 'rep' / 'report.md'}, " in err and "report.html" in err and "report.tex" in err
+
+
+@pytest.mark.parametrize("argv, needle", [
+    (["pave", "rpr2", "--delta", "0.5", "--time-limit", "-3"], "--time-limit: time_limit must be a positive"),
+    (["pave", "rpr2", "--delta", "0.5", "--backend", "mpmath", "--digits", "2"], "--digits: digits"),
+    (["reach", "planar-2r", "--delta", "0.5", "--time-limit", "-3"], "--time-limit"),
+    (["reach", "planar-2r", "--delta", "0.5", "--inner-depth", "-1"], "--inner-depth: inner_depth must be"),
+    (["dextrous", "orthoglide", "--eps", "0.5", "--time-limit", "-3"], "--time-limit"),
+], ids=["pave-time", "pave-digits", "reach-time", "reach-depth", "dextrous-time"])
+def test_nonsensical_options_exit_2_with_one_line(capsys, tmp_path, argv, needle):
+    plot = tmp_path / "never.png"
+    code, out, err = run(capsys, *argv, "--plot", str(plot))
+    assert code == 2 and out == "" and err.count("\n") == 1 and needle in err and not plot.exists()

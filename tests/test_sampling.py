@@ -37,21 +37,38 @@ def test_bad_sampling_input():
         sweep_joints(robot, [3])
 
 
-def test_plots_return_artists(glass):
+def test_plots_return_the_figure(glass):
+    """Every plot returns its Figure; the artists drawn are on its axes, with units on the axes."""
+    from matplotlib.figure import Figure
+
     from workspace_sym.plotting import plot_reach, plot_sweeps, scatter_workspace_3d
 
     pts = reach_points(glass, sample_joint_box(glass, 500, seed=3))
-    artist = scatter_workspace_3d(pts)
-    assert len(artist.get_offsets()) == 500
-    lines = plot_sweeps(glass, [1, 2])
+    fig = scatter_workspace_3d(pts)
+    assert isinstance(fig, Figure) and len(fig.axes[0].collections[0].get_offsets()) == 500
+    assert fig.axes[0].get_xlabel() == "x (m)"
+    fig = plot_sweeps(glass, [1, 2])
+    lines = fig.axes[0].get_lines()
     assert len(lines) == 2 and len(lines[0].get_data_3d()[0]) == 200
-    assert len(plot_reach(pts).get_offsets()) == 500
+    legend = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    assert legend == ["θ1 sweeps its range", "θ2 sweeps its range"]
+    fig = plot_reach(pts)
+    assert isinstance(fig, Figure) and len(fig.axes[0].collections[0].get_offsets()) == 500
 
 
-def test_paving_plot_returns_patches():
+def test_paving_plot_draws_every_box_with_a_legend():
+    from matplotlib.figure import Figure
+
     from workspace_sym.plotting import plot_paving
 
     p = robots.build("rpr2").pave(delta=0.5)
-    artists = plot_paving(p, exact_boundary=lambda a, b: np.maximum(a**2 + b**2 - 144, 64 - a**2 - b**2))
-    assert len(artists["inner"].get_paths()) == len(p.inner)
-    assert len(artists["boundary"].get_paths()) == len(p.boundary)
+    fig = plot_paving(p, exact_boundary=lambda a, b: np.maximum(a**2 + b**2 - 144, 64 - a**2 - b**2), units="m")
+    assert isinstance(fig, Figure)
+    ax = fig.axes[0]
+    drawn = {c.get_label(): c for c in ax.collections}
+    assert len(drawn["inner"].get_paths()) == len(p.inner)
+    assert len(drawn["boundary"].get_paths()) == len(p.boundary)
+    legend = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert legend == [f"inner (proved inside): {len(p.inner)}", f"boundary (undecided, size ≤ δ): {len(p.boundary)}",
+                      "exact boundary"]
+    assert ax.get_xlabel() == "x1 (m)" and ax.get_ylabel() == "x2 (m)"

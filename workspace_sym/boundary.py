@@ -42,15 +42,17 @@ from .arrangement import Arrangement, arc_area_term, arc_distance, in_span, pari
 from .exact import closed_forms, exact_area
 from .interval import arith
 from .interval.search import prove_all
+from .numbers import clean, fmt
 from .planar import Arc
+from .progress import stage_bar
 
-__all__ = ["Boundary", "BoundaryArc", "Loop", "build_boundary", "prove_unreachable",
+__all__ = ["Boundary", "BoundaryArc", "Loop", "build_boundary", "format_set", "prove_unreachable",
            "unreachable_via_subchain", "witness_near"]
 
 _TWO_PI = 2 * math.pi
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, repr=False)     # the one-line repr of Arc
 class BoundaryArc(Arc):
     """One arc of a boundary loop: an :class:`~workspace_sym.planar.Arc` in the loop's direction of travel.
 
@@ -76,6 +78,18 @@ class BoundaryArc(Arc):
 
     def area_term(self) -> float:
         return float(arc_area_term(*self.center, self.radius, self.start_angle, self.end_angle))
+
+
+def format_set(values, digits: int = 4) -> str:
+    """A joint's set of a boundary arc, in degrees: ``{-60.0000}`` (held) or ``[-60.0000, -55.1005]`` (free)."""
+    if len(values) == 1:
+        return f"{{{fmt(values[0], digits)}}}"
+    return f"[{fmt(values[0], digits)}, {fmt(values[1], digits)}]"
+
+
+def _degrees(radians: float) -> float:
+    """An angle of the float geometry in degrees, without float noise (-60.0, not -59.99999999999999)."""
+    return clean(math.degrees(radians), scale=360.0)
 
 
 @dataclass(frozen=True)
@@ -169,19 +183,21 @@ class Boundary:
                 if ex is not None:
                     sets.append(tuple(ex[k]["theta_sets"][j]))
                 else:
-                    sets.append(tuple(math.degrees(v) for v in s))
+                    sets.append(tuple(_degrees(v) for v in s))
             rows.append({"type": a.type, "free_joint": a.free_joint, "theta_sets": sets})
         return rows
 
     def to_dict(self, *, exact: bool = False) -> dict:
-        """The JSON object of ``workspace-sym boundary`` (INTERFACE.md)."""
+        """The JSON object of ``workspace-sym boundary`` (docs/cli.md)."""
         arcs = []
         ex = self.exact if exact else None
+        reach = self.chain.reach
         for k, a in enumerate(self.arcs):
             d = {"type": a.type, "free_joint": a.free_joint,
-                 "theta_sets": [[math.degrees(v) for v in s] for s in a.theta_sets],
-                 "center": [a.center[0], a.center[1]], "radius": a.radius,
-                 "start_angle": a.start_angle, "end_angle": a.end_angle, "side": a.side}
+                 "theta_sets": [[_degrees(v) for v in s] for s in a.theta_sets],
+                 "center": [clean(a.center[0], scale=reach), clean(a.center[1], scale=reach)],
+                 "radius": clean(a.radius, scale=reach), "start_angle": clean(a.start_angle, scale=_TWO_PI),
+                 "end_angle": clean(a.end_angle, scale=_TWO_PI), "side": a.side}
             if ex is not None:
                 e = ex[k]
                 d["exact"] = {"theta_sets": [[str(v) for v in s] for s in e["theta_sets"]],
@@ -194,6 +210,28 @@ class Boundary:
         if ex is not None:
             out["area_exact"] = str(exact_area(self, ex))
         return out
+
+    def __repr__(self):
+        n = len(self.loops)
+        return f"Boundary({len(self.arcs)} arcs, {n} loop{'' if n == 1 else 's'}, area {fmt(self.area, 6, 'g')})"
+
+    def _repr_html_(self) -> str:
+        """Counts per step, loops, area, the Table-2-style table and the picture (Jupyter)."""
+        from .display import figure_html, html_table
+        from .plotting import plot_boundary_loops
+
+        c = self.counts
+        lines = [f"{c['step0']} → {c['step1']} → {c['step2']} arcs after Steps 0 / 1 / 2, {self.seconds:.2f} s",
+                 f"area {fmt(self.area, 10, 'g')}, perimeter {fmt(self.perimeter, 10, 'g')}"]
+        lines += [f"{loop.kind} loop: arcs {', '.join(str(k + 1) for k in loop.arcs)}" for loop in self.loops]
+        if self.undecided_area:
+            lines.append(f"undecided faces of area {fmt(self.undecided_area, 3, 'g')}: the area is a lower bound")
+        header = ["#", "type"] + [f"θ{j + 1} (deg)" for j in range(self.chain.p)]
+        rows = [[k, row["type"], *(format_set(v) for v in row["theta_sets"])]
+                for k, row in enumerate(self.table(), start=1)]
+        picture = figure_html(plot_boundary_loops(self), alt="boundary loops") if self.arcs else ""
+        return ("<p>" + "<br/>".join(lines) + "</p>" + html_table(header, rows, caption="Boundary arcs (Table 2 form)")
+                + picture)
 
     def polygon(self, *, step: float = 0.01):
         """The loops as polylines (list of (n, 2) arrays) for drawing and polygon checks."""
@@ -334,7 +372,7 @@ def unreachable_via_subchain(chain, q, *, margin: float = 1e-9):
     l1 = chain.lengths[0]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        w = sub.boundary()
+        w = sub.boundary(progress=False)
     if w.undecided_area > 0 or not w.arcs:
         return None, None
     theta1 = np.linspace(chain.lower[0], chain.upper[0], 257)
@@ -515,13 +553,25 @@ def _classify(chain, arr: Arrangement, kept, samples, seed, max_boxes, slivers=(
     return status, evidence, notes
 
 
-def build_boundary(chain, *, samples: int = 4096, seed: int = 0, max_boxes: int = 4_000) -> Boundary:
+def build_boundary(chain, *, samples: int = 4096, seed: int = 0, max_boxes: int = 4_000,
+                   progress: bool | None = None) -> Boundary:
     """Step 2 for ``chain`` (see :meth:`workspace_sym.planar.PlanarChain.boundary`)."""
     t0 = time.perf_counter()
+    say = stage_bar(progress, "boundary", 4)
+    say("steps 0 and 1")
     step0 = len(chain.step0["free"])
     kept = chain.step1
     rows = [(*a.center, a.radius, a.start_angle, a.end_angle - a.start_angle) for a in kept]
+    say(f"arrangement of {len(kept)} arcs")
     arr = Arrangement(rows, scale=chain.reach)
+    try:
+        return _boundary_of(chain, kept, arr, step0, t0, say, samples=samples, seed=seed, max_boxes=max_boxes)
+    finally:
+        say(None)
+
+
+def _boundary_of(chain, kept, arr, step0, t0, say, *, samples, seed, max_boxes) -> Boundary:
+    """Classification of the faces of ``arr`` and the walk along the boundary (:func:`build_boundary`)."""
     if chain.p == 1:
         a = kept[0] if kept else None
         arcs = [] if a is None else [BoundaryArc(a.type, 1, a.theta_sets, a.center, a.radius, a.start_angle,
@@ -529,8 +579,10 @@ def build_boundary(chain, *, samples: int = 4096, seed: int = 0, max_boxes: int 
         loops = [Loop("outer", (0,), 0.0)] if arcs else []
         return Boundary(chain, arcs, loops, {"step0": step0, "step1": len(kept), "step2": len(arcs)}, {}, {}, 0.0,
                         time.perf_counter() - t0, arr)
+    say(f"classifying {len(arr.face_cycles)} faces")
     slivers = _slivers(chain, arr)
     status, evidence, notes = _classify(chain, arr, kept, samples, seed, max_boxes, slivers)
+    say("walking the loops")
     merged_slivers = _merge_slivers(arr, status, evidence, slivers)
     inside = np.array([s == "inside" for s in status] + [False])      # index -1: unbounded face
     left_in = inside[arr.half_face]
@@ -581,9 +633,9 @@ def build_boundary(chain, *, samples: int = 4096, seed: int = 0, max_boxes: int 
     if undecided > 0:
         warnings.warn(f"{sum(s == 'undecided' for s in status)} face(s) of total area {undecided:.3g} could not be "
                       f"classified (no witness, interval exclusion within max_boxes={max_boxes} and the argument "
-                      f"through joints 2..p inconclusive); the area is a lower bound", stacklevel=3)
+                      f"through joints 2..p inconclusive); the area is a lower bound", stacklevel=4)
     for note in notes:
-        warnings.warn(note, stacklevel=3)
+        warnings.warn(note, stacklevel=4)
     counts = {"step0": step0, "step1": len(kept), "step2": len(arcs)}
     faces = {f: s for f, s in enumerate(status)}
     return Boundary(chain, arcs, loops, counts, faces, evidence, undecided, time.perf_counter() - t0, arr,

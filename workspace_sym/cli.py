@@ -1,4 +1,4 @@
-"""The ``workspace-sym`` command line (INTERFACE.md is the contract).
+"""The ``workspace-sym`` command line (``docs/cli.md`` is the contract).
 
 Every computing subcommand accepts ``--json``: stdout then holds exactly one JSON
 object, progress and warnings go to stderr.  Bad input exits with status 2 and
@@ -20,9 +20,31 @@ from . import __version__, robots
 from .errors import InvalidParameterError, WorkspaceError
 from .expressions import is_finite_value, parse_expr, read_symbol
 from .kinematics import DHRobot
+from .numbers import clean_json, fmt
 from .snap import DEFAULT_TOL, summary
 
 __all__ = ["main", "build_parser"]
+
+
+# Options taking comma-separated lists whose first value may be negative (``--lower -60,0,-10``).
+_LIST_OPTIONS = ("--lengths", "--lower", "--upper")
+
+
+def _join_list_values(argv: list[str]) -> list[str]:
+    """``--lower -60,0,-10`` as ``--lower=-60,0,-10``: argparse takes a value starting with '-' (other than a
+    plain negative number) for an option name and refuses it."""
+    out, k = [], 0
+    while k < len(argv):
+        token = argv[k]
+        nxt = argv[k + 1] if k + 1 < len(argv) else None
+        if token in _LIST_OPTIONS and nxt is not None and nxt.startswith("-") and not nxt.startswith("--") \
+                and nxt != "-h":
+            out.append(f"{token}={nxt}")
+            k += 2
+            continue
+        out.append(token)
+        k += 1
+    return out
 
 
 class _Parser(argparse.ArgumentParser):
@@ -31,9 +53,26 @@ class _Parser(argparse.ArgumentParser):
     def error(self, message):
         self.exit(2, f"{self.prog}: error: {message}\n")
 
+    def parse_known_args(self, args=None, namespace=None):
+        args = sys.argv[1:] if args is None else list(args)
+        return super().parse_known_args(_join_list_values(args), namespace)
+
 
 def _emit_json(obj) -> None:
-    sys.stdout.write(json.dumps(obj, indent=2) + "\n")
+    sys.stdout.write(json.dumps(clean_json(obj), indent=2) + "\n")
+
+
+def _wrote(*paths) -> None:
+    """Name the files a command wrote, on stderr (stdout stays for the result, or the JSON object)."""
+    print(f"workspace-sym: wrote {', '.join(str(p) for p in paths)}", file=sys.stderr)
+
+
+def _wrote_report(path) -> None:
+    """Name the files of a report directory (the report itself first, then its figures)."""
+    path = Path(path)
+    files = sorted((f for f in path.parent.iterdir() if f.is_file()),
+                   key=lambda f: (f != path, f.suffix == ".png", f.name))
+    _wrote(*files)
 
 
 def _robot_from_args(args) -> DHRobot:
@@ -222,7 +261,7 @@ def cmd_pave(args) -> int:
     if args.plot:
         from .plotting import plot_paving, save_figure
 
-        save_figure(plot_paving(paving), args.plot)
+        _wrote(save_figure(plot_paving(paving), args.plot))
     _show_paving(paving, args.json)
     return 0
 
@@ -238,10 +277,10 @@ def _show_paving(paving, as_json: bool, extra: dict | None = None) -> None:
     print(f"delta = {paving.delta} ({paving.size}), backend {paving.backend}{how}: {paving.seconds:.3f} s, "
           f"{paving.evaluated} boxes evaluated")
     for kind in ("inner", "boundary", "outer", "pending"):
-        print(f"  {kind:<8} {result[kind]['boxes']:>8} boxes, measure {result[kind]['measure']:.6f}")
-    print(f"  measure in [{lo:.6f}, {hi:.6f}]")
+        print(f"  {kind:<8} {result[kind]['boxes']:>8} boxes, measure {fmt(result[kind]['measure'], 6)}")
+    print(f"  measure in [{fmt(lo, 6)}, {fmt(hi, 6)}]")
     if paving.exact_measure is not None:
-        print(f"  exact measure {float(paving.exact_measure):.6f} = {sp.sstr(paving.exact_measure)}")
+        print(f"  exact measure {fmt(float(paving.exact_measure), 6)} = {sp.sstr(paving.exact_measure)}")
     if not paving.complete:
         print(f"  stopped early: {paving.stop_reason}; pending boxes are unclassified")
 
@@ -255,7 +294,8 @@ def cmd_reach(args) -> int:
     if args.plot:
         from .plotting import plot_paving, save_figure
 
-        save_figure(plot_paving(paving, title=f"Certified position workspace of {robot.name}"), args.plot)
+        _wrote(save_figure(plot_paving(paving, title=f"Certified position workspace of {robot.name}",
+                                       units=robot.units), args.plot))
     model = ReachModel(robot)
     extra = {"robot": robot.name, "variables": [str(v) for v in paving.variables],
              "joints_subdivided": [str(q) for q in model.variables]}
@@ -288,19 +328,20 @@ def cmd_dextrous(args) -> int:
         from .plotting import plot_paving, plot_paving_slices, save_figure
 
         if args.plot:
-            save_figure(plot_paving(result.paving, title=f"dextrous workspace, eps = {args.eps}"), args.plot)
+            _wrote(save_figure(plot_paving(result.paving, title=f"dextrous workspace, eps = {args.eps}"), args.plot))
         if args.slices:
-            save_figure(plot_paving_slices(result.paving, reference=lambda p: model.numeric_dextrous(p, result.sigma),
-                                           title=f"dextrous workspace, eps = {args.eps}: slices (red: numeric "
-                                                 "eigenvalues)"), args.slices)
+            _wrote(save_figure(plot_paving_slices(result.paving,
+                                                  reference=lambda p: model.numeric_dextrous(p, result.sigma),
+                                                  title=f"dextrous workspace, eps = {args.eps}: slices (red: numeric "
+                                                        "eigenvalues)"), args.slices))
     data = result.to_dict()
     if args.json:
         _emit_json(data)
         return 0
     print(f"orthoglide dextrous workspace, sigma in [{data['sigma'][0]}, {data['sigma'][1]}], eps = {args.eps}: "
           f"{data['seconds']:.1f} s, {data['boxes_evaluated']} boxes")
-    print(f"  certified inside volume {data['volume_inner']:.6f} ({data['boxes']['inner']} boxes)")
-    print(f"  error index E (undecided) {data['volume_undecided']:.6f} ({data['boxes']['undecided']} boxes)")
+    print(f"  certified inside volume {fmt(data['volume_inner'], 6)} ({data['boxes']['inner']} boxes)")
+    print(f"  error index E (undecided) {fmt(data['volume_undecided'], 6)} ({data['boxes']['undecided']} boxes)")
     if not data["complete"]:
         print("  stopped early: the rest is counted in E")
     return 0
@@ -324,9 +365,9 @@ def _print_cube(data: dict, alpha: float) -> None:
     x, y, z = data["center"]
     print(f"orthoglide, largest cube in the dextrous workspace (sigma in {data['sigma']}), alpha = {alpha}: "
           f"{data['seconds']:.1f} s")
-    print(f"  centre ({x:.6f}, {y:.6f}, {z:.6f})")
-    print(f"  a cube of edge {data['edge_lower']:.9f} there is proved inside; no cube of edge above "
-          f"{data['edge_upper']:.9f} fits anywhere (proved)")
+    print(f"  centre ({fmt(x, 6)}, {fmt(y, 6)}, {fmt(z, 6)})")
+    print(f"  a cube of edge {fmt(data['edge_lower'], 9)} there is proved inside; no cube of edge above "
+          f"{fmt(data['edge_upper'], 9)} fits anywhere (proved)")
     if "closed_form" in data:
         print(f"  closed form: {data['closed_form']}")
 
@@ -347,24 +388,20 @@ def _chain_from_args(args):
     return PlanarChain(lengths, lower, upper, degrees=not args.radians)
 
 
-def _format_set(values) -> str:
-    if len(values) == 1:
-        return f"{{{values[0]:.4f}}}"
-    return f"[{values[0]:.4f}, {values[1]:.4f}]"
-
-
 def cmd_boundary(args) -> int:
+    from .boundary import format_set
+
     chain = _chain_from_args(args)
     boundary = chain.boundary()
     data = boundary.to_dict(exact=args.exact)
     if args.plot:
         from .plotting import plot_planar_step, save_figure
 
-        save_figure(plot_planar_step(chain, 2), args.plot)
+        _wrote(save_figure(plot_planar_step(chain, 2), args.plot))
     if args.report:
         from .report import planar_report
 
-        planar_report(chain, args.report, command=" ".join(["workspace-sym"] + sys.argv[1:]))
+        _wrote_report(planar_report(chain, args.report, command=" ".join(["workspace-sym"] + sys.argv[1:])))
     if args.json:
         _emit_json(data)
         return 0
@@ -375,12 +412,12 @@ def cmd_boundary(args) -> int:
         print(f"  {loop['kind']} loop: arcs {', '.join(str(k + 1) for k in loop['arcs'])}")
     print(f"  {'#':>3} {'type':<4} " + " ".join(f"{'theta_' + str(j + 1) + ' (deg)':>20}" for j in range(chain.p)))
     for k, arc in enumerate(data["arcs"], start=1):
-        print(f"  {k:>3} {arc['type']:<4} " + " ".join(f"{_format_set(s):>20}" for s in arc["theta_sets"]))
-    print(f"  area {data['area']:.10g}, perimeter {data['perimeter']:.10g}")
+        print(f"  {k:>3} {arc['type']:<4} " + " ".join(f"{format_set(s):>20}" for s in arc["theta_sets"]))
+    print(f"  area {fmt(data['area'], 10, 'g')}, perimeter {fmt(data['perimeter'], 10, 'g')}")
     if args.exact:
         print(f"  exact area = {data['area_exact']}")
     if data["undecided_area"]:
-        print(f"  undecided faces of area {data['undecided_area']:.6g}: the area is a lower bound")
+        print(f"  undecided faces of area {fmt(data['undecided_area'], 6, 'g')}: the area is a lower bound")
     if data["merged"]:
         m = data["merged"]
         print(f"  {m['faces']} sliver faces (area {m['area']:.3g}) merged into their neighbours")
@@ -405,9 +442,10 @@ def cmd_demo(args) -> int:
     b = chain.boundary()
     lo, hi = paving.measure_bounds
     print(f"human arm (Bastien 2018, Table 1 iii): {b.counts['step0']} / {b.counts['step1']} / {b.counts['step2']} "
-          f"arcs after steps 0 / 1 / 2, area {b.area:.10f}")
-    print(f"2-RPR paving (Rybak et al. 2016), delta 0.07: area in [{lo:.4f}, {hi:.4f}], "
-          f"exact {float(model.exact_measure):.4f}")
+          f"arcs after steps 0 / 1 / 2, area {fmt(b.area, 10)}")
+    print(f"2-RPR paving (Rybak et al. 2016), delta 0.07: area in [{fmt(lo)}, {fmt(hi)}], "
+          f"exact {fmt(float(model.exact_measure))}")
+    _wrote_report(path)
     print(f"{time.perf_counter() - start:.1f} s; report: {path} (also {path.with_suffix('.html').name}, "
           f"{path.with_suffix('.tex').name})")
     return 0
@@ -441,6 +479,7 @@ def cmd_report(args) -> int:
             path = orthoglide_report(model, args.out, eps=args.eps, alpha=args.alpha, command=command)
         else:
             raise WorkspaceError(f"report: no report for {args.what!r}; use 'chain', a DH robot, rpr2 or orthoglide")
+    _wrote_report(path)
     print(f"report: {path}")
     return 0
 
@@ -480,7 +519,7 @@ def cmd_exercises(args) -> int:
 
 # ------------------------------------------------------------------------------ parser
 # Options shared by several subcommands, declared once as parent parsers.
-_DH_HELP = "DH table as JSON (format: see README, 'A DH file')"
+_DH_HELP = "DH table as JSON instead of a catalog robot (format: docs/cli.md, 'DH files')"
 
 
 def _parent(*options) -> argparse.ArgumentParser:
@@ -491,9 +530,11 @@ def _parent(*options) -> argparse.ArgumentParser:
     return p
 
 
-_JSON = (("--json",), {"action": "store_true", "help": "one JSON object on stdout"})
+_JSON = (("--json",), {"action": "store_true",
+                       "help": "print one JSON object on stdout instead of text (keys: docs/cli.md)"})
 _PROGRESS = (("--progress",), {"action": argparse.BooleanOptionalAction, "default": None,
-                               "help": "progress bar on stderr (default: on a terminal, for runs over a second)"})
+                               "help": "progress bar on stderr (default: on a terminal, once a run has lasted a "
+                                       "second)"})
 _MAX_BOXES = (("--max-boxes",), {"type": int, "help": "stop after this many boxes (the rest is pending)"})
 _TIME_LIMIT = (("--time-limit",), {"type": float, "help": "stop after this many seconds (the rest is pending)"})
 _ROBOT = (("robot",), {"nargs": "?", "help": "catalog DH robot (see 'workspace-sym robots'), or none with --dh"})
@@ -517,14 +558,16 @@ def _chain_parent(*, required: bool) -> argparse.ArgumentParser:
     p.add_argument("--lengths", required=required,
                    help="segment lengths, comma-separated (e.g. 0.186,0.146,0.108)")
     p.add_argument("--lower", required=required,
-                   help="lower joint limits, comma-separated (write --lower=-60,0,-10)")
-    p.add_argument("--upper", required=required, help="upper joint limits, comma-separated")
+                   help="lower joint limits, comma-separated, degrees unless --radians (e.g. --lower -60,0,-10)")
+    p.add_argument("--upper", required=required,
+                   help="upper joint limits, comma-separated, degrees unless --radians (e.g. --upper 120,130,25)")
     p.add_argument("--radians", action="store_true", help="limits are in radians (default: degrees)")
     return p
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="workspace-sym", description="Robot workspaces, exactly or with proofs.")
+    parser = _Parser(prog="workspace-sym", description="Robot workspaces, exactly or with proofs.",
+                     epilog="The options, the DH file format and the JSON keys are described in docs/cli.md.")
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     json_, progress, budget = _parent(_JSON), _parent(_PROGRESS), _parent(_MAX_BOXES, _TIME_LIMIT)

@@ -718,6 +718,52 @@ class DHRobot:
             out[k] = (-default, default) if j.limits is None else (float(j.limits[0]), float(j.limits[1]))
         return out
 
+    # ------------------------------------------------------------------ display (Jupyter)
+    def textbook(self, expr):
+        """``expr`` (matrix, expression, polynomial, list) printing in textbook shorthand: ``c_{1}``, ``s_{234}``.
+
+        Still a SymPy expression of the joint variables: it substitutes,
+        differentiates and evaluates as before, and a notebook typesets it
+        (:func:`workspace_sym.display.textbook_form`).
+
+        Examples
+        --------
+        >>> robot = DHRobot([DHJoint.revolute(1, a=1), DHJoint.revolute(2, a=1)])
+        >>> robot.textbook(robot.position)
+        Matrix([
+        [c1 + c12],
+        [s1 + s12],
+        [       0]])
+        >>> robot.textbook(robot.singular_factors("position"))
+        (s2,)
+        """
+        from .display import textbook_form
+
+        return textbook_form(expr, self.q)
+
+    def _repr_html_(self) -> str:
+        from .display import Markup, expr_text, html_table
+        from .numbers import clean
+
+        def degrees(v) -> str:
+            return f"{clean(float(v) * 180 / math.pi, scale=360.0):.10g}°"
+
+        def limits(j) -> str:
+            if j.limits is None:
+                return "none"
+            if j.kind == "R":
+                return f"[{degrees(j.limits[0])}, {degrees(j.limits[1])}]"
+            return f"[{clean(float(j.limits[0])):.10g}, {clean(float(j.limits[1])):.10g}] {self.units}"
+
+        rows = [(k, j.kind, Markup(expr_text(j.theta)), Markup(expr_text(j.d)), Markup(expr_text(j.a)),
+                 degrees(j.alpha) if j.alpha.is_number else Markup(expr_text(j.alpha)), limits(j))
+                for k, j in enumerate(self.joints, start=1)]
+        table = html_table(("joint", "type", "\u03b8", "d", "a", "\u03b1", "limits"), rows,
+                           caption=f"{self.name}: {self.n} joints, {self.convention} DH, lengths in {self.units}")
+        params = ", ".join(f"{k} = {v}" for k, v in self.parameters.items())
+        extra = f"<p>parameters: {expr_text(params)}</p>" if params else ""
+        return table + extra
+
 
 _THREADS = max(1, os.cpu_count() or 1)
 _CHUNK_MIN = 50_000

@@ -32,6 +32,7 @@ import sympy as sp
 
 from .errors import ExpressionError, InvalidParameterError, JointLimitError
 from .expressions import check_joint_limits, parse_expr
+from .numbers import clean, fmt
 
 __all__ = ["PlanarChain", "Arc"]
 
@@ -79,10 +80,15 @@ class Arc:
                          self.center[1] + self.radius * math.sin(angle)])
 
     def __repr__(self):
-        sets = ", ".join(f"{{{math.degrees(s[0]):.4f}}}" if len(s) == 1 else
-                         f"[{math.degrees(s[0]):.4f}, {math.degrees(s[1]):.4f}]" for s in self.theta_sets)
-        return (f"Arc({self.type}, joint {self.free_joint}, centre ({self.center[0]:.6g}, {self.center[1]:.6g}), "
-                f"r = {self.radius:.6g}, deg: {sets}, side {self.side:+d})")
+        sets = ", ".join(f"{{{fmt(math.degrees(s[0]))}}}" if len(s) == 1 else
+                         f"[{fmt(math.degrees(s[0]))}, {fmt(math.degrees(s[1]))}]" for s in self.theta_sets)
+        return (f"Arc({self.type}, joint {self.free_joint}, centre ({fmt(self.center[0], 6, 'g')}, "
+                f"{fmt(self.center[1], 6, 'g')}), r = {fmt(self.radius, 6, 'g')}, deg: {sets}, side {self.side:+d})")
+
+
+def _degrees_text(radians: float) -> str:
+    """A joint limit as given in degrees: ``-60``, not ``-59.99999999999999``."""
+    return fmt(clean(math.degrees(radians), scale=360.0), 10, "g")
 
 
 def _read_value(value, name: str):
@@ -176,10 +182,19 @@ class PlanarChain:
 
     def __repr__(self):
         def deg(v):
-            return ", ".join(f"{math.degrees(x):g}" for x in v)
+            return ", ".join(_degrees_text(x) for x in v)
 
         return (f"PlanarChain(lengths={list(self.lengths)}, lower=[{deg(self.lower)}], "
                 f"upper=[{deg(self.upper)}])")
+
+    def _repr_html_(self) -> str:
+        """The joints (exact lengths, limits in degrees) and the reach (Jupyter)."""
+        from .display import html_table
+
+        rows = [(k + 1, sp.sstr(self.exact_lengths[k]), _degrees_text(self.lower[k]), _degrees_text(self.upper[k]))
+                for k in range(self.p)]
+        return html_table(("joint", "length", "lower (deg)", "upper (deg)"), rows,
+                          caption=f"planar chain of {self.p} revolute joints, reach {fmt(self.reach, 10, 'g')}")
 
     # ------------------------------------------------------------------ kinematics
     def joints_positions(self, theta) -> np.ndarray:
@@ -351,7 +366,7 @@ class PlanarChain:
         return PlanarChain(self.lengths[1:], self.lower[1:], self.upper[1:], degrees=False)
 
     # ------------------------------------------------------------------ Step 2
-    def boundary(self, *, samples: int = 4096, seed: int = 0, max_boxes: int = 4_000):
+    def boundary(self, *, samples: int = 4096, seed: int = 0, max_boxes: int = 4_000, progress: bool | None = None):
         """Step 2: the workspace boundary as loops of arcs (:class:`~workspace_sym.boundary.Boundary`).
 
         The kept arcs cut the plane into faces; every face lies wholly inside or
@@ -361,12 +376,16 @@ class PlanarChain:
         configuration of the joint box reaches a point of it).  A face that
         resists both within ``max_boxes`` boxes is reported as undecided, with a
         warning, and the area becomes a bracket.
+
+        ``progress`` shows the stages of a long run (:mod:`workspace_sym.progress`;
+        by default on an interactive output once it has lasted a second).
         """
         key = (samples, seed, max_boxes)
         if key not in self._boundaries:
             from .boundary import build_boundary  # boundary builds on this module: import one way, lazily
 
-            self._boundaries[key] = build_boundary(self, samples=samples, seed=seed, max_boxes=max_boxes)
+            self._boundaries[key] = build_boundary(self, samples=samples, seed=seed, max_boxes=max_boxes,
+                                                    progress=progress)
         return self._boundaries[key]
 
 

@@ -1,15 +1,19 @@
 """Figures (matplotlib).  Kernels never import this module; it imports matplotlib lazily.
 
-Every function takes an optional ``ax`` and returns the artists it drew, so that
-notebooks can compose figures and tests can check what was drawn.
+Every function takes an optional ``ax`` (draw there, or in a new figure) and
+returns the :class:`~matplotlib.figure.Figure`, so that notebooks can compose
+figures and save them; the artists drawn are on ``fig.axes``.  Axes carry their
+units, and legends name the arc types and the box classes.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from .numbers import fmt
+
 __all__ = ["scatter_workspace_3d", "plot_reach", "plot_sweeps", "plot_paving", "plot_paving_slices", "save_figure",
-           "plot_planar_step", "plot_boundary_loops"]
+           "plot_planar_step", "plot_boundary_loops", "arc_label_positions"]
 
 
 def _pyplot():
@@ -28,11 +32,21 @@ def _axes3d(ax):
     return ax
 
 
+def _axes(ax, figsize):
+    if ax is None:
+        _, ax = _pyplot().subplots(figsize=figsize)
+    return ax
+
+
+def _label(name, units) -> str:
+    return f"{name} ({units})" if units else str(name)
+
+
 def scatter_workspace_3d(points, *, ax=None, color=None, size=1.0, title=None, units="m"):
-    """3D scatter of reachable points (paper 004, figures 2-5).  Returns the ``PathCollection``."""
+    """3D scatter of reachable points (paper 004, figures 2-5).  Returns the figure."""
     points = np.asarray(points)
     ax = _axes3d(ax)
-    artist = ax.scatter(points[:, 0], points[:, 1], points[:, 2], s=size,
+    ax.scatter(points[:, 0], points[:, 1], points[:, 2], s=size,
                         c=color if color is not None else points[:, 2],
                         cmap=None if color is not None else "viridis", depthshade=False)
     ax.set_xlabel(f"x ({units})")
@@ -41,7 +55,7 @@ def scatter_workspace_3d(points, *, ax=None, color=None, size=1.0, title=None, u
     if title:
         ax.set_title(title)
     _equal_3d(ax, points)
-    return artist
+    return ax.figure
 
 
 def _equal_3d(ax, points):
@@ -54,42 +68,42 @@ def _equal_3d(ax, points):
 
 def plot_sweeps(robot, joints, *, n=200, ax=None, parameters=None):
     """Trajectories of the end-effector when each of ``joints`` sweeps its range alone
-    (paper 004, figures 6-10).  Returns one ``Line3D`` per joint."""
+    (paper 004, figures 6-10), one line per joint.  Returns the figure."""
     from .sampling import reach_points, sweep_joints
 
     ax = _axes3d(ax)
-    lines = []
     q = sweep_joints(robot, joints, n)
     pts = reach_points(robot, q, parameters)
     for k, j in enumerate(joints):
         seg = pts[k * n:(k + 1) * n]
-        (line,) = ax.plot(seg[:, 0], seg[:, 1], seg[:, 2], label=f"theta{j} sweep")
-        lines.append(line)
+        ax.plot(seg[:, 0], seg[:, 1], seg[:, 2], label=f"θ{j} sweeps its range")
+    units = getattr(robot, "units", "m")
+    for setter, name in zip((ax.set_xlabel, ax.set_ylabel, ax.set_zlabel), "xyz"):
+        setter(_label(name, units))
     ax.legend(loc="upper left", fontsize="small")
     _equal_3d(ax, pts)
-    return lines
+    return ax.figure
 
 
 def plot_reach(points, *, ax=None, units="m"):
     """Side view ``(r, z)`` with ``r = sqrt(x^2 + y^2)``: the reach and height of the workspace.
 
-    Returns the scatter artist.
+    Returns the figure.
     """
-    plt = _pyplot()
     points = np.asarray(points)
-    if ax is None:
-        _, ax = plt.subplots(figsize=(5, 4))
+    ax = _axes(ax, (5, 4))
     r = np.hypot(points[:, 0], points[:, 1])
-    artist = ax.scatter(r, points[:, 2], s=0.5, alpha=0.4)
+    ax.scatter(r, points[:, 2], s=0.5, alpha=0.4)
     ax.set_xlabel(f"r = sqrt(x² + y²) ({units})")
     ax.set_ylabel(f"z ({units})")
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_title(f"reach {np.linalg.norm(points, axis=1).max():.4g} {units}")
-    return artist
+    return ax.figure
 
 
 def save_figure(artists, path, *, dpi=120):
-    """Save the figure that holds ``artists`` (an artist, axes, list or dict of artists) and close it.
+    """Save the figure ``artists`` (or the figure that holds an artist, axes, list or dict of artists) and
+    close it.
 
     The file is written under a temporary name and renamed, so a failure never
     leaves a half-written image.
@@ -103,7 +117,9 @@ def save_figure(artists, path, *, dpi=120):
         obj = next(iter(obj.values()))
     if isinstance(obj, list):
         obj = obj[0]
-    fig = obj.figure if hasattr(obj, "figure") and obj.figure is not None else obj
+    from matplotlib.figure import Figure
+
+    fig = obj if isinstance(obj, Figure) else obj.figure
     path = Path(path)
     tmp = path.with_name(f".{path.name}.partial{path.suffix}")
     try:
@@ -116,117 +132,153 @@ def save_figure(artists, path, *, dpi=120):
     return path
 
 
-def plot_paving(paving, *, ax=None, show_outer=False, exact_boundary=None, title=None):
-    """Inner (green) and boundary (yellow) boxes of a 2D or 3D paving (Rybak et al., figure 4).
+_BOX_COLOURS = {"inner": "#4caf50", "boundary": "#ffd54f", "outer": "#e0e0e0", "pending": "#90caf9"}
+_BOX_NAMES = {"inner": "inner (proved inside)", "boundary": "boundary (undecided, size ≤ δ)",
+              "outer": "outer (proved outside)", "pending": "pending (not examined)"}
+
+
+def _box_legend(ax, counts, *, fontsize="small"):
+    """Legend of the box classes drawn, with their numbers of boxes."""
+    from matplotlib.patches import Patch
+
+    handles = [Patch(facecolor=_BOX_COLOURS[k], edgecolor="k", linewidth=0.3, label=f"{_BOX_NAMES[k]}: {n}")
+               for k, n in counts.items()]
+    return ax.legend(handles=handles, loc="upper right", fontsize=fontsize)
+
+
+def plot_paving(paving, *, ax=None, show_outer=False, exact_boundary=None, title=None, units=None):
+    """Inner (green) and boundary (yellow) boxes of a 2D or 3D paving (Rybak et al., figure 4), pending boxes
+    (a stopped run) in blue.
 
     ``exact_boundary`` is a callable ``(x, y) -> array`` whose zero level set
-    is drawn over a 2D paving (e.g. ``max_j g_j``).  Returns a dict of the
-    artists drawn, keyed by box kind.
+    is drawn over a 2D paving (e.g. ``max_j g_j``).  ``units`` labels the axes
+    (``"x (m)"``).  Returns the figure; the legend names the box classes.
     """
-    plt = _pyplot()
     n = len(paving.variables)
     if n == 3:
-        return _plot_paving_3d(paving, ax=ax, title=title)
+        return _plot_paving_3d(paving, ax=ax, title=title, units=units)
     if n != 2:
-        raise ValueError(f"plot_paving draws 2D or 3D pavings; this one has {n} variables")
-    from matplotlib.collections import PolyCollection
+        from .errors import InvalidParameterError
 
-    if ax is None:
-        _, ax = plt.subplots(figsize=(7, 3.5))
-    artists = {}
-    kinds = [("inner", "#4caf50"), ("boundary", "#ffd54f")] + ([("outer", "#e0e0e0")] if show_outer else [])
-    for kind, colour in kinds:
+        raise InvalidParameterError(f"plot_paving draws 2D or 3D pavings; this one has {n} variables")
+    from matplotlib.collections import PolyCollection
+    from matplotlib.lines import Line2D
+
+    ax = _axes(ax, (7, 3.5))
+    kinds = ["inner", "boundary"] + (["outer"] if show_outer else []) + (["pending"] if len(paving.pending) else [])
+    for kind in kinds:
         boxes = getattr(paving, kind)
         verts = [[(b[0, 0], b[1, 0]), (b[0, 1], b[1, 0]), (b[0, 1], b[1, 1]), (b[0, 0], b[1, 1])] for b in boxes]
-        coll = PolyCollection(verts, facecolors=colour, edgecolors="k", linewidths=0.2, label=f"{kind} ({len(boxes)})")
-        ax.add_collection(coll)
-        artists[kind] = coll
+        ax.add_collection(PolyCollection(verts, facecolors=_BOX_COLOURS[kind], edgecolors="k", linewidths=0.2,
+                                         label=kind))
     lo, hi = paving.box.lower, paving.box.upper
+    legend = _box_legend(ax, {k: len(getattr(paving, k)) for k in kinds})
     if exact_boundary is not None:
         xs, ys = np.meshgrid(np.linspace(lo[0], hi[0], 600), np.linspace(lo[1], hi[1], 300))
-        artists["exact"] = ax.contour(xs, ys, exact_boundary(xs, ys), levels=[0.0], colors="r", linewidths=1.0)
+        ax.contour(xs, ys, exact_boundary(xs, ys), levels=[0.0], colors="r", linewidths=1.0)
+        handles = legend.legend_handles + [Line2D([], [], color="r", lw=1.0, label="exact boundary")]
+        ax.legend(handles=handles, loc="upper right", fontsize="small")
     ax.set_xlim(lo[0], hi[0])
     ax.set_ylim(lo[1], hi[1])
     ax.set_aspect("equal")
-    ax.set_xlabel(str(paving.variables[0]))
-    ax.set_ylabel(str(paving.variables[1]))
+    ax.set_xlabel(_label(paving.variables[0], units))
+    ax.set_ylabel(_label(paving.variables[1], units))
     m_lo, m_hi = paving.measure_bounds
     how = " with contraction" if paving.contract else ""
-    ax.set_title(title or f"delta = {paving.delta}{how}: area in [{m_lo:.4f}, {m_hi:.4f}]")
-    ax.legend(loc="upper right", fontsize="small")
-    return artists
+    ax.set_title(title or f"δ = {paving.delta}{how}: area in [{fmt(m_lo)}, {fmt(m_hi)}]")
+    return ax.figure
 
 
-def _plot_paving_3d(paving, *, ax=None, title=None):
+def _plot_paving_3d(paving, *, ax=None, title=None, units=None):
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
     ax = _axes3d(ax)
-    artists = {}
-    for kind, colour, alpha in (("inner", "#4caf50", 0.5), ("boundary", "#ffd54f", 0.15)):
+    for kind, alpha in (("inner", 0.5), ("boundary", 0.15)):
         faces = []
         for b in getattr(paving, kind):
             (x0, x1), (y0, y1), (z0, z1) = b
             corners = np.array([[x, y, z] for x in (x0, x1) for y in (y0, y1) for z in (z0, z1)])
             for quad in ((0, 1, 3, 2), (4, 5, 7, 6), (0, 1, 5, 4), (2, 3, 7, 6), (0, 2, 6, 4), (1, 3, 7, 5)):
                 faces.append(corners[list(quad)])
-        coll = Poly3DCollection(faces, facecolors=colour, edgecolors="none", alpha=alpha)
-        ax.add_collection3d(coll)
-        artists[kind] = coll
+        ax.add_collection3d(Poly3DCollection(faces, facecolors=_BOX_COLOURS[kind], edgecolors="none", alpha=alpha,
+                                             label=kind))
     ax.set_xlim(paving.box.lower[0], paving.box.upper[0])
     ax.set_ylim(paving.box.lower[1], paving.box.upper[1])
     ax.set_zlim(paving.box.lower[2], paving.box.upper[2])
     for setter, v in zip((ax.set_xlabel, ax.set_ylabel, ax.set_zlabel), paving.variables):
-        setter(str(v))
+        setter(_label(v, units))
+    _box_legend(ax, {k: len(getattr(paving, k)) for k in ("inner", "boundary")})
     if title:
         ax.set_title(title)
-    return artists
+    return ax.figure
 
 
-def plot_paving_slices(paving, *, axis: int = 2, values=(-0.4, 0.0, 0.3), reference=None, title=None):
+def plot_paving_slices(paving, *, axis: int = 2, values=(-0.4, 0.0, 0.3), reference=None, title=None, ax=None,
+                       units=None):
     """2D slices of a 3D paving: the boxes met by the plane ``variable[axis] = value``, one panel per value.
 
     ``reference`` is an optional callable ``(points (m, 3)) -> bool array`` (for
     instance numeric eigenvalues) whose boundary is drawn in red on each slice,
-    an independent picture to hold the certified boxes against.  Returns the
-    figure.
+    an independent picture to hold the certified boxes against.  ``ax`` is a
+    sequence of axes, one per value (default: a new row of panels).  Returns
+    the figure.
     """
     from matplotlib.collections import PolyCollection
+    from matplotlib.lines import Line2D
 
     plt = _pyplot()
     if len(paving.variables) != 3:
-        raise ValueError(f"plot_paving_slices draws 3D pavings; this one has {len(paving.variables)} variables")
+        from .errors import InvalidParameterError
+
+        raise InvalidParameterError(f"plot_paving_slices draws 3D pavings; this one has {len(paving.variables)} "
+                                    "variables")
     others = [k for k in range(3) if k != axis]
     lo, hi = paving.box.lower, paving.box.upper
-    fig, axes = plt.subplots(1, len(values), figsize=(3.6 * len(values), 3.6), squeeze=False)
-    for ax, v in zip(axes[0], values):
-        for kind, colour in (("inner", "#4caf50"), ("boundary", "#ffd54f")):
+    if ax is None:
+        fig, axes = plt.subplots(1, len(values), figsize=(3.6 * len(values), 3.6), squeeze=False)
+        axes = list(axes[0])
+    else:
+        axes = list(np.atleast_1d(ax))
+        if len(axes) != len(values):
+            from .errors import InvalidParameterError
+
+            raise InvalidParameterError(f"ax: one axes per slice value; got {len(axes)} for {len(values)} values",
+                                        parameter="ax")
+        fig = axes[0].figure
+    for a_, v in zip(axes, values):
+        counts = {}
+        for kind in ("inner", "boundary"):
             boxes = getattr(paving, kind)
             boxes = boxes[(boxes[:, axis, 0] <= v) & (v <= boxes[:, axis, 1])]
             a, b = others
             verts = [[(q[a, 0], q[b, 0]), (q[a, 1], q[b, 0]), (q[a, 1], q[b, 1]), (q[a, 0], q[b, 1])] for q in boxes]
-            ax.add_collection(PolyCollection(verts, facecolors=colour, edgecolors="none",
-                                             label=f"{kind} ({len(boxes)})"))
+            a_.add_collection(PolyCollection(verts, facecolors=_BOX_COLOURS[kind], edgecolors="none", label=kind))
+            counts[kind] = len(boxes)
+        legend = _box_legend(a_, counts, fontsize="x-small")
         if reference is not None:
             u, w = np.meshgrid(np.linspace(lo[others[0]], hi[others[0]], 400),
                                np.linspace(lo[others[1]], hi[others[1]], 400))
             pts = np.empty(u.shape + (3,))
             pts[..., axis], pts[..., others[0]], pts[..., others[1]] = v, u, w
             inside = np.asarray(reference(pts.reshape(-1, 3)), dtype=float).reshape(u.shape)
-            ax.contour(u, w, inside, levels=[0.5], colors="r", linewidths=0.8)
-        ax.set_xlim(lo[others[0]], hi[others[0]])
-        ax.set_ylim(lo[others[1]], hi[others[1]])
-        ax.set_aspect("equal")
-        ax.set_xlabel(str(paving.variables[others[0]]))
-        ax.set_ylabel(str(paving.variables[others[1]]))
-        ax.set_title(f"{paving.variables[axis]} = {v}", fontsize="medium")
-        ax.legend(loc="upper right", fontsize="x-small")
+            a_.contour(u, w, inside, levels=[0.5], colors="r", linewidths=0.8)
+            handles = legend.legend_handles + [Line2D([], [], color="r", lw=0.8, label="reference boundary")]
+            a_.legend(handles=handles, loc="upper right", fontsize="x-small")
+        a_.set_xlim(lo[others[0]], hi[others[0]])
+        a_.set_ylim(lo[others[1]], hi[others[1]])
+        a_.set_aspect("equal")
+        a_.set_xlabel(_label(paving.variables[others[0]], units))
+        a_.set_ylabel(_label(paving.variables[others[1]], units))
+        a_.set_title(f"{paving.variables[axis]} = {v}", fontsize="medium")
     if title:
         fig.suptitle(title)
-    fig.tight_layout()
+    if ax is None:
+        fig.tight_layout()
     return fig
 
 
 _ARC_COLOURS = {"I": "tab:blue", "II": "tab:red", "III": "tab:green"}   # the paper's figures 4 to 6
+_ARC_NAMES = {"I": "type I", "II": "type II", "III": "type III"}
 
 
 def _draw_arc(ax, center, radius, a0, a1, *, color, lw=1.2, side=0, tick=None):
@@ -240,37 +292,56 @@ def _draw_arc(ax, center, radius, a0, a1, *, color, lw=1.2, side=0, tick=None):
     return line
 
 
-def plot_planar_step(chain, step: int, *, ax=None, samples: int = 20000, seed: int = 0, title=None):
+def _arc_legend(ax, types, *, extra=()):
+    """Legend of the arc types drawn (the paper's colours) and of ``extra`` handles."""
+    from matplotlib.lines import Line2D
+
+    handles = [Line2D([], [], color=_ARC_COLOURS[t], lw=1.8, label=_ARC_NAMES[t]) for t in ("I", "II", "III")
+               if t in types]
+    return ax.legend(handles=handles + list(extra), loc="best", fontsize="small")
+
+
+def _planar_axes(ax, units):
+    ax.set_aspect("equal")
+    ax.set_xlabel(_label("x", units))
+    ax.set_ylabel(_label("y", units))
+
+
+def plot_planar_step(chain, step: int, *, ax=None, samples: int = 20000, seed: int = 0, title=None, units="m"):
     """One step of the alignment method, drawn like the paper's figures 4 to 6.
 
     Step 0: the candidate arcs; step 1: the kept arcs, with a tick on the side
     of the workspace; step 2: the boundary loops and the enclosed workspace.
     Arcs are blue (type I), red (type II) or green (type III); the gold dots
     are ``samples`` random configurations (the discrete swept area).
+    ``units`` is the length unit of the chain, for the axis labels.  Returns
+    the figure.
     """
-    from matplotlib.patches import PathPatch
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch, PathPatch
     from matplotlib.path import Path as MplPath
 
-    plt = _pyplot()
     if step not in (0, 1, 2):
         from .errors import InvalidParameterError
 
-        raise InvalidParameterError(f"step must be 0, 1 or 2; got {step!r}")
-    if ax is None:
-        _, ax = plt.subplots(figsize=(5.5, 5.5))
-    artists = {}
+        raise InvalidParameterError(f"step must be 0, 1 or 2; got {step!r}", parameter="step")
+    ax = _axes(ax, (5.5, 5.5))
+    extra = []
     if samples:
         pts = chain.forward(chain.sample(samples, seed=seed, corners=False))
-        artists["samples"] = ax.scatter(pts[:, 0], pts[:, 1], s=0.3, color="gold", alpha=0.5, lw=0)
+        ax.scatter(pts[:, 0], pts[:, 1], s=0.3, color="gold", alpha=0.5, lw=0)
+        extra.append(Line2D([], [], marker="o", ls="", color="gold", label=f"{samples} random configurations"))
     tick = 0.03 * chain.reach
     if step == 0:
         arcs = chain.candidate_arcs()
-        artists["arcs"] = [_draw_arc(ax, a.center, a.radius, a.start_angle, a.end_angle,
-                                     color=_ARC_COLOURS[a.type], lw=0.8) for a in arcs]
+        for a in arcs:
+            _draw_arc(ax, a.center, a.radius, a.start_angle, a.end_angle, color=_ARC_COLOURS[a.type], lw=0.8)
     elif step == 1:
         arcs = chain.kept_arcs()
-        artists["arcs"] = [_draw_arc(ax, a.center, a.radius, a.start_angle, a.end_angle,
-                                     color=_ARC_COLOURS[a.type], side=a.side, tick=tick) for a in arcs]
+        for a in arcs:
+            _draw_arc(ax, a.center, a.radius, a.start_angle, a.end_angle, color=_ARC_COLOURS[a.type], side=a.side,
+                      tick=tick)
+        extra.append(Line2D([], [], color="k", lw=0, label="tick: side of the workspace"))
     else:
         b = chain.boundary()
         arcs = b.arcs
@@ -279,30 +350,53 @@ def plot_planar_step(chain, step: int, *, ax=None, samples: int = 20000, seed: i
             verts = np.vstack([np.vstack([p, p[:1]]) for p in polys])
             codes = np.concatenate([[MplPath.MOVETO] + [MplPath.LINETO] * (len(p) - 1) + [MplPath.CLOSEPOLY]
                                     for p in polys])
-            artists["fill"] = ax.add_patch(PathPatch(MplPath(verts, codes), facecolor="khaki", alpha=0.6, lw=0))
-        artists["arcs"] = [_draw_arc(ax, a.center, a.radius, a.start_angle, a.end_angle, color=_ARC_COLOURS[a.type],
-                                     lw=1.8, side=a.side, tick=tick) for a in arcs]
+            ax.add_patch(PathPatch(MplPath(verts, codes), facecolor="khaki", alpha=0.6, lw=0))
+            extra.append(Patch(facecolor="khaki", alpha=0.6, label="workspace"))
+        for a in arcs:
+            _draw_arc(ax, a.center, a.radius, a.start_angle, a.end_angle, color=_ARC_COLOURS[a.type], lw=1.8,
+                      side=a.side, tick=tick)
     ax.plot([0], [0], "k+")
-    ax.set_aspect("equal")
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
+    _planar_axes(ax, units)
+    _arc_legend(ax, {a.type for a in arcs}, extra=extra)
     ax.set_title(title or f"Step {step}: {len(arcs)} arcs")
-    return artists
+    return ax.figure
 
 
-def plot_boundary_loops(boundary, *, ax=None, labels: bool = True, title=None):
-    """The boundary loops with the arcs numbered as in the report's table."""
-    plt = _pyplot()
-    if ax is None:
-        _, ax = plt.subplots(figsize=(5.5, 5.5))
-    lines = []
-    for k, a in enumerate(boundary.arcs):
-        lines.append(_draw_arc(ax, a.center, a.radius, a.start_angle, a.end_angle, color=_ARC_COLOURS[a.type], lw=2))
-        if labels:
-            m = 0.5 * (a.start_angle + a.end_angle)
-            ax.annotate(str(k + 1), (a.center[0] + a.radius * np.cos(m), a.center[1] + a.radius * np.sin(m)),
-                        fontsize=8, ha="center", va="center",
-                        bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.8))
-    ax.set_aspect("equal")
-    ax.set_title(title or f"boundary: {len(boundary.arcs)} arcs, area {boundary.area:.6g}")
-    return lines
+def arc_label_positions(boundary, *, separation: float = 0.07) -> np.ndarray:
+    """Where :func:`plot_boundary_loops` writes the arc numbers, ``(n, 2)``: on each arc, just outside the
+    workspace, at the first of several points along the arc that stays ``separation`` times the reach away
+    from the labels already placed (else the farthest one)."""
+    reach = boundary.chain.reach
+    offset, gap = 0.035 * reach, separation * reach
+    placed = []
+    for a in boundary.arcs:
+        normal = -a.side if a.side else 1          # outward: away from the workspace side
+        candidates = []
+        for f in (0.5, 0.3, 0.7, 0.15, 0.85, 0.05, 0.95):
+            t = a.start_angle + f * (a.end_angle - a.start_angle)
+            for r in (a.radius + normal * offset, a.radius + normal * 2.2 * offset, a.radius - normal * offset):
+                candidates.append((a.center[0] + r * np.cos(t), a.center[1] + r * np.sin(t)))
+        candidates = np.array(candidates)
+        if not placed:
+            placed.append(candidates[0])
+            continue
+        dist = np.linalg.norm(candidates[:, None, :] - np.array(placed)[None], axis=2).min(axis=1)
+        ok = np.flatnonzero(dist >= gap)
+        placed.append(candidates[ok[0]] if len(ok) else candidates[int(np.argmax(dist))])
+    return np.array(placed).reshape(-1, 2)
+
+
+def plot_boundary_loops(boundary, *, ax=None, labels: bool = True, title=None, units="m"):
+    """The boundary loops with the arcs numbered as in the report's table (numbers placed apart,
+    :func:`arc_label_positions`), coloured by arc type.  Returns the figure."""
+    ax = _axes(ax, (5.5, 5.5))
+    for a in boundary.arcs:
+        _draw_arc(ax, a.center, a.radius, a.start_angle, a.end_angle, color=_ARC_COLOURS[a.type], lw=2)
+    if labels and boundary.arcs:
+        for k, (x, y) in enumerate(arc_label_positions(boundary)):
+            ax.annotate(str(k + 1), (x, y), fontsize=8, ha="center", va="center", color=_ARC_COLOURS[
+                boundary.arcs[k].type], bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.8))
+    _planar_axes(ax, units)
+    _arc_legend(ax, {a.type for a in boundary.arcs})
+    ax.set_title(title or f"boundary: {len(boundary.arcs)} arcs, area {fmt(boundary.area, 6, 'g')}")
+    return ax.figure

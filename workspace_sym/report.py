@@ -24,6 +24,8 @@ from pathlib import Path
 import numpy as np
 import sympy as sp
 
+from .numbers import fmt
+
 __all__ = ["Document", "dh_robot_report", "orthoglide_report", "paving_report", "planar_report", "reproducibility",
            "tex_escape"]
 
@@ -285,7 +287,7 @@ def dh_robot_report(robot, out, *, samples: int = 20000, command: str | None = N
 
 # ---------------------------------------------------------------------- planar chains
 def _deg(x) -> str:
-    return f"{math.degrees(x):.4f}"
+    return fmt(math.degrees(x), 4)
 
 
 def _set_str(values) -> str:
@@ -395,7 +397,7 @@ def planar_report(chain, out, *, command: str | None = None, title: str | None =
         doc.figure(tmp / "boundary.png", "Boundary arcs numbered as in the tables")
         doc.table(["#", "type"] + [f"Theta_{j + 1} (deg)" for j in range(chain.p)] + ["centre", "radius"],
                   [[str(k + 1), a.type] + [_set_str(s_) for s_ in a.theta_sets]
-                   + [f"({a.center[0]:.6f}, {a.center[1]:.6f})", f"{a.radius:.6f}"]
+                   + [f"({fmt(a.center[0], 6)}, {fmt(a.center[1], 6)})", fmt(a.radius, 6)]
                    for k, a in enumerate(boundary.arcs)])
         if exact:
             doc.heading("Closed forms", 3)
@@ -457,7 +459,7 @@ def orthoglide_report(model, out, *, eps: float = 0.125, alpha: float = 0.01, co
     doc.para("Paper, eps = 0.05: 1.468 inside, E in [0, 0.48], about 5 hours.")
     doc.heading("Largest enclosed cube")
     doc.table(["centre", "edge proved inside", "no enclosed cube above", "alpha", "seconds"],
-              [[", ".join(f"{v:.6f}" for v in c["center"]), f"{c['edge_lower']:.6f}", f"{c['edge_upper']:.6f}",
+              [[", ".join(fmt(v, 6) for v in c["center"]), f"{c['edge_lower']:.6f}", f"{c['edge_upper']:.6f}",
                 str(alpha), f"{c['seconds']:.1f}"]])
     if cube.exact is not None:
         doc.para("The binding points are the corners of the cube on the diagonal x = y = z: "

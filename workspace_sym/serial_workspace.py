@@ -298,8 +298,8 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     size : {"diameter", "width"}
     parameters : values of the symbolic lengths (default: the robot's own).
     max_boxes, time_limit : budget; the task boxes left are returned as ``pending``.
-    progress : progress bar on stderr (default: when stderr is a terminal and
-        the run lasts more than a second).
+    progress : progress bar (:mod:`workspace_sym.progress`; default: on an
+        interactive output once the run has lasted a second).
     inner_depth : a box about to become a boundary box is also proved inner
         piece by piece, halving it along every edge up to this many times.
     max_pairs : cap on the (joint box, task box) pairs held at once; past it
@@ -324,6 +324,9 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     check_delta(delta)
     if size not in ("diameter", "width"):
         raise InvalidParameterError(f"size must be one of 'diameter', 'width'; got {size!r}", parameter="size")
+    if not isinstance(inner_depth, int) or isinstance(inner_depth, bool) or inner_depth < 0:
+        raise InvalidParameterError(f"inner_depth must be a whole number of halvings, 0 or more; got {inner_depth!r}",
+                                    parameter="inner_depth")
     run = RunBudget(max_boxes=max_boxes, time_limit=time_limit, progress=progress, total=0.0, label="reach")
     model = ReachModel(robot, parameters)
     Q = model.limits[None].copy()
@@ -335,7 +338,7 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     owner = np.zeros(1, dtype=int)
     inner, boundary, outer = [], [], []
     evaluated, reason = 0, ""
-    run.bar.total = box.measure
+    run.total = box.measure
     try:
         while len(T):
             reason = run.stop_reason(evaluated)
@@ -371,7 +374,8 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
             Q = np.concatenate([Q, Q])
             owner = np.concatenate([2 * base, 2 * base + 1])
             T = children
-            run.show(box.measure - box_measure(T), evaluated)
+            if run.showing:
+                run.show(box.measure - box_measure(T), evaluated)
     except KeyboardInterrupt:
         reason = "interrupted"
     finally:

@@ -49,6 +49,10 @@ class Verdict:
     def _repr_markdown_(self):
         return f"**{self.status}**: {self.message}"
 
+    def __repr__(self):
+        text = " ".join(self.message.split())
+        return f"Verdict({self.status}: {text if len(text) <= 72 else text[:71] + '...'})"
+
 
 def _number(value, name: str) -> float:
     """A student's number: text through parse_expr (``"pi/4"``, no symbols), anything else through float()."""

@@ -13,8 +13,8 @@ backend evaluates one box at a time at any precision and serves as reference.
 from __future__ import annotations
 
 import enum
+import html
 import math
-import sys
 import time
 from dataclasses import dataclass, field
 from functools import cache, lru_cache
@@ -24,13 +24,15 @@ import sympy as sp
 
 from ..errors import BoxError, ConstraintError, ExpressionError, InvalidParameterError, check_choice
 from ..expressions import parse_expr
+from ..numbers import fmt
+from ..progress import progress_bar
 from . import arith
 from . import mp as mpi
 from .compiler import BACKENDS, best_form, compile_expr
 from .contractor import Program
 
 __all__ = ["Certificate", "Box", "Constraint", "parse_constraints", "certify_box", "pave", "subdivide", "threaded",
-           "bisect", "box_sizes", "check_delta", "Progress", "RunBudget",
+           "bisect", "box_sizes", "check_delta", "check_digits", "RunBudget",
            "Paving", "hausdorff", "box_measure", "SIZES"]
 
 SIZES = ("diameter", "width")
@@ -291,9 +293,19 @@ def _parse_cached(constraints: tuple, variables: tuple):
     return parse_constraints(constraints, variables)
 
 
+MIN_DIGITS = 15      # below double precision the mpmath backend only loses to the numpy one
+
+
+def check_digits(digits) -> None:
+    if not isinstance(digits, int) or isinstance(digits, bool) or not MIN_DIGITS <= digits <= 100_000:
+        raise InvalidParameterError(f"digits (precision of the mpmath backend) must be a whole number from "
+                                    f"{MIN_DIGITS} (double precision) to 100000; got {digits!r}", parameter="digits")
+
+
 @lru_cache(maxsize=256)
 def _decider(constraints: tuple, variables: tuple, backend: str, digits: int):
     """The decider of a constraint set (cached: repeated pavings skip parsing and compiling)."""
+    check_digits(digits)               # for any backend: a wrong option is refused, not ignored
     return _Decider(constraints, variables, backend, digits)
 
 
@@ -327,6 +339,9 @@ def box_measure(boxes: np.ndarray) -> float:
     if len(boxes) == 0:
         return 0.0
     return float(np.sum(np.prod(boxes[:, :, 1] - boxes[:, :, 0], axis=1)))
+
+
+MAX_3D_BOXES_SHOWN = 20_000     # a notebook draws a 3D paving up to this many boxes (matplotlib 3D is slow)
 
 
 @dataclass(frozen=True, eq=False)
@@ -390,59 +405,68 @@ class Paving:
     def __repr__(self):
         lo, hi = self.measure_bounds
         return (f"Paving({len(self.inner)} inner, {len(self.boundary)} boundary, {len(self.outer)} outer, "
-                f"{len(self.pending)} pending; measure in [{lo:.6g}, {hi:.6g}], delta={self.delta})")
+                f"{len(self.pending)} pending; measure in [{fmt(lo, 6, 'g')}, {fmt(hi, 6, 'g')}], "
+                f"delta={self.delta})")
 
+    def _repr_html_(self) -> str:
+        """Summary (boxes and measure of each class, the certified bracket) and the picture (Jupyter)."""
+        from ..display import figure_html, html_table
+        from ..plotting import plot_paving
 
-class Progress:
-    """A one-line progress bar on stderr: share of the initial measure already decided."""
-
-    def __init__(self, enabled, total, label="paving", width=30):
-        self.enabled = enabled
-        self.label = label
-        self.total = total
-        self.width = width
-        self.last = 0.0
-        self.shown = False
-
-    def update(self, decided, boxes, force=False):
-        if not self.enabled:
-            return
-        now = time.perf_counter()
-        if not force and now - self.last < 0.2:
-            return
-        self.last = now
-        frac = min(1.0, decided / self.total) if self.total > 0 else 1.0
-        bar = "#" * int(frac * self.width)
-        sys.stderr.write(f"\r{self.label} [{bar:<{self.width}}] {100 * frac:5.1f}% of the box decided, {boxes} boxes")
-        sys.stderr.flush()
-        self.shown = True
-
-    def close(self):
-        if self.shown:
-            sys.stderr.write("\n")
-            sys.stderr.flush()
+        m = self.measures
+        rows = [(kind, len(getattr(self, kind)), fmt(m[kind], 6, "g")) for kind in ("inner", "boundary", "outer",
+                                                                                 "pending")]
+        lo, hi = self.measure_bounds
+        how = ", with contraction" if self.contract else ""
+        lines = [f"over ({', '.join(map(str, self.variables))}), δ = {self.delta} ({self.size}), backend "
+                 f"{self.backend}{how}: {self.evaluated} boxes evaluated in {self.seconds:.2f} s",
+                 f"certified measure in [{fmt(lo, 6)}, {fmt(hi, 6)}]"]
+        if self.exact_measure is not None:
+            lines.append(f"exact measure {fmt(float(self.exact_measure), 6)} = {sp.sstr(self.exact_measure)}")
+        if not self.complete:
+            lines.append(f"stopped early: {self.stop_reason}; pending boxes are unclassified")
+        drawn, n = len(self.inner) + len(self.boundary), len(self.variables)
+        picture = ""
+        if n == 2 or (n == 3 and drawn <= MAX_3D_BOXES_SHOWN):
+            picture = figure_html(plot_paving(self), alt="paving")
+        elif n == 3:
+            picture = f"<p>(no picture of {drawn} boxes in 3D here: see plotting.plot_paving_slices)</p>"
+        return ("<p>" + "<br/>".join(html.escape(t) for t in lines) + "</p>"
+                + html_table(("boxes", "number", "measure"), rows) + picture)
 
 
 class RunBudget:
     """Stopping rules and progress bar of a branch-and-bisect run (:func:`subdivide`, ``reach``).
 
     ``stop_reason(evaluated)`` is empty while the run may go on, else why it
-    stops (the time limit or the box budget); the progress bar switches itself
-    on after a second on a terminal when ``progress`` is None.
+    stops (the time limit or the box budget).  The bar shows the share of
+    ``total`` (the initial measure) already decided; ``progress`` follows
+    :mod:`workspace_sym.progress` (None: on an interactive output, after a second).
     """
 
     def __init__(self, *, max_boxes: int | None, time_limit: float | None, progress: bool | None,
                  total: float, label: str):
         if max_boxes is not None and max_boxes < 1:
             raise InvalidParameterError(f"max_boxes must be at least 1; got {max_boxes!r}", parameter="max_boxes")
+        if time_limit is not None and not (isinstance(time_limit, int | float) and not isinstance(time_limit, bool)
+                                           and math.isfinite(time_limit) and time_limit > 0):
+            raise InvalidParameterError(f"time_limit must be a positive number of seconds; got {time_limit!r}",
+                                        parameter="time_limit")
         self.max_boxes, self.time_limit = max_boxes, time_limit
         self.start = time.perf_counter()
-        self.auto = progress is None
-        self.bar = Progress(bool(progress), total, label)
+        self.total = total
+        self.bar = progress_bar(progress, total=100.0, desc=label, unit="%",
+                                bar_format="{desc}: {percentage:5.1f}% of the box decided{postfix} |{bar}| "
+                                           "[{elapsed}]")
 
     @property
     def seconds(self) -> float:
         return time.perf_counter() - self.start
+
+    @property
+    def showing(self) -> bool:
+        """Whether the bar draws (callers skip computing what it would show otherwise)."""
+        return not self.bar.disable
 
     def stop_reason(self, evaluated: int) -> str:
         elapsed = self.seconds
@@ -450,13 +474,14 @@ class RunBudget:
             return f"time limit of {self.time_limit} s reached"
         if self.max_boxes is not None and evaluated >= self.max_boxes:
             return f"budget of {self.max_boxes} boxes reached"
-        if self.auto and not self.bar.enabled and elapsed > 1.0 and sys.stderr.isatty():
-            self.bar.enabled = True
         return ""
 
-    def show(self, decided: float, evaluated: int, *, force: bool = False) -> None:
-        if self.bar.enabled:
-            self.bar.update(decided, evaluated, force=force)
+    def show(self, decided: float, evaluated: int) -> None:
+        if not self.showing:
+            return
+        share = min(1.0, decided / self.total) if self.total > 0 else 1.0
+        self.bar.set_postfix_str(f"{evaluated} boxes", refresh=False)
+        self.bar.update(100.0 * share - self.bar.n)
 
     def close(self) -> None:
         self.bar.close()
@@ -500,8 +525,9 @@ def pave(constraints, box, *, delta: float, variables=None, backend: str = "nump
         ``d(P)``, default) or its largest edge (codac's convention).
     max_boxes, time_limit : optional budget; when exhausted, the remaining
         boxes are returned as ``pending`` (never classified).
-    progress : show a progress bar on stderr (default: when stderr is a
-        terminal and the run lasts more than a second).
+    progress : progress bar (``tqdm.auto``: a widget in Jupyter, a bar on a
+        terminal); default: on an interactive output once the run has lasted
+        a second; False: never.
     digits : precision of the mpmath backend.
     contract : bool
         Also cut inner and outer slices off every undecided box by
@@ -638,13 +664,11 @@ def subdivide(decide, box: Box, *, delta: float, size: str = "diameter", max_box
             children, thin = bisect(und[~small])
             boundary.append(thin)
             work = np.concatenate([work, children]) if len(work) else children
-            if run.bar.enabled:              # everything not in work is decided
+            if run.showing:                  # everything not in work is decided
                 run.show(box.measure - box_measure(work), evaluated)
     except KeyboardInterrupt:
         reason = "interrupted"
     finally:
-        if run.bar.enabled:
-            run.show(box.measure - box_measure(work), evaluated, force=True)
         run.close()
     n = len(box.variables)
     empty = np.empty((0, n, 2))

@@ -50,6 +50,7 @@ from ..errors import InvalidParameterError
 from ..interval import arith, symmetric
 from ..interval.arith import Interval
 from ..interval.paving import Box, Paving, subdivide, threaded
+from ..numbers import fmt
 
 __all__ = ["DextrousResult", "box_module", "check_sigma", "dextrous", "inverse_entries", "leg_terms",
            "numeric_dextrous", "reciprocal", "witnessed_module"]
@@ -71,6 +72,27 @@ class DextrousResult:
     def volume_undecided(self) -> float:
         m = self.paving.measures
         return m["boundary"] + m["pending"]
+
+    def __repr__(self):
+        return (f"DextrousResult(inside volume {fmt(self.volume_inner, 6)}, E {fmt(self.volume_undecided, 6)}, "
+                f"eps {self.eps})")
+
+    def _repr_html_(self) -> str:
+        """The definition typeset, volumes and box counts, and slices of the boxes (Jupyter)."""
+        from ..display import figure_html, html_table
+        from ..plotting import plot_paving_slices
+
+        data = self.to_dict()
+        lo, hi = self.sigma
+        rows = [("certified inside", fmt(self.volume_inner, 6), data["boxes"]["inner"]),
+                ("error index E (undecided)", fmt(self.volume_undecided, 6), data["boxes"]["undecided"]),
+                ("outside", "", data["boxes"]["outer"])]
+        stopped = "" if self.paving.complete else " (stopped early: the rest counts in E)"
+        head = (f"<p>Dextrous workspace: the points of [-1, 1]³ where every eigenvalue of J Jᵀ lies in "
+                f"[{lo:g}, {hi:g}]; eps = {self.eps}, {data['boxes_evaluated']} boxes in {self.paving.seconds:.2f} s"
+                f"{stopped}</p>")
+        picture = figure_html(plot_paving_slices(self.paving), width=640, alt="slices")
+        return head + html_table(("boxes", "volume", "number"), rows) + picture
 
     def to_dict(self) -> dict:
         p = self.paving

@@ -22,10 +22,12 @@ import sympy as sp
 from ..errors import InvalidParameterError
 from ..interval import arith
 from ..interval.search import prove_all
+from ..numbers import fmt
+from ..progress import stage_bar
 from .certificate import box_module, check_sigma, numeric_dextrous
 
 __all__ = ["CubeResult", "binding_points", "closed_form_cube", "cube_inside", "largest_cube", "no_enclosed_cube",
-           "stages", "surface_points"]
+           "surface_points"]
 
 
 @dataclass
@@ -53,9 +55,40 @@ class CubeResult:
         if self.exact is None:
             return None
         e = self.exact
-        bounds = "; ".join(f"corner ({s}, {s}, {s}) on {', '.join(b)}" for s, b in e["bounds"].items())
         return (f"edge = {e['edge']} = {float(e['edge']):.9f}, centre x = y = z = {e['center']} = "
-                f"{float(e['center']):.9f} (binding: {bounds})")
+                f"{float(e['center']):.9f} (binding: {self._binding()})")
+
+    def _binding(self) -> str:
+        """The corners that bind the closed form and the bounds they meet."""
+        return "; ".join(f"corner ({s}, {s}, {s}) on {', '.join(b)}" for s, b in self.exact["bounds"].items())
+
+    def __repr__(self):
+        return (f"CubeResult(edge in [{fmt(self.edge_lower, 6)}, {fmt(self.edge_upper, 6)}], centre "
+                f"({', '.join(fmt(v, 6) for v in self.center)}))")
+
+    def _latex_lines(self) -> list[str]:
+        """The closed form as LaTeX equations (empty when it was not derived)."""
+        if self.exact is None:
+            return []
+        e = self.exact
+        return [rf"\text{{edge}} = {sp.latex(e['edge'])} \approx {fmt(float(e['edge']), 9)}",
+                rf"x = y = z = {sp.latex(e['center'])} \approx {fmt(float(e['center']), 9)}"]
+
+    def _repr_latex_(self) -> str:
+        lines = self._latex_lines() or [rf"\text{{edge}} \in [{fmt(self.edge_lower, 9)}, {fmt(self.edge_upper, 9)}]"]
+        return "$\\displaystyle " + r", \quad ".join(lines) + "$"
+
+    def _repr_markdown_(self) -> str:
+        """The certified bracket, the centre and the closed form typeset (Jupyter)."""
+        out = [f"**Largest cube in the dextrous workspace** ($\\sigma \\in [{self.sigma[0]:g}, {self.sigma[1]:g}]$, "
+               f"$\\alpha = {self.alpha:g}$, {self.seconds:.1f} s)", "",
+               f"- a cube of edge {fmt(self.edge_lower, 9)} centred at "
+               f"({', '.join(fmt(v, 6) for v in self.center)}) is proved inside;",
+               f"- no cube of edge above {fmt(self.edge_upper, 9)} fits anywhere (proved)."]
+        lines = self._latex_lines()
+        if lines:
+            out += ["", f"Closed form (binding: {self._binding()}):", ""] + [f"$${line}$$" for line in lines]
+        return "\n".join(out)
 
     def to_dict(self) -> dict:
         data = {"center": [float(v) for v in self.center], "edge_lower": self.edge_lower,
@@ -135,7 +168,7 @@ def largest_cube(model, *, alpha: float = 0.001, sigma=(0.25, 4.0), progress: bo
         raise InvalidParameterError(f"alpha must be a positive number; got {alpha!r}", parameter="alpha")
     sigma = check_sigma(sigma)
     start = time.perf_counter()
-    say = stages(progress, "cube")
+    say = stage_bar(progress, "cube", 4)
     say("numeric search on the diagonal")
     shape = np.vstack([surface_points(9), np.zeros((1, 3))])
     tol = min(alpha / 8, 1e-6)              # the search is cheap; the binding points need it accurate
@@ -259,27 +292,6 @@ def closed_form_cube(model, binding, t: float, half: float, sigma, *, tol: float
     return {"half": half_exact, "center": centre_exact, "edge": sp.radsimp(2 * half_exact),
             "corners": {"+": values[1], "-": values[-1]},
             "bounds": {("+" if k > 0 else "-"): sorted(v) for k, v in corners.items()}}
-
-
-def stages(progress, label):
-    """``say(text)`` writes the stage of a long run on stderr (by default when stderr is a terminal)."""
-    import sys
-
-    enabled = sys.stderr.isatty() if progress is None else bool(progress)
-    shown = [False]
-
-    def say(text):
-        if not enabled:
-            return
-        if text is None:
-            if shown[0]:
-                sys.stderr.write("\n")
-            return
-        sys.stderr.write(f"\r{label}: {text:<45}")
-        sys.stderr.flush()
-        shown[0] = True
-
-    return say
 
 
 def surface_points(n: int) -> np.ndarray:

@@ -1,0 +1,177 @@
+"""Rich display of results in Jupyter (IPython's display protocol) and textbook-shorthand expressions.
+
+Results a user holds (``DHRobot``, ``PlanarChain``, ``Boundary``, ``Paving``,
+the Orthoglide's results, ``Verdict``) define ``_repr_html_`` or
+``_repr_markdown_`` with the helpers of this module: HTML tables, a figure
+embedded as a PNG, numbers through :mod:`workspace_sym.numbers`.
+
+:func:`textbook_form` turns ``cos(theta2 + theta3)`` into a function that is
+still the cosine of ``theta2 + theta3`` (it substitutes, differentiates and
+evaluates like ``cos``) but prints as ``c23`` (``c_{23}`` in LaTeX), so that a
+notebook cell ending with ``robot.textbook(robot.fk())`` shows the matrix as a
+textbook prints it.
+
+Examples
+--------
+>>> import sympy as sp
+>>> t1, t2 = sp.symbols("theta1 theta2")
+>>> e = textbook_form(sp.cos(t1) * sp.sin(t1 + t2), (t1, t2))
+>>> e, sp.latex(e)
+(c1*s12, 'c_{1} s_{12}')
+>>> e.subs(t2, 0), e.diff(t2)
+(c1*s1, c1*c12)
+>>> plain(e.diff(t2)) == sp.cos(t1) * sp.cos(t1 + t2)
+True
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import io
+import re
+from functools import lru_cache
+
+import sympy as sp
+
+__all__ = ["textbook_form", "plain", "html_table", "figure_html", "expr_text"]
+
+
+# ------------------------------------------------------------------ textbook shorthand as SymPy functions
+def _label(arg, index_of: dict) -> str | None:
+    """'23' for theta2 + theta3 when every term is a joint variable with coefficient 1, else None."""
+    indices = []
+    for term in sp.Add.make_args(arg):
+        if term not in index_of:
+            return None
+        indices.append(index_of[term])
+    sep = "," if any(i >= 10 for i in indices) else ""
+    return sep.join(str(i) for i in sorted(indices))
+
+
+class _Shorthand:
+    """Printing of a ``cos`` / ``sin`` subclass as ``c23`` / ``s_{23}``; the maths is the base class's."""
+
+    letter = ""             # "c" or "s"; set with index_of by _functions
+    index_of = None
+
+    @classmethod
+    def class_key(cls):
+        # after symbols and numbers (class 2, 0), before products and sums (class 3): products read as in a
+        # textbook, c1*(a1 + a2*c2), and c before s, c1*s23
+        return 2, 1, cls.letter
+
+    def _short(self):
+        return _label(self.args[0], self.index_of)
+
+    def _pretty(self, printer):
+        label = self._short()
+        base = sp.Symbol(f"{self.letter}{label}") if label else self.__class__.__mro__[2](self.args[0])
+        return printer._print(base)
+
+    def _latex(self, printer, exp=None):
+        label = self._short()
+        if label is None:
+            base = self.__class__.__mro__[2](self.args[0])       # plain cos / sin
+            return printer._print(base, exp=exp) if exp is not None else printer._print(base)
+        text = f"{self.letter}_{{{label}}}"
+        return text if exp is None else f"{text}^{{{exp}}}"
+
+    def _sympystr(self, printer):
+        label = self._short()
+        if label is None:
+            return printer._print(self.__class__.__mro__[2](self.args[0]))
+        return f"{self.letter}{label}"
+
+
+@lru_cache(maxsize=64)
+def _functions(variables: tuple):
+    """The (cosine, sine) classes printing with the indices of ``variables`` (one pair per robot)."""
+    index_of = {v: k + 1 for k, v in enumerate(variables)}
+
+    def fdiff_cos(self, argindex=1):
+        return -sine(self.args[0])
+
+    def fdiff_sin(self, argindex=1):
+        return cosine(self.args[0])
+
+    cosine = type("cos", (_Shorthand, sp.cos), {"letter": "c", "index_of": index_of, "fdiff": fdiff_cos})
+    sine = type("sin", (_Shorthand, sp.sin), {"letter": "s", "index_of": index_of, "fdiff": fdiff_sin})
+    return cosine, sine
+
+
+def textbook_form(expr, variables):
+    """``expr`` (expression, matrix, polynomial or sequence) with every ``cos`` / ``sin`` of a sum of joint
+    variables printing in shorthand: ``c1``, ``s234`` (``c_{1}``, ``s_{234}`` in LaTeX).
+
+    The result is still the same mathematics (``subs``, ``diff``, ``lambdify``
+    work on it); :func:`plain` gives back ordinary ``cos`` and ``sin``.  A
+    polynomial becomes its expression; a list or tuple becomes a SymPy
+    ``Tuple`` (which Jupyter typesets).
+    """
+    cosine, sine = _functions(tuple(variables))
+    if isinstance(expr, list | tuple):
+        return sp.Tuple(*(textbook_form(e, variables) for e in expr))
+    if isinstance(expr, sp.Poly):
+        expr = expr.as_expr()
+    expr = sp.sympify(expr) if not isinstance(expr, sp.MatrixBase) else expr
+    swap = {sp.cos: cosine, sp.sin: sine}
+
+    def short(e):
+        return e.func in swap and _label(e.args[0], cosine.index_of) is not None
+
+    return expr.replace(short, lambda e: swap[e.func](e.args[0]))
+
+
+def plain(expr):
+    """``expr`` with the shorthand functions of :func:`textbook_form` turned back into ``cos`` and ``sin``."""
+    if isinstance(expr, sp.Tuple):
+        return sp.Tuple(*(plain(e) for e in expr))
+    return expr.replace(lambda e: isinstance(e, _Shorthand), lambda e: e.__class__.__mro__[2](e.args[0]))
+
+
+# ------------------------------------------------------------------ HTML pieces
+_GREEK = {"theta": "\u03b8", "alpha": "\u03b1", "pi": "\u03c0", "lambda": "\u03bb", "sigma": "\u03c3",
+          "eta": "\u03b7"}
+_GREEK_NAME = re.compile(r"\b(" + "|".join(_GREEK) + r")(?=\d|_|\b)")      # theta2, pi; not "pitch"
+
+
+def expr_text(expr) -> str:
+    """One line of text for a SymPy value in an HTML cell: ``θ1 + π/2`` (escaped).
+
+    >>> expr_text(sp.Symbol("theta2") + sp.pi / 2 + sp.Symbol("pitch"))
+    'pitch + θ2 + π/2'
+    """
+    text = _GREEK_NAME.sub(lambda m: _GREEK[m.group(1)], sp.sstr(expr))
+    return html.escape(text.replace("**", "^"))
+
+
+def html_table(header, rows, *, caption: str | None = None) -> str:
+    """A small HTML table; cells are escaped unless they are already HTML (``markupsafe``-like ``__html__``)."""
+    def cell(v):
+        return v.__html__() if hasattr(v, "__html__") else html.escape(str(v))
+
+    head = "".join(f"<th>{cell(h)}</th>" for h in header)
+    body = "".join("<tr>" + "".join(f"<td>{cell(v)}</td>" for v in row) + "</tr>" for row in rows)
+    cap = f"<caption>{html.escape(caption)}</caption>" if caption else ""
+    return f"<table>{cap}<thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
+
+
+class Markup(str):
+    """Text that :func:`html_table` inserts as HTML, not escaped."""
+
+    def __html__(self):
+        return str(self)
+
+
+def figure_html(fig, *, width: int = 420, alt: str = "figure") -> str:
+    """The matplotlib figure ``fig`` as an ``<img>`` with an embedded PNG; the figure is closed."""
+    import matplotlib.pyplot as plt
+
+    buffer = io.BytesIO()
+    try:
+        fig.savefig(buffer, format="png", dpi=90, bbox_inches="tight")
+    finally:
+        plt.close(fig)
+    data = base64.b64encode(buffer.getvalue()).decode("ascii")
+    return f'<img src="data:image/png;base64,{data}" width="{width}" alt="{html.escape(alt)}"/>'
