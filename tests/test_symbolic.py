@@ -130,3 +130,21 @@ def test_group_terms_is_an_identity_and_never_longer(terms):
     grouped = group_terms(expr)
     assert sp.expand(grouped - expr) == 0
     assert sp.count_ops(grouped) <= sp.count_ops(sp.factor_terms(sp.expand(expr)))
+
+
+def test_large_factorisation_with_square_roots_keeps_an_exact_product():
+    """Above EXTENSION_FACTOR_TERMS the roots are symbols while factoring: the factors' product is still the
+    polynomial (exact identity), and a planted factor is found when no product of roots was reduced
+    (sqrt 2 sqrt 6 = 2 sqrt 3 would hide it: then the factors are only coarser)."""
+    from workspace_sym.symbolic import EXTENSION_FACTOR_TERMS, _factor_list
+
+    x, y, z = sp.symbols("x y z")
+    f = sp.sqrt(2) * x + y - sp.sqrt(3) * z
+    g = sp.expand((x + y + z + 1) ** 3 + 6 * x * y)
+    poly = sp.expand(f * g)
+    assert len(poly.args) > EXTENSION_FACTOR_TERMS
+    factors = _factor_list(poly, (sp.sqrt(2), sp.sqrt(3), sp.sqrt(6)))
+    product = sp.Mul(*(h**m for h, m in factors))
+    ratio = sp.simplify(poly / product)
+    assert ratio.is_number and ratio != 0
+    assert any(sp.simplify(h / f).is_number for h, _ in factors)

@@ -299,6 +299,27 @@ def _odd_set(f: sp.Expr, pairs) -> frozenset:
     return frozenset(k for k in range(len(pairs)) if (monom[2 * k] + monom[2 * k + 1]) % 2)
 
 
+EXTENSION_FACTOR_TERMS = 12   # larger polynomials are factored with the square roots as symbols
+
+
+def _factor_list(poly_expr: sp.Expr, extension) -> list:
+    """Irreducible factors with multiplicities, over QQ or over QQ(extension) when that stays cheap.
+
+    Factoring over an algebraic field (Trager's norms) is slow beyond a few
+    terms: a 28-term polynomial over QQ(sqrt 2, sqrt 3) ran for minutes.  There
+    the square roots become symbols and the polynomial is factored over QQ;
+    each factor still divides the polynomial once the roots are put back, it is
+    only possibly coarser than over the field.
+    """
+    if not extension:
+        return sp.factor_list(poly_expr)[1]
+    if len(sp.Add.make_args(sp.expand(poly_expr))) <= EXTENSION_FACTOR_TERMS:
+        return sp.factor_list(poly_expr, extension=list(extension))[1]
+    roots = {r: sp.Dummy(f"root{r.base}") for r in extension}
+    back = {v: k for k, v in roots.items()}
+    return [(f.xreplace(back), m) for f, m in sp.factor_list(poly_expr.xreplace(roots))[1]]
+
+
 def factor_half_angle(poly_expr: sp.Expr, pairs, *, extension=(), multiplicity: bool = False) -> list:
     """Readable full-angle factors of a half-angle polynomial (see :class:`HalfAngleRing`).
 
@@ -312,7 +333,7 @@ def factor_half_angle(poly_expr: sp.Expr, pairs, *, extension=(), multiplicity: 
     """
     if poly_expr == 0:
         return [(sp.Integer(0), 1)] if multiplicity else [sp.Integer(0)]
-    _, factors = sp.factor_list(poly_expr, extension=list(extension)) if extension else sp.factor_list(poly_expr)
+    factors = _factor_list(poly_expr, extension)
     units = {sp.expand(S**2 + C**2) for _, S, C in pairs}
     even, odd = [], []
     for f, m in factors:
