@@ -17,6 +17,7 @@ from .errors import (
     InvalidParameterError,
     JointLimitError,
     UnknownNameError,
+    URDFError,
     WorkspaceError,
 )
 from .exact import exact_arcs, exact_area
@@ -50,6 +51,7 @@ __all__ = [
     "InvalidParameterError",
     "JointLimitError",
     "UnknownNameError",
+    "URDFError",
     "AnalyticJacobian",
     "DHJoint",
     "DHRobot",

@@ -21,6 +21,7 @@ from .errors import InvalidParameterError, WorkspaceError
 from .expressions import is_finite_value, parse_expr, read_symbol
 from .kinematics import DHRobot
 from .numbers import clean_json, fmt
+from .snap import DEFAULT_TOL, summary
 
 __all__ = ["main", "build_parser"]
 
@@ -75,12 +76,24 @@ def _wrote_report(path) -> None:
 
 
 def _robot_from_args(args) -> DHRobot:
-    if args.dh is not None:
-        if args.robot is not None:
-            raise WorkspaceError(f"give either a catalog robot ({args.robot!r}) or --dh FILE, not both")
-        return DHRobot.from_file(args.dh)
+    given = [f"catalog robot {args.robot!r}" if args.robot is not None else None,
+             "--dh FILE" if args.dh is not None else None, "--urdf FILE" if args.urdf is not None else None]
+    given = [g for g in given if g]
+    if len(given) > 1:
+        raise WorkspaceError(f"give one of a catalog robot, --dh FILE or --urdf FILE; got {' and '.join(given)}")
+    if (args.base or args.tip) and args.urdf is None:
+        raise WorkspaceError("--base and --tip name links of a URDF file: give --urdf FILE")
+    if args.dh is not None or args.urdf is not None:
+        exact = not args.keep_floats
+        robot = (DHRobot.from_file(args.dh, exact=exact, tol=args.snap_tol) if args.dh is not None else
+                 DHRobot.from_urdf(args.urdf, base_link=args.base, tip_link=args.tip, exact=exact, tol=args.snap_tol))
+        line = summary(robot.input_notes)
+        if line:
+            print(f"workspace-sym {args.command}: note: {line}", file=sys.stderr)
+        return robot
     if args.robot is None:
-        raise WorkspaceError("robot: name a catalog robot (see 'workspace-sym robots') or pass --dh FILE")
+        raise WorkspaceError("robot: name a catalog robot (see 'workspace-sym robots') or pass --dh FILE or "
+                             "--urdf FILE")
     model = robots.build(args.robot)
     if not isinstance(model, DHRobot):
         raise WorkspaceError(f"robot {args.robot!r} is not a serial DH robot; this command needs one")
@@ -526,6 +539,14 @@ _MAX_BOXES = (("--max-boxes",), {"type": int, "help": "stop after this many boxe
 _TIME_LIMIT = (("--time-limit",), {"type": float, "help": "stop after this many seconds (the rest is pending)"})
 _ROBOT = (("robot",), {"nargs": "?", "help": "catalog DH robot (see 'workspace-sym robots'), or none with --dh"})
 _DH = (("--dh",), {"metavar": "FILE", "help": _DH_HELP})
+_URDF = (("--urdf",), {"metavar": "FILE", "help": "a URDF file (plain XML, not xacro): its serial chain as a DH robot"})
+_BASE = (("--base",), {"metavar": "LINK", "help": "with --urdf: first link of the chain (default: the root link)"})
+_TIP = (("--tip",), {"metavar": "LINK", "help": "with --urdf: last link (default: the only leaf moved by a joint)"})
+_SNAP_TOL = (("--snap-tol",), {"type": float, "default": DEFAULT_TOL, "metavar": "RAD",
+                               "help": "float angles of --dh/--urdf this close to a multiple of pi/360 become it "
+                                       f"(default {DEFAULT_TOL:g})"})
+_KEEP_FLOATS = (("--keep-floats",), {"action": "store_true",
+                                     "help": "keep float inputs as floats; chop entries below --snap-tol instead"})
 _SIGMA = (("--sigma",), {"default": "0.25:4", "help": "range of the eigenvalues of J J^T, MIN:MAX (default 0.25:4)"})
 _DELTA = (("--delta",), {"type": float, "required": True, "help": "size below which undecided boxes stop splitting"})
 _SIZE = (("--size",), {"choices": ("diameter", "width"), "default": "diameter",
@@ -550,7 +571,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     json_, progress, budget = _parent(_JSON), _parent(_PROGRESS), _parent(_MAX_BOXES, _TIME_LIMIT)
-    dh_robot, sigma, resolution = _parent(_ROBOT, _DH), _parent(_SIGMA), _parent(_DELTA, _SIZE)
+    dh_robot = _parent(_ROBOT, _DH, _URDF, _BASE, _TIP, _SNAP_TOL, _KEEP_FLOATS)
+    sigma, resolution = _parent(_SIGMA), _parent(_DELTA, _SIZE)
 
     p = sub.add_parser("robots", help="list the catalog", parents=[json_])
     p.set_defaults(func=cmd_robots)

@@ -11,6 +11,7 @@ __all__ = [
     "WorkspaceError",
     "InvalidParameterError",
     "DHTableError",
+    "URDFError",
     "ExpressionError",
     "JointLimitError",
     "UnknownNameError",
@@ -46,6 +47,10 @@ class InvalidParameterError(WorkspaceError):
 
 class DHTableError(WorkspaceError):
     """A Denavit-Hartenberg row or file is malformed."""
+
+
+class URDFError(DHTableError):
+    """A URDF file cannot be read as a serial chain (unreadable, xacro, branching, unsupported joint)."""
 
 
 class ExpressionError(WorkspaceError):

@@ -25,6 +25,7 @@ from sympy.polys.matrices import DomainMatrix
 
 from .errors import DHTableError, ExpressionError, InvalidParameterError, JointLimitError, check_choice
 from .expressions import as_sympy, check_joint_limits, is_finite_value, parse_angle, parse_expr, read_symbol
+from .snap import DEFAULT_TOL, Snapper, chop
 from .symbolic import (
     HalfAngleRing,
     algebraic_constants,
@@ -164,8 +165,13 @@ def _homogeneous(M, parameter: str) -> sp.Matrix:
     return M
 
 
-def _read_transform(value, key: str, degrees: bool) -> sp.Matrix:
-    """``{"xyz": [x, y, z], "rpy": [r, p, y]}`` (``Rz(y) Ry(p) Rx(r)``, angles in the file's unit) or a 4 x 4 list."""
+def _read_transform(value, key: str, degrees: bool, snapper: Snapper | None = None) -> sp.Matrix:
+    """``{"xyz": [x, y, z], "rpy": [r, p, y]}`` (``Rz(y) Ry(p) Rx(r)``, angles in the file's unit) or a 4 x 4 list.
+
+    Floats go through ``snapper`` (see :func:`_read_angle`); the 3 x 3 block of a
+    4 x 4 list snaps to the exact cosines of :meth:`Snapper.cosine`.
+    """
+    snapper = snapper if snapper is not None else Snapper()
     if isinstance(value, dict):
         unknown = set(value) - {"xyz", "rpy"}
         if unknown:
@@ -174,14 +180,29 @@ def _read_transform(value, key: str, degrees: bool) -> sp.Matrix:
         for field_, v in (("xyz", xyz), ("rpy", rpy)):
             if not isinstance(v, (list, tuple)) or len(v) != 3:
                 raise DHTableError(f"{key} {field_}: expected a list of 3 numbers; got {v!r}")
-        x, y, z = (parse_expr(v, f"{key} xyz") for v in xyz)
-        r, p, w = (parse_angle(v, f"{key} rpy", degrees=degrees) for v in rpy)
+        x, y, z = (_read_length(v, f"{key} xyz", snapper) for v in xyz)
+        r, p, w = (_read_angle(v, f"{key} rpy", degrees, snapper) for v in rpy)
         Ry = sp.Matrix([[sp.cos(p), 0, sp.sin(p), 0], [0, 1, 0, 0], [-sp.sin(p), 0, sp.cos(p), 0], [0, 0, 0, 1]])
-        return _translate(x, y, z) * _rz(w) * Ry * _rx(r)
+        return snapper.chop(_translate(x, y, z) * _rz(w) * Ry * _rx(r))
     if isinstance(value, (list, tuple)) and len(value) == 4 and all(isinstance(r, (list, tuple)) and len(r) == 4
                                                                    for r in value):
-        return sp.Matrix([[parse_expr(v, f"{key} matrix") for v in row] for row in value])
+        return snapper.chop(sp.Matrix([[_read_length(v, f"{key} matrix", snapper, rotation=i < 3 and j < 3)
+                                        for j, v in enumerate(row)] for i, row in enumerate(value)]))
     raise DHTableError(f"{key}: expected {{\"xyz\": [..], \"rpy\": [..]}} or a 4 x 4 list; got {value!r}")
+
+
+def _read_angle(value, where: str, degrees: bool, snapper: Snapper) -> sp.Expr:
+    """An angle field: a float (a JSON number with a point) is snapped by ``snapper``, anything else read as given."""
+    if type(value) is float and math.isfinite(value):
+        return snapper.angle(value, where, degrees=degrees)
+    return parse_angle(value, where, degrees=degrees)
+
+
+def _read_length(value, where: str, snapper: Snapper, *, rotation: bool = False) -> sp.Expr:
+    """A length field (or a rotation entry): a float becomes the decimal it spells, anything else is read as given."""
+    if type(value) is float and math.isfinite(value):
+        return snapper.cosine(value, where) if rotation else snapper.length(value, where)
+    return parse_expr(value, where)
 
 
 def _field(value, index, field):
@@ -239,6 +260,12 @@ class DHRobot:
         Constant transforms before the first row and after the last one:
         ``fk() = base T_0^n tool``.  The Jacobians are those of the tool point,
         expressed in the world (base) frame.
+    input_notes : sequence of str
+        What the reader changed in the input (floats made exact, URDF joints
+        folded), kept as ``robot.input_notes``.
+    chop_tol : float, optional
+        Floats below it in each DH matrix are set to zero (float tables read
+        with ``exact=False``).
 
     Examples
     --------
@@ -251,8 +278,11 @@ class DHRobot:
     """
 
     def __init__(self, joints, *, convention: str = "standard", name: str = "robot",
-                 parameters: dict | None = None, units: str = "m", base=None, tool=None):
+                 parameters: dict | None = None, units: str = "m", base=None, tool=None, input_notes=(),
+                 chop_tol: float | None = None):
         check_choice("convention", convention, CONVENTIONS)
+        self.input_notes = tuple(input_notes)
+        self.chop_tol = chop_tol
         self.base = None if base is None else _homogeneous(base, "base")
         self.tool = None if tool is None else _homogeneous(tool, "tool")
         joints = tuple(joints)
@@ -274,7 +304,7 @@ class DHRobot:
 
     # ------------------------------------------------------------------ construction
     @classmethod
-    def from_dict(cls, data: dict, *, name: str = "robot") -> DHRobot:
+    def from_dict(cls, data: dict, *, name: str = "robot", exact: bool = True, tol: float = DEFAULT_TOL) -> DHRobot:
         """Build a robot from the DH-file dictionary of INTERFACE.md.
 
         ``{"convention": "standard" | "modified", "angles": "degrees" | "radians",
@@ -287,7 +317,27 @@ class DHRobot:
         ``"angles": "radians"``; expressions containing ``pi`` or symbols are radians.
         For a revolute joint ``theta`` is an offset added to ``theta{i}`` unless it
         already contains that variable; likewise ``d`` for a prismatic joint.
+
+        Floats (JSON numbers with a decimal point) are made exact where they
+        clearly are (:mod:`workspace_sym.snap`): an angle within ``tol`` radians of
+        a multiple of ``pi/360`` becomes that multiple (``1.5707963267948966`` is
+        ``pi/2``), a length the decimal it spells (``0.4318`` is ``2159/5000``);
+        every replacement is listed in ``robot.input_notes``.  With ``exact=False``
+        floats stay floats and the entries of each DH matrix below ``tol`` are
+        chopped (``cos(1.5707963267948966) = 6e-17`` becomes 0).  Strings are read
+        as written (``"0.4318"`` is already exact).
+
+        Examples
+        --------
+        >>> puma_alpha = {"angles": "radians", "joints": [{"d": 0, "a": 0, "alpha": 1.5707963267948966},
+        ...                                               {"d": 0, "a": 0.4318, "alpha": 0.0}]}
+        >>> robot = DHRobot.from_dict(puma_alpha)
+        >>> [j.alpha for j in robot.joints], robot.joints[1].a
+        ([pi/2, 0], 2159/5000)
+        >>> robot.input_notes
+        ('joint 1 alpha: 1.5707963267948966 -> pi/2', 'joint 2 a: 0.4318 -> 2159/5000')
         """
+        snapper = Snapper(exact=exact, tol=tol)
         if not isinstance(data, dict):
             raise DHTableError(f"DH description must be a JSON object; got {type(data).__name__}")
         convention = data.get("convention", "standard")
@@ -314,24 +364,24 @@ class DHRobot:
                 raise DHTableError(f"joint {i}: unknown field {sorted(unknown)[0]!r}")
             q = (read_symbol(row["variable"], f"joint {i} variable") if "variable" in row
                  else sp.Symbol(f"theta{i}" if kind == "R" else f"d{i}"))
-            a = parse_expr(row["a"], f"joint {i} a")
-            alpha = parse_angle(row["alpha"], f"joint {i} alpha", degrees=degrees)
+            a = _read_length(row["a"], f"joint {i} a", snapper)
+            alpha = _read_angle(row["alpha"], f"joint {i} alpha", degrees, snapper)
             if kind == "R":
-                theta = parse_angle(row.get("theta", 0), f"joint {i} theta", degrees=degrees)
+                theta = _read_angle(row.get("theta", 0), f"joint {i} theta", degrees, snapper)
                 theta = theta if theta.has(q) else q + theta
-                d = parse_expr(row["d"], f"joint {i} d")
+                d = _read_length(row["d"], f"joint {i} d", snapper)
             else:
-                theta = parse_angle(row["theta"], f"joint {i} theta", degrees=degrees)
-                d = parse_expr(row.get("d", 0), f"joint {i} d")
+                theta = _read_angle(row["theta"], f"joint {i} theta", degrees, snapper)
+                d = _read_length(row.get("d", 0), f"joint {i} d", snapper)
                 d = d if d.has(q) else q + d
             limits = row.get("limits")
             if limits is not None:
                 if not isinstance(limits, (list, tuple)) or len(limits) != 2:
                     raise JointLimitError(f"joint {i} limits: expected [lower, upper]; got {limits!r}")
                 if kind == "R":
-                    limits = tuple(parse_angle(v, f"joint {i} limits", degrees=degrees) for v in limits)
+                    limits = tuple(_read_angle(v, f"joint {i} limits", degrees, snapper) for v in limits)
                 else:
-                    limits = tuple(parse_expr(v, f"joint {i} limits", new_symbols=False) for v in limits)
+                    limits = tuple(_read_length(v, f"joint {i} limits", snapper) for v in limits)
                 check_joint_limits(i, *limits, shown=(row["limits"][0], row["limits"][1]))
             joints.append(DHJoint(kind, theta, d, a, alpha, q, limits))
         params = {}
@@ -340,14 +390,15 @@ class DHRobot:
             raise DHTableError(f"parameters: expected an object such as {{\"a2\": 0.25}}; got {parameters!r:.60}")
         for k, v in parameters.items():
             params[read_symbol(k, "parameters")] = _parameter_value(v, f"parameter {k}")
-        base, tool = (_read_transform(data[key], key, degrees) if data.get(key) is not None else None
+        base, tool = (_read_transform(data[key], key, degrees, snapper) if data.get(key) is not None else None
                       for key in ("base", "tool"))
         return cls(joints, convention=convention, name=data.get("name", name), parameters=params,
-                   units=data.get("units", "m"), base=base, tool=tool)
+                   units=data.get("units", "m"), base=base, tool=tool, input_notes=snapper.notes,
+                   chop_tol=None if exact else snapper.tol)
 
     @classmethod
-    def from_file(cls, path) -> DHRobot:
-        """Read a DH JSON file (see :meth:`from_dict`)."""
+    def from_file(cls, path, *, exact: bool = True, tol: float = DEFAULT_TOL) -> DHRobot:
+        """Read a DH JSON file (see :meth:`from_dict` for ``exact`` and ``tol``)."""
         path = Path(path)
         try:
             text = path.read_text()
@@ -357,7 +408,21 @@ class DHRobot:
             data = json.loads(text)
         except json.JSONDecodeError as exc:
             raise DHTableError(f"--dh: {str(path)!r} is not valid JSON ({exc.msg} at line {exc.lineno})") from exc
-        return cls.from_dict(data, name=path.stem)
+        return cls.from_dict(data, name=path.stem, exact=exact, tol=tol)
+
+    @classmethod
+    def from_urdf(cls, path, *, base_link: str | None = None, tip_link: str | None = None, exact: bool = True,
+                  tol: float = DEFAULT_TOL) -> DHRobot:
+        """The serial chain from ``base_link`` to ``tip_link`` of a URDF file, as a DH robot.
+
+        Every chain of revolute and prismatic joints has a standard DH table
+        once constant base and tool transforms are allowed; it is extracted
+        exactly, and ``fk()`` equals the URDF's own forward kinematics.  See
+        :func:`workspace_sym.urdf.read_urdf` (needs the ``urdf`` extra, yourdfpy).
+        """
+        from .urdf import read_urdf  # optional dependency; urdf builds on this module
+
+        return read_urdf(path, base_link=base_link, tip_link=tip_link, exact=exact, tol=tol)
 
     # ------------------------------------------------------------------ basics
     @property
@@ -387,9 +452,8 @@ class DHRobot:
         if not 1 <= k <= self.n:
             raise InvalidParameterError(f"k must be between 1 and {self.n}; got {k}", parameter="k")
         j = self.joints[k - 1]
-        if self.convention == "standard":
-            return dh_matrix(j.theta, j.d, j.a, j.alpha)
-        return dh_matrix(j.theta, j.d, j.a, j.alpha, convention="modified")
+        A = dh_matrix(j.theta, j.d, j.a, j.alpha, convention=self.convention)
+        return A if self.chop_tol is None else chop(A, self.chop_tol)
 
     # ------------------------------------------------------------------ forward kinematics
     def raw_fk(self) -> sp.Matrix:

@@ -1,0 +1,233 @@
+"""Float input made exact where it clearly is, every replacement recorded.
+
+Robot descriptions copied from datasheets, other toolboxes or URDF files hold
+floats: ``alpha = 1.5707963267948966``, ``a = 0.4318``.  Kept as floats they
+leave ``2.6e-17*sin(q1)`` terms in every product and make the exact machinery
+(textbook form, singular factors) crawl.  A :class:`Snapper` reads them as
+exact values by two rules:
+
+- an **angle** (radians) within ``tol`` of a multiple of ``pi/360`` (every
+  whole and half degree: ``pi/2``, ``pi/3``, ``pi/8``, ``37*pi/36``) becomes
+  that multiple; any other angle stays the float it was (nothing suggests an
+  exact value) **(choice)**;
+- a **length** becomes the shortest decimal that the float stands for
+  (``0.4318`` is ``2159/5000``), the decimal the file or the user wrote.
+
+Each replacement is kept in :attr:`Snapper.notes`; an angle that is close to a
+multiple of ``pi/360`` but beyond ``tol`` (``1.570796325`` is ``1.8e-9`` from
+``pi/2``) gets a note too, saying which tolerance would snap it.
+
+With ``exact=False`` nothing is snapped: floats stay floats, and
+:func:`chop` removes the terms below ``tol`` that their products leave.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from .errors import InvalidParameterError
+
+__all__ = ["Snapper", "exact_decimal", "snap_angle", "chop", "summary", "ANGLE_GRID", "DEFAULT_TOL"]
+
+#: Angles snap to multiples of ``pi / ANGLE_GRID`` (whole and half degrees).
+ANGLE_GRID = 360
+#: Default snapping (and chopping) tolerance, radians for angles.
+DEFAULT_TOL = 1e-9
+# An angle this close to the grid but beyond tol is worth a note (a URDF's 1.5708 is 3.7e-6 from pi/2).
+_NEAR = 1e-4
+# The shortest decimal may differ from the float by a few units in the last place
+# (0.30000000000000004 is 0.3): floats that went through arithmetic lose their last bit.
+_ULPS = 4
+
+
+def check_tol(tol) -> float:
+    """``tol`` as a float, which must be finite and non-negative."""
+    if isinstance(tol, bool) or not isinstance(tol, (int, float)) or not math.isfinite(tol) or tol < 0:
+        raise InvalidParameterError(f"tol must be a finite number >= 0; got {tol!r}", parameter="tol")
+    return float(tol)
+
+
+def snap_angle(value: float, tol: float = DEFAULT_TOL) -> sp.Expr | None:
+    """The multiple of ``pi/360`` within ``tol`` of ``value`` (radians), or ``None``.
+
+    Examples
+    --------
+    >>> snap_angle(1.5707963267948966)
+    pi/2
+    >>> snap_angle(3.22885911619)      # 185 degrees, as KUKA URDF limits write it
+    37*pi/36
+    >>> snap_angle(1.5708) is None     # 3.7e-6 away: a rounded pi/2, but not within 1e-9
+    True
+    """
+    k = round(value * ANGLE_GRID / math.pi)
+    if abs(value - k * math.pi / ANGLE_GRID) <= tol:
+        return sp.Rational(k, ANGLE_GRID) * sp.pi
+    return None
+
+
+def exact_decimal(value: float) -> sp.Rational:
+    """The shortest decimal within a few units in the last place of ``value``, as a Rational.
+
+    Examples
+    --------
+    >>> exact_decimal(0.4318)
+    2159/5000
+    >>> exact_decimal(0.1 + 0.2)
+    3/10
+    >>> exact_decimal(-9.8483e-05)
+    -98483/1000000000
+    """
+    if value == 0 or not math.isfinite(value):
+        return sp.Rational(0) if value == 0 else sp.Float(value)
+    slack = _ULPS * math.ulp(value)
+    for digits in range(1, 18):
+        text = f"{value:.{digits}g}"
+        if abs(float(text) - value) <= slack:
+            return sp.Rational(text)
+    return sp.Rational(repr(value))
+
+
+def chop(expr, tol: float):
+    """``expr`` with every float coefficient of magnitude below ``tol`` set to zero.
+
+    Works on expressions and matrices; exact numbers are left alone.
+
+    Examples
+    --------
+    >>> q = sp.Symbol("q")
+    >>> chop(6.123e-17 * sp.sin(q) + 1.0 * sp.cos(q), 1e-9)
+    1.0*cos(q)
+    """
+    if isinstance(expr, sp.MatrixBase):
+        return expr.applyfunc(lambda e: chop(e, tol))
+    small = {f: sp.Integer(0) for f in sp.sympify(expr).atoms(sp.Float) if abs(f) < tol}
+    return sp.sympify(expr).xreplace(small) if small else expr
+
+
+def _differs(exact: sp.Expr, value: float) -> bool:
+    """Whether ``exact`` is another number than the float (``1/2`` is ``0.5``; ``pi/2`` is not a float)."""
+    return not (exact.is_Rational and sp.Rational(value) == exact)
+
+
+@dataclass
+class Snapper:
+    """Reads floats as exact values (or keeps them, with ``exact=False``) and records each replacement.
+
+    Parameters
+    ----------
+    exact : bool
+        Snap angles and read lengths as decimals (default); ``False`` keeps floats.
+    tol : float
+        Angles within ``tol`` radians of a multiple of ``pi/360`` snap; with
+        ``exact=False`` it is the chopping threshold.
+
+    Examples
+    --------
+    >>> s = Snapper()
+    >>> s.angle(1.5707963267948966, "joint 1 alpha"), s.length(0.4318, "joint 2 a")
+    (pi/2, 2159/5000)
+    >>> s.notes
+    ['joint 1 alpha: 1.5707963267948966 -> pi/2', 'joint 2 a: 0.4318 -> 2159/5000']
+    >>> s.angle(1.570796325, "j1 rpy"), s.notes[-1]         # doctest: +ELLIPSIS
+    (1.57079632500000, 'j1 rpy: 1.570796325 kept as a float: it is 1.8e-09 rad from pi/2, above tol = 1e-09 ...')
+    >>> s.angle(90.0, "joint 3 alpha", degrees=True)
+    pi/2
+    """
+
+    exact: bool = True
+    tol: float = DEFAULT_TOL
+    #: One sentence per replacement (and per near miss).
+    notes: list[str] = field(default_factory=list)
+
+    def __post_init__(self):
+        self.tol = check_tol(self.tol)
+
+    def angle(self, value, where: str, *, degrees: bool = False) -> sp.Expr:
+        """An angle, returned in radians: snapped to ``k pi / 360`` within ``tol`` radians, else the float."""
+        value = float(value)
+        radians = math.radians(value) if degrees else value
+        kept = sp.Float(value) * sp.pi / 180 if degrees else sp.Float(value)
+        if not self.exact:
+            return kept
+        snapped = snap_angle(radians, self.tol)
+        if snapped is not None:
+            exact_given = snapped * 180 / sp.pi if degrees else snapped
+            if _differs(exact_given, value):
+                self.notes.append(f"{where}: {value!r} -> {sp.sstr(exact_given)}")
+            return snapped
+        near = snap_angle(radians, _NEAR)
+        if near is not None:
+            gap = abs(radians - float(near))
+            self.notes.append(f"{where}: {value!r} kept as a float: it is {gap:.2g} rad from "
+                                          f"{sp.sstr(near)}, above tol = {self.tol:g} (a larger tol would snap it)")
+        return kept
+
+    def length(self, value, where: str) -> sp.Expr:
+        """A length (or any non-angle number): the decimal it spells, or the float with ``exact=False``."""
+        value = float(value)
+        if not self.exact:
+            return sp.Float(value)
+        exact = exact_decimal(value)
+        if _differs(exact, value):
+            self.notes.append(f"{where}: {value!r} -> {sp.sstr(exact)}")
+        return exact
+
+    def cosine(self, value, where: str) -> sp.Expr:
+        """An entry of a rotation matrix or a unit axis: ``cos(k pi/12)`` within ``tol``, else :meth:`length`.
+
+        ``0, 1/2, sqrt(2)/2, sqrt(3)/2, 1`` and their negatives (and the
+        ``(sqrt(6) +- sqrt(2))/4`` of 15 and 75 degrees) are the exact values
+        such entries take in real robots.
+        """
+        value = float(value)
+        if not self.exact:
+            return sp.Float(value)
+        for k in range(13):
+            exact = sp.cos(k * sp.pi / 12)
+            for candidate in (exact, -exact) if exact != 0 else (exact,):
+                if abs(value - float(candidate)) <= self.tol:
+                    if _differs(candidate, value):
+                        self.notes.append(f"{where}: {value!r} -> {sp.sstr(candidate)}")
+                    return candidate
+        return self.length(value, where)
+
+    def chop(self, expr):
+        """``expr`` chopped below ``tol`` when floats are kept; unchanged in exact mode."""
+        return expr if self.exact else chop(expr, self.tol)
+
+
+def summary(notes) -> str:
+    """One line for the command line: snapped angles in full, decimals and near misses counted.
+
+    Reads the notes a :class:`Snapper` writes; other notes (how a URDF chain
+    became a DH table) are left to ``robot.input_notes``.
+
+    Examples
+    --------
+    >>> s = Snapper()
+    >>> _ = s.angle(1.5707963267948966, "joint 1 alpha"), s.length(0.4318, "joint 2 a"), s.angle(3.1416, "limit")
+    >>> summary(s.notes)
+    'joint 1 alpha: 1.5707963267948966 -> pi/2; 1 float read as the decimal written; 1 angle near a multiple \
+of pi/360 kept as a float (above tol); all in robot.input_notes'
+    """
+    snapped, decimals, near = [], 0, 0
+    for note in notes:
+        if " kept as a float" in note:
+            near += 1
+        elif " -> " in note:
+            if note.rsplit(" -> ", 1)[1].lstrip("-").replace("/", "").isdigit():
+                decimals += 1
+            else:
+                snapped.append(note)
+    parts = snapped
+    if decimals:
+        plural = "s" if decimals > 1 else ""
+        parts.append(f"{decimals} float{plural} read as the decimal{plural} written")
+    if near:
+        plural = "s" if near > 1 else ""
+        parts.append(f"{near} angle{plural} near a multiple of pi/360 kept as {'floats' if plural else 'a float'} "
+                     "(above tol)")
+    return "; ".join(parts) + "; all in robot.input_notes" if parts else ""

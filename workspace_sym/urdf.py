@@ -1,0 +1,396 @@
+"""Serial chains of URDF files, read with yourdfpy and turned into exact DH robots.
+
+A URDF joint is a constant transform (``origin``: ``xyz`` then
+``Rz(yaw) Ry(pitch) Rx(roll)``) followed by a rotation about ``axis``
+(revolute, continuous) or a translation along it (prismatic); fixed joints are
+constant transforms only.  The chain from a base link to a tip link is the
+product of these transforms.
+
+**Every such chain has a standard DH table** once a constant base transform
+(frame 0 must have its z axis on joint 1's axis) and a tool transform (from
+the last DH frame to the tip link) are allowed: between two successive joint
+axes the common normal gives ``a`` and ``alpha``, and the two other numbers of
+a URDF origin (a rotation about, and a shift along, the next joint's axis) go
+into that joint's ``theta`` offset and ``d`` (Denavit and Hartenberg 1955;
+Spong, Hutchinson, Vidyasagar, *Robot Modeling and Control*, section 3.2).
+Skew axes are no obstacle, a URDF simply spends six numbers where DH needs
+four.  So :func:`read_urdf` returns a :class:`~workspace_sym.kinematics.DHRobot`
+(standard convention, with ``base`` and ``tool``) whose ``fk()`` equals the
+URDF product identically; everything a DH robot offers (textbook FK,
+Jacobians, singular factors, certified reach) works on it.  What the
+extraction needed is stated in ``robot.input_notes``: whether the table alone
+starts at the URDF base (no base transform), and where successive axes are
+parallel (the DH frame is then not unique: ``d = 0`` is chosen).
+
+Numbers are snapped as in :mod:`workspace_sym.snap`: lengths become the
+decimals of the file, ``rpy`` angles within ``tol`` of a multiple of ``pi/360``
+become that multiple (``1.57079632679`` is ``pi/2`` at the default 1e-9, the
+rounded ``1.5708`` is not), axis components within ``tol`` of ``cos(k pi/12)``
+become it, and the axis is normalised exactly.  Xacro files are not read:
+expand them first (``xacro robot.urdf.xacro > robot.urdf``).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from pathlib import Path
+
+import numpy as np
+import sympy as sp
+
+from .errors import URDFError
+from .expressions import check_joint_limits
+from .kinematics import DHJoint, DHRobot
+from .snap import DEFAULT_TOL, Snapper, chop
+
+__all__ = ["read_urdf", "MOVING", "UNSUPPORTED"]
+
+#: URDF joint types that become a joint of the chain.
+MOVING = ("revolute", "continuous", "prismatic")
+#: Joint types refused on the chain (several degrees of freedom).
+UNSUPPORTED = ("floating", "planar")
+_DUST = 1e-14
+
+
+def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None, exact: bool = True,
+              tol: float = DEFAULT_TOL) -> DHRobot:
+    """The serial chain ``base_link -> tip_link`` of a URDF file as an exact DH robot.
+
+    Parameters
+    ----------
+    path : str or Path
+        A URDF file (plain XML; xacro is refused with a hint).
+    base_link : str, optional
+        Default: the root of the link tree.
+    tip_link : str, optional
+        Default: the one leaf below ``base_link`` reached through a moving joint;
+        a tree with several such leaves needs it.
+    exact, tol
+        Snapping of floats (see :mod:`workspace_sym.snap`); ``exact=False`` keeps
+        floats and chops entries below ``tol``.
+
+    Joint ``k`` of the chain (fixed joints skipped) gets the variable
+    ``theta{k}`` (revolute, continuous) or ``d{k}`` (prismatic), the URDF joint
+    position itself; limits come from the file (none for continuous joints).
+
+    Raises
+    ------
+    URDFError
+        Unreadable file, xacro, unknown or unconnected links, a branching tree
+        without ``tip_link``, a mimic, floating or planar joint on the chain, a
+        revolute or prismatic joint without ``<limit>``, a chain without joints.
+    Examples
+    --------
+    A planar 2R arm (links 0.4 and 0.3), its limits written as floats:
+
+    >>> import pathlib, tempfile
+    >>> joint = ('<joint name="{0}" type="revolute"><parent link="{1}"/><child link="{2}"/>'
+    ...          '<origin xyz="{3} 0 0"/><axis xyz="0 0 1"/>'
+    ...          '<limit lower="-2.6179938779914944" upper="2.6179938779914944"/></joint>')
+    >>> text = ('<robot name="arm"><link name="base"/><link name="upper"/><link name="fore"/><link name="tip"/>'
+    ...         + joint.format("shoulder", "base", "upper", 0) + joint.format("elbow", "upper", "fore", 0.4)
+    ...         + '<joint name="flange" type="fixed"><parent link="fore"/><child link="tip"/>'
+    ...           '<origin xyz="0.3 0 0"/></joint></robot>')
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "arm.urdf"
+    >>> _ = path.write_text(text)
+    >>> robot = read_urdf(path)
+    >>> robot.joints[0]
+    DHJoint(R: theta=theta1, d=0, a=2/5, alpha=0, limits=[-5*pi/6, 5*pi/6])
+    >>> robot.to_str(robot.position[0])
+    '2*c1/5 + 3*c12/10'
+    """
+    path = Path(path)
+    model = _load(path)
+    joints = model.robot.joints
+    by_child = {j.child: j for j in joints}
+    links = [link.name for link in model.robot.links]
+    base_link = _base(links, by_child, base_link, path)
+    tip_link = _tip(links, joints, by_child, base_link, tip_link, path)
+    chain = _path(by_child, base_link, tip_link, path)
+    snapper = Snapper(exact=exact, tol=tol)
+    return _dh_robot(model.robot.name or path.stem, chain, snapper, base_link, tip_link)
+
+
+# ---------------------------------------------------------------------------- reading the file
+def _load(path: Path):
+    try:
+        import yourdfpy
+    except ImportError:
+        raise URDFError("--urdf: reading URDF files needs yourdfpy: pip install 'workspace_sym[urdf]'",
+                        parameter="urdf") from None
+    try:
+        text = path.read_bytes()
+    except OSError as exc:
+        raise URDFError(f"--urdf: cannot read {str(path)!r}: {exc.strerror}", parameter="urdf") from None
+    # An expanded file may keep the xmlns:xacro declaration; macros and ${...} mean it was not expanded.
+    if path.suffix == ".xacro" or b"<xacro:" in text or b"${" in text:
+        raise URDFError(f"--urdf: {str(path)!r} is a xacro file, which is not read here; expand it first "
+                        "(xacro FILE > robot.urdf) and pass the .urdf", parameter="urdf")
+    # yourdfpy logs a parse error and then reads whatever lxml can recover: catch that as a failure.
+    logger = logging.getLogger("yourdfpy")
+    errors = _Collect()
+    logger.addHandler(errors)
+    propagate, logger.propagate = logger.propagate, False
+    model, failure = None, None
+    try:
+        model = yourdfpy.URDF.load(str(path), build_scene_graph=False, build_collision_scene_graph=False,
+                                   load_meshes=False, load_collision_meshes=False)
+    except Exception as exc:  # broad on purpose: lxml, KeyError on a missing attribute, float('abc'), ...
+        failure = " ".join(str(exc).split())[:120] or type(exc).__name__
+    finally:
+        logger.removeHandler(errors)
+        logger.propagate = propagate
+    if errors.messages:   # the XML itself is broken: say so rather than what the recovery tripped on
+        raise URDFError(f"--urdf: {str(path)!r} is not well-formed XML ({errors.messages[0][:120]})",
+                        parameter="urdf")
+    if failure is not None:
+        raise URDFError(f"--urdf: cannot read {str(path)!r} as URDF ({failure})", parameter="urdf")
+    return model
+
+
+class _Collect(logging.Handler):
+    def __init__(self):
+        super().__init__(logging.ERROR)
+        self.messages = []
+
+    def emit(self, record):
+        self.messages.append(" ".join(record.getMessage().split()))
+
+
+def _base(links, by_child, base_link, path) -> str:
+    if base_link is not None:
+        if base_link not in links:
+            raise URDFError(f"--base: no link {base_link!r} in {path.name}; links: {_listed(links)}",
+                            parameter="base_link")
+        return base_link
+    roots = [name for name in links if name not in by_child]
+    if len(roots) != 1:
+        raise URDFError(f"--urdf: {path.name} has {len(roots)} root links ({_listed(roots)}); name one with --base",
+                        parameter="urdf")
+    return roots[0]
+
+
+def _tip(links, joints, by_child, base_link, tip_link, path) -> str:
+    if tip_link is not None:
+        if tip_link not in links:
+            raise URDFError(f"--tip: no link {tip_link!r} in {path.name}; links: {_listed(links)}",
+                            parameter="tip_link")
+        return tip_link
+    children = {}
+    for j in joints:
+        children.setdefault(j.parent, []).append(j)
+    leaves, stack = [], [(base_link, False)]
+    while stack:   # leaves below base_link, and whether a moving joint leads there
+        link, moved = stack.pop()
+        below = children.get(link, [])
+        if not below and moved:
+            leaves.append(link)
+        stack.extend((j.child, moved or j.type in MOVING) for j in below)
+    if len(leaves) != 1:
+        found = f"leaves {_listed(sorted(leaves))}" if leaves else "no link moved by a joint"
+        raise URDFError(f"--tip: {path.name} has {found} below {base_link!r}; name the tip link with --tip",
+                        parameter="tip_link")
+    return leaves[0]
+
+
+def _path(by_child, base_link, tip_link, path) -> list:
+    """The joints from ``base_link`` to ``tip_link``, in order."""
+    chain, link = [], tip_link
+    while link != base_link:
+        joint = by_child.get(link)
+        if joint is None:
+            raise URDFError(f"--tip: link {tip_link!r} is not connected below {base_link!r} in {path.name}",
+                            parameter="tip_link")
+        chain.append(joint)
+        link = joint.parent
+        if len(chain) > len(by_child):
+            raise URDFError(f"--urdf: the joints of {path.name} form a loop", parameter="urdf")
+    chain.reverse()
+    for j in chain:
+        if j.type in UNSUPPORTED or j.type not in (*MOVING, "fixed"):
+            raise URDFError(f"--urdf: joint {j.name!r} is {j.type}; a serial chain takes revolute, continuous, "
+                            "prismatic and fixed joints only", parameter="urdf")
+        if j.mimic is not None:
+            raise URDFError(f"--urdf: joint {j.name!r} mimics {j.mimic.joint!r}; mimic joints are not supported",
+                            parameter="urdf")
+        if j.type in ("revolute", "prismatic") and j.limit is None:
+            raise URDFError(f"--urdf: joint {j.name!r} ({j.type}) has no <limit>; URDF requires lower and upper "
+                            "limits for it (or make it continuous)", parameter="urdf")
+    if not any(j.type in MOVING for j in chain):
+        raise URDFError(f"--urdf: no moving joint between {base_link!r} and {tip_link!r}", parameter="urdf")
+    return chain
+
+
+def _listed(names, most: int = 12) -> str:
+    names = list(names)
+    shown = ", ".join(map(repr, names[:most]))
+    return shown + (f", ... ({len(names)} in all)" if len(names) > most else "")
+
+
+# ---------------------------------------------------------------------------- exact transforms
+def _origin(joint, snapper: Snapper) -> sp.Matrix:
+    """The joint's origin as an exact 4 x 4 transform (snapped), checked against the parsed floats."""
+    from trimesh import transformations  # yourdfpy builds its origins with these; same convention
+
+    M = np.eye(4) if joint.origin is None else np.asarray(joint.origin, dtype=float)
+    where = f"joint {joint.name!r} origin"
+    xyz = [snapper.length(v, f"{where} xyz") for v in M[:3, 3]]
+    rpy = [snapper.angle(v, f"{where} rpy") for v in transformations.euler_from_matrix(M, "sxyz")]
+    T = _xyz_rpy(xyz, rpy)
+    gap = float(np.abs(np.array(T[:3, :3].evalf(), dtype=float) - M[:3, :3]).max())
+    if gap > 10 * snapper.tol + 1e-12:   # Euler angles recovered badly near pitch = +-pi/2: keep the matrix
+        T[:3, :3] = sp.Matrix(3, 3, [snapper.cosine(v, f"{where} rotation") for v in M[:3, :3].ravel()])
+    return snapper.chop(T)
+
+
+def _xyz_rpy(xyz, rpy) -> sp.Matrix:
+    r, p, y = rpy
+    Rx = sp.Matrix([[1, 0, 0], [0, sp.cos(r), -sp.sin(r)], [0, sp.sin(r), sp.cos(r)]])
+    Ry = sp.Matrix([[sp.cos(p), 0, sp.sin(p)], [0, 1, 0], [-sp.sin(p), 0, sp.cos(p)]])
+    Rz = sp.Matrix([[sp.cos(y), -sp.sin(y), 0], [sp.sin(y), sp.cos(y), 0], [0, 0, 1]])
+    return _frame(Rz * Ry * Rx, sp.Matrix(xyz))
+
+
+def _frame(R: sp.Matrix, o: sp.Matrix) -> sp.Matrix:
+    return sp.Matrix.vstack(sp.Matrix.hstack(R, o), sp.Matrix([[0, 0, 0, 1]]))
+
+
+def _axis(joint, snapper: Snapper) -> tuple[sp.Matrix, sp.Expr]:
+    """Unit axis (exact) and the length of the axis as written (a prismatic joint moves ``q * axis``)."""
+    raw = np.asarray(joint.axis if joint.axis is not None else (1.0, 0.0, 0.0), dtype=float)
+    u = sp.Matrix([snapper.cosine(v, f"joint {joint.name!r} axis") for v in raw])
+    norm2 = _clean(u.dot(u))
+    if norm2 == 0 or float(norm2) < 1e-24:
+        raise URDFError(f"--urdf: joint {joint.name!r} has a zero axis {raw.tolist()}", parameter="urdf")
+    norm = _clean(sp.sqrt(norm2))
+    return (u if norm == 1 else (u / norm).applyfunc(_clean)), norm
+
+
+def _clean(e):
+    """Exact constants in their simplest radical form; a constant holding a float evaluated to one float."""
+    e = sp.sympify(e)
+    if e.is_Rational or not e.is_number:
+        return e
+    if e.has(sp.Float):   # exactness is lost already: one float, not a tree of sqrt(2) times floats
+        return e.evalf(17)
+    return sp.radsimp(sp.simplify(e))
+
+
+def _is_zero(e, tol: float) -> bool:
+    e = sp.sympify(e)
+    if e.has(sp.Float):
+        return abs(float(e)) <= tol
+    return _clean(e) == 0
+
+
+# ---------------------------------------------------------------------------- DH extraction
+def _dh_robot(name, chain, snapper: Snapper, base_link, tip_link) -> DHRobot:
+    lines, pending, notes = [], sp.eye(4), []
+    moving = []
+    for j in chain:
+        pending = pending * _origin(j, snapper)
+        if j.type == "fixed":
+            continue
+        u, scale = _axis(j, snapper)
+        lines.append((pending[:3, 3].applyfunc(_clean), (pending[:3, :3] * u).applyfunc(_clean)))
+        moving.append((j, scale))
+    T_tip = pending   # the tip link at q = 0, in the base link's frame
+    # Float axes 1e-17 from parallel are parallel: their common normal would be 1e17 away.
+    frames, rows = _dh_frames(lines, max(snapper.tol, 1e-12), notes, [j.name for j, _ in moving])
+    joints, names = [], []
+    for k, ((j, scale), (theta0, d0, a, alpha)) in enumerate(zip(moving, rows), start=1):
+        if j.type == "prismatic":
+            q = sp.Symbol(f"d{k}")
+            theta, d = theta0, scale * q + d0
+            limits = tuple(snapper.length(v, f"joint {j.name!r} limit") for v in (j.limit.lower or 0.0,
+                                                                                 j.limit.upper or 0.0))
+        else:
+            q = sp.Symbol(f"theta{k}")
+            theta, d = q + theta0, d0
+            limits = None if j.type == "continuous" else tuple(
+                snapper.angle(v, f"joint {j.name!r} limit") for v in (j.limit.lower or 0.0, j.limit.upper or 0.0))
+        if limits is not None:
+            check_joint_limits(f"{j.name!r}", *limits, shown=(j.limit.lower or 0.0, j.limit.upper or 0.0))
+        joints.append(DHJoint("P" if j.type == "prismatic" else "R", theta, d, a, alpha, q, limits))
+        names.append(f"{q} = {j.name}")
+    base = frames[0]
+    tool = _rigid_inverse(frames[-1]) * T_tip
+    # Floats (angles that did not snap) leave rounding dust of 1e-17 in exact zeros: dropped at 1e-14.
+    base, tool = (snapper.chop(chop(M.applyfunc(_clean), _DUST)) for M in (base, tool))
+    if base == sp.eye(4):
+        notes.insert(0, f"DH table (standard) from {base_link!r}: frame 0 is the base link's frame")
+    else:
+        notes.insert(0, f"DH table (standard) from {base_link!r} with a base transform: joint 1's axis is not "
+                        "the base link's z axis through its origin")
+    notes.insert(1, f"joints {', '.join(names)}; tool transform to {tip_link!r}")
+    return DHRobot(joints, name=name, units="m", base=None if base == sp.eye(4) else base,
+                   tool=None if tool == sp.eye(4) else tool, input_notes=notes + snapper.notes,
+                   chop_tol=None if snapper.exact else snapper.tol)
+
+
+def _rigid_inverse(F: sp.Matrix) -> sp.Matrix:
+    R, o = F[:3, :3], F[:3, 3]
+    return _frame(R.T, -R.T * o)
+
+
+def _unit(v: sp.Matrix) -> sp.Matrix:
+    n = _clean(sp.sqrt(_clean(v.dot(v))))
+    return (v / n).applyfunc(_clean)
+
+
+def _angle(sin_, cos_) -> sp.Expr:
+    """``atan2(sin, cos)`` exactly (``pi/2``, ``atan(4/3)``), as a float when either is one."""
+    sin_, cos_ = _clean(sin_), _clean(cos_)
+    if sin_.has(sp.Float) or cos_.has(sp.Float):
+        return sp.Float(math.atan2(float(sin_), float(cos_)))
+    return _clean(sp.atan2(sin_, cos_))
+
+
+def _dh_frames(lines, tol, notes, names):
+    """Standard DH frames 0..n (world 4 x 4 at q = 0) and rows ``(theta offset, d, a, alpha)``.
+
+    ``lines[k] = (point, unit direction)`` of joint ``k + 1``'s axis at q = 0.
+    Frame ``i`` has z on axis ``i + 1`` and x along the common normal of axes
+    ``i`` and ``i + 1``; the last frame is frame ``n - 1`` turned by joint ``n``.
+    """
+    ex, ez = sp.Matrix([1, 0, 0]), sp.Matrix([0, 0, 1])
+    o1, z = lines[0]
+    origin = (o1 - o1.dot(z) * z).applyfunc(_clean)     # foot of the perpendicular from the base origin
+    x = ex if _is_zero(z.cross(ez).norm() ** 2, tol ** 2) else _unit(ez.cross(z))
+    x = _unit(x - x.dot(z) * z)
+    frames = [_frame(sp.Matrix.hstack(x, z.cross(x), z), origin)]
+    rows = []
+    for i in range(1, len(lines)):
+        p, w = lines[i]
+        c = z.cross(w).applyfunc(_clean)
+        if not _is_zero(c.dot(c), tol ** 2):
+            x_new = _unit(c)
+            a = _clean((p - origin).dot(x_new))
+            if float(a) < 0:    # x along the normal from axis i to axis i + 1: a >= 0, as textbooks print it
+                x_new, a = -x_new, -a
+            k = _clean(z.dot(w))
+            r = p - origin - a * x_new
+            d = _clean((r.dot(z) - k * r.dot(w)) / (1 - k ** 2))
+        else:
+            r = p - origin
+            perp = (r - r.dot(z) * z).applyfunc(_clean)
+            d = sp.Integer(0)
+            if _is_zero(perp.dot(perp), tol ** 2):
+                x_new, a = x, sp.Integer(0)
+                notes.append(f"axes of {names[i - 1]} and {names[i]} coincide: their common normal is chosen "
+                             "as the previous one")
+            else:
+                a = _clean(sp.sqrt(_clean(perp.dot(perp))))
+                x_new = (perp / a).applyfunc(_clean)
+                notes.append(f"axes of {names[i - 1]} and {names[i]} are parallel: d = 0 is chosen for the "
+                             "common normal")
+        alpha = _angle(z.cross(w).dot(x_new), z.dot(w))
+        theta = _angle(x.cross(x_new).dot(z), x.dot(x_new))
+        rows.append((theta, d, a, alpha))
+        origin = (origin + d * z + a * x_new).applyfunc(_clean)
+        x, z = x_new, w
+        frames.append(_frame(sp.Matrix.hstack(x, z.cross(x), z), origin))
+    rows.append((sp.Integer(0), sp.Integer(0), sp.Integer(0), sp.Integer(0)))
+    frames.append(frames[-1])
+    return frames, rows
