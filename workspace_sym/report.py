@@ -25,7 +25,7 @@ import numpy as np
 import sympy as sp
 
 __all__ = ["Document", "dh_robot_report", "orthoglide_report", "paving_report", "planar_report", "reproducibility",
-           "tex_escape", "number", "DEGREE"]
+           "tex_escape", "number", "DEGREE", "Equations"]
 
 
 def reproducibility(command: str | None = None) -> dict:
@@ -313,6 +313,43 @@ class Document:
         paths["html"].write_text(self.html(folder))
         paths["latex"].write_text(self.latex())
         return paths
+
+
+class Equations:
+    r"""Equations ``lhs = expr`` for a notebook: MathML in HTML (rendered by the browser itself, so an exported
+    notebook needs no network and no MathJax) and LaTeX for front ends that prefer it; long sums are broken
+    across lines as in the reports.
+
+    ``Equations(expr)`` shows one expression, ``Equations(("x", e1), ("y", e2))`` several aligned on ``=``.
+
+    Examples
+    --------
+    >>> eq = Equations(("r_1", sp.sqrt(2) / 2))
+    >>> "r_{1} &= \\frac{\\sqrt{2}}{2}" in eq._repr_latex_(), "<msqrt><mn>2</mn></msqrt>" in eq._repr_html_()
+    (True, True)
+    >>> eq
+    r_1 = sqrt(2)/2
+    """
+
+    def __init__(self, *items):
+        if len(items) == 1 and not isinstance(items[0], tuple):
+            self.pairs = [(None, items[0])]
+        else:
+            self.pairs = [(_label(lhs), e) for lhs, e in items]
+
+    def _repr_html_(self) -> str:
+        if self.pairs[0][0] is None:
+            return f'<math display="block">{_mathml(self.pairs[0][1])}</math>'
+        return Document._html_equations(self.pairs)
+
+    def _repr_latex_(self) -> str:
+        if self.pairs[0][0] is None:
+            return f"$\\displaystyle {_tex(self.pairs[0][1])}$"
+        body = Document._tex_equations(self.pairs)
+        return "$\\displaystyle " + body.replace("align*", "aligned") + "$"
+
+    def __repr__(self) -> str:
+        return "\n".join(str(e) if lhs is None else f"{lhs} = {e}" for lhs, e in self.pairs)
 
 
 def _publish(doc: Document, tmp: Path, out: Path, *, command: str | None = None, start: float | None = None) -> Path:
