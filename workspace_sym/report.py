@@ -213,7 +213,9 @@ class Document:
             for k, part in enumerate(parts):
                 sign = "<mo>=</mo>" if k == 0 else ("" if _tex(part).startswith("-") else "<mo>+</mo>")
                 left = _mathml(lhs) if k == 0 else ""
-                rows.append(f"<mtr><mtd>{left}</mtd><mtd>{sign}{_mathml(part)}</mtd></mtr>")
+                # Chromium's MathML Core ignores columnalign: align the columns with CSS as well
+                rows.append(f"<mtr><mtd style='text-align:right'>{left}</mtd>"
+                            f"<mtd style='text-align:left'>{sign}{_mathml(part)}</mtd></mtr>")
         return ('<math display="block"><mtable columnalign="right left" columnspacing="0.3em">'
                 + "".join(rows) + "</mtable></math>")
 
