@@ -160,7 +160,7 @@ class Document:
 
     def equations(self, pairs):
         """Several equations ``lhs = expr`` aligned on their ``=`` signs."""
-        self.blocks.append(("eqs", [(_label(lhs), sp.sympify(e) if not isinstance(e, sp.MatrixBase) else e)
+        self.blocks.append(("eqs", [(_label(lhs), sp.sympify(e, strict=True) if not isinstance(e, sp.MatrixBase) else e)
                                     for lhs, e in pairs]))
 
     def table(self, header, rows):
@@ -334,10 +334,13 @@ class Equations:
     """
 
     def __init__(self, *items):
+        def value(e):                 # numbers and SymPy objects only, never text
+            return e if isinstance(e, sp.MatrixBase) else sp.sympify(e, strict=True)
+
         if len(items) == 1 and not isinstance(items[0], tuple):
-            self.pairs = [(None, items[0])]
+            self.pairs = [(None, value(items[0]))]
         else:
-            self.pairs = [(_label(lhs), e) for lhs, e in items]
+            self.pairs = [(_label(lhs), value(e)) for lhs, e in items]
 
     def _repr_html_(self) -> str:
         if self.pairs[0][0] is None:
