@@ -70,7 +70,10 @@ def _report_with_document(make, folder):
 @pytest.fixture(scope="module")
 def planar(tmp_path_factory):
     """The Table 1 iii report, written once for the tests below."""
-    return _report_with_document(lambda f: planar_report(PlanarChain(*HUMAN_ARM), f),
+    # a long command line with $ and ~ (it goes into the LaTeX verbatim-escaped and must break across lines)
+    command = ("workspace-sym report chain --lengths=0.186,0.146,0.108 --lower=-60,0,-10 --upper=120,130,25 --out "
+               + "/".join(["~/$HOME_long_directory_name"] * 6))
+    return _report_with_document(lambda f: planar_report(PlanarChain(*HUMAN_ARM), f, command=command),
                                  tmp_path_factory.mktemp("planar") / "r")
 
 

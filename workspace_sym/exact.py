@@ -115,17 +115,11 @@ def short_sqrt(value):
     value = sp.expand(value)
     if value.is_Rational or len(sp.Add.make_args(value)) == 1:
         return sp.sqrt(value)
-    k, (n,) = _integer_form(value)          # value = n / k
-    content, n = n.as_content_primitive()
-    k = k / content
-    # sqrt(n / k) = sqrt(n * q * p) / (q * sqrt(p * q) ...): make the denominator a perfect square
-    p_, q_ = k.p, k.q                         # value = n * q_ / p_
-    square = sp.sqrt(p_)
-    if not square.is_Integer:
-        free = sp.Mul(*[f ** (e % 2) for f, e in sp.factorint(p_).items()])
-        n, p_ = sp.expand(n * free), p_ * free
-        square = sp.sqrt(p_)
-    return sp.sqrt(sp.expand(n * q_)) / square
+    k, (n,) = _integer_form(value)          # value = n / k, n with coprime integer coefficients
+    num, den = k.q, k.p                       # value = n * num / den
+    # sqrt(n num / den) = sqrt(n num f) / sqrt(den f), f the square-free part of den: an integer denominator
+    f = sp.Mul(*[b ** (e % 2) for b, e in sp.factorint(den).items()])
+    return sp.sqrt(sp.expand(n * num * f)) / sp.sqrt(den * f)
 
 
 _MP = {sp.sin: mpmath.sin, sp.cos: mpmath.cos, sp.tan: mpmath.tan, sp.atan: mpmath.atan, sp.acos: mpmath.acos,

@@ -15,6 +15,7 @@ import datetime as _dt
 import html
 import math
 import platform
+import re
 import shutil
 import sys
 import tempfile
@@ -91,6 +92,11 @@ def number(value, spec: str = ".6f") -> str:
 DEGREE = sp.Symbol("°")
 
 _WIDTH = 78          # characters of SymPy str that fit one line of the LaTeX page (a4, 2 cm margins, 10 pt)
+
+
+def _breakable(tex: str) -> str:
+    """Escaped text that LaTeX may break after ``/``, ``_``, ``=`` and ``,`` (paths, command lines)."""
+    return re.sub(r"(/|\\_|=|,)", r"\1\\allowbreak{}", tex)
 
 
 def _tex(x) -> str:
@@ -300,9 +306,10 @@ class Document:
                 out.append("\\begin{figure}[htbp]\\centering\\includegraphics[width=0.7\\linewidth]{" + b[1].name + "}"
                            "\\caption{" + tex_escape(b[2]) + "}\\end{figure}")
             elif b[0] == "items":
-                out.append("\\begin{itemize}")
-                out += [f"\\item \\textbf{{{tex_escape(str(k), math=False)}}}: {tex_escape(str(v), math=False)}"
-                        for k, v in b[1]]
+                # values such as the command line are long words: ragged lines that may break after / _ = ,
+                out.append("\\begin{itemize}\\raggedright")
+                out += [f"\\item \\textbf{{{tex_escape(str(k), math=False)}}}: "
+                        + _breakable(tex_escape(str(v), math=False)) for k, v in b[1]]
                 out.append("\\end{itemize}")
         out.append("\\end{document}")
         return "\n".join(out) + "\n"
