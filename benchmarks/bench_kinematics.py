@@ -1,18 +1,27 @@
-"""Issue 2 benchmark: symbolic FK + geometric Jacobian of the 6R glass arm in textbook form,
-against plain sympy.simplify of the DH product (same run), and numeric FK of 10^6 configurations.
+"""Symbolic kinematics benchmarks.
 
-Run: python benchmarks/bench_kinematics.py
+Issue 2: FK + geometric Jacobian of the 6R glass arm in textbook form against plain
+sympy.simplify of the DH product (same run), and numeric FK of 10^6 configurations.
+Issue 18: per robot (glass arm, Puma 560, UR5, Panda) the cold times of fk + J, singular
+factors and the characteristic polynomial of J J^T (3 x n position and 6 x n geometric),
+with the size of T against sympy.simplify of the raw DH product in the same run.
+
+Run: python benchmarks/bench_kinematics.py [--skip-panda-simplify]
 """
 
 import datetime
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 import sympy as sp
 
 from _common import best_of, machine
 from workspace_sym import robots
-from workspace_sym.kinematics import dh_matrix
+from workspace_sym.kinematics import DHRobot, dh_matrix
+
+TABLES = Path(__file__).resolve().parents[1] / "tests" / "data" / "dh"
 
 
 def textbook_fk_and_jacobian():
@@ -47,5 +56,36 @@ def main():
     print(f"numeric FK, 10^6 configurations (4x4 each)        : {t_num:7.3f} s  (goal < 0.5 s)")
 
 
+def _ops(M):
+    return sum(sp.count_ops(e) for e in M)
+
+
+def _timed(fn):
+    t = time.perf_counter()
+    out = fn()
+    return time.perf_counter() - t, out
+
+
+def robot_table(skip_panda_simplify: bool = False):
+    """One cold robot per row (nothing cached between the columns' first calls)."""
+    print("\nrobot | fk + J | singular factors | charpoly 3 x n | charpoly 6 x n | T ops (ours / simplify, time)")
+    for name in ("glass-handling", "puma560", "ur5", "panda"):
+        build = (lambda n=name: robots.build(n)) if name in ("glass-handling", "puma560") else \
+            (lambda n=name: DHRobot.from_file(TABLES / f"{n}.json"))
+        robot = build()
+        t_fk, (T, _) = _timed(lambda r=robot: (r.fk(), r.geometric_jacobian))
+        t_sing, factors = _timed(lambda r=robot: r.singular_factors(multiplicity=True))
+        t_pos, _ = _timed(lambda r=robot: r.characteristic_polynomial("position"))
+        t_geo, P = _timed(lambda r=robot: r.characteristic_polynomial("geometric"))
+        if skip_panda_simplify and name == "panda":
+            simp = "skipped"
+        else:
+            t_s, S = _timed(lambda r=robot: sp.simplify(r.raw_fk()))
+            simp = f"{_ops(S)}, {t_s:.1f} s"
+        print(f"{robot.name} | {t_fk:.2f} s | {t_sing:.2f} s ({len(factors)} factors) | {t_pos:.2f} s | "
+              f"{t_geo:.2f} s ({sum(sp.count_ops(c) for c in P.all_coeffs())} ops) | {_ops(T)} / {simp}", flush=True)
+
+
 if __name__ == "__main__":
     main()
+    robot_table(skip_panda_simplify="--skip-panda-simplify" in sys.argv)

@@ -12,6 +12,7 @@ import sympy as sp
 
 import workspace_sym
 from workspace_sym.cli import main
+from workspace_sym.expressions import parse_expr
 
 
 def run(capsys, *argv):
@@ -282,6 +283,26 @@ def test_jacobian_reports_multiplicities(capsys, tmp_path):
     assert sorted(data["singular"]) == ["q3", "sin(theta2)", "sin(theta5)"]  # the old key is unchanged
     got = {d["factor"]: d["multiplicity"] for d in data["singularities"]}
     assert got == {"q3": 2, "sin(theta2)": 1, "sin(theta5)": 1}
+
+
+def test_jacobian_charpoly(capsys):
+    """--charpoly position on the planar 3R: trace of J J^T is the sum of squared column norms (exact identity
+    l1^2 + 2 l2^2 + 3 l3^2 + 2 l1 l2 c2 + 2 l1 l3 c23 + 4 l2 l3 c3), the constant term det(J J^T) of a rank-2
+    3 x 3 product is 0; without the option the key is null."""
+    code, out, _ = run(capsys, "jacobian", "planar-3r", "--json", "--no-singular", "--charpoly", "position")
+    assert code == 0
+    data = json.loads(out)["charpoly"]
+    assert data["kind"] == "position" and len(data["coefficients"]) == 4
+    l1, l2, l3, t2, t3 = sp.symbols("l1 l2 l3 theta2 theta3")
+    trace = (l1**2 + 2 * l2**2 + 3 * l3**2 + 2 * l1 * l2 * sp.cos(t2) + 2 * l1 * l3 * sp.cos(t2 + t3)
+             + 4 * l2 * l3 * sp.cos(t3))
+    assert sp.expand(parse_expr(data["coefficients"][1], "coefficient") + trace) == 0
+    assert data["coefficients"][3] == "0"
+    assert "s23" in data["textbook"][2] and "s_{23}" in data["latex"][2]
+    code, out, _ = run(capsys, "jacobian", "planar-3r", "--no-singular", "--charpoly", "position")
+    assert code == 0 and "lambda^2: -l1*(" in out
+    code, out, _ = run(capsys, "jacobian", "planar-3r", "--json", "--no-singular")
+    assert json.loads(out)["charpoly"] is None
 
 
 def test_jacobian_no_singular_skips_the_factors(capsys, monkeypatch):

@@ -1,6 +1,8 @@
 """DH kinematics: exact identities (paper 004), an independent numpy DH product,
 finite differences, and hypothesis properties."""
 
+import functools
+
 import numpy as np
 import pytest
 import sympy as sp
@@ -20,6 +22,7 @@ from workspace_sym import (
     eigenvalues_from_charpoly,
     robots,
 )
+from workspace_sym.symbolic import textbook
 
 th = sp.symbols("theta1:7")
 d1, a1, a2, a3, d5 = sp.symbols("d1 a1 a2 a3 d5")
@@ -204,6 +207,54 @@ def test_charpoly_eigenvalues_match_numpy(glass):
         Jn = glass.numeric(glass.position_jacobian)(q)
         np.testing.assert_allclose(eigenvalues_from_charpoly(poly, values), np.linalg.eigvalsh(Jn @ Jn.T),
                                    rtol=1e-8, atol=1e-12)
+
+
+@functools.cache
+def _cached_robot(name):
+    """One robot per name for the characteristic-polynomial tests (its derivations are kept)."""
+    return robots.build(name)
+
+
+@pytest.mark.parametrize("name, kind", [("glass-handling", "position"), ("glass-handling", "geometric"),
+                                        ("puma560", "position"), ("puma560", "geometric"),
+                                        ("planar-3r", "geometric")])
+def test_robot_charpoly_eigenvalues_match_numpy(name, kind):
+    """Cross-check: roots of the Cauchy-Binet characteristic polynomial (computed on rows in a middle frame)
+    are numpy's eigenvalues of J J^T of the unrotated Jacobian, at random configurations."""
+    robot = _cached_robot(name)
+    poly = robot.characteristic_polynomial(kind)
+    J = robot.jacobian(kind)
+    assert poly.degree() == J.rows
+    Jf = robot.numeric(J)
+    rng = np.random.default_rng(5)
+    for _ in range(4):
+        q = rng.uniform(-3, 3, robot.n)
+        values = {**{k: sp.Float(v) for k, v in robot.parameters.items()}, **dict(zip(robot.q, map(sp.Float, q)))}
+        Jn = Jf(q)
+        np.testing.assert_allclose(eigenvalues_from_charpoly(poly, values), np.linalg.eigvalsh(Jn @ Jn.T),
+                                   rtol=1e-9, atol=1e-12)
+
+
+def test_robot_charpoly_is_the_expanded_determinant():
+    """Exact identity: the sum-of-squared-minors coefficients equal those of det(lambda I - J J^T) expanded by
+    SymPy's own charpoly (planar 3R, symbolic lengths), after reducing s^2 + c^2."""
+    robot = robots.build("planar-3r")
+    J = robot.position_jacobian
+    lam = sp.Symbol("lambda")
+    ours = robot.characteristic_polynomial("position", lam).all_coeffs()
+    reference = (J * J.T).charpoly(lam, simplify=lambda e: e).all_coeffs()
+    for a, b in zip(ours, reference, strict=True):
+        assert textbook(sp.expand(sp.expand_trig(a - b))) == 0
+
+
+@pytest.mark.parametrize("name", ["glass-handling", "puma560"])
+def test_robot_charpoly_every_angle_in_shorthand(name):
+    """No sine or cosine is left that the shorthand cannot name (no 2*theta3, no unshortened sums)."""
+    robot = _cached_robot(name)
+    for kind in ("position", "geometric"):
+        for c in robot.characteristic_polynomial(kind).all_coeffs():
+            text = robot.to_str(c)
+            assert "sin(" not in text and "cos(" not in text, text
 
 
 def test_charpoly_exact_identity():

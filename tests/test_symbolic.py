@@ -1,10 +1,16 @@
 """Textbook simplification: exact SymPy identities."""
 
+from pathlib import Path
+
+import numpy as np
+import pytest
 import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from workspace_sym.symbolic import factor_trig, shorthand, shorthand_latex, textbook
+from workspace_sym import robots
+from workspace_sym.kinematics import DHRobot
+from workspace_sym.symbolic import factor_trig, group_terms, shorthand, shorthand_latex, textbook
 
 t1, t2, t3, t4 = sp.symbols("theta1:5")
 a, b = sp.symbols("a b")
@@ -58,3 +64,69 @@ def test_shorthand_names_and_latex():
     e = sp.cos(t1) * sp.sin(t2 + t3)
     assert str(shorthand(e, (t1, t2, t3))) == "c1*s23"
     assert "c_{1}" in shorthand_latex(e, (t1, t2, t3)) and "s_{23}" in shorthand_latex(e, (t1, t2, t3))
+
+
+# ---------------------------------------------------------------- compactness (issue 18, item 4)
+DATA = Path(__file__).parent / "data" / "dh"
+RTB_TABLES = ["ur5", "kr5", "irb140", "stanford", "cobra600"]     # DH tables of roboticstoolbox-python's models
+CATALOG_DH = ["glass-handling", "puma560", "scara", "planar-2r", "planar-3r"]
+
+
+def _robot(name):
+    return DHRobot.from_file(DATA / f"{name}.json") if name in RTB_TABLES + ["panda"] else robots.build(name)
+
+
+def _same_function(A, B, robot, points=4):
+    """A == B at random joint values and parameter values (float check of an exact rewrite)."""
+    rng = np.random.default_rng(7)
+    symbols = sorted(set().union(*(e.free_symbols for e in list(A) + list(B))), key=str)
+    for _ in range(points):
+        values = {s: rng.uniform(-3, 3) for s in symbols}
+        a = np.array(A.xreplace(values).evalf(), dtype=float)
+        b = np.array(B.xreplace(values).evalf(), dtype=float)
+        np.testing.assert_allclose(a, b, atol=1e-12)
+
+
+@pytest.mark.parametrize("name", CATALOG_DH + RTB_TABLES)
+def test_textbook_fk_no_longer_than_simplify(name):
+    """Every entry of T_0^n in textbook form has at most the count_ops of sympy.simplify of the raw DH product
+    (the reference is computed here, with this SymPy), and it is the same function."""
+    robot = _robot(name)
+    T, raw = robot.fk(), robot.raw_fk()
+    _same_function(T, raw, robot)
+    for i in range(3):
+        for j in range(4):
+            assert sp.count_ops(T[i, j]) <= sp.count_ops(sp.simplify(raw[i, j])), (name, i, j, T[i, j])
+
+
+def test_textbook_panda_no_longer_than_simplify_on_the_approach_axis():
+    """Panda (modified DH, tool): the whole T is shorter than the raw product, and the approach axis (third
+    column; simplify of the full T takes over a minute, see benchmarks/bench_kinematics.py) is no longer than
+    sympy.simplify's, entry by entry."""
+    robot = _robot("panda")
+    T, raw = robot.fk(), robot.raw_fk()
+    _same_function(T, raw, robot, points=2)
+    assert sum(sp.count_ops(e) for e in T) < sum(sp.count_ops(e) for e in raw)
+    for i in range(3):
+        assert sp.count_ops(T[i, 2]) <= sp.count_ops(sp.simplify(raw[i, 2])), (i, T[i, 2])
+
+
+def test_classic_groupings(puma, glass):
+    """The textbook groupings (Craig, table 3.4 for the Puma's p_x; paper 004 for the glass arm's x)."""
+    assert puma.to_str(puma.position[0]) == "c1*(a2*c2 + a3*c23 - d4*s23) + d3*s1"
+    assert glass.to_str(glass.position[0]) == "c1*(a1 + a2*c2 + a3*c23 + d5*s234)"
+
+
+_monomials = st.lists(
+    st.tuples(st.integers(-3, 3).filter(bool), st.lists(st.sampled_from(sp.symbols("c1 c2 s1 s2 a1 a2")), max_size=4)),
+    min_size=1, max_size=8)
+
+
+@given(_monomials)
+@settings(max_examples=150, deadline=None)
+def test_group_terms_is_an_identity_and_never_longer(terms):
+    """Property over random polynomials: grouping expands back to the same polynomial and never adds operations."""
+    expr = sp.Add(*(c * sp.Mul(*f) for c, f in terms))
+    grouped = group_terms(expr)
+    assert sp.expand(grouped - expr) == 0
+    assert sp.count_ops(grouped) <= sp.count_ops(sp.factor_terms(sp.expand(expr)))

@@ -159,7 +159,13 @@ def test_planar_chain_and_models_refuse(text, in_tmp):
 
 @pytest.mark.parametrize("text", INJECTIONS, ids=IDS)
 def test_student_answers_refuse(text, in_tmp):
-    _raises_reader_error(lambda: check_expression(text, "cos(t1 + t2)"), "student answer: ")
+    # a student's text that cannot be read is a verdict (never an exception): cannot read, with the reason;
+    # '[1][0]' alone is arithmetic for a student (brackets are parentheses, juxtaposition multiplies): 1*0, wrong
+    for t in (text, "\\cos " + text):  # the plain reader and the LaTeX one
+        verdict = check_expression(t, "cos(t1 + t2)")
+        assert verdict.status == ("wrong" if text == "[1][0]" else "cannot read"), verdict
+        assert verdict.ok is False or verdict.message.startswith("student answer: ")
+        assert "\n" not in verdict.message
     _raises_reader_error(lambda: check_expression("cos(t1)", text), "derived: ")
     _raises_reader_error(lambda: check_measure(text, None), "claimed: ")
     _raises_reader_error(lambda: check_reachable(None, (text, 0)), "point: ")
@@ -384,8 +390,9 @@ def test_messages_name_field_value_and_what_is_allowed():
     message = _raises_reader_error(lambda: parse_expr("(" * 150 + "1" + ")" * 150, "a"), "a: ")
     assert "nested more than 100 levels deep" in message
     assert parse_expr("x + " * 1000 + "1", "a", max_length=5000) == 1000 * x + 1
-    with pytest.raises(ExpressionError, match="unknown symbol 'z'"):
-        check_expression("cos(t1 + z)", "cos(t1 + t2)")
+    verdict = check_expression("cos(t1 + z)", "cos(t1 + t2)")
+    assert verdict.status == "cannot read" and "unknown name 'z' at column 10" in verdict.message
+    assert verdict.evidence["position"] == 10
     with pytest.raises(ExpressionError, match="expected a name"):
         read_symbol("lambda", "joint 1 variable")
 

@@ -8,7 +8,19 @@ import sympy as sp
 from workspace_sym import InvalidParameterError, robots
 from workspace_sym.interval import pave
 from workspace_sym.planar import PlanarChain
-from workspace_sym.verify import check_boundary_arc, check_expression, check_measure, check_reachable
+from workspace_sym.symbolic import factor_trig
+from workspace_sym.verify import (
+    assert_boundary_arc,
+    assert_expression,
+    assert_factors,
+    assert_measure,
+    assert_reachable,
+    check_boundary_arc,
+    check_expression,
+    check_factors,
+    check_measure,
+    check_reachable,
+)
 
 ARM = PlanarChain(["0.186", "0.146", "0.108"], [-60, 0, -10], [120, 130, 25])   # Bastien 2018, Table 1 (iii)
 
@@ -65,3 +77,46 @@ def test_measure_against_brackets():
     assert check_measure(40.0, paving).ok is False
     with pytest.raises(InvalidParameterError, match="result"):
         check_measure(1.0, object())
+
+
+def test_factors_up_to_constants():
+    """The planar 2R arm's Jacobian determinant in the plane is l1 l2 s2 (the classical identity): its factors in
+    any scaling pass, a missing or an extra factor is named."""
+    robot = robots.build("planar-2r")
+    derived = factor_trig(robot.position_jacobian[:2, :2].det())
+    assert {str(f) for f in derived} == {"l1", "l2", "sin(theta2)"}
+    assert check_factors(", ".join(robot.to_str(f) for f in derived), derived, robot=robot).ok is True
+    assert check_factors(["-2*" + robot.to_str(f) for f in derived], derived, robot=robot).ok is True
+    v = check_factors(", ".join([robot.to_str(f) for f in derived] + ["c1"]), derived, robot=robot)
+    assert v.status == "wrong" and v.evidence["extra"] == ["cos(theta1)"]
+    v = check_factors("c2", derived, robot=robot)
+    assert v.status == "wrong" and "sin(theta2)" in v.evidence["missing"]
+    assert check_factors("s2 +", derived, robot=robot).status == "cannot read"
+
+
+def test_assertions_for_autograders():
+    """Each assert_* returns the verdict when the student is right and raises AssertionError carrying the
+    verdict's explanation otherwise (nbgrader shows that message)."""
+    glass = robots.build("glass-handling")
+    x = glass.position[0]
+    assert assert_expression("c1 (a1 + a2 c2 + a3 c23 + d5 s234)", x, robot=glass).ok is True
+    with pytest.raises(AssertionError, match=r"^wrong: not equal: at .* the answer is .* but the derived value is"):
+        assert_expression("c1 (a1 + a2 c2 - a3 c23 + d5 s234)", x, robot=glass)
+    with pytest.raises(AssertionError, match=r"^cannot read: .*unknown name 'zz' at column 4"):
+        assert_expression("c1 zz", x, robot=glass)
+    robot = robots.build("planar-2r")
+    with pytest.raises(AssertionError, match=r"missing .*sin\(theta2\); not a singular factor: cos\(theta2\)"):
+        assert_factors("c2", factor_trig(robot.position_jacobian[:2, :2].det()), robot=robot)
+    assert assert_reachable(ARM, (0.0, 0.30)).ok is True
+    assert assert_reachable(ARM, (0.0, -0.30), claimed=False).ok is True
+    with pytest.raises(AssertionError, match="claimed reachable, but it is unreachable: interval arithmetic"):
+        assert_reachable(ARM, (0.0, -0.30))
+    b = ARM.boundary()
+    outer = max(b.arcs, key=lambda a: a.radius)
+    lo, hi = sorted((outer.start_angle, outer.end_angle))
+    assert assert_boundary_arc(ARM, (0, 0), 0.44, lo, hi).ok is True
+    with pytest.raises(AssertionError, match=r"^wrong: the point at angle .* the workspace, not on its boundary"):
+        assert_boundary_arc(ARM, (0, 0), 0.40, lo, hi)
+    assert assert_measure(b.area, b).ok is True
+    with pytest.raises(AssertionError, match="above the area"):
+        assert_measure(0.5, b)

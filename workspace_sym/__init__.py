@@ -7,7 +7,7 @@ The flat public API, so that a notebook writes ``ws.DHRobot(...)``::
     robot.to_str(robot.position[0])   # 'c1*(a1 + a2*c2 + a3*c23 + d5*s234)'
 """
 
-from . import robots, verify
+from . import answers, exercises, grading, robots, verify
 from .boundary import Boundary
 from .errors import (
     BoxError,
@@ -74,6 +74,9 @@ __all__ = [
     "PlanarChain",
     "reach",
     "verify",
+    "answers",
+    "grading",
+    "exercises",
     "extent",
     "reach_points",
     "sample_joint_box",

@@ -49,7 +49,15 @@ class DHTableError(WorkspaceError):
 
 
 class ExpressionError(WorkspaceError):
-    """A string could not be read as a SymPy expression."""
+    """A string could not be read as a SymPy expression.
+
+    ``position``, when the reader knows it, is the 1-based column of the text
+    where the problem is (a student's answer is told where it went wrong).
+    """
+
+    def __init__(self, *args, parameter: str | None = None, position: int | None = None):
+        super().__init__(*args, parameter=parameter)
+        self.position = position
 
 
 class JointLimitError(WorkspaceError):

@@ -28,8 +28,8 @@ from sympy.parsing.sympy_parser import auto_number, eval_expr, rationalize, stri
 
 from .errors import ExpressionError, JointLimitError
 
-__all__ = ["parse_expr", "parse_angle", "read_symbol", "as_sympy", "is_finite_value", "check_joint_limits",
-           "FUNCTIONS", "CONSTANTS", "MAX_LENGTH", "MAX_DEPTH"]
+__all__ = ["parse_expr", "parse_math", "subscript_name", "parse_angle", "read_symbol", "as_sympy", "is_finite_value",
+           "check_joint_limits", "FUNCTIONS", "CONSTANTS", "MAX_LENGTH", "MAX_DEPTH"]
 
 #: Longest text accepted (characters); ``max_length=`` changes it per call.
 MAX_LENGTH = 2000
@@ -389,6 +389,208 @@ def _read_text(text: str, parameter: str, *, names, functions, new_symbols, rela
     except Exception as exc:  # broad on purpose: SymPy's own errors on validated arithmetic, e.g. sin(1, 2)
         reason = " ".join(str(exc).split())[:120] or type(exc).__name__
         raise ExpressionError(f"{parameter}: cannot read {shown} as an expression ({reason})") from None
+
+
+# Textbook spellings of operators, each one character for one (column numbers stay those of the student's text).
+_UNICODE = {"\u00b7": "*", "\u22c5": "*", "\u00d7": "*", "\u2219": "*", "\u2212": "-", "\u2013": "-",
+            "\u03c0": "pi", "\u00b2": "^2", "\u00b3": "^3"}
+_MATH_TOKEN = re.compile(r"""
+    (?P<space>\s+)
+  | (?P<number>(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?)
+  | (?P<name>[^\W\d]\w*(?:\{[0-9, ]*\}\w*)*)
+  | (?P<op>\*\*|[-+*/^,])
+  | (?P<open>[(\[])
+  | (?P<close>[)\]])
+""", re.VERBOSE)
+_SUBSCRIPT = re.compile(r"_\{([0-9, ]*)\}|_([0-9]+)")
+
+
+def subscript_name(name: str) -> str:
+    """``c_{23}`` and ``theta_1`` as the plain names ``c23`` and ``theta1`` (digit subscripts only).
+
+    Examples
+    --------
+    >>> subscript_name("c_{234}"), subscript_name("theta_1"), subscript_name("joint_a")
+    ('c234', 'theta1', 'joint_a')
+    """
+    return _SUBSCRIPT.sub(lambda m: (m[1] if m[1] is not None else m[2]).replace(",", "").replace(" ", ""), name)
+
+
+def _math_error(parameter: str, text: str, column: int, reason: str) -> ExpressionError:
+    return ExpressionError(f"{parameter}: cannot read {_shown(text)}: {reason} at column {column}",
+                           parameter=parameter, position=column)
+
+
+def _math_tokens(text: str, parameter: str, offset: int = 0):
+    """``(kind, text, column)`` tokens of ``text``, with the textbook operators of :data:`_UNICODE` read."""
+    tokens, pos = [], 0
+    while pos < len(text):
+        ch = text[pos]
+        if ch in _UNICODE:
+            spelled = _UNICODE[ch]
+            if spelled == "pi":
+                tokens.append(("name", "pi", offset + pos + 1))
+            elif spelled.startswith("^"):
+                tokens += [("op", "**", offset + pos + 1), ("number", spelled[1:], offset + pos + 1)]
+            else:
+                tokens.append(("op", spelled, offset + pos + 1))
+            pos += 1
+            continue
+        match = _MATH_TOKEN.match(text, pos)
+        if match is None:
+            raise _math_error(parameter, text, offset + pos + 1, f"unexpected character {ch!r}")
+        if match.lastgroup != "space":
+            kind = match.lastgroup
+            word = match.group()
+            if kind == "open":
+                word = "("
+            elif kind == "close":
+                word = ")"
+            elif kind == "op" and word == "^":
+                word = "**"
+            tokens.append((kind, word, offset + pos + 1))
+        pos = match.end()
+    return tokens
+
+
+def parse_math(value, parameter: str, *, resolve, functions=None, max_length: int = MAX_LENGTH,
+               offset: int = 0) -> sp.Expr:
+    """Read mathematics the way students and textbooks write it.
+
+    On top of :func:`parse_expr`'s grammar (which checks the result again):
+
+    - juxtaposition is multiplication: ``c1 (a1 + a2 c2)``, ``2 a2``,
+      ``(a + b)(a - b)``; two numbers side by side are refused;
+    - subscripts of digits are part of a name: ``c_{23}``, ``theta_1``, ``a_2``
+      are looked up as ``c23``, ``theta1``, ``a2`` when the name as written is
+      unknown;
+    - a function may take one name or number without parentheses and carry a
+      power: ``cos q1``, ``sin^2(theta1)`` (``= sin(theta1)^2``);
+    - the middle dot and the multiplication sign are ``*``, the minus sign
+      and the en dash ``-``, the letter pi is ``pi``, superscript two and three
+      are ``^2`` and ``^3``; square brackets are parentheses.
+
+    Every name goes through ``resolve(name)``, which returns its SymPy value
+    (a symbol, or ``cos(theta2 + theta3)`` for the shorthand ``c23``), ``None``
+    for an unknown name, or raises :class:`~workspace_sym.errors.ExpressionError`
+    (an ambiguous name); ``pi`` and ``E`` are constants unless ``resolve``
+    knows them.  Nothing of the text is evaluated as Python.
+
+    ``offset`` is added to every column reported (the text is a piece of a
+    longer answer, such as one entry of a matrix).
+
+    Raises
+    ------
+    ExpressionError
+        Naming the text and, in ``position``, the column of the problem.
+
+    Examples
+    --------
+    >>> t1, a1, a2 = sp.symbols("theta1 a1 a2")
+    >>> known = {"c1": sp.cos(t1), "a1": a1, "a2": a2, "theta1": t1}
+    >>> parse_math("c_1 (a1 + a2 cos theta1)", "answer", resolve=known.get)
+    (a1 + a2*cos(theta1))*cos(theta1)
+    >>> parse_math("2 a2 sin^2(theta1)", "answer", resolve=known.get)
+    2*a2*sin(theta1)**2
+    >>> parse_math("c1 (a1 + x)", "answer", resolve=known.get)
+    Traceback (most recent call last):
+    ...
+    workspace_sym.errors.ExpressionError: answer: cannot read 'c1 (a1 + x)': unknown name 'x' at column 10
+    """
+    if not isinstance(value, str):
+        raise ExpressionError(f"{parameter}: expected text, got {type(value).__name__}", parameter=parameter)
+    text = value
+    if len(text) > max_length:
+        raise ExpressionError(f"{parameter}: {_shown(text)} is too long; at most {max_length} characters are read",
+                              parameter=parameter)
+    if not text.strip():
+        raise ExpressionError(f"{parameter}: expected an expression, got an empty string", parameter=parameter)
+    if functions is None:
+        functions = FUNCTIONS
+    tokens = _math_tokens(text, parameter, offset)
+    out: list[str] = []
+    values: dict[str, sp.Basic] = {}
+    known: dict[str, str] = {}
+    opened: list[tuple[int, str | None]] = []     # column of each open parenthesis, power to append at its close
+    previous = None                               # kind of the last token emitted: 'operand', 'op', 'open', 'func'
+    i = 0
+
+    def operand_name(word: str, column: int) -> str:
+        for candidate in dict.fromkeys((word, subscript_name(word))):
+            if candidate in known:
+                return known[candidate]
+            found = resolve(candidate)
+            if found is not None:
+                values[f"ans{len(values)}"] = found
+                known[candidate] = f"ans{len(values) - 1}"
+                return known[candidate]
+        if word in CONSTANTS:
+            return word
+        raise _math_error(parameter, text, column, f"unknown name {word!r}")
+
+    while i < len(tokens):
+        kind, word, column = tokens[i]
+        starts_operand = kind in ("number", "name", "open")
+        if starts_operand and previous == "operand":
+            if kind == "number" and out and tokens[i - 1][0] == "number":
+                raise _math_error(parameter, text, column, "two numbers side by side (write * between them)")
+            out.append("*")
+        if kind == "name" and word in functions:
+            power = None
+            j = i + 1
+            if j + 1 < len(tokens) and tokens[j][1] == "**" and tokens[j + 1][0] == "number":
+                power, j = tokens[j + 1][1], j + 2
+            nxt = tokens[j] if j < len(tokens) else None
+            if nxt is not None and nxt[0] == "open":
+                out += [word, "("]
+                opened.append((nxt[2], power))
+                previous, i = "open", j + 1
+                continue
+            if nxt is not None and (nxt[0] == "number" or (nxt[0] == "name" and nxt[1] not in functions)):
+                arg = nxt[1] if nxt[0] == "number" else operand_name(nxt[1], nxt[2])
+                out += [word, "(", arg, ")"] + (["**", power] if power else [])
+                previous, i = "operand", j + 1
+                continue
+            raise _math_error(parameter, text, column, f"function {word!r} needs an argument, as in {word}(x)")
+        if kind == "name":
+            out.append(operand_name(word, column))
+            previous = "operand"
+        elif kind == "number":
+            out.append(word)
+            previous = "operand"
+        elif kind == "open":
+            out.append("(")
+            opened.append((column, None))
+            previous = "open"
+        elif kind == "close":
+            if not opened:
+                raise _math_error(parameter, text, column, "unmatched ')'")
+            if previous == "open" or previous == "op":
+                raise _math_error(parameter, text, column, "nothing before ')'")
+            _, power = opened.pop()
+            out += [")"] + (["**", power] if power else [])
+            previous = "operand"
+        else:  # an operator
+            unary = word in "+-"
+            if previous in (None, "open", "op") and not unary:
+                raise _math_error(parameter, text, column, f"operator {word!r} has nothing on its left")
+            out.append(word)
+            previous = "op"
+        i += 1
+    if previous == "op":
+        raise _math_error(parameter, text, tokens[-1][2], f"operator {tokens[-1][1]!r} has nothing on its right")
+    if opened:
+        raise _math_error(parameter, text, opened[-1][0], "'(' is never closed")
+    source = " ".join(out)
+    try:
+        return parse_expr(source, parameter, names=values, functions=functions, new_symbols=False,
+                          max_length=max(4 * max_length, 200))
+    except ExpressionError as exc:
+        # say it about the student's text, not about the rewritten one
+        reason = str(exc).split("; allowed:")[0].replace(_shown(source), _shown(text))
+        for placeholder, obj in values.items():
+            reason = reason.replace(f"'{placeholder}'", repr(sp.sstr(obj)))
+        raise ExpressionError(reason, parameter=parameter) from None
 
 
 def _paren_depth(text: str) -> int:

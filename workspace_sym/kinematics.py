@@ -45,6 +45,7 @@ __all__ = [
     "AnalyticJacobian",
     "dh_matrix",
     "characteristic_polynomial",
+    "gram_characteristic_polynomial",
     "eigenvalues_from_charpoly",
     "maximal_minor_factors",
     "numeric_function",
@@ -391,6 +392,13 @@ class DHRobot:
         return dh_matrix(j.theta, j.d, j.a, j.alpha, convention="modified")
 
     # ------------------------------------------------------------------ forward kinematics
+    def raw_fk(self) -> sp.Matrix:
+        """``base A_1 ... A_n tool`` multiplied out with no simplification (a reference for :meth:`fk`)."""
+        T = self.base if self.base is not None else sp.eye(4)
+        for k in range(1, self.n + 1):
+            T = T * self.row_matrix(k)
+        return T * self.tool if self.tool is not None else T
+
     @cached_property
     def transforms(self) -> tuple[sp.Matrix, ...]:
         """``(T_0^1, ..., T_0^n)`` of the DH table alone (no base, no tool), in textbook form."""
@@ -562,14 +570,43 @@ class DHRobot:
         check_choice("kind", kind, ("geometric", "position", "analytic"))
         cache = self.__dict__.setdefault("_singular_cache", {})
         if kind not in cache:
-            J = self.jacobian(kind)
-            if kind != "analytic":
-                R = self._frames[self.n // 2][:3, :3].T
-                blocks = [R] * (J.rows // 3)
-                J = textbook_matrix(sp.diag(*blocks) * J)
+            J = self._middle_frame_jacobian(kind) if kind != "analytic" else self.jacobian(kind)
             cache[kind] = maximal_minor_factors(J, multiplicity=True)
         pairs = cache[kind]
         return list(pairs) if multiplicity else [f for f, _ in pairs]
+
+    def _middle_frame_jacobian(self, kind: str) -> sp.Matrix:
+        """The geometric or position Jacobian with its rows expressed in the frame of a middle link.
+
+        Rotating the rows (``J -> diag(R, R) J``, ``R`` orthogonal) changes neither the
+        rank, the maximal minors up to sign, nor the eigenvalues of ``J J^T``, and the
+        entries get much shorter (joint 1 drops out).
+        """
+        J = self.jacobian(kind)
+        R = self._frames[self.n // 2][:3, :3].T
+        return textbook_matrix(sp.diag(*([R] * (J.rows // 3))) * J)
+
+    def characteristic_polynomial(self, kind: str = "geometric", lam: sp.Symbol | None = None) -> sp.Poly:
+        """``det(lambda I - J J^T)`` of the geometric (6 x n) or position (3 x n) Jacobian.
+
+        Coefficients are sums of squared minors of ``J`` in textbook form (see
+        :func:`gram_characteristic_polynomial`), computed on the rows in a middle
+        link's frame; print them with :meth:`to_str` or :meth:`to_latex`.  Kept
+        after the first call for each ``kind``.
+
+        Examples
+        --------
+        >>> arm = DHRobot([DHJoint.revolute(1, a=sp.Symbol("a1")), DHJoint.revolute(2, a=sp.Symbol("a2"))])
+        >>> p = arm.characteristic_polynomial("position")
+        >>> arm.to_str(p.all_coeffs()[2])
+        'a1**2*a2**2*s2**2'
+        """
+        check_choice("kind", kind, ("geometric", "position"))
+        cache = self.__dict__.setdefault("_charpoly_cache", {})
+        if kind not in cache:
+            cache[kind] = gram_characteristic_polynomial(self._middle_frame_jacobian(kind), sp.Symbol("lambda"))
+        poly = cache[kind]
+        return poly if lam is None else sp.Poly.from_list(poly.all_coeffs(), lam, domain="EX")
 
     # ------------------------------------------------------------------ printing
     def shorthand(self, expr) -> sp.Expr:
@@ -681,8 +718,11 @@ def characteristic_polynomial(M, lam: sp.Symbol | None = None, *, gram: bool = F
                               simplify=textbook) -> sp.Poly:
     """``det(lambda I - M)`` (or of ``M M^T`` when ``gram``) as a polynomial in lambda.
 
-    Coefficients are simplified with ``simplify`` (textbook form by default;
-    pass ``sympy.factor`` for rational functions or ``None`` to keep them raw).
+    With ``gram`` the coefficients are sums of squared minors of ``M``
+    (:func:`gram_characteristic_polynomial`), which finishes on 6 x 6
+    Jacobians where the expanded determinant does not.  Coefficients are
+    simplified with ``simplify`` (textbook form by default; pass
+    ``sympy.factor`` for rational functions or ``None`` to keep them raw).
 
     Examples
     --------
@@ -692,11 +732,12 @@ def characteristic_polynomial(M, lam: sp.Symbol | None = None, *, gram: bool = F
     """
     if not isinstance(M, sp.MatrixBase):
         M = sp.Matrix([[as_sympy(v, "M") for v in row] for row in M])      # text only through the reader
-    if gram:
-        M = M * M.T
-    if M.rows != M.cols:
-        raise InvalidParameterError(f"M: the characteristic polynomial needs a square matrix; got {M.shape}")
+    if M.rows != M.cols and not gram:
+        raise InvalidParameterError(f"M: the characteristic polynomial needs a square matrix; got {M.shape}",
+                                    parameter="M")
     lam = lam if lam is not None else sp.Symbol("lambda")
+    if gram:
+        return gram_characteristic_polynomial(M, lam, simplify=simplify)
     # Matrix.charpoly runs sympy.simplify on every coefficient unless told otherwise:
     # far too slow on trigonometric entries, and not the form we want anyway.
     p = M.charpoly(lam, simplify=lambda e: e)
@@ -704,6 +745,99 @@ def characteristic_polynomial(M, lam: sp.Symbol | None = None, *, gram: bool = F
         return p
     coeffs = [simplify(c) for c in p.all_coeffs()]
     return sp.Poly.from_list(coeffs, lam)
+
+
+SHORT_SUM_TERMS = 24   # Cauchy-Binet coefficients with at most this many monomials are also tried reduced
+
+
+def _all_minors(entries, shape, ring) -> dict:
+    """Every minor of a matrix of ring elements, keyed by ``(rows, cols)``; Laplace along the first row,
+    each minor built once from those one size smaller."""
+    m, n = shape
+    minors = {((i,), (j,)): entries[i][j] for i in range(m) for j in range(n)}
+    for k in range(2, min(m, n) + 1):
+        for rows in combinations(range(m), k):
+            top, rest = rows[0], rows[1:]
+            for cols in combinations(range(n), k):
+                total = ring.zero
+                for pos, j in enumerate(cols):
+                    if entries[top][j]:
+                        sub = minors[(rest, cols[:pos] + cols[pos + 1:])]
+                        if sub:
+                            total = total + entries[top][j] * sub if pos % 2 == 0 else total - entries[top][j] * sub
+                minors[(rows, cols)] = total
+    return minors
+
+
+def _factored(p, back: dict, simplify, cache: dict) -> sp.Expr:
+    """A ring element as its numeric content times its irreducible factors, each simplified once."""
+    content, factors = p.factor_list()
+    out = p.ring.domain.to_sympy(content)
+    for f, m in factors:
+        if f not in cache:
+            cache[f] = simplify(f.as_expr().xreplace(back))
+        out *= cache[f] ** m
+    return out
+
+
+def gram_characteristic_polynomial(J, lam: sp.Symbol | None = None, *, simplify=textbook) -> sp.Poly:
+    """``det(lambda I - J J^T)`` with each coefficient a sum of squared minors of ``J`` (Cauchy-Binet).
+
+    The coefficient of ``lambda^(m-k)`` is ``(-1)^k`` times the sum of the
+    principal ``k x k`` minors of ``J J^T``, which by the Cauchy-Binet formula
+    is the sum of the squares of all ``k x k`` minors of ``J``.  The minors are
+    computed exactly (sines, cosines and constants as generators of a
+    polynomial ring, each minor built once by Laplace expansion from the
+    smaller ones), factored in that ring, each factor brought to textbook
+    form by ``simplify``, and equal minors (up to sign) are
+    counted once: ``c_k = (-1)^k sum_i n_i m_i^2``.  The
+    coefficients keep that structure (the polynomial's domain is ``EX``);
+    ``sympy.expand`` gives the monomial form.
+
+    ``J`` may be rotated first by any orthogonal matrix: ``(Q J)(Q J)^T`` has
+    the same characteristic polynomial, which :meth:`DHRobot.characteristic_polynomial`
+    uses to shorten the entries.
+
+    Examples
+    --------
+    >>> t, a = sp.symbols("t a")
+    >>> gram_characteristic_polynomial(sp.Matrix([[a * sp.cos(t), a * sp.sin(t), 1]]), sp.Symbol("x"))
+    Poly(x - a**2 - 1, x, domain='EX')
+    """
+    J = sp.Matrix(J)
+    lam = lam if lam is not None else sp.Symbol("lambda")
+    (entries, back), atoms = generic_constants(list(J)), set()
+    entries = [as_sympy(e) for e in entries]
+    for e in entries:
+        atoms |= e.atoms(sp.sin, sp.cos) | set(algebraic_constants([e]))
+    forward = {a: sp.Dummy() for a in sorted(atoms, key=sp.default_sort_key)}
+    entries = [e.xreplace(forward) for e in entries]
+    back.update({v: k for k, v in forward.items()})
+    gens = sorted(set().union(*(e.free_symbols for e in entries)) or {sp.Dummy()}, key=sp.default_sort_key)
+    R, *_ = sp.ring(gens, sp.QQ)
+    rows = [[R.from_expr(entries[i * J.cols + j]) for j in range(J.cols)] for i in range(J.rows)]
+    minors = _all_minors(rows, J.shape, R)
+    simplify = simplify or (lambda e: e)
+    coeffs, cache = [sp.Integer(1)], {}
+    for k in range(1, J.rows + 1):
+        distinct: dict = {}   # minors up to sign, with how often they occur
+        for (r, _), minor in minors.items():
+            if len(r) == k and minor:
+                minor = -minor if minor.LC < 0 else minor
+                distinct[minor] = distinct.get(minor, 0) + 1
+        counts: dict = {}
+        for minor, n in distinct.items():
+            key = _sign_free(_factored(minor, back, simplify, cache))
+            if key != 0:
+                counts[key] = counts.get(key, 0) + n
+        squares = sorted(counts.items(), key=lambda kv: (sp.count_ops(kv[0]), sp.default_sort_key(kv[0])))
+        total = sp.Add(*(n * f**2 for f, n in squares))
+        ring_total = sum((n * minor**2 for minor, n in distinct.items()), R.zero)
+        if len(ring_total) <= SHORT_SUM_TERMS:   # a^2 c^2 + a^2 s^2 + 1 is a^2 + 1
+            reduced = simplify(ring_total.as_expr().xreplace(back))
+            total = reduced if sp.count_ops(reduced) < sp.count_ops(total) else total
+        coeffs.append((-1) ** k * total)
+    return sp.Poly.from_list(coeffs, lam, domain="EX")
 
 
 def eigenvalues_from_charpoly(poly: sp.Poly, values: dict | None = None) -> np.ndarray:

@@ -14,14 +14,24 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from .errors import InvalidParameterError
-from .expressions import parse_expr
+from .answers import Notation, read_answer, split_top_level
+from .errors import ExpressionError, InvalidParameterError
+from .expressions import as_sympy, parse_expr
 
-__all__ = ["Verdict", "check_expression", "check_reachable", "check_boundary_arc", "check_measure"]
+__all__ = ["Verdict", "cannot_read", "check_expression", "check_factors", "check_reachable", "check_boundary_arc",
+           "check_measure",
+           "assert_expression", "assert_factors", "assert_reachable", "assert_boundary_arc", "assert_measure"]
 
 
 @dataclass
 class Verdict:
+    """A judgement with its evidence.
+
+    ``ok`` is True (correct), False (wrong) or None (undecided, or the answer
+    could not be read: then ``evidence["method"]`` is ``"cannot read"`` and
+    ``evidence["position"]`` the column of the problem when known).
+    """
+
     ok: bool | None
     message: str
     evidence: dict = field(default_factory=dict)
@@ -29,9 +39,15 @@ class Verdict:
     def __bool__(self):
         return bool(self.ok)
 
+    @property
+    def status(self) -> str:
+        """``"correct"``, ``"wrong"``, ``"cannot read"`` or ``"undecided"``."""
+        if self.ok is None:
+            return "cannot read" if self.evidence.get("method") == "cannot read" else "undecided"
+        return "correct" if self.ok else "wrong"
+
     def _repr_markdown_(self):
-        mark = {True: "correct", False: "wrong", None: "undecided"}[self.ok]
-        return f"**{mark}**: {self.message}"
+        return f"**{self.status}**: {self.message}"
 
 
 def _number(value, name: str) -> float:
@@ -44,44 +60,34 @@ def _number(value, name: str) -> float:
         raise InvalidParameterError(f"{name} must be a real number; got {value!r:.60}") from None
 
 
-def check_expression(student, derived, *, samples: int = 50, seed: int = 0) -> Verdict:
-    """Is the student's expression identically equal to the derived one?
+def cannot_read(exc: ExpressionError) -> Verdict:
+    """The verdict on an answer that could not be read: the reason, and where."""
+    message = " ".join(str(exc).split())
+    return Verdict(None, message, {"method": "cannot read", "position": getattr(exc, "position", None)})
 
-    Exact test: the difference, with every sine and cosine of a sum expanded
-    and ``sin^2 = 1 - cos^2`` applied, is a polynomial in ``c_u, s_u`` of
-    degree at most one in each ``s_u``; for independent angle symbols it
-    vanishes identically exactly when that polynomial is zero.  When it is not
-    zero, a counterexample is searched among random rational values of the
-    symbols and confirmed at 30 digits.
 
-    Text is read by :func:`~workspace_sym.expressions.parse_expr`: the
-    student's answer may use the symbols of ``derived``, numbers, ``pi``,
-    ``sqrt``, ``sin``, ``cos``, ... and ``^`` for powers; anything else (an
-    unknown name, Python code) raises :class:`~workspace_sym.errors.ExpressionError`
-    naming the allowed names, and nothing of it is evaluated.
+def _notation(robot, derived) -> Notation:
+    if robot is not None:
+        return Notation.from_robot(robot)
+    return Notation.from_symbols(derived.free_symbols)
 
-    Examples
-    --------
-    >>> check_expression("cos(t1)*cos(t2) - sin(t1)*sin(t2)", "cos(t1 + t2)").ok
-    True
-    >>> v = check_expression("cos(t1)*cos(t2) + sin(t1)*sin(t2)", "cos(t1 + t2)")
-    >>> v.ok, sorted(v.evidence["counterexample"])
-    (False, ['t1', 't2'])
-    >>> check_expression("cos(t1)*cos(t3)", "cos(t1 + t2)")  # doctest: +ELLIPSIS
-    Traceback (most recent call last):
-    ...
-    workspace_sym.errors.ExpressionError: student answer: cannot read 'cos(t1)*cos(t3)': unknown symbol 't3'; ...
-    """
+
+def _read_student(student, notation, angles):
+    """The student's answer as SymPy; text through :func:`~workspace_sym.answers.read_answer`."""
+    if isinstance(student, str):
+        return read_answer(student, notation, angles=angles, parameter="student answer")
+    if isinstance(student, (list, tuple)):
+        return sp.Matrix([_read_student(s, notation, angles) for s in student])
+    return as_sympy(student, "student answer")
+
+
+def _scalar_verdict(s, d, *, samples, seed, where: str = ""):
     from .symbolic import trig_polynomials
 
-    d = parse_expr(derived, "derived")
-    # the student's text is untrusted: it may name the symbols of the derived result and nothing else
-    names = {str(x): x for x in d.free_symbols if str(x).isidentifier() and not str(x).startswith("_")}
-    s = parse_expr(student, "student answer", names=names, new_symbols=False)
     diff = s - d
     (poly,), _ = trig_polynomials([diff])
     if sp.expand(poly) == 0:
-        return Verdict(True, "equal: the difference reduces to 0 after expanding and sin^2 = 1 - cos^2",
+        return Verdict(True, f"equal{where}: the difference reduces to 0 after expanding and sin^2 = 1 - cos^2",
                        {"method": "exact identity"})
     symbols = sorted(diff.free_symbols, key=str)
     rng = np.random.default_rng(seed)
@@ -90,10 +96,133 @@ def check_expression(student, derived, *, samples: int = 50, seed: int = 0) -> V
         value = sp.N(diff.subs(values), 30)
         if value.is_number and abs(value) > 1e-20:
             shown = {str(x): v for x, v in values.items()}
-            return Verdict(False, f"not equal: at {shown} the difference is {sp.N(value, 6)}",
-                           {"method": "counterexample", "counterexample": shown, "difference": float(value)})
-    return Verdict(None, "no counterexample found, but the expressions are not identical after expansion "
+            mine, theirs = sp.N(s.subs(values), 30), sp.N(d.subs(values), 30)
+            at = ", ".join(f"{k} = {v}" for k, v in shown.items())
+            return Verdict(False, f"not equal{where}: at {at} the answer is {sp.N(mine, 6)} but the derived "
+                                  f"value is {sp.N(theirs, 6)}",
+                           {"method": "counterexample", "counterexample": shown, "difference": float(value),
+                            "student_value": str(mine), "derived_value": str(theirs)})
+    return Verdict(None, f"no counterexample found{where}, but the expressions are not identical after expansion "
                          "(are some angles dependent?)", {"method": "undecided", "residual": str(poly)})
+
+
+def check_expression(student, derived, *, robot=None, angles: str = "radians", samples: int = 50,
+                     seed: int = 0) -> Verdict:
+    """Is the student's expression (or matrix) identically equal to the derived one?
+
+    Exact test: the difference, with every sine and cosine of a sum expanded
+    and ``sin^2 = 1 - cos^2`` applied, is a polynomial in ``c_u, s_u`` of
+    degree at most one in each ``s_u``; for independent angle symbols it
+    vanishes identically exactly when that polynomial is zero.  When it is not
+    zero, a counterexample is searched among random rational values of the
+    symbols and confirmed at 30 digits; the verdict gives both values there.
+    A matrix is checked entry by entry and the first wrong entry is named.
+
+    Text is read by :func:`~workspace_sym.answers.read_answer` with the
+    names of ``robot`` (or, without one, of the symbols of ``derived``):
+    textbook shorthand ``c1``, ``s23``, ``c_{234}``, ``C1``; ``q1``, ``t1``
+    for ``theta1``; juxtaposition ``c1 (a1 + a2 c2)``; LaTeX; ``[e1, e2,
+    e3]`` for a column.  Nothing of it is evaluated as Python; text that
+    cannot be read gets a *cannot read* verdict (``ok`` None) naming the
+    problem and its column, never an exception.
+
+    Examples
+    --------
+    >>> check_expression("cos(t1)*cos(t2) - sin(t1)*sin(t2)", "cos(t1 + t2)").ok
+    True
+    >>> check_expression("c1 c2 - s1 s2", "cos(t1 + t2)").ok
+    True
+    >>> v = check_expression("cos(t1)*cos(t2) + sin(t1)*sin(t2)", "cos(t1 + t2)")
+    >>> v.status, sorted(v.evidence["counterexample"])
+    ('wrong', ['t1', 't2'])
+    >>> v = check_expression("cos(t1)*cos(t3)", "cos(t1 + t2)")
+    >>> v.status, v.evidence["position"]
+    ('cannot read', 13)
+    """
+    d = parse_expr(derived, "derived") if not isinstance(derived, sp.MatrixBase) else derived
+    notation = _notation(robot, d)
+    try:
+        s = _read_student(student, notation, angles)
+    except ExpressionError as exc:
+        return cannot_read(exc)
+    if isinstance(d, sp.MatrixBase) or isinstance(s, sp.MatrixBase):
+        if not (isinstance(d, sp.MatrixBase) and isinstance(s, sp.MatrixBase)):
+            expected = f"a {d.rows} x {d.cols} matrix" if isinstance(d, sp.MatrixBase) else "one expression"
+            return Verdict(False, f"expected {expected}", {"method": "shape"})
+        if s.shape != d.shape and not (1 in s.shape and 1 in d.shape and len(s) == len(d)):
+            return Verdict(False, f"expected a {d.rows} x {d.cols} matrix, got {s.rows} x {s.cols}",
+                           {"method": "shape"})
+        s = s.reshape(d.rows, d.cols)
+        for i in range(d.rows):
+            for j in range(d.cols):
+                where = f" (entry {i + 1},{j + 1})" if d.cols > 1 else f" (entry {i + 1})"
+                v = _scalar_verdict(s[i, j], d[i, j], samples=samples, seed=seed, where=where)
+                if v.ok is not True:
+                    v.evidence["entry"] = [i + 1, j + 1]
+                    return v
+        return Verdict(True, f"all {len(d)} entries are equal (exact identities)", {"method": "exact identity"})
+    return _scalar_verdict(s, d, samples=samples, seed=seed)
+
+
+def _read_list(student, notation, angles) -> list:
+    """A list of expressions: text split at top-level commas (``"s3, a2 c2 + a3 c23"``) or a sequence."""
+    if not isinstance(student, str):
+        return [_read_student(x, notation, angles) for x in student]
+    pieces = [p for p, _ in split_top_level(student)]
+    if all(not p.strip() for p in pieces):
+        raise ExpressionError("student answer: expected a list of factors separated by commas, got nothing",
+                              parameter="student answer")
+    return [_read_student(p, notation, angles) for p in pieces if p.strip()]
+
+
+def _proportional(g, f, *, seed: int = 0) -> bool:
+    """Is ``g`` a nonzero constant times ``f``?  The constant is guessed at a random point, then proved exact."""
+    symbols = sorted(f.free_symbols | g.free_symbols, key=str)
+    rng = np.random.default_rng(seed)
+    for _ in range(5):
+        point = {x: sp.Rational(int(rng.integers(-3000, 3000)), 1000) for x in symbols}
+        fv = sp.N(f.subs(point), 40)
+        if fv.is_number and abs(fv) > 1e-12:
+            ratio = sp.nsimplify(sp.N(g.subs(point), 40) / fv, tolerance=1e-25, rational=False)
+            return ratio != 0 and _scalar_verdict(g, ratio * f, samples=5, seed=seed).ok is True
+    return False
+
+
+def check_factors(student, derived, *, robot=None, angles: str = "radians", seed: int = 0) -> Verdict:
+    """Are the student's singular factors those derived, each up to a nonzero constant factor?
+
+    ``student`` is text (factors separated by commas, in any notation that
+    :func:`check_expression` reads) or a sequence; ``derived`` the list of
+    factors (e.g. ``robot.singular_factors()``).  Each derived factor must
+    match one of the student's (``g = k f`` for a constant ``k``, proved as
+    an exact identity) and each of the student's factors one derived.
+
+    Examples
+    --------
+    >>> t2, t3, a2, a3 = sp.symbols("theta2 theta3 a2 a3")
+    >>> derived = [sp.sin(t3), a2*sp.cos(t2) + a3*sp.cos(t2 + t3)]
+    >>> check_factors("s3, -(a2 c2 + a3 c23)", derived).ok
+    True
+    >>> v = check_factors("s3", derived)
+    >>> v.status, v.evidence["missing"]
+    ('wrong', ['a2*cos(theta2) + a3*cos(theta2 + theta3)'])
+    """
+    derived = [as_sympy(f, "derived factor") for f in derived]
+    symbols = set().union(*(f.free_symbols for f in derived)) if derived else set()
+    notation = Notation.from_robot(robot) if robot is not None else Notation.from_symbols(symbols)
+    try:
+        given = _read_list(student, notation, angles)
+    except ExpressionError as exc:
+        return cannot_read(exc)
+    matched = [[_proportional(g, f, seed=seed) for f in derived] for g in given]
+    missing = [str(f) for j, f in enumerate(derived) if not any(row[j] for row in matched)]
+    extra = [str(g) for g, row in zip(given, matched) if not any(row)]
+    if not missing and not extra:
+        return Verdict(True, f"the {len(derived)} factors match (each up to a constant, exact identities)",
+                       {"method": "exact identity"})
+    parts = ([f"missing {', '.join(missing)}"] if missing else []) + (
+        [f"not a singular factor: {', '.join(extra)}"] if extra else [])
+    return Verdict(False, "; ".join(parts), {"method": "factor match", "missing": missing, "extra": extra})
 
 
 def check_reachable(chain, point, *, max_boxes: int = 500_000, seed: int = 0) -> Verdict:
@@ -170,3 +299,68 @@ def check_measure(claimed: float, result, *, rel_tol: float = 0.0) -> Verdict:
         return Verdict(True, f"{claimed:g} lies in the {what} [{lo:.6g}, {hi:.6g}]", {"bracket": [lo, hi]})
     side = "below" if claimed < lo else "above"
     return Verdict(False, f"{claimed:g} is {side} the {what} [{lo:.6g}, {hi:.6g}]", {"bracket": [lo, hi]})
+
+
+# ------------------------------------------------------------------------------ assertions for autograders
+def _assert(verdict: Verdict) -> Verdict:
+    if verdict.ok is not True:
+        raise AssertionError(f"{verdict.status}: {verdict.message}")
+    return verdict
+
+
+def assert_expression(student, derived, **options) -> Verdict:
+    """:func:`check_expression` for an autograder cell: return the verdict if correct, else raise
+    :class:`AssertionError` whose message is the explanation (the counterexample, or what could not be read).
+
+    Examples
+    --------
+    >>> assert_expression("c1 c2 - s1 s2", "cos(t1 + t2)").status
+    'correct'
+    >>> assert_expression("c1 c2 + s1 s2", "cos(t1 + t2)")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    AssertionError: wrong: not equal: at t1 = ..., t2 = ... the answer is ... but the derived value is ...
+    """
+    return _assert(check_expression(student, derived, **options))
+
+
+def assert_factors(student, derived, **options) -> Verdict:
+    """:func:`check_factors` raising :class:`AssertionError` with the explanation unless correct."""
+    return _assert(check_factors(student, derived, **options))
+
+
+def assert_reachable(chain, point, claimed: bool = True, **options) -> Verdict:
+    """Assert the student's claim that ``point`` is (``claimed=True``) or is not reachable by ``chain``.
+
+    Passes only when the library proves the claim (a witness configuration,
+    or an interval proof of unreachability); raises :class:`AssertionError`
+    with the evidence otherwise, also when it cannot decide.
+
+    Examples
+    --------
+    >>> from workspace_sym.planar import PlanarChain
+    >>> arm = PlanarChain([1, 1], [-90, 0], [90, 90])
+    >>> assert_reachable(arm, (0, 2)).status
+    'correct'
+    >>> assert_reachable(arm, (0, 2), claimed=False)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    AssertionError: wrong: claimed unreachable, but it is reachable, e.g. with theta = ...
+    """
+    verdict = check_reachable(chain, point, **options)
+    if verdict.ok is None:
+        raise AssertionError(f"undecided: {verdict.message}")
+    word = "reachable" if claimed else "unreachable"
+    if verdict.ok is bool(claimed):
+        return Verdict(True, f"{word}: {verdict.message}", verdict.evidence)
+    raise AssertionError(f"wrong: claimed {word}, but it is {verdict.message}")
+
+
+def assert_boundary_arc(chain, center, radius, start_angle, end_angle, **options) -> Verdict:
+    """:func:`check_boundary_arc` raising :class:`AssertionError` with the explanation unless correct."""
+    return _assert(check_boundary_arc(chain, center, radius, start_angle, end_angle, **options))
+
+
+def assert_measure(claimed, result, **options) -> Verdict:
+    """:func:`check_measure` raising :class:`AssertionError` with the explanation unless correct."""
+    return _assert(check_measure(claimed, result, **options))

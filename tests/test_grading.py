@@ -1,0 +1,224 @@
+"""Exercise sheets with certified keys, and batch grading of a small class (library and command line)."""
+
+import copy
+import csv
+import json
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from workspace_sym.answers import Notation, read_answer
+from workspace_sym.cli import main
+from workspace_sym.exercises import exact_parameters, make_exercises, reach_bound, write_exercises
+from workspace_sym.grading import AnswerKey, grade_answers
+from workspace_sym.kinematics import DHRobot
+from workspace_sym.planar import PlanarChain
+
+SEED, COUNT, JOINTS = 3, 2, 3          # one 3-joint robot, one chain: a small, fast sheet
+
+
+@pytest.fixture(scope="module")
+def generated():
+    return make_exercises(seed=SEED, count=COUNT, max_joints=JOINTS)
+
+
+def _right_answers(key: dict) -> dict:
+    """The key's own answers, written as a student would type them."""
+    out = {}
+    for q in key["questions"]:
+        a = q["answer"]
+        out[q["id"]] = {"expression": lambda a=a: a, "factors": lambda a=a: ", ".join(a),
+                        "reachable": lambda a=a: "yes" if a else "no", "integer": lambda a=a: str(a),
+                        "measure": lambda a=a: f"{a[0]:.3g}"}[q["kind"]]()
+    return out
+
+
+def _latex_answers(key: dict, parsed: AnswerKey) -> dict:
+    """Expression answers in the LaTeX the library prints (c_{23}, pmatrix-like \\left[\\begin{matrix}...)."""
+    out = {}
+    for q in parsed.questions:
+        if q.kind == "expression":
+            out[q.id] = parsed.robots[q.robot].to_latex(parsed.derived(q))
+    return out
+
+
+def test_same_seed_same_sheet(generated):
+    sheet, key_doc, key = generated
+    again = make_exercises(seed=SEED, count=COUNT, max_joints=JOINTS)
+    assert again[2] == key and again[0].markdown() == sheet.markdown()
+    assert make_exercises(seed=SEED + 1, count=COUNT, max_joints=JOINTS)[2] != key
+
+
+def test_sheet_asks_every_kind(generated):
+    _, _, key = generated
+    kinds = [q["kind"] for q in key["questions"]]
+    assert kinds.count("expression") == 2                     # an FK entry and a Jacobian column
+    assert {"factors", "reachable", "integer", "measure"} <= set(kinds)
+    (spec,) = key["robots"].values()
+    assert 3 <= len(spec["joints"]) <= JOINTS and spec["convention"] in ("standard", "modified")
+
+
+def test_key_answers_are_certified(generated):
+    """Independent checks of the key: the FK entry is the robot's derived position (exact identity); a witness
+    configuration maps exactly onto the point (robot, SymPy) or within 1e-9 (chain); an unreachable robot point
+    lies beyond every sampled end point; the chain's area is near a Monte-Carlo estimate."""
+    _, _, key = generated
+    parsed = AnswerKey.from_dict(key)
+    for q in key["questions"]:
+        if q["kind"] != "reachable":
+            continue
+        point = [sp.Rational(p) if "sqrt" not in p else read_answer(p, Notation()) for p in q["point"]]
+        if "robot" in q:
+            robot = parsed.robots[q["robot"]]
+            position = robot.position.subs(exact_parameters(robot))
+            if q["answer"]:
+                config = {v: read_answer(w, Notation()) for v, w in zip(robot.q, q["witness"])}
+                assert all(sp.simplify(position[i].subs(config) - point[i]) == 0 for i in range(3))
+            else:
+                rng = np.random.default_rng(0)
+                f = sp.lambdify(robot.q, position, "numpy")
+                lo = [float(j.limits[0]) for j in robot.joints]
+                hi = [float(j.limits[1]) for j in robot.joints]
+                reach = max(np.linalg.norm(np.array(f(*rng.uniform(lo, hi)), dtype=float))
+                            for _ in range(2000))
+                assert reach <= float(reach_bound(robot, robot.parameters)) + 1e-12
+                assert float(sum(p * p for p in point)) > reach**2
+        else:
+            chain = parsed.chains[q["chain"]]
+            if q["answer"]:
+                assert np.allclose(chain.forward(q["witness"]), [float(p) for p in point], atol=1e-9)
+    (chain_name, spec), = key["chains"].items()
+    chain = PlanarChain(spec["lengths"], spec["lower"], spec["upper"])
+    (area,) = [q["answer"] for q in key["questions"] if q["kind"] == "measure"]
+    ends = chain.forward(chain.sample(200_000, seed=1, corners=False))
+    lo, hi = ends.min(axis=0) - 1e-3, ends.max(axis=0) + 1e-3
+    grid = np.stack(np.meshgrid(np.linspace(lo[0], hi[0], 120), np.linspace(lo[1], hi[1], 120)), -1).reshape(-1, 2)
+    b = chain.boundary()
+    inside = np.mean(b.classify(grid, tol=1e-12) != "outside")
+    estimate = inside * (hi[0] - lo[0]) * (hi[1] - lo[1])
+    assert abs(estimate - area[0]) < 0.05 * area[0] + 0.002
+
+
+def test_own_key_gives_full_marks_and_a_flipped_sign_the_expected_wrong_answers(generated):
+    _, _, key = generated
+    parsed = AnswerKey.from_dict(key)
+    right, latex = _right_answers(key), _latex_answers(key, parsed)
+    rows = [("ann", qid, text) for qid, text in right.items()]
+    rows += [("cat", qid, latex.get(qid, text)) for qid, text in right.items()]
+    graded = grade_answers(parsed, rows)
+    assert all(g.verdict.status == "correct" for g in graded), [(g.question, g.verdict.message) for g in graded]
+    assert sum(g.points for g in graded if g.student == "ann") == len(key["questions"])
+    flipped = copy.deepcopy(key)
+    target = next(q for q in flipped["questions"] if q["kind"] == "expression")
+    target["answer"] = f"-({target['answer']})"
+    graded = grade_answers(AnswerKey.from_dict(flipped), rows)
+    wrong = {(g.student, g.question) for g in graded if g.verdict.status == "wrong"}
+    assert wrong == {("ann", target["id"]), ("cat", target["id"])}
+    g = next(g for g in graded if g.question == target["id"] and g.student == "ann")
+    point = {sp.Symbol(k): sp.Rational(v) for k, v in g.verdict.evidence["counterexample"].items()}
+    notation = Notation.from_robot(parsed.robots[target["robot"]])
+    student, flipped_value = read_answer(g.answer, notation), read_answer(target["answer"], notation)
+    assert sp.N((student - flipped_value).subs(point), 30) != 0       # re-checked by exact substitution
+
+
+def test_wrong_and_unreadable_answers_in_a_class(generated):
+    _, _, key = generated
+    parsed = AnswerKey.from_dict(key)
+    expression = next(q for q in key["questions"] if q["kind"] == "expression")
+    integer = next(q for q in key["questions"] if q["kind"] == "integer")
+    reach = next(q for q in key["questions"] if q["kind"] == "reachable")
+    rows = [("bob", expression["id"], "c1 + * s2"), ("bob", integer["id"], str(integer["answer"] + 1)),
+            ("bob", reach["id"], "no" if reach["answer"] else "yes"), ("bob", reach["id"], "perhaps"),
+            ("bob", "9z", "1"), ("bob", expression["id"], "__import__('os')")]
+    status = [g.verdict.status for g in grade_answers(parsed, rows)]
+    assert status == ["cannot read", "wrong", "wrong", "cannot read", "cannot read", "cannot read"]
+
+
+def test_grade_and_exercises_on_the_command_line(tmp_path, capsys):
+    out = tmp_path / "sheet"
+    assert main(["exercises", "--seed", str(SEED), "--count", str(COUNT), "--max-joints", str(JOINTS),
+                 "--out", str(out), "--json"]) == 0
+    files = json.loads(capsys.readouterr().out)["files"]
+    assert {"sheet.md", "sheet.html", "sheet.tex", "key.md", "key.html", "key.tex", "key.json"} <= set(files)
+    key = json.loads((out / "key.json").read_text())
+    assert key == make_exercises(seed=SEED, count=COUNT, max_joints=JOINTS)[2]      # same seed, same key
+    answers = tmp_path / "answers.csv"
+    with answers.open("w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["student", "question", "answer"])
+        for qid, text in _right_answers(key).items():
+            w.writerow(["ann", qid, text])
+            w.writerow(["bob", qid, "c1 (a1"])
+    assert main(["grade", str(out / "key.json"), str(answers), "--out", str(tmp_path / "graded"), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["students"] == {"ann": len(key["questions"]), "bob": 0.0}
+    with (tmp_path / "graded" / "graded.csv").open() as f:
+        rows = list(csv.DictReader(f))
+    assert {r["status"] for r in rows if r["student"] == "ann"} == {"correct"}
+    assert any(r["status"] == "cannot read" and r["position"] for r in rows if r["student"] == "bob")
+    html = (tmp_path / "graded" / "grades.html").read_text()
+    assert "<math" in html and "Student bob" in html and "cannot read" in html
+
+
+@pytest.mark.parametrize(("argv", "words"), [
+    (["grade", "{tmp}/missing.json", "{tmp}/a.csv", "--out", "{tmp}/o"], "key: cannot read"),
+    (["grade", "{tmp}/key.json", "{tmp}/bad.csv", "--out", "{tmp}/o"], "needs the columns student, question"),
+    (["exercises", "--count", "0", "--out", "{tmp}/o"], "--count: count must be"),
+    (["exercises", "--max-joints", "9", "--out", "{tmp}/o"], "--max-joints: max_joints must be 3 to 6"),
+])
+def test_bad_input_is_one_line_and_writes_nothing(tmp_path, capsys, argv, words):
+    (tmp_path / "key.json").write_text(json.dumps({"format": "workspace-sym key", "robots": {"G": "glass-handling"},
+                                                   "questions": [{"id": "1", "kind": "expression", "robot": "G",
+                                                                  "answer": "c1"}]}))
+    (tmp_path / "bad.csv").write_text("name,answer\nann,1\n")
+    assert main([a.format(tmp=tmp_path) for a in argv]) == 2
+    err = capsys.readouterr().err
+    assert words in err and err.count("\n") == 1
+    assert not (tmp_path / "o").exists()
+
+
+def test_key_is_read_as_untrusted_text(tmp_path):
+    bad = {"format": "workspace-sym key", "robots": {"G": "glass-handling"},
+           "questions": [{"id": "1", "kind": "expression", "robot": "G", "answer": "__import__('os')"}]}
+    with pytest.raises(Exception, match="key question 1: cannot read"):
+        AnswerKey.from_dict(bad)
+    with pytest.raises(Exception, match="kind of question '1' must be one of"):
+        AnswerKey.from_dict({**bad, "questions": [{"id": "1", "kind": "essay", "answer": "x"}]})
+    robot = AnswerKey.from_dict({**bad, "questions": [{"id": "1", "kind": "expression", "robot": "G",
+                                                       "answer": "c1 (a1 + a2 c2)"}]}).robots["G"]
+    assert isinstance(robot, DHRobot)
+
+
+def test_write_exercises_writes_everything(tmp_path):
+    paths = write_exercises(tmp_path, seed=SEED, count=1, max_joints=JOINTS)
+    assert "\\begin{document}" in paths["sheet.tex"].read_text()
+    assert "answer" in paths["key.md"].read_text() and "Answer key" in paths["key.html"].read_text()
+    header, *rows = paths["answers-template.csv"].read_text().splitlines()
+    assert header == "student,question,answer" and len(rows) == len(json.loads(paths["key.json"].read_text())
+                                                                      ["questions"])
+
+
+def test_robot_points_both_ways():
+    """Reachable points are the exact image of their witness (SymPy identity); unreachable ones lie beyond the
+    triangle-inequality bound, and no sampled configuration comes near them."""
+    from workspace_sym import robots
+    from workspace_sym.exercises import reachability_point
+
+    robot = robots.build("scara")
+    position = robot.position.subs(exact_parameters(robot))
+    seen = set()
+    for seed in range(8):
+        point, reachable, why, witness = reachability_point(robot, np.random.default_rng(seed))
+        seen.add(reachable)
+        if reachable:
+            config = {v: read_answer(w, Notation()) for v, w in zip(robot.q, witness)}
+            assert all(sp.simplify(position[i].subs(config) - point[i]) == 0 for i in range(3)), why
+        else:
+            bound = reach_bound(robot, robot.parameters)
+            assert sum(p * p for p in point) > bound**2 and "triangle inequality" in why
+            f = sp.lambdify(robot.q, position, "numpy")
+            lo, hi = robot.joint_limits().T
+            samples = np.random.default_rng(seed).uniform(lo, hi, size=(500, robot.n))
+            assert max(np.linalg.norm(np.array(f(*s), dtype=float)) for s in samples) < float(bound) + 1e-12
+    assert seen == {True, False}

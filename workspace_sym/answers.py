@@ -1,0 +1,660 @@
+"""Students' answers as they write them: textbook shorthand, juxtaposition, LaTeX, matrices.
+
+A student answering "x of the glass-handling arm" writes ``c1 (a1 + a2 c2 + a3
+c23 + d5 s234)``, ``C1*(...)``, ``cos(q1)*(...)`` or
+``\\cos\\theta_1 \\left(a_1 + a_2 \\cos\\theta_2 + \\dots\\right)``.  A
+:class:`Notation` knows what the names of a robot mean (``c23`` is
+``cos(theta2 + theta3)``, ``q1`` and ``t1`` are ``theta1``) and
+:func:`read_answer` turns the text into SymPy:
+
+- plain text goes through :func:`~workspace_sym.expressions.parse_math`, the
+  project's allowlist reader with juxtaposition;
+- LaTeX (any backslash) is tokenised here against a small vocabulary (Greek
+  letters, ``\\sin \\cos \\tan \\sqrt \\frac \\cdot \\times \\left \\right``,
+  ``pmatrix`` / ``bmatrix``), rewritten with explicit products and
+  parentheses, and parsed by SymPy's LaTeX parser (Lark backend); its result
+  is vetted (only the allowed functions and the robot's names, bounded size)
+  before it is used;
+- a matrix is ``[e1, e2, e3]`` (a column), ``[[a, b], [c, d]]`` (rows) or a
+  LaTeX ``pmatrix``.
+
+Nothing of the text is evaluated as Python.  Unreadable text raises
+:class:`~workspace_sym.errors.ExpressionError` with ``position`` (1-based
+column) when the reader knows where the problem is.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field
+from string import ascii_lowercase
+
+import sympy as sp
+
+from .errors import ExpressionError, check_choice
+from .expressions import CONSTANTS, MAX_DEPTH, MAX_LENGTH, parse_math, subscript_name
+
+__all__ = ["Notation", "read_answer", "read_latex", "split_top_level", "expansion_size", "ANGLE_UNITS",
+           "MAX_EXPANSION"]
+
+#: How numbers inside sin, cos and tan are read.
+ANGLE_UNITS = ("radians", "degrees")
+#: Most entries of a matrix answer.
+MAX_ENTRIES = 64
+#: Most operations of one read answer (after parsing).
+MAX_OPERATIONS = 4000
+
+_JOINT_ALIAS = re.compile(r"(theta|θ|th|q|t)([0-9]+)")
+_SHORTHAND = re.compile(r"([cCsS])([0-9]+)")
+
+
+def _shown(text: str) -> str:
+    return repr(text) if len(text) <= 60 else f"{text[:57]!r}... ({len(text)} characters)"
+
+
+@dataclass(frozen=True)
+class Notation:
+    """The names a student may use for one robot.
+
+    ``joints`` maps a joint number (1-based) to ``(variable, kind)`` with kind
+    ``"R"`` or ``"P"``; ``constants`` are the other symbols (lengths).  A name
+    means, in this order of lookup, all of:
+
+    - a symbol of the robot spelled exactly (``a2``, ``theta1``, ``d3``);
+    - ``theta<k>``, ``θ<k>``, ``th<k>``, ``q<k>``, ``t<k>``: the variable of
+      joint ``k`` (``q<k>`` only for a prismatic joint);
+    - ``c<ij..>``, ``s<ij..>``, ``C<ij..>``, ``S<ij..>``: cosine or sine of the
+      sum of the revolute joint variables ``i, j, ...`` (one digit each).
+
+    When these meanings differ (a robot with a length called ``t1``, or ``c1``
+    as a parameter) the name is ambiguous and refused with both meanings.
+
+    Examples
+    --------
+    >>> from workspace_sym import robots
+    >>> names = Notation.from_robot(robots.build("glass-handling"))
+    >>> names.resolve("s234"), names.resolve("q1"), names.resolve("a2"), names.resolve("x")
+    (sin(theta2 + theta3 + theta4), theta1, a2, None)
+    """
+
+    joints: dict = field(default_factory=dict)
+    constants: frozenset = frozenset()
+
+    @classmethod
+    def from_robot(cls, robot) -> Notation:
+        """The notation of a :class:`~workspace_sym.kinematics.DHRobot`."""
+        joints = {k: (j.variable, j.kind) for k, j in enumerate(robot.joints, start=1)}
+        return cls(joints, frozenset(robot.symbols))
+
+    @classmethod
+    def from_symbols(cls, symbols) -> Notation:
+        """Guess the joints from symbol names ``theta<k>``, ``q<k>``, ``t<k>`` (revolute); the rest are constants."""
+        joints, constants = {}, set()
+        for s in sorted(symbols, key=str):
+            m = _JOINT_ALIAS.fullmatch(str(s))
+            k = int(m[2]) if m else 0
+            if k and k not in joints:
+                joints[k] = (s, "R")
+            else:
+                constants.add(s)
+        return cls(joints, frozenset(constants))
+
+    def _own(self) -> dict:
+        own = {str(s): s for s in self.constants}
+        own.update({str(v): v for v, _ in self.joints.values()})
+        return own
+
+    def resolve(self, name: str):
+        """SymPy value of ``name``, ``None`` when unknown; :class:`ExpressionError` when ambiguous."""
+        meanings = []
+        own = self._own().get(name)
+        if own is not None:
+            meanings.append(own)
+        m = _JOINT_ALIAS.fullmatch(name)
+        if m and int(m[2]) in self.joints:
+            k = int(m[2])
+            variable, kind = self.joints[k]
+            if kind == "P" and m[1] != "q" and own is None:
+                raise ExpressionError(f"{name!r} names joint {k}, which is prismatic: its variable is {variable}")
+            if kind == "R" or m[1] == "q":
+                meanings.append(variable)
+        m = _SHORTHAND.fullmatch(name)
+        if m and len(self.joints) <= 9:
+            digits = [int(c) for c in m[2]]
+            if len(set(digits)) == len(digits) and all(d in self.joints for d in digits):
+                prismatic = [d for d in digits if self.joints[d][1] == "P"]
+                if prismatic and own is None:
+                    raise ExpressionError(f"{name!r}: joint {prismatic[0]} is prismatic, it has no angle")
+                if not prismatic:
+                    angle = sp.Add(*(self.joints[d][0] for d in digits))
+                    meanings.append((sp.cos if m[1] in "cC" else sp.sin)(angle))
+        distinct = list(dict.fromkeys(meanings))
+        if len(distinct) > 1:
+            raise ExpressionError(f"{name!r} is ambiguous for this robot: it could be {distinct[0]} or "
+                                  f"{distinct[1]}; write the other one in full")
+        return distinct[0] if distinct else None
+
+    def resolver(self, parameter: str):
+        """``resolve`` with ``parameter`` prefixed to its ambiguity errors."""
+        def resolve(name):
+            try:
+                return self.resolve(name)
+            except ExpressionError as exc:
+                raise ExpressionError(f"{parameter}: {exc}", parameter=parameter) from None
+        return resolve
+
+
+# ------------------------------------------------------------------------------ plain text and matrices
+def split_top_level(text: str, offset: int = 0) -> list[tuple[str, int]]:
+    """Pieces of ``text`` between commas outside brackets, each with its column offset.
+
+    Examples
+    --------
+    >>> split_top_level("s3, atan2(y, x), [a, b]")
+    [('s3', 0), (' atan2(y, x)', 3), (' [a, b]', 16)]
+    """
+    pieces, depth, start = [], 0, 0
+    for k, ch in enumerate(text):
+        depth += ch in "([{"
+        depth -= ch in ")]}"
+        if ch == "," and depth == 0:
+            pieces.append((text[start:k], offset + start))
+            start = k + 1
+    pieces.append((text[start:], offset + start))
+    return pieces
+
+
+def _plain_matrix(text: str, parameter: str, read) -> sp.Matrix:
+    """``[e1, e2]`` as a column, ``[[a, b], [c, d]]`` as rows; ``read(piece, column)`` reads one entry."""
+    stripped = text.strip()
+    lead = text.index("[")
+    inner = stripped[1:-1]
+    pieces = split_top_level(inner, lead + 1)
+    nested = [p.strip().startswith("[") and p.strip().endswith("]") for p, _ in pieces]
+    if all(nested):
+        rows = []
+        for piece, column in pieces:
+            start = column + piece.index("[") + 1
+            rows.append([read(p, c) for p, c in split_top_level(piece.strip()[1:-1], start)])
+        if len({len(r) for r in rows}) != 1:
+            raise ExpressionError(f"{parameter}: cannot read {_shown(text)}: rows of different lengths",
+                                  parameter=parameter)
+        return sp.Matrix(rows)
+    if any(nested):
+        raise ExpressionError(f"{parameter}: cannot read {_shown(text)}: mix of rows and entries",
+                              parameter=parameter)
+    return sp.Matrix([read(p, c) for p, c in pieces])
+
+
+def _is_bracketed(text: str) -> bool:
+    """True when the whole text is one ``[...]`` (a matrix, not ``[a + b] c``)."""
+    text = text.strip()
+    if not (text.startswith("[") and text.endswith("]")):
+        return False
+    depth = 0
+    for k, ch in enumerate(text):
+        depth += ch in "(["
+        depth -= ch in ")]"
+        if depth == 0 and k < len(text) - 1:
+            return False
+    return True
+
+
+# ------------------------------------------------------------------------------ LaTeX
+_GREEK = {"alpha", "beta", "gamma", "delta", "epsilon", "varepsilon", "zeta", "eta", "theta", "vartheta", "iota",
+          "kappa", "lambda", "mu", "nu", "xi", "rho", "sigma", "tau", "upsilon", "phi", "varphi", "chi", "psi",
+          "omega"}
+_LATEX_TOKEN = re.compile(r"""
+    (?P<space>\s+|\\[,;:!\ ]|\\quad(?![A-Za-z])|\\qquad(?![A-Za-z])|~|\\left(?![A-Za-z])|\\right(?![A-Za-z])
+              |\\displaystyle(?![A-Za-z]))
+  | (?P<begin>\\begin\{[pbv]?matrix\})
+  | (?P<end>\\end\{[pbv]?matrix\})
+  | (?P<rowsep>\\\\)
+  | (?P<colsep>&)
+  | (?P<func>\\(?:sin|cos|tan)(?![A-Za-z]))
+  | (?P<frac>\\[dt]?frac(?![A-Za-z]))
+  | (?P<sqrt>\\sqrt(?![A-Za-z]))
+  | (?P<mul>\\cdot(?![A-Za-z])|\\times(?![A-Za-z])|\*)
+  | (?P<name>(?:\\[A-Za-z]+|[A-Za-z]+)(?:_(?:\{[^{}]*\}|[0-9A-Za-z])|[0-9]+)?)
+  | (?P<number>[0-9]+(?:\.[0-9]+)?|\.[0-9]+)
+  | (?P<power>\^)
+  | (?P<op>[-+/])
+  | (?P<open>[(\[])
+  | (?P<close>[)\]])
+  | (?P<lbrace>\{)
+  | (?P<rbrace>\})
+""", re.VERBOSE)
+_WRAPPED_MATRIX = re.compile(r"^(\s*(?:\\left)?\s*[\[(]\s*)(\\begin\{([pbv]?)matrix\}.*\\end\{\3matrix\})"
+                             r"(\s*(?:\\right)?\s*[\])]\s*)$", re.DOTALL)
+_MAX_DIGITS = 30
+_MAX_POWER_PRODUCT = 1000
+
+
+def _placeholder(k: int) -> str:
+    """``Z_{aaa}``, ``Z_{aab}``, ...: names the Lark grammar reads as one symbol (subscripts of letters)."""
+    letters = "".join(ascii_lowercase[k // 26**e % 26] for e in (2, 1, 0))
+    return "Z_{" + letters + "}"
+
+
+class _LatexRewriter:
+    """LaTeX tokens to an unambiguous LaTeX string: names as placeholders, products and function calls explicit.
+
+    SymPy's Lark grammar reads ``\\cos\\theta_1 (a_1 + a_2)`` four ways and
+    has no ``c_{23}`` or ``\\pi``; written as ``(\\cos(Z_{aaa})) \\cdot (Z_{aab} +
+    Z_{aac})`` it has one reading.
+    """
+
+    def __init__(self, text: str, parameter: str, resolve):
+        self.text, self.parameter, self.resolve = text, parameter, resolve
+        self.tokens = []
+        self.values: dict[sp.Symbol, sp.Basic] = {}
+        self._known: dict[str, str] = {}
+        self.power_product = 1
+        pos = 0
+        while pos < len(text):
+            match = _LATEX_TOKEN.match(text, pos)
+            if match is None:
+                raise self.error(pos + 1, f"unexpected character {text[pos]!r}")
+            if match.lastgroup != "space":
+                self.tokens.append((match.lastgroup, match.group(), pos + 1))
+            pos = match.end()
+        self.i = 0
+
+    def error(self, column, reason) -> ExpressionError:
+        where = f" at column {column}" if column else ""
+        return ExpressionError(f"{self.parameter}: cannot read {_shown(self.text)}: {reason}{where}",
+                               parameter=self.parameter, position=column)
+
+    def peek(self):
+        return self.tokens[self.i] if self.i < len(self.tokens) else None
+
+    def take(self):
+        tok = self.peek()
+        self.i += 1
+        return tok
+
+    def column_at_end(self) -> int:
+        return len(self.text)
+
+    # names and numbers -------------------------------------------------------
+    def name(self, word: str, column: int) -> str:
+        m = re.fullmatch(r"(\\?)([A-Za-z]+)(?:_(?:\{([^{}]*)\}|([0-9A-Za-z]))|([0-9]+))?", word)
+        backslash, base, braced, single, digits = m.groups()
+        sub = braced if braced is not None else single if single is not None else digits or ""
+        if backslash and base not in _GREEK and base != "pi":
+            raise self.error(column, f"command '\\{base}' is not allowed (allowed: Greek letters, \\pi, \\sin, "
+                                     f"\\cos, \\tan, \\sqrt, \\frac, \\cdot, \\times, \\left, \\right, pmatrix)")
+        if base == "pi" and backslash and not sub:
+            return self.name_constant("pi")   # the Lark grammar has no \pi
+        plain = subscript_name(f"{base}_{{{sub}}}") if sub else base
+        candidates = [plain] if not sub else [plain, f"{base}_{sub}"]
+        for candidate in candidates:
+            if candidate in self._known:
+                return self._known[candidate]
+            found = self.resolve(candidate)
+            if found is not None:
+                holder = _placeholder(len(self.values))
+                self.values[sp.Symbol(holder)] = found
+                self._known[candidate] = holder
+                return holder
+        if not sub and plain in CONSTANTS:
+            return self.name_constant(plain)
+        raise self.error(column, f"unknown name {word!r}")
+
+    def name_constant(self, plain: str) -> str:
+        holder = _placeholder(len(self.values))
+        self.values[sp.Symbol(holder)] = CONSTANTS[plain]
+        return holder
+
+    def number(self, word: str, column: int) -> str:
+        digits = word.replace(".", "")
+        if len(digits) > _MAX_DIGITS:
+            raise self.error(column, f"a number may have at most {_MAX_DIGITS} digits")
+        if "." in word:
+            whole, frac = word.split(".")
+            return r"\frac{" + (whole + frac).lstrip("0").rjust(1, "0") + "}{1" + "0" * len(frac) + "}"
+        return word
+
+    def exponent(self) -> str:
+        """After '^': a small integer, bare (``^2``) or braced (``^{-1}``)."""
+        tok = self.take()
+        if tok is None:
+            raise self.error(self.column_at_end(), "'^' needs an exponent")
+        kind, word, column = tok
+        if kind == "number" and "." not in word:
+            value = word[0]               # TeX reads one digit: x^23 is x^2 times 3
+            if len(word) > 1:
+                self.tokens.insert(self.i, ("number", word[1:], column + 1))
+        elif kind == "lbrace":
+            parts = []
+            while (tok := self.take()) is not None and tok[0] != "rbrace":
+                parts.append(tok[1])
+            value = "".join(parts)
+            if tok is None or not re.fullmatch(r"-?[0-9]{1,3}", value):
+                raise self.error(column, "an exponent must be a small integer such as ^2 or ^{-1}")
+        else:
+            raise self.error(column, "an exponent must be a small integer such as ^2 or ^{-1}")
+        self.power_product *= max(1, abs(int(value)))
+        if self.power_product > _MAX_POWER_PRODUCT:
+            raise self.error(column, "exponents too large")
+        return "^{" + value + "}"
+
+    # expressions -------------------------------------------------------------
+    def group(self, closing: str, column: int) -> str:
+        """Tokens up to the matching ``closing`` kind, rewritten."""
+        inner = self.sequence(stop=closing)
+        tok = self.take()
+        if tok is None or tok[0] != closing:
+            raise self.error(column, "this bracket is never closed")
+        return inner
+
+    def argument(self, column: int) -> str:
+        """One argument of \\frac, \\sqrt or a function: a braced or parenthesised group, or one atom."""
+        tok = self.take()
+        if tok is None:
+            raise self.error(column, "missing argument")
+        kind, word, col = tok
+        if kind == "lbrace":
+            return "(" + self.group("rbrace", col) + ")"
+        if kind == "open":
+            return "(" + self.group("close", col) + ")"
+        if kind == "name":
+            return self.name(word, col)
+        if kind == "number":
+            if len(word) > 1 and "." not in word:     # \frac12: TeX takes one digit per argument
+                self.tokens.insert(self.i, ("number", word[1:], col + 1))
+                word = word[0]
+            return self.number(word, col)
+        raise self.error(col, f"{word!r} cannot be an argument")
+
+    def operand(self, tok) -> str:
+        kind, word, column = tok
+        if kind == "name":
+            return self.name(word, column)
+        if kind == "number":
+            return self.number(word, column)
+        if kind == "open":
+            return "(" + self.group("close", column) + ")"
+        if kind == "lbrace":
+            return "(" + self.group("rbrace", column) + ")"
+        if kind == "frac":
+            num = self.argument(column)
+            den = self.argument(column)
+            return r"(\frac{" + num + "}{" + den + "})"
+        if kind == "sqrt":
+            nxt = self.peek()
+            if nxt is not None and nxt[1] == "[":
+                raise self.error(nxt[2], "only square roots are allowed")
+            return r"(\sqrt{" + self.argument(column) + "})"
+        if kind == "func":
+            power = ""
+            nxt = self.peek()
+            if nxt is not None and nxt[0] == "power":
+                self.take()
+                power = self.exponent()
+            return "((" + word + "(" + self.argument(column) + "))" + power + ")"
+        raise self.error(column, f"{word!r} cannot start a term")
+
+    def sequence(self, stop: str | None = None) -> str:
+        out, previous = [], None
+        while (tok := self.peek()) is not None and tok[0] != stop:
+            kind, word, column = tok
+            if kind in ("close", "rbrace", "begin", "end", "rowsep", "colsep"):
+                raise self.error(column, f"unexpected {word!r}")
+            self.take()
+            if kind == "power":
+                if previous != "operand":
+                    raise self.error(column, "'^' has nothing on its left")
+                out.append(self.exponent())
+                continue
+            if kind in ("op", "mul"):
+                if kind == "mul" or word == "/":
+                    if previous != "operand":
+                        raise self.error(column, f"{word!r} has nothing on its left")
+                    out.append(r" \cdot " if kind == "mul" else " / ")
+                else:
+                    out.append(f" {word} ")
+                previous = "op"
+                continue
+            if previous == "operand":
+                out.append(r" \cdot ")
+            out.append(self.operand(tok))
+            previous = "operand"
+        if previous == "op":
+            raise self.error(self.tokens[self.i - 1][2], "an operator has nothing on its right")
+        if previous is None:
+            tok = self.peek()
+            raise self.error(tok[2] if tok else self.column_at_end(), "empty expression")
+        return "".join(out)
+
+    def cells(self) -> list[list[str]] | str:
+        """The rewritten text, or the rewritten cells of a matrix environment."""
+        first = self.peek()
+        if first is None:
+            raise self.error(1, "empty expression")
+        if first[0] != "begin":
+            text = self.sequence()
+            if self.peek() is not None:
+                raise self.error(self.peek()[2], f"unexpected {self.peek()[1]!r}")
+            return text
+        self.take()
+        rows, row = [], []
+        while True:
+            tok = self.peek()
+            if tok is None:
+                raise self.error(first[2], "matrix environment is never closed")
+            if tok[0] == "end":
+                self.take()
+                if row or not rows:
+                    rows.append(row)
+                break
+            row.append(self._cell())
+            tok = self.take()
+            if tok is None:
+                raise self.error(first[2], "matrix environment is never closed")
+            if tok[0] == "rowsep":
+                rows.append(row)
+                row = []
+            elif tok[0] == "end":
+                rows.append(row)
+                break
+        if self.peek() is not None:
+            raise self.error(self.peek()[2], "text after the matrix")
+        rows = [r for r in rows if r]
+        if len({len(r) for r in rows}) != 1:
+            raise self.error(first[2], "rows of different lengths")
+        return rows
+
+    def _cell(self) -> str:
+        """One cell of a matrix: the tokens up to the next top-level ``&``, ``\\\\`` or ``\\end``, rewritten."""
+        start, depth = self.i, 0
+        while (tok := self.peek()) is not None and not (depth == 0 and tok[0] in ("colsep", "rowsep", "end")):
+            depth += tok[0] in ("open", "lbrace")
+            depth -= tok[0] in ("close", "rbrace")
+            self.i += 1
+        tokens, end = self.tokens, self.i
+        self.tokens, self.i = tokens[start:end], 0       # sequence() reads to the end of its tokens
+        try:
+            return self.sequence()
+        finally:
+            self.tokens, self.i = tokens, end
+
+
+_ALLOWED_FUNCTIONS = (sp.sin, sp.cos, sp.tan)
+
+
+def _vet(expr, allowed_symbols: set) -> bool:
+    """True when ``expr`` is arithmetic over ``allowed_symbols`` with sin, cos, tan and square roots only."""
+    if not isinstance(expr, sp.Expr) or expr.has(sp.zoo, sp.nan, sp.oo, -sp.oo, sp.I):
+        return False
+    if sp.count_ops(expr) > MAX_OPERATIONS:
+        return False
+    for node in sp.preorder_traversal(expr):
+        if isinstance(node, sp.Symbol):
+            if node not in allowed_symbols:
+                return False
+        elif isinstance(node, sp.Pow):
+            if not node.exp.is_Rational or abs(node.exp) > _MAX_POWER_PRODUCT:
+                return False
+        elif not isinstance(node, (sp.Add, sp.Mul, sp.Number, sp.NumberSymbol, *_ALLOWED_FUNCTIONS)):
+            return False
+    return True
+
+
+def _alternatives(tree) -> list:
+    """Every reading in a result of the Lark parser (a SymPy object, or a ``Tree('_ambig', ...)``)."""
+    children = getattr(tree, "children", None)
+    if children is None or getattr(tree, "data", None) != "_ambig":
+        return [tree]
+    return [alt for child in children for alt in _alternatives(child)]
+
+
+def _parse_latex_cell(rewritten: str, rewriter: _LatexRewriter):
+    from sympy.parsing.latex import parse_latex
+
+    try:
+        result = parse_latex(rewritten, backend="lark")
+    except Exception as exc:  # broad on purpose: the parser's own errors on text already checked
+        reason = " ".join(str(exc).split())[:80] or type(exc).__name__
+        raise rewriter.error(None, f"the LaTeX parser refused it ({reason})") from None
+    allowed = set(rewriter.values)
+    readings = list(dict.fromkeys(r for r in _alternatives(result) if _vet(r, allowed)))
+    if not readings:
+        raise rewriter.error(None, "it uses something other than arithmetic, \\sin, \\cos, \\tan and \\sqrt "
+                                   "of the robot's names")
+    if len(readings) > 1 and any(sp.expand(r - readings[0]) != 0 for r in readings[1:]):
+        raise rewriter.error(None, f"it can be read as {readings[0]} or as {readings[1]}; add \\cdot or "
+                                   "parentheses")
+    return readings[0].xreplace(rewriter.values)
+
+
+def read_latex(text: str, notation: Notation, *, parameter: str = "answer", max_length: int = 1000):
+    """A LaTeX answer as SymPy (a matrix for ``pmatrix`` / ``bmatrix``), read with the names of ``notation``.
+
+    Examples
+    --------
+    >>> t1, t2, a1, a2 = sp.symbols("theta1 theta2 a1 a2")
+    >>> read_latex(r"\\cos\\theta_1 \\left(a_1 + a_2 \\cos\\theta_2\\right)", Notation.from_symbols([t1, t2, a1, a2]))
+    (a1 + a2*cos(theta2))*cos(theta1)
+    >>> read_latex(r"c_{12} + \\frac{1}{2}", Notation.from_symbols([t1, t2]))
+    cos(theta1 + theta2) + 1/2
+    """
+    if len(text) > max_length:
+        raise ExpressionError(f"{parameter}: {_shown(text)} is too long; at most {max_length} characters are read",
+                              parameter=parameter)
+    depth = deepest = 0
+    for ch in text:
+        depth += ch in "([{"
+        depth -= ch in ")]}"
+        deepest = max(deepest, depth)
+    if deepest > MAX_DEPTH:
+        raise ExpressionError(f"{parameter}: cannot read {_shown(text)}: nested more than {MAX_DEPTH} levels deep",
+                              parameter=parameter)
+    # SymPy's own printer wraps a matrix environment in \left[ ... \right]: blank them (columns stay)
+    text = _WRAPPED_MATRIX.sub(lambda m: " " * len(m[1]) + m[2] + " " * len(m[4]), text)
+    rewriter = _LatexRewriter(text, parameter, notation.resolver(parameter))
+    cells = rewriter.cells()
+    if isinstance(cells, str):
+        return _parse_latex_cell(cells, rewriter)
+    if sum(len(r) for r in cells) > MAX_ENTRIES:
+        raise rewriter.error(None, f"a matrix may have at most {MAX_ENTRIES} entries")
+    return sp.Matrix([[_parse_latex_cell(c, rewriter) for c in row] for row in cells])
+
+
+# ------------------------------------------------------------------------------ the entry point
+def expansion_size(expr, cap: int = 10**9) -> int:
+    """An upper estimate of the number of terms of ``expr`` once sines and cosines of sums and products are
+    expanded (what checking an answer does), stopped at ``cap``.
+
+    ``(c1 + s1 + c2 + s2)^1000`` is a short text whose expansion would not finish: its estimate is the cap.
+
+    Examples
+    --------
+    >>> t1, t2, a = sp.symbols("theta1 theta2 a")
+    >>> expansion_size(a * sp.cos(t1 + t2) + 1), expansion_size((sp.cos(t1) + sp.sin(t1) + a) ** 100, cap=10**6)
+    (3, 1000000)
+    """
+    def size(e) -> int:
+        if isinstance(e, sp.Add):
+            return min(cap, sum(size(a) for a in e.args))
+        if isinstance(e, sp.Mul):
+            out = 1
+            for a in e.args:
+                out = min(cap, out * size(a))
+            return out
+        if isinstance(e, sp.Pow) and e.exp.is_Integer and e.exp > 1 and e.base.free_symbols:
+            base = size(e.base)
+            return cap if base > 1 and int(e.exp) * math.log(base) > math.log(cap) else min(cap, base ** int(e.exp))
+        if isinstance(e, (*_ALLOWED_FUNCTIONS,)) and isinstance(e.args[0], sp.Add):
+            return min(cap, 2 ** min(60, len(e.args[0].args) - 1))
+        return 1
+    return size(expr)
+
+
+#: Largest :func:`expansion_size` of an answer that is checked (bigger ones are refused as too large).
+MAX_EXPANSION = 20_000
+
+
+
+def _degrees(expr):
+    """Numbers added to an angle inside sin, cos, tan are degrees: ``cos(theta1 + 90)`` is ``cos(theta1 + pi/2)``."""
+    def convert(f):
+        constant, rest = f.args[0].as_coeff_Add()
+        if constant == 0 or f.args[0].has(sp.pi):
+            return f
+        return f.func(rest + constant * sp.pi / 180)
+    return expr.replace(lambda e: isinstance(e, _ALLOWED_FUNCTIONS), convert)
+
+
+def read_answer(text, notation: Notation, *, angles: str = "radians", parameter: str = "answer"):
+    """A student's answer as SymPy, read with the names of ``notation``.
+
+    ``text`` is plain text (``c1 (a1 + a2 c2)``, ``cos(q1)*a1``), LaTeX (it
+    holds a backslash) or a matrix (``[e1, e2, e3]``, ``[[...], [...]]``,
+    ``\\begin{pmatrix} ... \\end{pmatrix}``).  With ``angles="degrees"``
+    numbers added to angles inside sin, cos and tan are degrees.
+
+    Raises
+    ------
+    ExpressionError
+        The text cannot be read; ``position`` is the column of the problem
+        when known.
+
+    Examples
+    --------
+    >>> t = sp.symbols("theta1:4")
+    >>> names = Notation.from_symbols(t)
+    >>> read_answer("[c1 c2, s1 c2, s2]", names)
+    Matrix([
+    [cos(theta1)*cos(theta2)],
+    [sin(theta1)*cos(theta2)],
+    [            sin(theta2)]])
+    >>> read_answer("cos(q1 + 90)", names, angles="degrees")
+    -sin(theta1)
+    """
+    check_choice("angles", angles, ANGLE_UNITS)
+    if not isinstance(text, str):
+        raise ExpressionError(f"{parameter}: expected text, got {type(text).__name__}", parameter=parameter)
+    if len(text) > MAX_LENGTH:
+        raise ExpressionError(f"{parameter}: {_shown(text)} is too long; at most {MAX_LENGTH} characters are read",
+                              parameter=parameter)
+    if "\\" in text:
+        result = read_latex(text, notation, parameter=parameter)
+    else:
+        resolve = notation.resolver(parameter)
+
+        def read(piece, column=0):
+            return parse_math(piece, parameter, resolve=resolve, offset=column)
+
+        result = _plain_matrix(text, parameter, read) if _is_bracketed(text) else read(text)
+        if isinstance(result, sp.MatrixBase) and len(result) > MAX_ENTRIES:
+            raise ExpressionError(f"{parameter}: a matrix may have at most {MAX_ENTRIES} entries",
+                                  parameter=parameter)
+    if angles == "degrees":
+        result = result.applyfunc(_degrees) if isinstance(result, sp.MatrixBase) else _degrees(result)
+    entries = list(result) if isinstance(result, sp.MatrixBase) else [result]
+    if any(expansion_size(e, MAX_EXPANSION + 1) > MAX_EXPANSION for e in entries):
+        raise ExpressionError(f"{parameter}: cannot check {_shown(text)}: expanded it would have more than "
+                              f"{MAX_EXPANSION} terms", parameter=parameter)
+    return result

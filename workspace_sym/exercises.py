@@ -1,0 +1,307 @@
+"""Exercise sheets with answer keys derived and certified by the library.
+
+:func:`make_exercises` draws, from one seed, random DH robots (3 to
+``max_joints`` joints, revolute and prismatic, standard or modified
+convention) and random planar chains (2 to 4 revolute joints with limits),
+and asks:
+
+- robots: an entry of the end-point position, a column of the geometric
+  Jacobian, the singular factors of the position Jacobian (3-joint robots),
+  whether a point is reachable — with a witness configuration (the point is
+  the exact image of angles in multiples of 30 degrees) or a proof (it lies
+  beyond the sum of the DH link lengths, compared in exact arithmetic);
+- chains: whether a point is reachable (a witness configuration or an
+  interval proof, :func:`~workspace_sym.verify.check_reachable`), the number
+  of arcs of the workspace boundary and its area (certified bracket).
+
+Every answer is computed here, never typed in.  The same seed gives the same
+sheet.  :func:`write_exercises` writes the student sheet and the answer key
+(Markdown, HTML, LaTeX) and ``key.json``, which ``workspace-sym grade`` reads.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import warnings
+from pathlib import Path
+
+import numpy as np
+import sympy as sp
+
+from .errors import InvalidParameterError
+from .grading import KEY_FORMAT
+from .kinematics import DHRobot
+from .planar import PlanarChain
+from .report import Document
+
+__all__ = ["make_exercises", "write_exercises", "exact_parameters", "reach_bound", "reachability_point",
+           "MAX_COUNT"]
+
+#: Most problems on one sheet.
+MAX_COUNT = 20
+_LENGTHS = [sp.Rational(k, 20) for k in range(2, 11)]          # 0.1 .. 0.5
+_COORD = ("x", "y", "z")
+
+
+def _dh_description(rng, name: str, n: int) -> dict:
+    """A random DH table in the JSON format of :meth:`DHRobot.from_dict` (degrees), lengths symbolic."""
+    rows, params = [], {}
+    kinds = ["R"] + [("P" if rng.random() < 0.25 else "R") for _ in range(n - 1)]
+    for k, kind in enumerate(kinds, start=1):
+        alpha = int(rng.choice([0, 90, -90]))
+        a = f"a{k}" if rng.random() < 0.6 else 0
+        row = {"type": kind, "a": a, "alpha": alpha}
+        if kind == "R":
+            d = f"d{k}" if rng.random() < 0.4 else 0
+            span = int(rng.choice([90, 120, 150, 180]))
+            row.update(d=d, limits=[-span, span])
+            if d:
+                params[d] = str(_LENGTHS[int(rng.integers(len(_LENGTHS)))])
+        else:
+            row.update(theta=int(rng.choice([0, 90])), limits=["0", "1/2"])
+        if a:
+            params[a] = str(_LENGTHS[int(rng.integers(len(_LENGTHS)))])
+        rows.append(row)
+    convention = str(rng.choice(["standard", "modified"]))
+    return {"name": name, "convention": convention, "angles": "degrees", "joints": rows, "parameters": params}
+
+
+def _chain_description(rng) -> dict:
+    p = int(rng.integers(2, 5))
+    lengths = [str(_LENGTHS[int(rng.integers(len(_LENGTHS)))]) for _ in range(p)]
+    lower, upper = [], []
+    for _ in range(p):
+        lo = int(rng.integers(-15, 1)) * 10
+        hi = min(180, lo + int(rng.integers(6, 25)) * 10)
+        lower.append(lo)
+        upper.append(hi)
+    return {"lengths": lengths, "lower": lower, "upper": upper}
+
+
+def _interesting(exprs, rng):
+    """Index of a random entry that depends on a joint angle (falls back to any nonzero entry)."""
+    moving = [k for k, e in enumerate(exprs) if e.has(sp.sin, sp.cos)]
+    pool = moving or [k for k, e in enumerate(exprs) if e != 0] or list(range(len(exprs)))
+    return int(rng.choice(pool))
+
+
+def reach_bound(robot: DHRobot, values: dict) -> sp.Expr:
+    """Sum over the rows of ``|a| + max |d|``: by the triangle inequality no end point is farther from the origin."""
+    total = sp.Integer(0)
+    for j in robot.joints:
+        a = abs(sp.sympify(j.a).subs(values))
+        if j.kind == "P":
+            lo, hi = j.limits
+            d = max(abs(j.d.subs(j.variable, lo).subs(values)), abs(j.d.subs(j.variable, hi).subs(values)))
+        else:
+            d = abs(sp.sympify(j.d).subs(values))
+        total += a + d
+    return sp.nsimplify(total)
+
+
+def exact_parameters(robot: DHRobot) -> dict:
+    """The robot's numeric lengths as the decimals they print as (``0.387`` is ``387/1000``): points stay exact."""
+    return {k: sp.Rational(repr(v)) if isinstance(v, float) else sp.nsimplify(v) for k, v in robot.parameters.items()}
+
+
+def reachability_point(robot: DHRobot, rng) -> tuple[list, bool, str, list | None]:
+    """A point for a reachability question, with its certified answer: ``(point, reachable, why, witness)``.
+
+    Either the exact image of joint angles in multiples of 30 degrees within
+    the limits (``witness`` lists them, exact text) or a point beyond
+    :func:`reach_bound`, compared in exact rationals (``witness`` None).
+    """
+    values = exact_parameters(robot)
+    position = robot.position.subs(values)
+    if rng.random() < 0.5:
+        config = {}
+        shown = []
+        for j in robot.joints:
+            lo, hi = j.limits
+            if j.kind == "R":
+                steps = [k for k in range(-6, 7) if lo <= k * sp.pi / 6 <= hi]
+                q = int(rng.choice(steps)) * sp.pi / 6
+                shown.append(f"{j.variable} = {int(q * 180 / sp.pi)} deg")
+            else:
+                q = sp.Rational(int(rng.integers(0, 6)), 10)
+                shown.append(f"{j.variable} = {q}")
+            config[j.variable] = q
+        point = [sp.nsimplify(sp.radsimp(sp.simplify(position[i].subs(config)))) for i in range(3)]
+        return point, True, "witness configuration " + ", ".join(shown), [sp.sstr(config[j.variable])
+                                                                          for j in robot.joints]
+    bound = reach_bound(robot, values)
+    direction = [int(v) for v in rng.integers(-3, 4, size=3)]
+    if not any(direction):
+        direction = [1, 0, 0]
+    norm2 = sum(v * v for v in direction)
+    scale = sp.Rational(math.ceil(float(bound) * 1.3 / math.sqrt(norm2) * 100) + 1, 100)
+    point = [scale * v for v in direction]
+    if not sum(p * p for p in point) > bound**2:        # exact rationals: the proof itself
+        raise RuntimeError(f"point {point} is not beyond the reach bound {bound}")  # pragma: no cover
+    return point, False, (f"|p|^2 = {sum(p * p for p in point)} > {bound**2} = (sum of |a_k| + max |d_k|)^2, "
+                          "and no end point is farther than that sum (triangle inequality over the DH rows)"), None
+
+
+def _chain_point(chain: PlanarChain, rng):
+    from .verify import check_reachable
+
+    for _ in range(20):
+        r = float(rng.uniform(0, 1.1 * chain.reach))
+        phi = float(rng.uniform(-math.pi, math.pi))
+        point = [sp.Rational(round(r * math.cos(phi), 3)).limit_denominator(1000),
+                 sp.Rational(round(r * math.sin(phi), 3)).limit_denominator(1000)]
+        verdict = check_reachable(chain, [float(v) for v in point], max_boxes=20_000)
+        if verdict.ok is True:
+            deg = ", ".join(f"{math.degrees(t):.4f}" for t in verdict.evidence["configuration"])
+            err = verdict.evidence["distance"]
+            return (point, True, f"witness theta = ({deg}) deg, end point within {err:.1e}",
+                    [float(t) for t in verdict.evidence["configuration"]])
+        if verdict.ok is False:
+            return point, False, "interval arithmetic proves that no configuration within the limits reaches it", None
+    raise RuntimeError("no decidable point found in 20 draws")  # pragma: no cover - the disc is mostly decidable
+
+
+def _robot_problem(rng, number: int, n: int):
+    """A DH robot and its questions (prompt, key entry, key display)."""
+    name = f"R{number}"
+    spec = _dh_description(rng, name, n)
+    robot = DHRobot.from_dict(spec, name=name)
+    questions = []
+    i = _interesting(list(robot.position), rng)
+    entry = robot.position[i]
+    questions.append(({"kind": "expression", "answer": robot.to_str(entry),
+                       "prompt": f"Give the {_COORD[i]} coordinate of the end point (origin of the last frame) "
+                                 f"as a function of the joint variables and the symbolic lengths."},
+                      robot.shorthand(entry)))
+    J = robot.geometric_jacobian
+    k = int(rng.integers(robot.n))
+    column = J[:, k]
+    questions.append(({"kind": "expression", "answer": "[" + ", ".join(robot.to_str(e) for e in column) + "]",
+                       "prompt": f"Give column {k + 1} of the geometric Jacobian [v; omega] "
+                                 f"(6 entries, as a list [e1, ..., e6])."},
+                      robot.shorthand(column.T)))
+    if robot.n == 3:
+        factors = robot.singular_factors("position")
+        questions.append(({"kind": "factors", "answer": [robot.to_str(f) for f in factors],
+                           "prompt": "List the factors of the determinant of the 3 x 3 position Jacobian "
+                                     "(comma-separated; constant multiples do not matter)."},
+                          ", ".join(robot.to_str(f) for f in factors)))
+    point, reachable, why, witness = reachability_point(robot, rng)
+    shown = "(" + ", ".join(sp.sstr(p) for p in point) + ")"
+    questions.append(({"kind": "reachable", "answer": reachable, "evidence": why,
+                       "point": [sp.sstr(p) for p in point], "witness": witness,
+                       "prompt": f"With the numeric lengths and the joint limits, can the end point reach "
+                                 f"{shown}? Answer yes or no."},
+                      ("yes: " if reachable else "no: ") + why))
+    return spec, robot, questions
+
+
+def _chain_problem(rng, number: int):
+    name = f"C{number}"
+    for _ in range(50):
+        spec = _chain_description(rng)
+        chain = PlanarChain(spec["lengths"], spec["lower"], spec["upper"])
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            boundary = chain.boundary()
+        # a key holds certified answers only: a chain whose boundary comes with any doubt is drawn again
+        if not caught and boundary.undecided_area == 0 and boundary.arcs:
+            break
+    else:  # pragma: no cover - most random chains are clean
+        raise RuntimeError("no chain with a fully certified boundary in 50 draws")
+    point, reachable, why, witness = _chain_point(chain, rng)
+    lo, hi = boundary.area, boundary.area + boundary.undecided_area
+    questions = [
+        ({"kind": "reachable", "answer": reachable, "evidence": why, "point": [sp.sstr(p) for p in point],
+          "witness": witness,
+          "prompt": f"Can the end point reach ({point[0]}, {point[1]})? Answer yes or no."},
+         ("yes: " if reachable else "no: ") + why),
+        ({"kind": "integer", "answer": len(boundary.arcs),
+          "prompt": "How many circular arcs make up the boundary of the workspace?"}, str(len(boundary.arcs))),
+        ({"kind": "measure", "answer": [lo, hi], "rel_tol": 0.01,
+          "prompt": "What is the area of the workspace? (3 significant digits)"},
+         f"{lo:.6g}" if hi == lo else f"in [{lo:.6g}, {hi:.6g}]"),
+    ]
+    return name, spec, chain, questions
+
+
+def make_exercises(*, seed: int, count: int, max_joints: int = 6):
+    """The sheet, the key (both :class:`~workspace_sym.report.Document`) and the machine-readable key (a dict).
+
+    Problems alternate between DH robots (3 to ``max_joints`` joints) and
+    planar chains.  Deterministic in ``seed``.
+    """
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise InvalidParameterError(f"seed must be a whole number >= 0; got {seed!r}", parameter="seed")
+    if isinstance(count, bool) or not isinstance(count, int) or not 1 <= count <= MAX_COUNT:
+        raise InvalidParameterError(f"count must be a whole number from 1 to {MAX_COUNT}; got {count!r}",
+                                    parameter="count")
+    if isinstance(max_joints, bool) or not isinstance(max_joints, int) or not 3 <= max_joints <= 6:
+        raise InvalidParameterError(f"max_joints must be 3 to 6; got {max_joints!r}", parameter="max_joints")
+    rng = np.random.default_rng(seed)
+    title = f"Workspace exercises (seed {seed})"
+    sheet, key_doc = Document(title), Document(f"Answer key: {title}")
+    key = {"format": KEY_FORMAT, "version": 1, "title": title, "seed": seed, "robots": {}, "chains": {},
+           "questions": []}
+    for number in range(1, count + 1):
+        if number % 2:
+            n = int(rng.integers(3, max_joints + 1))
+            spec, robot, questions = _robot_problem(rng, number, n)
+            key["robots"][robot.name] = spec
+            subject = {"robot": robot.name}
+            for doc in (sheet, key_doc):
+                doc.heading(f"Problem {number}: a {robot.n}-joint robot ({robot.convention} DH)")
+                doc.table(["joint", "type", "theta", "d", "a", "alpha", "limits"],
+                          [[str(k), j.kind, j.theta, j.d, j.a, j.alpha, _limits_text(j)]
+                           for k, j in enumerate(robot.joints, start=1)])
+                lengths = ", ".join(f"{s} = {v}" for s, v in spec["parameters"].items()) or "none"
+                doc.para(f"Numeric values of the lengths: {lengths}. Write c23 for cos(theta2 + theta3), s1 for "
+                         "sin(theta1), and so on.")
+        else:
+            name, spec, chain, questions = _chain_problem(rng, number)
+            key["chains"][name] = spec
+            subject = {"chain": name}
+            for doc in (sheet, key_doc):
+                doc.heading(f"Problem {number}: a planar chain of {chain.p} revolute joints")
+                doc.para(f"Lengths {', '.join(spec['lengths'])}; joint limits (degrees, each angle measured from "
+                         f"the previous segment, the first from +y): "
+                         + ", ".join(f"[{lo}, {hi}]" for lo, hi in zip(spec["lower"], spec["upper"])) + ".")
+        for letter, (entry, shown) in zip("abcdefg", questions):
+            qid = f"{number}{letter}"
+            key["questions"].append({"id": qid, **subject, **entry})
+            sheet.para(f"({qid}) {entry['prompt']}")
+            key_doc.para(f"({qid}) {entry['prompt']}")
+            if isinstance(shown, str):
+                key_doc.para(f"Answer: {shown}")
+            else:
+                key_doc.math("\\text{answer}", shown)
+    return sheet, key_doc, key
+
+
+def _limits_text(joint) -> str:
+    lo, hi = joint.limits
+    if joint.kind == "R":
+        return f"[{sp.sstr(lo * 180 / sp.pi)}, {sp.sstr(hi * 180 / sp.pi)}] deg"
+    return f"[{lo}, {hi}]"
+
+
+def write_exercises(out, *, seed: int, count: int, max_joints: int = 6) -> dict:
+    """Write ``sheet.{md,html,tex}``, ``key.{md,html,tex}``, ``key.json`` and ``answers-template.csv`` into
+    ``out``; return the paths.  Everything is computed before the first file is written."""
+    sheet, key_doc, key = make_exercises(seed=seed, count=count, max_joints=max_joints)
+    texts = {}
+    for stem, doc in (("sheet", sheet), ("key", key_doc)):
+        texts[f"{stem}.md"] = doc.markdown()
+        texts[f"{stem}.html"] = doc.html(Path("."))
+        texts[f"{stem}.tex"] = doc.latex()
+    texts["key.json"] = json.dumps(key, indent=2) + "\n"
+    texts["answers-template.csv"] = "student,question,answer\n" + "".join(
+        f",{q['id']},\n" for q in key["questions"])
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    paths = {}
+    for name, text in texts.items():
+        (out / name).write_text(text)
+        paths[name] = out / name
+    return paths

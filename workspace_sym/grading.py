@@ -1,0 +1,375 @@
+"""Batch grading: a machine-readable answer key, a CSV of students' answers, a graded CSV and a report.
+
+The key is JSON (``workspace-sym exercises`` writes one; a teacher may write
+one by hand)::
+
+    {"format": "workspace-sym key", "version": 1,
+     "robots": {"R1": "glass-handling" | {DH description, see DHRobot.from_dict}},
+     "chains": {"C1": {"lengths": [...], "lower": [...], "upper": [...]}},     # degrees
+     "questions": [
+       {"id": "1a", "kind": "expression", "robot": "R1", "answer": "c1*(a1 + a2*c2)", "prompt": "..."},
+       {"id": "1b", "kind": "expression", "robot": "R1", "answer": "[-s1*a2, c1*a2, 0]"},   # a matrix
+       {"id": "1c", "kind": "factors", "robot": "R1", "answer": ["s3", "a2*c2 + a3*c23"]},
+       {"id": "1d", "kind": "reachable", "answer": true, "evidence": "witness theta = ..."},
+       {"id": "2a", "kind": "integer", "answer": 8},
+       {"id": "2b", "kind": "measure", "answer": [0.2681, 0.2682], "rel_tol": 0.01}]}
+
+Every question may carry ``points`` (default 1) and ``angles``
+(``"radians"`` or ``"degrees"``, how numbers inside sin and cos are read); an
+expression question without a robot lists its ``symbols`` (``["theta1",
+"a1"]``).
+The key is a file, so it is read like any user text: expressions through the
+safe reader, with the robot's notation.
+
+Answers are a CSV with columns ``student, question, answer``.  Each answer
+gets a :class:`~workspace_sym.verify.Verdict`: correct, wrong (with the
+counterexample) or cannot read (with the column), never an exception.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .answers import ANGLE_UNITS, Notation, read_answer
+from .errors import ExpressionError, InvalidParameterError, UnknownNameError, WorkspaceError
+from .expressions import parse_expr, read_symbol
+from .kinematics import DHRobot
+from .planar import PlanarChain
+from .verify import Verdict, cannot_read, check_expression, check_factors
+
+__all__ = ["KIND_NAMES", "Question", "AnswerKey", "GradedAnswer", "grade_answers", "read_answers_csv",
+           "write_grading"]
+
+#: Kinds of question a key may hold.
+KIND_NAMES = ("expression", "factors", "reachable", "integer", "measure")
+KEY_FORMAT = "workspace-sym key"
+_YES = {"yes", "y", "true", "reachable", "1", "oui"}
+_NO = {"no", "n", "false", "unreachable", "not reachable", "0", "non"}
+#: Most rows of an answers file.
+MAX_ROWS = 100_000
+
+
+@dataclass(frozen=True)
+class Question:
+    """One question of a key: what is asked, of which robot or chain, and the derived answer."""
+
+    id: str
+    kind: str
+    answer: object
+    prompt: str = ""
+    robot: str | None = None
+    chain: str | None = None
+    points: float = 1.0
+    angles: str = "radians"
+    rel_tol: float = 0.0
+    evidence: str = ""
+    symbols: tuple = ()
+
+
+@dataclass
+class AnswerKey:
+    """A parsed key: robots and chains by name, questions in order."""
+
+    questions: list
+    robots: dict = field(default_factory=dict)
+    chains: dict = field(default_factory=dict)
+    title: str = "Exercises"
+
+    @classmethod
+    def from_dict(cls, data) -> AnswerKey:
+        """Check and read a key dictionary (see the module docstring)."""
+        from . import robots as catalog
+
+        if not isinstance(data, dict) or data.get("format") != KEY_FORMAT:
+            raise InvalidParameterError(f"key: expected a JSON object with \"format\": \"{KEY_FORMAT}\"",
+                                        parameter="key")
+        built = {}
+        for name, spec in _mapping(data, "robots").items():
+            model = catalog.build(spec) if isinstance(spec, str) else DHRobot.from_dict(spec, name=name)
+            if not isinstance(model, DHRobot):
+                raise InvalidParameterError(f"key: robot {name!r} is not a serial DH robot", parameter="key")
+            built[name] = model
+        chains = {}
+        for name, spec in _mapping(data, "chains").items():
+            if not isinstance(spec, dict) or not {"lengths", "lower", "upper"} <= set(spec):
+                raise InvalidParameterError(f"key: chain {name!r} needs lengths, lower and upper", parameter="key")
+            chains[name] = PlanarChain(spec["lengths"], spec["lower"], spec["upper"])
+        rows = data.get("questions")
+        if not isinstance(rows, list) or not rows:
+            raise InvalidParameterError("key: expected a non-empty list of questions", parameter="key")
+        questions, seen = [], set()
+        for k, row in enumerate(rows, start=1):
+            q = _question(row, k, built, chains)
+            if q.id in seen:
+                raise InvalidParameterError(f"key: question id {q.id!r} appears twice", parameter="key")
+            seen.add(q.id)
+            questions.append(q)
+        return cls(questions, built, chains, str(data.get("title", "Exercises")))
+
+    @classmethod
+    def from_file(cls, path) -> AnswerKey:
+        """Read a key file (JSON)."""
+        path = Path(path)
+        try:
+            data = json.loads(path.read_text())
+        except OSError as exc:
+            raise InvalidParameterError(f"key: cannot read {str(path)!r}: {exc.strerror}", parameter="key") from None
+        except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+            raise InvalidParameterError(f"key: {str(path)!r} is not valid JSON ({exc})", parameter="key") from None
+        return cls.from_dict(data)
+
+    def question(self, qid: str) -> Question | None:
+        return next((q for q in self.questions if q.id == qid), None)
+
+    def notation(self, q: Question) -> Notation:
+        """The names of the question's robot, or of its ``symbols`` (joints ``theta<k>``, ``q<k>``, ``t<k>``)."""
+        if q.robot:
+            return Notation.from_robot(self.robots[q.robot])
+        return Notation.from_symbols([read_symbol(n, f"key question {q.id} symbols") for n in q.symbols])
+
+    def derived(self, q: Question):
+        """The key's answer as SymPy (expressions, factors) or as a plain value."""
+        if q.kind == "expression":
+            return read_answer(q.answer, self.notation(q), parameter=f"key question {q.id}")
+        if q.kind == "factors":
+            return [read_answer(f, self.notation(q), parameter=f"key question {q.id}") for f in q.answer]
+        return q.answer
+
+    def grade(self, qid: str, text) -> Verdict:
+        """The verdict on one answer to question ``qid``."""
+        q = self.question(qid)
+        if q is None:
+            known = ", ".join(x.id for x in self.questions)
+            return Verdict(None, f"unknown question {qid!r}; the key has {known}", {"method": "cannot read"})
+        if not isinstance(text, str) or not text.strip():
+            return Verdict(False, "no answer", {"method": "blank"})
+        robot = self.robots.get(q.robot) if q.robot else None
+        if q.kind == "expression":
+            return check_expression(text, self.derived(q), robot=robot, angles=q.angles)
+        if q.kind == "factors":
+            return check_factors(text, self.derived(q), robot=robot, angles=q.angles)
+        if q.kind == "reachable":
+            return _grade_yes_no(text, bool(q.answer), q.evidence)
+        if q.kind == "integer":
+            return _grade_integer(text, int(q.answer))
+        return _grade_measure(text, q)
+
+
+def _mapping(data: dict, key: str) -> dict:
+    value = data.get(key) or {}
+    if not isinstance(value, dict):
+        raise InvalidParameterError(f"key: {key} must be an object of names", parameter="key")
+    return value
+
+
+def _question(row, k: int, robots: dict, chains: dict) -> Question:
+    if not isinstance(row, dict):
+        raise InvalidParameterError(f"key: question {k} must be an object", parameter="key")
+    qid = row.get("id")
+    if not isinstance(qid, str) or not qid.strip() or len(qid) > 40:
+        raise InvalidParameterError(f"key: question {k} needs an id (text, at most 40 characters)", parameter="key")
+    kind = row.get("kind")
+    if kind not in KIND_NAMES:
+        raise UnknownNameError(f"key: kind of question {qid!r} must be one of {', '.join(KIND_NAMES)}; got {kind!r}",
+                               parameter="key")
+    robot, chain = row.get("robot"), row.get("chain")
+    if robot is not None and robot not in robots:
+        raise InvalidParameterError(f"key: question {qid!r} names robot {robot!r}, which the key does not define",
+                                    parameter="key")
+    if chain is not None and chain not in chains:
+        raise InvalidParameterError(f"key: question {qid!r} names chain {chain!r}, which the key does not define",
+                                    parameter="key")
+    answer = row.get("answer")
+    expected = {"expression": str, "factors": list, "reachable": bool, "integer": int, "measure": list}[kind]
+    if not isinstance(answer, expected) or (kind == "integer" and isinstance(answer, bool)):
+        raise InvalidParameterError(f"key: answer of question {qid!r} ({kind}) must be a JSON {expected.__name__}",
+                                    parameter="key")
+    if kind == "measure" and not (len(answer) == 2 and all(isinstance(v, (int, float)) for v in answer)
+                                  and answer[0] <= answer[1]):
+        raise InvalidParameterError(f"key: answer of question {qid!r} must be a bracket [low, high]", parameter="key")
+    if kind == "factors" and not all(isinstance(f, str) for f in answer):
+        raise InvalidParameterError(f"key: factors of question {qid!r} must be strings", parameter="key")
+    angles = row.get("angles", "radians")
+    if angles not in ANGLE_UNITS:
+        raise UnknownNameError(f"key: angles of question {qid!r} must be radians or degrees; got {angles!r}",
+                               parameter="key")
+    points, rel_tol = row.get("points", 1), row.get("rel_tol", 0.0)
+    for name, value in (("points", points), ("rel_tol", rel_tol)):
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0:
+            raise InvalidParameterError(f"key: {name} of question {qid!r} must be a number >= 0; got {value!r}",
+                                        parameter="key")
+    symbols = row.get("symbols", [])
+    if not isinstance(symbols, list) or not all(isinstance(n, str) for n in symbols):
+        raise InvalidParameterError(f"key: symbols of question {qid!r} must be a list of names", parameter="key")
+    question = Question(qid, kind, answer, str(row.get("prompt", "")), robot, chain, float(points), angles,
+                        float(rel_tol), str(row.get("evidence", "")), tuple(symbols))
+    if kind in ("expression", "factors"):  # the key's own expressions must read: fail now, not per student
+        AnswerKey([question], robots, chains).derived(question)
+    return question
+
+
+def _grade_yes_no(text: str, truth: bool, evidence: str) -> Verdict:
+    word = " ".join(text.strip().lower().split())
+    if word not in _YES | _NO:
+        return Verdict(None, f"cannot read {text[:60]!r}: answer yes (reachable) or no (unreachable)",
+                       {"method": "cannot read", "position": 1})
+    claimed = word in _YES
+    said = "reachable" if truth else "unreachable"
+    if claimed is truth:
+        return Verdict(True, f"{said}: {evidence}".rstrip(": "), {"method": "certified key"})
+    return Verdict(False, f"the point is {said}: {evidence}".rstrip(": "), {"method": "certified key"})
+
+
+def _grade_integer(text: str, truth: int) -> Verdict:
+    try:
+        value = parse_expr(text, "answer", new_symbols=False, max_length=40)
+    except ExpressionError as exc:
+        return cannot_read(exc)
+    if not value.is_Integer:
+        return Verdict(None, f"cannot read {text[:60]!r}: expected a whole number", {"method": "cannot read"})
+    if int(value) == truth:
+        return Verdict(True, f"{truth}", {"method": "certified key"})
+    return Verdict(False, f"{int(value)}, but the derived count is {truth}", {"method": "certified key"})
+
+
+def _grade_measure(text: str, q: Question) -> Verdict:
+    try:
+        value = parse_expr(text, "answer", new_symbols=False, max_length=200)
+        claimed = float(value)
+    except ExpressionError as exc:
+        return cannot_read(exc)
+    except (TypeError, ValueError):
+        return Verdict(None, f"cannot read {text[:60]!r}: expected a number", {"method": "cannot read"})
+    lo, hi = q.answer
+    slack = q.rel_tol * max(abs(lo), abs(hi))
+    if math.isfinite(claimed) and lo - slack <= claimed <= hi + slack:
+        return Verdict(True, f"{claimed:g} is within {q.rel_tol:.0%} of the certified [{lo:.6g}, {hi:.6g}]",
+                       {"bracket": [lo, hi]})
+    return Verdict(False, f"{claimed:g} is not within {q.rel_tol:.0%} of the certified value [{lo:.6g}, {hi:.6g}]",
+                   {"bracket": [lo, hi]})
+
+
+# ------------------------------------------------------------------------------ batch
+@dataclass(frozen=True)
+class GradedAnswer:
+    student: str
+    question: str
+    answer: str
+    verdict: Verdict
+    points: float
+    max_points: float
+
+
+def read_answers_csv(path) -> list[tuple[str, str, str]]:
+    """``(student, question, answer)`` rows of a CSV with those three columns (any order, header required)."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8-sig")
+    except OSError as exc:
+        raise InvalidParameterError(f"answers: cannot read {str(path)!r}: {exc.strerror}",
+                                    parameter="answers") from None
+    except UnicodeDecodeError:
+        raise InvalidParameterError(f"answers: {str(path)!r} is not UTF-8 text", parameter="answers") from None
+    try:
+        reader = csv.DictReader(io.StringIO(text))
+        header = [h.strip().lower() for h in (reader.fieldnames or [])]
+        missing = [c for c in ("student", "question", "answer") if c not in header]
+        if missing:
+            raise InvalidParameterError(f"answers: {str(path)!r} needs the columns student, question, answer; "
+                                        f"missing {', '.join(missing)}", parameter="answers")
+        reader.fieldnames = header
+        rows = []
+        for row in reader:
+            if len(rows) >= MAX_ROWS:
+                raise InvalidParameterError(f"answers: more than {MAX_ROWS} rows", parameter="answers")
+            rows.append(tuple((row.get(c) or "").strip() for c in ("student", "question", "answer")))
+    except csv.Error as exc:
+        raise InvalidParameterError(f"answers: {str(path)!r} is not a valid CSV ({exc})",
+                                    parameter="answers") from None
+    return rows
+
+
+def grade_answers(key: AnswerKey, rows) -> list[GradedAnswer]:
+    """Grade ``(student, question, answer)`` rows against ``key``; never raises on an answer."""
+    out = []
+    for student, qid, text in rows:
+        q = key.question(qid)
+        try:
+            verdict = key.grade(qid, text)
+        except WorkspaceError as exc:   # an answer must never stop the batch
+            verdict = Verdict(None, " ".join(str(exc).split()), {"method": "cannot read"})
+        full = q.points if q is not None else 0.0
+        out.append(GradedAnswer(student, qid, text, verdict, full if verdict.ok is True else 0.0, full))
+    return out
+
+
+def _student_form(key: AnswerKey, g: GradedAnswer):
+    """The answer as read (SymPy, shorthand for the robot) for the report, or the text when unreadable."""
+    q = key.question(g.question)
+    if q is None or q.kind != "expression" or g.verdict.status == "cannot read" or not g.answer:
+        return g.answer
+    try:
+        value = read_answer(g.answer, key.notation(q), angles=q.angles)
+    except WorkspaceError:
+        return g.answer
+    return key.robots[q.robot].shorthand(value) if q.robot else value
+
+
+def _expected_form(key: AnswerKey, q: Question):
+    if q.kind == "expression":
+        value = key.derived(q)
+        return key.robots[q.robot].shorthand(value) if q.robot else value
+    if q.kind == "factors":
+        return ", ".join(q.answer)
+    if q.kind == "reachable":
+        return "yes" if q.answer else "no"
+    if q.kind == "measure":
+        return f"[{q.answer[0]:.6g}, {q.answer[1]:.6g}]"
+    return str(q.answer)
+
+
+def write_grading(key: AnswerKey, graded: list[GradedAnswer], out) -> dict:
+    """Write ``graded.csv`` and the report ``grades.html`` / ``grades.md`` into ``out``; return their paths.
+
+    Everything is rendered in memory first: nothing is written when rendering fails.
+    """
+    from .report import Document
+
+    buffer = io.StringIO()
+    writer = csv.writer(buffer)
+    writer.writerow(["student", "question", "answer", "status", "points", "max_points", "explanation", "position"])
+    for g in graded:
+        position = g.verdict.evidence.get("position")
+        writer.writerow([g.student, g.question, g.answer, g.verdict.status, f"{g.points:g}", f"{g.max_points:g}",
+                         g.verdict.message, "" if position is None else position])
+    students = list(dict.fromkeys(g.student for g in graded))
+    total = sum(q.points for q in key.questions)
+    doc = Document(f"Grades: {key.title}")
+    doc.heading("Per student")
+    doc.table(["student", "score", "correct", "wrong", "cannot read"],
+              [[s, f"{sum(g.points for g in graded if g.student == s):g} / {total:g}",
+                *(str(sum(g.student == s and g.verdict.status == st for g in graded))
+                  for st in ("correct", "wrong", "cannot read"))] for s in students])
+    doc.heading("Per question")
+    doc.table(["question", "expected", "correct", "wrong", "cannot read"],
+              [[q.id, _expected_form(key, q),
+                *(str(sum(g.question == q.id and g.verdict.status == st for g in graded))
+                  for st in ("correct", "wrong", "cannot read"))] for q in key.questions])
+    for s in students:
+        doc.heading(f"Student {s}", level=3)
+        doc.table(["question", "answer as read", "verdict", "explanation"],
+                  [[g.question, _student_form(key, g), g.verdict.status, g.verdict.message]
+                   for g in graded if g.student == s])
+    html, markdown = doc.html(Path(".")), doc.markdown()
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    paths = {"csv": out / "graded.csv", "html": out / "grades.html", "markdown": out / "grades.md"}
+    paths["csv"].write_text(buffer.getvalue())
+    paths["html"].write_text(html)
+    paths["markdown"].write_text(markdown)
+    return paths
