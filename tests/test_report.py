@@ -194,12 +194,16 @@ def test_latex_report_compiles(planar, dh):
     wider than 10 pt (the closed-form table and the long formulas stay on the page)."""
     require_tool("pdflatex")
     for md_path in (planar[0], dh[0]):
-        log = _pdflatex(md_path.with_suffix(".tex"))
-        assert md_path.with_suffix(".pdf").stat().st_size > 10_000
-        assert not re.search(r"^! ", log, re.M), log[-2000:]
-        assert "Undefined control sequence" not in log
-        over = [float(x) for x in re.findall(r"Overfull \\[hv]box \(([\d.]+)pt too", log)]
-        assert all(x <= 10 for x in over), over
+        assert_compiles(md_path.with_suffix(".tex"))
+
+
+def assert_compiles(tex_path):
+    log = _pdflatex(tex_path)
+    assert tex_path.with_suffix(".pdf").stat().st_size > 10_000
+    assert not re.search(r"^! ", log, re.M), log[-2000:]
+    assert "Undefined control sequence" not in log
+    over = [float(x) for x in re.findall(r"Overfull \\[hv]box \(([\d.]+)pt too", log)]
+    assert all(x <= 10 for x in over), over
 
 
 def test_paving_report(tmp_path):
@@ -209,6 +213,8 @@ def test_paving_report(tmp_path):
     assert "| inner |" in md and "Exact measure 35.053350" in md
     check_html((tmp_path / "p" / "report.html").read_text(), figures=1)
     assert latex_is_balanced((tmp_path / "p" / "report.tex").read_text())
+    if shutil.which("pdflatex"):
+        assert_compiles(tmp_path / "p" / "report.tex")
 
 
 def test_latex_escaping():
@@ -239,3 +245,5 @@ def test_orthoglide_report(tmp_path):
     assert "\\sqrt{2}" in md and "corner (+, +, +)" in md          # the closed form and its binding corners
     check_html((tmp_path / "o" / "report.html").read_text(), figures=2)
     assert latex_is_balanced((tmp_path / "o" / "report.tex").read_text())
+    if shutil.which("pdflatex"):                   # compiled here too when TeX is present (required: see above)
+        assert_compiles(tmp_path / "o" / "report.tex")
