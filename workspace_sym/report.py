@@ -451,7 +451,7 @@ def dh_robot_report(robot, out, *, samples: int = 20000, command: str | None = N
     doc.heading(f"Forward kinematics T_0^{robot.n}")
     names = sp.Matrix(4, 4, lambda i, j: sp.Symbol(f"r_{i + 1}{j + 1}") if i < 3 and j < 3 else
                       (sp.Symbol("p_" + "xyz"[i]) if i < 3 else sp.Integer(int(j == 3))))
-    doc.math(sp.Symbol(f"T^0_{robot.n}"), names)
+    doc.math(sp.Symbol(f"T_0^{robot.n}"), names)
     doc.equations([(names[i, j], T[i, j]) for j in range(4) for i in range(3)])
     doc.heading("Geometric Jacobian")
     doc.para(f"J is {J.rows} x {J.cols}: rows 1-3 the linear velocity, rows 4-6 the angular velocity, "
