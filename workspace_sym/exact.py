@@ -254,8 +254,24 @@ def _vertex_angle(src, angle, neighbours, sources_all):
     return sp.Float(angle, 17)
 
 
-def _is_zero(expr) -> bool:
-    """``expr == 0`` proved (its minimal polynomial is x); False when not proved."""
+def _is_zero(expr, *, max_degree: int = 48) -> bool:
+    """``expr == 0`` proved: zero after expansion, or its minimal polynomial is x.  False when not proved,
+    including when the number field is too large for minimal_polynomial to finish quickly (cos(pi/180) has degree
+    48 and one with a few of them can run for minutes): callers then keep the form they had."""
+    expr = sp.expand(expr)
+    if expr == 0:
+        return True
+    if abs(_value(expr)) > 1e-30:
+        return False
+    # degree bound: every sin/cos(k pi/N) lies in Q(exp(i pi/N)), of degree phi(2N); each square root doubles it
+    denominators = [sp.Rational(a.args[0] / sp.pi).q if (a.args[0] / sp.pi).is_Rational else None
+                    for a in expr.atoms(sp.sin, sp.cos)]
+    if None in denominators:
+        return False
+    roots = [a for a in expr.atoms(sp.Pow) if not a.exp.is_Integer]
+    degree = sp.totient(2 * sp.ilcm(1, *denominators)) * 2 ** len(roots)
+    if degree > max_degree:
+        return False
     x = sp.Dummy("x")
     try:
         return sp.minimal_polynomial(expr, x) == x
