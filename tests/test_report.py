@@ -145,13 +145,18 @@ def test_dh_report_from_a_file(tmp_path):
     """`workspace-sym report --dh FILE` writes the DH report of the README's example file."""
     from workspace_sym.cli import main
 
-    dh_file = tmp_path / "arm.json"
+    dh_file = tmp_path / "arm$1_%~.json"          # the name goes into the title: escaped, not read as TeX
     dh_file.write_text('{"convention": "standard", "angles": "degrees", "parameters": {"l1": 0.5}, "joints": ['
                        '{"type": "R", "d": 0, "a": "l1", "alpha": 0, "limits": [-90, 90]}, '
                        '{"type": "P", "theta": 0, "a": 0, "alpha": 0, "limits": [0, 0.2]}]}')
     assert main(["report", "--dh", str(dh_file), "--out", str(tmp_path / "out")]) == 0
     md = (tmp_path / "out" / "report.md").read_text()
     assert "[-90°, 90°]" in md and "p_{x} = c_{1} l_{1}" in md
+    tex = (tmp_path / "out" / "report.tex").read_text()
+    assert "arm\\$1\\_\\%\\textasciitilde{}: symbolic kinematics" in tex
+    assert "arm$1_%~: symbolic kinematics</h1>" in (tmp_path / "out" / "report.html").read_text()
+    if shutil.which("pdflatex"):
+        assert_compiles(tmp_path / "out" / "report.tex")
     assert main(["report", "glass-handling", "--dh", str(dh_file), "--out", str(tmp_path / "no")]) == 2
     assert not (tmp_path / "no").exists()
 

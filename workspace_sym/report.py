@@ -284,12 +284,13 @@ class Document:
     def latex(self) -> str:
         out = ["\\documentclass[a4paper,10pt]{article}", "\\usepackage{amsmath,amssymb,graphicx}",
                "\\usepackage[margin=2cm]{geometry}", "\\allowdisplaybreaks", "\\begin{document}",
-               f"\\section*{{{tex_escape(self.title)}}}"]
+               f"\\section*{{{tex_escape(self.title, math=False)}}}"]
         for b in self.blocks:
             if b[0] == "h":
-                out.append(("\\subsection*{" if b[1] <= 2 else "\\subsubsection*{") + tex_escape(b[2]) + "}")
+                out.append(("\\subsection*{" if b[1] <= 2 else "\\subsubsection*{") + tex_escape(b[2], math=False)
+                           + "}")
             elif b[0] == "p":
-                out.append(tex_escape(b[1]) + "\n")
+                out.append(tex_escape(b[1], math=False) + "\n")
             elif b[0] == "eqs":
                 out.append(self._tex_equations(b[1]))
             elif b[0] == "table":
@@ -297,14 +298,14 @@ class Document:
                 # never wider than the page: scaled down only when it would run off
                 out.append("\\par\\noindent\\resizebox{\\ifdim\\width>\\linewidth\\linewidth\\else\\width\\fi}{!}{"
                            "\\small\\begin{tabular}{" + cols + "}")
-                out.append(" & ".join(tex_escape(h) for h in b[1]) + " \\\\ \\hline")
+                out.append(" & ".join(tex_escape(h, math=False) for h in b[1]) + " \\\\ \\hline")
                 for r in b[2]:
-                    out.append(" & ".join(tex_escape(c) if isinstance(c, str) else f"${_tex(c)}$"
+                    out.append(" & ".join(tex_escape(c, math=False) if isinstance(c, str) else f"${_tex(c)}$"
                                           for c in r) + " \\\\")
                 out.append("\\end{tabular}}\n")
             elif b[0] == "fig":
                 out.append("\\begin{figure}[htbp]\\centering\\includegraphics[width=0.7\\linewidth]{" + b[1].name + "}"
-                           "\\caption{" + tex_escape(b[2]) + "}\\end{figure}")
+                           "\\caption{" + tex_escape(b[2], math=False) + "}\\end{figure}")
             elif b[0] == "items":
                 # values such as the command line are long words: ragged lines that may break after / _ = ,
                 out.append("\\begin{itemize}\\raggedright")
