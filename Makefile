@@ -1,12 +1,13 @@
 # Two commands on a fresh machine:
 #   make demo   -- create .venv, install workspace_sym, run the demo report
 #   make test   -- create .venv, install with the test extra, run the whole suite
+#   make notebooks -- execute the notebooks and export them to build/notebooks/*.html
 PYTHON ?= python3
 VENV ?= .venv
 BIN := $(VENV)/bin
 OUT ?= demo-report
 
-.PHONY: demo test lint bench clean
+.PHONY: demo test lint bench clean notebooks
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -35,6 +36,12 @@ lint: $(VENV)/.installed-test
 
 bench: $(VENV)/.installed-bench
 	for script in benchmarks/bench_*.py; do $(BIN)/python $$script || exit 1; done
+
+# Execute every notebook and export it to build/notebooks/NAME.html.  Results are displayed as MathML, which the
+# browser renders itself: the pages read correctly offline (nbconvert's MathJax script is then simply not loaded).
+notebooks: $(VENV)/.installed-test
+	$(BIN)/jupyter nbconvert --to html --execute --ExecutePreprocessor.timeout=600 \
+		--output-dir build/notebooks notebooks/*.ipynb
 
 clean:
 	rm -rf $(VENV) $(OUT) build *.egg-info .pytest_cache .hypothesis

@@ -50,3 +50,19 @@ def fk_numpy(robot, q):
         row = [float(sp.sympify(e).subs(vals)) for e in (joint.theta, joint.d, joint.a, joint.alpha)]
         T = T @ (dh_numpy(*row) if robot.convention == "standard" else dh_numpy_modified(*row))
     return T
+
+
+# ---------------------------------------------------------------------- system tools (browser, TeX)
+def pytest_terminal_summary(terminalreporter):
+    """A loud banner when the browser or TeX tests were skipped for want of their programs."""
+    from system_tools import TOOL_SKIP
+
+    skipped = [r for r in terminalreporter.stats.get("skipped", [])
+               if isinstance(r.longrepr, tuple) and TOOL_SKIP in str(r.longrepr[2])]
+    if skipped:
+        tr = terminalreporter
+        tr.write_sep("!", "BROWSER / TEX TESTS NOT RUN", red=True, bold=True)
+        for r in skipped:
+            tr.write_line(f"SKIPPED {r.nodeid}: {r.longrepr[2]}", red=True)
+        tr.write_line("The HTML reports were not opened in a browser and the LaTeX reports were not compiled. "
+                      "Install the packages above (as .ci/run does) to run them.", red=True, bold=True)

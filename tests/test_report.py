@@ -1,9 +1,12 @@
 """Reports: each kind in Markdown, self-contained HTML and LaTeX, with the content checked."""
 
 import re
+import shutil
+import subprocess
 from html.parser import HTMLParser
 
 import pytest
+from system_tools import require_tool
 
 from workspace_sym import robots
 from workspace_sym.interval import pave
@@ -44,21 +47,168 @@ def check_html(text: str, figures: int):
     assert all(s.startswith("data:image/png;base64,") for s in p.srcs)     # self-contained
 
 
-def test_planar_report(tmp_path):
-    chain = PlanarChain(["0.186", "0.146", "0.108"], [-60, 0, -10], [120, 130, 25])
-    md_path = planar_report(chain, tmp_path / "r")
+HUMAN_ARM = (["0.186", "0.146", "0.108"], [-60, 0, -10], [120, 130, 25])     # Bastien 2018, Table 1 case iii
+
+
+def _report_with_document(make, folder):
+    """Run a report function and keep the Document it rendered (to read its cells as SymPy objects)."""
+    import workspace_sym.report as report
+
+    seen = []
+    write = report.Document.write
+
+    def keep(self, *args, **kwargs):
+        seen.append(self)
+        return write(self, *args, **kwargs)
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(report.Document, "write", keep)
+        path = make(folder)
+    return path, seen[0]
+
+
+@pytest.fixture(scope="module")
+def planar(tmp_path_factory):
+    """The Table 1 iii report, written once for the tests below."""
+    # a long command line with $ and ~ (it goes into the LaTeX verbatim-escaped and must break across lines)
+    command = ("workspace-sym report chain --lengths=0.186,0.146,0.108 --lower=-60,0,-10 --upper=120,130,25 --out "
+               + "/".join(["~/$HOME_long_directory_name"] * 6))
+    return _report_with_document(lambda f: planar_report(PlanarChain(*HUMAN_ARM), f, command=command),
+                                 tmp_path_factory.mktemp("planar") / "r")
+
+
+@pytest.fixture(scope="module")
+def dh(tmp_path_factory):
+    return _report_with_document(lambda f: dh_robot_report(robots.build("glass-handling"), f, samples=2000),
+                                 tmp_path_factory.mktemp("dh") / "d")
+
+
+def test_planar_report(planar):
+    md_path, _ = planar
     md = md_path.read_text()
+    folder = md_path.parent
     # the Table-2-style table: eight arcs, decimals and exact expressions (LaTeX)
     assert md.count("| III |") + md.count("| II |") >= 16
-    assert "[-60.0000, -55.1005]" in md and "\\operatorname{acos}" in md and "\\frac{93}{500}" in md
+    assert "[-60.0000, -55.1005]" in md and "\\operatorname{atan}_{2}" in md and "\\frac{93}{500}" in md
     assert "## Verification" in md and "0 outside (must be 0)" in md and "## Reproducibility" in md
     for name in ("step0.png", "step1.png", "step2.png", "boundary.png"):
-        assert f"]({name})" in md and (tmp_path / "r" / name).stat().st_size > 1000
-    html = (tmp_path / "r" / "report.html").read_text()
+        assert f"]({name})" in md and (folder / name).stat().st_size > 1000
+    assert "*Figure 4: Boundary arcs numbered as in the tables*" in md
+    html = (folder / "report.html").read_text()
     check_html(html, figures=4)
-    assert "<math" in html and "-55.1005" in html
-    tex = (tmp_path / "r" / "report.tex").read_text()
-    assert latex_is_balanced(tex) and "\\includegraphics" in tex and "acos" in tex
+    assert "<math" in html and "-55.1005" in html and "<code>" not in html      # labels are MathML, not code
+    tex = (folder / "report.tex").read_text()
+    assert latex_is_balanced(tex) and "\\includegraphics" in tex and "\\caption*" not in tex
+    assert "\\begin{align*}" in tex and "\\begin{pmatrix}" in tex
+
+
+def _sympy_cells(doc):
+    """Every SymPy object a report shows: table cells, equation sides (matrix entries one by one)."""
+    for block in doc.blocks:
+        if block[0] == "table":
+            yield from (c for row in block[2] for c in row if not isinstance(c, str))
+        elif block[0] == "eqs":
+            for _, e in block[1]:
+                yield from (e if hasattr(e, "shape") else [e])
+
+
+def test_table1_iii_closed_forms_are_short(planar):
+    """Issue 12: every closed-form cell of the Table 1 iii report is at most 80 characters of SymPy str, with no
+    unreduced atan(cos x / sin x) nor sin(x)**2 + cos(x)**2, and the exact area is one term per arc plus a sum."""
+    _, doc = planar
+    cells = list(_sympy_cells(doc))
+    assert len(cells) > 40
+    assert max(len(str(c)) for c in cells) <= 80, max(cells, key=lambda c: len(str(c)))
+    text = " ".join(str(c) for c in cells)
+    assert "atan(" not in text and "acos(" not in text and ")**2" not in text
+    names = [str(lhs) for b in doc.blocks if b[0] == "eqs" for lhs, _ in b[1]]
+    assert [n for n in names if n.startswith("A_")] == [f"A_{k}" for k in range(1, 9)] and "A" in names
+
+
+def test_dh_report(dh):
+    md_path, doc = dh
+    md = md_path.read_text()
+    assert md_path.name == "report.md"                          # one naming scheme for every report
+    assert "a_{1} + a_{2} c_{2} + a_{3} c_{23} + d_{5} s_{234}" in md and "Rank is lost" in md
+    html = (md_path.parent / "report.html").read_text()
+    check_html(html, figures=1)
+    assert "<code>" not in html and html.count("<math") > 20
+    assert latex_is_balanced((md_path.parent / "report.tex").read_text())
+    # limits in degrees as the catalog gives them (glass-handling joint 1: -160 .. 160 deg), the Jacobian 6 x n
+    table = next(b for b in doc.blocks if b[0] == "table")
+    assert table[2][0][-1] == "[-160°, 160°]" and str(table[2][0][5]) == "90*°"
+    J = next(e for b in doc.blocks if b[0] == "eqs" for lhs, e in b[1] if str(lhs) == "J")
+    assert J.shape == (6, 6) and str(J[0, 0]) == "-s1*(a1 + a2*c2 + a3*c23 + d5*s234)"   # column 1: joint 1
+
+
+def test_dh_report_from_a_file(tmp_path):
+    """`workspace-sym report --dh FILE` writes the DH report of the README's example file."""
+    from workspace_sym.cli import main
+
+    dh_file = tmp_path / "arm$1_%~.json"          # the name goes into the title: escaped, not read as TeX
+    dh_file.write_text('{"convention": "standard", "angles": "degrees", "parameters": {"l1": 0.5}, "joints": ['
+                       '{"type": "R", "d": 0, "a": "l1", "alpha": 0, "limits": [-90, 90]}, '
+                       '{"type": "P", "theta": 0, "a": 0, "alpha": 0, "limits": [0, 0.2]}]}')
+    assert main(["report", "--dh", str(dh_file), "--out", str(tmp_path / "out")]) == 0
+    md = (tmp_path / "out" / "report.md").read_text()
+    assert "[-90°, 90°]" in md and "p_{x} = c_{1} l_{1}" in md
+    tex = (tmp_path / "out" / "report.tex").read_text()
+    assert "arm\\$1\\_\\%\\textasciitilde{}: symbolic kinematics" in tex
+    assert "arm$1_%~: symbolic kinematics</h1>" in (tmp_path / "out" / "report.html").read_text()
+    if shutil.which("pdflatex"):
+        assert_compiles(tmp_path / "out" / "report.tex")
+    assert main(["report", "glass-handling", "--dh", str(dh_file), "--out", str(tmp_path / "no")]) == 2
+    assert not (tmp_path / "no").exists()
+
+
+# ---------------------------------------------------------------------- a real browser and a real TeX
+def test_html_report_renders_in_chromium(planar, dh):
+    """Headless Chromium loads each HTML report: every figure decodes (naturalWidth > 0) and every MathML
+    element is laid out with a non-zero size."""
+    require_tool("chromium", "chromedriver")
+    from selenium import webdriver
+    from selenium.webdriver.chrome.service import Service
+
+    options = webdriver.ChromeOptions()
+    options.binary_location = shutil.which("chromium")
+    for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage"):
+        options.add_argument(flag)
+    driver = webdriver.Chrome(service=Service(shutil.which("chromedriver")), options=options)
+    try:
+        for md_path, figures in ((planar[0], 4), (dh[0], 1)):
+            driver.get(md_path.with_suffix(".html").as_uri())
+            widths = driver.execute_script("return [...document.images].map(i => i.complete ? i.naturalWidth : 0)")
+            assert len(widths) == figures and all(w > 0 for w in widths)
+            sizes = driver.execute_script("return [...document.getElementsByTagName('math')].map(m => {"
+                                          "const r = m.getBoundingClientRect(); return [r.width, r.height]; })")
+            assert len(sizes) > 10 and all(w > 0 and h > 0 for w, h in sizes)
+            # laid out as mathematics, not as a line of plain text: a 6 x n or 4 x 4 matrix is several lines tall
+            assert max(h for _, h in sizes) > 60
+    finally:
+        driver.quit()
+
+
+def _pdflatex(tex_path):
+    subprocess.run(["pdflatex", "-interaction=nonstopmode", "-halt-on-error", tex_path.name], cwd=tex_path.parent,
+                   capture_output=True, timeout=120)
+    return tex_path.with_suffix(".log").read_text(errors="replace")
+
+
+def test_latex_report_compiles(planar, dh):
+    """pdflatex compiles each LaTeX report with no error, no undefined control sequence and no overfull box
+    wider than 10 pt (the closed-form table and the long formulas stay on the page)."""
+    require_tool("pdflatex")
+    for md_path in (planar[0], dh[0]):
+        assert_compiles(md_path.with_suffix(".tex"))
+
+
+def assert_compiles(tex_path):
+    log = _pdflatex(tex_path)
+    assert tex_path.with_suffix(".pdf").stat().st_size > 10_000
+    assert not re.search(r"^! ", log, re.M), log[-2000:]
+    assert "Undefined control sequence" not in log
+    over = [float(x) for x in re.findall(r"Overfull \\[hv]box \(([\d.]+)pt too", log)]
+    assert all(x <= 10 for x in over), over
 
 
 def test_paving_report(tmp_path):
@@ -68,17 +218,13 @@ def test_paving_report(tmp_path):
     assert "| inner |" in md and "Exact measure 35.053350" in md
     check_html((tmp_path / "p" / "report.html").read_text(), figures=1)
     assert latex_is_balanced((tmp_path / "p" / "report.tex").read_text())
-
-
-def test_dh_report(tmp_path):
-    md = dh_robot_report(robots.build("glass-handling"), tmp_path / "d").read_text()
-    assert "c1*(a1 + a2*c2 + a3*c23 + d5*s234)" in md and "Singular where" in md
-    check_html((tmp_path / "d" / "glass-handling.html").read_text(), figures=1)
-    assert latex_is_balanced((tmp_path / "d" / "glass-handling.tex").read_text())
+    if shutil.which("pdflatex"):
+        assert_compiles(tmp_path / "p" / "report.tex")
 
 
 def test_latex_escaping():
     assert tex_escape(r"a_b 50% $x_1$ {c} \ d") == r"a\_b 50\% $x_1$ \{c\} \textbackslash{} d"
+    assert tex_escape("--var 'x=$HOME' ~a^b", math=False) == r"--var 'x=\$HOME' \textasciitilde{}a\textasciicircum{}b"
     assert not latex_is_balanced("\\documentclass{article}\\begin{document}{\\end{document}")
 
 
@@ -104,3 +250,5 @@ def test_orthoglide_report(tmp_path):
     assert "\\sqrt{2}" in md and "corner (+, +, +)" in md          # the closed form and its binding corners
     check_html((tmp_path / "o" / "report.html").read_text(), figures=2)
     assert latex_is_balanced((tmp_path / "o" / "report.tex").read_text())
+    if shutil.which("pdflatex"):                   # compiled here too when TeX is present (required: see above)
+        assert_compiles(tmp_path / "o" / "report.tex")

@@ -459,14 +459,19 @@ def cmd_report(args) -> int:
         if not (args.lengths and args.lower and args.upper):
             raise WorkspaceError("report chain: give --lengths, --lower and --upper")
         path = planar_report(_chain_from_args(args), args.out, command=command)
+    elif args.dh is not None or args.what is None:
+        if args.what is not None:
+            raise WorkspaceError(f"report: give either {args.what!r} or --dh FILE, not both")
+        if args.dh is None:
+            raise WorkspaceError("report: name 'chain', a catalog robot, rpr2 or orthoglide, or pass --dh FILE")
+        path = dh_robot_report(DHRobot.from_file(args.dh), args.out, command=command)
     else:
-        from .kinematics import DHRobot
         from .orthoglide import Orthoglide
         from .parallel import ConstraintModel
 
         model = robots.build(args.what)
         if isinstance(model, DHRobot):
-            path = dh_robot_report(model, args.out)
+            path = dh_robot_report(model, args.out, command=command)
         elif isinstance(model, ConstraintModel):
             from .interval import pave
             from .report import paving_report
@@ -641,7 +646,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("report", help="write a report (Markdown, HTML, LaTeX) for a chain or a catalog robot",
                        parents=[_chain_parent(required=False)])
-    p.add_argument("what", help="'chain' (with --lengths/--lower/--upper), a DH robot, rpr2 or orthoglide")
+    p.add_argument("what", nargs="?",
+                   help="'chain' (with --lengths/--lower/--upper), a DH robot, rpr2 or orthoglide; none with --dh")
+    p.add_argument(*_DH[0], **_DH[1])
     p.add_argument("--delta", type=float, default=0.07, help="paving resolution (rpr2)")
     p.add_argument("--eps", type=float, default=0.125, help="dextrous workspace resolution (orthoglide)")
     p.add_argument("--alpha", type=float, default=0.01, help="largest-cube accuracy (orthoglide)")

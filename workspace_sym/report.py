@@ -15,6 +15,7 @@ import datetime as _dt
 import html
 import math
 import platform
+import re
 import shutil
 import sys
 import tempfile
@@ -27,7 +28,7 @@ import sympy as sp
 from .numbers import fmt
 
 __all__ = ["Document", "dh_robot_report", "orthoglide_report", "paving_report", "planar_report", "reproducibility",
-           "tex_escape"]
+           "tex_escape", "number", "DEGREE", "Equations"]
 
 
 def reproducibility(command: str | None = None) -> dict:
@@ -50,31 +51,105 @@ def reproducibility(command: str | None = None) -> dict:
     }
 
 
-def tex_escape(text: str) -> str:
-    r"""Escape LaTeX specials in text, leaving ``$...$`` math segments alone.
+def tex_escape(text: str, *, math: bool = True) -> str:
+    r"""Escape LaTeX specials in text, leaving ``$...$`` math segments alone (``math=False``: escape ``$`` too,
+    for text that came from a user or the command line).
 
     Examples
     --------
     >>> print(tex_escape(r"a_b 50% $x_1$ {c} \ d"))
     a\_b 50\% $x_1$ \{c\} \textbackslash{} d
+    >>> print(tex_escape("cost $5 ~ 90°", math=False))
+    cost \$5 \textasciitilde{} 90\ensuremath{^\circ}
     >>> tex_escape("")
     ''
     """
-    parts = text.split("$")
+    parts = text.split("$") if math else [text]
     for k in range(0, len(parts), 2):
         part = parts[k].replace("\\", "\0")
-        for ch in "_%&#{}":
+        for ch in "_%&#{}" + ("" if math else "$"):
             part = part.replace(ch, "\\" + ch)
-        parts[k] = part.replace("\0", "\\textbackslash{}")
+        part = part.replace("^", "\\textasciicircum{}").replace("~", "\\textasciitilde{}")
+        parts[k] = part.replace("\0", "\\textbackslash{}").replace("°", "\\ensuremath{^\\circ}")
     return "$".join(parts)
+
+
+def number(value, spec: str = ".6f") -> str:
+    """``value`` formatted with ``spec`` (``".6f"``, ``".1f"``, ``"g"``), never as a negative zero.
+
+    The one place where reports format numbers, through :func:`workspace_sym.numbers.fmt`.
+
+    Examples
+    --------
+    >>> number(-1e-12), number(-2.5, ".1f"), number(-0.0, "g")
+    ('0.000000', '-2.5', '0')
+    """
+    match = re.fullmatch(r"(?:\.(\d+))?([fge%])", spec)
+    if match is None:
+        raise ValueError(f"spec: expected a float format such as '.6f' or 'g'; got {spec!r}")
+    return fmt(value, int(match.group(1)) if match.group(1) else 6, match.group(2))
+
+
+# a symbol that prints as the degree sign (^{\circ} in LaTeX): 90 * DEGREE
+DEGREE = sp.Symbol("°")
+
+_WIDTH = 78          # characters of SymPy str that fit one line of the LaTeX page (a4, 2 cm margins, 10 pt)
+
+
+def _breakable(tex: str) -> str:
+    """Escaped text that LaTeX may break after ``/``, ``_``, ``=`` and ``,`` (paths, command lines)."""
+    return re.sub(r"(/|\\_|=|,)", r"\1\\allowbreak{}", tex)
+
+
+def _tex(x) -> str:
+    if isinstance(x, sp.MatrixBase):
+        return sp.latex(x, mat_str="pmatrix", mat_delim="").replace("°", "^{\\circ}")
+    return sp.latex(x).replace("°", "^{\\circ}")
+
+
+def _mathml(x) -> str:
+    return sp.mathml(x, printer="presentation")
+
+
+def _label(name):
+    """A left-hand side: SymPy object, or a name such as ``"c_1"`` or ``"T^0_6"`` made a Symbol."""
+    return sp.Symbol(name) if isinstance(name, str) else name
+
+
+def _lines(expr, width: int = _WIDTH) -> list:
+    """``expr`` cut into sums of consecutive terms, each at most ``width`` characters of SymPy str."""
+    if not isinstance(expr, sp.Add) or len(str(expr)) <= width:
+        return [expr]
+    lines, chunk = [], []
+    for term in expr.as_ordered_terms():
+        if chunk and len(str(sp.Add(*chunk, term, evaluate=False))) > width:
+            lines.append(sp.Add(*chunk, evaluate=False))
+            chunk = []
+        chunk.append(term)
+    return lines + [sp.Add(*chunk, evaluate=False)]
+
+
+def _column_groups(M, width: int = _WIDTH) -> list:
+    """Column indices of ``M`` in consecutive groups whose widest entries fit ``width`` together."""
+    groups, current, used = [], [], 0
+    for j in range(M.cols):
+        w = max(len(str(M[i, j])) for i in range(M.rows)) + 12     # + the label and the space between
+        if current and used + w > width:
+            groups.append(current)
+            current, used = [], 0
+        current.append(j)
+        used += w
+    return groups + [current]
 
 
 class Document:
     """A report as blocks, rendered to Markdown, HTML and LaTeX.
 
-    Blocks: headings, paragraphs (plain text with ``$...$`` inline math given
-    separately as SymPy objects through :meth:`math`), tables whose cells are
-    strings or SymPy expressions, figures (PNG files), and key/value lists.
+    Blocks: headings, paragraphs (plain text), displayed equations whose sides
+    are SymPy objects (:meth:`math`, :meth:`equations`: MathML in HTML, ``align*``
+    with long sums broken across lines and ``pmatrix`` in LaTeX), tables whose
+    cells are strings or SymPy expressions, figures (PNG files, numbered), and
+    key/value lists.  Every text is escaped for the format it goes into.
     """
 
     def __init__(self, title: str):
@@ -87,9 +162,14 @@ class Document:
     def para(self, text):
         self.blocks.append(("p", text))
 
-    def math(self, lhs: str, expr):
-        """A displayed equation ``lhs = expr`` (expr: SymPy object or LaTeX string)."""
-        self.blocks.append(("math", lhs, expr))
+    def math(self, lhs, expr):
+        """A displayed equation ``lhs = expr`` (SymPy objects; ``lhs`` may be a name such as ``"c_1"``)."""
+        self.equations([(lhs, expr)])
+
+    def equations(self, pairs):
+        """Several equations ``lhs = expr`` aligned on their ``=`` signs."""
+        self.blocks.append(("eqs", [(_label(lhs), sp.sympify(e, strict=True) if not isinstance(e, sp.MatrixBase) else e)
+                                    for lhs, e in pairs]))
 
     def table(self, header, rows):
         self.blocks.append(("table", list(header), [list(r) for r in rows]))
@@ -102,100 +182,142 @@ class Document:
 
     # ---------------------------------------------------------------- renderers
     @staticmethod
-    def _latex(x) -> str:
-        return x if isinstance(x, str) else sp.latex(x)
-
-    @staticmethod
     def _cell_md(x) -> str:
-        return x if isinstance(x, str) else f"${sp.latex(x)}$"
+        return x if isinstance(x, str) else f"${_tex(x)}$"
 
     @staticmethod
     def _cell_html(x) -> str:
         if isinstance(x, str):
             return html.escape(x)
-        return f'<math display="inline">{sp.mathml(x, printer="presentation")}</math>'
+        return f'<math display="inline">{_mathml(x)}</math>'
 
     def markdown(self) -> str:
         lines = [f"# {self.title}", ""]
+        figures = 0
         for b in self.blocks:
             if b[0] == "h":
                 lines += ["#" * b[1] + " " + b[2], ""]
             elif b[0] == "p":
                 lines += [b[1], ""]
-            elif b[0] == "math":
-                lines += [f"$$ {b[1]} = {self._latex(b[2])} $$", ""]
+            elif b[0] == "eqs":
+                lines += [f"$$ {_tex(lhs)} = {_tex(e)} $$" for lhs, e in b[1]] + [""]
             elif b[0] == "table":
                 lines.append("| " + " | ".join(b[1]) + " |")
                 lines.append("|" + "---|" * len(b[1]))
                 lines += ["| " + " | ".join(self._cell_md(c) for c in r) + " |" for r in b[2]]
                 lines.append("")
             elif b[0] == "fig":
-                lines += [f"![{b[2]}]({b[1].name})", "", f"*{b[2]}*", ""]
+                figures += 1
+                lines += [f"![{b[2]}]({b[1].name})", "", f"*Figure {figures}: {b[2]}*", ""]
             elif b[0] == "items":
                 lines += [f"- **{k}**: {v}" for k, v in b[1]] + [""]
         return "\n".join(lines)
 
+    @staticmethod
+    def _html_equations(pairs) -> str:
+        rows = []
+        for lhs, e in pairs:
+            parts = [e] if isinstance(e, sp.MatrixBase) else _lines(e)
+            for k, part in enumerate(parts):
+                sign = "<mo>=</mo>" if k == 0 else ("" if _tex(part).startswith("-") else "<mo>+</mo>")
+                left = _mathml(lhs) if k == 0 else ""
+                # Chromium's MathML Core ignores columnalign: align the columns with CSS as well
+                rows.append(f"<mtr><mtd style='text-align:right'>{left}</mtd>"
+                            f"<mtd style='text-align:left'>{sign}{_mathml(part)}</mtd></mtr>")
+        return ('<math display="block"><mtable columnalign="right left" columnspacing="0.3em">'
+                + "".join(rows) + "</mtable></math>")
+
     def html(self, folder: Path) -> str:
         body = [f"<h1>{html.escape(self.title)}</h1>"]
+        figures = 0
         for b in self.blocks:
             if b[0] == "h":
                 body.append(f"<h{b[1]}>{html.escape(b[2])}</h{b[1]}>")
             elif b[0] == "p":
                 body.append(f"<p>{html.escape(b[1])}</p>")
-            elif b[0] == "math":
-                expr = b[2]
-                rhs = (f"<code>{html.escape(expr)}</code>" if isinstance(expr, str)
-                       else f'<math display="block">{sp.mathml(expr, printer="presentation")}</math>')
-                body.append(f"<div class='eq'><code>{html.escape(b[1])}</code> = {rhs}</div>")
+            elif b[0] == "eqs":
+                body.append(f"<div class='eq'>{self._html_equations(b[1])}</div>")
             elif b[0] == "table":
                 head = "".join(f"<th>{html.escape(h)}</th>" for h in b[1])
                 rows = "".join("<tr>" + "".join(f"<td>{self._cell_html(c)}</td>" for c in r) + "</tr>" for r in b[2])
-                body.append(f"<table><thead><tr>{head}</tr></thead><tbody>{rows}</tbody></table>")
+                body.append(f"<div class='tab'><table><thead><tr>{head}</tr></thead><tbody>{rows}</tbody>"
+                            "</table></div>")
             elif b[0] == "fig":
+                figures += 1
                 data = base64.b64encode((folder / b[1].name).read_bytes()).decode()
                 body.append(f"<figure><img alt='{html.escape(b[2])}' src='data:image/png;base64,{data}'>"
-                            f"<figcaption>{html.escape(b[2])}</figcaption></figure>")
+                            f"<figcaption>Figure {figures}: {html.escape(b[2])}</figcaption></figure>")
             elif b[0] == "items":
                 body.append("<ul>" + "".join(f"<li><b>{html.escape(str(k))}</b>: {html.escape(str(v))}</li>"
                                              for k, v in b[1]) + "</ul>")
         style = ("body{font-family:system-ui,sans-serif;max-width:70em;margin:2em auto;padding:0 1em;line-height:1.45}"
                  "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:.25em .5em;"
-                 "text-align:left;vertical-align:top}img{max-width:100%}.eq{overflow-x:auto;margin:.8em 0}"
-                 "figcaption{font-style:italic;color:#444}")
+                 "text-align:left;vertical-align:top}img{max-width:100%}.eq,.tab{overflow-x:auto;margin:.8em 0}"
+                 "math{font-size:110%}figcaption{font-style:italic;color:#444}")
         return ("<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'>"
                 f"<title>{html.escape(self.title)}</title><style>{style}</style></head><body>\n"
                 + "\n".join(body) + "\n</body></html>\n")
 
+    @staticmethod
+    def _tex_equations(pairs) -> str:
+        lines = []
+        for lhs, e in pairs:
+            left = _tex(lhs)
+            if isinstance(e, sp.MatrixBase):
+                groups = _column_groups(e)
+                if len(groups) == 1:
+                    lines.append(f"{left} &= {_tex(e)}")
+                    continue
+                # too wide for the page: the matrix by columns, as many side by side as fit
+                names = [sp.Symbol(f"{lhs}_{j + 1}") if isinstance(lhs, sp.Symbol) else sp.Symbol(f"c_{j + 1}")
+                         for j in range(e.cols)]
+                lines.append(f"{left} &= {_tex(sp.Matrix([names]))}")
+                for g in groups:
+                    lines.append(" &\\quad ".join(f"{_tex(names[j])} &= {_tex(e[:, j])}" for j in g))
+                continue
+            for k, part in enumerate(_lines(e)):
+                tex = _tex(part)
+                if k == 0:
+                    lines.append(f"{left} &= {tex}")
+                else:
+                    lines.append("&\\quad " + (tex if tex.startswith("-") else "+ " + tex))
+        return "\\begin{align*}\n" + " \\\\\n".join(lines) + "\n\\end{align*}"
+
     def latex(self) -> str:
         out = ["\\documentclass[a4paper,10pt]{article}", "\\usepackage{amsmath,amssymb,graphicx}",
-               "\\usepackage[margin=2cm]{geometry}", "\\begin{document}",
-               f"\\section*{{{tex_escape(self.title)}}}"]
+               "\\usepackage[margin=2cm]{geometry}", "\\allowdisplaybreaks", "\\begin{document}",
+               f"\\section*{{{tex_escape(self.title, math=False)}}}"]
         for b in self.blocks:
             if b[0] == "h":
-                out.append(("\\subsection*{" if b[1] <= 2 else "\\subsubsection*{") + tex_escape(b[2]) + "}")
+                out.append(("\\subsection*{" if b[1] <= 2 else "\\subsubsection*{") + tex_escape(b[2], math=False)
+                           + "}")
             elif b[0] == "p":
-                out.append(tex_escape(b[1]) + "\n")
-            elif b[0] == "math":
-                out.append("\\begin{multline*}\n" + f"{b[1]} = {self._latex(b[2])}" + "\n\\end{multline*}")
+                out.append(tex_escape(b[1], math=False) + "\n")
+            elif b[0] == "eqs":
+                out.append(self._tex_equations(b[1]))
             elif b[0] == "table":
                 cols = "l" * len(b[1])
-                out.append("{\\small\\begin{tabular}{" + cols + "}")
-                out.append(" & ".join(tex_escape(h) for h in b[1]) + " \\\\ \\hline")
+                # never wider than the page: scaled down only when it would run off
+                out.append("\\par\\noindent\\resizebox{\\ifdim\\width>\\linewidth\\linewidth\\else\\width\\fi}{!}{"
+                           "\\small\\begin{tabular}{" + cols + "}")
+                out.append(" & ".join(tex_escape(h, math=False) for h in b[1]) + " \\\\ \\hline")
                 for r in b[2]:
-                    out.append(" & ".join(tex_escape(c) if isinstance(c, str) else f"${sp.latex(c)}$"
+                    out.append(" & ".join(tex_escape(c, math=False) if isinstance(c, str) else f"${_tex(c)}$"
                                           for c in r) + " \\\\")
                 out.append("\\end{tabular}}\n")
             elif b[0] == "fig":
-                out.append("\\begin{figure}[h]\\centering\\includegraphics[width=0.7\\linewidth]{" + b[1].name + "}"
-                           "\\caption*{" + tex_escape(b[2]) + "}\\end{figure}")
+                out.append("\\begin{figure}[htbp]\\centering\\includegraphics[width=0.7\\linewidth]{" + b[1].name + "}"
+                           "\\caption{" + tex_escape(b[2], math=False) + "}\\end{figure}")
             elif b[0] == "items":
-                out.append("\\begin{itemize}")
-                out += [f"\\item \\textbf{{{tex_escape(str(k))}}}: {tex_escape(str(v))}" for k, v in b[1]]
+                # values such as the command line are long words: ragged lines that may break after / _ = ,
+                out.append("\\begin{itemize}\\raggedright")
+                out += [f"\\item \\textbf{{{tex_escape(str(k), math=False)}}}: "
+                        + _breakable(tex_escape(str(v), math=False)) for k, v in b[1]]
                 out.append("\\end{itemize}")
         out.append("\\end{document}")
         return "\n".join(out) + "\n"
 
-    def write(self, folder: Path, stem: str) -> dict:
+    def write(self, folder: Path, stem: str = "report") -> dict:
         """Write ``stem.md``, ``stem.html`` and ``stem.tex`` into ``folder`` (figures must already be there)."""
         folder = Path(folder)
         paths = {"markdown": folder / f"{stem}.md", "html": folder / f"{stem}.html", "latex": folder / f"{stem}.tex"}
@@ -205,17 +327,56 @@ class Document:
         return paths
 
 
-def _publish(doc: Document, tmp: Path, out: Path, *, stem: str = "report", command: str | None = None,
-             start: float | None = None) -> Path:
+class Equations:
+    r"""Equations ``lhs = expr`` for a notebook: MathML in HTML (rendered by the browser itself, so an exported
+    notebook needs no network and no MathJax) and LaTeX for front ends that prefer it; long sums are broken
+    across lines as in the reports.
+
+    ``Equations(expr)`` shows one expression, ``Equations(("x", e1), ("y", e2))`` several aligned on ``=``.
+
+    Examples
+    --------
+    >>> eq = Equations(("r_1", sp.sqrt(2) / 2))
+    >>> "r_{1} &= \\frac{\\sqrt{2}}{2}" in eq._repr_latex_(), "<msqrt><mn>2</mn></msqrt>" in eq._repr_html_()
+    (True, True)
+    >>> eq
+    r_1 = sqrt(2)/2
+    """
+
+    def __init__(self, *items):
+        def value(e):                 # numbers and SymPy objects only, never text
+            return e if isinstance(e, sp.MatrixBase) else sp.sympify(e, strict=True)
+
+        if len(items) == 1 and not isinstance(items[0], tuple):
+            self.pairs = [(None, value(items[0]))]
+        else:
+            self.pairs = [(_label(lhs), value(e)) for lhs, e in items]
+
+    def _repr_html_(self) -> str:
+        if self.pairs[0][0] is None:
+            return f'<math display="block">{_mathml(self.pairs[0][1])}</math>'
+        return Document._html_equations(self.pairs)
+
+    def _repr_latex_(self) -> str:
+        if self.pairs[0][0] is None:
+            return f"$\\displaystyle {_tex(self.pairs[0][1])}$"
+        body = Document._tex_equations(self.pairs)
+        return "$\\displaystyle " + body.replace("align*", "aligned") + "$"
+
+    def __repr__(self) -> str:
+        return "\n".join(str(e) if lhs is None else f"{lhs} = {e}" for lhs, e in self.pairs)
+
+
+def _publish(doc: Document, tmp: Path, out: Path, *, command: str | None = None, start: float | None = None) -> Path:
     """Close ``doc`` with the reproducibility block, render it into ``tmp`` and move everything to ``out``."""
     doc.heading("Reproducibility")
     info = reproducibility(command)
     if start is not None:
-        info["seconds"] = f"{time.perf_counter() - start:.2f}"
+        info["seconds"] = number(time.perf_counter() - start, ".2f")
     doc.items(info.items())
-    doc.write(tmp, stem)
+    doc.write(tmp)
     _finalise(tmp, out)
-    return out / f"{stem}.md"
+    return out / "report.md"
 
 
 def _paving_section(doc: Document, paving, tmp: Path) -> None:
@@ -225,15 +386,15 @@ def _paving_section(doc: Document, paving, tmp: Path) -> None:
     d = paving.to_dict()
     lo, hi = d["measure_bounds"]
     doc.table(["boxes", "count", "measure"],
-              [[k, str(d[k]["boxes"]), f"{d[k]['measure']:.6f}"] for k in ("inner", "boundary", "outer")])
-    text = (f"delta {d['delta']}, backend {d['backend']}, {d['seconds']:.3f} s: the measure lies in "
-            f"[{lo:.6f}, {hi:.6f}] (inner boxes are proved inside, outer boxes proved outside, with "
+              [[k, str(d[k]["boxes"]), number(d[k]["measure"])] for k in ("inner", "boundary", "outer")])
+    text = (f"delta {d['delta']}, backend {d['backend']}, {number(d['seconds'], '.3f')} s: the measure lies in "
+            f"[{number(lo)}, {number(hi)}] (inner boxes are proved inside, outer boxes proved outside, with "
             "outward-rounded interval arithmetic).")
     if d.get("exact_measure") is not None:
-        text += f" Exact measure {float(d['exact_measure']):.6f}."  # to_dict stores it as a float
+        text += f" Exact measure {number(float(d['exact_measure']))}."  # to_dict stores it as a float
     doc.para(text)
     save_figure(plot_paving(paving), tmp / "paving.png")
-    doc.figure(tmp / "paving.png", "Certified paving: inner (green), boundary (yellow), outer (not drawn)")
+    doc.figure(tmp / "paving.png", "certified paving: inner (green), boundary (yellow), outer (not drawn)")
 
 
 def _finalise(tmp: Path, out: Path) -> None:
@@ -248,46 +409,74 @@ def _finalise(tmp: Path, out: Path) -> None:
         shutil.move(str(item), str(target))
 
 
+def _degrees(angle, variables=()):
+    """An angle of a DH table in degrees: ``theta2 + pi/2`` reads ``theta2 + 90 deg`` (the joint variable kept)."""
+    const, rest = sp.sympify(angle).as_independent(*variables, as_Add=True)
+    const = sp.nsimplify(const * 180 / sp.pi)
+    return rest + const * DEGREE if const != 0 else (rest if rest != 0 else sp.Integer(0) * DEGREE)
+
+
+def _limits_cell(joint):
+    if joint.limits is None:
+        return "free"
+    lo, hi = joint.limits
+    if joint.kind == "R":
+        return f"[{sp.nsimplify(lo * 180 / sp.pi)}°, {sp.nsimplify(hi * 180 / sp.pi)}°]"
+    return sp.Interval(lo, hi)
+
+
 def dh_robot_report(robot, out, *, samples: int = 20000, command: str | None = None) -> Path:
-    """Report of a DH robot: DH table, forward kinematics, Jacobian and singular factors in textbook form,
-    a sampled workspace picture (Markdown, HTML, LaTeX).  Returns the path of the Markdown file."""
+    """Report of a DH robot: DH table (angles in degrees), forward kinematics, the 6 x n geometric Jacobian and
+    its singular factors in textbook form, a sampled workspace picture (Markdown, HTML, LaTeX; ``out/report.md``
+    and siblings).  Returns the path of the Markdown file."""
     from .plotting import save_figure, scatter_workspace_3d
     from .sampling import reach_points, sample_joint_box
 
     out = Path(out)
-    T = robot.fk()
-    J = robot.geometric_jacobian
+    start = time.perf_counter()
+    T = robot.shorthand(robot.fk())
+    J = robot.shorthand(robot.geometric_jacobian)
     singular = robot.singular_factors("geometric")
     pts = reach_points(robot, sample_joint_box(robot, samples, seed=1))
-    stem = robot.name
     doc = Document(f"{robot.name}: symbolic kinematics")
-    doc.para("Shorthand: c1 = cos(theta1), s23 = sin(theta2 + theta3).")
+    q = robot.q
+    doc.para("Textbook shorthand: c_i = cos(theta_i), s_ij = sin(theta_i + theta_j), and so on:")
+    example = q[1] + q[2] if len(q) > 2 else q[0]
+    doc.equations([(robot.shorthand(sp.cos(q[0])), sp.cos(q[0])), (robot.shorthand(sp.sin(example)), sp.sin(example))])
     doc.heading("DH table")
+    doc.para(f"Convention: {robot.convention}; lengths in {robot.units}, angles in degrees.")
     doc.table(["i", "type", "theta", "d", "a", "alpha", "limits"],
-              [[str(k), j.kind, j.theta, j.d, j.a, j.alpha,
-                "free" if j.limits is None else f"[{j.limits[0]}, {j.limits[1]}]"]
+              [[str(k), j.kind, _degrees(j.theta, q), j.d, j.a, _degrees(j.alpha), _limits_cell(j)]
                for k, j in enumerate(robot.joints, 1)])
+    if robot.parameters:
+        doc.para("Parameters (" + robot.units + "): "
+                 + ", ".join(f"{k} = {v}" for k, v in robot.parameters.items()) + ".")
     doc.heading(f"Forward kinematics T_0^{robot.n}")
-    doc.table(["", "textbook form"], [[name, robot.to_str(e)] for name, e in zip("xyz", robot.position)]
-              + [[f"R{i + 1}{j + 1}", robot.to_str(T[i, j])] for i in range(3) for j in range(3)])
-    doc.math(f"T_0^{{{robot.n}}}", robot.to_latex(T))
+    names = sp.Matrix(4, 4, lambda i, j: sp.Symbol(f"r_{i + 1}{j + 1}") if i < 3 and j < 3 else
+                      (sp.Symbol("p_" + "xyz"[i]) if i < 3 else sp.Integer(int(j == 3))))
+    doc.math(sp.Symbol(f"T_0^{robot.n}"), names)
+    doc.equations([(names[i, j], T[i, j]) for j in range(4) for i in range(3)])
     doc.heading("Geometric Jacobian")
-    doc.table(["column"] + [f"row {i + 1}" for i in range(J.rows)],
-              [[str(k + 1)] + [robot.to_str(J[i, k]) for i in range(J.rows)] for k in range(J.cols)])
-    shown = " * ".join(robot.to_str(f) for f in singular) if singular else "no hypersurface of rank loss"
-    doc.para(f"Singular where {shown} = 0.")
+    doc.para(f"J is {J.rows} x {J.cols}: rows 1-3 the linear velocity, rows 4-6 the angular velocity, "
+             "column k the contribution of joint k.")
+    doc.math(sp.Symbol("J"), J)
+    if singular:
+        doc.para("Rank is lost where one of these factors vanishes:")
+        doc.equations([(sp.Symbol(f"f_{k}"), robot.shorthand(f)) for k, f in enumerate(singular, 1)])
+    else:
+        doc.para("No hypersurface of rank loss.")
     with tempfile.TemporaryDirectory() as tmpdir:
         tmp = Path(tmpdir)
         save_figure(scatter_workspace_3d(pts, title=f"{robot.name}: {samples} sampled configurations",
-                                         units=robot.units), tmp / f"{stem}-workspace.png")
+                                         units=robot.units), tmp / "workspace.png")
         doc.heading("Workspace (sampled picture, not a proof)")
-        doc.figure(tmp / f"{stem}-workspace.png", f"{samples} random configurations")
-        return _publish(doc, tmp, out, stem=stem, command=command)
+        doc.figure(tmp / "workspace.png", f"{samples} random configurations")
+        return _publish(doc, tmp, out, command=command, start=start)
 
 
 # ---------------------------------------------------------------------- planar chains
 def _deg(x) -> str:
-    return fmt(math.degrees(x), 4)
+    return number(math.degrees(x), ".4f")
 
 
 def _set_str(values) -> str:
@@ -318,8 +507,8 @@ def planar_verification(boundary, exact_rows=None, *, samples: int = 20000, seed
                      (row["end_angle"], arc.end_angle)]
             worst = max(worst, max(abs(float(sp.N(e, 30)) - v) for e, v in pairs))
         area_err = abs(float(sp.N(exact_area(boundary, exact_rows), 30)) - boundary.area)
-        checks.append(("closed forms vs floats", f"largest difference {worst:.1e} over centres, radii and angles; "
-                                                 f"area {area_err:.1e}"))
+        checks.append(("closed forms vs floats", f"largest difference {number(worst, '.1e')} over centres, radii "
+                                                 f"and angles; area {number(area_err, '.1e')}"))
     theta = chain.sample(samples, seed=seed)
     pts = chain.forward(theta)
     verdicts = list(boundary.classify(pts, tol=1e-9))
@@ -337,20 +526,20 @@ def planar_verification(boundary, exact_rows=None, *, samples: int = 20000, seed
                                            for k in range(chain.p)))
             p = chain.forward(th)
             worst_fk = max(worst_fk, abs(math.dist(p, arc.center) - arc.radius))
-    checks.append(("arc configurations", f"forward kinematics lies on its arc within {worst_fk:.1e}; "
-                                         f"joint limits exceeded by at most {worst_lim:.1e} rad"))
+    checks.append(("arc configurations", f"forward kinematics lies on its arc within {number(worst_fk, '.1e')}; "
+                                         f"joint limits exceeded by at most {number(worst_lim, '.1e')} rad"))
     methods = {}
     for ev in boundary.evidence.values():
         methods[ev["method"]] = methods.get(ev["method"], 0) + 1
     checks.append(("faces of the arrangement", f"{len(boundary.faces)} bounded faces: " +
                    ", ".join(f"{n} by {m}" for m, n in sorted(methods.items())) +
                    "; the unbounded face is outside"))
-    checks.append(("area", f"{boundary.area:.12g} from the loops (Green's theorem); "
-                           f"undecided area {boundary.undecided_area:.3g}"))
+    checks.append(("area", f"{number(boundary.area, '.12g')} from the loops (Green's theorem); "
+                           f"undecided area {number(boundary.undecided_area, '.3g')}"))
     if boundary.merged:
         m = boundary.merged
         checks.append(("merged slivers", f"{m['faces']} faces narrower than {m['width_tolerance']:g} times the reach, "
-                                         f"of total area {m['area']:.3g}, merged into their neighbours "
+                                         f"of total area {number(m['area'], '.3g')}, merged into their neighbours "
                                          f"({', '.join(f'{n} {k}' for k, n in m['into'].items() if n)})"))
     return checks
 
@@ -362,14 +551,13 @@ def planar_report(chain, out, *, command: str | None = None, title: str | None =
     With ``paving`` (a :class:`~workspace_sym.interval.Paving`) a section
     summarises that certified covering as well.  Returns the Markdown path.
     """
-    from .exact import exact_area
+    from .exact import area_terms
     from .plotting import plot_boundary_loops, plot_planar_step, save_figure
 
     out = Path(out)
     start = time.perf_counter()
     boundary = chain.boundary()
     rows = boundary.exact if exact else None
-    area_exact = exact_area(boundary, rows) if exact else None
     doc = Document(title or f"Workspace boundary of a planar {chain.p}-joint chain")
     doc.para("Alignment method of Bastien (2018): Step 0 lists the circular arcs allowed by the alignment "
              "condition, Step 1 keeps the parts that pass the local test of Lemma 3.1 and marks the side of the "
@@ -393,25 +581,30 @@ def planar_report(chain, out, *, command: str | None = None, title: str | None =
         doc.heading("Boundary")
         for loop in boundary.loops:
             doc.para(f"{loop.kind} loop, travelled with the workspace on the left: arcs "
-                     + ", ".join(str(k + 1) for k in loop.arcs) + f" (signed area {loop.area:.10g}).")
+                     + ", ".join(str(k + 1) for k in loop.arcs) + f" (signed area {number(loop.area, '.10g')}).")
         doc.figure(tmp / "boundary.png", "Boundary arcs numbered as in the tables")
         doc.table(["#", "type"] + [f"Theta_{j + 1} (deg)" for j in range(chain.p)] + ["centre", "radius"],
                   [[str(k + 1), a.type] + [_set_str(s_) for s_ in a.theta_sets]
-                   + [f"({fmt(a.center[0], 6)}, {fmt(a.center[1], 6)})", fmt(a.radius, 6)]
+                   + [f"({number(a.center[0], '.6f')}, {number(a.center[1], '.6f')})", f"{number(a.radius, '.6f')}"]
                    for k, a in enumerate(boundary.arcs)])
         if exact:
             doc.heading("Closed forms", 3)
-            doc.para("The same table with exact expressions (degrees), from the exact inputs.")
-            doc.table(["#", "type"] + [f"Theta_{j + 1}" for j in range(chain.p)],
+            doc.para("The same table with exact expressions (degrees), from the exact inputs: every entry is "
+                     "checked against the float value in the Verification section.")
+            doc.table(["#", "type"] + [f"Theta_{j + 1} (deg)" for j in range(chain.p)],
                       [[str(k + 1), a.type] + [_exact_set(s_) for s_ in r["theta_sets"]]
                        for k, (a, r) in enumerate(zip(boundary.arcs, rows))])
-            for k, r in enumerate(rows):
-                doc.math(f"c_{{{k + 1}}}", sp.Matrix(r["center"]).T)
-                doc.math(f"r_{{{k + 1}}}", r["radius"])
+            doc.para("Centres c_k and radii r_k of the boundary arcs:")
+            doc.equations([pair for k, r in enumerate(rows, 1)
+                           for pair in ((f"c_{k}", sp.Matrix([r["center"]])), (f"r_{k}", r["radius"]))])
         doc.heading("Area")
-        doc.para(f"Area {boundary.area:.12g}, perimeter {boundary.perimeter:.12g}.")
+        doc.para(f"Area {number(boundary.area, '.12g')}, perimeter {number(boundary.perimeter, '.12g')}.")
         if exact:
-            doc.math("A", area_exact)
+            doc.para("Exact area, one term per boundary arc (Green's theorem: the sector swept about the arc's centre "
+                     "plus the change of the centre's moment), and their sum:")
+            terms = area_terms(boundary, rows)
+            doc.equations([(f"A_{k}", t) for k, t in enumerate(terms, 1)]
+                          + [("A", sp.Add(*[sp.Symbol(f"A_{k}") for k in range(1, len(terms) + 1)]))])
         doc.heading("Verification")
         doc.table(["check", "result"], [[k, v] for k, v in planar_verification(boundary, rows)])
         if paving is not None:
@@ -446,28 +639,28 @@ def orthoglide_report(model, out, *, eps: float = 0.125, alpha: float = 0.01, co
     pencil = model.pencil
     term_counts = ", ".join(str(len(sp.Add.make_args(k))) for k in pencil.all_coeffs())
     doc.para(f"The eigenvalues of J J^T are the roots of the cubic q(lambda) = det(lambda A A^T - B^2) "
-             f"(no division), whose coefficients have {term_counts} terms; its leading coefficient is")
-    doc.math("[\\lambda^3]\\,q", pencil.all_coeffs()[0])
+             f"(no division), whose coefficients have {term_counts} terms; its leading coefficient q_3 is")
+    doc.math("q_3", pencil.all_coeffs()[0])
     doc.para("Boxes are certified with the inverse N = A^T B^-2 A = (J J^T)^-1 instead: enclosed in mean-value "
              "form, rotated by the eigenvectors at the box centre, N - I/sigma_max and I/sigma_min - N proved "
              "positive definite (inside) or a Rayleigh quotient out of range (outside).")
     doc.math("N", model.inverse)
     doc.heading("Dextrous workspace")
     doc.table(["eps", "inside volume (proved)", "E (undecided)", "boxes in / undecided / out", "seconds"],
-              [[str(eps), f"{d['volume_inner']:.6f}", f"{d['volume_undecided']:.6f}",
-                f"{d['boxes']['inner']} / {d['boxes']['undecided']} / {d['boxes']['outer']}", f"{d['seconds']:.1f}"]])
+              [[str(eps), number(d["volume_inner"]), number(d["volume_undecided"]),
+                f"{d['boxes']['inner']} / {d['boxes']['undecided']} / {d['boxes']['outer']}",
+                number(d["seconds"], ".1f")]])
     doc.para("Paper, eps = 0.05: 1.468 inside, E in [0, 0.48], about 5 hours.")
     doc.heading("Largest enclosed cube")
     doc.table(["centre", "edge proved inside", "no enclosed cube above", "alpha", "seconds"],
-              [[", ".join(fmt(v, 6) for v in c["center"]), f"{c['edge_lower']:.6f}", f"{c['edge_upper']:.6f}",
-                str(alpha), f"{c['seconds']:.1f}"]])
+              [[", ".join(number(v) for v in c["center"]), number(c["edge_lower"]), number(c["edge_upper"]),
+                str(alpha), number(c["seconds"], ".1f")]])
     if cube.exact is not None:
         doc.para("The binding points are the corners of the cube on the diagonal x = y = z: "
                  + "; ".join(f"corner ({k}, {k}, {k}) on {', '.join(v)}" for k, v in cube.exact["bounds"].items())
                  + ". Solving the pencil there exactly gives the edge and the centre (x = y = z) in closed form; the "
                  "certified bracket above contains them.")
-        doc.math("\\text{edge}", cube.exact["edge"])
-        doc.math("\\text{centre}", cube.exact["center"])
+        doc.equations([("edge", cube.exact["edge"]), ("centre", cube.exact["center"])])
     doc.para("Paper (alpha = 0.001): centre (0.085938, 0.085938, 0.085938), edge 0.643950, no cube above 0.643952. "
              "The paper's centre is 11/128, the point of a 1/128 grid next to the closed form.")
     with tempfile.TemporaryDirectory() as tmpdir:
