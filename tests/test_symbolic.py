@@ -157,3 +157,18 @@ def test_large_factorisation_with_square_roots_keeps_an_exact_product():
     ratio = sp.simplify(poly / product)
     assert ratio.is_number and ratio != 0
     assert any(sp.simplify(h / f).is_number for h, _ in factors)
+
+
+def test_decimal_lengths_print_as_decimals():
+    """UR5 lengths given as decimals (read as exact fractions) print as the decimals of the table, inside the
+    textbook grouping, and the printed text reads back to the same exact expression."""
+    from workspace_sym.expressions import parse_expr
+
+    robot = _robot("ur5")
+    x = robot.position[0]
+    text = robot.to_str(x)
+    assert text == "c1*(-0.425*c2 - 0.39225*c23 - 0.0823*c234*s5 + 0.09465*s234) + s1*(0.0823*c5 + 0.10915)"
+    names = {f"{k}{''.join(map(str, i))}": f(sum(robot.q[j - 1] for j in i))
+             for k, f in (("c", sp.cos), ("s", sp.sin)) for i in ((1,), (2,), (5,), (2, 3), (2, 3, 4))}
+    assert sp.expand(parse_expr(text, "x", names=names) - x) == 0
+    assert "0.425 c_{2}" in robot.to_latex(x)

@@ -32,6 +32,8 @@ for the joint variables of a robot.
 
 from __future__ import annotations
 
+from decimal import Decimal, localcontext
+
 import sympy as sp
 from sympy.simplify.fu import TR10i
 
@@ -51,6 +53,7 @@ __all__ = [
     "shorthand",
     "shorthand_str",
     "shorthand_latex",
+    "decimal_form",
 ]
 
 
@@ -67,8 +70,18 @@ def _reduce_pythagorean(expr: sp.Expr) -> sp.Expr:
     return sp.expand(expr.xreplace(subs))
 
 
+GATHER_MAX_TERMS = 120   # TR10i's pair search is quadratic and slow: larger sums stay expanded (then nested)
+
+
 def _gather_sums(expr: sp.Expr) -> sp.Expr:
-    """Apply the inverse angle-addition rules until the expression is stable."""
+    """Apply the inverse angle-addition rules until the expression is stable.
+
+    Sums of more than :data:`GATHER_MAX_TERMS` terms are left as they are (a
+    384-term factor of a 3-joint table with pi/12 twists took minutes); a DH
+    product's entries have at most a few dozen (26 for the Panda).
+    """
+    if len(sp.Add.make_args(expr)) > GATHER_MAX_TERMS:
+        return expr
     for _ in range(16):
         new = TR10i(expr)
         if new == expr:
@@ -509,14 +522,67 @@ def shorthand(expr, variables, *, latex: bool = False) -> sp.Expr:
     return expr.xreplace(subs)
 
 
+def _is_decimal(r) -> bool:
+    """``r`` is a fraction with denominator ``2^a 5^b >= 10`` (``1/2`` and ``3/4`` stay fractions)."""
+    q = int(r.q)
+    if q < 10:
+        return False
+    for prime in (2, 5):
+        while q % prime == 0:
+            q //= prime
+    return q == 1
+
+
+def _decimal(r) -> sp.Float:
+    """The float that prints as the exact decimal of ``r`` (one guard digit; print with ``full_prec=False``)."""
+    with localcontext() as ctx:
+        ctx.prec = 200
+        text = format(Decimal(int(r.p)) / Decimal(int(r.q)), "f")
+    return sp.Float(text, len(text.lstrip("-0.").replace(".", "")) + 1)
+
+
+def decimal_form(expr):
+    """``expr`` printing lengths given as decimals as decimals: ``c1 (0.425 c2 + 0.39225 c23)``.
+
+    A DH file's ``0.425`` is read as the exact ``17/40``; :func:`sympy.factor_terms`
+    then pulls ``1/20000`` out of a whole sum.  Here such a factor goes back inside
+    its sum and every fraction whose denominator is ``2^a 5^b >= 10`` becomes a
+    float that prints as its exact decimal (``sstr(..., full_prec=False)``, or
+    LaTeX): the result is for printing only.
+
+    Examples
+    --------
+    >>> c2, c23 = sp.symbols("c2 c23")
+    >>> sp.sstr(decimal_form(-(1700*c2 + 1569*c23)/4000), full_prec=False)
+    '-0.425*c2 - 0.39225*c23'
+    >>> sp.sstr(decimal_form(c2/2 + sp.Rational(89459, 1000000)), full_prec=False)
+    'c2/2 + 0.089459'
+    """
+    if isinstance(expr, sp.MatrixBase):
+        return expr.applyfunc(decimal_form)
+    if not isinstance(expr, sp.Basic) or expr.is_Atom:
+        return _decimal(expr) if isinstance(expr, sp.Rational) and _is_decimal(expr) else expr
+    if expr.is_Mul:
+        coeff, rest = expr.as_coeff_Mul()
+        factors = sp.Mul.make_args(rest)
+        sums = [f for f in factors if f.is_Add]
+        if isinstance(coeff, sp.Rational) and _is_decimal(coeff) and len(sums) == 1:
+            inner = sp.Add(*(coeff * t for t in sums[0].args))
+            others = [decimal_form(f) for f in factors if f is not sums[0]]
+            return sp.Mul(*others, decimal_form(inner))
+        if isinstance(coeff, sp.Rational) and _is_decimal(coeff):
+            return sp.Mul(_decimal(coeff), *(decimal_form(f) for f in factors))
+    return expr.func(*(decimal_form(a) for a in expr.args))
+
+
 def shorthand_str(expr, variables) -> str:
-    """Textbook string with the ``c_i`` / ``s_ij`` shorthand."""
-    return sp.sstr(shorthand(expr, variables))
+    """Textbook string with the ``c_i`` / ``s_ij`` shorthand and decimal lengths as decimals."""
+    return sp.sstr(decimal_form(shorthand(expr, variables)), full_prec=False)
 
 
 def shorthand_latex(expr, variables, *, short: bool = True) -> str:
-    """LaTeX of an expression or matrix, with the shorthand when ``short``."""
+    """LaTeX of an expression or matrix, with the shorthand when ``short``, decimal lengths as decimals."""
     expr = as_sympy(expr)
     if short:
         expr = shorthand(expr, variables, latex=True)
-    return sp.latex(expr)
+    return sp.latex(decimal_form(expr))
