@@ -522,10 +522,10 @@ def shorthand(expr, variables, *, latex: bool = False) -> sp.Expr:
     return expr.xreplace(subs)
 
 
-def _is_decimal(r) -> bool:
-    """``r`` is a fraction with denominator ``2^a 5^b >= 10`` (``1/2`` and ``3/4`` stay fractions)."""
+def _is_decimal(r, smallest: int = 10) -> bool:
+    """``r`` is a fraction whose denominator is ``2^a 5^b >= smallest`` (a terminating decimal)."""
     q = int(r.q)
-    if q < 10:
+    if q < max(smallest, 2):
         return False
     for prime in (2, 5):
         while q % prime == 0:
@@ -545,34 +545,44 @@ def decimal_form(expr):
     """``expr`` printing lengths given as decimals as decimals: ``c1 (0.425 c2 + 0.39225 c23)``.
 
     A DH file's ``0.425`` is read as the exact ``17/40``; :func:`sympy.factor_terms`
-    then pulls ``1/20000`` out of a whole sum.  Here such a factor goes back inside
-    its sum and every fraction whose denominator is ``2^a 5^b >= 10`` becomes a
-    float that prints as its exact decimal (``sstr(..., full_prec=False)``, or
-    LaTeX): the result is for printing only.
+    then pulls ``1/20000`` out of a whole sum.  When ``expr`` (a whole matrix
+    counts as one) holds a fraction with a denominator ``2^a 5^b >= 10``, such
+    factors go back inside their sums and every terminating fraction, ``2/5``
+    included, becomes a float that prints as its exact decimal
+    (``sstr(..., full_prec=False)``, or LaTeX); otherwise ``expr`` is returned
+    as it is (``a2/2`` stays).  The result is for printing only.
 
     Examples
     --------
-    >>> c2, c23 = sp.symbols("c2 c23")
+    >>> c1, c2, c23 = sp.symbols("c1 c2 c23")
     >>> sp.sstr(decimal_form(-(1700*c2 + 1569*c23)/4000), full_prec=False)
     '-0.425*c2 - 0.39225*c23'
-    >>> sp.sstr(decimal_form(c2/2 + sp.Rational(89459, 1000000)), full_prec=False)
-    'c2/2 + 0.089459'
+    >>> sp.sstr(decimal_form(2*c1/5 + 3*c2/10), full_prec=False)
+    '0.4*c1 + 0.3*c2'
+    >>> decimal_form(c2/2 + c1/4)
+    c1/4 + c2/2
     """
+    rationals = expr.atoms(sp.Rational) if isinstance(expr, sp.Basic | sp.MatrixBase) else set()
+    if not any(_is_decimal(r) for r in rationals):
+        return expr
+    return _spread_decimals(expr)
+
+
+def _spread_decimals(expr):
     if isinstance(expr, sp.MatrixBase):
-        return expr.applyfunc(decimal_form)
+        return expr.applyfunc(_spread_decimals)
     if not isinstance(expr, sp.Basic) or expr.is_Atom:
-        return _decimal(expr) if isinstance(expr, sp.Rational) and _is_decimal(expr) else expr
+        return _decimal(expr) if isinstance(expr, sp.Rational) and _is_decimal(expr, 2) else expr
     if expr.is_Mul:
         coeff, rest = expr.as_coeff_Mul()
-        factors = sp.Mul.make_args(rest)
-        sums = [f for f in factors if f.is_Add]
-        if isinstance(coeff, sp.Rational) and _is_decimal(coeff) and len(sums) == 1:
-            inner = sp.Add(*(coeff * t for t in sums[0].args))
-            others = [decimal_form(f) for f in factors if f is not sums[0]]
-            return sp.Mul(*others, decimal_form(inner))
-        if isinstance(coeff, sp.Rational) and _is_decimal(coeff):
-            return sp.Mul(_decimal(coeff), *(decimal_form(f) for f in factors))
-    return expr.func(*(decimal_form(a) for a in expr.args))
+        if isinstance(coeff, sp.Rational) and _is_decimal(coeff, 2):
+            factors = sp.Mul.make_args(rest)
+            sums = [f for f in factors if f.is_Add]
+            if len(sums) == 1:
+                inner = sp.Add(*(coeff * t for t in sums[0].args))
+                return sp.Mul(*(_spread_decimals(f) for f in factors if f is not sums[0]), _spread_decimals(inner))
+            return sp.Mul(_decimal(coeff), *(_spread_decimals(f) for f in factors))
+    return expr.func(*(_spread_decimals(a) for a in expr.args))
 
 
 def shorthand_str(expr, variables) -> str:

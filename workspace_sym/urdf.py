@@ -98,7 +98,7 @@ def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None
     >>> robot.joints[0]
     DHJoint(R: theta=theta1, d=0, a=2/5, alpha=0, limits=[-5*pi/6, 5*pi/6])
     >>> robot.to_str(robot.position[0])
-    '2*c1/5 + 3*c12/10'
+    '0.4*c1 + 0.3*c12'
     """
     path = Path(path)
     model = _load(path)
