@@ -54,10 +54,10 @@ from . import arith
 from .paving import Box, Paving, RunBudget, box_measure, expand, initial_boxes
 from .store import KINDS, BoxStore, ExactSum, parse_memory
 
-__all__ = ["Step", "StoredPaving", "connect", "map_codes", "run_paving", "MissingExtraError"]
+__all__ = ["Step", "StoredPaving", "connect", "map_codes", "run_paving", "tune_malloc", "MissingExtraError"]
 
 _EXTRA = "pip install 'workspace_sym[distributed]'"
-_BYTES_PER_BOX = 16 * 1024       # working memory of one box while it is decided (Orthoglide certificate: ~12 KB)
+_BYTES_PER_BOX = 16 * 1024       # working memory of a box being decided (Orthoglide certificate: 2.7 KB measured)
 _MIN_CHUNK = 1024                # below this a chunk costs more in overhead than in work
 _CHECKPOINT_EVERY = 60.0         # seconds between checkpoints of a streamed run
 
@@ -96,15 +96,17 @@ def _call(fn, boxes):
 
 
 @cache
-def _tune_malloc() -> bool:
-    """Let glibc keep freed memory for reuse in a worker process (True when it could be asked).
+def tune_malloc() -> bool:
+    """Let glibc keep freed memory for reuse in this process (True when it could be asked); done in workers.
 
     Dask's nanny starts workers with ``MALLOC_TRIM_THRESHOLD_=65536``, which
     also fixes glibc's mmap threshold at 128 KiB: every temporary array of a
     chunk is then mapped, zero-filled and unmapped, and the Orthoglide's
     certificate ran 3 to 8 times slower in a worker than here (BENCHMARKS.md).
     Arrays up to 32 MiB are served from the heap again, and only more than
-    128 MiB free at its top is returned to the system.
+    128 MiB free at its top is returned to the system.  The local threads
+    gain as much (BENCHMARKS.md); calling it here is left to the user, since
+    it changes the whole process's allocator.
     """
     name = ctypes.util.find_library("c")
     libc = ctypes.CDLL(name) if name else None
@@ -117,7 +119,7 @@ def _tune_malloc() -> bool:
 
 def _call_in_worker(fn, boxes):
     """The entry point in another process: its allocator tuned once, then as :func:`_call`."""
-    _tune_malloc()
+    tune_malloc()
     return _call(fn, boxes)
 
 

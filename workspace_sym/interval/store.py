@@ -124,8 +124,8 @@ def parse_memory(value, name: str = "max_memory") -> int:
 
     Examples
     --------
-    >>> parse_memory("2GB"), parse_memory("1.5 GiB"), parse_memory(4096)
-    (2000000000, 1610612736, 4096)
+    >>> parse_memory("2GB"), parse_memory("1.5 GiB"), parse_memory(2**22)
+    (2000000000, 1610612736, 4194304)
     """
     if isinstance(value, (int, float)) and not isinstance(value, bool):
         number, unit = float(value), ""
