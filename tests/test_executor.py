@@ -142,16 +142,23 @@ def test_the_decider_pickles_as_its_constraints(rpr2):
 
 # ------------------------------------------------------------------ faults
 class KillOnce:
-    """A decider that kills the worker process running it, the first time only (a flag file remembers)."""
+    """A decider that kills the worker process running it, the first time only.
+
+    "First" is decided by the file system, which outlives the worker: the
+    flag file is created atomically (``O_EXCL``), so of two workers starting
+    their first chunks at the same moment exactly one dies, and a worker
+    restarted by its nanny finds the flag.
+    """
 
     def __init__(self, decide, flag):
         self.decide, self.flag = decide, flag
 
     def __call__(self, boxes):
-        if not os.path.exists(self.flag):
-            open(self.flag, "w").close()
-            os._exit(1)                                   # the worker dies in the middle of a chunk
-        return self.decide(boxes)
+        try:
+            os.close(os.open(self.flag, os.O_CREAT | os.O_EXCL | os.O_WRONLY))
+        except FileExistsError:
+            return self.decide(boxes)
+        os._exit(1)                                       # the worker dies in the middle of a chunk
 
 
 def test_a_killed_worker_does_not_change_the_result(client, rpr2, tmp_path):

@@ -10,12 +10,14 @@ same boxes; with the measures summed exactly
 (:class:`~workspace_sym.interval.store.ExactSum`) it reports the same
 counts and measures to the last bit.
 
-What crosses the network: the step once per worker (``client.scatter(...,
-broadcast=True)``; a constraint decider pickles as its SymPy constraints and
-is compiled once on each worker, see ``_Decider.__reduce__``), then per
+What crosses the network: the step once to the scheduler, as a task that
+returns it, and from there to each worker that runs a chunk (a constraint
+decider pickles as its SymPy constraints and is compiled once on each
+worker, see ``_Decider.__reduce__``; if every worker holding it dies, the
+task runs again), then per
 chunk its boxes (``48 N`` bytes for ``N`` boxes in 3D) one way and the
 decided boxes and children the other way.  A ``concurrent.futures``
-executor has no scatter: the step goes with every chunk, still as its SymPy
+executor has no such task: the step goes with every chunk, still as its SymPy
 recipe, compiled once per process by the same cache.
 
 The driver (:func:`run_paving`) keeps the undecided boxes as a stack of
@@ -123,6 +125,10 @@ def _call_in_worker(fn, boxes):
     return _call(fn, boxes)
 
 
+def _itself(value):
+    return value
+
+
 def _is_dask_client(executor) -> bool:
     return type(executor).__name__ == "Client" and type(executor).__module__.startswith("distributed")
 
@@ -159,14 +165,17 @@ class _Futures(_Runner):
 
 
 class _Dask(_Runner):
-    """A ``dask.distributed.Client``: the step is scattered to every worker once, chunks are submitted."""
+    """A ``dask.distributed.Client``: the step is one task whose result every chunk depends on."""
 
     def __init__(self, client, fn):
         self.distributed = _distributed()
         self.client = client
         workers = client.scheduler_info().get("workers", {})
         self.slots = 2 * max(1, sum(w.get("nthreads", 1) for w in workers.values()))
-        self.fn = client.scatter(fn, broadcast=True, hash=False)
+        # A task that returns the step, not a scatter: scattered data has no recipe, so when the workers
+        # holding it die (and Dask's memory manager keeps only one replica once no chunk waits for it) it
+        # is lost for good and every later chunk fails; a task's result is computed again instead.
+        self.fn = client.submit(_itself, fn, pure=False)
 
     def submit(self, boxes):
         return self.client.submit(_call_in_worker, self.fn, boxes, pure=False)
