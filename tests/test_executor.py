@@ -123,6 +123,27 @@ def test_cube_certificates_on_dask_give_the_same_verdicts(client):
     assert local == cube.no_enclosed_cube(0.4, min_width=0.05, executor=client)
 
 
+def test_reach_of_the_2r_arm_on_dask_equals_local(client):
+    """The serial-arm workspace, each generation cut into chunks of a few hundred pairs on two workers."""
+    from workspace_sym.serial_workspace import reach
+
+    arm = robots.build("planar-2r")
+    local = reach(arm, delta=0.2)
+    spread = reach(arm, delta=0.2, executor=client, chunk_pairs=300)
+    assert_same(local, spread)
+    assert local.counts["inner"] > 0 and local.counts["outer"] > 0
+
+
+def test_cli_reach_on_a_scheduler_equals_local(client, capsys):
+    argv = ["reach", "planar-2r", "--delta", "0.3", "--json"]
+    assert main(argv) == 0
+    local = json.loads(capsys.readouterr().out)
+    assert main([*argv, "--scheduler", client.scheduler.address]) == 0
+    spread = json.loads(capsys.readouterr().out)
+    for kind in ("inner", "boundary", "outer"):
+        assert local[kind] == spread[kind]
+
+
 def test_process_pool_equals_local(rpr2):
     with ProcessPoolExecutor(2) as pool:
         spread = pave(*rpr2, delta=0.08, executor=pool)

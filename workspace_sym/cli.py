@@ -247,8 +247,9 @@ def cmd_reach(args) -> int:
     from .serial_workspace import ReachModel, reach
 
     robot = _robot_from_args(args)
-    paving = reach(robot, delta=args.delta, size=args.size, max_boxes=args.max_boxes, time_limit=args.time_limit,
-                   progress=args.progress, inner_depth=args.inner_depth)
+    with _distributed(args, ()) as spread:
+        paving = reach(robot, delta=args.delta, size=args.size, max_boxes=args.max_boxes, time_limit=args.time_limit,
+                       progress=args.progress, inner_depth=args.inner_depth, **spread)
     if args.plot:
         from .plotting import plot_paving, save_figure
 
@@ -534,7 +535,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_pave)
 
     p = sub.add_parser("reach", help="certified position workspace of a serial robot (reachable / unreachable boxes)",
-                       parents=[dh_robot, resolution, budget, progress, json_])
+                       parents=[dh_robot, resolution, budget, progress, json_, scheduler])
     p.add_argument("--inner-depth", type=int, default=2,
                    help="halvings of a last-level box when proving it reachable piece by piece (default 2)")
     p.add_argument("--plot", metavar="FILE", help="draw the boxes to an image file")
