@@ -194,6 +194,33 @@ def test_a_killed_worker_does_not_change_the_result(client, rpr2, tmp_path):
     assert_same(local, spread)
 
 
+def test_the_step_outlives_every_worker_that_held_it(client, rpr2):
+    """Dask's memory manager keeps one replica of data no task waits for; when the workers holding the step
+    die, the next chunk still runs (a scattered step would be lost: 'lost dependencies')."""
+    import time
+
+    from workspace_sym.interval.executor import _Dask
+    from workspace_sym.interval.paving import initial_boxes
+
+    cons, box = _setup(*rpr2, None)
+    decide = _decider(cons, box.variables, "numpy", 30)
+    boxes = initial_boxes(box, 0.08, "diameter", 64)
+    runner = _Dask(client, decide)
+    try:
+        assert np.array_equal(runner.submit(boxes).result(timeout=300), decide(boxes))
+        holders = set(client.who_has([runner.fn])[runner.fn.key])
+        kills = [client.submit(os._exit, 1, workers=[w], allow_other_workers=False, pure=False) for w in holders]
+        deadline = time.monotonic() + 300
+        while holders & set(client.scheduler_info()["workers"]):
+            assert time.monotonic() < deadline, "the workers holding the step did not die"
+            time.sleep(0.2)
+        client.cancel(kills)
+        assert np.array_equal(runner.submit(boxes).result(timeout=300), decide(boxes))
+    finally:
+        runner.close()
+        client.wait_for_workers(2, timeout=300)           # the nannies restart them for the next tests
+
+
 class InterruptOnce:
     """A decider that raises KeyboardInterrupt (Ctrl-C) on its third call."""
 
