@@ -12,6 +12,7 @@ import json
 import os
 import sys
 import time
+from contextlib import contextmanager
 from pathlib import Path
 
 import sympy as sp
@@ -255,15 +256,37 @@ def cmd_pave(args) -> int:
             raise WorkspaceError("pave: name a catalog robot (e.g. rpr2) or give --var NAME=LOW:HIGH and --constraint")
         box = dict(_parse_var(v) for v in args.var)
         constraints, exact = args.constraint, None
-    paving = pave(constraints, box, delta=args.delta, backend=args.backend, size=args.size,
-                  max_boxes=args.max_boxes, time_limit=args.time_limit, progress=args.progress, digits=args.digits,
-                  exact_measure=exact, contract=args.contract)
+    _check_plot_in_memory(args)
+    with _distributed(args) as spread:
+        paving = pave(constraints, box, delta=args.delta, backend=args.backend, size=args.size,
+                      max_boxes=args.max_boxes, time_limit=args.time_limit, progress=args.progress,
+                      digits=args.digits, exact_measure=exact, contract=args.contract, **spread)
     if args.plot:
         from .plotting import plot_paving, save_figure
 
         _wrote(save_figure(plot_paving(paving), args.plot))
     _show_paving(paving, args.json)
     return 0
+
+
+@contextmanager
+def _distributed(args, options=("max_memory", "store", "resume")):
+    """Keyword arguments for --scheduler, --max-memory, --store and --resume (a local Dask cluster lives
+    as long as the block)."""
+    spread = {k: getattr(args, k) for k in options if getattr(args, k, None) is not None}
+    if args.scheduler is None:
+        yield spread
+        return
+    from .interval.executor import connect
+
+    with connect(args.scheduler) as client:
+        yield {**spread, "executor": client}
+
+
+def _check_plot_in_memory(args) -> None:
+    if (getattr(args, "plot", None) or getattr(args, "slices", None)) and (args.max_memory or args.store):
+        raise WorkspaceError("--plot and --slices draw boxes held in memory; they cannot be combined with "
+                             "--max-memory or --store (the boxes are on disk: load them in Python)")
 
 
 def _show_paving(paving, as_json: bool, extra: dict | None = None) -> None:
@@ -289,8 +312,9 @@ def cmd_reach(args) -> int:
     from .serial_workspace import ReachModel, reach
 
     robot = _robot_from_args(args)
-    paving = reach(robot, delta=args.delta, size=args.size, max_boxes=args.max_boxes, time_limit=args.time_limit,
-                   progress=args.progress, inner_depth=args.inner_depth)
+    with _distributed(args, ()) as spread:
+        paving = reach(robot, delta=args.delta, size=args.size, max_boxes=args.max_boxes, time_limit=args.time_limit,
+                       progress=args.progress, inner_depth=args.inner_depth, **spread)
     if args.plot:
         from .plotting import plot_paving, save_figure
 
@@ -322,8 +346,10 @@ def cmd_dextrous(args) -> int:
     model = robots.build(args.robot)
     if not isinstance(model, Orthoglide):
         raise WorkspaceError(f"robot {args.robot!r}: the dextrous workspace is implemented for the orthoglide")
-    result = model.dextrous(eps=args.eps, sigma=_parse_sigma(args.sigma), progress=args.progress,
-                            time_limit=args.time_limit)
+    _check_plot_in_memory(args)
+    with _distributed(args) as spread:
+        result = model.dextrous(eps=args.eps, sigma=_parse_sigma(args.sigma), progress=args.progress,
+                                time_limit=args.time_limit, **spread)
     if args.plot or args.slices:
         from .plotting import plot_paving, plot_paving_slices, save_figure
 
@@ -353,7 +379,9 @@ def cmd_cube(args) -> int:
     model = robots.build(args.robot)
     if not isinstance(model, Orthoglide):
         raise WorkspaceError(f"robot {args.robot!r}: the largest cube is implemented for the orthoglide")
-    result = model.largest_cube(alpha=args.alpha, sigma=_parse_sigma(args.sigma), progress=args.progress)
+    with _distributed(args, ()) as spread:
+        result = model.largest_cube(alpha=args.alpha, sigma=_parse_sigma(args.sigma), progress=args.progress,
+                                    **spread)
     if args.json:
         _emit_json(result.to_dict())
     else:
@@ -554,6 +582,14 @@ _KEEP_FLOATS = (("--keep-floats",), {"action": "store_true",
                                      "help": "keep float inputs as floats; chop entries below --snap-tol instead"})
 _SIGMA = (("--sigma",), {"default": "0.25:4", "help": "range of the eigenvalues of J J^T, MIN:MAX (default 0.25:4)"})
 _DELTA = (("--delta",), {"type": float, "required": True, "help": "size below which undecided boxes stop splitting"})
+_SCHEDULER = (("--scheduler",), {"metavar": "ADDRESS", "help": "decide the boxes on a Dask cluster: tcp://host:8786 "
+                                 "(a running scheduler) or local:N (N local worker processes, started and stopped "
+                                 "here); needs workspace_sym[distributed]"})
+_MAX_MEMORY = (("--max-memory",), {"metavar": "SIZE", "help": "bound the memory (e.g. 2GB): decided boxes are "
+                                   "streamed to disk (--store) and the frontier is processed depth-first"})
+_STORE = (("--store",), {"metavar": "DIR", "help": "directory for the decided boxes (.npy parts; named in the JSON)"})
+_RESUME = (("--resume",), {"metavar": "FILE", "help": "checkpoint: go on from FILE if it exists; written when the run "
+                           "ends or stops (time limit, Ctrl-C), every minute with --max-memory"})
 _SIZE = (("--size",), {"choices": ("diameter", "width"), "default": "diameter",
                        "help": "box size compared with delta: diameter (default, as in the paper) or largest edge"})
 
@@ -578,6 +614,7 @@ def build_parser() -> argparse.ArgumentParser:
     json_, progress, budget = _parent(_JSON), _parent(_PROGRESS), _parent(_MAX_BOXES, _TIME_LIMIT)
     dh_robot = _parent(_ROBOT, _DH, _URDF, _BASE, _TIP, _SNAP_TOL, _KEEP_FLOATS)
     sigma, resolution = _parent(_SIGMA), _parent(_DELTA, _SIZE)
+    spread, scheduler = _parent(_SCHEDULER, _MAX_MEMORY, _STORE, _RESUME), _parent(_SCHEDULER)
 
     p = sub.add_parser("robots", help="list the catalog", parents=[json_])
     p.set_defaults(func=cmd_robots)
@@ -600,7 +637,7 @@ def build_parser() -> argparse.ArgumentParser:
         p.set_defaults(func=func)
 
     p = sub.add_parser("pave", help="certified non-uniform covering of a constraint set",
-                       parents=[resolution, budget, progress, json_])
+                       parents=[resolution, budget, progress, json_, spread])
     p.add_argument("robot", nargs="?", help="catalog model described by constraints (e.g. rpr2)")
     p.add_argument("--l0", type=float, help="rpr2: distance between the base joints")
     p.add_argument("--lmin", type=float, help="rpr2: shortest leg")
@@ -617,13 +654,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_pave)
 
     p = sub.add_parser("reach", help="certified position workspace of a serial robot (reachable / unreachable boxes)",
-                       parents=[dh_robot, resolution, budget, progress, json_])
+                       parents=[dh_robot, resolution, budget, progress, json_, scheduler])
     p.add_argument("--inner-depth", type=int, default=2,
                    help="halvings of a last-level box when proving it reachable piece by piece (default 2)")
     p.add_argument("--plot", metavar="FILE", help="draw the boxes to an image file")
     p.set_defaults(func=cmd_reach)
 
-    p = sub.add_parser("dextrous", help="certified dextrous workspace (Orthoglide)", parents=[sigma, progress, json_])
+    p = sub.add_parser("dextrous", help="certified dextrous workspace (Orthoglide)",
+                       parents=[sigma, progress, json_, spread])
     p.add_argument("robot", help="catalog model (orthoglide)")
     p.add_argument("--eps", type=float, default=0.05, help="boxes narrower than this stay undecided")
     p.add_argument("--time-limit", type=float, help="stop after this many seconds (the rest counts in E)")
@@ -632,7 +670,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_dextrous)
 
     p = sub.add_parser("cube", help="largest cube in the dextrous workspace (Orthoglide), certified both ways",
-                       parents=[sigma, progress, json_])
+                       parents=[sigma, progress, json_, scheduler])
     p.add_argument("robot", help="catalog model (orthoglide)")
     p.add_argument("--alpha", type=float, default=0.001, help="accuracy on the half-edge (paper: 0.001)")
     p.set_defaults(func=cmd_cube)
@@ -684,6 +722,7 @@ _FLAGS = {
     "l0": "--l0", "lmin": "--lmin", "lmax": "--lmax",
     "eps": "--eps", "sigma": "--sigma", "alpha": "--alpha",
     "seed": "--seed", "count": "--count", "max_joints": "--max-joints",
+    "scheduler": "--scheduler", "max_memory": "--max-memory", "store": "--store", "resume": "--resume",
 }
 
 

@@ -42,6 +42,9 @@ rigorous.
 from __future__ import annotations
 
 import itertools
+import math
+from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 import sympy as sp
@@ -49,6 +52,7 @@ import sympy as sp
 from .errors import InvalidParameterError, JointLimitError
 from .interval import arith
 from .interval.compiler import compile_expr
+from .interval.executor import _MIN_CHUNK, _runner
 from .interval.paving import Box, Paving, RunBudget, box_measure, box_sizes, check_delta
 from .interval.search import split_every_axis
 from .kinematics import DHRobot
@@ -56,6 +60,7 @@ from .kinematics import DHRobot
 __all__ = ["reach", "ReachModel"]
 
 _TASK = (sp.Symbol("x"), sp.Symbol("y"), sp.Symbol("z"))
+_MIN_PAIRS = 64                  # pairs a task box may always hold, however small its share of the root box
 
 
 class ReachModel:
@@ -247,14 +252,22 @@ def _halves(boxes: np.ndarray):
     return children, ok
 
 
-def _distribute(model, T, Q, owner, *, rounds: int = 4, max_pairs: int = 200_000, ratio: float = 1.0):
-    """Keep the (joint box, task box) pairs whose position enclosure meets the task box, refining wide ones."""
+def _distribute(model, T, Q, owner, cap, *, rounds: int = 4, ratio: float = 1.0):
+    """Keep the (joint box, task box) pairs whose position enclosure meets the task box, refining wide ones.
+
+    Task box ``i`` refines its wide joint boxes in a round only if it then
+    holds at most ``cap[i]`` pairs.  What happens to a task box depends on it
+    and its own pairs only (kept in their order), so any cut of the task
+    boxes into chunks gives the same pairs.
+    """
     for _ in range(rounds):
         E = model.enclose(Q)
         keep = _meets(E, T[owner])
         Q, owner, E = Q[keep], owner[keep], E[keep]
         wide = np.max(E[:, :, 1] - E[:, :, 0], axis=1) > ratio * np.max(T[owner, :, 1] - T[owner, :, 0], axis=1)
-        if not wide.any() or len(Q) + wide.sum() > max_pairs:
+        after = np.bincount(owner, minlength=len(T)) + np.bincount(owner[wide], minlength=len(T))
+        wide &= (after <= cap)[owner]
+        if not wide.any():
             break
         children, ok = _halves(Q[wide])
         children = children.reshape(-1, 2, *Q.shape[1:])[ok].reshape(-1, *Q.shape[1:])
@@ -284,10 +297,81 @@ def _prove_in_pieces(model, T, seeds, depth):
     return proved
 
 
+@lru_cache(maxsize=16)
+def _model(robot: DHRobot, parameters: tuple) -> ReachModel:
+    """The reach model of a robot (cached: a worker compiles it once for all its chunks)."""
+    return ReachModel(robot, dict(parameters) or None)
+
+
+def _volumes(T: np.ndarray) -> np.ndarray:
+    return np.prod(T[:, :, 1] - T[:, :, 0], axis=1)
+
+
+@dataclass(frozen=True)
+class _ReachStep:
+    """One generation of :func:`reach` on a chunk of task boxes with their pairs (picklable: the robot travels
+    to the workers, the model is compiled there once).
+
+    Called with ``(T, Q, owner)``, it returns the inner, boundary and outer
+    task boxes, the children of the split ones and their pairs ``(Q, owner)``.
+    Each task box is treated on its own (:func:`_distribute`), so chunks give
+    together exactly what one call on all the boxes gives.
+    """
+
+    robot: DHRobot
+    parameters: tuple
+    delta: float
+    size: str
+    inner_depth: int
+    max_pairs: int
+    root_measure: float
+
+    def __call__(self, part):
+        T, Q, owner = part
+        model = _model(self.robot, self.parameters)
+        # A task box may hold pairs in proportion to its share of the root box, and at least _MIN_PAIRS.
+        cap = np.maximum(_MIN_PAIRS, np.floor(self.max_pairs * (_volumes(T) / self.root_measure)))
+        Q, owner = _distribute(model, T, Q, owner, cap)
+        count = np.bincount(owner, minlength=len(T))
+        is_out = count == 0
+        # One seed per task box: the centre of its first joint box.
+        live, first = np.unique(owner, return_index=True)
+        is_in = np.zeros(len(T), dtype=bool)
+        if len(live):
+            seeds = Q[first].mean(axis=2)
+            # A box that would become a boundary box is also tried in pieces (every piece proved).
+            last = box_sizes(T[live], self.size) <= self.delta
+            is_in[live] = _prove_in_pieces(model, T[live], seeds, np.where(last, self.inner_depth, 0))
+        und = ~is_out & ~is_in
+        small = und & (box_sizes(T, self.size) <= self.delta)
+        split = und & ~small
+        # Children of every split box, and the pairs of each child (both halves inherit the joint boxes).
+        children, ok = _halves(T[split])
+        boundary = np.concatenate([T[small], T[split][~ok]])     # too thin to split: delta below float resolution
+        split[np.nonzero(split)[0][~ok]] = False
+        children = children.reshape(-1, 2, *T.shape[1:])[ok].reshape(-1, *T.shape[1:])
+        new_index = np.full(len(T), -1)
+        new_index[split] = np.arange(split.sum())
+        pair = new_index[owner] >= 0
+        Q, base = Q[pair], new_index[owner[pair]]
+        return T[is_in], boundary, T[is_out], children, np.concatenate([Q, Q]), np.concatenate([2 * base, 2 * base + 1])
+
+
+def _parts(T, Q, owner, pieces: int):
+    """The task boxes cut into ``pieces`` runs of consecutive boxes, each with its own pairs in their order."""
+    order = np.argsort(owner, kind="stable")
+    Q, owner = Q[order], owner[order]
+    for rows in np.array_split(np.arange(len(T)), pieces):
+        if len(rows):
+            a, b = rows[0], rows[-1] + 1
+            lo, hi = np.searchsorted(owner, [a, b])
+            yield T[a:b], Q[lo:hi], owner[lo:hi] - a
+
+
 @arith.nearest_rounding
 def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: dict | None = None,
           max_boxes: int | None = None, time_limit: float | None = None, progress: bool | None = None,
-          max_pairs: int = 200_000, inner_depth: int = 2) -> Paving:
+          max_pairs: int = 200_000, inner_depth: int = 2, executor=None, chunk_pairs: int = 100_000) -> Paving:
     """Pave the position workspace of a serial robot within its joint limits (module docstring).
 
     Parameters
@@ -302,9 +386,17 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         interactive output once the run has lasted a second).
     inner_depth : a box about to become a boundary box is also proved inner
         piece by piece, halving it along every edge up to this many times.
-    max_pairs : cap on the (joint box, task box) pairs held at once; past it
-        joint boxes are no longer refined (the proofs stay sound, fewer boxes
-        are decided).
+    max_pairs : budget of (joint box, task box) pairs: a task box stops
+        refining its joint boxes once it would hold more than ``max_pairs``
+        times its share of the root box's measure (64 pairs at least).  Past
+        it the proofs stay sound, fewer boxes are decided.  The cap of a box
+        depends on that box alone, so a chunked run decides the same boxes.
+    executor : None (this process), a :class:`concurrent.futures.Executor`
+        or a ``dask.distributed.Client``
+        (:func:`workspace_sym.interval.executor.connect`): each generation of
+        task boxes is cut into chunks, each with its joint boxes, decided
+        there; the result has the same boxes, counts and measures.
+    chunk_pairs : about this many (joint box, task box) pairs per chunk.
 
     Returns
     -------
@@ -327,8 +419,12 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     if not isinstance(inner_depth, int) or isinstance(inner_depth, bool) or inner_depth < 0:
         raise InvalidParameterError(f"inner_depth must be a whole number of halvings, 0 or more; got {inner_depth!r}",
                                     parameter="inner_depth")
+    if not isinstance(chunk_pairs, int) or isinstance(chunk_pairs, bool) or chunk_pairs < 1:
+        raise InvalidParameterError(f"chunk_pairs must be a whole number of pairs, 1 or more; got {chunk_pairs!r}",
+                                    parameter="chunk_pairs")
     run = RunBudget(max_boxes=max_boxes, time_limit=time_limit, progress=progress, total=0.0, label="reach")
-    model = ReachModel(robot, parameters)
+    parameters = tuple(sorted((parameters or {}).items(), key=lambda item: str(item[0])))
+    model = _model(robot, parameters)
     Q = model.limits[None].copy()
     root = model.enclose(Q)[0]
     if not np.isfinite(root).all():
@@ -339,46 +435,36 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     inner, boundary, outer = [], [], []
     evaluated, reason = 0, ""
     run.total = box.measure
+    step = _ReachStep(robot, parameters, float(delta), size, inner_depth, int(max_pairs), float(_volumes(T)[0]))
+    spread = None if executor is None else _runner(executor, step)
     try:
         while len(T):
             reason = run.stop_reason(evaluated)
             if reason:
                 break
-            Q, owner = _distribute(model, T, Q, owner, max_pairs=max_pairs)
-            count = np.bincount(owner, minlength=len(T))
-            is_out = count == 0
-            # One seed per task box: the centre of its first joint box.
-            live, first = np.unique(owner, return_index=True)
-            is_in = np.zeros(len(T), dtype=bool)
-            if len(live):
-                seeds = Q[first].mean(axis=2)
-                # A box that would become a boundary box is also tried in pieces (every piece proved).
-                last = box_sizes(T[live], size) <= delta
-                is_in[live] = _prove_in_pieces(model, T[live], seeds, np.where(last, inner_depth, 0))
+            pieces = max(1, math.ceil(len(Q) / chunk_pairs))
+            if spread is None:
+                results = [step(part) for part in _parts(T, Q, owner, pieces)]
+            else:
+                pieces = max(pieces, min(spread.slots, math.ceil(len(T) / _MIN_CHUNK)))
+                results = [f.result() for f in [spread.submit(part) for part in _parts(T, Q, owner, pieces)]]
             evaluated += len(T)
-            outer.append(T[is_out])
-            inner.append(T[is_in])
-            und = ~is_out & ~is_in
-            small = und & (box_sizes(T, size) <= delta)
-            boundary.append(T[small])
-            split = und & ~small
-            # Children of every split box, and the pairs of each child (both halves inherit the joint boxes).
-            children, ok = _halves(T[split])
-            boundary.append(T[split][~ok])              # too thin to split (delta below float resolution)
-            split[np.nonzero(split)[0][~ok]] = False
-            children = children.reshape(-1, 2, *T.shape[1:])[ok].reshape(-1, *T.shape[1:])
-            new_index = np.full(len(T), -1)
-            new_index[split] = np.arange(split.sum())
-            pair = new_index[owner] >= 0
-            Q, base = Q[pair], new_index[owner[pair]]
-            Q = np.concatenate([Q, Q])
-            owner = np.concatenate([2 * base, 2 * base + 1])
-            T = children
+            children, pairs, owners = [], [], []
+            for i, b, o, c, q, w in results:
+                inner.append(i)
+                boundary.append(b)
+                outer.append(o)
+                owners.append(w + sum(map(len, children)))
+                children.append(c)
+                pairs.append(q)
+            T, Q, owner = np.concatenate(children), np.concatenate(pairs), np.concatenate(owners)
             if run.showing:
                 run.show(box.measure - box_measure(T), evaluated)
     except KeyboardInterrupt:
         reason = "interrupted"
     finally:
+        if spread is not None:
+            spread.close()
         run.close()
     m = len(model.task_variables)
     empty = np.empty((0, m, 2))

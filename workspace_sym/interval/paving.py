@@ -30,9 +30,10 @@ from . import arith
 from . import mp as mpi
 from .compiler import BACKENDS, best_form, compile_expr
 from .contractor import Program
+from .store import ExactSum, measures_of
 
 __all__ = ["Certificate", "Box", "Constraint", "parse_constraints", "certify_box", "pave", "subdivide", "threaded",
-           "bisect", "box_sizes", "check_delta", "check_digits", "RunBudget",
+           "bisect", "box_sizes", "check_delta", "check_digits", "expand", "RunBudget",
            "Paving", "hausdorff", "box_measure", "SIZES"]
 
 SIZES = ("diameter", "width")
@@ -252,6 +253,7 @@ class _Decider:
     def __init__(self, constraints, variables, backend, digits):
         check_choice("backend", backend, BACKENDS)
         self.constraints = constraints
+        self.variables = variables
         self.backend = backend
         self.digits = digits
         if backend == "mpmath":
@@ -264,6 +266,11 @@ class _Decider:
                 exprs.append(e)
             self.parts.append((exprs.index(e), sign, compile_expr(const, ())([]) if const else None))
         self.shared = [compile_expr(e, variables) for e in exprs]
+
+    def __reduce__(self):
+        # Another process rebuilds the decider from the SymPy constraints (compiled once there, then cached)
+        # rather than receiving the generated code.
+        return _decider, (self.constraints, self.variables, self.backend, self.digits)
 
     def __call__(self, boxes):
         if self.backend == "numpy":
@@ -315,6 +322,17 @@ def _program(constraints: tuple, variables: tuple) -> Program:
     return Program([best_form(c.g, variables) for c in constraints], variables)
 
 
+@dataclass(frozen=True)
+class _Separate:
+    """The contraction of a constraint set as a picklable callable: another process builds the program once."""
+
+    constraints: tuple
+    variables: tuple
+
+    def __call__(self, boxes):
+        return _program(self.constraints, self.variables).separate(boxes)
+
+
 @arith.nearest_rounding
 def certify_box(box, constraints, *, variables=None, backend: str = "numpy", digits: int = 30) -> Certificate:
     """IN if every constraint holds on the whole box, OUT if one fails on the whole box, else UNDECIDED.
@@ -335,10 +353,16 @@ def certify_box(box, constraints, *, variables=None, backend: str = "numpy", dig
 
 # ----------------------------------------------------------------------------- paving
 def box_measure(boxes: np.ndarray) -> float:
-    """Total measure (area, volume) of an ``(N, n, 2)`` array of boxes."""
+    """Total measure (area, volume) of an ``(N, n, 2)`` array of boxes.
+
+    The measures of the boxes (products of float edge widths) are summed
+    exactly and rounded once (:class:`~workspace_sym.interval.store.ExactSum`):
+    the total does not depend on the order of the boxes, so a distributed or
+    resumed run gives the same figure as a local one.
+    """
     if len(boxes) == 0:
         return 0.0
-    return float(np.sum(np.prod(boxes[:, :, 1] - boxes[:, :, 0], axis=1)))
+    return ExactSum.of(measures_of(np.asarray(boxes))).value
 
 
 MAX_3D_BOXES_SHOWN = 20_000     # a notebook draws a 3D paving up to this many boxes (matplotlib 3D is slow)
@@ -368,6 +392,11 @@ class Paving:
     stop_reason: str = ""
     exact_measure: object = field(default=None)
     contract: bool = False
+
+    @property
+    def counts(self) -> dict:
+        """Number of boxes of each class."""
+        return {k: len(getattr(self, k)) for k in ("inner", "boundary", "outer", "pending")}
 
     @property
     def measures(self) -> dict:
@@ -510,7 +539,8 @@ def bisect(boxes: np.ndarray):
 
 def pave(constraints, box, *, delta: float, variables=None, backend: str = "numpy", size: str = "diameter",
          max_boxes: int | None = None, time_limit: float | None = None, progress: bool | None = None,
-         digits: int = 30, chunk: int = 200_000, exact_measure=None, contract: bool = False) -> Paving:
+         digits: int = 30, chunk: int = 200_000, exact_measure=None, contract: bool = False,
+         executor=None, max_memory=None, store=None, resume=None) -> Paving:
     """Non-uniform covering of ``{x in box : every constraint}`` (METHODS.md section 2).
 
     Parameters
@@ -537,6 +567,12 @@ def pave(constraints, box, *, delta: float, variables=None, backend: str = "nump
         same forward evaluation that decides every box proves it.  Fewer,
         tighter boundary boxes at the same ``delta``; the boxes are no
         longer those of a plain bisection tree.
+    executor, max_memory, store, resume : run on other processes or
+        machines (a :class:`concurrent.futures.Executor` or a
+        ``dask.distributed.Client``), stream the decided boxes to disk, and
+        checkpoint the run to a file it can be resumed from
+        (:func:`~workspace_sym.interval.executor.run_paving`).  The verdicts,
+        box counts and measures are those of the local run.
 
     Returns
     -------
@@ -554,11 +590,12 @@ def pave(constraints, box, *, delta: float, variables=None, backend: str = "nump
     if contract and backend != "numpy":
         raise InvalidParameterError(f"contract=True needs the numpy backend; got backend={backend!r}")
     decide = _decider(cons, b.variables, backend, digits)
-    separate = _program(cons, b.variables).separate if contract else None
+    separate = _Separate(cons, b.variables) if contract else None
     return subdivide(decide, b, delta=delta, size=size, max_boxes=max_boxes, time_limit=time_limit,
                      progress=progress, chunk=chunk, constraints=cons, backend=backend,
                      exact_measure=exact_measure, separate=separate,
-                     presplit=0 if contract else 512)  # contraction changes the tree: start from the box
+                     presplit=0 if contract else 512,  # contraction changes the tree: start from the box
+                     executor=executor, max_memory=max_memory, store=store, resume=resume)
 
 
 def check_delta(delta, name="delta"):
@@ -598,11 +635,45 @@ def threaded(decide, workers: int | None = None, *, min_batch: int = 8192):
     return run
 
 
+def initial_boxes(box: Box, delta: float, size: str, presplit: int) -> np.ndarray:
+    """The box bisected, unevaluated, into about ``presplit`` boxes larger than ``delta`` (see :func:`subdivide`)."""
+    work = box.array[None, :, :].astype(float)
+    while len(work) < presplit and (box_sizes(work, size) > delta).all():
+        work, thin = bisect(work)
+        if len(thin):
+            return np.concatenate([work, thin])
+    return work
+
+
+def expand(batch: np.ndarray, decide, separate, delta: float, size: str):
+    """One step of the branch and bisect on a batch: ``(inner, boundary, outer, children)`` arrays.
+
+    Each box is decided on its own, so the union of the results does not
+    depend on how the boxes are batched: this is the unit of work that
+    :mod:`~workspace_sym.interval.executor` sends to other processes.
+    """
+    codes = decide(batch)
+    und = batch[codes == 0]
+    inner, outer = [batch[codes == 1]], [batch[codes == -1]]
+    if separate is not None:
+        cut = separate(und)
+        # The contraction proposes slices; each is declared only when the forward evaluation
+        # that decides every other box proves it too.  The rest stays undecided.
+        proved_in, proved_out = decide(cut.inner) == 1, decide(cut.outer) == -1
+        inner.append(cut.inner[proved_in])
+        outer.append(cut.outer[proved_out])
+        und = np.concatenate([cut.kept, cut.inner[~proved_in], cut.outer[~proved_out]])
+    small = box_sizes(und, size) <= delta
+    children, thin = bisect(und[~small])
+    return np.concatenate(inner), np.concatenate([und[small], thin]), np.concatenate(outer), children
+
+
 @arith.nearest_rounding
 def subdivide(decide, box: Box, *, delta: float, size: str = "diameter", max_boxes: int | None = None,
               time_limit: float | None = None, progress: bool | None = None, chunk: int = 200_000,
               constraints=(), backend: str = "numpy", exact_measure=None, label: str = "paving",
-              presplit: int = 512, separate=None) -> Paving:
+              presplit: int = 512, separate=None, executor=None, max_memory=None, store=None,
+              resume=None) -> Paving:
     """Branch and bisect with any box classifier: the loop behind :func:`pave`.
 
     ``decide(boxes)`` takes an ``(N, n, 2)`` array and returns codes: 1 for a
@@ -625,17 +696,24 @@ def subdivide(decide, box: Box, *, delta: float, size: str = "diameter", max_box
     ``decide`` does not confirm go on to the size test and the bisection.
     So every verdict of the paving comes from ``decide`` (on Rybak's robot
     it confirms 98 % to 100 % of the slices).
+
+    With ``executor``, ``max_memory``, ``store`` or ``resume`` the boxes are processed
+    by :func:`~workspace_sym.interval.executor.run_paving` (chunks on other
+    processes, decided boxes on disk, checkpoints): same boxes, in another
+    order.
     """
     check_delta(delta)
     check_choice("size", size, SIZES)
+    if executor is not None or max_memory is not None or store is not None or resume is not None:
+        from .executor import run_paving
+
+        return run_paving(decide, box, delta=delta, size=size, max_boxes=max_boxes, time_limit=time_limit,
+                          progress=progress, chunk=chunk, constraints=constraints, backend=backend,
+                          exact_measure=exact_measure, label=label, presplit=presplit, separate=separate,
+                          executor=executor, max_memory=max_memory, store=store, resume=resume)
     run = RunBudget(max_boxes=max_boxes, time_limit=time_limit, progress=progress, total=box.measure, label=label)
     inner, boundary, outer = [], [], []
-    work = box.array[None, :, :].astype(float)
-    while len(work) < presplit and (box_sizes(work, size) > delta).all():
-        work, thin = bisect(work)
-        if len(thin):
-            work = np.concatenate([work, thin])
-            break
+    work = initial_boxes(box, delta, size, presplit)
     evaluated, reason = 0, ""
     try:
         while len(work):
@@ -645,24 +723,13 @@ def subdivide(decide, box: Box, *, delta: float, size: str = "diameter", max_box
             take = len(work) if max_boxes is None else min(len(work), max_boxes - evaluated)
             take = min(take, chunk)
             batch = work[:take]
-            codes = decide(batch)  # an interrupt here or in separate leaves the batch in work: pending
-            und = batch[codes == 0]
-            if separate is not None:
-                cut = separate(und)
-                # The contraction proposes slices; each is declared only when the forward evaluation
-                # that decides every other box proves it too.  The rest stays undecided.
-                proved_in, proved_out = decide(cut.inner) == 1, decide(cut.outer) == -1
-                inner.append(cut.inner[proved_in])
-                outer.append(cut.outer[proved_out])
-                und = np.concatenate([cut.kept, cut.inner[~proved_in], cut.outer[~proved_out]])
+            # an interrupt in expand leaves the batch in work: pending
+            step_inner, step_boundary, step_outer, children = expand(batch, decide, separate, delta, size)
             work = work[take:]
             evaluated += len(batch)
-            inner.append(batch[codes == 1])
-            outer.append(batch[codes == -1])
-            small = box_sizes(und, size) <= delta
-            boundary.append(und[small])
-            children, thin = bisect(und[~small])
-            boundary.append(thin)
+            inner.append(step_inner)
+            outer.append(step_outer)
+            boundary.append(step_boundary)
             work = np.concatenate([work, children]) if len(work) else children
             if run.showing:                  # everything not in work is decided
                 run.show(box.measure - box_measure(work), evaluated)

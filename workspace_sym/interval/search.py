@@ -14,6 +14,7 @@ import numpy as np
 
 from ..errors import InvalidParameterError, check_choice
 from . import arith
+from .executor import map_codes
 
 __all__ = ["SPLITS", "prove_all", "bisect_along", "split_every_axis", "split_widest"]
 
@@ -49,7 +50,7 @@ def split_widest(boxes: np.ndarray) -> np.ndarray:
 
 
 @arith.nearest_rounding
-def prove_all(boxes, test, *, max_boxes: int, min_width: float = 0.0, split: str = "widest"):
+def prove_all(boxes, test, *, max_boxes: int, min_width: float = 0.0, split: str = "widest", executor=None):
     """Prove ``test`` on every box of ``boxes`` (an ``(N, n, 2)`` array), bisecting the undecided ones.
 
     ``test(boxes)`` returns one code a box: 1 proved, -1 proved false (the
@@ -64,6 +65,11 @@ def prove_all(boxes, test, *, max_boxes: int, min_width: float = 0.0, split: str
     undecided box is narrower than ``min_width`` on all its edges; ``used`` is
     the number of boxes evaluated.  Only the test proves anything: the search
     never turns an undecided box into a verdict.
+
+    ``executor`` (a ``concurrent.futures.Executor`` or a
+    ``dask.distributed.Client``) evaluates each generation in chunks
+    elsewhere (:func:`~workspace_sym.interval.executor.map_codes`); ``test``
+    must then pickle.  The search and its verdict are unchanged.
 
     Examples
     --------
@@ -90,7 +96,7 @@ def prove_all(boxes, test, *, max_boxes: int, min_width: float = 0.0, split: str
         if split == "given":
             codes, axis = test(work)
         else:
-            codes, axis = test(work), None
+            codes, axis = map_codes(test, work, executor), None
         codes = np.asarray(codes)
         if (codes == -1).any():
             return False, used

@@ -43,6 +43,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 
@@ -96,16 +97,22 @@ class DextrousResult:
 
     def to_dict(self) -> dict:
         p = self.paving
-        return {
+        data = {
             "volume_inner": self.volume_inner,
             "volume_undecided": self.volume_undecided,
-            "boxes": {"inner": len(p.inner), "undecided": len(p.boundary) + len(p.pending), "outer": len(p.outer)},
+            "boxes": {"inner": p.counts["inner"], "undecided": p.counts["boundary"] + p.counts["pending"],
+                      "outer": p.counts["outer"]},
             "eps": self.eps,
             "sigma": list(self.sigma),
             "complete": p.complete,
             "boxes_evaluated": p.evaluated,
             "seconds": p.seconds,
         }
+        stored = getattr(p, "files", None)         # boxes streamed to disk (max_memory=, store=)
+        if stored is not None:
+            data["store"] = p.store
+            data["files"] = {k: [str(f) for f in v] for k, v in stored.items()}
+        return data
 
 
 def box_module(boxes: np.ndarray, sigma=(0.25, 4.0)) -> np.ndarray:
@@ -196,7 +203,7 @@ def witnessed_module(boxes: np.ndarray, sigma) -> np.ndarray:
 
 
 def dextrous(variables, *, eps: float = 0.05, sigma=(0.25, 4.0), box=None, progress=None, time_limit=None,
-             max_boxes=None) -> DextrousResult:
+             max_boxes=None, executor=None, max_memory=None, store=None, resume=None) -> DextrousResult:
     """Certified dextrous workspace in ``[-1, 1]^3`` (paper section 4.2), ``variables`` naming x, y, z.
 
     Boxes are bisected while their largest edge exceeds ``eps``; smaller
@@ -205,14 +212,22 @@ def dextrous(variables, *, eps: float = 0.05, sigma=(0.25, 4.0), box=None, progr
     numerically non-dextrous point among their corners and centre, which
     no certificate could decide: they are bisected (or counted in E)
     straight away (:func:`witnessed_module`).
+
+    ``executor`` (a ``concurrent.futures.Executor`` or a
+    ``dask.distributed.Client``), ``max_memory``, ``store`` and ``resume``
+    spread the chunks, stream the boxes to disk and checkpoint the run
+    (:func:`~workspace_sym.interval.executor.run_paving`); the result is
+    the same.
     """
     if not isinstance(eps, (int, float)) or not math.isfinite(eps) or eps <= 0:
         raise InvalidParameterError(f"eps must be a positive number; got {eps!r}", parameter="eps")
     sigma = check_sigma(sigma)
     b = Box.from_bounds(box or {v: (-1, 1) for v in variables})
-    paving = subdivide(threaded(lambda boxes: witnessed_module(boxes, sigma)), b, delta=eps, size="width",
+    decide = partial(witnessed_module, sigma=sigma)          # picklable: it travels to other processes
+    local = executor is None and max_memory is None and store is None and resume is None
+    paving = subdivide(threaded(decide) if local else decide, b, delta=eps, size="width",
                        progress=progress, time_limit=time_limit, max_boxes=max_boxes, label="dextrous",
-                       chunk=50_000)
+                       chunk=50_000, executor=executor, max_memory=max_memory, store=store, resume=resume)
     return DextrousResult(paving, sigma, float(eps))
 
 

@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
+from functools import partial
 
 import numpy as np
 import sympy as sp
@@ -102,22 +103,23 @@ class CubeResult:
 
 
 def cube_inside(center, half: float, *, sigma=(0.25, 4.0), min_width: float = 1e-3,
-                max_boxes: int = 200_000):
+                max_boxes: int = 200_000, executor=None):
     """Prove that the cube of half-edge ``half`` at ``center`` lies in the dextrous workspace.
 
     Returns True (every sub-box proved inside), False (a sub-box proved
     outside) or None (undecided boxes narrower than ``min_width``, or the
-    budget ran out), and the number of boxes evaluated.
+    budget ran out), and the number of boxes evaluated.  ``executor``
+    spreads the evaluation (:func:`~workspace_sym.interval.search.prove_all`).
     """
     sigma = check_sigma(sigma)
     c = np.asarray(center, dtype=float)
     cube = np.stack([arith.down(c - half), arith.up(c + half)], axis=1)[None]     # holds the exact cube
-    return prove_all(cube, lambda boxes: box_module(boxes, sigma), max_boxes=max_boxes, min_width=min_width,
-                     split="every")
+    return prove_all(cube, partial(box_module, sigma=sigma), max_boxes=max_boxes, min_width=min_width,
+                     split="every", executor=executor)
 
 
 def no_enclosed_cube(half: float, *, sigma=(0.25, 4.0), grid: int = 5, min_width: float = 1e-4,
-                     max_boxes: int = 400_000):
+                     max_boxes: int = 400_000, executor=None):
     """Prove that no cube of half-edge ``half`` lies in the dextrous workspace, wherever its centre.
 
     Centres are boxed in ``[-1, 1]^3`` (the workspace lies in the three
@@ -132,25 +134,29 @@ def no_enclosed_cube(half: float, *, sigma=(0.25, 4.0), grid: int = 5, min_width
     corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
     shapes = (np.vstack([corners, np.zeros((1, 3))]), np.vstack([surface_points(grid), np.zeros((1, 3))]))
 
-    def test(centres):
-        """Code 1 for a box of centres where a point of the shrunk cube is proved outside, 0 otherwise."""
-        mid = 0.5 * (centres[:, :, 0] + centres[:, :, 1])
-        u = 0.5 * (centres[:, :, 1] - centres[:, :, 0]).max(axis=1)
-        shrunk = half - u
-        alive = np.ones(len(centres), dtype=bool)
-        for shape in shapes:                  # the corners and the centre first, then a grid on the faces
-            idx = np.flatnonzero(alive & (shrunk > 0))
-            if not len(idx):
-                break
-            pts = (mid[idx, None, :] + shrunk[idx, None, None] * shape[None, :, :]).reshape(-1, 3)
-            codes = box_module(np.stack([pts, pts], axis=2), sigma).reshape(len(idx), len(shape))
-            alive[idx] = ~(codes == -1).any(axis=1)
-        return np.where(alive, 0, 1)
-
-    return prove_all(np.array([[[-1.0, 1.0]] * 3]), test, max_boxes=max_boxes, min_width=min_width, split="every")
+    test = partial(_shrunk_cube_outside, half=half, shapes=shapes, sigma=sigma)     # picklable for executors
+    return prove_all(np.array([[[-1.0, 1.0]] * 3]), test, max_boxes=max_boxes, min_width=min_width, split="every",
+                     executor=executor)
 
 
-def largest_cube(model, *, alpha: float = 0.001, sigma=(0.25, 4.0), progress: bool | None = None) -> CubeResult:
+def _shrunk_cube_outside(centres, *, half, shapes, sigma):
+    """Code 1 for a box of centres where a point of the shrunk cube is proved outside, 0 otherwise."""
+    mid = 0.5 * (centres[:, :, 0] + centres[:, :, 1])
+    u = 0.5 * (centres[:, :, 1] - centres[:, :, 0]).max(axis=1)
+    shrunk = half - u
+    alive = np.ones(len(centres), dtype=bool)
+    for shape in shapes:                  # the corners and the centre first, then a grid on the faces
+        idx = np.flatnonzero(alive & (shrunk > 0))
+        if not len(idx):
+            break
+        pts = (mid[idx, None, :] + shrunk[idx, None, None] * shape[None, :, :]).reshape(-1, 3)
+        codes = box_module(np.stack([pts, pts], axis=2), sigma).reshape(len(idx), len(shape))
+        alive[idx] = ~(codes == -1).any(axis=1)
+    return np.where(alive, 0, 1)
+
+
+def largest_cube(model, *, alpha: float = 0.001, sigma=(0.25, 4.0), progress: bool | None = None,
+                 executor=None) -> CubeResult:
     """The largest cube enclosed in the dextrous workspace, to ``alpha`` on the half-edge (paper section 5).
 
     1. The centre is searched numerically on the diagonal ``x = y = z`` (the
@@ -163,6 +169,9 @@ def largest_cube(model, *, alpha: float = 0.001, sigma=(0.25, 4.0), progress: bo
     3. Certificates, which assume none of this: ``cube_inside`` proves the
        cube of half-edge ``R - alpha/2``, ``no_enclosed_cube`` proves that no
        cube of half-edge ``R + alpha/2`` fits anywhere.
+
+    ``executor`` spreads the certificates' box evaluations (a
+    ``concurrent.futures.Executor`` or a ``dask.distributed.Client``).
     """
     if not isinstance(alpha, (int, float)) or not math.isfinite(alpha) or alpha <= 0:
         raise InvalidParameterError(f"alpha must be a positive number; got {alpha!r}", parameter="alpha")
@@ -213,7 +222,7 @@ def largest_cube(model, *, alpha: float = 0.001, sigma=(0.25, 4.0), progress: bo
     say("certificate: the cube is inside")
     lower = half - alpha / 2
     while lower > 0:
-        ok, used = cube_inside(centre, lower, sigma=sigma, min_width=alpha / 16)
+        ok, used = cube_inside(centre, lower, sigma=sigma, min_width=alpha / 16, executor=executor)
         boxes["inside_proof"] += used
         if ok:
             break
@@ -222,7 +231,7 @@ def largest_cube(model, *, alpha: float = 0.001, sigma=(0.25, 4.0), progress: bo
     say("certificate: no larger cube anywhere")
     upper = lower + alpha
     while upper <= 1.0:
-        ok, used = no_enclosed_cube(upper, sigma=sigma, min_width=alpha / 16)
+        ok, used = no_enclosed_cube(upper, sigma=sigma, min_width=alpha / 16, executor=executor)
         boxes["upper_proof"] += used
         if ok:
             break

@@ -129,10 +129,14 @@ class Orthoglide:
         return certificate.numeric_dextrous(pts, sigma)
 
     def dextrous(self, *, eps: float = 0.05, sigma=(0.25, 4.0), box=None, progress=None, time_limit=None,
-                 max_boxes=None) -> certificate.DextrousResult:
-        """Certified dextrous workspace in ``[-1, 1]^3`` (:func:`.certificate.dextrous`, paper section 4.2)."""
+                 max_boxes=None, **distributed) -> certificate.DextrousResult:
+        """Certified dextrous workspace in ``[-1, 1]^3`` (:func:`.certificate.dextrous`, paper section 4.2).
+
+        ``executor``, ``max_memory``, ``store`` and ``resume`` are passed on
+        (:func:`~workspace_sym.interval.executor.run_paving`).
+        """
         return certificate.dextrous(self.variables, eps=eps, sigma=sigma, box=box, progress=progress,
-                                    time_limit=time_limit, max_boxes=max_boxes)
+                                    time_limit=time_limit, max_boxes=max_boxes, **distributed)
 
     def cube_inside(self, center, half: float, *, sigma=(0.25, 4.0), min_width: float = 1e-3,
                     max_boxes: int = 200_000):
@@ -144,9 +148,11 @@ class Orthoglide:
         """Prove that no cube of half-edge ``half`` fits anywhere (:func:`.cube.no_enclosed_cube`)."""
         return cube.no_enclosed_cube(half, sigma=sigma, grid=grid, min_width=min_width, max_boxes=max_boxes)
 
-    def largest_cube(self, *, alpha: float = 0.001, sigma=(0.25, 4.0), progress: bool | None = None) -> cube.CubeResult:
+    def largest_cube(self, *, alpha: float = 0.001, sigma=(0.25, 4.0), progress: bool | None = None,
+                     executor=None) -> cube.CubeResult:
         """The largest cube enclosed in the dextrous workspace, certified.
 
-        See :func:`.cube.largest_cube` and the paper's section 5.
+        See :func:`.cube.largest_cube` and the paper's section 5; ``executor``
+        spreads the certificates' box evaluations.
         """
-        return cube.largest_cube(self, alpha=alpha, sigma=sigma, progress=progress)
+        return cube.largest_cube(self, alpha=alpha, sigma=sigma, progress=progress, executor=executor)

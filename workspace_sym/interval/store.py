@@ -1,0 +1,233 @@
+"""Where a paving's decided boxes go: kept in memory, or streamed to disk in parts; and their exact measures.
+
+A paving that outgrows memory (the Orthoglide at eps = 0.00125 decides
+about 10^8 boxes) cannot hold its inner, boundary and outer boxes as arrays.
+:class:`BoxStore` takes boxes class by class as they are decided and either
+keeps them (the default) or writes them to a directory, one ``.npy`` file per
+flushed part (``inner/part-000001.npy``, ...): each part is written to a
+temporary name and renamed, so a part on disk is whole, and a checkpoint
+that lists how many parts it accounts for can be resumed after a crash.
+
+Measures are **exact sums**: every box's measure (the product of its edge
+widths, in floats, as :func:`~workspace_sym.interval.paving.box_measure`
+has always computed it) is added exactly, as an integer multiple of
+``2^-1074``, and rounded once at the end (:class:`ExactSum`).  The total
+does not depend on the order in which the boxes arrive, so a distributed,
+streamed or resumed run reports the same measures, to the last bit, as a
+local one.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+from fractions import Fraction
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InvalidParameterError
+
+__all__ = ["ExactSum", "BoxStore", "measures_of", "parse_memory", "KINDS"]
+
+KINDS = ("inner", "boundary", "outer")
+
+_SHIFT = 1074 + 53          # the sum is kept in units of 2^-(1074 + 53): every float64 is a whole number of them
+_HALF = 26                  # mantissas are split in two halves below 2^27 so that float64 sums of 2^25 are exact
+_BLOCK = 2**25
+
+
+class ExactSum:
+    """Exact sum of float64 values, rounded once when read.
+
+    The state is a Python integer, the sum in units of ``2^-(1074 + 53)``:
+    values are split by :func:`numpy.frexp` into 53-bit integer mantissas and
+    exponents; per exponent, the upper and lower halves of the mantissas are
+    summed with :func:`numpy.bincount` (float64 sums of fewer than ``2^26``
+    integers below ``2^27`` are exact) and shifted into place.
+
+    Examples
+    --------
+    >>> s = ExactSum()
+    >>> s.add(np.array([1e16, 1.0, -1e16]))
+    >>> s.value                                   # numpy.sum gives 0.0
+    1.0
+    >>> ExactSum.parse(str(ExactSum.of([0.1, 0.2]))).value == float(Fraction(0.1) + Fraction(0.2))
+    True
+    """
+
+    __slots__ = ("total", "finite")
+
+    def __init__(self, total: int = 0, finite: float = 0.0):
+        self.total = int(total)
+        self.finite = finite            # inf or nan once a non-finite value was added
+
+    @classmethod
+    def of(cls, values) -> ExactSum:
+        s = cls()
+        s.add(np.asarray(values, dtype=float))
+        return s
+
+    def add(self, values: np.ndarray) -> None:
+        values = np.ravel(values)
+        if not len(values):
+            return
+        if not np.isfinite(values).all():
+            self.finite = self.finite + float(np.sum(values[~np.isfinite(values)]))
+            values = values[np.isfinite(values)]
+        for start in range(0, len(values), _BLOCK):
+            m, e = np.frexp(values[start:start + _BLOCK])
+            mant = (m * 2.0**53).astype(np.int64)            # exact: m has 53 significant bits
+            hi, lo = mant >> _HALF, mant & ((1 << _HALF) - 1)
+            shift = e + 1074                                  # value = mant 2^(e - 53); units 2^-(1074 + 53)
+            base = int(shift.min())
+            sums_hi = np.bincount(shift - base, weights=hi)
+            sums_lo = np.bincount(shift - base, weights=lo)
+            for k in np.flatnonzero(sums_hi):
+                self.total += int(sums_hi[k]) << (int(k) + base + _HALF)
+            for k in np.flatnonzero(sums_lo):
+                self.total += int(sums_lo[k]) << (int(k) + base)
+
+    def merge(self, other: ExactSum) -> None:
+        self.total += other.total
+        self.finite = self.finite + other.finite
+
+    @property
+    def value(self) -> float:
+        """The sum rounded to the nearest float."""
+        if self.finite != 0.0:
+            return self.finite
+        return float(Fraction(self.total, 1 << _SHIFT))
+
+    def __str__(self):
+        return str(self.total) if self.finite == 0.0 else repr(self.finite)
+
+    @classmethod
+    def parse(cls, text: str) -> ExactSum:
+        try:
+            return cls(int(text))
+        except ValueError:
+            return cls(0, float(text))
+
+
+def measures_of(boxes: np.ndarray) -> np.ndarray:
+    """Measure of each box of an ``(N, n, 2)`` array (the product of its edge widths)."""
+    return np.prod(boxes[:, :, 1] - boxes[:, :, 0], axis=1)
+
+
+_UNITS = {"": 1, "b": 1, "kb": 10**3, "mb": 10**6, "gb": 10**9, "tb": 10**12,
+          "kib": 2**10, "mib": 2**20, "gib": 2**30, "tib": 2**40}
+
+
+def parse_memory(value, name: str = "max_memory") -> int:
+    """Bytes from a number or text such as ``"2GB"``, ``"512 MiB"``.
+
+    Examples
+    --------
+    >>> parse_memory("2GB"), parse_memory("1.5 GiB"), parse_memory(2**22)
+    (2000000000, 1610612736, 4194304)
+    """
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        number, unit = float(value), ""
+    elif isinstance(value, str):
+        text = value.strip().lower()
+        digits = text.rstrip("abcdefghijklmnopqrstuvwxyz ")
+        number_text, unit = digits.strip(), text[len(digits):].strip()
+        try:
+            number = float(number_text)
+        except ValueError:
+            number = float("nan")
+    else:
+        number, unit = float("nan"), ""
+    if unit not in _UNITS or not np.isfinite(number) or number * _UNITS[unit] < 2**20:
+        raise InvalidParameterError(f"{name} must be a memory size of at least 1 MiB such as '2GB' or '512MiB'; "
+                                    f"got {value!r}", parameter=name)
+    return int(number * _UNITS[unit])
+
+
+class BoxStore:
+    """Decided boxes of a run, class by class, with their counts and exact measures.
+
+    ``directory=None`` keeps the arrays in memory; otherwise each class is
+    buffered up to ``flush_bytes`` and written to ``directory/<class>/part-NNNNNN.npy``.
+    """
+
+    def __init__(self, n: int, directory=None, *, flush_bytes: int = 64 * 2**20):
+        self.n = n
+        self.directory = None if directory is None else Path(directory)
+        self.flush_bytes = flush_bytes
+        self.counts = dict.fromkeys(KINDS, 0)
+        self.sums = {k: ExactSum() for k in KINDS}
+        self.parts = dict.fromkeys(KINDS, 0)
+        self._buffer = {k: [] for k in KINDS}
+        self._buffered = dict.fromkeys(KINDS, 0)
+        if self.directory is not None:
+            for k in KINDS:
+                (self.directory / k).mkdir(parents=True, exist_ok=True)
+
+    def add(self, kind: str, boxes: np.ndarray) -> None:
+        if not len(boxes):
+            return
+        self.counts[kind] += len(boxes)
+        self.sums[kind].add(measures_of(boxes))
+        self._buffer[kind].append(boxes)
+        self._buffered[kind] += boxes.nbytes
+        if self.directory is not None and self._buffered[kind] >= self.flush_bytes:
+            self._flush(kind)
+
+    def _part(self, kind: str, number: int) -> Path:
+        return self.directory / kind / f"part-{number:06d}.npy"
+
+    def _flush(self, kind: str) -> None:
+        if not self._buffer[kind]:
+            return
+        self.parts[kind] += 1
+        path = self._part(kind, self.parts[kind])
+        tmp = path.with_suffix(".tmp")
+        with open(tmp, "wb") as f:
+            np.save(f, np.concatenate(self._buffer[kind]))
+        os.replace(tmp, path)
+        self._buffer[kind], self._buffered[kind] = [], 0
+
+    def flush(self) -> None:
+        """Write every buffered box (disk stores); a no-op in memory."""
+        if self.directory is not None:
+            for k in KINDS:
+                self._flush(k)
+
+    def arrays(self, kind: str) -> np.ndarray:
+        """The boxes of a class held in memory (memory stores only)."""
+        parts = self._buffer[kind]
+        return np.concatenate(parts) if parts else np.empty((0, self.n, 2))
+
+    def files(self, kind: str) -> list[Path]:
+        return [self._part(kind, i) for i in range(1, self.parts[kind] + 1)]
+
+    # ------------------------------------------------------------ checkpoints
+    def state(self) -> dict:
+        """What a checkpoint records (after :meth:`flush`): counts, exact sums, parts."""
+        return {"counts": dict(self.counts), "sums": {k: str(s) for k, s in self.sums.items()},
+                "parts": dict(self.parts),
+                "directory": None if self.directory is None else str(self.directory)}
+
+    @classmethod
+    def restore(cls, n: int, state: dict, arrays: dict | None = None) -> BoxStore:
+        """The store a checkpoint describes; parts written after it (a crash) are removed."""
+        store = cls(n, state["directory"])
+        store.counts = {k: int(v) for k, v in state["counts"].items()}
+        store.sums = {k: ExactSum.parse(v) for k, v in state["sums"].items()}
+        store.parts = {k: int(v) for k, v in state["parts"].items()}
+        if store.directory is None:
+            for k in KINDS:
+                store._buffer[k] = [arrays[k]] if arrays is not None and len(arrays[k]) else []
+        else:
+            for k in KINDS:
+                for path in (store.directory / k).glob("part-*.npy"):
+                    if int(path.stem.split("-")[1]) > store.parts[k]:
+                        path.unlink()
+        return store
+
+    def clear(self) -> None:
+        """Remove the store's directory (used when a run starts afresh over an old one)."""
+        if self.directory is not None and self.directory.exists():
+            shutil.rmtree(self.directory)
