@@ -4,7 +4,6 @@ counterexample, unreadable ones with the place of the problem."""
 import pytest
 import sympy as sp
 
-from workspace_sym import robots
 from workspace_sym.answers import Notation, read_answer
 from workspace_sym.errors import WorkspaceError
 from workspace_sym.kinematics import DHJoint, DHRobot
@@ -24,16 +23,6 @@ GLASS_X = [  # the glass arm's x coordinate (Bastien's paper 004, printed c1 (a1
     r"c_{1} \left(a_{1} + a_{2} c_{2} + a_{3} c_{23} + d_{5} s_{234}\right)",
     r"\cos{\theta_1} \cdot (a_1 + a_2 \cos \theta_2 + a_3 c_{23} + d_5 s_{234})",
 ]
-
-
-@pytest.fixture(scope="module")
-def glass():
-    return robots.build("glass-handling")
-
-
-@pytest.fixture(scope="module")
-def puma():
-    return robots.build("puma560")
 
 
 @pytest.mark.parametrize("text", GLASS_X)
