@@ -32,6 +32,7 @@ from .symbolic import (
     factor_half_angle,
     generic_constants,
     restore_constants,
+    roots_as_symbols,
     shorthand,
     shorthand_latex,
     shorthand_str,
@@ -1026,9 +1027,8 @@ def maximal_minor_factors(J: sp.Matrix, *, seed: int = 0, multiplicity: bool = F
     if extension and J.cols > EXTENSION_GCD_COLUMNS:
         # gcds over QQ(sqrt 2, sqrt 3) in many variables run for many minutes (subresultants of
         # algebraic-number coefficients): the roots become symbols and the gcd is taken over QQ.
-        roots = {root: sp.Dummy(f"root{root.base}") for root in extension}
-        entries = [e.xreplace(roots) for e in entries]
-        back.update({v: k for k, v in roots.items()})
+        entries, roots = roots_as_symbols(entries, extension)
+        back.update(roots)
         extension = ()
     ring = HalfAngleRing(pairs, set().union(*(e.free_symbols for e in entries)), extension=extension)
     P = DomainMatrix([[ring.element(entries[i * J.cols + j]) for j in range(J.cols)] for i in range(J.rows)],

@@ -47,6 +47,7 @@ __all__ = [
     "factor_half_angle",
     "algebraic_constants",
     "generic_constants",
+    "roots_as_symbols",
     "restore_constants",
     "HalfAngleRing",
     "trig_polynomials",
@@ -330,9 +331,19 @@ def _factor_list(poly_expr: sp.Expr, extension) -> list:
         return sp.factor_list(poly_expr)[1]
     if len(sp.Add.make_args(sp.expand(poly_expr))) <= EXTENSION_FACTOR_TERMS:
         return sp.factor_list(poly_expr, extension=list(extension))[1]
-    roots = {r: sp.Dummy(f"root{r.base}") for r in extension}
-    back = {v: k for k, v in roots.items()}
-    return [(f.xreplace(back), m) for f, m in sp.factor_list(poly_expr.xreplace(roots))[1]]
+    (poly_expr,), back = roots_as_symbols([poly_expr], extension)
+    return [(f.xreplace(back), m) for f, m in sp.factor_list(poly_expr)[1]]
+
+
+def roots_as_symbols(exprs, roots) -> tuple[list, dict]:
+    """``exprs`` with the square roots ``roots`` (see :func:`algebraic_constants`) replaced by symbols.
+
+    Returns the new expressions and the substitution back.  Polynomial
+    identities found with the symbols (a factor, a gcd) hold once the roots
+    are put back; relations such as ``sqrt(2)**2 = 2`` are not used.
+    """
+    forward = {r: sp.Dummy(f"root{r.base}") for r in roots}
+    return [sp.sympify(e).xreplace(forward) for e in exprs], {v: k for k, v in forward.items()}
 
 
 def factor_half_angle(poly_expr: sp.Expr, pairs, *, extension=(), multiplicity: bool = False) -> list:
