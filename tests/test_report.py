@@ -4,6 +4,7 @@ import re
 import shutil
 import subprocess
 from html.parser import HTMLParser
+from pathlib import Path
 
 import pytest
 from system_tools import require_tool
@@ -192,6 +193,20 @@ def _pdflatex(tex_path):
     subprocess.run(["pdflatex", "-interaction=nonstopmode", "-halt-on-error", tex_path.name], cwd=tex_path.parent,
                    capture_output=True, timeout=120)
     return tex_path.with_suffix(".log").read_text(errors="replace")
+
+
+def test_dh_report_of_a_decimal_table(tmp_path):
+    """UR5 (roboticstoolbox's DH table, decimal lengths): lengths and formulas show the table's decimals, and a
+    Jacobian column too wide for the page is set entry by entry, so pdflatex finds no overfull box."""
+    from workspace_sym.cli import main
+
+    table = Path(__file__).parent / "data" / "dh" / "ur5.json"
+    assert main(["report", "--dh", str(table), "--out", str(tmp_path / "out")]) == 0
+    tex = (tmp_path / "out" / "report.tex").read_text()
+    assert "0.39225 c_{23}" in tex and "/20000" not in tex and "{20000}" not in tex
+    assert "J_{1,1} &=" in tex
+    if shutil.which("pdflatex"):
+        assert_compiles(tmp_path / "out" / "report.tex")
 
 
 def test_latex_report_compiles(planar, dh):

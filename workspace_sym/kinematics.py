@@ -29,6 +29,7 @@ from .snap import DEFAULT_TOL, Snapper, chop
 from .symbolic import (
     HalfAngleRing,
     algebraic_constants,
+    decimal_form,
     factor_half_angle,
     generic_constants,
     restore_constants,
@@ -675,8 +676,9 @@ class DHRobot:
 
     # ------------------------------------------------------------------ printing
     def shorthand(self, expr) -> sp.Expr:
-        """``expr`` with ``c_i``, ``s_ij`` symbols for this robot's joint variables."""
-        return shorthand(expr, self.q)
+        """``expr`` as printed: ``c_i``, ``s_ij`` symbols for this robot's joint variables, lengths given as
+        decimals shown as decimals (:func:`~workspace_sym.symbolic.decimal_form`)."""
+        return decimal_form(shorthand(expr, self.q))
 
     def to_str(self, expr) -> str:
         """Textbook string with shorthand, e.g. ``c1*(a1 + a2*c2 + a3*c23 + d5*s234)``."""

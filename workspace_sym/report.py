@@ -129,11 +129,16 @@ def _lines(expr, width: int = _WIDTH) -> list:
     return lines + [sp.Add(*chunk, evaluate=False)]
 
 
+def _column_width(M, j: int) -> int:
+    """Characters of SymPy str of column ``j``'s widest entry, plus its label and the space between."""
+    return max(len(str(M[i, j])) for i in range(M.rows)) + 12
+
+
 def _column_groups(M, width: int = _WIDTH) -> list:
     """Column indices of ``M`` in consecutive groups whose widest entries fit ``width`` together."""
     groups, current, used = [], [], 0
     for j in range(M.cols):
-        w = max(len(str(M[i, j])) for i in range(M.rows)) + 12     # + the label and the space between
+        w = _column_width(M, j)
         if current and used + w > width:
             groups.append(current)
             current, used = [], 0
@@ -260,6 +265,11 @@ class Document:
 
     @staticmethod
     def _tex_equations(pairs) -> str:
+        return "\\begin{align*}\n" + " \\\\\n".join(Document._tex_lines(pairs)) + "\n\\end{align*}"
+
+    @staticmethod
+    def _tex_lines(pairs) -> list:
+        """The ``align*`` lines of ``lhs = e`` pairs: long sums broken, wide matrices by columns."""
         lines = []
         for lhs, e in pairs:
             left = _tex(lhs)
@@ -273,6 +283,12 @@ class Document:
                          for j in range(e.cols)]
                 lines.append(f"{left} &= {_tex(sp.Matrix([names]))}")
                 for g in groups:
+                    if len(g) == 1 and _column_width(e, g[0]) > _WIDTH:
+                        # one column still too wide: its entries one by one, each broken like a sum
+                        base = str(lhs) if isinstance(lhs, sp.Symbol) else "c"
+                        lines += Document._tex_lines([(sp.Symbol(f"{base}_{i + 1},{g[0] + 1}"), e[i, g[0]])
+                                                      for i in range(e.rows)])
+                        continue
                     lines.append(" &\\quad ".join(f"{_tex(names[j])} &= {_tex(e[:, j])}" for j in g))
                 continue
             for k, part in enumerate(_lines(e)):
@@ -281,7 +297,7 @@ class Document:
                     lines.append(f"{left} &= {tex}")
                 else:
                     lines.append("&\\quad " + (tex if tex.startswith("-") else "+ " + tex))
-        return "\\begin{align*}\n" + " \\\\\n".join(lines) + "\n\\end{align*}"
+        return lines
 
     def latex(self) -> str:
         out = ["\\documentclass[a4paper,10pt]{article}", "\\usepackage{amsmath,amssymb,graphicx}",
@@ -446,7 +462,8 @@ def dh_robot_report(robot, out, *, samples: int = 20000, command: str | None = N
     doc.heading("DH table")
     doc.para(f"Convention: {robot.convention}; lengths in {robot.units}, angles in degrees.")
     doc.table(["i", "type", "theta", "d", "a", "alpha", "limits"],
-              [[str(k), j.kind, _degrees(j.theta, q), j.d, j.a, _degrees(j.alpha), _limits_cell(j)]
+              [[str(k), j.kind, _degrees(j.theta, q), robot.shorthand(j.d), robot.shorthand(j.a), _degrees(j.alpha),
+                _limits_cell(j)]
                for k, j in enumerate(robot.joints, 1)])
     if robot.parameters:
         doc.para("Parameters (" + robot.units + "): "
