@@ -45,8 +45,8 @@ def test_two_r_full_range_is_the_annulus_exactly():
     assert p.variables == (sp.Symbol("x"), sp.Symbol("y"))
     lo, hi = p.measure_bounds
     area = np.pi * (1.5**2 - 0.5**2)
-    assert lo <= area <= hi and hi - lo < 0.45 * area       # halves with delta: 0.19 at delta 0.03
-    assert len(p.inner) > 100 and len(p.outer) > 50
+    assert lo <= area <= hi and hi - lo < 0.2 * area        # 0.14 at delta 0.06, 0.07 at delta 0.03
+    assert len(p.inner) > 50 and len(p.outer) > 50
     rng = np.random.default_rng(0)
     for box in p.inner:
         for x, y in _points(box, rng):

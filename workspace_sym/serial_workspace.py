@@ -9,39 +9,41 @@ planar robot, ``x, y, z`` otherwise) into
   configuration within the joint limits;
 * **boundary** boxes: neither is proved and the box is at most ``delta``.
 
-Outer proof.  Each task box carries joint boxes covering every configuration
-whose position may lie in it.  The root task box is the enclosure of the
-position over the joint limits, with the limits as its one joint box.  When
-a task box is split, a joint box goes to each half its position enclosure
-meets (the enclosure is refined by bisecting the joint box while it is
-wider than the half); a joint box whose enclosure misses the half cannot
-hold a configuration reaching it.  A task box left without joint boxes is
-outer.  Enclosures come from the interval compiler on the symbolic forward
-kinematics (outward-rounded numpy engine, centred form where a joint
-repeats); only the joints the position depends on are subdivided.
+Two methods (``method=``):
 
-Inner proof (Goldsztejn and Jaulin, "Inner approximation of the range of
-vector-valued functions", Reliable Computing 14, 2010, whose test is a
-Krawczyk operator over a box of right-hand sides).  With ``m`` task
-coordinates, ``m`` joints ``u`` are chosen where the Jacobian is best
-conditioned and the others are fixed at float values within their limits.
-For a joint box ``U`` inside the limits, a point ``u0`` in it and a float
-matrix ``C``, if
+``"critical"`` (the default where it applies).  A planar robot is the map
+``q -> (x, y)`` of :func:`workspace_sym.interval.image.critical_paving`: the
+critical set of every face of the joint box is covered by joint boxes, whose
+enclosures mark a grid of cells of size ``delta``; every connected region of
+unmarked cells misses the workspace boundary, so it is decided by one proof
+for one of its cells (Krawczyk inside, exhausted joint boxes outside); marked
+cells are tried one by one.  A spatial robot whose first joint is revolute
+(standard DH, no base transform) has ``p = Rz(theta_1) (u, c, v)`` with
+``(u, v)`` depending on the other joints and ``c`` constant (a lateral
+offset): the section ``S`` of points ``(u, v)`` is paved that way (cells of
+``SECTION_RATIO delta``), and a box of ``(x, y, z)`` is classified from the
+intervals of ``s = sqrt(x^2 + y^2 - c^2)``, of its polar angle and of ``z``:
+it is inner when one branch ``u = +s`` or ``u = -s`` lies in proved cells of
+``S`` with the needed ``theta_1`` inside the limits for every point, outer
+when for both branches the cells are proved outside ``S`` or the needed
+``theta_1`` misses the limits.  Angles are float ``atan2`` of the box corners
+widened by ``ANGLE_PAD`` (10^6 times their rounding error).
 
-    ``K = u0 - C (p(u0) - T) + (I - C J(U)) (U - u0)``
+``"pairs"`` (any robot).  Each task box carries joint boxes covering every
+configuration whose position may lie in it; the root task box is the
+enclosure of the position over the limits.  When a task box is split, a
+joint box goes to each half its enclosure meets (refined by bisection while
+wider than the half); a task box left without joint boxes is outer.  Inner
+proofs: the Krawczyk test of :class:`~workspace_sym.interval.image.ImageMap`
+around a Newton solution for the box centre.
 
-lies in the interior of ``U`` (every operation outward-rounded, ``J(U)`` an
-interval enclosure of the Jacobian over ``U``), then for every ``y`` in the
-task box ``T`` the Krawczyk operator of ``p(u) - y`` maps ``U`` into its
-interior, so ``p(u) = y`` has a solution in ``U``: ``T`` is reachable.
-``U`` is built around a numerical solution for the centre of ``T`` (Newton
-from a joint box of the cover), so only the final test needs to be
-rigorous.
+Every verdict rests on outward-rounded interval arithmetic (numpy engine):
+the enclosures of the position and of the Jacobian's minors, the Krawczyk
+operator, and the box classification.
 """
 
 from __future__ import annotations
 
-import itertools
 import math
 from dataclasses import dataclass
 from functools import lru_cache
@@ -51,24 +53,43 @@ import sympy as sp
 
 from .errors import InvalidParameterError, JointLimitError
 from .interval import arith
-from .interval.compiler import compile_expr
 from .interval.executor import _MIN_CHUNK, _runner
+from .interval.graph import numpy_constant
+from .interval.image import INNER, OUTER, UNDECIDED, ImageMap, critical_cover, critical_paving, distribute, halves
 from .interval.paving import Box, Paving, RunBudget, box_measure, box_sizes, check_delta
 from .interval.search import split_every_axis
 from .kinematics import DHRobot
 
-__all__ = ["reach", "ReachModel"]
+__all__ = ["reach", "ReachModel", "METHODS"]
 
 _TASK = (sp.Symbol("x"), sp.Symbol("y"), sp.Symbol("z"))
 _MIN_PAIRS = 64                  # pairs a task box may always hold, however small its share of the root box
+METHODS = ("auto", "critical", "pairs")
+SECTION_RATIO = 0.25             # cell width of the section against the width of the task boxes
+ANGLE_PAD = 1e-9                 # widening of float angles (rad)
+_MARGIN = 1e-12                  # of angle comparisons after reduction modulo 2 pi
+_TWO_PI = 2 * math.pi
 
 
-class ReachModel:
-    """The position map of a robot as the interval and float functions :func:`reach` needs.
+def _joint_range(robot: DHRobot, k: int):
+    """Exact limits of joint ``k`` (a revolute joint without limits turns fully: ``[-pi, pi]``), and whether
+    the position is ``2 pi`` periodic in it over its whole range (a revolute joint turning fully)."""
+    joint = robot.joints[k]
+    if joint.limits is None and joint.kind == "P":
+        raise JointLimitError(f"joint {k + 1} ({joint.variable}) is prismatic: reach needs its limits")
+    lo, hi = (-sp.pi, sp.pi) if joint.limits is None else joint.limits
+    slope = sp.diff(joint.theta, joint.variable) if joint.kind == "R" else None
+    full = joint.limits is None or bool(sp.simplify(hi - lo - 2 * sp.pi) >= 0)
+    return (lo, hi), joint.kind == "R" and slope in (1, -1) and full
+
+
+class ReachModel(ImageMap):
+    """The position map of a robot over the joints that move it.
 
     ``coordinates`` are the indices of the position coordinates that depend
     on the joints (two for a planar robot); ``joints`` are the indices of
-    the joints the position depends on, ``limits`` their ``(k, 2)`` limits.
+    the joints the position depends on, ``limits`` their ``(k, 2)`` limits
+    (floats enclosing the exact ones).
     """
 
     def __init__(self, robot: DHRobot, parameters: dict | None = None):
@@ -80,202 +101,181 @@ class ReachModel:
             raise InvalidParameterError(f"parameters: give values for {', '.join(sorted(map(str, free)))} "
                                         "(the position must be numeric apart from the joints)")
         moving = position.free_symbols
+        self.robot = robot
+        self.position = position
         self.joints = [k for k, q in enumerate(robot.q) if q in moving]
         self.coordinates = [i for i in range(3) if position[i].free_symbols]
         if not self.joints:
             raise InvalidParameterError(f"robot: the position of {robot.name} does not depend on any joint")
-        limits, periodic = [], []
-        for k in self.joints:
-            joint = robot.joints[k]
-            if joint.limits is None and joint.kind == "P":
-                raise JointLimitError(f"joint {k + 1} ({joint.variable}) is prismatic: reach needs its limits")
-            lo, hi = (-np.pi, np.pi) if joint.limits is None else map(float, joint.limits)
-            limits.append((lo, hi))
-            # An unlimited revolute joint whose angle is +-q + const: the position is 2 pi periodic in q, so
-            # a solution outside [-pi, pi] is a solution inside it.
-            slope = sp.diff(joint.theta, joint.variable) if joint.kind == "R" else None
-            periodic.append(joint.limits is None and slope in (1, -1))
-        self.limits = np.array(limits, dtype=float)
-        self.periodic = np.array(periodic, dtype=bool)
-        self.variables = tuple(robot.q[k] for k in self.joints)
+        ranges = [_joint_range(robot, k) for k in self.joints]
         self.task_variables = tuple(_TASK[i] for i in self.coordinates)
-        p = [position[i] for i in self.coordinates]
-        self.m, self.k = len(p), len(self.joints)
-        self._position = [compile_expr(e, self.variables) for e in p]
-        jac = [[sp.diff(e, q) for q in self.variables] for e in p]
-        self._jacobian = [[compile_expr(entry, self.variables) for entry in row] for row in jac]
-        self._p_float = sp.lambdify([self.variables], p, modules="numpy")
-        self._j_float = sp.lambdify([self.variables], jac, modules="numpy")
+        super().__init__([position[i] for i in self.coordinates], [robot.q[k] for k in self.joints],
+                         [r for r, _ in ranges], [p for _, p in ranges])
 
-    # -------------------------------------------------------------- interval enclosures
-    def enclose(self, Q: np.ndarray) -> np.ndarray:
-        """``(N, m, 2)`` enclosures of the position over joint boxes ``Q`` (``(N, k, 2)``)."""
-        X = [(Q[:, j, 0], Q[:, j, 1]) for j in range(self.k)]
-        out = np.empty((len(Q), self.m, 2))
+
+@dataclass(frozen=True)
+class _Revolved:
+    """``p = Rz(theta_1) (u, c, v)``: the section map ``(u, v)`` of the other joints, the offset ``c`` (two
+    floats enclosing it) and ``theta_1``'s range (outward and inward floats; ``full`` for a whole turn)."""
+
+    section: ImageMap
+    c: tuple
+    outer_range: tuple
+    inner_range: tuple
+    full: bool
+
+
+def _revolved(model: ReachModel) -> _Revolved | None:
+    """The section of a spatial robot turned by its first joint, or None when the structure is not there."""
+    robot = model.robot
+    if robot.convention != "standard" or robot.base is not None or model.m != 3 or model.joints[:1] != [0]:
+        return None
+    joint = robot.joints[0]
+    q1 = joint.variable
+    if joint.kind != "R":
+        return None
+    slope = sp.diff(joint.theta, q1)
+    if slope not in (1, -1):
+        return None
+    offset = joint.theta.subs(q1, 0)
+    # Standard DH without base: T = Rz(theta_1) Tz(d_1) Tx(a_1) Rx(alpha_1) ..., so p = Rz(theta_1) p(theta_1 = 0).
+    p1 = [sp.simplify(e.subs(q1, -offset / slope)) for e in model.position]
+    joints = set(robot.q)
+    if p1[1].free_symbols & joints or any(q1 in e.free_symbols for e in p1):
+        return None
+    variables = [q for q in robot.q[1:] if q in (p1[0].free_symbols | p1[2].free_symbols)]
+    if not variables:
+        return None
+    ranges = [_joint_range(robot, robot.q.index(q)) for q in variables]
+    section = ImageMap([p1[0], p1[2]], variables, [r for r, _ in ranges], [p for _, p in ranges])
+    (lo, hi), full = _joint_range(robot, 0)
+    lo, hi = sorted([slope * lo + offset, slope * hi + offset], key=lambda v: float(v))
+    lo_f, hi_f = numpy_constant(lo), numpy_constant(hi)
+    return _Revolved(section, numpy_constant(p1[1]), (lo_f[0], hi_f[1]), (lo_f[1], hi_f[0]), full)
+
+
+@lru_cache(maxsize=16)
+def _model(robot: DHRobot, parameters: tuple) -> ReachModel:
+    """The reach model of a robot (cached: a worker compiles it once for all its chunks)."""
+    return ReachModel(robot, dict(parameters) or None)
+
+
+@lru_cache(maxsize=16)
+def _section(robot: DHRobot, parameters: tuple) -> _Revolved | None:
+    return _revolved(_model(robot, parameters))
+
+
+def _plane_map(robot: DHRobot, parameters: tuple, which: str) -> ImageMap:
+    return _model(robot, parameters) if which == "planar" else _section(robot, parameters).section
+
+
+@dataclass(frozen=True)
+class _CoverStep:
+    """The critical cover of one face of the planar map or of the section (picklable: the robot travels to
+    the workers, the map is compiled there once)."""
+
+    robot: DHRobot
+    parameters: tuple
+    which: str
+    target: float
+    clip: tuple
+
+    def __call__(self, face):
+        return critical_cover(_plane_map(self.robot, self.parameters, self.which), face, self.target,
+                              np.array(self.clip))
+
+
+def _cover_with(executor, robot, parameters, which):
+    """The ``cover`` argument of :func:`critical_paving`: faces computed here, or one task per face."""
+    if executor is None:
+        return None
+
+    def cover(faces, target, clip):
+        spread = _runner(executor, _CoverStep(robot, parameters, which, float(target), tuple(map(tuple, clip))))
+        try:
+            return [f.result() for f in [spread.submit(face) for face in faces]]
+        finally:
+            spread.close()
+    return cover
+
+
+# ---------------------------------------------------------------------------------------------- revolved boxes
+def _angles(X: np.ndarray):
+    """Polar angle range ``(lo, hi)`` of the ``(x, y)`` rectangles of boxes ``X``, widened by ``ANGLE_PAD``;
+    ``(-inf, inf)`` where the rectangle holds the axis ``x = y = 0``."""
+    x0, x1, y0, y1 = (X[:, 0, 0] + 0.0, X[:, 0, 1] + 0.0, X[:, 1, 0] + 0.0, X[:, 1, 1] + 0.0)
+    axis = (x0 <= 0) & (x1 >= 0) & (y0 <= 0) & (y1 >= 0)
+    xs, ys = np.stack([x0, x1, x0, x1], axis=1), np.stack([y0, y0, y1, y1], axis=1)
+    angle = np.arctan2(ys, xs)
+    # A rectangle across the negative x axis: its angles are continuous over (pi/2, 3 pi/2).
+    across = (x1 < 0) & (y0 < 0) & (y1 >= 0)
+    angle = np.where(across[:, None] & (ys < 0), angle + _TWO_PI, angle)
+    lo, hi = angle.min(axis=1) - ANGLE_PAD, angle.max(axis=1) + ANGLE_PAD
+    return np.where(axis, -np.inf, lo), np.where(axis, np.inf, hi)
+
+
+def _arc_within(lo, hi, a: float, b: float, full: bool):
+    """``[lo, hi]`` lies in ``[a, b] + 2 pi k`` for some integer ``k``."""
+    if full:
+        return np.ones(len(lo), dtype=bool)
+    with np.errstate(invalid="ignore"):
+        t = a + np.remainder(lo - a, _TWO_PI)
+        return (t >= a + _MARGIN) & (t + (hi - lo) <= b - _MARGIN)
+
+
+def _arc_apart(lo, hi, a: float, b: float, full: bool):
+    """``[lo, hi]`` meets no ``[a, b] + 2 pi k``."""
+    if full or b - a >= _TWO_PI:
+        return np.zeros(len(lo), dtype=bool)
+    with np.errstate(invalid="ignore"):
+        t = b + np.remainder(lo - b, _TWO_PI)
+        return (t >= b + _MARGIN) & (t + (hi - lo) <= a + _TWO_PI - _MARGIN)
+
+
+class _SectionTest:
+    """Classify boxes of ``(x, y, z)`` from a paving of the section (module docstring)."""
+
+    def __init__(self, revolved: _Revolved, grid, classes):
+        self.r, self.grid = revolved, grid
+        self.inside = grid.prefix(classes, INNER)
+        self.outside = grid.prefix(classes, OUTER)
+
+    def _in(self, table, u, z, outside_counts):
+        return self.grid.all_in_class(table, np.stack([np.stack(u, axis=1), z], axis=1), outside_counts=outside_counts)
+
+    def __call__(self, X: np.ndarray):
+        r = self.r
         with np.errstate(all="ignore"):
-            for i, f in enumerate(self._position):
-                lo, hi = f(X)
-                out[:, i, 0], out[:, i, 1] = lo, hi
-        return out
-
-    def jacobian_enclosure(self, Q: np.ndarray):
-        """``J[i][j] = (lo, hi)`` arrays enclosing ``d p_i / d u_j`` over ``Q``."""
-        X = [(Q[:, j, 0], Q[:, j, 1]) for j in range(self.k)]
-        shape = (len(Q),)
-        with np.errstate(all="ignore"):
-            return [[tuple(np.broadcast_to(v, shape) for v in f(X)) for f in row] for row in self._jacobian]
-
-    # -------------------------------------------------------------- floats
-    def position_float(self, q: np.ndarray) -> np.ndarray:
-        """``(N, m)`` positions at joint values ``q`` (``(N, k)``), in floats."""
-        out = self._p_float(q.T)
-        return np.stack([np.broadcast_to(np.asarray(v, dtype=float), (len(q),)) for v in out], axis=1)
-
-    def jacobian_float(self, q: np.ndarray) -> np.ndarray:
-        """``(N, m, k)`` Jacobians at ``q``, in floats."""
-        rows = self._j_float(q.T)
-        return np.stack([np.stack([np.broadcast_to(np.asarray(v, dtype=float), (len(q),)) for v in row], axis=1)
-                         for row in rows], axis=1)
-
-    # -------------------------------------------------------------- inner test
-    def prove_inside(self, T: np.ndarray, seeds: np.ndarray, *, newton: int = 8) -> np.ndarray:
-        """Mask of the task boxes ``T`` proved inside the image (see the module docstring).
-
-        ``seeds`` are joint values (``(N, k)``) from which Newton's method
-        looks for a configuration reaching the centre of each box.
-        """
-        N, m, k = len(T), self.m, self.k
-        centre = 0.5 * (T[:, :, 0] + T[:, :, 1])
-        q = seeds.copy()
-        with np.errstate(all="ignore"):
-            for _ in range(newton):
-                r = self.position_float(q) - centre
-                step = np.einsum("nij,nj->ni", np.linalg.pinv(self.jacobian_float(q)), r)
-                q = q - step
-                q = np.where(self.periodic, np.remainder(q + np.pi, 2 * np.pi) - np.pi,
-                             np.clip(q, self.limits[:, 0], self.limits[:, 1]))
-            J = self.jacobian_float(q)
-        ok = np.isfinite(J).all(axis=(1, 2)) & np.isfinite(q).all(axis=1)
-        # The m joints with the best-conditioned square Jacobian; the others stay fixed at q.
-        combos = list(itertools.combinations(range(k), m))
-        dets = np.stack([np.abs(np.linalg.det(J[:, :, list(c)])) for c in combos], axis=1)
-        dets = np.where(np.isfinite(dets), dets, 0.0)
-        choice = np.argmax(dets, axis=1)
-        ok &= dets[np.arange(N), choice] > 1e-12
-        proved = np.zeros(N, dtype=bool)
-        for c_index, cols in enumerate(combos):
-            for factor in (1.5,):                       # radius of U against the image of T (inflated on failure)
-                rows = np.nonzero(ok & (choice == c_index) & ~proved)[0]
-                if len(rows):
-                    proved[rows] = self._krawczyk(T[rows], q[rows], list(cols), factor)
-        return proved
-
-    def _krawczyk(self, T, q, cols, factor, *, inflations: int = 2):
-        """Mask of the boxes ``T`` for which the Krawczyk test succeeds on a box ``U`` around ``q``.
-
-        ``U`` starts at ``factor`` times the image of ``T`` by ``C``; when
-        the test fails, ``U`` is replaced by ``K`` widened by a fifth
-        (epsilon-inflation) and tried again, ``inflations`` times.  Each try
-        is a complete, independent test.
-        """
-        N = len(T)
-        sub = np.array(cols)
-        with np.errstate(all="ignore"):
-            C = np.linalg.inv(self.jacobian_float(q)[:, :, sub])
-        half = 0.5 * (T[:, :, 1] - T[:, :, 0])
-        radius = factor * np.einsum("nij,nj->ni", np.abs(C), half) + 1e-12 * (1 + np.abs(q[:, sub]))
-        usable = np.isfinite(C).all(axis=(1, 2)) & np.isfinite(radius).all(axis=1)
-        proved = np.zeros(N, dtype=bool)
-        rows = np.nonzero(usable)[0]
-        for _ in range(inflations + 1):
-            if not len(rows):
-                break
-            box = np.repeat(q[rows, :, None], 2, axis=2)          # fixed joints: point intervals
-            box[:, sub, 0] = q[rows][:, sub] - radius[rows]
-            box[:, sub, 1] = q[rows][:, sub] + radius[rows]
-            within = (box[:, :, 0] >= self.limits[:, 0]) & (box[:, :, 1] <= self.limits[:, 1])
-            allowed = (within | self.periodic).all(axis=1)
-            K = self._krawczyk_image(T[rows], q[rows], C[rows], box, sub)
-            ok = allowed & (K[:, :, 0] > box[:, sub, 0]).all(axis=1) & (K[:, :, 1] < box[:, sub, 1]).all(axis=1)
-            proved[rows[ok]] = True
-            grow = np.maximum(np.abs(K[:, :, 0] - q[rows][:, sub]), np.abs(K[:, :, 1] - q[rows][:, sub]))
-            retry = ~ok & allowed & np.isfinite(grow).all(axis=1)
-            radius[rows[retry]] = np.maximum(radius[rows[retry]], 1.2 * grow[retry])
-            rows = rows[retry]
-        return proved
-
-    def _krawczyk_image(self, T, q, C, box, sub):
-        """``K = q - C (p(q) - T) + (I - C J(U)) (U - q)`` over the joints ``sub``, outward-rounded: ``(N, m, 2)``."""
-        m = self.m
-        point = np.repeat(q[:, :, None], 2, axis=2)
-        K = np.empty((len(T), m, 2))
-        with np.errstate(all="ignore"):
-            p0 = self.enclose(point)                              # p(q), outward-rounded
-            JU = self.jacobian_enclosure(box)
-            R = [arith.sub((p0[:, i, 0], p0[:, i, 1]), (T[:, i, 0], T[:, i, 1])) for i in range(m)]
-            D = [arith.sub((box[:, j, 0], box[:, j, 1]), (q[:, j], q[:, j])) for j in sub]
-            for a in range(m):
-                c = [(C[:, a, i], C[:, a, i]) for i in range(m)]
-                acc = arith.neg(_dot(c, R))
-                for b, j in enumerate(sub):
-                    cj = _dot(c, [JU[i][j] for i in range(m)])                  # (C J(U))[a, b]
-                    identity = (1.0, 1.0) if a == b else (0.0, 0.0)
-                    acc = arith.add(acc, arith.mul(arith.sub(identity, cj), D[b]))
-                K[:, a, 0], K[:, a, 1] = arith.add(acc, (q[:, sub[a]], q[:, sub[a]]))
-        return np.where(np.isnan(K), np.inf * np.array([-1.0, 1.0]), K)
-
-
-def _dot(c, v):
-    acc = arith.mul(c[0], v[0])
-    for ci, vi in zip(c[1:], v[1:]):
-        acc = arith.add(acc, arith.mul(ci, vi))
-    return acc
-
-
-def _meets(E: np.ndarray, T: np.ndarray) -> np.ndarray:
-    """Closed boxes ``E`` and ``T`` (same shape) share a point; NaN bounds count as meeting."""
-    apart = (E[:, :, 0] > T[:, :, 1]) | (E[:, :, 1] < T[:, :, 0])
-    return ~apart.any(axis=1)
-
-
-def _halves(boxes: np.ndarray):
-    """Both halves of every box along its longest edge, in order (``2i``, ``2i + 1``), and the mask of
-    boxes that could be split (a box one float wide cannot; its two "halves" are then itself)."""
-    rows = np.arange(len(boxes))
-    k = np.argmax(boxes[:, :, 1] - boxes[:, :, 0], axis=1)
-    lo, hi = boxes[rows, k, 0], boxes[rows, k, 1]
-    mid = 0.5 * lo + 0.5 * hi
-    ok = (mid > lo) & (mid < hi)
-    children = np.repeat(boxes, 2, axis=0)
-    children[2 * rows[ok], k[ok], 1] = mid[ok]
-    children[2 * rows[ok] + 1, k[ok], 0] = mid[ok]
-    return children, ok
-
-
-def _distribute(model, T, Q, owner, cap, *, rounds: int = 4, ratio: float = 1.0):
-    """Keep the (joint box, task box) pairs whose position enclosure meets the task box, refining wide ones.
-
-    Task box ``i`` refines its wide joint boxes in a round only if it then
-    holds at most ``cap[i]`` pairs.  What happens to a task box depends on it
-    and its own pairs only (kept in their order), so any cut of the task
-    boxes into chunks gives the same pairs.
-    """
-    for _ in range(rounds):
-        E = model.enclose(Q)
-        keep = _meets(E, T[owner])
-        Q, owner, E = Q[keep], owner[keep], E[keep]
-        wide = np.max(E[:, :, 1] - E[:, :, 0], axis=1) > ratio * np.max(T[owner, :, 1] - T[owner, :, 0], axis=1)
-        after = np.bincount(owner, minlength=len(T)) + np.bincount(owner[wide], minlength=len(T))
-        wide &= (after <= cap)[owner]
-        if not wide.any():
-            break
-        children, ok = _halves(Q[wide])
-        children = children.reshape(-1, 2, *Q.shape[1:])[ok].reshape(-1, *Q.shape[1:])
-        Q = np.concatenate([Q[~wide], Q[wide][~ok], children])
-        owner = np.concatenate([owner[~wide], owner[wide][~ok], np.repeat(owner[wide][ok], 2)])
-    E = model.enclose(Q)
-    keep = _meets(E, T[owner])
-    return Q[keep], owner[keep]
+            r2 = arith.add(arith.sqr((X[:, 0, 0], X[:, 0, 1])), arith.sqr((X[:, 1, 0], X[:, 1, 1])))
+            c_lo, c_hi = r.c
+            s2 = arith.sub(r2, arith.sqr((np.float64(c_lo), np.float64(c_hi))))
+            s = arith.sqrt((np.maximum(s2[0], 0.0), np.maximum(s2[1], 0.0)))
+            phi_lo, phi_hi = _angles(X)
+            c = 0.5 * (c_lo + c_hi)
+            if c_lo == c_hi == 0.0:
+                a_lo = a_hi = np.zeros(len(X))
+                turn = math.pi
+            else:
+                ends = np.arctan2(c, np.stack([s[0], s[1]], axis=1))
+                a_lo, a_hi = ends.min(axis=1) - ANGLE_PAD, ends.max(axis=1) + ANGLE_PAD
+                turn = math.copysign(math.pi, c)
+        z = X[:, 2]
+        plus, minus = (s[0], s[1]), (-s[1], -s[0])
+        # theta_1 = phi - atan2(c, u): u = +s gives phi - alpha, u = -s gives phi - turn + alpha.
+        t_plus = (phi_lo - a_hi, phi_hi - a_lo)
+        t_minus = (phi_lo - turn + a_lo - ANGLE_PAD, phi_hi - turn + a_hi + ANGLE_PAD)
+        (a_in, b_in), (a_out, b_out) = r.inner_range, r.outer_range
+        in_plus = self._in(self.inside, plus, z, False)
+        in_minus = self._in(self.inside, minus, z, False)
+        inner = (s2[0] >= 0) & ((in_plus & _arc_within(*t_plus, a_in, b_in, r.full))
+                                | (in_minus & _arc_within(*t_minus, a_in, b_in, r.full)))
+        if c_lo == c_hi == 0.0 and (r.full or b_in - a_in >= math.pi + _MARGIN):
+            # theta_1's range and its half turn cover the circle: every angle is served by one branch.
+            inner |= in_plus & in_minus
+        out_plus = self._in(self.outside, plus, z, True) | _arc_apart(*t_plus, a_out, b_out, r.full)
+        out_minus = self._in(self.outside, minus, z, True) | _arc_apart(*t_minus, a_out, b_out, r.full)
+        outer = (s2[1] < 0) | (out_plus & out_minus)
+        return inner, outer & ~inner
 
 
 def _prove_in_pieces(model, T, seeds, depth):
@@ -295,12 +295,6 @@ def _prove_in_pieces(model, T, seeds, depth):
         pieces = split_every_axis(pieces[again])
         owner = np.tile(owner[again], 2 ** T.shape[1])
     return proved
-
-
-@lru_cache(maxsize=16)
-def _model(robot: DHRobot, parameters: tuple) -> ReachModel:
-    """The reach model of a robot (cached: a worker compiles it once for all its chunks)."""
-    return ReachModel(robot, dict(parameters) or None)
 
 
 def _volumes(T: np.ndarray) -> np.ndarray:
@@ -331,7 +325,7 @@ class _ReachStep:
         model = _model(self.robot, self.parameters)
         # A task box may hold pairs in proportion to its share of the root box, and at least _MIN_PAIRS.
         cap = np.maximum(_MIN_PAIRS, np.floor(self.max_pairs * (_volumes(T) / self.root_measure)))
-        Q, owner = _distribute(model, T, Q, owner, cap)
+        Q, owner = distribute(model, T, Q, owner, cap)
         count = np.bincount(owner, minlength=len(T))
         is_out = count == 0
         # One seed per task box: the centre of its first joint box.
@@ -346,7 +340,7 @@ class _ReachStep:
         small = und & (box_sizes(T, self.size) <= self.delta)
         split = und & ~small
         # Children of every split box, and the pairs of each child (both halves inherit the joint boxes).
-        children, ok = _halves(T[split])
+        children, ok = halves(T[split])
         boundary = np.concatenate([T[small], T[split][~ok]])     # too thin to split: delta below float resolution
         split[np.nonzero(split)[0][~ok]] = False
         children = children.reshape(-1, 2, *T.shape[1:])[ok].reshape(-1, *T.shape[1:])
@@ -368,67 +362,11 @@ def _parts(T, Q, owner, pieces: int):
             yield T[a:b], Q[lo:hi], owner[lo:hi] - a
 
 
-@arith.nearest_rounding
-def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: dict | None = None,
-          max_boxes: int | None = None, time_limit: float | None = None, progress: bool | None = None,
-          max_pairs: int = 200_000, inner_depth: int = 2, executor=None, chunk_pairs: int = 100_000) -> Paving:
-    """Pave the position workspace of a serial robot within its joint limits (module docstring).
-
-    Parameters
-    ----------
-    robot : DHRobot
-    delta : float
-        Undecided task boxes whose size is at most ``delta`` become boundary boxes.
-    size : {"diameter", "width"}
-    parameters : values of the symbolic lengths (default: the robot's own).
-    max_boxes, time_limit : budget; the task boxes left are returned as ``pending``.
-    progress : progress bar (:mod:`workspace_sym.progress`; default: on an
-        interactive output once the run has lasted a second).
-    inner_depth : a box about to become a boundary box is also proved inner
-        piece by piece, halving it along every edge up to this many times.
-    max_pairs : budget of (joint box, task box) pairs: a task box stops
-        refining its joint boxes once it would hold more than ``max_pairs``
-        times its share of the root box's measure (64 pairs at least).  Past
-        it the proofs stay sound, fewer boxes are decided.  The cap of a box
-        depends on that box alone, so a chunked run decides the same boxes.
-    executor : None (this process), a :class:`concurrent.futures.Executor`
-        or a ``dask.distributed.Client``
-        (:func:`workspace_sym.interval.executor.connect`): each generation of
-        task boxes is cut into chunks, each with its joint boxes, decided
-        there; the result has the same boxes, counts and measures.
-    chunk_pairs : about this many (joint box, task box) pairs per chunk.
-
-    Returns
-    -------
-    Paving
-        Over ``x, y`` (planar robot) or ``x, y, z``; ``inner`` boxes are
-        proved reachable, ``outer`` boxes proved unreachable.
-
-    Examples
-    --------
-    >>> from workspace_sym.kinematics import DHJoint
-    >>> arm = DHRobot([DHJoint.revolute(1, a=1), DHJoint.revolute(2, a=sp.Rational(1, 2))])
-    >>> p = reach(arm, delta=0.1)
-    >>> lo, hi = p.measure_bounds           # the annulus 1/2 <= r <= 3/2: area 2 pi
-    >>> bool(lo <= 2 * np.pi <= hi)
-    True
-    """
-    check_delta(delta)
-    if size not in ("diameter", "width"):
-        raise InvalidParameterError(f"size must be one of 'diameter', 'width'; got {size!r}", parameter="size")
-    if not isinstance(inner_depth, int) or isinstance(inner_depth, bool) or inner_depth < 0:
-        raise InvalidParameterError(f"inner_depth must be a whole number of halvings, 0 or more; got {inner_depth!r}",
-                                    parameter="inner_depth")
-    if not isinstance(chunk_pairs, int) or isinstance(chunk_pairs, bool) or chunk_pairs < 1:
-        raise InvalidParameterError(f"chunk_pairs must be a whole number of pairs, 1 or more; got {chunk_pairs!r}",
-                                    parameter="chunk_pairs")
-    run = RunBudget(max_boxes=max_boxes, time_limit=time_limit, progress=progress, total=0.0, label="reach")
-    parameters = tuple(sorted((parameters or {}).items(), key=lambda item: str(item[0])))
+def _pairs(robot, parameters, delta, size, run, *, max_pairs, inner_depth, executor, chunk_pairs):
+    """The ``"pairs"`` method: ``(box, inner, boundary, outer, pending, evaluated, reason)``."""
     model = _model(robot, parameters)
     Q = model.limits[None].copy()
     root = model.enclose(Q)[0]
-    if not np.isfinite(root).all():
-        raise InvalidParameterError("robot: the position has no finite enclosure over the joint limits")
     box = Box(model.task_variables, tuple(root[:, 0]), tuple(root[:, 1]))
     T = root[None].copy()
     owner = np.zeros(1, dtype=int)
@@ -465,13 +403,157 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     finally:
         if spread is not None:
             spread.close()
+    return box, inner, boundary, outer, T if len(T) and reason else None, evaluated, reason
+
+
+def _cell_width(delta: float, size: str, m: int) -> float:
+    """Width of cells whose size (diameter or width) is at most ``delta``."""
+    return (delta / math.sqrt(m) if size == "diameter" else delta) * (1 - 1e-9)
+
+
+def _planar(robot, parameters, delta, size, run, *, executor):
+    """The ``"critical"`` method for a planar robot."""
+    model = _model(robot, parameters)
+    grid, classes, evaluated, reason = critical_paving(model, _cell_width(delta, size, 2), budget=run.stop_reason,
+                                                       cover=_cover_with(executor, robot, parameters, "planar"))
+    extent = grid.extent
+    box = Box(model.task_variables, tuple(extent[:, 0]), tuple(extent[:, 1]))
+    undecided = grid.boxes(classes, UNDECIDED, merge=bool(reason))
+    pending = undecided if reason else None
+    boundary = [] if reason else [undecided]
+    return box, [grid.boxes(classes, INNER)], boundary, [grid.boxes(classes, OUTER)], pending, evaluated, reason
+
+
+def _spatial(robot, parameters, delta, size, run, *, executor):
+    """The ``"critical"`` method for a spatial robot turned by its first joint (module docstring)."""
+    model = _model(robot, parameters)
+    revolved = _section(robot, parameters)
+    root = model.enclose(model.limits[None])[0]
+    box = Box(model.task_variables, tuple(root[:, 0]), tuple(root[:, 1]))
+    run.total = box.measure
+    width = _cell_width(delta, size, 3)
+    grid, classes, evaluated, reason = critical_paving(revolved.section, SECTION_RATIO * width,
+                                                       budget=run.stop_reason,
+                                                       cover=_cover_with(executor, robot, parameters, "section"))
+    T = root[None].copy()
+    inner, boundary, outer = [], [], []
+    if reason:
+        return box, inner, boundary, outer, T, evaluated, reason
+    test = _SectionTest(revolved, grid, classes)
+    while len(T):
+        reason = run.stop_reason(evaluated)
+        if reason:
+            break
+        evaluated += len(T)
+        is_in, is_out = test(T)
+        inner.append(T[is_in])
+        outer.append(T[is_out])
+        und = ~is_in & ~is_out
+        small = und & (box_sizes(T, size) <= delta)
+        children, ok = halves(T[und & ~small])
+        boundary.append(T[small])
+        boundary.append(T[und & ~small][~ok])
+        T = children.reshape(-1, 2, *T.shape[1:])[ok].reshape(-1, *T.shape[1:])
+        if run.showing:
+            run.show(box.measure - box_measure(T), evaluated)
+    return box, inner, boundary, outer, T if len(T) and reason else None, evaluated, reason
+
+
+@arith.nearest_rounding
+def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: dict | None = None,
+          method: str = "auto", max_boxes: int | None = None, time_limit: float | None = None,
+          progress: bool | None = None, max_pairs: int = 200_000, inner_depth: int = 2, executor=None,
+          chunk_pairs: int = 100_000) -> Paving:
+    """Pave the position workspace of a serial robot within its joint limits (module docstring).
+
+    Parameters
+    ----------
+    robot : DHRobot
+    delta : float
+        Undecided task boxes whose size is at most ``delta`` become boundary boxes.
+    size : {"diameter", "width"}
+    parameters : values of the symbolic lengths (default: the robot's own).
+    method : {"auto", "critical", "pairs"}
+        ``"auto"``: ``"critical"`` for a planar robot and for a spatial robot
+        turned by a revolute first joint (standard DH, no base transform),
+        ``"pairs"`` otherwise.
+    max_boxes, time_limit : budget; what is left undecided is returned as ``pending``.
+    progress : progress bar (:mod:`workspace_sym.progress`; default: on an
+        interactive output once the run has lasted a second).
+    inner_depth, max_pairs, chunk_pairs : of the ``"pairs"`` method: a box about
+        to become a boundary box is also proved inner piece by piece, halving it
+        along every edge up to ``inner_depth`` times; a task box stops refining its
+        joint boxes once it would hold more than ``max_pairs`` times its share of
+        the root box's measure (64 pairs at least); about ``chunk_pairs``
+        (joint box, task box) pairs go in one chunk of work.
+    executor : None (this process), a :class:`concurrent.futures.Executor`
+        or a ``dask.distributed.Client``
+        (:func:`workspace_sym.interval.executor.connect`): the critical covers
+        (one task per face) or the generations of task boxes (``"pairs"``) run
+        there; the result has the same boxes, counts and measures.
+
+    Returns
+    -------
+    Paving
+        Over ``x, y`` (planar robot) or ``x, y, z``; ``inner`` boxes are
+        proved reachable, ``outer`` boxes proved unreachable.
+
+    Examples
+    --------
+    >>> from workspace_sym.kinematics import DHJoint
+    >>> arm = DHRobot([DHJoint.revolute(1, a=1), DHJoint.revolute(2, a=sp.Rational(1, 2))])
+    >>> p = reach(arm, delta=0.1)
+    >>> lo, hi = p.measure_bounds           # the annulus 1/2 <= r <= 3/2: area 2 pi
+    >>> bool(lo <= 2 * np.pi <= hi)
+    True
+    """
+    check_delta(delta)
+    if size not in ("diameter", "width"):
+        raise InvalidParameterError(f"size must be one of 'diameter', 'width'; got {size!r}", parameter="size")
+    if method not in METHODS:
+        raise InvalidParameterError(f"method must be one of {', '.join(map(repr, METHODS))}; got {method!r}",
+                                    parameter="method")
+    for name, value, least in (("inner_depth", inner_depth, 0), ("chunk_pairs", chunk_pairs, 1)):
+        if not isinstance(value, int) or isinstance(value, bool) or value < least:
+            raise InvalidParameterError(f"{name} must be a whole number, {least} or more; got {value!r}",
+                                        parameter=name)
+    parameters = tuple(sorted((parameters or {}).items(), key=lambda item: str(item[0])))
+    model = _model(robot, parameters)
+    root = model.enclose(model.limits[None])[0]
+    if not np.isfinite(root).all():
+        raise InvalidParameterError("robot: the position has no finite enclosure over the joint limits")
+    extent = box_sizes(root[None], size)[0]
+    if delta > extent:
+        raise InvalidParameterError(f"delta must be at most the size of the workspace's enclosing box "
+                                    f"({extent:.6g} {robot.units}); got {delta!r}", parameter="delta")
+    kind = method
+    if method == "auto":
+        kind = "critical" if (model.m == 2 or _section(robot, parameters) is not None) else "pairs"
+    if kind == "critical" and model.m != 2 and _section(robot, parameters) is None:
+        raise InvalidParameterError(f"method 'critical' needs a planar robot or a first revolute joint turning "
+                                    f"the rest (standard DH, no base transform); {robot.name} has neither: use "
+                                    "method='pairs'", parameter="method")
+    run = RunBudget(max_boxes=max_boxes, time_limit=time_limit, progress=progress, total=0.0, label="reach")
+    try:
+        if kind == "pairs":
+            result = _pairs(robot, parameters, delta, size, run, max_pairs=max_pairs, inner_depth=inner_depth,
+                            executor=executor, chunk_pairs=chunk_pairs)
+        elif model.m == 2:
+            result = _planar(robot, parameters, delta, size, run, executor=executor)
+        else:
+            result = _spatial(robot, parameters, delta, size, run, executor=executor)
+    except KeyboardInterrupt:
+        whole = Box(model.task_variables, tuple(root[:, 0]), tuple(root[:, 1]))
+        result = whole, [], [], [], root[None], 0, "interrupted"
+    finally:
         run.close()
+    box, inner, boundary, outer, pending, evaluated, reason = result
     m = len(model.task_variables)
     empty = np.empty((0, m, 2))
 
     def stack(parts):
+        parts = [p for p in parts if len(p)]
         return np.concatenate(parts) if parts else empty
 
     return Paving(model.task_variables, box, (), float(delta), "numpy", size, stack(inner), stack(boundary),
-                  stack(outer), T if len(T) and reason else empty, run.seconds, not reason,
-                  evaluated, reason)
+                  stack(outer), empty if pending is None else pending, run.seconds, not reason, evaluated, reason)

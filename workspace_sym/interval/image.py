@@ -1,0 +1,603 @@
+"""Certified image of a box of joints under a smooth map: which points are reached, which are not.
+
+:class:`ImageMap` holds a map ``p = f(q)`` from a box of joint values ``Q``
+(revolute joints may be periodic) to ``R^m``, with its interval enclosures
+(outward-rounded numpy engine), float evaluators, and two proofs:
+
+* **outer**, :meth:`ImageMap.prove_outside`: joint boxes covering every
+  configuration whose position may lie in a task box are refined until their
+  enclosures miss it; a task box left without joint boxes is unreachable.
+* **inner**, :meth:`ImageMap.prove_inside`: Goldsztejn and Jaulin,
+  "Inner approximation of the range of vector-valued functions" (Reliable
+  Computing 14, 2010).  With ``m`` joints ``u`` chosen where the Jacobian is
+  best conditioned and the others fixed at float values within their limits,
+  for a joint box ``U`` inside the limits, a point ``u0`` in it and a float
+  matrix ``C``, if ``K = u0 - C (f(u0) - T) + (I - C J(U)) (U - u0)`` lies in
+  the interior of ``U`` (outward-rounded, ``J(U)`` an interval enclosure of
+  the Jacobian), then for every ``y`` in the task box ``T`` the Krawczyk
+  operator of ``f(u) - y`` maps ``U`` into its interior, so ``f(u) = y`` has
+  a solution in ``U``: ``T`` is reached.
+
+For a map into the plane (``m = 2``), :func:`critical_paving` decides whole
+regions at once from one theorem:
+
+    If ``y`` is on the boundary of ``f(Q)``, every configuration ``q`` with
+    ``f(q) = y`` lies in the critical set ``Sigma``: on the face ``F`` of
+    ``Q`` whose relative interior holds ``q``, the Jacobian of ``f``
+    restricted to ``F`` has rank below ``m``, and the derivative does not map
+    the tangent cone of ``Q`` at ``q`` onto ``R^m``.
+
+(Where the derivative maps the tangent cone onto ``R^m``, ``f`` maps a
+neighbourhood of ``q`` in ``Q`` onto a neighbourhood of ``y``.)  So a
+connected set ``K`` of task space that misses ``f(Sigma)`` misses the
+boundary of ``f(Q)`` and lies either inside ``f(Q)`` or outside it: one proof
+for one point of ``K`` decides all of ``K``.  ``Sigma`` is covered by joint
+boxes of each face (a box is dropped when a 2 x 2 minor of its face is proved
+non-zero on it, or, on an edge, when the two limited joints are proved to
+push to opposite sides); their enclosures are marked on a grid of task
+cells; the unmarked cells are split into 4-connected components; a component
+touching the grid's margin (outside the enclosure of ``f(Q)``) is outside,
+any other is decided by proving one of its cells inside (Krawczyk) or
+outside (joint boxes).  Marked cells are then tried one by one with the
+Krawczyk test.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+import sympy as sp
+
+from . import arith
+from .compiler import compile_expr
+from .graph import numpy_constant
+
+__all__ = ["ImageMap", "critical_paving", "CellGrid", "OUTER", "INNER", "UNDECIDED"]
+
+OUTER, INNER, UNDECIDED = 0, 1, 2
+OUTSIDE_PAIRS = 20_000            # joint boxes a component's cell may hold while proved outside
+OUTSIDE_MIN_CELLS = 16            # smaller components are not proved outside
+MINOR_SIMPLIFY_OPS = 300          # minors larger than this are compiled as expanded, not simplified
+
+
+def _limit_floats(value) -> tuple[float, float]:
+    """Two floats enclosing an exact joint limit (equal when it is a float)."""
+    if isinstance(value, (int, float, np.floating)):
+        return float(value), float(value)
+    return numpy_constant(value)
+
+
+class ImageMap:
+    """A map from a joint box to ``R^m`` with what :func:`critical_paving` and the paving of
+    :func:`workspace_sym.serial_workspace.reach` need.
+
+    Parameters
+    ----------
+    expressions : the ``m`` coordinates of ``f`` as SymPy expressions of ``variables``.
+    variables : the ``k`` joint symbols.
+    limits : ``k`` pairs ``(lo, hi)``, exact (SymPy) or floats.
+    periodic : ``k`` booleans: the map is ``2 pi`` periodic in that joint and its
+        range is the whole circle (no limit faces).
+    """
+
+    COMBOS_TRIED = 3       # choices of the m joints of the inner test tried per box, best-conditioned first
+
+    def __init__(self, expressions, variables, limits, periodic):
+        expressions = [sp.sympify(e) for e in expressions]
+        self.variables = tuple(variables)
+        self.m, self.k = len(expressions), len(self.variables)
+        pairs = [(_limit_floats(lo), _limit_floats(hi)) for lo, hi in limits]
+        # Outward limits for enclosures and limit faces, inward ones for the boxes of inner proofs.
+        self.limits = np.array([(lo[0], hi[1]) for lo, hi in pairs], dtype=float)
+        self.face_limits = np.array([(lo, hi) for lo, hi in pairs], dtype=float)       # (k, 2, 2)
+        self.inner_limits = np.array([(lo[1], hi[0]) for lo, hi in pairs], dtype=float)
+        self.periodic = np.array(periodic, dtype=bool)
+        self.expressions = expressions
+        self._position = [compile_expr(e, self.variables) for e in expressions]
+        jac = [[sp.diff(e, q) for q in self.variables] for e in expressions]
+        self._jacobian = [[compile_expr(entry, self.variables) for entry in row] for row in jac]
+        self._p_float = sp.lambdify([self.variables], expressions, modules="numpy")
+        self._j_float = sp.lambdify([self.variables], jac, modules="numpy")
+        self._jac_symbolic = jac
+        self._minors = None
+
+    # -------------------------------------------------------------- interval enclosures
+    def enclose(self, Q: np.ndarray) -> np.ndarray:
+        """``(N, m, 2)`` enclosures of ``f`` over joint boxes ``Q`` (``(N, k, 2)``)."""
+        X = [(Q[:, j, 0], Q[:, j, 1]) for j in range(self.k)]
+        out = np.empty((len(Q), self.m, 2))
+        with np.errstate(all="ignore"):
+            for i, f in enumerate(self._position):
+                lo, hi = f(X)
+                out[:, i, 0], out[:, i, 1] = lo, hi
+        return np.where(np.isnan(out), np.inf * np.array([-1.0, 1.0]), out)
+
+    def jacobian_enclosure(self, Q: np.ndarray):
+        """``J[i][j] = (lo, hi)`` arrays enclosing ``d f_i / d q_j`` over ``Q``."""
+        X = [(Q[:, j, 0], Q[:, j, 1]) for j in range(self.k)]
+        shape = (len(Q),)
+        with np.errstate(all="ignore"):
+            return [[tuple(np.broadcast_to(v, shape) for v in f(X)) for f in row] for row in self._jacobian]
+
+    @property
+    def minors(self) -> dict:
+        """The ``2 x 2`` minors ``det [J_i, J_j]`` (``i < j``) of a map into the plane, compiled."""
+        if self._minors is None:
+            if self.m != 2:
+                raise ValueError("minors are defined here for maps into the plane")
+            J = self._jac_symbolic
+            out = {}
+            for i, j in itertools.combinations(range(self.k), 2):
+                det = sp.expand(J[0][i] * J[1][j] - J[0][j] * J[1][i])
+                if sp.count_ops(det) <= MINOR_SIMPLIFY_OPS:
+                    short = sp.expand(sp.fu(det))          # products of sines and cosines to sums of angles
+                    det = short if sp.count_ops(short) < sp.count_ops(det) else det
+                out[i, j] = compile_expr(det, self.variables)
+            self._minors = out
+        return self._minors
+
+    def minor_enclosure(self, Q: np.ndarray, i: int, j: int):
+        """Enclosure of ``det [J_i, J_j]`` over ``Q`` (any order of ``i, j``)."""
+        X = [(Q[:, v, 0], Q[:, v, 1]) for v in range(self.k)]
+        f = self.minors[min(i, j), max(i, j)]
+        with np.errstate(all="ignore"):
+            lo, hi = (np.broadcast_to(v, (len(Q),)) for v in f(X))
+        return (lo, hi) if i < j else (-hi, -lo)
+
+    # -------------------------------------------------------------- floats
+    def position_float(self, q: np.ndarray) -> np.ndarray:
+        """``(N, m)`` values of ``f`` at joint values ``q`` (``(N, k)``), in floats."""
+        out = self._p_float(q.T)
+        return np.stack([np.broadcast_to(np.asarray(v, dtype=float), (len(q),)) for v in out], axis=1)
+
+    def jacobian_float(self, q: np.ndarray) -> np.ndarray:
+        """``(N, m, k)`` Jacobians at ``q``, in floats."""
+        rows = self._j_float(q.T)
+        return np.stack([np.stack([np.broadcast_to(np.asarray(v, dtype=float), (len(q),)) for v in row], axis=1)
+                         for row in rows], axis=1)
+
+    def random_configurations(self, n: int, rng) -> np.ndarray:
+        return rng.uniform(self.inner_limits[:, 0], self.inner_limits[:, 1], size=(n, self.k))
+
+    # -------------------------------------------------------------- inner test
+    def newton(self, targets: np.ndarray, seeds: np.ndarray, *, steps: int = 8):
+        """Joint values near a solution of ``f(q) = target`` from each seed (least-squares Newton steps kept
+        within the limits), and the mask of those whose residual is below ``1e-9`` times the reach."""
+        q = seeds.copy()
+        with np.errstate(all="ignore"):
+            for _ in range(steps):
+                r = self.position_float(q) - targets
+                J = self.jacobian_float(q)
+                # Least-squares step J^T (J J^T)^-1 r (J is m x k with m <= k), lightly damped.
+                JJ = np.einsum("nik,njk->nij", J, J) + 1e-14 * np.eye(self.m)
+                step = np.einsum("nik,ni->nk", J, np.linalg.solve(JJ, r[:, :, None])[:, :, 0])
+                q = q - step
+                q = np.where(self.periodic, np.remainder(q + np.pi, 2 * np.pi) - np.pi,
+                             np.clip(q, self.inner_limits[:, 0], self.inner_limits[:, 1]))
+            residual = np.linalg.norm(self.position_float(q) - targets, axis=1)
+        return q, np.isfinite(q).all(axis=1) & (residual <= 1e-9 * (1 + np.abs(targets).max(axis=1)))
+
+    def prove_inside(self, T: np.ndarray, seeds: np.ndarray, *, newton: int = 8) -> np.ndarray:
+        """Mask of the task boxes ``T`` proved inside the image (module docstring).
+
+        ``seeds`` are joint values (``(N, k)``) from which Newton's method
+        looks for a configuration reaching the centre of each box.
+        """
+        if self.k < self.m:
+            return np.zeros(len(T), dtype=bool)
+        q, _ = self.newton(0.5 * (T[:, :, 0] + T[:, :, 1]), seeds, steps=newton)
+        return self.prove_inside_at(T, q)
+
+    def prove_inside_at(self, T: np.ndarray, q: np.ndarray) -> np.ndarray:
+        """The Krawczyk test of each box ``T`` around the configuration ``q`` (``(N, k)``)."""
+        N, m, k = len(T), self.m, self.k
+        with np.errstate(all="ignore"):
+            J = self.jacobian_float(q)
+        ok = np.isfinite(J).all(axis=(1, 2)) & np.isfinite(q).all(axis=1)
+        # m joints u with a regular square Jacobian, the best-conditioned first; the others stay fixed at q.
+        # A box that fails with one choice is tried with the next (a choice whose joint sits at its limit
+        # leaves no room for U).
+        combos = list(itertools.combinations(range(k), m))
+        dets = np.stack([np.abs(np.linalg.det(J[:, :, list(c)])) for c in combos], axis=1)
+        dets = np.where(np.isfinite(dets) & ok[:, None], dets, 0.0)
+        order = np.argsort(-dets, axis=1)
+        proved = np.zeros(N, dtype=bool)
+        for rank in range(min(len(combos), self.COMBOS_TRIED)):
+            choice = order[:, rank]
+            usable = ~proved & (dets[np.arange(N), choice] > 1e-12)
+            for c_index, cols in enumerate(combos):
+                rows = np.nonzero(usable & (choice == c_index))[0]
+                if len(rows):
+                    proved[rows] = self._krawczyk(T[rows], q[rows], list(cols), 1.5)
+        return proved
+
+    def prove_inside_multistart(self, T: np.ndarray, rng, *, starts: int = 6, seeds: np.ndarray | None = None,
+                                reached: bool = False):
+        """The inner test from ``seeds`` first (if given), then from random configurations, ``starts`` times
+        in all, each time on the boxes not yet proved; the test runs where Newton's method converged.
+
+        With ``reached``, also returns the mask of boxes whose centre Newton's method reached (in floats:
+        no proof, a hint that a proof of the outside would fail)."""
+        proved = np.zeros(len(T), dtype=bool)
+        hit = np.zeros(len(T), dtype=bool)
+        if self.k < self.m:
+            return (proved, hit) if reached else proved
+        centre = 0.5 * (T[:, :, 0] + T[:, :, 1])
+        for attempt in range(starts):
+            rows = np.nonzero(~proved)[0]
+            if not len(rows):
+                break
+            q0 = seeds[rows] if (attempt == 0 and seeds is not None) else self.random_configurations(len(rows), rng)
+            q, converged = self.newton(centre[rows], q0)
+            rows, q = rows[converged], q[converged]
+            hit[rows] = True
+            proved[rows] = self.prove_inside_at(T[rows], q)
+        return (proved, hit) if reached else proved
+
+    def _krawczyk(self, T, q, cols, factor, *, inflations: int = 2):
+        """Mask of the boxes ``T`` for which the Krawczyk test succeeds on a box ``U`` around ``q``.
+
+        ``U`` starts at ``factor`` times the image of ``T`` by ``C``; when
+        the test fails, ``U`` is replaced by ``K`` widened by a fifth
+        (epsilon-inflation) and tried again, ``inflations`` times.  Each try
+        is a complete, independent test.
+        """
+        N = len(T)
+        sub = np.array(cols)
+        with np.errstate(all="ignore"):
+            C = np.linalg.inv(self.jacobian_float(q)[:, :, sub])
+        half = 0.5 * (T[:, :, 1] - T[:, :, 0])
+        radius = factor * np.einsum("nij,nj->ni", np.abs(C), half) + 1e-12 * (1 + np.abs(q[:, sub]))
+        usable = np.isfinite(C).all(axis=(1, 2)) & np.isfinite(radius).all(axis=1)
+        proved = np.zeros(N, dtype=bool)
+        rows = np.nonzero(usable)[0]
+        for _ in range(inflations + 1):
+            if not len(rows):
+                break
+            box = np.repeat(q[rows, :, None], 2, axis=2)          # fixed joints: point intervals
+            box[:, sub, 0] = q[rows][:, sub] - radius[rows]
+            box[:, sub, 1] = q[rows][:, sub] + radius[rows]
+            within = (box[:, :, 0] >= self.inner_limits[:, 0]) & (box[:, :, 1] <= self.inner_limits[:, 1])
+            allowed = (within | self.periodic).all(axis=1)
+            K = self._krawczyk_image(T[rows], q[rows], C[rows], box, sub)
+            ok = allowed & (K[:, :, 0] > box[:, sub, 0]).all(axis=1) & (K[:, :, 1] < box[:, sub, 1]).all(axis=1)
+            proved[rows[ok]] = True
+            grow = np.maximum(np.abs(K[:, :, 0] - q[rows][:, sub]), np.abs(K[:, :, 1] - q[rows][:, sub]))
+            retry = ~ok & allowed & np.isfinite(grow).all(axis=1)
+            radius[rows[retry]] = np.maximum(radius[rows[retry]], 1.2 * grow[retry])
+            rows = rows[retry]
+        return proved
+
+    def _krawczyk_image(self, T, q, C, box, sub):
+        """``K = q - C (f(q) - T) + (I - C J(U)) (U - q)`` over the joints ``sub``, outward-rounded: ``(N, m, 2)``."""
+        m = self.m
+        point = np.repeat(q[:, :, None], 2, axis=2)
+        K = np.empty((len(T), m, 2))
+        with np.errstate(all="ignore"):
+            p0 = self.enclose(point)                              # f(q), outward-rounded
+            JU = self.jacobian_enclosure(box)
+            R = [arith.sub((p0[:, i, 0], p0[:, i, 1]), (T[:, i, 0], T[:, i, 1])) for i in range(m)]
+            D = [arith.sub((box[:, j, 0], box[:, j, 1]), (q[:, j], q[:, j])) for j in sub]
+            for a in range(m):
+                c = [(C[:, a, i], C[:, a, i]) for i in range(m)]
+                acc = arith.neg(_dot(c, R))
+                for b, j in enumerate(sub):
+                    cj = _dot(c, [JU[i][j] for i in range(m)])                  # (C J(U))[a, b]
+                    identity = (1.0, 1.0) if a == b else (0.0, 0.0)
+                    acc = arith.add(acc, arith.mul(arith.sub(identity, cj), D[b]))
+                K[:, a, 0], K[:, a, 1] = arith.add(acc, (q[:, sub[a]], q[:, sub[a]]))
+        return np.where(np.isnan(K), np.inf * np.array([-1.0, 1.0]), K)
+
+    # -------------------------------------------------------------- outer test
+    def prove_outside(self, T: np.ndarray, *, max_pairs=200_000, rounds: int = 60) -> np.ndarray:
+        """Mask of the task boxes ``T`` proved to hold no point of the image: every joint box whose enclosure
+        meets a task box is halved (longest edge) until none is left, or the box holds ``max_pairs`` (one
+        number, or one per box)."""
+        Q = np.repeat(self.limits[None], len(T), axis=0)
+        owner = np.arange(len(T))
+        cap = np.broadcast_to(np.asarray(max_pairs), (len(T),))
+        Q, owner = distribute(self, T, Q, owner, cap, rounds=rounds, ratio=0.0)
+        return np.bincount(owner, minlength=len(T)) == 0
+
+
+def _dot(c, v):
+    acc = arith.mul(c[0], v[0])
+    for ci, vi in zip(c[1:], v[1:]):
+        acc = arith.add(acc, arith.mul(ci, vi))
+    return acc
+
+
+def meets(E: np.ndarray, T: np.ndarray) -> np.ndarray:
+    """Closed boxes ``E`` and ``T`` (same shape) share a point; NaN bounds count as meeting."""
+    apart = (E[:, :, 0] > T[:, :, 1]) | (E[:, :, 1] < T[:, :, 0])
+    return ~apart.any(axis=1)
+
+
+def halves(boxes: np.ndarray, axis: np.ndarray | None = None):
+    """Both halves of every box along ``axis`` (default: its longest edge), in order (``2i``, ``2i + 1``),
+    and the mask of boxes that could be split (a box one float wide cannot; its two "halves" are itself)."""
+    rows = np.arange(len(boxes))
+    k = np.argmax(boxes[:, :, 1] - boxes[:, :, 0], axis=1) if axis is None else axis
+    lo, hi = boxes[rows, k, 0], boxes[rows, k, 1]
+    mid = 0.5 * lo + 0.5 * hi
+    ok = (mid > lo) & (mid < hi)
+    children = np.repeat(boxes, 2, axis=0)
+    children[2 * rows[ok], k[ok], 1] = mid[ok]
+    children[2 * rows[ok] + 1, k[ok], 0] = mid[ok]
+    return children, ok
+
+
+def distribute(model, T, Q, owner, cap, *, rounds: int = 4, ratio: float = 1.0):
+    """Keep the (joint box, task box) pairs whose enclosure meets the task box, refining wide ones.
+
+    Task box ``i`` refines its joint boxes whose enclosure is wider than
+    ``ratio`` times the task box in a round only if it then holds at most
+    ``cap[i]`` pairs.  What happens to a task box depends on it and its own
+    pairs only (kept in their order), so any cut of the task boxes into
+    chunks gives the same pairs.
+    """
+    for _ in range(rounds):
+        E = model.enclose(Q)
+        keep = meets(E, T[owner])
+        Q, owner, E = Q[keep], owner[keep], E[keep]
+        wide = np.max(E[:, :, 1] - E[:, :, 0], axis=1) > ratio * np.max(T[owner, :, 1] - T[owner, :, 0], axis=1)
+        after = np.bincount(owner, minlength=len(T)) + np.bincount(owner[wide], minlength=len(T))
+        wide &= (after <= cap)[owner]
+        if not wide.any():
+            break
+        children, ok = halves(Q[wide])
+        children = children.reshape(-1, 2, *Q.shape[1:])[ok].reshape(-1, *Q.shape[1:])
+        Q = np.concatenate([Q[~wide], Q[wide][~ok], children])
+        owner = np.concatenate([owner[~wide], owner[wide][~ok], np.repeat(owner[wide][ok], 2)])
+    E = model.enclose(Q)
+    keep = meets(E, T[owner])
+    return Q[keep], owner[keep]
+
+
+# ---------------------------------------------------------------------------------------------- critical set
+def faces(image: ImageMap):
+    """Every face of the joint box: per joint ``None`` (free), ``0`` (at its lower limit) or ``1`` (upper);
+    periodic joints are always free."""
+    choices = [(None,) if p else (None, 0, 1) for p in image.periodic]
+    return list(itertools.product(*choices))
+
+
+def face_box(image: ImageMap, face) -> np.ndarray:
+    """The face as a ``(1, k, 2)`` joint box; a limited coordinate is the two floats enclosing the limit."""
+    box = image.limits.copy()
+    for j, side in enumerate(face):
+        if side is not None:
+            box[j] = image.face_limits[j, side]
+    return box[None]
+
+
+def _certain_sign(lo, hi):
+    return np.where(lo > 0, 1, np.where(hi < 0, -1, 0))
+
+
+def _regular(image: ImageMap, Q: np.ndarray, face) -> np.ndarray:
+    """Mask of the joint boxes of a face proved to hold no critical point (module docstring)."""
+    free = [j for j, side in enumerate(face) if side is None]
+    if len(free) >= 2:
+        out = np.zeros(len(Q), dtype=bool)
+        for i, j in itertools.combinations(free, 2):
+            lo, hi = image.minor_enclosure(Q, i, j)
+            out |= (lo > 0) | (hi < 0)
+        return out
+    if len(free) == 1:
+        # An edge: the tangent cone is the line J_a and the rays s_c J_c of the limited joints (s_c = +1 at a
+        # lower limit, -1 at an upper one); two rays proved on opposite sides of the line make it the plane.
+        a = free[0]
+        signs = []
+        for c, side in enumerate(face):
+            if side is not None:
+                lo, hi = image.minor_enclosure(Q, a, c)
+                signs.append(_certain_sign(lo, hi) * (1 if side == 0 else -1))
+        signs = np.stack(signs, axis=1)
+        return (signs > 0).any(axis=1) & (signs < 0).any(axis=1)
+    return np.zeros(len(Q), dtype=bool)
+
+
+def critical_cover(image: ImageMap, face, target: float, clip: np.ndarray, *, max_boxes: int | None = None):
+    """Enclosures ``(N, 2, 2)`` of joint boxes covering the critical set of one face, each at most ``target``
+    wide (or a box that cannot be split further), clipped to ``clip`` (an enclosure of the whole image), and
+    the number of joint boxes examined; ``None`` instead of the enclosures when ``max_boxes`` ran out."""
+    Q = face_box(image, face)
+    free = np.array([j for j, side in enumerate(face) if side is None], dtype=int)
+    # Split where a joint moves the image most: joint width times the largest Jacobian entry over the limits.
+    J = image.jacobian_enclosure(image.limits[None])
+    scale = np.array([max(max(abs(float(J[i][j][0][0])), abs(float(J[i][j][1][0]))) for i in range(image.m))
+                      for j in range(image.k)])
+    scale = np.where(np.isfinite(scale), scale, 1.0)
+    kept, evaluated = [], 0
+    while len(Q):
+        evaluated += len(Q)
+        if max_boxes is not None and evaluated > max_boxes:
+            return None, evaluated
+        E = image.enclose(Q)
+        E[:, :, 0] = np.maximum(E[:, :, 0], clip[:, 0])
+        E[:, :, 1] = np.minimum(E[:, :, 1], clip[:, 1])
+        live = ~_regular(image, Q, face) & (E[:, :, 0] <= E[:, :, 1]).all(axis=1)
+        Q, E = Q[live], E[live]
+        if not len(free):                              # a vertex: its enclosure is kept as it is
+            kept.append(E)
+            break
+        small = np.max(E[:, :, 1] - E[:, :, 0], axis=1) <= target
+        weight = (Q[:, free, 1] - Q[:, free, 0]) * scale[free]
+        axis = free[np.argmax(weight, axis=1)]
+        children, ok = halves(Q[~small], axis[~small])
+        kept.append(E[small])
+        kept.append(E[~small][~ok])                    # one float wide: kept as it is
+        Q = children.reshape(-1, 2, *Q.shape[1:])[ok].reshape(-1, *Q.shape[1:])
+    return np.concatenate(kept) if kept else np.empty((0, 2, 2)), evaluated
+
+
+# ---------------------------------------------------------------------------------------------- grid of cells
+class CellGrid:
+    """A grid of closed cells of equal width over a box with a margin of at least one cell outside it.
+
+    ``edges[a]`` are the float cell edges along axis ``a``; cell ``(i, j, ...)`` is
+    ``[edges[0][i], edges[0][i + 1]] x ...``.  The margin cells lie strictly outside
+    ``box``.
+    """
+
+    def __init__(self, box: np.ndarray, width: float):
+        self.box = np.asarray(box, dtype=float)
+        self.width = float(width)
+        self.edges = []
+        for lo, hi in self.box:
+            n = math.ceil((hi - lo) / width + 3)
+            self.edges.append(lo - 1.5 * width + width * np.arange(n + 1))
+        self.shape = tuple(len(e) - 1 for e in self.edges)
+
+    @property
+    def extent(self) -> np.ndarray:
+        return np.array([(e[0], e[-1]) for e in self.edges])
+
+    def span(self, E: np.ndarray):
+        """First and last cell index along each axis of the cells each closed box ``E`` meets: ``(N, m)`` twice."""
+        first = np.stack([np.searchsorted(e, E[:, a, 0], side="left") - 1 for a, e in enumerate(self.edges)], axis=1)
+        last = np.stack([np.searchsorted(e, E[:, a, 1], side="right") - 1 for a, e in enumerate(self.edges)], axis=1)
+        top = np.array(self.shape) - 1
+        return np.clip(first, 0, top), np.clip(last, 0, top)
+
+    def mark(self, E: np.ndarray) -> np.ndarray:
+        """Boolean grid of the cells meeting at least one box of ``E`` (2D grids)."""
+        counts = np.zeros((self.shape[0] + 1, self.shape[1] + 1), dtype=np.int64)
+        if len(E):
+            first, last = self.span(E)
+            i0, j0 = first[:, 0], first[:, 1]
+            i1, j1 = last[:, 0] + 1, last[:, 1] + 1
+            np.add.at(counts, (i0, j0), 1)
+            np.add.at(counts, (i0, j1), -1)
+            np.add.at(counts, (i1, j0), -1)
+            np.add.at(counts, (i1, j1), 1)
+        return np.cumsum(np.cumsum(counts, axis=0), axis=1)[:-1, :-1] > 0
+
+    def cells(self, index: np.ndarray) -> np.ndarray:
+        """``(N, m, 2)`` boxes of the cells at integer positions ``index`` (``(N, m)``)."""
+        return np.stack([np.stack([e[index[:, a]], e[index[:, a] + 1]], axis=1) for a, e in enumerate(self.edges)],
+                        axis=1)
+
+    def boxes(self, classes: np.ndarray, value: int, *, merge: bool = True) -> np.ndarray:
+        """The cells of one class as ``(N, 2, 2)`` boxes, runs along the last axis merged into one box."""
+        hit = classes == value
+        if not merge:
+            return self.cells(np.argwhere(hit))
+        padded = np.pad(hit, ((0, 0), (1, 1)))
+        step = np.diff(padded.astype(np.int8), axis=1)
+        starts = np.argwhere(step == 1)
+        ends = np.argwhere(step == -1)          # same rows, in the same order
+        e0, e1 = self.edges
+        return np.stack([np.stack([e0[starts[:, 0]], e0[starts[:, 0] + 1]], axis=1),
+                         np.stack([e1[starts[:, 1]], e1[ends[:, 1]]], axis=1)], axis=1)
+
+    def prefix(self, classes: np.ndarray, value: int) -> np.ndarray:
+        """Summed-area table of the cells of one class, for :meth:`all_in_class`."""
+        table = np.zeros((self.shape[0] + 1, self.shape[1] + 1), dtype=np.int64)
+        table[1:, 1:] = np.cumsum(np.cumsum(classes == value, axis=0), axis=1)
+        return table
+
+    def all_in_class(self, table: np.ndarray, E: np.ndarray, *, outside_counts: bool) -> np.ndarray:
+        """Mask of the closed boxes ``E`` (``(N, 2, 2)``) whose every point lies in cells of the class of
+        ``table``; a part of ``E`` beyond the grid counts as in the class when ``outside_counts``."""
+        first, last = self.span(E)
+        ext = self.extent
+        beyond = ((E[:, :, 0] < ext[:, 0]) | (E[:, :, 1] > ext[:, 1])).any(axis=1)
+        i0, j0 = first[:, 0], first[:, 1]
+        i1, j1 = last[:, 0] + 1, last[:, 1] + 1
+        total = table[i1, j1] - table[i0, j1] - table[i1, j0] + table[i0, j0]
+        full = total == (i1 - i0) * (j1 - j0)
+        return full & (outside_counts | ~beyond)
+
+
+# ---------------------------------------------------------------------------------------------- the paving
+def critical_paving(image: ImageMap, width: float, *, rng=None, budget=None, cover_ratio: float = 0.7,
+                    cover=None):
+    """Classify the cells of a grid of the given width over the image of a map into the plane.
+
+    Returns ``(grid, classes, evaluated, stopped)``: ``classes`` holds
+    :data:`OUTER`, :data:`INNER` or :data:`UNDECIDED` per cell (see the module
+    docstring for the proofs); ``stopped`` is the reason a budget stopped the
+    run (then every cell not yet decided is :data:`UNDECIDED`, and nothing
+    rests on an unfinished step).  ``budget`` is a callable of the number of
+    boxes evaluated returning a stop reason or ``""``; ``cover`` computes the
+    covers of a list of faces, ``cover(faces, target, clip)`` (default: here,
+    one face after the other; :func:`critical_cover` per face).
+    """
+    from scipy import ndimage
+
+    if image.m != 2:
+        raise ValueError("critical_paving needs a map into the plane")
+    rng = np.random.default_rng(0) if rng is None else rng
+    budget = budget or (lambda evaluated: "")
+    root = image.enclose(image.limits[None])[0]
+    grid = CellGrid(root, width)
+    classes = np.full(grid.shape, UNDECIDED, dtype=np.int8)
+    target = cover_ratio * width
+    if cover is None:
+        covers = [critical_cover(image, face, target, root) for face in faces(image)]
+    else:
+        covers = cover(faces(image), target, root)
+    evaluated = sum(n for _, n in covers)
+    stopped = budget(evaluated)
+    if stopped:
+        return grid, classes, evaluated, stopped
+    marked = grid.mark(np.concatenate([E for E, _ in covers]))
+    labels, count = ndimage.label(~marked)
+    ring = np.ones(grid.shape, dtype=bool)
+    ring[1:-1, 1:-1] = False
+    verdict = np.full(count + 1, UNDECIDED, dtype=np.int8)
+    verdict[np.unique(labels[ring & ~marked])] = OUTER
+    # Every other component: prove one of its cells, the deepest first, then a few others.
+    depth = ndimage.distance_transform_cdt(~marked, metric="taxicab")
+    todo = [c for c in range(1, count + 1) if verdict[c] == UNDECIDED]
+    size = np.bincount(labels.ravel(), minlength=count + 1)
+    if todo:
+        deepest = np.array(ndimage.maximum_position(depth, labels, todo))
+        candidates = [deepest]
+        for _ in range(2):
+            candidates.append(_random_cells(labels, todo, rng))
+        for cells in candidates:
+            open_ = np.array([verdict[c] == UNDECIDED for c in todo])
+            if not open_.any():
+                break
+            # One point decides a component: the centre of the cell, as a degenerate box (easier to prove
+            # than the whole cell).
+            centre = grid.cells(cells[open_]).mean(axis=2)
+            boxes = np.repeat(centre[:, :, None], 2, axis=2)
+            ids = np.array(todo)[open_]
+            evaluated += len(boxes)
+            inside, reached = image.prove_inside_multistart(boxes, rng, reached=True)
+            verdict[ids[inside]] = INNER
+            # Outside proofs where Newton's method reached no centre, for components of at least
+            # OUTSIDE_MIN_CELLS cells (a few pinched cells between marks are left undecided: their measure is
+            # small and joint boxes near the boundary are many).
+            rest = ~inside & ~reached & (size[ids] >= OUTSIDE_MIN_CELLS)
+            if rest.any():
+                evaluated += int(rest.sum())
+                outside = image.prove_outside(boxes[rest], max_pairs=OUTSIDE_PAIRS)
+                verdict[ids[rest][outside]] = OUTER
+            stopped = budget(evaluated)
+            if stopped:
+                break
+    classes[~marked] = verdict[labels[~marked]]
+    if stopped:
+        return grid, classes, evaluated, stopped
+    # Marked cells, one by one.
+    index = np.argwhere(marked)
+    boxes = grid.cells(index)
+    evaluated += len(boxes)
+    inside = image.prove_inside_multistart(boxes, rng, starts=4)
+    classes[tuple(index[inside].T)] = INNER
+    return grid, classes, evaluated, budget(evaluated)
+
+
+def _random_cells(labels, components, rng):
+    """One random cell of each component (``components`` ascending), as ``(N, 2)`` indices."""
+    flat = np.flatnonzero(np.isin(labels, components))
+    flat = flat[rng.permutation(len(flat))]
+    _, first = np.unique(labels.flat[flat], return_index=True)
+    return np.stack(np.unravel_index(flat[first], labels.shape), axis=1)
