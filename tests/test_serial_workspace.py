@@ -142,3 +142,203 @@ def test_bad_input_is_a_clear_error():
     a = sp.Symbol("a")
     with pytest.raises(InvalidParameterError, match="give values for a"):
         reach(DHRobot([DHJoint.revolute(1, a=a)]), delta=0.1)
+
+
+# ---------------------------------------------------------------------------------------------- issue 14, part 2
+HUMAN_ARM_DH = ([sp.Rational(186, 1000), sp.Rational(146, 1000), sp.Rational(108, 1000)],
+                [-60, 0, -10], [120, 130, 25])                     # Bastien 2018, Table 1 case iii (degrees)
+
+
+def human_arm():
+    lengths, lower, upper = HUMAN_ARM_DH
+    d = sp.pi / 180
+    return DHRobot([DHJoint.revolute(k + 1, a=l, limits=(lo * d, hi * d))
+                    for k, (l, lo, hi) in enumerate(zip(lengths, lower, upper))], name="human arm")
+
+
+@pytest.fixture(scope="module")
+def human_paving():
+    return reach(human_arm(), delta=0.004)
+
+
+def test_human_arm_bracket_holds_bastiens_area_and_boundary_boxes_cover_his_boundary(human_paving):
+    """Second method: the exact area of Bastien's alignment boundary (Table 1 iii, 0.26848 m^2) lies in the
+    bracket, and points on every exact boundary arc lie in boundary boxes (PlanarChain's theta1 is measured
+    from +y, so its point (X, Y) is the DH point (Y, -X))."""
+    lengths, lower, upper = HUMAN_ARM_DH
+    boundary = ws.PlanarChain([float(v) for v in lengths], lower, upper).boundary()
+    lo, hi = human_paving.measure_bounds
+    assert lo <= boundary.area <= hi and (hi - lo) / boundary.area < 0.1
+    for polyline in boundary.polygon(step=0.01):
+        pts = np.stack([polyline[:, 1], -polyline[:, 0]], axis=1)
+        # no exact boundary point inside an inner box (away from its edges) or in an outer box; all in boundary boxes
+        assert not _in_boxes(pts, human_paving.inner, pad=-1e-12).any()
+        assert not _in_boxes(pts, human_paving.outer).any()
+        assert _in_boxes(pts, human_paving.boundary).all()
+
+
+def _in_boxes(points, boxes, pad=0.0):
+    """Mask of the points lying in at least one closed box widened by ``pad`` (narrowed if negative)."""
+    lo, hi = boxes[None, :, :, 0] - pad, boxes[None, :, :, 1] + pad
+    return ((points[:, None, :] >= lo) & (points[:, None, :] <= hi)).all(axis=2).any(axis=1)
+
+
+def _solve_50_digits(model, target, q0, cols):
+    """Newton at 50 digits on the joints ``cols`` (the others fixed at q0): a configuration reaching
+    ``target`` exactly to 1e-40, or None."""
+    import mpmath
+
+    with mpmath.workdps(50):
+        fixed = {v: mpmath.mpf(float(x)) for v, x in zip(model.variables, q0)}
+        exprs = [sp.lambdify(model.variables, e - t, "mpmath") for e, t in zip(model.expressions, target)]
+
+        def f(*u):
+            vals = dict(fixed)
+            for c, x in zip(cols, u):
+                vals[model.variables[c]] = x
+            args = [vals[v] for v in model.variables]
+            return [g(*args) for g in exprs]
+        try:
+            u = mpmath.findroot(f, [fixed[model.variables[c]] for c in cols], tol=mpmath.mpf(10) ** -45)
+        except (ValueError, ZeroDivisionError):
+            return None
+        u = [u] if model.m == 1 else list(u)
+        q = [fixed[v] for v in model.variables]
+        for c, x in zip(cols, u):
+            q[c] = x
+        if max(abs(r) for r in f(*u)) > mpmath.mpf(10) ** -40:
+            return None
+        return q
+
+
+def _reached_at_50_digits(model, target, rng, tries=30):
+    """A configuration within the limits reaching ``target`` (checked at 50 digits), found by float Newton
+    from random starts then refined by mpmath; False if none is found."""
+    import itertools as it
+
+    for _ in range(tries):
+        q, ok = model.newton(np.array([target]), model.random_configurations(1, rng), steps=30)
+        if not ok[0]:
+            continue
+        J = model.jacobian_float(q)[0]
+        cols = max(it.combinations(range(model.k), model.m), key=lambda c: abs(np.linalg.det(J[:, list(c)])))
+        sol = _solve_50_digits(model, target, q[0], list(cols))
+        if sol is None:
+            continue
+        lo, hi = model.limits[:, 0], model.limits[:, 1]
+        if all(model.periodic[j] or lo[j] <= float(sol[j]) <= hi[j] for j in range(model.k)):
+            return True
+    return False
+
+
+@settings(max_examples=12, deadline=None, derandomize=True)
+@given(lengths=st.lists(st.sampled_from([0.2, 0.3, 0.5, 0.75, 1.0]), min_size=2, max_size=3),
+       limits=st.lists(st.tuples(st.integers(-170, 0), st.integers(10, 170)), min_size=3, max_size=3),
+       seed=st.integers(0, 2**16))
+def test_no_false_certificate_on_random_planar_chains(lengths, limits, seed):
+    """Issue 14 property: points drawn in inner boxes are reached within the limits (50 digits); points
+    drawn in outer boxes are within 1e-9 of no sampled configuration's position and are refuted by the
+    interval enclosure (joint boxes exhausted)."""
+    p_ = len(lengths)
+    d = sp.pi / 180
+    robot = DHRobot([DHJoint.revolute(k + 1, a=sp.nsimplify(l), limits=(lo * d, hi * d))
+                     for k, (l, (lo, hi)) in enumerate(zip(lengths, limits[:p_]))])
+    paving = reach(robot, delta=0.05 * sum(lengths))
+    model = ReachModel(robot)
+    rng = np.random.default_rng(seed)
+    if len(paving.inner):
+        for box in paving.inner[rng.integers(len(paving.inner), size=3)]:
+            target = rng.uniform(box[:, 0], box[:, 1])
+            assert _reached_at_50_digits(model, target, rng), (box, target)
+    if len(paving.outer):
+        pos = model.position_float(model.random_configurations(100_000, rng))
+        out = paving.outer
+        assert not _in_boxes(pos, out, pad=1e-9).any()
+        boxes = out[rng.integers(len(out), size=3)]
+        points = rng.uniform(boxes[:, :, 0], boxes[:, :, 1])
+        assert model.prove_outside(np.repeat(points[:, :, None], 2, axis=2), max_pairs=400_000).all()
+
+
+def _glass_section_volume(n_r=300, n_z=600):
+    """Independent volume of the glass-handling arm (paper 004, our default lengths): its (u, z) section is a
+    planar 3-joint chain based at (a1, d1) with links a2, a3, d5, the last turned by -90 deg, so Bastien's
+    alignment boundary (PlanarChain: theta1 from +y, joint 3 split into (-180, 40] and [140, 180] deg,
+    with -179.99 for -180) says which (u, z) are reached; the solid turns that section through
+    theta1 in [-160, 160] deg, a point of negative u turning through the axis.  Midpoint rule in (rho, z)."""
+    a1, a2, a3, d1, d5 = 0.05, 0.25, 0.20, 0.30, 0.10
+    pieces = [ws.PlanarChain([a2, a3, d5], [-30, -130, lo], [120, 130, hi]).boundary()
+              for lo, hi in ((-179.99, 40), (140, 180))]
+    rho = (np.arange(n_r) + 0.5) * (0.6 / n_r)
+    z = -0.3 + (np.arange(n_z) + 0.5) * (1.2 / n_z)
+    R, Z = np.meshgrid(rho, z, indexing="ij")
+
+    def in_section(u, v):
+        pts = np.stack([-(v - d1).ravel(), (u - a1).ravel()], axis=1)          # chain coordinates
+        hit = np.zeros(len(pts), dtype=bool)
+        for b in pieces:
+            hit |= b.classify(pts, tol=1e-12) != "outside"
+        return hit.reshape(u.shape)
+
+    plus, minus = in_section(R, Z), in_section(-R, Z)
+    w = np.radians(320)
+    angle = w * (plus.astype(float) + minus) - (2 * w - 2 * np.pi) * (plus & minus)
+    return float(np.sum(R * angle) * (0.6 / n_r) * (1.2 / n_z))
+
+
+def test_glass_arm_bracket_holds_the_independent_volume():
+    """Issue 14 item 4: the glass-handling arm's bracket holds the volume of its section turned through the
+    theta1 range, computed independently (Bastien's boundary of the section, numerical integration)."""
+    volume = _glass_section_volume()
+    robot = ws.robots.build("glass-handling")
+    paving = reach(robot, delta=0.025)
+    lo, hi = paving.measure_bounds
+    assert paving.complete and paving.variables == (sp.Symbol("x"), sp.Symbol("y"), sp.Symbol("z"))
+    assert lo <= volume <= hi, (lo, volume, hi)
+    assert (hi - lo) / volume < 0.3                 # 0.23 at delta 0.025; 0.035 at delta 0.005 (benchmark)
+
+
+def test_glass_arm_outer_boxes_meet_no_configuration():
+    """Independent numerics: 50,000 random configurations of the glass arm within its limits land in no
+    outer box; points drawn in inner boxes are reached within the limits (50 digits)."""
+    robot = ws.robots.build("glass-handling")
+    paving = reach(robot, delta=0.1)
+    model = ReachModel(robot)
+    rng = np.random.default_rng(5)
+    pos = model.position_float(model.random_configurations(50_000, rng))
+    out = paving.outer
+    for k in range(0, len(out), 512):
+        assert not _in_boxes(pos, out[k:k + 512]).any()
+    for box in paving.inner[rng.integers(len(paving.inner), size=8)]:
+        target = rng.uniform(box[:, 0], box[:, 1])
+        assert _reached_at_50_digits(model, target, rng), (box, target)
+
+
+def test_the_method_follows_the_structure():
+    """glass arm and Puma: p = Rz(theta1) (u, c, v); the SCARA's second joint turns about z as well, so it
+    takes the pair method; 'critical' on it is a clear error."""
+    from workspace_sym.serial_workspace import _section
+
+    glass = _section(ws.robots.build("glass-handling"), ())
+    assert [str(v) for v in glass.section.variables] == ["theta2", "theta3", "theta4"] and glass.c == (0.0, 0.0)
+    puma = _section(ws.robots.build("puma560"), ())
+    assert abs(puma.c[0] + 0.15005) < 1e-12 and puma.c[0] <= puma.c[1]
+    assert _section(ws.robots.build("scara"), ()) is None
+    with pytest.raises(InvalidParameterError, match="method 'critical' needs"):
+        reach(ws.robots.build("scara"), delta=0.1, method="critical")
+    with pytest.raises(InvalidParameterError, match="method must be one of"):
+        reach(ws.robots.build("scara"), delta=0.1, method="fast")
+
+
+def test_delta_larger_than_the_workspace_is_a_clear_error():
+    with pytest.raises(InvalidParameterError, match="delta must be at most the size"):
+        reach(planar_robot([sp.Integer(1), sp.Integer(1)]), delta=100)
+
+
+def test_the_two_methods_agree_where_both_prove():
+    """The pair method and the critical method never contradict each other on the planar 3R arm."""
+    robot = human_arm()
+    a = reach(robot, delta=0.02)
+    b = reach(robot, delta=0.02, method="pairs", max_pairs=20_000)
+    for inner, outer in ((a.inner, b.outer), (b.inner, a.outer)):
+        overlap = (inner[:, None, :, 0] < outer[None, :, :, 1]) & (inner[:, None, :, 1] > outer[None, :, :, 0])
+        assert not overlap.all(axis=2).any()

@@ -309,12 +309,12 @@ def _show_paving(paving, as_json: bool, extra: dict | None = None) -> None:
 
 
 def cmd_reach(args) -> int:
-    from .serial_workspace import ReachModel, reach
+    from .serial_workspace import ReachModel, reach, resolve_method
 
     robot = _robot_from_args(args)
     with _distributed(args, ()) as spread:
         paving = reach(robot, delta=args.delta, size=args.size, max_boxes=args.max_boxes, time_limit=args.time_limit,
-                       progress=args.progress, inner_depth=args.inner_depth, **spread)
+                       progress=args.progress, inner_depth=args.inner_depth, method=args.method, **spread)
     if args.plot:
         from .plotting import plot_paving, save_figure
 
@@ -322,10 +322,10 @@ def cmd_reach(args) -> int:
                                        units=robot.units), args.plot))
     model = ReachModel(robot)
     extra = {"robot": robot.name, "variables": [str(v) for v in paving.variables],
-             "joints_subdivided": [str(q) for q in model.variables]}
+             "joints_subdivided": [str(q) for q in model.variables], "method": resolve_method(robot, args.method)}
     if not args.json:
         print(f"{robot.name}: position workspace over ({', '.join(extra['variables'])}); joints subdivided: "
-              f"{', '.join(extra['joints_subdivided'])}")
+              f"{', '.join(extra['joints_subdivided'])}; method {extra['method']}")
     _show_paving(paving, args.json, extra)
     return 0
 
@@ -655,8 +655,13 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("reach", help="certified position workspace of a serial robot (reachable / unreachable boxes)",
                        parents=[dh_robot, resolution, budget, progress, json_, scheduler])
+    p.add_argument("--method", choices=("auto", "critical", "pairs"), default="auto",
+                   help="critical: regions decided from the critical set (planar robots, and spatial ones turned "
+                        "by a revolute first joint); pairs: joint boxes carried by task boxes (any robot); "
+                        "auto (default): critical where it applies")
     p.add_argument("--inner-depth", type=int, default=2,
-                   help="halvings of a last-level box when proving it reachable piece by piece (default 2)")
+                   help="pairs method: halvings of a last-level box when proving it reachable piece by piece "
+                        "(default 2)")
     p.add_argument("--plot", metavar="FILE", help="draw the boxes to an image file")
     p.set_defaults(func=cmd_reach)
 

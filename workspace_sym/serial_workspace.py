@@ -60,7 +60,7 @@ from .interval.paving import Box, Paving, RunBudget, box_measure, box_sizes, che
 from .interval.search import split_every_axis
 from .kinematics import DHRobot
 
-__all__ = ["reach", "ReachModel", "METHODS"]
+__all__ = ["reach", "resolve_method", "ReachModel", "METHODS"]
 
 _TASK = (sp.Symbol("x"), sp.Symbol("y"), sp.Symbol("z"))
 _MIN_PAIRS = 64                  # pairs a task box may always hold, however small its share of the root box
@@ -459,6 +459,21 @@ def _spatial(robot, parameters, delta, size, run, *, executor):
     return box, inner, boundary, outer, T if len(T) and reason else None, evaluated, reason
 
 
+def resolve_method(robot: DHRobot, method: str = "auto", parameters=()) -> str:
+    """The method :func:`reach` uses for ``robot``: ``"critical"`` or ``"pairs"``."""
+    if method not in METHODS:
+        raise InvalidParameterError(f"method must be one of {', '.join(map(repr, METHODS))}; got {method!r}",
+                                    parameter="method")
+    parameters = tuple(parameters.items()) if isinstance(parameters, dict) else tuple(parameters)
+    parameters = tuple(sorted(parameters, key=lambda item: str(item[0])))
+    fits = _model(robot, parameters).m == 2 or _section(robot, parameters) is not None
+    if method == "critical" and not fits:
+        raise InvalidParameterError(f"method 'critical' needs a planar robot or a first revolute joint turning "
+                                    f"the rest (standard DH, no base transform); {robot.name} has neither: use "
+                                    "method='pairs'", parameter="method")
+    return method if method != "auto" else ("critical" if fits else "pairs")
+
+
 @arith.nearest_rounding
 def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: dict | None = None,
           method: str = "auto", max_boxes: int | None = None, time_limit: float | None = None,
@@ -510,9 +525,6 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     check_delta(delta)
     if size not in ("diameter", "width"):
         raise InvalidParameterError(f"size must be one of 'diameter', 'width'; got {size!r}", parameter="size")
-    if method not in METHODS:
-        raise InvalidParameterError(f"method must be one of {', '.join(map(repr, METHODS))}; got {method!r}",
-                                    parameter="method")
     for name, value, least in (("inner_depth", inner_depth, 0), ("chunk_pairs", chunk_pairs, 1)):
         if not isinstance(value, int) or isinstance(value, bool) or value < least:
             raise InvalidParameterError(f"{name} must be a whole number, {least} or more; got {value!r}",
@@ -526,13 +538,7 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     if delta > extent:
         raise InvalidParameterError(f"delta must be at most the size of the workspace's enclosing box "
                                     f"({extent:.6g} {robot.units}); got {delta!r}", parameter="delta")
-    kind = method
-    if method == "auto":
-        kind = "critical" if (model.m == 2 or _section(robot, parameters) is not None) else "pairs"
-    if kind == "critical" and model.m != 2 and _section(robot, parameters) is None:
-        raise InvalidParameterError(f"method 'critical' needs a planar robot or a first revolute joint turning "
-                                    f"the rest (standard DH, no base transform); {robot.name} has neither: use "
-                                    "method='pairs'", parameter="method")
+    kind = resolve_method(robot, method, parameters)
     run = RunBudget(max_boxes=max_boxes, time_limit=time_limit, progress=progress, total=0.0, label="reach")
     try:
         if kind == "pairs":
