@@ -1,60 +1,99 @@
 """Issue 14 benchmark: certified position workspaces of serial arms (``workspace_sym.serial_workspace``).
 
-For each robot and delta, ours (proved inner / boundary / outer boxes and the measure
-bracket) beside two references computed in the same run: the exact measure where one is
-known (the 2R arm with full joint ranges reaches an annulus), and what sampling gives, the
-measure of the grid cells of side delta / sqrt(n) hit by 10^6 random configurations within
-the limits (an estimate with no guarantee either way, the usual scatter-plot answer).
+For each robot and delta: seconds, proved inner / boundary / outer boxes, the measure
+bracket and its width relative to the reference, beside the references computed in the
+same run:
 
-Run: python benchmarks/bench_reach.py
+* exact: the 2R arm with full joint ranges reaches an annulus (area 2 pi); the human arm of
+  Bastien (2018), Table 1 case iii, as a DH robot has the area of Bastien's exact boundary
+  (``PlanarChain``);
+* independent: the glass-handling arm's volume, its section by Bastien's method turned
+  through the theta1 range (``tests/test_serial_workspace.py::_glass_section_volume``);
+* sampled: the measure of the grid cells of side delta / sqrt(n) hit by 10^6 random
+  configurations within the limits (no bound either way: the usual scatter-plot answer).
+
+For the spatial robots the time is split into the critical paving of the (u, v) section and
+the classification of the (x, y, z) boxes.
+
+Run: python benchmarks/bench_reach.py [--quick]
 """
 
 import datetime
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 import sympy as sp
 
 from _common import machine
+import workspace_sym as ws
 from workspace_sym import robots
+from workspace_sym.interval.image import critical_paving
 from workspace_sym.kinematics import DHJoint, DHRobot
-from workspace_sym.serial_workspace import ReachModel, reach
+from workspace_sym.serial_workspace import SECTION_RATIO, ReachModel, _cell_width, _section, reach, resolve_method
 
-CASES = [
-    ("2R, l = (1, 1/2), full range", DHRobot([DHJoint.revolute(1, a=1), DHJoint.revolute(2, a=sp.Rational(1, 2))]),
-     (0.1, 0.03), float(sp.pi * ((sp.Rational(3, 2)) ** 2 - sp.Rational(1, 2) ** 2))),
-    ("planar 3R (catalog)", robots.build("planar-3r"), (0.2, 0.1), None),
-    ("SCARA (catalog)", robots.build("scara"), (0.1, 0.05), None),
-    ("Puma 560, 3 position joints", robots.build("puma560"), (0.3, 0.2), None),
-]
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from test_serial_workspace import _glass_section_volume, human_arm  # noqa: E402
+
+HUMAN = ([0.186, 0.146, 0.108], [-60, 0, -10], [120, 130, 25])      # Bastien 2018, Table 1 case iii
+
+
+def cases(quick: bool):
+    two_r = DHRobot([DHJoint.revolute(1, a=1), DHJoint.revolute(2, a=sp.Rational(1, 2))], name="2R")
+    human_area = ws.PlanarChain(*HUMAN).boundary().area
+    glass_volume = _glass_section_volume(600, 1200)
+    return [
+        ("2R, l = (1, 1/2), full range", two_r, (0.1, 0.03), 2 * np.pi, "exact"),
+        ("human arm (Bastien Table 1 iii) as DH", human_arm(), (0.004, 0.002, 0.001, 0.0008), human_area, "exact"),
+        ("glass-handling arm", robots.build("glass-handling"),
+         (0.025, 0.0125) if quick else (0.025, 0.0125, 0.008, 0.005), glass_volume, "independent"),
+        ("Puma 560", robots.build("puma560"), (0.05, 0.02), None, ""),
+        ("SCARA (pair method)", robots.build("scara"), (0.1, 0.05), None, ""),
+    ]
 
 
 def sampled_measure(model: ReachModel, delta: float, n: int = 1_000_000, seed: int = 0):
     rng = np.random.default_rng(seed)
-    start = time.perf_counter()
     q = rng.uniform(model.limits[:, 0], model.limits[:, 1], size=(n, model.k))
     p = model.position_float(q)
     cell = delta / np.sqrt(model.m)
     cells = np.unique(np.floor(p / cell).astype(np.int64), axis=0)
-    return len(cells) * cell**model.m, time.perf_counter() - start
+    return len(cells) * cell**model.m
+
+
+def section_seconds(robot, delta):
+    revolved = _section(robot, ())
+    start = time.perf_counter()
+    critical_paving(revolved.section, SECTION_RATIO * _cell_width(delta, "diameter", 3))
+    return time.perf_counter() - start
 
 
 def main():
+    quick = "--quick" in sys.argv
     print(f"# reach benchmark, {datetime.date.today()}, {machine()}")
-    print("| robot | delta | seconds | inner / boundary / outer boxes | measure bracket | exact | sampled (s) |")
-    print("|---|---|---|---|---|---|---|")
-    for name, robot, deltas, exact in CASES:
+    print("| robot | method | delta | seconds | inner / boundary / outer boxes | measure bracket | (hi - lo) / ref "
+          "| reference | sampled |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for name, robot, deltas, ref, kind in cases(quick):
         model = ReachModel(robot)
+        method = resolve_method(robot)
+        reach(robot, delta=deltas[0])                     # compile once, as a notebook session would
         for delta in deltas:
             start = time.perf_counter()
             p = reach(robot, delta=delta, time_limit=600)
             seconds = time.perf_counter() - start
             lo, hi = p.measure_bounds
-            sampled, t_s = sampled_measure(model, delta)
-            exact_text = f"{exact:.4f}" if exact is not None else "—"
+            split = ""
+            if method == "critical" and model.m == 3:
+                s = section_seconds(robot, delta)
+                split = f" (section {s:.1f} + boxes {max(seconds - s, 0):.1f})"
+            rel = f"{(hi - lo) / ref:.2%}" if ref else f"{(hi - lo) / (0.5 * (lo + hi)):.2%} of the mid"
+            ref_text = f"{ref:.5f} ({kind})" if ref else "—"
             done = "" if p.complete else f" ({p.stop_reason})"
-            print(f"| {name} | {delta} | {seconds:.1f}{done} | {len(p.inner)} / {len(p.boundary)} / {len(p.outer)} "
-                  f"| [{lo:.4f}, {hi:.4f}] | {exact_text} | {sampled:.4f} ({t_s:.1f}) |")
+            print(f"| {name} | {method} | {delta} | {seconds:.2f}{split}{done} | {len(p.inner)} / {len(p.boundary)} / "
+                  f"{len(p.outer)} | [{lo:.5f}, {hi:.5f}] | {rel} | {ref_text} | "
+                  f"{sampled_measure(model, delta):.5f} |", flush=True)
 
 
 if __name__ == "__main__":
