@@ -104,4 +104,4 @@ def test_slices_are_off_the_bisection_planes(shell):
         for kind in ("inner", "boundary"):
             z = getattr(shell, kind)[:, 2]
             assert drawn[kind] == int(((z[:, 0] < v) & (v < z[:, 1])).sum()) > 0
-        assert ax.get_title() == f"z = {v:g}" and ax.get_xlabel() == "x (m)"
+        assert ax.get_title() == f"z = {v}" and ax.get_xlabel() == "x (m)"

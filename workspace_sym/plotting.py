@@ -357,7 +357,7 @@ def plot_paving_slices(paving, *, axis: int = 2, values=(-0.4, 0.0, 0.3), refere
         a_.set_aspect("equal")
         a_.set_xlabel(_label(paving.variables[others[0]], units))
         a_.set_ylabel(_label(paving.variables[others[1]], units))
-        a_.set_title(f"{paving.variables[axis]} = {fmt(v, 4, 'g')}", fontsize="medium")
+        a_.set_title(f"{paving.variables[axis]} = {v}", fontsize="medium")
     if title:
         fig.suptitle(title)
     if ax is None:
