@@ -483,7 +483,15 @@ def cmd_report(args) -> int:
     from .report import dh_robot_report, planar_report
 
     command = " ".join(["workspace-sym"] + sys.argv[1:])
+    reach = {"reach_delta": args.reach_delta, "reach_time_limit": args.reach_time_limit}
+
+    def no_reach():
+        if args.reach_delta is not None:
+            raise InvalidParameterError(f"the certified workspace section needs a DH robot (catalog or --dh FILE); "
+                                        f"{args.what!r} is not one", parameter="reach_delta")
+
     if args.what == "chain":
+        no_reach()
         if not (args.lengths and args.lower and args.upper):
             raise WorkspaceError("report chain: give --lengths, --lower and --upper")
         path = planar_report(_chain_from_args(args), args.out, command=command)
@@ -492,21 +500,23 @@ def cmd_report(args) -> int:
             raise WorkspaceError(f"report: give either {args.what!r} or --dh FILE, not both")
         if args.dh is None:
             raise WorkspaceError("report: name 'chain', a catalog robot, rpr2 or orthoglide, or pass --dh FILE")
-        path = dh_robot_report(DHRobot.from_file(args.dh), args.out, command=command)
+        path = dh_robot_report(DHRobot.from_file(args.dh), args.out, command=command, **reach)
     else:
         from .orthoglide import Orthoglide
         from .parallel import ConstraintModel
 
         model = robots.build(args.what)
         if isinstance(model, DHRobot):
-            path = dh_robot_report(model, args.out, command=command)
+            path = dh_robot_report(model, args.out, command=command, **reach)
         elif isinstance(model, ConstraintModel):
+            no_reach()
             from .interval import pave
             from .report import paving_report
 
             paving = pave(model.constraints, model.box, delta=args.delta, exact_measure=model.exact_measure)
             path = paving_report(paving, args.out, title=f"Certified paving of {args.what}", command=command)
         elif isinstance(model, Orthoglide):
+            no_reach()
             from .report import orthoglide_report
 
             path = orthoglide_report(model, args.out, eps=args.eps, alpha=args.alpha, command=command)
@@ -690,6 +700,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--delta", type=float, default=0.07, help="paving resolution (rpr2)")
     p.add_argument("--eps", type=float, default=0.125, help="dextrous workspace resolution (orthoglide)")
     p.add_argument("--alpha", type=float, default=0.01, help="largest-cube accuracy (orthoglide)")
+    p.add_argument("--reach-delta", type=float, metavar="D",
+                   help="DH robot: add a certified workspace section (reach with boxes down to size D)")
+    p.add_argument("--reach-time-limit", type=float, default=60.0, metavar="SECONDS",
+                   help="with --reach-delta: stop reach after this many seconds (default 60; the rest is pending)")
     p.add_argument("--out", required=True, help="output directory")
     p.set_defaults(func=cmd_report)
 
@@ -723,6 +737,7 @@ _FLAGS = {
     "eps": "--eps", "sigma": "--sigma", "alpha": "--alpha",
     "seed": "--seed", "count": "--count", "max_joints": "--max-joints",
     "scheduler": "--scheduler", "max_memory": "--max-memory", "store": "--store", "resume": "--resume",
+    "reach_delta": "--reach-delta", "reach_time_limit": "--reach-time-limit",
 }
 
 
