@@ -21,7 +21,7 @@ from . import __version__, robots
 from .errors import InvalidParameterError, WorkspaceError
 from .expressions import is_finite_value, parse_expr, read_symbol
 from .kinematics import DHRobot
-from .numbers import clean_json, fmt
+from .numbers import clean_json, fmt, fmt_bracket
 from .snap import DEFAULT_TOL, summary
 
 __all__ = ["main", "build_parser"]
@@ -301,7 +301,7 @@ def _show_paving(paving, as_json: bool, extra: dict | None = None) -> None:
           f"{paving.evaluated} boxes evaluated")
     for kind in ("inner", "boundary", "outer", "pending"):
         print(f"  {kind:<8} {result[kind]['boxes']:>8} boxes, measure {fmt(result[kind]['measure'], 6)}")
-    print(f"  measure in [{fmt(lo, 6)}, {fmt(hi, 6)}]")
+    print(f"  measure in {fmt_bracket(lo, hi, 6)}")
     if paving.exact_measure is not None:
         print(f"  exact measure {fmt(float(paving.exact_measure), 6)} = {sp.sstr(paving.exact_measure)}")
     if not paving.complete:
@@ -471,7 +471,7 @@ def cmd_demo(args) -> int:
     lo, hi = paving.measure_bounds
     print(f"human arm (Bastien 2018, Table 1 iii): {b.counts['step0']} / {b.counts['step1']} / {b.counts['step2']} "
           f"arcs after steps 0 / 1 / 2, area {fmt(b.area, 10)}")
-    print(f"2-RPR paving (Rybak et al. 2016), delta 0.07: area in [{fmt(lo)}, {fmt(hi)}], "
+    print(f"2-RPR paving (Rybak et al. 2016), delta 0.07: area in {fmt_bracket(lo, hi)}, "
           f"exact {fmt(float(model.exact_measure))}")
     _wrote_report(path)
     print(f"{time.perf_counter() - start:.1f} s; report: {path} (also {path.with_suffix('.html').name}, "
