@@ -442,9 +442,9 @@ def _reach_section(doc: Document, robot, paving, tmp: Path) -> None:
     doc.heading("Certified workspace (proved boxes)")
     doc.para(f"The end-effector positions ({coords}) are covered by boxes down to size delta = {paving.delta} "
              f"({paving.size}). Inner boxes: every point of the box is the position of some configuration within "
-             "the joint limits (interval Krawczyk test, Goldsztejn and Jaulin 2010). Outer boxes: no point of the "
-             "box is (interval enclosure of the forward kinematics over every joint box that could reach it). "
-             "Boundary boxes, of size at most delta, are undecided.")
+             "the joint limits. Outer boxes: no point of the box is. Boundary boxes, of size at most delta, are "
+             "undecided. Every verdict rests on outward-rounded interval arithmetic "
+             "(workspace_sym.serial_workspace.reach, whose docstring gives the proofs).")
     _paving_section(doc, paving, tmp, units=robot.units, stem="reach")
 
 
