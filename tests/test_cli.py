@@ -192,6 +192,43 @@ def test_demo_writes_the_report(tmp_path, capsys):
     assert "Certified paving of Rybak" in md and "0 outside (must be 0)" in md
 
 
+def test_report_with_a_certified_workspace(tmp_path, capsys):
+    """report --reach-delta adds the certified section; a run cut short by --reach-time-limit says so, lists its
+    pending boxes and draws them."""
+    out_dir = tmp_path / "arm"
+    code, out, err = run(capsys, "report", "planar-2r", "--reach-delta", "0.2", "--out", str(out_dir))
+    assert code == 0 and f"report: {out_dir / 'report.md'}" in out and f"{out_dir / 'reach.png'}" in err
+    md = (out_dir / "report.md").read_text()
+    assert "## Certified workspace (proved boxes)" in md and "The run completed" in md and "| area (m²) |" in md
+    code, out, err = run(capsys, "report", "scara", "--reach-delta", "0.02", "--reach-time-limit", "0.5",
+                         "--out", str(tmp_path / "scara"))
+    md = (tmp_path / "scara" / "report.md").read_text()
+    assert code == 0 and "The run did not complete (time limit of 0.5 s reached)" in md
+    assert re.search(r"^\| pending \| [1-9]\d* \| ", md, re.M) and "pending (blue)" in md
+    assert "| volume (m³) |" in md and (tmp_path / "scara" / "reach-slices.png").stat().st_size > 10_000
+
+
+@pytest.mark.parametrize(("argv", "needle"), [
+    (["planar-2r", "--reach-delta", "-0.1"], "--reach-delta: reach_delta must be a positive finite number; got -0.1"),
+    (["planar-2r", "--reach-delta", "nan"], "--reach-delta: reach_delta must be a positive finite number; got nan"),
+    (["planar-2r", "--reach-delta", "0.2", "--reach-time-limit", "-1"], "--reach-time-limit: reach_time_limit"),
+    (["rpr2", "--reach-delta", "0.2"], "--reach-delta: the certified workspace section needs a DH robot"),
+    (["chain", "--lengths", "1,1", "--lower=-90,0", "--upper=90,90", "--reach-delta", "0.2"], "'chain' is not one"),
+])
+def test_report_reach_options_bad_values(tmp_path, capsys, argv, needle):
+    """Bad --reach-* values: exit 2, one line naming the option, nothing written (and no long run first)."""
+    code, out, err = run(capsys, "report", *argv, "--out", str(tmp_path / "no"))
+    assert code == 2 and out == "" and err.count("\n") == 1 and needle in err and not (tmp_path / "no").exists()
+
+
+def test_report_reach_delta_not_a_number(tmp_path, capsys):
+    with pytest.raises(SystemExit) as stop:                 # argparse's own refusal, also one line and status 2
+        main(["report", "planar-2r", "--reach-delta", "wide", "--out", str(tmp_path / "no")])
+    err = capsys.readouterr().err
+    assert stop.value.code == 2 and err.count("\n") == 1 and "argument --reach-delta: invalid float value" in err
+    assert not (tmp_path / "no").exists()
+
+
 def test_reach_json_and_plot(tmp_path, capsys):
     plot = tmp_path / "annulus.png"
     code, out, _ = run(capsys, "reach", "planar-2r", "--delta", "0.1", "--json", "--plot", str(plot))

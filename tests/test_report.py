@@ -6,13 +6,14 @@ import subprocess
 from html.parser import HTMLParser
 from pathlib import Path
 
+import numpy as np
 import pytest
 from system_tools import require_tool
 
 from workspace_sym import robots
 from workspace_sym.interval import pave
 from workspace_sym.planar import PlanarChain
-from workspace_sym.report import dh_robot_report, paving_report, planar_report, tex_escape
+from workspace_sym.report import dh_robot_report, number, paving_report, planar_report, tex_escape
 
 
 def latex_is_balanced(tex: str) -> bool:
@@ -126,6 +127,123 @@ def test_table1_iii_closed_forms_are_short(planar):
     assert [n for n in names if n.startswith("A_")] == [f"A_{k}" for k in range(1, 9)] and "A" in names
 
 
+def _reach_report(robot, folder, **options):
+    """``dh_robot_report(robot, folder, reach_delta=...)`` with the Document it rendered, the Paving ``robot.reach``
+    returned and the keywords it was called with (to hold the report's numbers against the paving's)."""
+    from workspace_sym.kinematics import DHRobot
+
+    calls = []
+    reach = DHRobot.reach
+
+    def keep(self, **kwargs):
+        calls.append((kwargs, reach(self, **kwargs)))
+        return calls[-1][1]
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(DHRobot, "reach", keep)
+        path, doc = _report_with_document(lambda f: dh_robot_report(robot, f, samples=500, **options), folder)
+    assert len(calls) == 1
+    return path, doc, calls[0][1], calls[0][0]
+
+
+@pytest.fixture(scope="module")
+def reach2d(tmp_path_factory):
+    """The planar 2R arm (l1 = 1, l2 = 0.5, joints free) with its certified workspace at delta 0.2."""
+    return _reach_report(robots.build("planar-2r"), tmp_path_factory.mktemp("reach2d") / "r", reach_delta=0.2)
+
+
+@pytest.fixture(scope="module")
+def reach3d(tmp_path_factory, scara):
+    """The SCARA of the catalog with its certified workspace at delta 0.1 (about 2 s of reach)."""
+    return _reach_report(scara, tmp_path_factory.mktemp("reach3d") / "r", reach_delta=0.1, reach_time_limit=30)
+
+
+def _section(md: str) -> str:
+    start = md.index("## Certified workspace (proved boxes)")
+    return md[start:md.index("## Reproducibility")]
+
+
+def _assert_reach_section(md: str, paving, name: str, unit: str):
+    """The section states what is proved and gives the paving's counts, measures, bracket and run."""
+    text = _section(md)
+    assert "every point of the box is the position of some configuration within the joint limits" in text
+    assert "Outer boxes: no point of the box is" in text and "of size at most delta, are undecided" in text
+    for kind in ("inner", "boundary", "outer"):
+        count, measure = re.search(rf"^\| {kind} \| (\d+) \| ([\d.]+) \|$", text, re.M).groups()
+        assert int(count) == paving.counts[kind] and abs(float(measure) - paving.measures[kind]) <= 5e-7
+    assert f"| boxes | count | {name} ({unit}) |" in text
+    lo, hi = map(float, re.search(rf"the {name} lies in \[([-\d.]+), ([-\d.]+)\] {unit} ", text).groups())
+    # printed with six decimals rounded outward: still a bracket of the paving's, and as tight as six decimals allow
+    p_lo, p_hi = paving.measure_bounds
+    assert lo <= p_lo < lo + 1e-6 and hi - 1e-6 < p_hi <= hi
+    assert f", {number(paving.seconds, '.3f')} s:" in text
+    assert ("The run completed" in text) == paving.complete
+    return lo, hi
+
+
+def _colour_pixels(png: Path, colour: str) -> int:
+    """Pixels of an image within a few levels of ``colour`` (the image must decode)."""
+    import matplotlib.image
+    from matplotlib.colors import to_rgb
+
+    rgb = matplotlib.image.imread(png)[:, :, :3]
+    assert rgb.shape[0] > 300 and rgb.shape[1] > 300
+    return int((np.abs(rgb - np.array(to_rgb(colour))).max(axis=2) < 0.02).sum())
+
+
+def _green_pixels(png: Path) -> int:
+    """Pixels whose green exceeds red and blue by 0.15 (any shade of the inner boxes' green)."""
+    import matplotlib.image
+
+    rgb = matplotlib.image.imread(png)[:, :, :3]
+    return int((rgb[:, :, 1] - np.maximum(rgb[:, :, 0], rgb[:, :, 2]) > 0.15).sum())
+
+
+def test_reach_section_of_a_planar_robot(reach2d):
+    """planar-2r: the section's numbers are those of the Paving reach returned; the annulus 1/2 <= r <= 3/2 of
+    area 2 pi (exact, the arm's full joint range) lies in the printed bracket; the picture shows inner boxes."""
+    md_path, _, paving, kwargs = reach2d
+    assert kwargs == {"delta": 0.2, "time_limit": 60.0, "progress": False}
+    lo, hi = _assert_reach_section(md_path.read_text(), paving, "area", "m²")
+    assert paving.complete and lo <= 2 * np.pi <= hi and paving.counts["inner"] > 0
+    folder = md_path.parent
+    assert _colour_pixels(folder / "reach.png", "#4caf50") > 1000 and _colour_pixels(folder / "reach.png", "#ffd54f")
+    assert not (folder / "reach-slices.png").exists()               # slices only for a 3D workspace
+    check_html((folder / "report.html").read_text(), figures=2)
+    assert latex_is_balanced((folder / "report.tex").read_text())
+
+
+def test_reach_section_of_a_spatial_robot(reach3d):
+    """SCARA: volume in m³, the 3D picture and three slices spread over the z range of the boxes."""
+    md_path, _, paving, kwargs = reach3d
+    assert kwargs == {"delta": 0.1, "time_limit": 30, "progress": False}
+    md = md_path.read_text()
+    _assert_reach_section(md, paving, "volume", "m³")
+    assert paving.counts["inner"] > 0 and len(paving.variables) == 3
+    heights = [float(v) for v in re.search(r"the planes z = ([\d.]+), ([\d.]+), ([\d.]+) m\*", md).groups()]
+    z_lo, z_hi = paving.box.lower[2], paving.box.upper[2]
+    assert z_lo < heights[0] < heights[1] < heights[2] < z_hi
+    folder = md_path.parent
+    assert _green_pixels(folder / "reach.png") > 2000               # the shaded inner solid, not only its legend
+    assert _colour_pixels(folder / "reach-slices.png", "#4caf50") > 100
+    assert _colour_pixels(folder / "reach-slices.png", "#ffd54f") > 1000
+    check_html((folder / "report.html").read_text(), figures=3)
+    assert latex_is_balanced((folder / "report.tex").read_text())
+
+
+def test_reach_report_refuses_a_bad_delta(tmp_path):
+    """Bad reach options fail at once, naming the parameter, and write nothing."""
+    from workspace_sym.errors import WorkspaceError
+
+    arm = robots.build("planar-2r")
+    for options, name in (({"reach_delta": -0.1}, "reach_delta"), ({"reach_delta": float("nan")}, "reach_delta"),
+                          ({"reach_delta": 0.2, "reach_time_limit": 0}, "reach_time_limit")):
+        with pytest.raises(WorkspaceError) as err:
+            dh_robot_report(arm, tmp_path / "x", **options)
+        assert err.value.parameter == name and name in str(err.value)
+    assert not (tmp_path / "x").exists()
+
+
 def test_dh_report(dh):
     md_path, doc = dh
     md = md_path.read_text()
@@ -163,7 +281,7 @@ def test_dh_report_from_a_file(tmp_path):
 
 
 # ---------------------------------------------------------------------- a real browser and a real TeX
-def test_html_report_renders_in_chromium(planar, dh):
+def test_html_report_renders_in_chromium(planar, dh, reach2d, reach3d):
     """Headless Chromium loads each HTML report: every figure decodes (naturalWidth > 0) and every MathML
     element is laid out with a non-zero size."""
     require_tool("chromium", "chromedriver")
@@ -176,7 +294,7 @@ def test_html_report_renders_in_chromium(planar, dh):
         options.add_argument(flag)
     driver = webdriver.Chrome(service=Service(shutil.which("chromedriver")), options=options)
     try:
-        for md_path, figures in ((planar[0], 4), (dh[0], 1)):
+        for md_path, figures in ((planar[0], 4), (dh[0], 1), (reach2d[0], 2), (reach3d[0], 3)):
             driver.get(md_path.with_suffix(".html").as_uri())
             widths = driver.execute_script("return [...document.images].map(i => i.complete ? i.naturalWidth : 0)")
             assert len(widths) == figures and all(w > 0 for w in widths)
@@ -209,11 +327,11 @@ def test_dh_report_of_a_decimal_table(tmp_path):
         assert_compiles(tmp_path / "out" / "report.tex")
 
 
-def test_latex_report_compiles(planar, dh):
+def test_latex_report_compiles(planar, dh, reach2d, reach3d):
     """pdflatex compiles each LaTeX report with no error, no undefined control sequence and no overfull box
-    wider than 10 pt (the closed-form table and the long formulas stay on the page)."""
+    wider than 10 pt (the closed-form table and the long formulas stay on the page; m² and m³ are set)."""
     require_tool("pdflatex")
-    for md_path in (planar[0], dh[0]):
+    for md_path in (planar[0], dh[0], reach2d[0], reach3d[0]):
         assert_compiles(md_path.with_suffix(".tex"))
 
 

@@ -21,7 +21,7 @@ from . import __version__, robots
 from .errors import InvalidParameterError, WorkspaceError
 from .expressions import is_finite_value, parse_expr, read_symbol
 from .kinematics import DHRobot
-from .numbers import clean_json, fmt
+from .numbers import clean_json, fmt, fmt_bracket
 from .snap import DEFAULT_TOL, summary
 
 __all__ = ["main", "build_parser"]
@@ -301,7 +301,7 @@ def _show_paving(paving, as_json: bool, extra: dict | None = None) -> None:
           f"{paving.evaluated} boxes evaluated")
     for kind in ("inner", "boundary", "outer", "pending"):
         print(f"  {kind:<8} {result[kind]['boxes']:>8} boxes, measure {fmt(result[kind]['measure'], 6)}")
-    print(f"  measure in [{fmt(lo, 6)}, {fmt(hi, 6)}]")
+    print(f"  measure in {fmt_bracket(lo, hi, 6)}")
     if paving.exact_measure is not None:
         print(f"  exact measure {fmt(float(paving.exact_measure), 6)} = {sp.sstr(paving.exact_measure)}")
     if not paving.complete:
@@ -471,7 +471,7 @@ def cmd_demo(args) -> int:
     lo, hi = paving.measure_bounds
     print(f"human arm (Bastien 2018, Table 1 iii): {b.counts['step0']} / {b.counts['step1']} / {b.counts['step2']} "
           f"arcs after steps 0 / 1 / 2, area {fmt(b.area, 10)}")
-    print(f"2-RPR paving (Rybak et al. 2016), delta 0.07: area in [{fmt(lo)}, {fmt(hi)}], "
+    print(f"2-RPR paving (Rybak et al. 2016), delta 0.07: area in {fmt_bracket(lo, hi)}, "
           f"exact {fmt(float(model.exact_measure))}")
     _wrote_report(path)
     print(f"{time.perf_counter() - start:.1f} s; report: {path} (also {path.with_suffix('.html').name}, "
@@ -483,7 +483,15 @@ def cmd_report(args) -> int:
     from .report import dh_robot_report, planar_report
 
     command = " ".join(["workspace-sym"] + sys.argv[1:])
+    reach = {"reach_delta": args.reach_delta, "reach_time_limit": args.reach_time_limit}
+
+    def no_reach():
+        if args.reach_delta is not None:
+            raise InvalidParameterError(f"the certified workspace section needs a DH robot (catalog or --dh FILE); "
+                                        f"{args.what!r} is not one", parameter="reach_delta")
+
     if args.what == "chain":
+        no_reach()
         if not (args.lengths and args.lower and args.upper):
             raise WorkspaceError("report chain: give --lengths, --lower and --upper")
         path = planar_report(_chain_from_args(args), args.out, command=command)
@@ -492,21 +500,23 @@ def cmd_report(args) -> int:
             raise WorkspaceError(f"report: give either {args.what!r} or --dh FILE, not both")
         if args.dh is None:
             raise WorkspaceError("report: name 'chain', a catalog robot, rpr2 or orthoglide, or pass --dh FILE")
-        path = dh_robot_report(DHRobot.from_file(args.dh), args.out, command=command)
+        path = dh_robot_report(DHRobot.from_file(args.dh), args.out, command=command, **reach)
     else:
         from .orthoglide import Orthoglide
         from .parallel import ConstraintModel
 
         model = robots.build(args.what)
         if isinstance(model, DHRobot):
-            path = dh_robot_report(model, args.out, command=command)
+            path = dh_robot_report(model, args.out, command=command, **reach)
         elif isinstance(model, ConstraintModel):
+            no_reach()
             from .interval import pave
             from .report import paving_report
 
             paving = pave(model.constraints, model.box, delta=args.delta, exact_measure=model.exact_measure)
             path = paving_report(paving, args.out, title=f"Certified paving of {args.what}", command=command)
         elif isinstance(model, Orthoglide):
+            no_reach()
             from .report import orthoglide_report
 
             path = orthoglide_report(model, args.out, eps=args.eps, alpha=args.alpha, command=command)
@@ -695,6 +705,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--delta", type=float, default=0.07, help="paving resolution (rpr2)")
     p.add_argument("--eps", type=float, default=0.125, help="dextrous workspace resolution (orthoglide)")
     p.add_argument("--alpha", type=float, default=0.01, help="largest-cube accuracy (orthoglide)")
+    p.add_argument("--reach-delta", type=float, metavar="D",
+                   help="DH robot: add a certified workspace section (reach with boxes down to size D)")
+    p.add_argument("--reach-time-limit", type=float, default=60.0, metavar="SECONDS",
+                   help="with --reach-delta: stop reach after this many seconds (default 60; the rest is pending)")
     p.add_argument("--out", required=True, help="output directory")
     p.set_defaults(func=cmd_report)
 
@@ -728,6 +742,7 @@ _FLAGS = {
     "eps": "--eps", "sigma": "--sigma", "alpha": "--alpha",
     "seed": "--seed", "count": "--count", "max_joints": "--max-joints",
     "scheduler": "--scheduler", "max_memory": "--max-memory", "store": "--store", "resume": "--resume",
+    "reach_delta": "--reach-delta", "reach_time_limit": "--reach-time-limit",
 }
 
 

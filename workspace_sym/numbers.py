@@ -25,7 +25,7 @@ from __future__ import annotations
 import math
 import re
 
-__all__ = ["clean", "fmt", "clean_json"]
+__all__ = ["clean", "fmt", "fmt_bracket", "clean_json"]
 
 _NOISE = 1e-12          # relative size of the float noise that clean() removes
 _SHORT = 9              # a "short" decimal has at most this many significant digits
@@ -66,6 +66,25 @@ def fmt(x, digits: int = 4, spec: str = "f") -> str:
     """
     text = format(float(x), f".{digits}{spec}")
     return _NEGATIVE_ZERO.sub("", text)
+
+
+def fmt_bracket(lo, hi, digits: int = 4) -> str:
+    """``"[lo, hi]"`` with ``digits`` decimals, ``lo`` rounded down and ``hi`` up: the printed bracket still holds
+    the certified one (``fmt`` would round to nearest and could cut it).
+
+    Examples
+    --------
+    >>> fmt_bracket(4.6318359375, 7.27734375)
+    '[4.6318, 7.2774]'
+    >>> fmt_bracket(-1e-12, 0.0, 6)
+    '[-0.000001, 0.000000]'
+    """
+    from decimal import ROUND_CEILING, ROUND_FLOOR, Decimal
+
+    quantum = Decimal(1).scaleb(-digits)
+    down = Decimal(float(lo)).quantize(quantum, rounding=ROUND_FLOOR)      # Decimal(float) is the float exactly
+    up = Decimal(float(hi)).quantize(quantum, rounding=ROUND_CEILING)
+    return f"[{_NEGATIVE_ZERO.sub('', str(down))}, {_NEGATIVE_ZERO.sub('', str(up))}]"
 
 
 def clean_json(obj):

@@ -8,12 +8,14 @@ units, and legends name the arc types and the box classes.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from .numbers import fmt
+from .numbers import fmt, fmt_bracket
 
 __all__ = ["scatter_workspace_3d", "plot_reach", "plot_sweeps", "plot_paving", "plot_paving_slices", "save_figure",
-           "plot_planar_step", "plot_boundary_loops", "arc_label_positions"]
+           "plot_planar_step", "plot_boundary_loops", "arc_label_positions", "paving_voxels", "slice_heights"]
 
 
 def _pyplot():
@@ -137,13 +139,16 @@ _BOX_NAMES = {"inner": "inner (proved inside)", "boundary": "boundary (undecided
               "outer": "outer (proved outside)", "pending": "pending (not examined)"}
 
 
-def _box_legend(ax, counts, *, fontsize="small"):
-    """Legend of the box classes drawn, with their numbers of boxes."""
+_BELOW = {"loc": "upper center", "bbox_to_anchor": (0.5, -0.2)}     # under the axes and their x label
+
+
+def _box_legend(ax, counts, *, fontsize="small", where=None):
+    """Legend of the box classes drawn, with their numbers of boxes (``where``: legend placement keywords)."""
     from matplotlib.patches import Patch
 
     handles = [Patch(facecolor=_BOX_COLOURS[k], edgecolor="k", linewidth=0.3, label=f"{_BOX_NAMES[k]}: {n}")
                for k, n in counts.items()]
-    return ax.legend(handles=handles, loc="upper right", fontsize=fontsize)
+    return ax.legend(handles=handles, fontsize=fontsize, **(where or {"loc": "upper right"}))
 
 
 def plot_paving(paving, *, ax=None, show_outer=False, exact_boundary=None, title=None, units=None):
@@ -185,32 +190,115 @@ def plot_paving(paving, *, ax=None, show_outer=False, exact_boundary=None, title
     ax.set_ylabel(_label(paving.variables[1], units))
     m_lo, m_hi = paving.measure_bounds
     how = " with contraction" if paving.contract else ""
-    ax.set_title(title or f"δ = {paving.delta}{how}: area in [{fmt(m_lo)}, {fmt(m_hi)}]")
+    ax.set_title(title or f"δ = {paving.delta}{how}: area in {fmt_bracket(m_lo, m_hi)}")
     return ax.figure
 
 
-def _plot_paving_3d(paving, *, ax=None, title=None, units=None):
+# Faces of a voxel seen along +axis / -axis, counter-clockwise from outside (outward normals for shading).
+_VOXEL_FACES = {
+    0: (((1, 0, 0), (1, 1, 0), (1, 1, 1), (1, 0, 1)), ((0, 0, 0), (0, 0, 1), (0, 1, 1), (0, 1, 0))),
+    1: (((0, 1, 0), (0, 1, 1), (1, 1, 1), (1, 1, 0)), ((0, 0, 0), (1, 0, 0), (1, 0, 1), (0, 0, 1))),
+    2: (((0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)), ((0, 0, 0), (0, 1, 0), (1, 1, 0), (1, 0, 0))),
+}
+
+
+def paving_voxels(paving, kinds=("inner", "boundary", "pending"), *, resolution: int = 64):
+    """The boxes of a 3D paving on a grid, for drawing: ``(grid, lower, step)``.
+
+    ``grid`` is an ``(n_x, n_y, n_z)`` int8 array holding ``k + 1`` where a
+    cell's centre lies in a box of ``kinds[k]`` (0: none of them).  The
+    cells are as small as the narrowest box along each axis, at most
+    ``resolution`` per axis; a box holding no cell centre still marks the
+    cell of its own centre, so nothing drawn disappears.  Later kinds paint
+    over earlier ones (a picture leans towards the undecided).  A picture,
+    not a proof: the certified boxes are the paving's.
+    """
+    lower = np.asarray(paving.box.lower, dtype=float)
+    upper = np.asarray(paving.box.upper, dtype=float)
+    width = np.maximum(upper - lower, np.finfo(float).tiny)
+    boxes = [np.asarray(getattr(paving, k), dtype=float).reshape(-1, 3, 2) for k in kinds]
+    every = np.concatenate(boxes)
+    narrowest = (every[:, :, 1] - every[:, :, 0]).min(axis=0) if len(every) else width
+    n = np.clip(np.round(width / np.maximum(narrowest, width / resolution)), 1, resolution).astype(int)
+    step = width / n
+    grid = np.zeros(tuple(n), dtype=np.int8)
+    for code, b in enumerate(boxes, 1):
+        # cells whose centres lower + (i + 1/2) step lie in [lo, hi]
+        first = np.ceil((b[:, :, 0] - lower) / step - 0.5).astype(int)
+        last = np.floor((b[:, :, 1] - lower) / step - 0.5).astype(int)
+        own = np.floor((0.5 * (b[:, :, 0] + b[:, :, 1]) - lower) / step).astype(int)
+        empty = (last < first).any(axis=1)
+        first[empty], last[empty] = own[empty], own[empty]
+        first, last = np.clip(first, 0, n - 1), np.clip(last, 0, n - 1)
+        for (i0, j0, k0), (i1, j1, k1) in zip(first, last):
+            grid[i0:i1 + 1, j0:j1 + 1, k0:k1 + 1] = code
+    return grid, lower, step
+
+
+def _exposed_faces(grid, code, lower, step, *, against_empty_only: bool):
+    """``(F, 4, 3)`` quadrilaterals of the cells ``grid == code`` that face a cell of another kind (or only an
+    empty cell), outward."""
+    mine = grid == code
+    padded = np.pad(grid, 1)
+    faces = []
+    for axis in range(3):
+        for side, shift in ((0, 1), (1, -1)):
+            neighbour = np.roll(padded, -shift, axis=axis)[1:-1, 1:-1, 1:-1]
+            show = mine & ((neighbour == 0) if against_empty_only else (neighbour != code))
+            cells = np.argwhere(show)
+            if len(cells):
+                corners = np.array(_VOXEL_FACES[axis][side], dtype=float)
+                faces.append(lower + (cells[:, None, :] + corners[None]) * step)
+    return np.concatenate(faces) if faces else np.empty((0, 4, 3))
+
+
+def _plot_paving_3d(paving, *, ax=None, title=None, units=None, resolution: int = 64):
+    """Inner boxes as a shaded opaque solid, boundary (and pending) boxes as a translucent shell around it.
+
+    Only the faces between a drawn kind and another kind are drawn (on a grid
+    of at most ``resolution`` cells per axis, :func:`paving_voxels`), so tens
+    of thousands of boxes draw in about a second and the inner solid stays
+    visible through the shell.
+    """
+    from matplotlib.colors import to_rgba
+    from matplotlib.ticker import MaxNLocator
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
     ax = _axes3d(ax)
-    for kind, alpha in (("inner", 0.5), ("boundary", 0.15)):
-        faces = []
-        for b in getattr(paving, kind):
-            (x0, x1), (y0, y1), (z0, z1) = b
-            corners = np.array([[x, y, z] for x in (x0, x1) for y in (y0, y1) for z in (z0, z1)])
-            for quad in ((0, 1, 3, 2), (4, 5, 7, 6), (0, 1, 5, 4), (2, 3, 7, 6), (0, 2, 6, 4), (1, 3, 7, 5)):
-                faces.append(corners[list(quad)])
-        ax.add_collection3d(Poly3DCollection(faces, facecolors=_BOX_COLOURS[kind], edgecolors="none", alpha=alpha,
-                                             label=kind))
-    ax.set_xlim(paving.box.lower[0], paving.box.upper[0])
-    ax.set_ylim(paving.box.lower[1], paving.box.upper[1])
-    ax.set_zlim(paving.box.lower[2], paving.box.upper[2])
-    for setter, v in zip((ax.set_xlabel, ax.set_ylabel, ax.set_zlabel), paving.variables):
-        setter(_label(v, units))
-    _box_legend(ax, {k: len(getattr(paving, k)) for k in ("inner", "boundary")})
-    if title:
-        ax.set_title(title)
+    kinds = ["inner", "boundary"] + (["pending"] if len(paving.pending) else [])
+    grid, lower, step = paving_voxels(paving, kinds, resolution=resolution)
+    faces, colours = [], []
+    for code, kind in enumerate(kinds, 1):
+        opaque = kind == "inner"
+        quads = _exposed_faces(grid, code, lower, step, against_empty_only=not opaque)
+        faces.append(quads)
+        colours.append(np.tile(to_rgba(_BOX_COLOURS[kind], 1.0 if opaque else 0.18), (len(quads), 1)))
+    # one collection, so that faces of every kind are sorted by depth together
+    ax.add_collection3d(Poly3DCollection(np.concatenate(faces), facecolors=np.concatenate(colours), linewidths=0,
+                                         shade=True, label="boxes"))
+    lo, hi = paving.box.lower, paving.box.upper
+    ax.set_xlim(lo[0], hi[0])
+    ax.set_ylim(lo[1], hi[1])
+    ax.set_zlim(lo[2], hi[2])
+    ax.set_box_aspect(np.maximum(np.subtract(hi, lo), 1e-3 * max(np.subtract(hi, lo))))   # true proportions
+    for axis, v in zip((ax.xaxis, ax.yaxis, ax.zaxis), paving.variables):
+        axis.set_major_locator(MaxNLocator(5))
+        axis.set_label_text(_label(v, units))
+    _box_legend(ax, {k: len(getattr(paving, k)) for k in kinds})
+    m_lo, m_hi = paving.measure_bounds
+    ax.set_title(title or f"δ = {paving.delta}: volume in {fmt_bracket(m_lo, m_hi)}")
     return ax.figure
+
+
+def slice_heights(paving, axis: int = 2) -> tuple[float, ...]:
+    """Three values spread over the range of ``variables[axis]`` of a paving's box (0.2, 0.45 and 0.7 of the
+    way), rounded to about three significant digits of that range: where to slice a 3D paving
+    (:func:`plot_paving_slices`) when nothing says where."""
+    lo, hi = paving.box.lower[axis], paving.box.upper[axis]
+    width = hi - lo
+    decimals = max(0, 2 - math.floor(math.log10(width))) if width > 0 else 3
+    # not a quarter, half, three quarters: those are bisection planes, where boxes of both sides meet
+    return tuple(float(np.round(lo + f * width, decimals)) for f in (0.2, 0.45, 0.7))
 
 
 def plot_paving_slices(paving, *, axis: int = 2, values=(-0.4, 0.0, 0.3), reference=None, title=None, ax=None,
@@ -254,7 +342,7 @@ def plot_paving_slices(paving, *, axis: int = 2, values=(-0.4, 0.0, 0.3), refere
             verts = [[(q[a, 0], q[b, 0]), (q[a, 1], q[b, 0]), (q[a, 1], q[b, 1]), (q[a, 0], q[b, 1])] for q in boxes]
             a_.add_collection(PolyCollection(verts, facecolors=_BOX_COLOURS[kind], edgecolors="none", label=kind))
             counts[kind] = len(boxes)
-        legend = _box_legend(a_, counts, fontsize="x-small")
+        legend = _box_legend(a_, counts, fontsize="x-small", where=_BELOW)   # the panel's boxes stay visible
         if reference is not None:
             u, w = np.meshgrid(np.linspace(lo[others[0]], hi[others[0]], 400),
                                np.linspace(lo[others[1]], hi[others[1]], 400))
@@ -263,7 +351,7 @@ def plot_paving_slices(paving, *, axis: int = 2, values=(-0.4, 0.0, 0.3), refere
             inside = np.asarray(reference(pts.reshape(-1, 3)), dtype=float).reshape(u.shape)
             a_.contour(u, w, inside, levels=[0.5], colors="r", linewidths=0.8)
             handles = legend.legend_handles + [Line2D([], [], color="r", lw=0.8, label="reference boundary")]
-            a_.legend(handles=handles, loc="upper right", fontsize="x-small")
+            a_.legend(handles=handles, fontsize="x-small", **_BELOW)
         a_.set_xlim(lo[others[0]], hi[others[0]])
         a_.set_ylim(lo[others[1]], hi[others[1]])
         a_.set_aspect("equal")

@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 import sympy as sp
 
-from .numbers import fmt
+from .numbers import fmt, fmt_bracket
 
 __all__ = ["Document", "dh_robot_report", "orthoglide_report", "paving_report", "planar_report", "reproducibility",
            "tex_escape", "number", "DEGREE", "Equations"]
@@ -395,22 +395,57 @@ def _publish(doc: Document, tmp: Path, out: Path, *, command: str | None = None,
     return out / "report.md"
 
 
-def _paving_section(doc: Document, paving, tmp: Path) -> None:
-    """Box counts, the certified measure bracket and a picture of a paving."""
-    from .plotting import plot_paving, save_figure
+def _measure_name(dimensions: int, units: str | None) -> tuple[str, str]:
+    """``("area", "m²")`` for two dimensions in metres, ``("volume", "m³")`` for three; no unit without units."""
+    name = {2: "area", 3: "volume"}.get(dimensions, "measure")
+    power = {2: "²", 3: "³"}.get(dimensions, f"^{dimensions}")
+    return name, f"{units}{power}" if units else ""
+
+
+def _paving_section(doc: Document, paving, tmp: Path, *, units: str | None = None, stem: str = "paving") -> None:
+    """Box counts, the certified measure bracket (rounded outward), whether the run completed and pictures of a
+    paving: the boxes (2D or 3D) and, for a 3D paving, three slices.  ``units`` is the length unit of the
+    variables; figures go to ``tmp/stem.png`` (and ``tmp/stem-slices.png``)."""
+    from .plotting import plot_paving, plot_paving_slices, save_figure, slice_heights
 
     d = paving.to_dict()
-    lo, hi = d["measure_bounds"]
-    doc.table(["boxes", "count", "measure"],
-              [[k, str(d[k]["boxes"]), number(d[k]["measure"])] for k in ("inner", "boundary", "outer")])
-    text = (f"delta {d['delta']}, backend {d['backend']}, {number(d['seconds'], '.3f')} s: the measure lies in "
-            f"[{number(lo)}, {number(hi)}] (inner boxes are proved inside, outer boxes proved outside, with "
-            "outward-rounded interval arithmetic).")
+    dims = len(paving.variables)
+    name, unit = _measure_name(dims, units)
+    kinds = ("inner", "boundary", "outer") + (("pending",) if d["pending"]["boxes"] else ())
+    doc.table(["boxes", "count", f"{name} ({unit})" if unit else "measure"],
+              [[k, str(d[k]["boxes"]), number(d[k]["measure"])] for k in kinds])
+    unit_text = f" {unit}" if unit else ""
+    text = (f"delta {d['delta']}, backend {d['backend']}, {number(d['seconds'], '.3f')} s: the {name} lies in "
+            f"{fmt_bracket(*d['measure_bounds'], 6)}{unit_text} (inner boxes are proved inside, outer boxes proved "
+            "outside, with outward-rounded interval arithmetic; the bracket is rounded outward).")
     if d.get("exact_measure") is not None:
         text += f" Exact measure {number(float(d['exact_measure']))}."  # to_dict stores it as a float
     doc.para(text)
-    save_figure(plot_paving(paving), tmp / "paving.png")
-    doc.figure(tmp / "paving.png", "certified paving: inner (green), boundary (yellow), outer (not drawn)")
+    if d["complete"]:
+        doc.para("The run completed: every box is proved inside, proved outside, or undecided at size delta.")
+    else:
+        doc.para(f"The run did not complete ({d.get('stop_reason') or 'stopped'}): {d['pending']['boxes']} pending "
+                 f"boxes were not examined; they count in the upper bound only.")
+    save_figure(plot_paving(paving, units=units), tmp / f"{stem}.png")
+    doc.figure(tmp / f"{stem}.png", "certified boxes: inner (green), boundary (yellow)"
+               + (", pending (blue)" if d["pending"]["boxes"] else "") + ", outer (not drawn)")
+    if dims == 3:
+        heights = slice_heights(paving)
+        save_figure(plot_paving_slices(paving, values=heights, units=units), tmp / f"{stem}-slices.png")
+        doc.figure(tmp / f"{stem}-slices.png", f"the boxes met by the planes {paving.variables[2]} = "
+                   + ", ".join(number(v, "g") for v in heights) + (f" {units}" if units else ""))
+
+
+def _reach_section(doc: Document, robot, paving, tmp: Path) -> None:
+    """The certified position workspace of a DH robot (:func:`workspace_sym.serial_workspace.reach`)."""
+    coords = ", ".join(map(str, paving.variables))
+    doc.heading("Certified workspace (proved boxes)")
+    doc.para(f"The end-effector positions ({coords}) are covered by boxes down to size delta = {paving.delta} "
+             f"({paving.size}). Inner boxes: every point of the box is the position of some configuration within "
+             "the joint limits. Outer boxes: no point of the box is. Boundary boxes, of size at most delta, are "
+             "undecided. Every verdict rests on outward-rounded interval arithmetic "
+             "(workspace_sym.serial_workspace.reach, whose docstring gives the proofs).")
+    _paving_section(doc, paving, tmp, units=robot.units, stem="reach")
 
 
 def _finalise(tmp: Path, out: Path) -> None:
@@ -441,13 +476,24 @@ def _limits_cell(joint):
     return sp.Interval(lo, hi)
 
 
-def dh_robot_report(robot, out, *, samples: int = 20000, command: str | None = None) -> Path:
+def dh_robot_report(robot, out, *, samples: int = 20000, command: str | None = None,
+                    reach_delta: float | None = None, reach_time_limit: float = 60.0) -> Path:
     """Report of a DH robot: DH table (angles in degrees), forward kinematics, the 6 x n geometric Jacobian and
     its singular factors in textbook form, a sampled workspace picture (Markdown, HTML, LaTeX; ``out/report.md``
-    and siblings).  Returns the path of the Markdown file."""
+    and siblings).  Returns the path of the Markdown file.
+
+    With ``reach_delta`` a section "Certified workspace (proved boxes)" adds
+    ``robot.reach(delta=reach_delta, time_limit=reach_time_limit)``: box counts
+    and measures, the certified bracket of the area (planar robot) or volume,
+    whether the run completed, the boxes (3D: also three slices in z).
+    """
+    from .interval.paving import check_delta
     from .plotting import save_figure, scatter_workspace_3d
     from .sampling import reach_points, sample_joint_box
 
+    if reach_delta is not None:                  # checked before the long symbolic work
+        check_delta(reach_delta, "reach_delta")
+        check_delta(reach_time_limit, "reach_time_limit")
     out = Path(out)
     start = time.perf_counter()
     T = robot.shorthand(robot.fk())
@@ -488,6 +534,9 @@ def dh_robot_report(robot, out, *, samples: int = 20000, command: str | None = N
                                          units=robot.units), tmp / "workspace.png")
         doc.heading("Workspace (sampled picture, not a proof)")
         doc.figure(tmp / "workspace.png", f"{samples} random configurations")
+        if reach_delta is not None:
+            _reach_section(doc, robot, robot.reach(delta=reach_delta, time_limit=reach_time_limit, progress=False),
+                           tmp)
         return _publish(doc, tmp, out, command=command, start=start)
 
 
