@@ -26,15 +26,15 @@ from pathlib import Path
 import numpy as np
 import sympy as sp
 
-from _common import machine
 import workspace_sym as ws
+from _common import machine
 from workspace_sym import robots
 from workspace_sym.interval.image import critical_paving
 from workspace_sym.kinematics import DHJoint, DHRobot
 from workspace_sym.serial_workspace import SECTION_RATIO, ReachModel, _cell_width, _section, reach, resolve_method
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from test_serial_workspace import _glass_section_volume, human_arm  # noqa: E402
+from test_serial_workspace import _glass_section_volume, human_arm
 
 HUMAN = ([0.186, 0.146, 0.108], [-60, 0, -10], [120, 130, 25])      # Bastien 2018, Table 1 case iii
 

@@ -414,8 +414,10 @@ def _cell_width(delta: float, size: str, m: int) -> float:
 def _planar(robot, parameters, delta, size, run, *, executor):
     """The ``"critical"`` method for a planar robot."""
     model = _model(robot, parameters)
+    run.total = 1.0
     grid, classes, evaluated, reason = critical_paving(model, _cell_width(delta, size, 2), budget=run.stop_reason,
-                                                       cover=_cover_with(executor, robot, parameters, "planar"))
+                                                       cover=_cover_with(executor, robot, parameters, "planar"),
+                                                       show=run.show)
     extent = grid.extent
     box = Box(model.task_variables, tuple(extent[:, 0]), tuple(extent[:, 1]))
     undecided = grid.boxes(classes, UNDECIDED, merge=bool(reason))
@@ -435,6 +437,7 @@ def _spatial(robot, parameters, delta, size, run, *, executor):
     grid, classes, evaluated, reason = critical_paving(revolved.section, SECTION_RATIO * width,
                                                        budget=run.stop_reason,
                                                        cover=_cover_with(executor, robot, parameters, "section"))
+    run.show(0.0, evaluated)
     T = root[None].copy()
     inner, boundary, outer = [], [], []
     if reason:

@@ -386,7 +386,7 @@ def _regular(image: ImageMap, Q: np.ndarray, face) -> np.ndarray:
             lo, hi = image.minor_enclosure(Q, i, j)
             out |= (lo > 0) | (hi < 0)
         return out
-    if len(free) == 1:
+    if len(free) == 1 and len(free) < len(face):
         # An edge: the tangent cone is the line J_a and the rays s_c J_c of the limited joints (s_c = +1 at a
         # lower limit, -1 at an upper one); two rays proved on opposite sides of the line make it the plane.
         a = free[0]
@@ -400,10 +400,10 @@ def _regular(image: ImageMap, Q: np.ndarray, face) -> np.ndarray:
     return np.zeros(len(Q), dtype=bool)
 
 
-def critical_cover(image: ImageMap, face, target: float, clip: np.ndarray, *, max_boxes: int | None = None):
+def critical_cover(image: ImageMap, face, target: float, clip: np.ndarray):
     """Enclosures ``(N, 2, 2)`` of joint boxes covering the critical set of one face, each at most ``target``
     wide (or a box that cannot be split further), clipped to ``clip`` (an enclosure of the whole image), and
-    the number of joint boxes examined; ``None`` instead of the enclosures when ``max_boxes`` ran out."""
+    the number of joint boxes examined."""
     Q = face_box(image, face)
     free = np.array([j for j, side in enumerate(face) if side is None], dtype=int)
     # Split where a joint moves the image most: joint width times the largest Jacobian entry over the limits.
@@ -414,8 +414,6 @@ def critical_cover(image: ImageMap, face, target: float, clip: np.ndarray, *, ma
     kept, evaluated = [], 0
     while len(Q):
         evaluated += len(Q)
-        if max_boxes is not None and evaluated > max_boxes:
-            return None, evaluated
         E = image.enclose(Q)
         E[:, :, 0] = np.maximum(E[:, :, 0], clip[:, 0])
         E[:, :, 1] = np.minimum(E[:, :, 1], clip[:, 1])
@@ -515,7 +513,7 @@ class CellGrid:
 
 # ---------------------------------------------------------------------------------------------- the paving
 def critical_paving(image: ImageMap, width: float, *, rng=None, budget=None, cover_ratio: float = 0.7,
-                    cover=None):
+                    cover=None, show=None):
     """Classify the cells of a grid of the given width over the image of a map into the plane.
 
     Returns ``(grid, classes, evaluated, stopped)``: ``classes`` holds
@@ -525,7 +523,8 @@ def critical_paving(image: ImageMap, width: float, *, rng=None, budget=None, cov
     rests on an unfinished step).  ``budget`` is a callable of the number of
     boxes evaluated returning a stop reason or ``""``; ``cover`` computes the
     covers of a list of faces, ``cover(faces, target, clip)`` (default: here,
-    one face after the other; :func:`critical_cover` per face).
+    one face after the other; :func:`critical_cover` per face).  ``show`` is
+    called as ``show(share decided, boxes evaluated)`` after each step.
     """
     from scipy import ndimage
 
@@ -533,6 +532,7 @@ def critical_paving(image: ImageMap, width: float, *, rng=None, budget=None, cov
         raise ValueError("critical_paving needs a map into the plane")
     rng = np.random.default_rng(0) if rng is None else rng
     budget = budget or (lambda evaluated: "")
+    show = show or (lambda share, evaluated: None)
     root = image.enclose(image.limits[None])[0]
     grid = CellGrid(root, width)
     classes = np.full(grid.shape, UNDECIDED, dtype=np.int8)
@@ -546,6 +546,7 @@ def critical_paving(image: ImageMap, width: float, *, rng=None, budget=None, cov
     if stopped:
         return grid, classes, evaluated, stopped
     marked = grid.mark(np.concatenate([E for E, _ in covers]))
+    show(0.0, evaluated)
     labels, count = ndimage.label(~marked)
     ring = np.ones(grid.shape, dtype=bool)
     ring[1:-1, 1:-1] = False
@@ -584,6 +585,7 @@ def critical_paving(image: ImageMap, width: float, *, rng=None, budget=None, cov
             if stopped:
                 break
     classes[~marked] = verdict[labels[~marked]]
+    show(float(np.mean(classes != UNDECIDED)), evaluated)
     if stopped:
         return grid, classes, evaluated, stopped
     # Marked cells, one by one.
@@ -592,6 +594,7 @@ def critical_paving(image: ImageMap, width: float, *, rng=None, budget=None, cov
     evaluated += len(boxes)
     inside = image.prove_inside_multistart(boxes, rng, starts=4)
     classes[tuple(index[inside].T)] = INNER
+    show(float(np.mean(classes != UNDECIDED)), evaluated)
     return grid, classes, evaluated, budget(evaluated)
 
 
