@@ -342,3 +342,19 @@ def test_the_two_methods_agree_where_both_prove():
     for inner, outer in ((a.inner, b.outer), (b.inner, a.outer)):
         overlap = (inner[:, None, :, 0] < outer[None, :, :, 1]) & (inner[:, None, :, 1] > outer[None, :, :, 0])
         assert not overlap.all(axis=2).any()
+
+
+def test_a_critical_set_of_full_dimension_falls_back_to_the_pair_method(monkeypatch):
+    """Joints 2 and 3 at one point (a2 = 0) have equal Jacobian columns: on the faces where joint 1 is at a
+    limit every configuration is critical.  Past MAX_COVER_BOXES, 'auto' falls back to the pair method
+    (sound as well) and an explicit 'critical' is a clear error."""
+    import workspace_sym.interval.image as image
+
+    robot = DHRobot([DHJoint.revolute(1, a=1, limits=(-1, 1)), DHJoint.revolute(2, a=0, limits=(-1, 1)),
+                     DHJoint.revolute(3, a=sp.Rational(1, 2), limits=(-1, 1))], name="coincident")
+    monkeypatch.setattr(image, "MAX_COVER_BOXES", 2_000)
+    p = reach(robot, delta=0.05, max_pairs=20_000)
+    q = reach(robot, delta=0.05, method="pairs", max_pairs=20_000)
+    assert p.counts == q.counts and p.measure_bounds == q.measure_bounds
+    with pytest.raises(InvalidParameterError, match="parallel axes"):
+        reach(robot, delta=0.05, method="critical")

@@ -55,7 +55,17 @@ from .errors import InvalidParameterError, JointLimitError
 from .interval import arith
 from .interval.executor import _MIN_CHUNK, _runner
 from .interval.graph import numpy_constant
-from .interval.image import INNER, OUTER, UNDECIDED, ImageMap, critical_cover, critical_paving, distribute, halves
+from .interval.image import (
+    INNER,
+    OUTER,
+    UNDECIDED,
+    CoverTooLarge,
+    ImageMap,
+    critical_cover,
+    critical_paving,
+    distribute,
+    halves,
+)
 from .interval.paving import Box, Paving, RunBudget, box_measure, box_sizes, check_delta
 from .interval.search import split_every_axis
 from .kinematics import DHRobot
@@ -544,13 +554,18 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     kind = resolve_method(robot, method, parameters)
     run = RunBudget(max_boxes=max_boxes, time_limit=time_limit, progress=progress, total=0.0, label="reach")
     try:
-        if kind == "pairs":
+        result = None
+        if kind == "critical":
+            try:
+                result = (_planar if model.m == 2 else _spatial)(robot, parameters, delta, size, run,
+                                                                 executor=executor)
+            except CoverTooLarge as error:
+                if method == "critical":
+                    raise InvalidParameterError(f"method 'critical': {error} (joints with parallel axes?); use "
+                                                "method='pairs'", parameter="method") from None
+        if result is None:
             result = _pairs(robot, parameters, delta, size, run, max_pairs=max_pairs, inner_depth=inner_depth,
                             executor=executor, chunk_pairs=chunk_pairs)
-        elif model.m == 2:
-            result = _planar(robot, parameters, delta, size, run, executor=executor)
-        else:
-            result = _spatial(robot, parameters, delta, size, run, executor=executor)
     except KeyboardInterrupt:
         whole = Box(model.task_variables, tuple(root[:, 0]), tuple(root[:, 1]))
         result = whole, [], [], [], root[None], 0, "interrupted"

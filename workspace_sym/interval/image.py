@@ -54,10 +54,12 @@ from . import arith
 from .compiler import compile_expr
 from .graph import numpy_constant
 
-__all__ = ["ImageMap", "critical_paving", "CellGrid", "OUTER", "INNER", "UNDECIDED"]
+__all__ = ["ImageMap", "critical_paving", "CellGrid", "CoverTooLarge", "OUTER", "INNER", "UNDECIDED"]
 
 OUTER, INNER, UNDECIDED = 0, 1, 2
 OUTSIDE_PAIRS = 20_000            # joint boxes a component's cell may hold while proved outside
+MAX_COVER_BOXES = 4_000_000      # joint boxes of one face's cover in flight: more means a critical set of full
+                                 # dimension (parallel joint axes, say); CoverTooLarge is raised
 OUTSIDE_MIN_CELLS = 16            # smaller components are not proved outside
 MINOR_SIMPLIFY_OPS = 300          # minors larger than this are compiled as expanded, not simplified
 
@@ -400,6 +402,10 @@ def _regular(image: ImageMap, Q: np.ndarray, face) -> np.ndarray:
     return np.zeros(len(Q), dtype=bool)
 
 
+class CoverTooLarge(RuntimeError):
+    """The critical set of a face needs more than ``MAX_COVER_BOXES`` joint boxes at once."""
+
+
 def critical_cover(image: ImageMap, face, target: float, clip: np.ndarray):
     """Enclosures ``(N, 2, 2)`` of joint boxes covering the critical set of one face, each at most ``target``
     wide (or a box that cannot be split further), clipped to ``clip`` (an enclosure of the whole image), and
@@ -413,6 +419,8 @@ def critical_cover(image: ImageMap, face, target: float, clip: np.ndarray):
     scale = np.where(np.isfinite(scale), scale, 1.0)
     kept, evaluated = [], 0
     while len(Q):
+        if len(Q) > MAX_COVER_BOXES:
+            raise CoverTooLarge(f"the critical set of face {face} needs more than {MAX_COVER_BOXES} joint boxes")
         evaluated += len(Q)
         E = image.enclose(Q)
         E[:, :, 0] = np.maximum(E[:, :, 0], clip[:, 0])
