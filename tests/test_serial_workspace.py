@@ -358,3 +358,12 @@ def test_a_critical_set_of_full_dimension_falls_back_to_the_pair_method(monkeypa
     assert p.counts == q.counts and p.measure_bounds == q.measure_bounds
     with pytest.raises(InvalidParameterError, match="parallel axes"):
         reach(robot, delta=0.05, method="critical")
+
+
+def test_a_time_limit_stops_the_pair_method_between_chunks():
+    """The time limit is looked at after every chunk of a generation: the chunks not run come back pending,
+    and the classes still tile the initial box."""
+    robot = planar_robot([sp.Integer(1), sp.Rational(1, 2), sp.Rational(1, 4)])
+    p = reach(robot, delta=0.005, method="pairs", time_limit=0.5, chunk_pairs=200)
+    assert not p.complete and "time limit" in p.stop_reason and len(p.pending) > 0
+    assert sum(p.measures.values()) == pytest.approx(p.box.measure, rel=1e-12)

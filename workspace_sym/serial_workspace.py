@@ -391,12 +391,19 @@ def _pairs(robot, parameters, delta, size, run, *, max_pairs, inner_depth, execu
             if reason:
                 break
             pieces = max(1, math.ceil(len(Q) / chunk_pairs))
+            left = []                           # task boxes of chunks not run: the time limit came first
             if spread is None:
-                results = [step(part) for part in _parts(T, Q, owner, pieces)]
+                results = []
+                for part in _parts(T, Q, owner, pieces):
+                    if reason:
+                        left.append(part[0])
+                        continue
+                    results.append(step(part))
+                    reason = run.stop_reason(evaluated)
             else:
                 pieces = max(pieces, min(spread.slots, math.ceil(len(T) / _MIN_CHUNK)))
                 results = [f.result() for f in [spread.submit(part) for part in _parts(T, Q, owner, pieces)]]
-            evaluated += len(T)
+            evaluated += len(T) - sum(map(len, left))
             children, pairs, owners = [], [], []
             for i, b, o, c, q, w in results:
                 inner.append(i)
@@ -406,6 +413,9 @@ def _pairs(robot, parameters, delta, size, run, *, max_pairs, inner_depth, execu
                 children.append(c)
                 pairs.append(q)
             T, Q, owner = np.concatenate(children), np.concatenate(pairs), np.concatenate(owners)
+            if left:
+                T = np.concatenate([T, *left])
+                break
             if run.showing:
                 run.show(box.measure - box_measure(T), evaluated)
     except KeyboardInterrupt:
