@@ -323,6 +323,12 @@ def test_the_method_follows_the_structure():
     puma = _section(ws.robots.build("puma560"), ())
     assert abs(puma.c[0] + 0.15005) < 1e-12 and puma.c[0] <= puma.c[1]
     assert _section(ws.robots.build("scara"), ()) is None
+    # theta_1 also in a later row (a coupled joint, theta_2 = q2 - q1): p is not Rz(theta_1) of the rest
+    q1, q2 = sp.symbols("theta1 theta2")
+    coupled = DHRobot([DHJoint.revolute(1, d=sp.Rational(3, 10), alpha=sp.pi / 2, limits=(-1, 1)),
+                       DHJoint("R", q2 - q1, 0, sp.Rational(1, 2), 0, q2, (-1, 1)),
+                       DHJoint.revolute(3, a=sp.Rational(1, 4), limits=(-1, 1))])
+    assert _section(coupled, ()) is None
     with pytest.raises(InvalidParameterError, match="method 'critical' needs"):
         reach(ws.robots.build("scara"), delta=0.1, method="critical")
     with pytest.raises(InvalidParameterError, match="method must be one of"):

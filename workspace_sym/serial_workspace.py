@@ -89,7 +89,10 @@ def _joint_range(robot: DHRobot, k: int):
         raise JointLimitError(f"joint {k + 1} ({joint.variable}) is prismatic: reach needs its limits")
     lo, hi = (-sp.pi, sp.pi) if joint.limits is None else joint.limits
     slope = sp.diff(joint.theta, joint.variable) if joint.kind == "R" else None
-    full = joint.limits is None or bool(sp.simplify(hi - lo - 2 * sp.pi) >= 0)
+    try:                                    # exact comparison (a float limit is its binary value exactly)
+        full = joint.limits is None or bool(sp.simplify(hi - lo - 2 * sp.pi) >= 0)
+    except TypeError:                       # undecidable: treated as limited, which is always sound
+        full = False
     return (lo, hi), joint.kind == "R" and slope in (1, -1) and full
 
 
@@ -147,11 +150,15 @@ def _revolved(model: ReachModel) -> _Revolved | None:
     slope = sp.diff(joint.theta, q1)
     if slope not in (1, -1):
         return None
+    # theta_1 must turn everything after it and nothing else: q1 appears in no later row nor in the tool.
+    later = [e for j in robot.joints[1:] for e in (j.theta, j.d, j.a, j.alpha)]
+    later += list(robot.tool) if robot.tool is not None else []
+    if any(q1 in sp.sympify(e).free_symbols for e in later):
+        return None
     offset = joint.theta.subs(q1, 0)
     # Standard DH without base: T = Rz(theta_1) Tz(d_1) Tx(a_1) Rx(alpha_1) ..., so p = Rz(theta_1) p(theta_1 = 0).
     p1 = [sp.simplify(e.subs(q1, -offset / slope)) for e in model.position]
-    joints = set(robot.q)
-    if p1[1].free_symbols & joints or any(q1 in e.free_symbols for e in p1):
+    if p1[1].free_symbols & set(robot.q):
         return None
     variables = [q for q in robot.q[1:] if q in (p1[0].free_symbols | p1[2].free_symbols)]
     if not variables:
