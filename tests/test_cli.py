@@ -200,12 +200,12 @@ def test_report_with_a_certified_workspace(tmp_path, capsys):
     assert code == 0 and f"report: {out_dir / 'report.md'}" in out and f"{out_dir / 'reach.png'}" in err
     md = (out_dir / "report.md").read_text()
     assert "## Certified workspace (proved boxes)" in md and "The run completed" in md and "| area (m²) |" in md
-    code, out, err = run(capsys, "report", "scara", "--reach-delta", "0.02", "--reach-time-limit", "0.5",
-                         "--out", str(tmp_path / "scara"))
-    md = (tmp_path / "scara" / "report.md").read_text()
+    code, out, err = run(capsys, "report", "puma560", "--reach-delta", "0.002", "--reach-time-limit", "0.5",
+                         "--out", str(tmp_path / "puma"))
+    md = (tmp_path / "puma" / "report.md").read_text()
     assert code == 0 and "The run did not complete (time limit of 0.5 s reached)" in md
     assert re.search(r"^\| pending \| [1-9]\d* \| ", md, re.M) and "pending (blue)" in md
-    assert "| volume (m³) |" in md and (tmp_path / "scara" / "reach-slices.png").stat().st_size > 10_000
+    assert "| volume (m³) |" in md and (tmp_path / "puma" / "reach-slices.png").stat().st_size > 10_000
 
 
 @pytest.mark.parametrize(("argv", "needle"), [

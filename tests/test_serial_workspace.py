@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import itertools
 from fractions import Fraction
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -23,6 +24,8 @@ import workspace_sym as ws
 from workspace_sym.errors import InvalidParameterError, JointLimitError
 from workspace_sym.kinematics import DHJoint, DHRobot
 from workspace_sym.serial_workspace import ReachModel, reach
+
+DATA = Path(__file__).parent / "data"
 
 
 def planar_robot(lengths, lower=None, upper=None):
@@ -314,25 +317,39 @@ def test_glass_arm_outer_boxes_meet_no_configuration():
 
 
 def test_the_method_follows_the_structure():
-    """glass arm and Puma: p = Rz(theta1) (u, c, v); the SCARA's second joint turns about z as well, so it
-    takes the pair method; 'critical' on it is a clear error."""
+    """glass arm and Puma: p = Rz(theta1) (u, c, v); the SCARA is a product (x, y) x z; the UR5's wrist
+    offsets fit neither, so it takes the pair method and 'critical' on it is a clear error."""
     from workspace_sym.serial_workspace import _section
 
     glass = _section(ws.robots.build("glass-handling"), ())
     assert [str(v) for v in glass.section.variables] == ["theta2", "theta3", "theta4"] and glass.c == (0.0, 0.0)
     puma = _section(ws.robots.build("puma560"), ())
     assert abs(puma.c[0] + 0.15005) < 1e-12 and puma.c[0] <= puma.c[1]
-    assert _section(ws.robots.build("scara"), ()) is None
+    scara = _section(ws.robots.build("scara"), ())           # x, y by theta1, theta2; z by d3
+    assert scara.plane == (0, 1) and [axis for axis, _, _ in scara.intervals] == [2]
     # theta_1 also in a later row (a coupled joint, theta_2 = q2 - q1): p is not Rz(theta_1) of the rest
     q1, q2 = sp.symbols("theta1 theta2")
     coupled = DHRobot([DHJoint.revolute(1, d=sp.Rational(3, 10), alpha=sp.pi / 2, limits=(-1, 1)),
                        DHJoint("R", q2 - q1, 0, sp.Rational(1, 2), 0, q2, (-1, 1)),
                        DHJoint.revolute(3, a=sp.Rational(1, 4), limits=(-1, 1))])
     assert _section(coupled, ()) is None
+    ur5 = DHRobot.from_file(DATA / "dh" / "ur5.json")
     with pytest.raises(InvalidParameterError, match="method 'critical' needs"):
-        reach(ws.robots.build("scara"), delta=0.1, method="critical")
+        reach(ur5, delta=0.1, method="critical")
     with pytest.raises(InvalidParameterError, match="method must be one of"):
         reach(ws.robots.build("scara"), delta=0.1, method="fast")
+
+
+def test_scara_bracket_holds_the_exact_volume():
+    """The SCARA's workspace is its (x, y) region (a planar 2R chain: Bastien's exact area; theta1 of
+    PlanarChain is measured from +y, which turns the region, not its area) times the stroke of d3."""
+    robot = ws.robots.build("scara")
+    lengths = {str(k): float(v) for k, v in robot.parameters.items()}
+    a1, a2 = lengths["a1"], lengths["a2"]
+    area = ws.PlanarChain([a1, a2], [-50, -88], [50, 88]).boundary().area
+    paving = reach(robot, delta=0.02)
+    lo, hi = paving.measure_bounds
+    assert lo <= area * 0.21 <= hi and (hi - lo) / (area * 0.21) < 0.5
 
 
 def test_delta_larger_than_the_workspace_is_a_clear_error():

@@ -666,9 +666,10 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("reach", help="certified position workspace of a serial robot (reachable / unreachable boxes)",
                        parents=[dh_robot, resolution, budget, progress, json_, scheduler])
     p.add_argument("--method", choices=("auto", "critical", "pairs"), default="auto",
-                   help="critical: regions decided from the critical set (planar robots, and spatial ones turned "
-                        "by a revolute first joint); pairs: joint boxes carried by task boxes (any robot); "
-                        "auto (default): critical where it applies")
+                   help="critical: regions decided from the critical set (planar robots; spatial ones whose "
+                        "coordinates are moved by disjoint joints, as a SCARA, or turned by a revolute first joint); "
+                        "pairs: joint boxes carried by task boxes (any robot); auto (default): critical where it "
+                        "applies")
     p.add_argument("--inner-depth", type=int, default=2,
                    help="pairs method: halvings of a last-level box when proving it reachable piece by piece "
                         "(default 2)")

@@ -17,7 +17,12 @@ critical set of every face of the joint box is covered by joint boxes, whose
 enclosures mark a grid of cells of size ``delta``; every connected region of
 unmarked cells misses the workspace boundary, so it is decided by one proof
 for one of its cells (Krawczyk inside, exhausted joint boxes outside); marked
-cells are tried one by one.  A spatial robot whose first joint is revolute
+cells are tried one by one.  A spatial robot whose coordinates are moved
+by disjoint sets of joints (a SCARA: ``x, y`` by two revolute joints, ``z``
+by a prismatic one) has the product of their images as workspace: the plane
+factor is paved that way, a single coordinate's image is an interval (outer:
+its enclosure; inner: between two configurations whose values are proved).
+Otherwise a spatial robot whose first joint is revolute
 (standard DH, no base transform) has ``p = Rz(theta_1) (u, c, v)`` with
 ``(u, v)`` depending on the other joints and ``c`` constant (a lateral
 offset): the section ``S`` of points ``(u, v)`` is paved that way (cells of
@@ -44,6 +49,7 @@ operator, and the box classification.
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 from functools import lru_cache
@@ -121,6 +127,7 @@ class ReachModel(ImageMap):
         if not self.joints:
             raise InvalidParameterError(f"robot: the position of {robot.name} does not depend on any joint")
         ranges = [_joint_range(robot, k) for k in self.joints]
+        self.exact_limits = [r for r, _ in ranges]
         self.task_variables = tuple(_TASK[i] for i in self.coordinates)
         super().__init__([position[i] for i in self.coordinates], [robot.q[k] for k in self.joints],
                          [r for r, _ in ranges], [p for _, p in ranges])
@@ -171,6 +178,56 @@ def _revolved(model: ReachModel) -> _Revolved | None:
     return _Revolved(section, numpy_constant(p1[1]), (lo_f[0], hi_f[1]), (lo_f[1], hi_f[0]), full)
 
 
+@dataclass(frozen=True)
+class _Product:
+    """Position coordinates moved by disjoint sets of joints: the workspace is the product of their images.
+    ``plane`` are the two task axes of a group of two coordinates (or ``()``), ``section`` its map;
+    ``intervals`` hold, per single coordinate, its axis, an outer enclosure of its image and an inner one
+    (or None)."""
+
+    plane: tuple
+    section: ImageMap | None
+    intervals: tuple
+
+
+def _interval_image(image: ImageMap, rng) -> tuple:
+    """Outer and inner enclosures of the image of a real function over a joint box: the image of a
+    connected box is an interval; two configurations within the limits whose values are proved at most
+    ``a`` and at least ``b`` put ``[a, b]`` inside it (the segment between them lies in the box)."""
+    outer = tuple(image.enclose(image.limits[None])[0, 0])
+    corners = np.array(list(itertools.product(*image.inner_limits))) if image.k <= 10 else np.empty((0, image.k))
+    q = np.concatenate([corners, image.random_configurations(2000, rng)])
+    values = image.enclose(np.repeat(q[:, :, None], 2, axis=2))[:, 0]
+    a, b = values[:, 1].min(), values[:, 0].max()
+    return outer, ((a, b) if a <= b else None)
+
+
+def _product(model: ReachModel) -> _Product | None:
+    """The product structure of a spatial robot's position (a SCARA: x, y by two joints, z by a third)."""
+    if model.m != 3:
+        return None
+    uses = [model.expressions[i].free_symbols & set(model.variables) for i in range(3)]
+    groups = []
+    for i in range(3):
+        joined = [g for g in groups if any(uses[i] & uses[j] for j in g)]
+        merged = sorted({i, *(j for g in joined for j in g)})
+        groups = [g for g in groups if g not in joined] + [merged]
+    if len(groups) < 2:
+        return None
+    plane, section, intervals = (), None, []
+    rng = np.random.default_rng(0)
+    for g in groups:
+        variables = [q for q in model.variables if q in set().union(*(uses[i] for i in g))]
+        rows = [model.variables.index(q) for q in variables]
+        limits = [(model.exact_limits[r]) for r in rows]
+        image = ImageMap([model.expressions[i] for i in g], variables, limits, model.periodic[rows])
+        if len(g) == 2:
+            plane, section = tuple(g), image
+        else:
+            intervals.append((g[0], *_interval_image(image, rng)))
+    return _Product(plane, section, tuple(intervals))
+
+
 @lru_cache(maxsize=16)
 def _model(robot: DHRobot, parameters: tuple) -> ReachModel:
     """The reach model of a robot (cached: a worker compiles it once for all its chunks)."""
@@ -178,8 +235,11 @@ def _model(robot: DHRobot, parameters: tuple) -> ReachModel:
 
 
 @lru_cache(maxsize=16)
-def _section(robot: DHRobot, parameters: tuple) -> _Revolved | None:
-    return _revolved(_model(robot, parameters))
+def _section(robot: DHRobot, parameters: tuple) -> _Revolved | _Product | None:
+    """How a spatial robot's workspace reduces to a map into the plane: a product of images, a section
+    turned by the first joint, or None."""
+    model = _model(robot, parameters)
+    return _product(model) or _revolved(model)
 
 
 def _plane_map(robot: DHRobot, parameters: tuple, which: str) -> ImageMap:
@@ -292,6 +352,29 @@ class _SectionTest:
         out_plus = self._in(self.outside, plus, z, True) | _arc_apart(*t_plus, a_out, b_out, r.full)
         out_minus = self._in(self.outside, minus, z, True) | _arc_apart(*t_minus, a_out, b_out, r.full)
         outer = (s2[1] < 0) | (out_plus & out_minus)
+        return inner, outer & ~inner
+
+
+class _ProductTest:
+    """Classify boxes of ``(x, y, z)`` for a product structure: inner when every factor is proved inside,
+    outer when one factor is proved outside."""
+
+    def __init__(self, product: _Product, grid, classes):
+        self.p, self.grid = product, grid
+        if product.section is not None:
+            self.inside = grid.prefix(classes, INNER)
+            self.outside = grid.prefix(classes, OUTER)
+
+    def __call__(self, X: np.ndarray):
+        inner = np.ones(len(X), dtype=bool)
+        outer = np.zeros(len(X), dtype=bool)
+        if self.p.section is not None:
+            rect = X[:, list(self.p.plane)]
+            inner &= self.grid.all_in_class(self.inside, rect, outside_counts=False)
+            outer |= self.grid.all_in_class(self.outside, rect, outside_counts=True)
+        for axis, (lo, hi), proved in self.p.intervals:
+            inner &= False if proved is None else (X[:, axis, 0] >= proved[0]) & (X[:, axis, 1] <= proved[1])
+            outer |= (X[:, axis, 1] < lo) | (X[:, axis, 0] > hi)
         return inner, outer & ~inner
 
 
@@ -454,22 +537,25 @@ def _planar(robot, parameters, delta, size, run, *, executor):
 
 
 def _spatial(robot, parameters, delta, size, run, *, executor):
-    """The ``"critical"`` method for a spatial robot turned by its first joint (module docstring)."""
+    """The ``"critical"`` method for a spatial robot whose workspace is a product of images or a section
+    turned by its first joint (module docstring)."""
     model = _model(robot, parameters)
-    revolved = _section(robot, parameters)
+    plan = _section(robot, parameters)
     root = model.enclose(model.limits[None])[0]
     box = Box(model.task_variables, tuple(root[:, 0]), tuple(root[:, 1]))
     run.total = box.measure
     width = _cell_width(delta, size, 3)
-    grid, classes, evaluated, reason = critical_paving(revolved.section, SECTION_RATIO * width,
-                                                       budget=run.stop_reason,
-                                                       cover=_cover_with(executor, robot, parameters, "section"))
+    grid, classes, evaluated, reason = None, None, 0, ""
+    if plan.section is not None:
+        grid, classes, evaluated, reason = critical_paving(plan.section, SECTION_RATIO * width,
+                                                           budget=run.stop_reason,
+                                                           cover=_cover_with(executor, robot, parameters, "section"))
     run.show(0.0, evaluated)
     T = root[None].copy()
     inner, boundary, outer = [], [], []
     if reason:
         return box, inner, boundary, outer, T, evaluated, reason
-    test = _SectionTest(revolved, grid, classes)
+    test = (_ProductTest if isinstance(plan, _Product) else _SectionTest)(plan, grid, classes)
     while len(T):
         reason = run.stop_reason(evaluated)
         if reason:
@@ -498,9 +584,10 @@ def resolve_method(robot: DHRobot, method: str = "auto", parameters=()) -> str:
     parameters = tuple(sorted(parameters, key=lambda item: str(item[0])))
     fits = _model(robot, parameters).m == 2 or _section(robot, parameters) is not None
     if method == "critical" and not fits:
-        raise InvalidParameterError(f"method 'critical' needs a planar robot or a first revolute joint turning "
-                                    f"the rest (standard DH, no base transform); {robot.name} has neither: use "
-                                    "method='pairs'", parameter="method")
+        raise InvalidParameterError(f"method 'critical' needs a planar robot, coordinates moved by disjoint sets "
+                                    f"of joints, or a first revolute joint turning the rest (standard DH, no base "
+                                    f"transform); {robot.name} has none of these: use method='pairs'",
+                                    parameter="method")
     return method if method != "auto" else ("critical" if fits else "pairs")
 
 
@@ -519,8 +606,9 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     size : {"diameter", "width"}
     parameters : values of the symbolic lengths (default: the robot's own).
     method : {"auto", "critical", "pairs"}
-        ``"auto"``: ``"critical"`` for a planar robot and for a spatial robot
-        turned by a revolute first joint (standard DH, no base transform),
+        ``"auto"``: ``"critical"`` for a planar robot, a spatial robot whose
+        coordinates are moved by disjoint sets of joints, and a spatial robot
+        turned by a revolute first joint (standard DH, no base transform);
         ``"pairs"`` otherwise.
     max_boxes, time_limit : budget; what is left undecided is returned as ``pending``.
     progress : progress bar (:mod:`workspace_sym.progress`; default: on an
