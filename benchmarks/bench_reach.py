@@ -7,6 +7,7 @@ same run:
 * exact: the 2R arm with full joint ranges reaches an annulus (area 2 pi); the human arm of
   Bastien (2018), Table 1 case iii, as a DH robot has the area of Bastien's exact boundary
   (``PlanarChain``);
+* exact: the SCARA's volume, the area of its (x, y) region (Bastien's method) times its stroke;
 * independent: the glass-handling arm's volume, its section by Bastien's method turned
   through the theta1 range (``tests/test_serial_workspace.py::_glass_section_volume``);
 * sampled: the measure of the grid cells of side delta / sqrt(n) hit by 10^6 random
@@ -43,13 +44,15 @@ def cases(quick: bool):
     two_r = DHRobot([DHJoint.revolute(1, a=1), DHJoint.revolute(2, a=sp.Rational(1, 2))], name="2R")
     human_area = ws.PlanarChain(*HUMAN).boundary().area
     glass_volume = _glass_section_volume(600, 1200)
+    # the SCARA: its (x, y) region, a planar 2R chain (Bastien's exact area), times the 0.21 m stroke of d3
+    scara_volume = ws.PlanarChain([0.325, 0.275], [-50, -88], [50, 88]).boundary().area * 0.21
     return [
         ("2R, l = (1, 1/2), full range", two_r, (0.1, 0.03), 2 * np.pi, "exact"),
         ("human arm (Bastien Table 1 iii) as DH", human_arm(), (0.004, 0.002, 0.001, 0.0008), human_area, "exact"),
         ("glass-handling arm", robots.build("glass-handling"),
          (0.025, 0.0125) if quick else (0.025, 0.0125, 0.008, 0.005), glass_volume, "independent"),
         ("Puma 560", robots.build("puma560"), (0.05, 0.02), None, ""),
-        ("SCARA (pair method)", robots.build("scara"), (0.1, 0.05), None, ""),
+        ("SCARA", robots.build("scara"), (0.05, 0.02, 0.01), scara_volume, "exact"),
     ]
 
 
