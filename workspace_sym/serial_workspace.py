@@ -248,8 +248,8 @@ def _plane_map(robot: DHRobot, parameters: tuple, which: str) -> ImageMap:
 
 @dataclass(frozen=True)
 class _CoverStep:
-    """The critical cover of one face of the planar map or of the section (picklable: the robot travels to
-    the workers, the map is compiled there once)."""
+    """The critical cover of a group of faces of the planar map or of the section (picklable: the robot
+    travels to the workers, the map is compiled there once)."""
 
     robot: DHRobot
     parameters: tuple
@@ -257,20 +257,21 @@ class _CoverStep:
     target: float
     clip: tuple
 
-    def __call__(self, face):
-        return critical_cover(_plane_map(self.robot, self.parameters, self.which), face, self.target,
+    def __call__(self, faces):
+        return critical_cover(_plane_map(self.robot, self.parameters, self.which), faces, self.target,
                               np.array(self.clip))
 
 
 def _cover_with(executor, robot, parameters, which):
-    """The ``cover`` argument of :func:`critical_paving`: faces computed here, or one task per face."""
+    """The ``cover`` argument of :func:`critical_paving`: all faces here, or groups of faces, one task each."""
     if executor is None:
         return None
 
     def cover(faces, target, clip):
         spread = _runner(executor, _CoverStep(robot, parameters, which, float(target), tuple(map(tuple, clip))))
         try:
-            return [f.result() for f in [spread.submit(face) for face in faces]]
+            groups = [faces[i::spread.slots] for i in range(min(spread.slots, len(faces)))]
+            return [f.result() for f in [spread.submit(group) for group in groups]]
         finally:
             spread.close()
     return cover

@@ -379,39 +379,47 @@ def _certain_sign(lo, hi):
     return np.where(lo > 0, 1, np.where(hi < 0, -1, 0))
 
 
-def _regular(image: ImageMap, Q: np.ndarray, face) -> np.ndarray:
-    """Mask of the joint boxes of a face proved to hold no critical point (module docstring)."""
-    free = [j for j, side in enumerate(face) if side is None]
-    if len(free) >= 2:
-        out = np.zeros(len(Q), dtype=bool)
-        for i, j in itertools.combinations(free, 2):
-            lo, hi = image.minor_enclosure(Q, i, j)
-            out |= (lo > 0) | (hi < 0)
-        return out
-    if len(free) == 1 and len(free) < len(face):
-        # An edge: the tangent cone is the line J_a and the rays s_c J_c of the limited joints (s_c = +1 at a
-        # lower limit, -1 at an upper one); two rays proved on opposite sides of the line make it the plane.
-        a = free[0]
-        signs = []
-        for c, side in enumerate(face):
-            if side is not None:
-                lo, hi = image.minor_enclosure(Q, a, c)
-                signs.append(_certain_sign(lo, hi) * (1 if side == 0 else -1))
-        signs = np.stack(signs, axis=1)
-        return (signs > 0).any(axis=1) & (signs < 0).any(axis=1)
-    return np.zeros(len(Q), dtype=bool)
+def _regular(image: ImageMap, Q: np.ndarray, free: np.ndarray, inward: np.ndarray) -> np.ndarray:
+    """Mask of the joint boxes ``Q`` proved to hold no critical point of their face (module docstring).
+
+    ``free[n, j]`` says joint ``j`` is free on the face of box ``n``; ``inward[n, j]`` is ``+1`` at a
+    lower limit, ``-1`` at an upper one.  On a face with two free joints or more, a ``2 x 2`` minor of free
+    columns proved non-zero makes the face's Jacobian regular.  On an edge (one free joint ``a``), the
+    tangent cone is the line ``J_a`` and the rays ``inward_c J_c`` of the limited joints; two rays proved on
+    opposite sides of the line make it the plane.
+    """
+    count = free.sum(axis=1)
+    regular = np.zeros(len(Q), dtype=bool)
+    edge = (count == 1) & (count < image.k)
+    left, right = np.zeros(len(Q), dtype=bool), np.zeros(len(Q), dtype=bool)
+    for i, j in itertools.combinations(range(image.k), 2):
+        lo, hi = image.minor_enclosure(Q, i, j)
+        regular |= (count >= 2) & free[:, i] & free[:, j] & ((lo > 0) | (hi < 0))
+        if edge.any():
+            sign = _certain_sign(lo, hi)                        # of det [J_i, J_j]
+            for a, c, s in ((i, j, sign), (j, i, -sign)):       # free a, limited c: det [J_a, J_c]
+                side = np.where(edge & free[:, a] & ~free[:, c], s * inward[:, c], 0)
+                left |= side > 0
+                right |= side < 0
+    return regular | (left & right)
 
 
 class CoverTooLarge(RuntimeError):
-    """The critical set of a face needs more than ``MAX_COVER_BOXES`` joint boxes at once."""
+    """The critical sets need more than ``MAX_COVER_BOXES`` joint boxes at once."""
 
 
-def critical_cover(image: ImageMap, face, target: float, clip: np.ndarray):
-    """Enclosures ``(N, 2, 2)`` of joint boxes covering the critical set of one face, each at most ``target``
-    wide (or a box that cannot be split further), clipped to ``clip`` (an enclosure of the whole image), and
-    the number of joint boxes examined."""
-    Q = face_box(image, face)
-    free = np.array([j for j, side in enumerate(face) if side is None], dtype=int)
+def critical_cover(image: ImageMap, face_list, target: float, clip: np.ndarray):
+    """Enclosures ``(N, 2, 2)`` of joint boxes covering the critical sets of the faces ``face_list``, each
+    at most ``target`` wide (or a box that cannot be split further), clipped to ``clip`` (an enclosure of
+    the whole image), and the number of joint boxes examined.  All faces go through one loop of arrays;
+    what happens to a box depends on it alone, so any grouping of the faces gives the same enclosures."""
+    face_list = list(face_list)
+    if not face_list:
+        return np.empty((0, image.m, 2)), 0
+    free_of = np.array([[side is None for side in f] for f in face_list], dtype=bool)
+    inward_of = np.array([[0 if side is None else (1 if side == 0 else -1) for side in f] for f in face_list])
+    Q = np.concatenate([face_box(image, f) for f in face_list])
+    which = np.arange(len(face_list))
     # Split where a joint moves the image most: joint width times the largest Jacobian entry over the limits.
     J = image.jacobian_enclosure(image.limits[None])
     scale = np.array([max(max(abs(float(J[i][j][0][0])), abs(float(J[i][j][1][0]))) for i in range(image.m))
@@ -420,24 +428,25 @@ def critical_cover(image: ImageMap, face, target: float, clip: np.ndarray):
     kept, evaluated = [], 0
     while len(Q):
         if len(Q) > MAX_COVER_BOXES:
-            raise CoverTooLarge(f"the critical set of face {face} needs more than {MAX_COVER_BOXES} joint boxes")
+            raise CoverTooLarge(f"the critical sets of {len(face_list)} faces need more than {MAX_COVER_BOXES} "
+                                "joint boxes")
         evaluated += len(Q)
+        free = free_of[which]
         E = image.enclose(Q)
         E[:, :, 0] = np.maximum(E[:, :, 0], clip[:, 0])
         E[:, :, 1] = np.minimum(E[:, :, 1], clip[:, 1])
-        live = ~_regular(image, Q, face) & (E[:, :, 0] <= E[:, :, 1]).all(axis=1)
-        Q, E = Q[live], E[live]
-        if not len(free):                              # a vertex: its enclosure is kept as it is
-            kept.append(E)
-            break
-        small = np.max(E[:, :, 1] - E[:, :, 0], axis=1) <= target
-        weight = (Q[:, free, 1] - Q[:, free, 0]) * scale[free]
-        axis = free[np.argmax(weight, axis=1)]
+        live = ~_regular(image, Q, free, inward_of[which]) & (E[:, :, 0] <= E[:, :, 1]).all(axis=1)
+        Q, E, which, free = Q[live], E[live], which[live], free[live]
+        vertex = ~free.any(axis=1)                      # a vertex: its enclosure is kept as it is
+        small = vertex | (np.max(E[:, :, 1] - E[:, :, 0], axis=1) <= target)
+        weight = np.where(free, (Q[:, :, 1] - Q[:, :, 0]) * scale, -np.inf)
+        axis = np.argmax(weight, axis=1)
         children, ok = halves(Q[~small], axis[~small])
         kept.append(E[small])
-        kept.append(E[~small][~ok])                    # one float wide: kept as it is
+        kept.append(E[~small][~ok])                     # one float wide: kept as it is
         Q = children.reshape(-1, 2, *Q.shape[1:])[ok].reshape(-1, *Q.shape[1:])
-    return np.concatenate(kept) if kept else np.empty((0, 2, 2)), evaluated
+        which = np.repeat(which[~small][ok], 2)
+    return np.concatenate(kept), evaluated
 
 
 # ---------------------------------------------------------------------------------------------- grid of cells
@@ -546,7 +555,7 @@ def critical_paving(image: ImageMap, width: float, *, rng=None, budget=None, cov
     classes = np.full(grid.shape, UNDECIDED, dtype=np.int8)
     target = cover_ratio * width
     if cover is None:
-        covers = [critical_cover(image, face, target, root) for face in faces(image)]
+        covers = [critical_cover(image, faces(image), target, root)]
     else:
         covers = cover(faces(image), target, root)
     evaluated = sum(n for _, n in covers)
