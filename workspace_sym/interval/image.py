@@ -539,8 +539,8 @@ def critical_paving(image: ImageMap, width: float, *, rng=None, budget=None, cov
     run (then every cell not yet decided is :data:`UNDECIDED`, and nothing
     rests on an unfinished step).  ``budget`` is a callable of the number of
     boxes evaluated returning a stop reason or ``""``; ``cover`` computes the
-    covers of a list of faces, ``cover(faces, target, clip)`` (default: here,
-    one face after the other; :func:`critical_cover` per face).  ``show`` is
+    covers of a list of faces, ``cover(faces, target, clip)``, as a list of
+    :func:`critical_cover` results (default: here, all faces in one call).  ``show`` is
     called as ``show(share decided, boxes evaluated)`` after each step.
     """
     from scipy import ndimage
