@@ -23,7 +23,7 @@ from hypothesis import strategies as st
 import workspace_sym as ws
 from workspace_sym.errors import InvalidParameterError, JointLimitError
 from workspace_sym.kinematics import DHJoint, DHRobot
-from workspace_sym.serial_workspace import ReachModel, reach
+from workspace_sym.serial_workspace import ReachModel, _section, reach
 
 DATA = Path(__file__).parent / "data"
 
@@ -319,8 +319,6 @@ def test_glass_arm_outer_boxes_meet_no_configuration():
 def test_the_method_follows_the_structure():
     """glass arm and Puma: p = Rz(theta1) (u, c, v); the SCARA is a product (x, y) x z; the UR5's wrist
     offsets fit neither, so it takes the pair method and 'critical' on it is a clear error."""
-    from workspace_sym.serial_workspace import _section
-
     glass = _section(ws.robots.build("glass-handling"), ())
     assert [str(v) for v in glass.section.variables] == ["theta2", "theta3", "theta4"] and glass.c == (0.0, 0.0)
     puma = _section(ws.robots.build("puma560"), ())
@@ -390,3 +388,48 @@ def test_a_time_limit_stops_the_pair_method_between_chunks():
     p = reach(robot, delta=0.005, method="pairs", time_limit=0.5, chunk_pairs=200)
     assert not p.complete and "time limit" in p.stop_reason and len(p.pending) > 0
     assert sum(p.measures.values()) == pytest.approx(p.box.measure, rel=1e-12)
+
+
+# Three spatial arms whose workspaces are known exactly, one per way of classifying (x, y, z) boxes.
+_HALF, _QUARTER = sp.Rational(1, 2), sp.Rational(1, 4)
+EXACT_ARMS = {
+    # turned section, c = 0, theta1 in [0, pi/2]: the shell 1/2 <= |p| <= 3/2 where x and y have one sign
+    "shell sector": (DHRobot([DHJoint.revolute(1, alpha=sp.pi / 2, limits=(0, sp.pi / 2)),
+                              DHJoint.revolute(2, a=1), DHJoint.revolute(3, a=_HALF)]),
+                     lambda x, y, z: Fraction(1, 4) <= x * x + y * y + z * z <= Fraction(9, 4) and x * y >= 0),
+    # turned section with a lateral offset c = 1/4, theta1 free: u^2 = x^2 + y^2 - c^2, 1/4 <= u^2 + z^2 <= 9/4
+    "offset shell": (DHRobot([DHJoint.revolute(1, alpha=sp.pi / 2), DHJoint.revolute(2, a=1, d=_QUARTER),
+                              DHJoint.revolute(3, a=_HALF)]),
+                     lambda x, y, z: x * x + y * y >= Fraction(1, 16)
+                     and Fraction(1, 4) <= x * x + y * y - Fraction(1, 16) + z * z <= Fraction(9, 4)),
+    # product: the annulus 1/2 <= r <= 3/2 times the stroke 0 <= z <= 1/2
+    "annulus x stroke": (DHRobot([DHJoint.revolute(1, a=1), DHJoint.revolute(2, a=_HALF),
+                                  DHJoint.prismatic(3, limits=(0, _HALF))]),
+                         lambda x, y, z: Fraction(1, 4) <= x * x + y * y <= Fraction(9, 4) and 0 <= 2 * z <= 1),
+}
+
+
+@pytest.fixture(scope="module")
+def exact_pavings():
+    return {name: reach(robot, delta=0.15) for name, (robot, _) in EXACT_ARMS.items()}
+
+
+def test_the_exact_arms_take_the_intended_way():
+    from workspace_sym.serial_workspace import _Product, _Revolved
+
+    kinds = {name: type(_section(robot, ())) for name, (robot, _) in EXACT_ARMS.items()}
+    assert kinds == {"shell sector": _Revolved, "offset shell": _Revolved, "annulus x stroke": _Product}
+    assert abs(_section(EXACT_ARMS["offset shell"][0], ()).c[0]) == 0.25
+
+
+@settings(max_examples=300, deadline=None, derandomize=True)
+@given(name=st.sampled_from(sorted(EXACT_ARMS)), kind=st.sampled_from(["inner", "outer"]),
+       pick=st.integers(0, 10**9), t=st.tuples(*[st.fractions(0, 1, max_denominator=1000)] * 3))
+def test_certified_spatial_boxes_hold_in_exact_rationals(exact_pavings, name, kind, pick, t):
+    """Exact reference: a point of a proved box (a corner or a rational point inside, in Fractions) is in
+    the known workspace if the box is inner and out of it if the box is outer."""
+    boxes = getattr(exact_pavings[name], kind)
+    assert len(boxes) > 0
+    box = boxes[pick % len(boxes)]
+    point = [Fraction(lo) + ti * (Fraction(hi) - Fraction(lo)) for (lo, hi), ti in zip(box, t)]
+    assert EXACT_ARMS[name][1](*point) == (kind == "inner"), (name, kind, box.tolist())
