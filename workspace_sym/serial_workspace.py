@@ -70,9 +70,8 @@ from .interval.image import (
     critical_cover,
     critical_paving,
     distribute,
-    halves,
 )
-from .interval.paving import Box, Paving, RunBudget, box_measure, box_sizes, check_delta
+from .interval.paving import Box, Paving, RunBudget, bisect, box_measure, box_sizes, check_delta, halves
 from .interval.search import split_every_axis
 from .kinematics import DHRobot
 
@@ -170,9 +169,9 @@ def _revolved(model: ReachModel) -> _Revolved | None:
     variables = [q for q in robot.q[1:] if q in (p1[0].free_symbols | p1[2].free_symbols)]
     if not variables:
         return None
-    ranges = [_joint_range(robot, robot.q.index(q)) for q in variables]
-    section = ImageMap([p1[0], p1[2]], variables, [r for r, _ in ranges], [p for _, p in ranges])
-    (lo, hi), full = _joint_range(robot, 0)
+    rows = [model.variables.index(q) for q in variables]
+    section = ImageMap([p1[0], p1[2]], variables, [model.exact_limits[r] for r in rows], model.periodic[rows])
+    (lo, hi), full = model.exact_limits[0], bool(model.periodic[0])
     lo, hi = sorted([slope * lo + offset, slope * hi + offset], key=lambda v: float(v))
     lo_f, hi_f = numpy_constant(lo), numpy_constant(hi)
     return _Revolved(section, numpy_constant(p1[1]), (lo_f[0], hi_f[1]), (lo_f[1], hi_f[0]), full)
@@ -219,8 +218,8 @@ def _product(model: ReachModel) -> _Product | None:
     for g in groups:
         variables = [q for q in model.variables if q in set().union(*(uses[i] for i in g))]
         rows = [model.variables.index(q) for q in variables]
-        limits = [(model.exact_limits[r]) for r in rows]
-        image = ImageMap([model.expressions[i] for i in g], variables, limits, model.periodic[rows])
+        image = ImageMap([model.expressions[i] for i in g], variables, [model.exact_limits[r] for r in rows],
+                         model.periodic[rows])
         if len(g) == 2:
             plane, section = tuple(g), image
         else:
@@ -567,10 +566,9 @@ def _spatial(robot, parameters, delta, size, run, *, executor):
         outer.append(T[is_out])
         und = ~is_in & ~is_out
         small = und & (box_sizes(T, size) <= delta)
-        children, ok = halves(T[und & ~small])
         boundary.append(T[small])
-        boundary.append(T[und & ~small][~ok])
-        T = children.reshape(-1, 2, *T.shape[1:])[ok].reshape(-1, *T.shape[1:])
+        T, thin = bisect(T[und & ~small])
+        boundary.append(thin)
         if run.showing:
             run.show(box.measure - box_measure(T), evaluated)
     return box, inner, boundary, outer, T if len(T) and reason else None, evaluated, reason

@@ -53,6 +53,7 @@ import sympy as sp
 from . import arith
 from .compiler import compile_expr
 from .graph import numpy_constant
+from .paving import halves
 
 __all__ = ["ImageMap", "critical_paving", "CellGrid", "CoverTooLarge", "OUTER", "INNER", "UNDECIDED"]
 
@@ -315,20 +316,6 @@ def meets(E: np.ndarray, T: np.ndarray) -> np.ndarray:
     """Closed boxes ``E`` and ``T`` (same shape) share a point; NaN bounds count as meeting."""
     apart = (E[:, :, 0] > T[:, :, 1]) | (E[:, :, 1] < T[:, :, 0])
     return ~apart.any(axis=1)
-
-
-def halves(boxes: np.ndarray, axis: np.ndarray | None = None):
-    """Both halves of every box along ``axis`` (default: its longest edge), in order (``2i``, ``2i + 1``),
-    and the mask of boxes that could be split (a box one float wide cannot; its two "halves" are itself)."""
-    rows = np.arange(len(boxes))
-    k = np.argmax(boxes[:, :, 1] - boxes[:, :, 0], axis=1) if axis is None else axis
-    lo, hi = boxes[rows, k, 0], boxes[rows, k, 1]
-    mid = 0.5 * lo + 0.5 * hi
-    ok = (mid > lo) & (mid < hi)
-    children = np.repeat(boxes, 2, axis=0)
-    children[2 * rows[ok], k[ok], 1] = mid[ok]
-    children[2 * rows[ok] + 1, k[ok], 0] = mid[ok]
-    return children, ok
 
 
 def distribute(model, T, Q, owner, cap, *, rounds: int = 4, ratio: float = 1.0):

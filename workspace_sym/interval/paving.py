@@ -521,20 +521,24 @@ def box_sizes(boxes: np.ndarray, size: str) -> np.ndarray:
     return np.sqrt(np.sum(w * w, axis=1)) if size == "diameter" else np.max(w, axis=1)
 
 
-def bisect(boxes: np.ndarray):
-    """Split every box along its longest edge; also returns boxes too thin to split."""
+def halves(boxes: np.ndarray, axis: np.ndarray | None = None):
+    """Both halves of every box along ``axis`` (default: its longest edge), in order (``2i``, ``2i + 1``),
+    and the mask of boxes that could be split (a box one float wide cannot; its two "halves" are itself)."""
     rows = np.arange(len(boxes))
-    k = np.argmax(boxes[:, :, 1] - boxes[:, :, 0], axis=1)
+    k = np.argmax(boxes[:, :, 1] - boxes[:, :, 0], axis=1) if axis is None else axis
     lo, hi = boxes[rows, k, 0], boxes[rows, k, 1]
     mid = 0.5 * lo + 0.5 * hi
     ok = (mid > lo) & (mid < hi)
-    if not ok.all():
-        children, _ = bisect(boxes[ok])
-        return children, boxes[~ok]
-    children = np.repeat(boxes, 2, axis=0)          # left, right, left, right, ...
-    children[2 * rows, k, 1] = mid
-    children[2 * rows + 1, k, 0] = mid
-    return children, boxes[:0]
+    children = np.repeat(boxes, 2, axis=0)
+    children[2 * rows[ok], k[ok], 1] = mid[ok]
+    children[2 * rows[ok] + 1, k[ok], 0] = mid[ok]
+    return children, ok
+
+
+def bisect(boxes: np.ndarray):
+    """Split every box along its longest edge; also returns boxes too thin to split."""
+    children, ok = halves(boxes)
+    return children.reshape(-1, 2, *boxes.shape[1:])[ok].reshape(-1, *boxes.shape[1:]), boxes[~ok]
 
 
 def pave(constraints, box, *, delta: float, variables=None, backend: str = "numpy", size: str = "diameter",
