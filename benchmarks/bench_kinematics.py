@@ -61,12 +61,6 @@ def _ops(M):
     return sum(sp.count_ops(e) for e in M)
 
 
-def _timed(fn):
-    t = time.perf_counter()
-    out = fn()
-    return time.perf_counter() - t, out
-
-
 def robot_table(skip_panda_simplify: bool = False, skip_panda_6xn: bool = False):
     """One cold robot per row (nothing cached between the columns' first calls)."""
     print("\nrobot | fk + J | singular factors | charpoly 3 x n | charpoly 6 x n | T ops (ours / simplify, time)")
@@ -74,18 +68,18 @@ def robot_table(skip_panda_simplify: bool = False, skip_panda_6xn: bool = False)
         build = (lambda n=name: robots.build(n)) if name in ("glass-handling", "puma560") else \
             (lambda n=name: DHRobot.from_file(TABLES / f"{n}.json"))
         robot = build()
-        t_fk, (T, _) = _timed(lambda r=robot: (r.fk(), r.geometric_jacobian))
-        t_sing, factors = _timed(lambda r=robot: r.singular_factors(multiplicity=True))
-        t_pos, _ = _timed(lambda r=robot: r.characteristic_polynomial("position"))
+        t_fk, (T, _) = best_of(lambda r=robot: (r.fk(), r.geometric_jacobian), repeat=1)
+        t_sing, factors = best_of(lambda r=robot: r.singular_factors(multiplicity=True), repeat=1)
+        t_pos, _ = best_of(lambda r=robot: r.characteristic_polynomial("position"), repeat=1)
         if skip_panda_6xn and name == "panda":
             geo = "skipped"
         else:
-            t_geo, P = _timed(lambda r=robot: r.characteristic_polynomial("geometric"))
-            geo = f"{t_geo:.2f} s ({sum(sp.count_ops(c) for c in P.all_coeffs())} ops)"
+            t_geo, P = best_of(lambda r=robot: r.characteristic_polynomial("geometric"), repeat=1)
+            geo = f"{t_geo:.2f} s ({_ops(P.all_coeffs())} ops)"
         if skip_panda_simplify and name == "panda":
             simp = "skipped"
         else:
-            t_s, S = _timed(lambda r=robot: sp.simplify(r.raw_fk()))
+            t_s, S = best_of(lambda r=robot: sp.simplify(r.raw_fk()), repeat=1)
             simp = f"{_ops(S)}, {t_s:.1f} s"
         print(f"{robot.name} | {t_fk:.2f} s | {t_sing:.2f} s ({len(factors)} factors) | {t_pos:.2f} s | "
               f"{geo} | {_ops(T)} / {simp}", flush=True)

@@ -34,21 +34,12 @@ from functools import lru_cache
 
 import sympy as sp
 
+from .symbolic import angle_label
+
 __all__ = ["textbook_form", "plain", "html_table", "figure_html", "expr_text"]
 
 
 # ------------------------------------------------------------------ textbook shorthand as SymPy functions
-def _label(arg, index_of: dict) -> str | None:
-    """'23' for theta2 + theta3 when every term is a joint variable with coefficient 1, else None."""
-    indices = []
-    for term in sp.Add.make_args(arg):
-        if term not in index_of:
-            return None
-        indices.append(index_of[term])
-    sep = "," if any(i >= 10 for i in indices) else ""
-    return sep.join(str(i) for i in sorted(indices))
-
-
 class _Shorthand:
     """Printing of a ``cos`` / ``sin`` subclass as ``c23`` / ``s_{23}``; the maths is the base class's."""
 
@@ -62,7 +53,7 @@ class _Shorthand:
         return 2, 1, cls.letter
 
     def _short(self):
-        return _label(self.args[0], self.index_of)
+        return angle_label(self.args[0], self.index_of)
 
     def _pretty(self, printer):
         label = self._short()
@@ -118,7 +109,7 @@ def textbook_form(expr, variables):
     swap = {sp.cos: cosine, sp.sin: sine}
 
     def short(e):
-        return e.func in swap and _label(e.args[0], cosine.index_of) is not None
+        return e.func in swap and angle_label(e.args[0], cosine.index_of) is not None
 
     return expr.replace(short, lambda e: swap[e.func](e.args[0]))
 

@@ -177,7 +177,7 @@ def plot_paving(paving, *, ax=None, show_outer=False, exact_boundary=None, title
         ax.add_collection(PolyCollection(verts, facecolors=_BOX_COLOURS[kind], edgecolors="k", linewidths=0.2,
                                          label=kind))
     lo, hi = paving.box.lower, paving.box.upper
-    legend = _box_legend(ax, {k: len(getattr(paving, k)) for k in kinds})
+    legend = _box_legend(ax, {k: paving.counts[k] for k in kinds})
     if exact_boundary is not None:
         xs, ys = np.meshgrid(np.linspace(lo[0], hi[0], 600), np.linspace(lo[1], hi[1], 300))
         ax.contour(xs, ys, exact_boundary(xs, ys), levels=[0.0], colors="r", linewidths=1.0)
@@ -284,7 +284,7 @@ def _plot_paving_3d(paving, *, ax=None, title=None, units=None, resolution: int 
     for axis, v in zip((ax.xaxis, ax.yaxis, ax.zaxis), paving.variables):
         axis.set_major_locator(MaxNLocator(5))
         axis.set_label_text(_label(v, units))
-    _box_legend(ax, {k: len(getattr(paving, k)) for k in kinds})
+    _box_legend(ax, {k: paving.counts[k] for k in kinds})
     m_lo, m_hi = paving.measure_bounds
     ax.set_title(title or f"δ = {paving.delta}: volume in {fmt_bracket(m_lo, m_hi)}")
     return ax.figure

@@ -541,14 +541,6 @@ def dh_robot_report(robot, out, *, samples: int = 20000, command: str | None = N
 
 
 # ---------------------------------------------------------------------- planar chains
-def _deg(x) -> str:
-    return number(math.degrees(x), ".4f")
-
-
-def _set_str(values) -> str:
-    return "{" + _deg(values[0]) + "}" if len(values) == 1 else f"[{_deg(values[0])}, {_deg(values[1])}]"
-
-
 def _exact_set(values):
     values = [sp.nsimplify(v) if v.is_Rational else v for v in values]
     return sp.FiniteSet(values[0]) if len(values) == 1 else sp.Interval(values[0], values[1])
@@ -617,6 +609,7 @@ def planar_report(chain, out, *, command: str | None = None, title: str | None =
     With ``paving`` (a :class:`~workspace_sym.interval.Paving`) a section
     summarises that certified covering as well.  Returns the Markdown path.
     """
+    from .boundary import format_set
     from .exact import area_terms
     from .plotting import plot_boundary_loops, plot_planar_step, save_figure
 
@@ -650,7 +643,7 @@ def planar_report(chain, out, *, command: str | None = None, title: str | None =
                      + ", ".join(str(k + 1) for k in loop.arcs) + f" (signed area {number(loop.area, '.10g')}).")
         doc.figure(tmp / "boundary.png", "Boundary arcs numbered as in the tables")
         doc.table(["#", "type"] + [f"Theta_{j + 1} (deg)" for j in range(chain.p)] + ["centre", "radius"],
-                  [[str(k + 1), a.type] + [_set_str(s_) for s_ in a.theta_sets]
+                  [[str(k + 1), a.type] + [format_set([math.degrees(v) for v in s_]) for s_ in a.theta_sets]
                    + [f"({number(a.center[0], '.6f')}, {number(a.center[1], '.6f')})", f"{number(a.radius, '.6f')}"]
                    for k, a in enumerate(boundary.arcs)])
         if exact:

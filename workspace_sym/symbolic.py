@@ -41,6 +41,7 @@ from .expressions import as_sympy
 
 __all__ = [
     "textbook",
+    "angle_label",
     "textbook_matrix",
     "group_terms",
     "factor_trig",
@@ -489,7 +490,7 @@ def restore_constants(factors, back) -> list:
     return sorted(counts.items(), key=lambda fm: (sp.count_ops(fm[0]), sp.default_sort_key(fm[0])))
 
 
-def _angle_label(arg: sp.Expr, index_of: dict) -> str | None:
+def angle_label(arg: sp.Expr, index_of: dict) -> str | None:
     """'23' for theta2 + theta3 when every term is a joint variable with coefficient 1."""
     terms = sp.Add.make_args(arg)
     idx = []
@@ -524,7 +525,7 @@ def shorthand(expr, variables, *, latex: bool = False) -> sp.Expr:
     expr = as_sympy(expr)
     subs = {}
     for atom in expr.atoms(sp.sin, sp.cos):
-        label = _angle_label(atom.args[0], index_of)
+        label = angle_label(atom.args[0], index_of)
         if label is None:
             continue
         letter = "c" if isinstance(atom, sp.cos) else "s"

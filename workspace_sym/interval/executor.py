@@ -91,10 +91,10 @@ class Step:
         return expand(boxes, self.decide, self.separate, self.delta, self.size)
 
 
+@arith.nearest_rounding
 def _call(fn, boxes):
     """The entry point in this process's threads: every proof runs in round-to-nearest."""
-    with arith.round_to_nearest():
-        return fn(boxes)
+    return fn(boxes)
 
 
 @cache
@@ -301,7 +301,6 @@ class StoredPaving(Paving):
     def to_dict(self) -> dict:
         out = super().to_dict()
         for k in KINDS:
-            out[k]["boxes"] = self.stored_counts[k]
             out[k]["files"] = [str(p) for p in self.files[k]]
         out["store"] = self.store
         return out

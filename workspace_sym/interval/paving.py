@@ -17,7 +17,7 @@ import html
 import math
 import time
 from dataclasses import dataclass, field
-from functools import cache, lru_cache
+from functools import cache, cached_property, lru_cache
 
 import numpy as np
 import sympy as sp
@@ -398,8 +398,9 @@ class Paving:
         """Number of boxes of each class."""
         return {k: len(getattr(self, k)) for k in ("inner", "boundary", "outer", "pending")}
 
-    @property
+    @cached_property
     def measures(self) -> dict:
+        """Measure of each class (exact sums, computed once)."""
         return {k: box_measure(getattr(self, k)) for k in ("inner", "boundary", "outer", "pending")}
 
     @property
@@ -409,12 +410,12 @@ class Paving:
         return m["inner"], m["inner"] + m["boundary"] + m["pending"]
 
     def to_dict(self) -> dict:
-        m = self.measures
+        m, c = self.measures, self.counts
         out = {
-            "inner": {"boxes": len(self.inner), "measure": m["inner"]},
-            "boundary": {"boxes": len(self.boundary), "measure": m["boundary"]},
-            "outer": {"boxes": len(self.outer), "measure": m["outer"]},
-            "pending": {"boxes": len(self.pending), "measure": m["pending"]},
+            "inner": {"boxes": c["inner"], "measure": m["inner"]},
+            "boundary": {"boxes": c["boundary"], "measure": m["boundary"]},
+            "outer": {"boxes": c["outer"], "measure": m["outer"]},
+            "pending": {"boxes": c["pending"], "measure": m["pending"]},
             "measure_bounds": list(self.measure_bounds),
             "delta": self.delta,
             "size": self.size,
@@ -433,8 +434,9 @@ class Paving:
 
     def __repr__(self):
         lo, hi = self.measure_bounds
-        return (f"Paving({len(self.inner)} inner, {len(self.boundary)} boundary, {len(self.outer)} outer, "
-                f"{len(self.pending)} pending; measure in [{fmt(lo, 6, 'g')}, {fmt(hi, 6, 'g')}], "
+        c = self.counts
+        return (f"Paving({c['inner']} inner, {c['boundary']} boundary, {c['outer']} outer, "
+                f"{c['pending']} pending; measure in [{fmt(lo, 6, 'g')}, {fmt(hi, 6, 'g')}], "
                 f"delta={self.delta})")
 
     def _repr_html_(self) -> str:
@@ -442,9 +444,8 @@ class Paving:
         from ..display import figure_html, html_table
         from ..plotting import plot_paving
 
-        m = self.measures
-        rows = [(kind, len(getattr(self, kind)), fmt(m[kind], 6, "g")) for kind in ("inner", "boundary", "outer",
-                                                                                 "pending")]
+        m, c = self.measures, self.counts
+        rows = [(kind, c[kind], fmt(m[kind], 6, "g")) for kind in ("inner", "boundary", "outer", "pending")]
         lo, hi = self.measure_bounds
         how = ", with contraction" if self.contract else ""
         lines = [f"over ({', '.join(map(str, self.variables))}), δ = {self.delta} ({self.size}), backend "

@@ -20,7 +20,6 @@ local one.
 from __future__ import annotations
 
 import os
-import shutil
 from fractions import Fraction
 from pathlib import Path
 
@@ -226,8 +225,3 @@ class BoxStore:
                     if int(path.stem.split("-")[1]) > store.parts[k]:
                         path.unlink()
         return store
-
-    def clear(self) -> None:
-        """Remove the store's directory (used when a run starts afresh over an old one)."""
-        if self.directory is not None and self.directory.exists():
-            shutil.rmtree(self.directory)
