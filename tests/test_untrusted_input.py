@@ -29,7 +29,8 @@ from workspace_sym.interval.compiler import compile_expr
 from workspace_sym.kinematics import DHJoint, DHRobot
 from workspace_sym.parallel import rpr2
 from workspace_sym.planar import PlanarChain
-from workspace_sym.symbolic import textbook
+from workspace_sym.snap import chop
+from workspace_sym.symbolic import roots_as_symbols, textbook
 from workspace_sym.verify import check_boundary_arc, check_expression, check_measure, check_reachable
 
 MARKER = "MARKER"
@@ -88,6 +89,8 @@ def test_reader_refuses(text, in_tmp):
     _raises_reader_error(lambda: parse_expr(text, "joint 2 d"), "joint 2 d: ")
     _raises_reader_error(lambda: parse_angle(text, "joint 2 theta", degrees=True), "joint 2 theta: ")
     _raises_reader_error(lambda: as_sympy(text, "expression"), "expression: ")
+    _raises_reader_error(lambda: chop(text, 1e-9), "expr: ")                  # public helpers taking expressions
+    _raises_reader_error(lambda: roots_as_symbols([text], []), "exprs: ")
 
 
 @pytest.mark.parametrize("text", INJECTIONS, ids=IDS)

@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from .errors import InvalidParameterError
+from .expressions import as_sympy
 
 __all__ = ["Snapper", "exact_decimal", "snap_angle", "chop", "summary", "ANGLE_GRID", "DEFAULT_TOL"]
 
@@ -103,8 +104,9 @@ def chop(expr, tol: float):
     """
     if isinstance(expr, sp.MatrixBase):
         return expr.applyfunc(lambda e: chop(e, tol))
-    small = {f: sp.Integer(0) for f in sp.sympify(expr).atoms(sp.Float) if abs(f) < tol}
-    return sp.sympify(expr).xreplace(small) if small else expr
+    expr = as_sympy(expr, "expr")                 # text through the restricted parser, never sympify
+    small = {f: sp.Integer(0) for f in expr.atoms(sp.Float) if abs(f) < tol}
+    return expr.xreplace(small) if small else expr
 
 
 def _differs(exact: sp.Expr, value: float) -> bool:

@@ -344,7 +344,7 @@ def roots_as_symbols(exprs, roots) -> tuple[list, dict]:
     are put back; relations such as ``sqrt(2)**2 = 2`` are not used.
     """
     forward = {r: sp.Dummy(f"root{r.base}") for r in roots}
-    return [sp.sympify(e).xreplace(forward) for e in exprs], {v: k for k, v in forward.items()}
+    return [as_sympy(e, "exprs").xreplace(forward) for e in exprs], {v: k for k, v in forward.items()}
 
 
 def factor_half_angle(poly_expr: sp.Expr, pairs, *, extension=(), multiplicity: bool = False) -> list:
