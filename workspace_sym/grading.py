@@ -32,8 +32,11 @@ import csv
 import io
 import json
 import math
+from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
+
+import sympy as sp
 
 from .answers import ANGLE_UNITS, Notation, read_answer
 from .errors import ExpressionError, InvalidParameterError, UnknownNameError, WorkspaceError
@@ -79,6 +82,7 @@ class AnswerKey:
     robots: dict = field(default_factory=dict)
     chains: dict = field(default_factory=dict)
     title: str = "Exercises"
+    _read: dict = field(default_factory=dict, init=False, repr=False, compare=False)   # key answers read, by id
 
     @classmethod
     def from_dict(cls, data) -> AnswerKey:
@@ -133,12 +137,15 @@ class AnswerKey:
         return Notation.from_symbols([read_symbol(n, f"key question {q.id} symbols") for n in q.symbols])
 
     def derived(self, q: Question):
-        """The key's answer as SymPy (expressions, factors) or as a plain value."""
-        if q.kind == "expression":
-            return read_answer(q.answer, self.notation(q), parameter=f"key question {q.id}")
-        if q.kind == "factors":
-            return [read_answer(f, self.notation(q), parameter=f"key question {q.id}") for f in q.answer]
-        return q.answer
+        """The key's answer as SymPy (expressions, factors) or as a plain value (read once per question)."""
+        if q.kind not in ("expression", "factors"):
+            return q.answer
+        texts = (q.answer,) if q.kind == "expression" else tuple(q.answer)
+        if (q.id, texts) not in self._read:
+            self._read[q.id, texts] = [read_answer(t, self.notation(q), parameter=f"key question {q.id}")
+                                       for t in texts]
+        values = [v.copy() if isinstance(v, sp.MatrixBase) else v for v in self._read[q.id, texts]]
+        return values[0] if q.kind == "expression" else values
 
     def grade(self, qid: str, text) -> Verdict:
         """The verdict on one answer to question ``qid``."""
@@ -347,24 +354,27 @@ def write_grading(key: AnswerKey, graded: list[GradedAnswer], out) -> dict:
         position = g.verdict.evidence.get("position")
         writer.writerow([g.student, g.question, g.answer, g.verdict.status, f"{g.points:g}", f"{g.max_points:g}",
                          g.verdict.message, "" if position is None else position])
-    students = list(dict.fromkeys(g.student for g in graded))
+    students, by_student, tally = {}, {}, Counter()          # one pass over the rows
+    for g in graded:
+        students[g.student] = students.get(g.student, 0.0) + g.points
+        by_student.setdefault(g.student, []).append(g)
+        tally["student", g.student, g.verdict.status] += 1
+        tally["question", g.question, g.verdict.status] += 1
+    statuses = ("correct", "wrong", "cannot read")
     total = sum(q.points for q in key.questions)
     doc = Document(f"Grades: {key.title}")
     doc.heading("Per student")
     doc.table(["student", "score", "correct", "wrong", "cannot read"],
-              [[s, f"{sum(g.points for g in graded if g.student == s):g} / {total:g}",
-                *(str(sum(g.student == s and g.verdict.status == st for g in graded))
-                  for st in ("correct", "wrong", "cannot read"))] for s in students])
+              [[s, f"{score:g} / {total:g}", *(str(tally["student", s, st]) for st in statuses)]
+               for s, score in students.items()])
     doc.heading("Per question")
     doc.table(["question", "expected", "correct", "wrong", "cannot read"],
-              [[q.id, _expected_form(key, q),
-                *(str(sum(g.question == q.id and g.verdict.status == st for g in graded))
-                  for st in ("correct", "wrong", "cannot read"))] for q in key.questions])
-    for s in students:
+              [[q.id, _expected_form(key, q), *(str(tally["question", q.id, st]) for st in statuses)]
+               for q in key.questions])
+    for s, rows in by_student.items():
         doc.heading(f"Student {s}", level=3)
         doc.table(["question", "answer as read", "verdict", "explanation"],
-                  [[g.question, _student_form(key, g), g.verdict.status, g.verdict.message]
-                   for g in graded if g.student == s])
+                  [[g.question, _student_form(key, g), g.verdict.status, g.verdict.message] for g in rows])
     html, markdown = doc.html(Path(".")), doc.markdown()
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
