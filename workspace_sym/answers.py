@@ -33,7 +33,7 @@ from string import ascii_lowercase
 import sympy as sp
 
 from .errors import ExpressionError, check_choice
-from .expressions import CONSTANTS, MAX_DEPTH, MAX_LENGTH, parse_math, subscript_name
+from .expressions import CONSTANTS, MAX_DEPTH, MAX_LENGTH, nesting_depth, parse_math, quoted, subscript_name
 
 __all__ = ["Notation", "read_answer", "read_latex", "split_top_level", "expansion_size", "ANGLE_UNITS",
            "MAX_EXPANSION"]
@@ -47,10 +47,6 @@ MAX_OPERATIONS = 4000
 
 _JOINT_ALIAS = re.compile(r"(theta|θ|th|q|t)([0-9]+)")
 _SHORTHAND = re.compile(r"([cCsS])([0-9]+)")
-
-
-def _shown(text: str) -> str:
-    return repr(text) if len(text) <= 60 else f"{text[:57]!r}... ({len(text)} characters)"
 
 
 @dataclass(frozen=True)
@@ -178,11 +174,11 @@ def _plain_matrix(text: str, parameter: str, read) -> sp.Matrix:
             start = column + piece.index("[") + 1
             rows.append([read(p, c) for p, c in split_top_level(piece.strip()[1:-1], start)])
         if len({len(r) for r in rows}) != 1:
-            raise ExpressionError(f"{parameter}: cannot read {_shown(text)}: rows of different lengths",
+            raise ExpressionError(f"{parameter}: cannot read {quoted(text)}: rows of different lengths",
                                   parameter=parameter)
         return sp.Matrix(rows)
     if any(nested):
-        raise ExpressionError(f"{parameter}: cannot read {_shown(text)}: mix of rows and entries",
+        raise ExpressionError(f"{parameter}: cannot read {quoted(text)}: mix of rows and entries",
                               parameter=parameter)
     return sp.Matrix([read(p, c) for p, c in pieces])
 
@@ -263,7 +259,7 @@ class _LatexRewriter:
 
     def error(self, column, reason) -> ExpressionError:
         where = f" at column {column}" if column else ""
-        return ExpressionError(f"{self.parameter}: cannot read {_shown(self.text)}: {reason}{where}",
+        return ExpressionError(f"{self.parameter}: cannot read {quoted(self.text)}: {reason}{where}",
                                parameter=self.parameter, position=column)
 
     def peek(self):
@@ -541,15 +537,10 @@ def read_latex(text: str, notation: Notation, *, parameter: str = "answer", max_
     cos(theta1 + theta2) + 1/2
     """
     if len(text) > max_length:
-        raise ExpressionError(f"{parameter}: {_shown(text)} is too long; at most {max_length} characters are read",
+        raise ExpressionError(f"{parameter}: {quoted(text)} is too long; at most {max_length} characters are read",
                               parameter=parameter)
-    depth = deepest = 0
-    for ch in text:
-        depth += ch in "([{"
-        depth -= ch in ")]}"
-        deepest = max(deepest, depth)
-    if deepest > MAX_DEPTH:
-        raise ExpressionError(f"{parameter}: cannot read {_shown(text)}: nested more than {MAX_DEPTH} levels deep",
+    if nesting_depth(text) > MAX_DEPTH:
+        raise ExpressionError(f"{parameter}: cannot read {quoted(text)}: nested more than {MAX_DEPTH} levels deep",
                               parameter=parameter)
     # SymPy's own printer wraps a matrix environment in \left[ ... \right]: blank them (columns stay)
     text = _WRAPPED_MATRIX.sub(lambda m: " " * len(m[1]) + m[2] + " " * len(m[4]), text)
@@ -637,7 +628,7 @@ def read_answer(text, notation: Notation, *, angles: str = "radians", parameter:
     if not isinstance(text, str):
         raise ExpressionError(f"{parameter}: expected text, got {type(text).__name__}", parameter=parameter)
     if len(text) > MAX_LENGTH:
-        raise ExpressionError(f"{parameter}: {_shown(text)} is too long; at most {MAX_LENGTH} characters are read",
+        raise ExpressionError(f"{parameter}: {quoted(text)} is too long; at most {MAX_LENGTH} characters are read",
                               parameter=parameter)
     if "\\" in text:
         result = read_latex(text, notation, parameter=parameter)
@@ -655,6 +646,6 @@ def read_answer(text, notation: Notation, *, angles: str = "radians", parameter:
         result = result.applyfunc(_degrees) if isinstance(result, sp.MatrixBase) else _degrees(result)
     entries = list(result) if isinstance(result, sp.MatrixBase) else [result]
     if any(expansion_size(e, MAX_EXPANSION + 1) > MAX_EXPANSION for e in entries):
-        raise ExpressionError(f"{parameter}: cannot check {_shown(text)}: expanded it would have more than "
+        raise ExpressionError(f"{parameter}: cannot check {quoted(text)}: expanded it would have more than "
                               f"{MAX_EXPANSION} terms", parameter=parameter)
     return result

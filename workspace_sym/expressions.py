@@ -65,7 +65,7 @@ _LOG2 = math.log10(2)
 _DECIMAL = re.compile(r"(?P<int>[0-9_]*)(?:\.(?P<frac>[0-9_]*))?(?:[eE](?P<exp>[+-]?[0-9_]+))?")
 
 
-def _shown(text: str) -> str:
+def quoted(text: str) -> str:
     """``text`` for a message: quoted, and cut when long."""
     if len(text) <= _SHOWN:
         return repr(text)
@@ -320,7 +320,7 @@ allowed; allowed: numbers, + - * / ** ^, q2, pi, E, sqrt, sin, cos, ..., Abs, Mi
         expr = sp.sympify(value)  # a number, never text
     else:
         raise ExpressionError(f"{parameter}: expected a number or an expression, got {type(value).__name__} "
-                              f"{_shown(repr(value))}")
+                              f"{quoted(repr(value))}")
     if isinstance(expr, sp.Expr):
         parts = (expr,)
     elif relational and isinstance(expr, sp.core.relational.Relational):
@@ -328,15 +328,15 @@ allowed; allowed: numbers, + - * / ** ^, q2, pi, E, sqrt, sin, cos, ..., Abs, Mi
     elif relational and isinstance(expr, sp.logic.boolalg.BooleanAtom):
         parts = ()
     else:
-        raise ExpressionError(f"{parameter}: expected an expression, got {_shown(str(value))}")
+        raise ExpressionError(f"{parameter}: expected an expression, got {quoted(str(value))}")
     if any(p.has(sp.nan, sp.zoo, sp.oo, -sp.oo) for p in parts):
-        raise ExpressionError(f"{parameter}: expected a finite value, got {_shown(str(value))}")
+        raise ExpressionError(f"{parameter}: expected a finite value, got {quoted(str(value))}")
     return expr
 
 
 def _read_text(text: str, parameter: str, *, names, functions, new_symbols, relational, max_length, max_depth,
                transformations):
-    shown = _shown(text)
+    shown = quoted(text)
     if len(text) > max_length:
         raise ExpressionError(f"{parameter}: {shown} is too long; at most {max_length} characters are read")
     text = text.strip()
@@ -351,7 +351,7 @@ def _read_text(text: str, parameter: str, *, names, functions, new_symbols, rela
     elif not isinstance(functions, Mapping):
         functions = {f: FUNCTIONS[f] for f in functions}
     allowed = _allowed(names, functions, new_symbols, relational)
-    if _paren_depth(text) > max_depth:
+    if nesting_depth(text) > max_depth:
         raise ExpressionError(f"{parameter}: cannot read {shown}: nested more than {max_depth} levels deep; "
                               f"{allowed}")
     # '^' is power (textbook spelling).  A plain replace is exact: the grammar has no strings where '^' could hide.
@@ -417,7 +417,7 @@ def subscript_name(name: str) -> str:
 
 
 def _math_error(parameter: str, text: str, column: int, reason: str) -> ExpressionError:
-    return ExpressionError(f"{parameter}: cannot read {_shown(text)}: {reason} at column {column}",
+    return ExpressionError(f"{parameter}: cannot read {quoted(text)}: {reason} at column {column}",
                            parameter=parameter, position=column)
 
 
@@ -501,7 +501,7 @@ def parse_math(value, parameter: str, *, resolve, functions=None, max_length: in
         raise ExpressionError(f"{parameter}: expected text, got {type(value).__name__}", parameter=parameter)
     text = value
     if len(text) > max_length:
-        raise ExpressionError(f"{parameter}: {_shown(text)} is too long; at most {max_length} characters are read",
+        raise ExpressionError(f"{parameter}: {quoted(text)} is too long; at most {max_length} characters are read",
                               parameter=parameter)
     if not text.strip():
         raise ExpressionError(f"{parameter}: expected an expression, got an empty string", parameter=parameter)
@@ -587,13 +587,14 @@ def parse_math(value, parameter: str, *, resolve, functions=None, max_length: in
                           max_length=max(4 * max_length, 200))
     except ExpressionError as exc:
         # say it about the student's text, not about the rewritten one
-        reason = str(exc).split("; allowed:")[0].replace(_shown(source), _shown(text))
+        reason = str(exc).split("; allowed:")[0].replace(quoted(source), quoted(text))
         for placeholder, obj in values.items():
             reason = reason.replace(f"'{placeholder}'", repr(sp.sstr(obj)))
         raise ExpressionError(reason, parameter=parameter) from None
 
 
-def _paren_depth(text: str) -> int:
+def nesting_depth(text: str) -> int:
+    """Deepest nesting of brackets ``([{`` in ``text`` (checked before any parser sees it)."""
     depth = deepest = 0
     for ch in text:
         if ch in "([{":
@@ -644,7 +645,7 @@ give the offset alone in degrees ("theta": 90) or write it in radians: "q1 + pi/
         field = parameter.rsplit(" ", 1)[-1]
         hint = sp.sstr(rest + constant * sp.pi / 180)
         raise ExpressionError(
-            f"{parameter}: {_shown(str(value))} adds a number without pi to a symbol in a degrees table, which is "
+            f"{parameter}: {quoted(str(value))} adds a number without pi to a symbol in a degrees table, which is "
             f"ambiguous; give the offset alone in degrees (\"{field}\": {constant}) or write it in radians: "
             f"\"{hint}\"")
     return expr
@@ -665,7 +666,7 @@ def read_symbol(name, parameter: str) -> sp.Symbol:
     if (not isinstance(name, str) or not name.isidentifier() or keyword.iskeyword(name) or name.startswith("_")
             or name in _RESERVED
             or name in FUNCTIONS or name in CONSTANTS or len(name) > 100):
-        raise ExpressionError(f"{parameter}: expected a name such as q1, got {_shown(str(name))}")
+        raise ExpressionError(f"{parameter}: expected a name such as q1, got {quoted(str(name))}")
     return sp.Symbol(name)
 
 
