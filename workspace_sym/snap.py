@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import cache
 
 import sympy as sp
 
@@ -187,18 +188,26 @@ class Snapper:
         value = float(value)
         if not self.exact:
             return sp.Float(value)
-        for k in range(13):
-            exact = sp.cos(k * sp.pi / 12)
-            for candidate in (exact, -exact) if exact != 0 else (exact,):
-                if abs(value - float(candidate)) <= self.tol:
-                    if _differs(candidate, value):
-                        self.notes.append(f"{where}: {value!r} -> {sp.sstr(candidate)}")
-                    return candidate
+        for candidate, approx in _cosines():
+            if abs(value - approx) <= self.tol:
+                if _differs(candidate, value):
+                    self.notes.append(f"{where}: {value!r} -> {sp.sstr(candidate)}")
+                return candidate
         return self.length(value, where)
 
     def chop(self, expr):
         """``expr`` chopped below ``tol`` when floats are kept; unchanged in exact mode."""
         return expr if self.exact else chop(expr, self.tol)
+
+
+@cache
+def _cosines() -> tuple:
+    """``(cos(k pi/12), float)`` and the negatives, ``k = 0 .. 12``, in the order :meth:`Snapper.cosine` tries."""
+    out = []
+    for k in range(13):
+        exact = sp.cos(k * sp.pi / 12)
+        out += [(c, float(c)) for c in ((exact, -exact) if exact != 0 else (exact,))]
+    return tuple(out)
 
 
 def summary(notes) -> str:
