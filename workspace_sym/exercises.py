@@ -34,6 +34,7 @@ from .grading import KEY_FORMAT
 from .kinematics import DHRobot
 from .planar import PlanarChain
 from .report import Document
+from .snap import exact_decimal
 
 __all__ = ["make_exercises", "write_exercises", "exact_parameters", "reach_bound", "reachability_point",
            "MAX_COUNT"]
@@ -102,7 +103,7 @@ def reach_bound(robot: DHRobot, values: dict) -> sp.Expr:
 
 def exact_parameters(robot: DHRobot) -> dict:
     """The robot's numeric lengths as the decimals they print as (``0.387`` is ``387/1000``): points stay exact."""
-    return {k: sp.Rational(repr(v)) if isinstance(v, float) else sp.nsimplify(v) for k, v in robot.parameters.items()}
+    return {k: exact_decimal(v) if isinstance(v, float) else sp.nsimplify(v) for k, v in robot.parameters.items()}
 
 
 def reachability_point(robot: DHRobot, rng) -> tuple[list, bool, str, list | None]:
