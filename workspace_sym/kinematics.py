@@ -47,6 +47,7 @@ __all__ = [
     "DHRobot",
     "AnalyticJacobian",
     "dh_matrix",
+    "xyz_rpy",
     "characteristic_polynomial",
     "gram_characteristic_polynomial",
     "eigenvalues_from_charpoly",
@@ -71,8 +72,19 @@ def _rx(t):
     return sp.Matrix([[1, 0, 0, 0], [0, c, -s, 0], [0, s, c, 0], [0, 0, 0, 1]])
 
 
+def _ry(t):
+    c, s = sp.cos(t), sp.sin(t)
+    return sp.Matrix([[c, 0, s, 0], [0, 1, 0, 0], [-s, 0, c, 0], [0, 0, 0, 1]])
+
+
 def _translate(x=0, y=0, z=0):
     return sp.Matrix([[1, 0, 0, x], [0, 1, 0, y], [0, 0, 1, z], [0, 0, 0, 1]])
+
+
+def xyz_rpy(xyz, rpy) -> sp.Matrix:
+    """The homogeneous transform ``Trans(xyz) Rz(yaw) Ry(pitch) Rx(roll)`` of a URDF origin (``rpy`` in radians)."""
+    (x, y, z), (r, p, w) = xyz, rpy
+    return _translate(x, y, z) * _rz(w) * _ry(p) * _rx(r)
 
 
 def dh_matrix(theta, d, a, alpha, *, convention: str = "standard") -> sp.Matrix:
@@ -184,8 +196,7 @@ def _read_transform(value, key: str, degrees: bool, snapper: Snapper | None = No
                 raise DHTableError(f"{key} {field_}: expected a list of 3 numbers; got {v!r}")
         x, y, z = (_read_length(v, f"{key} xyz", snapper) for v in xyz)
         r, p, w = (_read_angle(v, f"{key} rpy", degrees, snapper) for v in rpy)
-        Ry = sp.Matrix([[sp.cos(p), 0, sp.sin(p), 0], [0, 1, 0, 0], [-sp.sin(p), 0, sp.cos(p), 0], [0, 0, 0, 1]])
-        return snapper.chop(_translate(x, y, z) * _rz(w) * Ry * _rx(r))
+        return snapper.chop(xyz_rpy((x, y, z), (r, p, w)))
     if isinstance(value, (list, tuple)) and len(value) == 4 and all(isinstance(r, (list, tuple)) and len(r) == 4
                                                                    for r in value):
         return snapper.chop(sp.Matrix([[_read_length(v, f"{key} matrix", snapper, rotation=i < 3 and j < 3)

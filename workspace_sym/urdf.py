@@ -41,7 +41,7 @@ import sympy as sp
 
 from .errors import URDFError
 from .expressions import check_joint_limits
-from .kinematics import DHJoint, DHRobot
+from .kinematics import DHJoint, DHRobot, xyz_rpy
 from .snap import DEFAULT_TOL, Snapper, chop
 
 __all__ = ["read_urdf", "MOVING", "UNSUPPORTED"]
@@ -237,19 +237,11 @@ def _origin(joint, snapper: Snapper) -> sp.Matrix:
     where = f"joint {joint.name!r} origin"
     xyz = [snapper.length(v, f"{where} xyz") for v in M[:3, 3]]
     rpy = [snapper.angle(v, f"{where} rpy") for v in transformations.euler_from_matrix(M, "sxyz")]
-    T = _xyz_rpy(xyz, rpy)
+    T = xyz_rpy(xyz, rpy)
     gap = float(np.abs(np.array(T[:3, :3].evalf(), dtype=float) - M[:3, :3]).max())
     if gap > 10 * snapper.tol + 1e-12:   # Euler angles recovered badly near pitch = +-pi/2: keep the matrix
         T[:3, :3] = sp.Matrix(3, 3, [snapper.cosine(v, f"{where} rotation") for v in M[:3, :3].ravel()])
     return snapper.chop(T)
-
-
-def _xyz_rpy(xyz, rpy) -> sp.Matrix:
-    r, p, y = rpy
-    Rx = sp.Matrix([[1, 0, 0], [0, sp.cos(r), -sp.sin(r)], [0, sp.sin(r), sp.cos(r)]])
-    Ry = sp.Matrix([[sp.cos(p), 0, sp.sin(p)], [0, 1, 0], [-sp.sin(p), 0, sp.cos(p)]])
-    Rz = sp.Matrix([[sp.cos(y), -sp.sin(y), 0], [sp.sin(y), sp.cos(y), 0], [0, 0, 1]])
-    return _frame(Rz * Ry * Rx, sp.Matrix(xyz))
 
 
 def _frame(R: sp.Matrix, o: sp.Matrix) -> sp.Matrix:
