@@ -325,3 +325,11 @@ def test_skew_prismatic_continuous_chain_equals_the_library(tmp_path, exact):
     qs = np.random.default_rng(11).uniform(-2.0, 2.0, size=(15, 3))
     reference = _library_fk(path, "tip", qs)
     assert np.abs(robot.fk_numeric(qs) - reference).max() < 1e-12
+
+
+def test_keep_floats_recognises_an_identity_base():
+    """With floats kept, the IRB140's frame 0 is still the base link's frame (Float(1.0) is not Integer(1),
+    yet the matrix is the identity): no base transform, and the note says so, as in exact mode."""
+    path, _ = URDFS["irb140"]
+    robot = DHRobot.from_urdf(path, exact=False)
+    assert robot.base is None and "frame 0 is the base link's frame" in robot.input_notes[0]

@@ -310,14 +310,15 @@ def _dh_robot(name, chain, snapper: Snapper, base_link, tip_link) -> DHRobot:
     tool = _rigid_inverse(frames[-1]) * T_tip
     # Floats (angles that did not snap) leave rounding dust of 1e-17 in exact zeros: dropped at 1e-14.
     base, tool = (snapper.chop(chop(M.applyfunc(_clean), _DUST)) for M in (base, tool))
-    if base == sp.eye(4):
+    # Identity entry by entry: with floats kept, Float(1.0) != Integer(1) although it is the identity.
+    base, tool = (None if all(e.is_zero for e in M - sp.eye(4)) else M for M in (base, tool))
+    if base is None:
         notes.insert(0, f"DH table (standard) from {base_link!r}: frame 0 is the base link's frame")
     else:
         notes.insert(0, f"DH table (standard) from {base_link!r} with a base transform: joint 1's axis is not "
                         "the base link's z axis through its origin")
     notes.insert(1, f"joints {', '.join(names)}; tool transform to {tip_link!r}")
-    return DHRobot(joints, name=name, units="m", base=None if base == sp.eye(4) else base,
-                   tool=None if tool == sp.eye(4) else tool, input_notes=notes + snapper.notes,
+    return DHRobot(joints, name=name, units="m", base=base, tool=tool, input_notes=notes + snapper.notes,
                    chop_tol=None if snapper.exact else snapper.tol)
 
 
