@@ -208,7 +208,7 @@ def _path(by_child, base_link, tip_link, path) -> list:
             raise URDFError(f"--urdf: the joints of {path.name} form a loop", parameter="urdf")
     chain.reverse()
     for j in chain:
-        if j.type in UNSUPPORTED or j.type not in (*MOVING, "fixed"):
+        if j.type not in (*MOVING, "fixed"):
             raise URDFError(f"--urdf: joint {j.name!r} is {j.type}; a serial chain takes revolute, continuous, "
                             "prismatic and fixed joints only", parameter="urdf")
         if j.mimic is not None:
@@ -294,16 +294,15 @@ def _dh_robot(name, chain, snapper: Snapper, base_link, tip_link) -> DHRobot:
     for k, ((j, scale), (theta0, d0, a, alpha)) in enumerate(zip(moving, rows), start=1):
         if j.type == "prismatic":
             q = sp.Symbol(f"d{k}")
-            theta, d = theta0, scale * q + d0
-            limits = tuple(snapper.length(v, f"joint {j.name!r} limit") for v in (j.limit.lower or 0.0,
-                                                                                 j.limit.upper or 0.0))
+            theta, d, read = theta0, scale * q + d0, snapper.length
         else:
             q = sp.Symbol(f"theta{k}")
-            theta, d = q + theta0, d0
-            limits = None if j.type == "continuous" else tuple(
-                snapper.angle(v, f"joint {j.name!r} limit") for v in (j.limit.lower or 0.0, j.limit.upper or 0.0))
-        if limits is not None:
-            check_joint_limits(f"{j.name!r}", *limits, shown=(j.limit.lower or 0.0, j.limit.upper or 0.0))
+            theta, d, read = q + theta0, d0, snapper.angle
+        limits = None
+        if j.type != "continuous":
+            raw = (j.limit.lower or 0.0, j.limit.upper or 0.0)
+            limits = tuple(read(v, f"joint {j.name!r} limit") for v in raw)
+            check_joint_limits(f"{j.name!r}", *limits, shown=raw)
         joints.append(DHJoint("P" if j.type == "prismatic" else "R", theta, d, a, alpha, q, limits))
         names.append(f"{q} = {j.name}")
     base = frames[0]

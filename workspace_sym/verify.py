@@ -70,10 +70,11 @@ def cannot_read(exc: ExpressionError) -> Verdict:
     return Verdict(None, message, {"method": "cannot read", "position": getattr(exc, "position", None)})
 
 
-def _notation(robot, derived) -> Notation:
+def _notation(robot, symbols) -> Notation:
+    """The robot's names, or those of ``symbols`` when there is no robot."""
     if robot is not None:
         return Notation.from_robot(robot)
-    return Notation.from_symbols(derived.free_symbols)
+    return Notation.from_symbols(symbols)
 
 
 def _read_student(student, notation, angles):
@@ -144,7 +145,7 @@ def check_expression(student, derived, *, robot=None, angles: str = "radians", s
     ('cannot read', 13)
     """
     d = parse_expr(derived, "derived") if not isinstance(derived, sp.MatrixBase) else derived
-    notation = _notation(robot, d)
+    notation = _notation(robot, d.free_symbols)
     try:
         s = _read_student(student, notation, angles)
     except ExpressionError as exc:
@@ -213,7 +214,7 @@ def check_factors(student, derived, *, robot=None, angles: str = "radians", seed
     """
     derived = [as_sympy(f, "derived factor") for f in derived]
     symbols = set().union(*(f.free_symbols for f in derived)) if derived else set()
-    notation = Notation.from_robot(robot) if robot is not None else Notation.from_symbols(symbols)
+    notation = _notation(robot, symbols)
     try:
         given = _read_list(student, notation, angles)
     except ExpressionError as exc:
