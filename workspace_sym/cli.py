@@ -21,7 +21,7 @@ from . import __version__, robots
 from .errors import InvalidParameterError, WorkspaceError
 from .expressions import is_finite_value, parse_expr, read_symbol
 from .kinematics import DHRobot
-from .numbers import clean_json, fmt, fmt_bracket
+from .numbers import clean_json, fmt, fmt_bound, fmt_bracket, measure_text
 from .snap import DEFAULT_TOL, summary
 
 __all__ = ["main", "build_parser"]
@@ -300,7 +300,8 @@ def _show_paving(paving, as_json: bool, extra: dict | None = None) -> None:
     print(f"delta = {paving.delta} ({paving.size}), backend {paving.backend}{how}: {paving.seconds:.3f} s, "
           f"{paving.evaluated} boxes evaluated")
     for kind in ("inner", "boundary", "outer", "pending"):
-        print(f"  {kind:<8} {result[kind]['boxes']:>8} boxes, measure {fmt(result[kind]['measure'], 6)}")
+        measure = measure_text(kind, result[kind]["measure"], 6)
+        print(f"  {kind:<8} {result[kind]['boxes']:>8} boxes, measure {measure}")
     print(f"  measure in {fmt_bracket(lo, hi, 6)}")
     if paving.exact_measure is not None:
         print(f"  exact measure {fmt(float(paving.exact_measure), 6)} = {sp.sstr(paving.exact_measure)}")
@@ -366,8 +367,9 @@ def cmd_dextrous(args) -> int:
         return 0
     print(f"orthoglide dextrous workspace, sigma in [{data['sigma'][0]}, {data['sigma'][1]}], eps = {args.eps}: "
           f"{data['seconds']:.1f} s, {data['boxes_evaluated']} boxes")
-    print(f"  certified inside volume {fmt(data['volume_inner'], 6)} ({data['boxes']['inner']} boxes)")
-    print(f"  error index E (undecided) {fmt(data['volume_undecided'], 6)} ({data['boxes']['undecided']} boxes)")
+    print(f"  certified inside volume {fmt_bound(data['volume_inner'], 6, up=False)} ({data['boxes']['inner']} boxes)")
+    print(f"  error index E (undecided) {fmt_bound(data['volume_undecided'], 6, up=True)} "
+          f"({data['boxes']['undecided']} boxes)")
     if not data["complete"]:
         print("  stopped early: the rest is counted in E")
     return 0
@@ -394,8 +396,8 @@ def _print_cube(data: dict, alpha: float) -> None:
     print(f"orthoglide, largest cube in the dextrous workspace (sigma in {data['sigma']}), alpha = {alpha}: "
           f"{data['seconds']:.1f} s")
     print(f"  centre ({fmt(x, 6)}, {fmt(y, 6)}, {fmt(z, 6)})")
-    print(f"  a cube of edge {fmt(data['edge_lower'], 9)} there is proved inside; no cube of edge above "
-          f"{fmt(data['edge_upper'], 9)} fits anywhere (proved)")
+    print(f"  a cube of edge {fmt_bound(data['edge_lower'], 9, up=False)} there is proved inside; no cube of edge "
+          f"above {fmt_bound(data['edge_upper'], 9, up=True)} fits anywhere (proved)")
     if "closed_form" in data:
         print(f"  closed form: {data['closed_form']}")
 

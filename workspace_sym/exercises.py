@@ -32,6 +32,7 @@ import sympy as sp
 from .errors import InvalidParameterError
 from .grading import KEY_FORMAT
 from .kinematics import DHRobot
+from .numbers import fmt_bracket
 from .planar import PlanarChain
 from .report import Document
 from .snap import exact_decimal
@@ -222,7 +223,7 @@ def _chain_problem(rng, number: int):
           "prompt": "How many circular arcs make up the boundary of the workspace?"}, str(len(boundary.arcs))),
         ({"kind": "measure", "answer": [lo, hi], "rel_tol": 0.01,
           "prompt": "What is the area of the workspace? (3 significant digits)"},
-         f"{lo:.6g}" if hi == lo else f"in [{lo:.6g}, {hi:.6g}]"),
+         f"{lo:.6g}" if hi == lo else f"in {fmt_bracket(lo, hi, 6, 'g')}"),
     ]
     return name, spec, chain, questions
 

@@ -42,6 +42,7 @@ from .answers import ANGLE_UNITS, Notation, read_answer
 from .errors import ExpressionError, InvalidParameterError, UnknownNameError, WorkspaceError
 from .expressions import parse_expr, read_symbol
 from .kinematics import DHRobot
+from .numbers import fmt_bracket
 from .planar import PlanarChain
 from .verify import Verdict, cannot_read, check_expression, check_factors
 
@@ -255,9 +256,10 @@ def _grade_measure(text: str, q: Question) -> Verdict:
     lo, hi = q.answer
     slack = q.rel_tol * max(abs(lo), abs(hi))
     if math.isfinite(claimed) and lo - slack <= claimed <= hi + slack:
-        return Verdict(True, f"{claimed:g} is within {q.rel_tol:.0%} of the certified [{lo:.6g}, {hi:.6g}]",
+        return Verdict(True, f"{claimed:g} is within {q.rel_tol:.0%} of the certified {fmt_bracket(lo, hi, 6, 'g')}",
                        {"bracket": [lo, hi]})
-    return Verdict(False, f"{claimed:g} is not within {q.rel_tol:.0%} of the certified value [{lo:.6g}, {hi:.6g}]",
+    return Verdict(False, f"{claimed:g} is not within {q.rel_tol:.0%} of the certified value "
+                          f"{fmt_bracket(lo, hi, 6, 'g')}",
                    {"bracket": [lo, hi]})
 
 
@@ -336,7 +338,7 @@ def _expected_form(key: AnswerKey, q: Question):
     if q.kind == "reachable":
         return "yes" if q.answer else "no"
     if q.kind == "measure":
-        return f"[{q.answer[0]:.6g}, {q.answer[1]:.6g}]"
+        return fmt_bracket(q.answer[0], q.answer[1], 6, "g")
     return str(q.answer)
 
 

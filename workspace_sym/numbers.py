@@ -25,7 +25,7 @@ from __future__ import annotations
 import math
 import re
 
-__all__ = ["clean", "fmt", "fmt_bracket", "clean_json"]
+__all__ = ["clean", "fmt", "fmt_bound", "fmt_bracket", "measure_text", "clean_json"]
 
 _NOISE = 1e-12          # relative size of the float noise that clean() removes
 _SHORT = 9              # a "short" decimal has at most this many significant digits
@@ -68,9 +68,44 @@ def fmt(x, digits: int = 4, spec: str = "f") -> str:
     return _NEGATIVE_ZERO.sub("", text)
 
 
-def fmt_bracket(lo, hi, digits: int = 4) -> str:
-    """``"[lo, hi]"`` with ``digits`` decimals, ``lo`` rounded down and ``hi`` up: the printed bracket still holds
-    the certified one (``fmt`` would round to nearest and could cut it).
+def fmt_bound(x, digits: int = 4, spec: str = "f", *, up: bool) -> str:
+    """``x`` printed with ``digits`` decimals (``spec="f"``) or significant digits (``spec="g"``), rounded up
+    (``up=True``) or down, never to nearest: the printed number stays on the proved side of a certified bound.
+
+    Every certified bound the package prints or writes as text goes through
+    this function (or :func:`fmt_bracket`); a lower bound rounded to nearest
+    could print above the proved one.
+
+    Examples
+    --------
+    >>> fmt_bound(34.06668091, 6, "g", up=False), fmt_bound(36.04998779, 6, "g", up=True)
+    ('34.0666', '36.05')
+    >>> fmt_bound(0.1, 3, up=True), fmt_bound(-0.0001, 2, up=True), fmt_bound(9.99999, 3, "g", up=True)
+    ('0.101', '0.00', '10')
+    """
+    from decimal import ROUND_CEILING, ROUND_FLOOR, Decimal
+
+    if spec not in ("f", "g"):
+        raise ValueError(f"spec must be 'f' or 'g'; got {spec!r}")
+    value = float(x)
+    if not math.isfinite(value):
+        return format(value, "g")
+    exact = Decimal(value)                          # Decimal(float) is the float exactly
+    rounding = ROUND_CEILING if up else ROUND_FLOOR
+    if spec == "f":
+        return _NEGATIVE_ZERO.sub("", format(exact.quantize(Decimal(1).scaleb(-digits), rounding=rounding), "f"))
+    if value == 0:
+        return "0"
+    digits = min(max(digits, 1), 15)
+    rounded = exact.quantize(Decimal(1).scaleb(exact.adjusted() - digits + 1), rounding=rounding)
+    # ``rounded`` has at most digits + 1 <= 16 significant digits (9.99 -> 10.0), the last one a zero, so the float
+    # nearest to it prints back as ``rounded`` exactly with ``digits`` significant digits.
+    return _NEGATIVE_ZERO.sub("", format(float(rounded), f".{digits}g"))
+
+
+def fmt_bracket(lo, hi, digits: int = 4, spec: str = "f") -> str:
+    """``"[lo, hi]"`` with ``digits`` decimals (or significant digits with ``spec="g"``), ``lo`` rounded down and
+    ``hi`` up: the printed bracket still holds the certified one (``fmt`` would round to nearest and could cut it).
 
     Examples
     --------
@@ -78,13 +113,23 @@ def fmt_bracket(lo, hi, digits: int = 4) -> str:
     '[4.6318, 7.2774]'
     >>> fmt_bracket(-1e-12, 0.0, 6)
     '[-0.000001, 0.000000]'
+    >>> fmt_bracket(34.06668091, 36.04998779, 6, "g")
+    '[34.0666, 36.05]'
     """
-    from decimal import ROUND_CEILING, ROUND_FLOOR, Decimal
+    return f"[{fmt_bound(lo, digits, spec, up=False)}, {fmt_bound(hi, digits, spec, up=True)}]"
 
-    quantum = Decimal(1).scaleb(-digits)
-    down = Decimal(float(lo)).quantize(quantum, rounding=ROUND_FLOOR)      # Decimal(float) is the float exactly
-    up = Decimal(float(hi)).quantize(quantum, rounding=ROUND_CEILING)
-    return f"[{_NEGATIVE_ZERO.sub('', str(down))}, {_NEGATIVE_ZERO.sub('', str(up))}]"
+
+def measure_text(kind: str, value, digits: int = 6, spec: str = "f") -> str:
+    """The measure of one class of boxes of a paving, as text: the inner and outer measures are proved lower
+    bounds (of the set and of its complement) and are rounded down; boundary and pending measures, which bound
+    nothing alone, to nearest.
+
+    >>> measure_text("inner", 0.1234567), measure_text("boundary", 0.1234567)
+    ('0.123456', '0.123457')
+    """
+    if kind in ("inner", "outer"):
+        return fmt_bound(value, digits, spec, up=False)
+    return fmt(value, digits, spec)
 
 
 def clean_json(obj):

@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 import sympy as sp
 
-from .numbers import fmt, fmt_bracket
+from .numbers import fmt, fmt_bound, fmt_bracket, measure_text
 
 __all__ = ["Document", "dh_robot_report", "orthoglide_report", "paving_report", "planar_report", "reproducibility",
            "tex_escape", "number", "DEGREE", "Equations"]
@@ -413,7 +413,7 @@ def _paving_section(doc: Document, paving, tmp: Path, *, units: str | None = Non
     name, unit = _measure_name(dims, units)
     kinds = ("inner", "boundary", "outer") + (("pending",) if d["pending"]["boxes"] else ())
     doc.table(["boxes", "count", f"{name} ({unit})" if unit else "measure"],
-              [[k, str(d[k]["boxes"]), number(d[k]["measure"])] for k in kinds])
+              [[k, str(d[k]["boxes"]), measure_text(k, d[k]["measure"])] for k in kinds])
     unit_text = f" {unit}" if unit else ""
     text = (f"delta {d['delta']}, backend {d['backend']}, {number(d['seconds'], '.3f')} s: the {name} lies in "
             f"{fmt_bracket(*d['measure_bounds'], 6)}{unit_text} (inner boxes are proved inside, outer boxes proved "
@@ -706,13 +706,14 @@ def orthoglide_report(model, out, *, eps: float = 0.125, alpha: float = 0.01, co
     doc.math("N", model.inverse)
     doc.heading("Dextrous workspace")
     doc.table(["eps", "inside volume (proved)", "E (undecided)", "boxes in / undecided / out", "seconds"],
-              [[str(eps), number(d["volume_inner"]), number(d["volume_undecided"]),
+              [[str(eps), fmt_bound(d["volume_inner"], 6, up=False), fmt_bound(d["volume_undecided"], 6, up=True),
                 f"{d['boxes']['inner']} / {d['boxes']['undecided']} / {d['boxes']['outer']}",
                 number(d["seconds"], ".1f")]])
     doc.para("Paper, eps = 0.05: 1.468 inside, E in [0, 0.48], about 5 hours.")
     doc.heading("Largest enclosed cube")
     doc.table(["centre", "edge proved inside", "no enclosed cube above", "alpha", "seconds"],
-              [[", ".join(number(v) for v in c["center"]), number(c["edge_lower"]), number(c["edge_upper"]),
+              [[", ".join(number(v) for v in c["center"]), fmt_bound(c["edge_lower"], 6, up=False),
+                fmt_bound(c["edge_upper"], 6, up=True),
                 str(alpha), number(c["seconds"], ".1f")]])
     if cube.exact is not None:
         doc.para("The binding points are the corners of the cube on the diagonal x = y = z: "

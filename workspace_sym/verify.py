@@ -17,6 +17,7 @@ import sympy as sp
 from .answers import Notation, read_answer, split_top_level
 from .errors import ExpressionError, InvalidParameterError
 from .expressions import as_sympy, parse_expr
+from .numbers import fmt_bracket
 
 __all__ = ["Verdict", "cannot_read", "check_expression", "check_factors", "check_reachable", "check_boundary_arc",
            "check_measure",
@@ -301,9 +302,9 @@ def check_measure(claimed: float, result, *, rel_tol: float = 0.0) -> Verdict:
                                     f"got {type(result).__name__}")
     slack = rel_tol * max(abs(lo), abs(hi)) + 1e-12 * max(1.0, abs(hi))
     if lo - slack <= claimed <= hi + slack:
-        return Verdict(True, f"{claimed:g} lies in the {what} [{lo:.6g}, {hi:.6g}]", {"bracket": [lo, hi]})
+        return Verdict(True, f"{claimed:g} lies in the {what} {fmt_bracket(lo, hi, 6, 'g')}", {"bracket": [lo, hi]})
     side = "below" if claimed < lo else "above"
-    return Verdict(False, f"{claimed:g} is {side} the {what} [{lo:.6g}, {hi:.6g}]", {"bracket": [lo, hi]})
+    return Verdict(False, f"{claimed:g} is {side} the {what} {fmt_bracket(lo, hi, 6, 'g')}", {"bracket": [lo, hi]})
 
 
 # ------------------------------------------------------------------------------ assertions for autograders

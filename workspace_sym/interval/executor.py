@@ -52,6 +52,7 @@ import numpy as np
 import sympy as sp
 
 from ..errors import InvalidParameterError, WorkspaceError
+from ..numbers import fmt_bracket
 from . import arith
 from .paving import Box, Paving, RunBudget, box_measure, expand, initial_boxes
 from .store import KINDS, BoxStore, ExactSum, parse_memory
@@ -309,7 +310,7 @@ class StoredPaving(Paving):
         lo, hi = self.measure_bounds
         c = self.counts
         return (f"StoredPaving({c['inner']} inner, {c['boundary']} boundary, {c['outer']} outer, {c['pending']} "
-                f"pending in {self.store}; measure in [{lo:.6g}, {hi:.6g}], delta={self.delta})")
+                f"pending in {self.store}; measure in {fmt_bracket(lo, hi, 6, 'g')}, delta={self.delta})")
 
 
 # ----------------------------------------------------------------------------- checkpoints

@@ -24,7 +24,7 @@ import sympy as sp
 
 from ..errors import BoxError, ConstraintError, ExpressionError, InvalidParameterError, check_choice
 from ..expressions import parse_expr
-from ..numbers import fmt
+from ..numbers import fmt, fmt_bracket, measure_text
 from ..progress import progress_bar
 from . import arith
 from . import mp as mpi
@@ -436,7 +436,7 @@ class Paving:
         lo, hi = self.measure_bounds
         c = self.counts
         return (f"Paving({c['inner']} inner, {c['boundary']} boundary, {c['outer']} outer, "
-                f"{c['pending']} pending; measure in [{fmt(lo, 6, 'g')}, {fmt(hi, 6, 'g')}], "
+                f"{c['pending']} pending; measure in {fmt_bracket(lo, hi, 6, 'g')}, "
                 f"delta={self.delta})")
 
     def _repr_html_(self) -> str:
@@ -445,12 +445,13 @@ class Paving:
         from ..plotting import plot_paving
 
         m, c = self.measures, self.counts
-        rows = [(kind, c[kind], fmt(m[kind], 6, "g")) for kind in ("inner", "boundary", "outer", "pending")]
+        rows = [(kind, c[kind], measure_text(kind, m[kind], 6, "g"))
+                for kind in ("inner", "boundary", "outer", "pending")]
         lo, hi = self.measure_bounds
         how = ", with contraction" if self.contract else ""
         lines = [f"over ({', '.join(map(str, self.variables))}), δ = {self.delta} ({self.size}), backend "
                  f"{self.backend}{how}: {self.evaluated} boxes evaluated in {self.seconds:.2f} s",
-                 f"certified measure in [{fmt(lo, 6)}, {fmt(hi, 6)}]"]
+                 f"certified measure in {fmt_bracket(lo, hi, 6)}"]
         if self.exact_measure is not None:
             lines.append(f"exact measure {fmt(float(self.exact_measure), 6)} = {sp.sstr(self.exact_measure)}")
         if not self.complete:

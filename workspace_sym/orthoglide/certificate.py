@@ -51,7 +51,7 @@ from ..errors import InvalidParameterError
 from ..interval import arith, symmetric
 from ..interval.arith import Interval
 from ..interval.paving import Box, Paving, subdivide, threaded
-from ..numbers import fmt
+from ..numbers import fmt_bound
 
 __all__ = ["DextrousResult", "box_module", "check_sigma", "dextrous", "inverse_entries", "leg_terms",
            "numeric_dextrous", "reciprocal", "witnessed_module"]
@@ -75,7 +75,8 @@ class DextrousResult:
         return m["boundary"] + m["pending"]
 
     def __repr__(self):
-        return (f"DextrousResult(inside volume {fmt(self.volume_inner, 6)}, E {fmt(self.volume_undecided, 6)}, "
+        return (f"DextrousResult(inside volume {fmt_bound(self.volume_inner, 6, up=False)}, "
+                f"E {fmt_bound(self.volume_undecided, 6, up=True)}, "
                 f"eps {self.eps})")
 
     def _repr_html_(self) -> str:
@@ -85,8 +86,8 @@ class DextrousResult:
 
         data = self.to_dict()
         lo, hi = self.sigma
-        rows = [("certified inside", fmt(self.volume_inner, 6), data["boxes"]["inner"]),
-                ("error index E (undecided)", fmt(self.volume_undecided, 6), data["boxes"]["undecided"]),
+        rows = [("certified inside", fmt_bound(self.volume_inner, 6, up=False), data["boxes"]["inner"]),
+                ("error index E (undecided)", fmt_bound(self.volume_undecided, 6, up=True), data["boxes"]["undecided"]),
                 ("outside", "", data["boxes"]["outer"])]
         stopped = "" if self.paving.complete else " (stopped early: the rest counts in E)"
         head = (f"<p>Dextrous workspace: the points of [-1, 1]³ where every eigenvalue of J Jᵀ lies in "

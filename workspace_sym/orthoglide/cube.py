@@ -23,7 +23,7 @@ import sympy as sp
 from ..errors import InvalidParameterError
 from ..interval import arith
 from ..interval.search import prove_all
-from ..numbers import fmt
+from ..numbers import fmt, fmt_bound, fmt_bracket
 from ..progress import stage_bar
 from .certificate import box_module, check_sigma, numeric_dextrous
 
@@ -64,7 +64,7 @@ class CubeResult:
         return "; ".join(f"corner ({s}, {s}, {s}) on {', '.join(b)}" for s, b in self.exact["bounds"].items())
 
     def __repr__(self):
-        return (f"CubeResult(edge in [{fmt(self.edge_lower, 6)}, {fmt(self.edge_upper, 6)}], centre "
+        return (f"CubeResult(edge in {fmt_bracket(self.edge_lower, self.edge_upper, 6)}, centre "
                 f"({', '.join(fmt(v, 6) for v in self.center)}))")
 
     def _latex_lines(self) -> list[str]:
@@ -76,16 +76,16 @@ class CubeResult:
                 rf"x = y = z = {sp.latex(e['center'])} \approx {fmt(float(e['center']), 9)}"]
 
     def _repr_latex_(self) -> str:
-        lines = self._latex_lines() or [rf"\text{{edge}} \in [{fmt(self.edge_lower, 9)}, {fmt(self.edge_upper, 9)}]"]
+        lines = self._latex_lines() or [rf"\text{{edge}} \in {fmt_bracket(self.edge_lower, self.edge_upper, 9)}"]
         return "$\\displaystyle " + r", \quad ".join(lines) + "$"
 
     def _repr_markdown_(self) -> str:
         """The certified bracket, the centre and the closed form typeset (Jupyter)."""
         out = [f"**Largest cube in the dextrous workspace** ($\\sigma \\in [{self.sigma[0]:g}, {self.sigma[1]:g}]$, "
                f"$\\alpha = {self.alpha:g}$, {self.seconds:.1f} s)", "",
-               f"- a cube of edge {fmt(self.edge_lower, 9)} centred at "
+               f"- a cube of edge {fmt_bound(self.edge_lower, 9, up=False)} centred at "
                f"({', '.join(fmt(v, 6) for v in self.center)}) is proved inside;",
-               f"- no cube of edge above {fmt(self.edge_upper, 9)} fits anywhere (proved)."]
+               f"- no cube of edge above {fmt_bound(self.edge_upper, 9, up=True)} fits anywhere (proved)."]
         lines = self._latex_lines()
         if lines:
             out += ["", f"Closed form (binding: {self._binding()}):", ""] + [f"$${line}$$" for line in lines]
