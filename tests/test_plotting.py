@@ -4,9 +4,11 @@ import numpy as np
 import pytest
 import sympy as sp
 
+import workspace_sym as ws
+from workspace_sym.errors import InvalidParameterError, UnknownNameError
 from workspace_sym.interval import pave
 from workspace_sym.interval.paving import Box, Paving, box_measure
-from workspace_sym.plotting import paving_voxels, plot_paving, plot_paving_slices, slice_heights
+from workspace_sym.plotting import paving_voxels, plot_paving, plot_paving_slices, plot_reach, slice_heights
 
 X, Y, Z = sp.symbols("x y z")
 NONE = np.empty((0, 3, 2))
@@ -105,3 +107,33 @@ def test_slices_are_off_the_bisection_planes(shell):
             z = getattr(shell, kind)[:, 2]
             assert drawn[kind] == int(((z[:, 0] < v) & (v < z[:, 1])).sum()) > 0
         assert ax.get_title() == f"z = {v}" and ax.get_xlabel() == "x (m)"
+
+
+# ---------------------------------------------------------------------- notebook user (issue 27)
+def test_plot_reach_accepts_the_paving_of_reach_with_its_units():
+    """plot_reach(reach(...)) raised IndexError; now it draws the boxes, axes labelled in the robot's units."""
+    paving = ws.robots.build("planar-2r").reach(delta=0.3)
+    assert paving.units == "m" and paving.to_dict()["units"] == "m"
+    fig = plot_reach(paving)
+    ax = fig.axes[0]
+    assert ax.get_xlabel() == "x (m)" and ax.get_ylabel() == "y (m)"
+    assert len(ax.collections) >= 2                    # inner and boundary boxes drawn
+    with pytest.raises(InvalidParameterError, match="points must be an"):
+        plot_reach(np.zeros((4, 2)))
+
+
+def test_paving_legend_hides_no_box():
+    """The legend sits beside the axes: its drawn extent does not meet the axes' extent."""
+    paving = ws.pave(["x**2 + y**2 <= 1"], {"x": (-1, 1), "y": (-1, 1)}, delta=0.2)
+    fig = plot_paving(paving, exact_boundary=lambda x, y: x ** 2 + y ** 2 - 1)
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    legend, frame = ax.get_legend().get_window_extent(), ax.get_window_extent()
+    assert legend.x0 >= frame.x1 and "exact boundary" in [t.get_text() for t in ax.get_legend().get_texts()]
+
+
+def test_catalog_refuses_unknown_parameters():
+    expected = r"'planar-3r' has no parameter 'banana' \(value 2\); its parameters are: l1, l2, l3"
+    with pytest.raises(UnknownNameError, match=expected):
+        ws.robots.build("planar-3r", banana=2)
+    assert 2.0 in ws.robots.build("planar-3r", l1=2.0).parameters.values()

@@ -88,11 +88,23 @@ def plot_sweeps(robot, joints, *, n=200, ax=None, parameters=None):
 
 
 def plot_reach(points, *, ax=None, units="m"):
-    """Side view ``(r, z)`` with ``r = sqrt(x^2 + y^2)``: the reach and height of the workspace.
+    """Side view ``(r, z)`` with ``r = sqrt(x^2 + y^2)`` of sampled end points ``(N, 3)``: the reach and height
+    of the workspace.
 
-    Returns the figure.
+    Given the certified :class:`~workspace_sym.interval.paving.Paving` of
+    :func:`~workspace_sym.serial_workspace.reach` instead, draws its boxes
+    (:func:`plot_paving`).  Returns the figure.
     """
+    from .interval.paving import Paving
+
+    if isinstance(points, Paving):
+        return plot_paving(points, ax=ax, units=points.units or units)
     points = np.asarray(points)
+    if points.ndim != 2 or points.shape[1] < 3:
+        from .errors import InvalidParameterError
+
+        raise InvalidParameterError(f"points must be an (N, 3) array of end points or a Paving; got shape "
+                                    f"{points.shape}", parameter="points")
     ax = _axes(ax, (5, 4))
     r = np.hypot(points[:, 0], points[:, 1])
     ax.scatter(r, points[:, 2], s=0.5, alpha=0.4)
@@ -140,6 +152,7 @@ _BOX_NAMES = {"inner": "inner (proved inside)", "boundary": "boundary (undecided
 
 
 _BELOW = {"loc": "upper center", "bbox_to_anchor": (0.5, -0.2)}     # under the axes and their x label
+_BESIDE = {"loc": "upper left", "bbox_to_anchor": (1.02, 1.0), "borderaxespad": 0.0}   # right of the axes
 
 
 def _box_legend(ax, counts, *, fontsize="small", where=None):
@@ -148,7 +161,7 @@ def _box_legend(ax, counts, *, fontsize="small", where=None):
 
     handles = [Patch(facecolor=_BOX_COLOURS[k], edgecolor="k", linewidth=0.3, label=f"{_BOX_NAMES[k]}: {n}")
                for k, n in counts.items()]
-    return ax.legend(handles=handles, fontsize=fontsize, **(where or {"loc": "upper right"}))
+    return ax.legend(handles=handles, fontsize=fontsize, **(where or _BESIDE))
 
 
 def plot_paving(paving, *, ax=None, show_outer=False, exact_boundary=None, title=None, units=None):
@@ -157,8 +170,10 @@ def plot_paving(paving, *, ax=None, show_outer=False, exact_boundary=None, title
 
     ``exact_boundary`` is a callable ``(x, y) -> array`` whose zero level set
     is drawn over a 2D paving (e.g. ``max_j g_j``).  ``units`` labels the axes
-    (``"x (m)"``).  Returns the figure; the legend names the box classes.
+    (``"x (m)"``; default: the paving's own ``units``).  Returns the figure; the legend, beside the axes so that
+    it hides no box, names the box classes.
     """
+    units = paving.units if units is None else units
     n = len(paving.variables)
     if n == 3:
         return _plot_paving_3d(paving, ax=ax, title=title, units=units)
@@ -182,7 +197,7 @@ def plot_paving(paving, *, ax=None, show_outer=False, exact_boundary=None, title
         xs, ys = np.meshgrid(np.linspace(lo[0], hi[0], 600), np.linspace(lo[1], hi[1], 300))
         ax.contour(xs, ys, exact_boundary(xs, ys), levels=[0.0], colors="r", linewidths=1.0)
         handles = legend.legend_handles + [Line2D([], [], color="r", lw=1.0, label="exact boundary")]
-        ax.legend(handles=handles, loc="upper right", fontsize="small")
+        ax.legend(handles=handles, fontsize="small", **_BESIDE)
     ax.set_xlim(lo[0], hi[0])
     ax.set_ylim(lo[1], hi[1])
     ax.set_aspect("equal")
@@ -314,6 +329,7 @@ def plot_paving_slices(paving, *, axis: int = 2, values=(-0.4, 0.0, 0.3), refere
     from matplotlib.collections import PolyCollection
     from matplotlib.lines import Line2D
 
+    units = paving.units if units is None else units
     plt = _pyplot()
     if len(paving.variables) != 3:
         from .errors import InvalidParameterError

@@ -41,7 +41,13 @@ class CatalogEntry:
     limits: str = ""
 
     def build(self, **overrides):
-        """Build the model; keyword arguments override default parameters."""
+        """Build the model; keyword arguments override default parameters (an unknown name is refused, not
+        ignored)."""
+        unknown = sorted(set(overrides) - set(self.parameters))
+        if unknown:
+            known = ", ".join(self.parameters) or "none"
+            raise UnknownNameError(f"robot {self.name!r} has no parameter {unknown[0]!r} (value "
+                                   f"{overrides[unknown[0]]!r}); its parameters are: {known}")
         return self.factory(**overrides)
 
 

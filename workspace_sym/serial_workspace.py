@@ -684,4 +684,5 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         return np.concatenate(parts) if parts else empty
 
     return Paving(model.task_variables, box, (), float(delta), "numpy", size, stack(inner), stack(boundary),
-                  stack(outer), empty if pending is None else pending, run.seconds, not reason, evaluated, reason)
+                  stack(outer), empty if pending is None else pending, run.seconds, not reason, evaluated, reason,
+                  units=robot.units)

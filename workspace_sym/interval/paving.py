@@ -373,7 +373,9 @@ class Paving:
     """Result of :func:`pave`: inner, boundary, outer and pending boxes, each an ``(N, n, 2)`` array.
 
     ``pending`` boxes are those a stopped run (budget, time limit, Ctrl-C)
-    did not examine: they are neither proved nor classified.
+    did not examine: they are neither proved nor classified.  ``units`` is the
+    length unit of the variables when they are lengths (a robot's workspace
+    from ``reach``), for the axes of its pictures.
     """
 
     variables: tuple
@@ -392,6 +394,7 @@ class Paving:
     stop_reason: str = ""
     exact_measure: object = field(default=None)
     contract: bool = False
+    units: str | None = None
 
     @property
     def counts(self) -> dict:
@@ -427,6 +430,8 @@ class Paving:
         }
         if self.stop_reason:
             out["stop_reason"] = self.stop_reason
+        if self.units:
+            out["units"] = self.units
         if self.exact_measure is not None:
             out["exact_measure"] = float(sp.N(self.exact_measure, 17))
             out["exact_measure_expr"] = sp.sstr(self.exact_measure)
