@@ -262,3 +262,20 @@ def test_a_jupyter_kernel_gets_a_progress_widget_and_rich_outputs():
     latex = nb.cells[1].outputs[-1]["data"]["text/latex"]
     assert r"c_{1} \left(a_{1} + a_{2} c_{2} + a_{3} c_{23} + d_{5} s_{234}\right)" in latex
     assert "[-160°, 160°]" in nb.cells[2].outputs[-1]["data"]["text/html"]
+
+
+def test_notebook_shows_sympy_results_as_mathml():
+    """Issue 27: robot.fk() and robot.textbook(expr) showed raw $\\displaystyle ...$ in a notebook exported and
+    opened offline; inside IPython they now carry MathML in their HTML form, textbook shorthand included."""
+    from IPython.core.interactiveshell import InteractiveShell
+
+    from workspace_sym.display import register_notebook_display
+
+    shell = InteractiveShell.instance()
+    assert register_notebook_display(shell)
+    robot = ws.robots.build("planar-2r")
+    for result, needle in ((robot.textbook(robot.position), "<msub><mi>c</mi><mi>12</mi></msub>"),
+                           (robot.fk(), "<mi>cos</mi>")):
+        data, _ = shell.display_formatter.format(result)
+        assert data["text/html"].startswith('<math display="block">') and needle in data["text/html"]
+        assert "text/plain" in data                      # the plain form stays for consoles

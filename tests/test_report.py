@@ -170,7 +170,9 @@ def _assert_reach_section(md: str, paving, name: str, unit: str):
     assert "Outer boxes: no point of the box is" in text and "of size at most delta, are undecided" in text
     for kind in ("inner", "boundary", "outer"):
         count, measure = re.search(rf"^\| {kind} \| (\d+) \| ([\d.]+) \|$", text, re.M).groups()
-        assert int(count) == paving.counts[kind] and abs(float(measure) - paving.measures[kind]) <= 5e-7
+        assert int(count) == paving.counts[kind] and abs(float(measure) - paving.measures[kind]) <= 1e-6
+        if kind in ("inner", "outer"):          # proved lower bounds, printed rounded down (issue 23 item 5)
+            assert float(measure) <= paving.measures[kind]
     assert f"| boxes | count | {name} ({unit}) |" in text
     lo, hi = map(float, re.search(rf"the {name} lies in \[([-\d.]+), ([-\d.]+)\] {unit} ", text).groups())
     # printed with six decimals rounded outward: still a bracket of the paving's, and as tight as six decimals allow

@@ -9,6 +9,7 @@ The flat public API, so that a notebook writes ``ws.DHRobot(...)``::
 
 from . import answers, exercises, grading, robots, verify
 from .boundary import Boundary
+from .display import register_notebook_display as _register_notebook_display
 from .errors import (
     BoxError,
     ConstraintError,
@@ -40,6 +41,8 @@ from .serial_workspace import reach
 from .symbolic import factor_trig, shorthand, textbook
 
 __version__ = "0.1.0"
+
+_register_notebook_display()          # inside IPython: SymPy results display as MathML (offline exports)
 
 __all__ = [
     "robots",

@@ -36,7 +36,7 @@ import sympy as sp
 
 from .symbolic import angle_label
 
-__all__ = ["textbook_form", "plain", "html_table", "figure_html", "expr_text"]
+__all__ = ["textbook_form", "plain", "html_table", "figure_html", "expr_text", "mathml", "register_notebook_display"]
 
 
 # ------------------------------------------------------------------ textbook shorthand as SymPy functions
@@ -67,6 +67,11 @@ class _Shorthand:
             return printer._print(base, exp=exp) if exp is not None else printer._print(base)
         text = f"{self.letter}_{{{label}}}"
         return text if exp is None else f"{text}^{{{exp}}}"
+
+    def _mathml_presentation(self, printer):
+        label = self._short()
+        base = sp.Symbol(f"{self.letter}_{label}") if label else self.__class__.__mro__[2](self.args[0])
+        return printer._print(base)
 
     def _sympystr(self, printer):
         label = self._short()
@@ -119,6 +124,45 @@ def plain(expr):
     if isinstance(expr, sp.Tuple):
         return sp.Tuple(*(plain(e) for e in expr))
     return expr.replace(lambda e: isinstance(e, _Shorthand), lambda e: e.__class__.__mro__[2](e.args[0]))
+
+
+# ------------------------------------------------------------------ SymPy results in a notebook
+def mathml(obj) -> str | None:
+    """Block MathML of a SymPy expression or matrix, textbook shorthand included (``c_{1}`` as c with a
+    subscript 1); ``None`` when SymPy's MathML printer cannot print ``obj``.
+
+    >>> t1 = sp.Symbol("theta1")
+    >>> "<msub><mi>c</mi><mi>1</mi></msub>" in mathml(textbook_form(sp.cos(t1), (t1,)))
+    True
+    """
+    try:
+        return f'<math display="block">{sp.mathml(obj, printer="presentation")}</math>'
+    except Exception:         # an object SymPy's printer does not know: let the notebook show it otherwise
+        return None
+
+
+def register_notebook_display(shell=None) -> bool:
+    """Have IPython show SymPy expressions and matrices as MathML in their HTML form.
+
+    A notebook cell ending with ``robot.fk()`` or ``robot.textbook(expr)``
+    otherwise shows SymPy's LaTeX, which needs MathJax and a network: an
+    exported notebook opened offline shows raw ``$\\displaystyle ...$``.
+    MathML is rendered by the browser itself.  Called on import of
+    :mod:`workspace_sym` inside IPython; ``shell`` defaults to the running one.
+    Returns whether a shell was found.
+    """
+    if shell is None:
+        try:
+            from IPython import get_ipython
+        except ImportError:
+            return False
+        shell = get_ipython()
+    if shell is None:
+        return False
+    formatter = shell.display_formatter.formatters["text/html"]
+    for kind in (sp.Basic, sp.MatrixBase):
+        formatter.for_type(kind, mathml)
+    return True
 
 
 # ------------------------------------------------------------------ HTML pieces
