@@ -269,16 +269,29 @@ def map_codes(decide, boxes: np.ndarray, executor, *, chunk: int = 50_000) -> np
 class StoredPaving(Paving):
     """A :class:`~workspace_sym.interval.paving.Paving` whose decided boxes are on disk.
 
-    ``inner``, ``boundary`` and ``outer`` are empty arrays here; the boxes
-    are in the ``.npy`` parts listed in ``files`` (:meth:`parts`, :meth:`load`),
-    and the counts and measures are those accumulated while they were
-    written (exact sums).
+    The boxes are in the ``.npy`` parts listed in ``files``: :meth:`parts`
+    streams a class part by part, while ``inner``, ``boundary`` and ``outer``
+    (and :meth:`load`) read the whole class into memory the first time they
+    are asked for, so that everything that takes a Paving (pictures, the
+    notebook display, reports) sees the same boxes as with an in-memory run.
+    The counts and measures are those accumulated while the boxes were
+    written (exact sums), without reading them back.
     """
 
     store: str = ""
     stored_counts: dict = field(default_factory=dict)
     stored_sums: dict = field(default_factory=dict)
     files: dict = field(default_factory=dict)
+    _loaded: dict = field(default_factory=dict, repr=False)
+
+    def __getattribute__(self, name):
+        # The decided classes are fields of Paving, empty in a stored one: read them from disk on demand.
+        if name in KINDS:
+            loaded = object.__getattribute__(self, "_loaded")
+            if name not in loaded:
+                loaded[name] = object.__getattribute__(self, "load")(name)
+            return loaded[name]
+        return object.__getattribute__(self, name)
 
     @property
     def counts(self) -> dict:
