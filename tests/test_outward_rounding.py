@@ -130,3 +130,10 @@ def test_orthoglide_results_round_outward(capsys):
     cli._print_cube(cube.to_dict(), cube.alpha)
     out = capsys.readouterr().out
     assert "edge 0.643950499 there" in out and "above 0.643952112 fits" in out
+
+
+def test_cube_html_rounds_outward_and_typesets_in_mathml():
+    cube = CubeResult(center=(0.1, 0.1, 0.1), edge_lower=0.64395049999, edge_upper=0.6439521111111,
+                      alpha=0.001, sigma=(0.5, 2.0), seconds=1.0, boxes={})
+    page = cube._repr_html_()
+    assert "edge 0.643950499 centred" in page and "above 0.643952112 fits" in page

@@ -91,6 +91,22 @@ class CubeResult:
             out += ["", f"Closed form (binding: {self._binding()}):", ""] + [f"$${line}$$" for line in lines]
         return "\n".join(out)
 
+    def _repr_html_(self) -> str:
+        """The same as :meth:`_repr_markdown_`, the closed form in MathML (an exported notebook needs no MathJax)."""
+        import html
+
+        from ..report import Equations
+
+        out = [f"<p><b>Largest cube in the dextrous workspace</b> (&sigma; &isin; [{self.sigma[0]:g}, "
+               f"{self.sigma[1]:g}], &alpha; = {self.alpha:g}, {self.seconds:.1f} s)</p>",
+               "<ul><li>a cube of edge " + html.escape(fmt_bound(self.edge_lower, 9, up=False)) + " centred at ("
+               + ", ".join(fmt(v, 6) for v in self.center) + ") is proved inside;</li>"
+               f"<li>no cube of edge above {fmt_bound(self.edge_upper, 9, up=True)} fits anywhere (proved).</li></ul>"]
+        if self.exact is not None:
+            out.append(f"<p>Closed form (binding: {html.escape(self._binding())}):</p>")
+            out.append(Equations(("edge", self.exact["edge"]), ("centre", self.exact["center"]))._repr_html_())
+        return "".join(out)
+
     def to_dict(self) -> dict:
         data = {"center": [float(v) for v in self.center], "edge_lower": self.edge_lower,
                 "edge_upper": self.edge_upper, "alpha": self.alpha, "sigma": list(self.sigma),
