@@ -430,7 +430,7 @@ def plot_planar_step(chain, step: int, *, ax=None, samples: int = 20000, seed: i
 
         raise InvalidParameterError(f"step must be 0, 1 or 2; got {step!r}", parameter="step")
     ax = _axes(ax, (5.5, 5.5))
-    extra = []
+    extra: list = []      # legend handles of what is drawn beside the arcs
     if samples:
         pts = chain.forward(chain.sample(samples, seed=seed, corners=False))
         ax.scatter(pts[:, 0], pts[:, 1], s=0.3, color="gold", alpha=0.5, lw=0)
@@ -472,15 +472,15 @@ def arc_label_positions(boundary, *, separation: float = 0.07) -> np.ndarray:
     from the labels already placed (else the farthest one)."""
     reach = boundary.chain.reach
     offset, gap = 0.035 * reach, separation * reach
-    placed = []
+    placed: list[np.ndarray] = []
     for a in boundary.arcs:
         normal = -a.side if a.side else 1          # outward: away from the workspace side
-        candidates = []
+        points = []
         for f in (0.5, 0.3, 0.7, 0.15, 0.85, 0.05, 0.95):
             t = a.start_angle + f * (a.end_angle - a.start_angle)
             for r in (a.radius + normal * offset, a.radius + normal * 2.2 * offset, a.radius - normal * offset):
-                candidates.append((a.center[0] + r * np.cos(t), a.center[1] + r * np.sin(t)))
-        candidates = np.array(candidates)
+                points.append((a.center[0] + r * np.cos(t), a.center[1] + r * np.sin(t)))
+        candidates = np.array(points)
         if not placed:
             placed.append(candidates[0])
             continue

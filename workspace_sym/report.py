@@ -120,7 +120,8 @@ def _lines(expr, width: int = _WIDTH) -> list:
     """``expr`` cut into sums of consecutive terms, each at most ``width`` characters of SymPy str."""
     if not isinstance(expr, sp.Add) or len(str(expr)) <= width:
         return [expr]
-    lines, chunk = [], []
+    lines: list = []
+    chunk: list = []
     for term in expr.as_ordered_terms():
         if chunk and len(str(sp.Add(*chunk, term, evaluate=False))) > width:
             lines.append(sp.Add(*chunk, evaluate=False))
@@ -136,7 +137,9 @@ def _column_width(M, j: int) -> int:
 
 def _column_groups(M, width: int = _WIDTH) -> list:
     """Column indices of ``M`` in consecutive groups whose widest entries fit ``width`` together."""
-    groups, current, used = [], [], 0
+    groups: list[list[int]] = []
+    current: list[int] = []
+    used = 0
     for j in range(M.cols):
         w = _column_width(M, j)
         if current and used + w > width:
@@ -159,7 +162,7 @@ class Document:
 
     def __init__(self, title: str):
         self.title = title
-        self.blocks = []
+        self.blocks: list[tuple] = []
 
     def heading(self, text, level=2):
         self.blocks.append(("h", level, text))
@@ -415,8 +418,9 @@ def _paving_section(doc: Document, paving, tmp: Path, *, units: str | None = Non
     doc.table(["boxes", "count", f"{name} ({unit})" if unit else "measure"],
               [[k, str(d[k]["boxes"]), measure_text(k, d[k]["measure"])] for k in kinds])
     unit_text = f" {unit}" if unit else ""
+    lo, hi = d["measure_bounds"]
     text = (f"delta {d['delta']}, backend {d['backend']}, {number(d['seconds'], '.3f')} s: the {name} lies in "
-            f"{fmt_bracket(*d['measure_bounds'], 6)}{unit_text} (inner boxes are proved inside, outer boxes proved "
+            f"{fmt_bracket(lo, hi, 6)}{unit_text} (inner boxes are proved inside, outer boxes proved "
             "outside, with outward-rounded interval arithmetic; the bracket is rounded outward).")
     if d.get("exact_measure") is not None:
         text += f" Exact measure {number(float(d['exact_measure']))}."  # to_dict stores it as a float
@@ -577,7 +581,8 @@ def planar_verification(boundary, exact_rows=None, *, samples: int = 20000, seed
     worst_fk, worst_lim = 0.0, 0.0
     for arc in boundary.arcs:
         i = arc.free_joint - 1
-        for t in np.linspace(*arc.theta_sets[i], 5):
+        lo, hi = arc.theta_sets[i]
+        for t in np.linspace(lo, hi, 5):
             th = [s[0] for s in arc.theta_sets]
             th[i] = t
             worst_lim = max(worst_lim, max(max(chain.lower[k] - th[k], th[k] - chain.upper[k], 0.0)
@@ -586,7 +591,7 @@ def planar_verification(boundary, exact_rows=None, *, samples: int = 20000, seed
             worst_fk = max(worst_fk, abs(math.dist(p, arc.center) - arc.radius))
     checks.append(("arc configurations", f"forward kinematics lies on its arc within {number(worst_fk, '.1e')}; "
                                          f"joint limits exceeded by at most {number(worst_lim, '.1e')} rad"))
-    methods = {}
+    methods: dict[str, int] = {}
     for ev in boundary.evidence.values():
         methods[ev["method"]] = methods.get(ev["method"], 0) + 1
     checks.append(("faces of the arrangement", f"{len(boundary.faces)} bounded faces: " +
@@ -616,7 +621,7 @@ def planar_report(chain, out, *, command: str | None = None, title: str | None =
     out = Path(out)
     start = time.perf_counter()
     boundary = chain.boundary()
-    rows = boundary.exact if exact else None
+    rows = boundary.exact if exact else []
     doc = Document(title or f"Workspace boundary of a planar {chain.p}-joint chain")
     doc.para("Alignment method of Bastien (2018): Step 0 lists the circular arcs allowed by the alignment "
              "condition, Step 1 keeps the parts that pass the local test of Lemma 3.1 and marks the side of the "

@@ -264,7 +264,7 @@ class Program:
         with np.errstate(all="ignore"):
             vals = self.forward(_columns(stacked))
             defined = self._defined(vals, ((m + 1) * N,))[:N]
-            targets = {}
+            targets: dict = {}
             for j, r in enumerate(self.roots):
                 lo, hi = np.full((m + 1, N), -_INF), np.full((m + 1, N), _INF)
                 hi[0] = 0.0

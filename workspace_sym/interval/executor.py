@@ -47,6 +47,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field
 from functools import cache, partial
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import sympy as sp
@@ -345,7 +346,7 @@ def _fingerprint(step: Step, box: Box, constraints, backend) -> dict:
 
 
 def _write_checkpoint(path: Path, meta: dict, pending: np.ndarray, store: BoxStore) -> None:
-    arrays = {"pending": pending}
+    arrays: dict[str, Any] = {"pending": pending}
     if store.directory is None:
         arrays.update({k: store.arrays(k) for k in KINDS})
     else:

@@ -21,6 +21,7 @@ the precision in force.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from fractions import Fraction
 
 import numpy as np
@@ -103,7 +104,7 @@ def _lift(fn):
 
 
 # kind -> function of (child values..., parameter)
-_NUMPY = {
+_NUMPY: dict[str, Callable] = {
     "add": lambda a, b, p: arith.add(a, b),
     "mul": lambda a, b, p: arith.mul(a, b),
     "neg": lambda a, p: arith.neg(a),
@@ -114,7 +115,7 @@ _NUMPY = {
     "cos": lambda a, p: arith.cos(a),
     "abs": lambda a, p: arith.iabs(a),
 }
-_MPMATH = {
+_MPMATH: dict[str, Callable] = {
     "add": _lift(lambda a, b, p: a + b),
     "mul": _lift(lambda a, b, p: a * b),
     "neg": _lift(lambda a, p: -a),

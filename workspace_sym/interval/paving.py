@@ -458,7 +458,7 @@ class Paving:
                  f"{self.backend}{how}: {self.evaluated} boxes evaluated in {self.seconds:.2f} s",
                  f"certified measure in {fmt_bracket(lo, hi, 6)}"]
         if self.exact_measure is not None:
-            lines.append(f"exact measure {fmt(float(self.exact_measure), 6)} = {sp.sstr(self.exact_measure)}")
+            lines.append(f"exact measure {fmt(sp.Float(self.exact_measure), 6)} = {sp.sstr(self.exact_measure)}")
         if not self.complete:
             lines.append(f"stopped early: {self.stop_reason}; pending boxes are unclassified")
         drawn, n = len(self.inner) + len(self.boundary), len(self.variables)

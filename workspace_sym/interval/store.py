@@ -158,7 +158,7 @@ class BoxStore:
         self.counts = dict.fromkeys(KINDS, 0)
         self.sums = {k: ExactSum() for k in KINDS}
         self.parts = dict.fromkeys(KINDS, 0)
-        self._buffer = {k: [] for k in KINDS}
+        self._buffer: dict[str, list[np.ndarray]] = {k: [] for k in KINDS}
         self._buffered = dict.fromkeys(KINDS, 0)
         if self.directory is not None:
             for k in KINDS:
@@ -175,6 +175,7 @@ class BoxStore:
             self._flush(kind)
 
     def _part(self, kind: str, number: int) -> Path:
+        assert self.directory is not None, "parts exist only for a store on disk"
         return self.directory / kind / f"part-{number:06d}.npy"
 
     def _flush(self, kind: str) -> None:

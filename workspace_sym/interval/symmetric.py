@@ -56,14 +56,12 @@ def scale(c: float, a):
 def congruence(Q: np.ndarray, S) -> tuple[np.ndarray, np.ndarray]:
     """Enclosure of ``Q^T S Q`` for ``(N, 3, 3)`` float ``Q`` and interval ``S``."""
     lo, hi = S
-    T = None                                    # T = S Q, T[i, l] = sum_j S[i, j] Q[j, l]
-    for j in range(3):
-        term = _point_times(Q[:, None, j, :], (lo[:, :, j, None], hi[:, :, j, None]))
-        T = term if T is None else arith.add(T, term)
-    C = None                                    # C = Q^T T, C[k, l] = sum_i Q[i, k] T[i, l]
-    for i in range(3):
-        term = _point_times(Q[:, i, :, None], (T[0][:, i, None, :], T[1][:, i, None, :]))
-        C = term if C is None else arith.add(C, term)
+    T = _point_times(Q[:, None, 0, :], (lo[:, :, 0, None], hi[:, :, 0, None]))   # T = S Q: T[i, l] = sum_j ...
+    for j in (1, 2):
+        T = arith.add(T, _point_times(Q[:, None, j, :], (lo[:, :, j, None], hi[:, :, j, None])))
+    C = _point_times(Q[:, 0, :, None], (T[0][:, 0, None, :], T[1][:, 0, None, :]))  # C = Q^T T: sum_i Q[i, k] T[i, l]
+    for i in (1, 2):
+        C = arith.add(C, _point_times(Q[:, i, :, None], (T[0][:, i, None, :], T[1][:, i, None, :])))
     return C
 
 

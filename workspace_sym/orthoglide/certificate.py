@@ -50,6 +50,7 @@ import numpy as np
 from ..errors import InvalidParameterError
 from ..interval import arith, symmetric
 from ..interval.arith import Interval
+from ..interval.executor import StoredPaving
 from ..interval.paving import Box, Paving, subdivide, threaded
 from ..numbers import fmt_bound
 
@@ -109,10 +110,9 @@ class DextrousResult:
             "boxes_evaluated": p.evaluated,
             "seconds": p.seconds,
         }
-        stored = getattr(p, "files", None)         # boxes streamed to disk (max_memory=, store=)
-        if stored is not None:
+        if isinstance(p, StoredPaving):            # boxes streamed to disk (max_memory=, store=)
             data["store"] = p.store
-            data["files"] = {k: [str(f) for f in v] for k, v in stored.items()}
+            data["files"] = {k: [str(f) for f in v] for k, v in p.files.items()}
         return data
 
 
