@@ -278,3 +278,56 @@ def test_variables_match_by_name(rybak):
     """A box typed with names certifies the model's constraints (whose symbols are real=True)."""
     assert certify_box({"x1": (2, 3), "x2": (9, 10)}, rybak.constraints) is Certificate.IN
     assert certify_box({"x1": (-12, -11), "x2": (0, 1)}, rybak.constraints) is Certificate.OUT
+
+
+# ------------------------------------------------------------------ the measure bracket, rounded outward
+def _exact_measure(boxes) -> Fraction:
+    return sum((np.prod([Fraction(float(b[k, 1])) - Fraction(float(b[k, 0])) for k in range(b.shape[0])])
+                for b in boxes), Fraction(0))
+
+
+_EDGES = st.floats(-1e3, 1e3, allow_nan=False, allow_subnormal=True)
+
+
+@settings(derandomize=True, max_examples=150, deadline=None)
+@given(st.lists(st.tuples(_EDGES, _EDGES, _EDGES, _EDGES), min_size=0, max_size=12), st.integers(0, 12))
+@example([(0.0, 0.9, -0.7, 0.9)], 1)          # the float product 0.9 x 1.6 = 1.4400000000000002 exceeds the exact one
+def test_measure_bounds_hold_the_exact_measure(edges, split):
+    """Reference: the exact rational measure of the boxes (Fractions).  The bracket was the float sum of float
+    products before (a few ulps either side of the exact one); now inner is summed rounded down, the rest up."""
+    from workspace_sym.interval.paving import Paving
+
+    boxes = np.array([[sorted(e[:2]), sorted(e[2:])] for e in edges], dtype=float).reshape(-1, 2, 2)
+    inner, boundary = boxes[:split], boxes[split:]
+    empty = np.empty((0, 2, 2))
+    p = Paving(("x", "y"), Box.from_bounds({"x": (-1e3, 1e3), "y": (-1e3, 1e3)}), (), 1.0, "numpy", "diameter",
+               inner, boundary, empty, empty, 0.0, True, len(boxes))
+    lo, hi = p.measure_bounds
+    assert Fraction(lo) <= _exact_measure(inner) and Fraction(hi) >= _exact_measure(boxes)
+    assert lo <= p.measures["inner"] and hi >= p.measures["inner"] + p.measures["boundary"] - 1e-9 * (1 + hi)
+
+
+@settings(derandomize=True, max_examples=300, deadline=None)
+@given(st.lists(st.floats(-1e300, 1e300, allow_nan=False, allow_subnormal=True), min_size=6, max_size=6))
+@example([0.0, 0.9, -0.7, 0.9, 0.0, 1.0])
+@example([-1e300, 1e300, 0.0, 5e-324, 1e-160, 3e-160])
+def test_measures_of_rounds_each_box_outward(edges):
+    """Reference: the exact rational product of the exact widths, over the whole float range (overflow to inf,
+    subnormal widths, exact products left unmoved by the error-free transformations)."""
+    from workspace_sym.interval.store import measures_of
+
+    box = np.array([sorted(edges[k:k + 2]) for k in (0, 2, 4)], dtype=float)[None]
+    exact = _exact_measure(box)
+    down, up = measures_of(box, "down")[0], measures_of(box, "up")[0]
+    assert Fraction(down) <= exact if np.isfinite(down) else down == np.inf and exact > Fraction(1e300)
+    assert np.isinf(up) or Fraction(up) >= exact
+
+
+def test_stored_paving_has_the_same_outward_bracket(tmp_path):
+    constraints, box = ["x**2 + y**2 <= 1"], {"x": (-1.1, 1.1), "y": (-1.1, 1.1)}
+    local = pave(constraints, box, delta=0.1)
+    stored = pave(constraints, box, delta=0.1, store=tmp_path / "boxes")
+    assert stored.measure_bounds == local.measure_bounds
+    lo, hi = local.measure_bounds
+    assert Fraction(lo) <= _exact_measure(local.inner)
+    assert Fraction(hi) >= _exact_measure(np.concatenate([local.inner, local.boundary]))

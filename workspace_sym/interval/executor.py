@@ -45,7 +45,7 @@ import time
 from collections import deque
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from functools import cache, partial
+from functools import cache, cached_property, partial
 from pathlib import Path
 from typing import Any
 
@@ -56,7 +56,7 @@ from ..errors import InvalidParameterError, WorkspaceError
 from ..numbers import fmt_bracket
 from . import arith
 from .paving import Box, Paving, RunBudget, box_measure, expand, initial_boxes
-from .store import KINDS, BoxStore, ExactSum, parse_memory
+from .store import KINDS, BoxStore, ExactSum, measures_of, parse_memory
 
 __all__ = ["Step", "StoredPaving", "connect", "map_codes", "run_paving", "tune_malloc", "MissingExtraError"]
 
@@ -282,6 +282,7 @@ class StoredPaving(Paving):
     store: str = ""
     stored_counts: dict = field(default_factory=dict)
     stored_sums: dict = field(default_factory=dict)
+    stored_bounds: dict = field(default_factory=dict)        # {"down": sums, "up": sums}: outward measure sums
     files: dict = field(default_factory=dict)
     _loaded: dict = field(default_factory=dict, repr=False)
 
@@ -302,6 +303,15 @@ class StoredPaving(Paving):
     def measures(self) -> dict:
         return {**{k: ExactSum.parse(v).value for k, v in self.stored_sums.items()},
                 "pending": box_measure(self.pending)}
+
+    @cached_property
+    def measure_bounds(self) -> tuple[float, float]:
+        """The certified bracket from the outward sums kept while the boxes were written (see Paving)."""
+        down, up = ({k: ExactSum.parse(v) for k, v in self.stored_bounds[d].items()} for d in ("down", "up"))
+        high = ExactSum.of(measures_of(self.pending, "up"))
+        high.merge(up["inner"])
+        high.merge(up["boundary"])
+        return down["inner"].value_down, high.value_up
 
     def parts(self, kind: str):
         """The boxes of a class, part by part (memory-mapped ``(N, n, 2)`` arrays)."""
@@ -513,4 +523,6 @@ def run_paving(decide, box: Box, *, delta: float, size: str = "diameter", max_bo
                       outer=keeper.arrays("outer"), **tail)
     return StoredPaving(*common, inner=empty, boundary=empty, outer=empty, **tail, store=str(keeper.directory),
                         stored_counts=dict(keeper.counts), stored_sums={k: str(s) for k, s in keeper.sums.items()},
+                        stored_bounds={"down": {k: str(s) for k, s in keeper.sums_down.items()},
+                                       "up": {k: str(s) for k, s in keeper.sums_up.items()}},
                         files={k: keeper.files(k) for k in KINDS})

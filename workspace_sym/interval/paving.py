@@ -406,11 +406,16 @@ class Paving:
         """Measure of each class (exact sums, computed once)."""
         return {k: box_measure(getattr(self, k)) for k in ("inner", "boundary", "outer", "pending")}
 
-    @property
+    @cached_property
     def measure_bounds(self) -> tuple[float, float]:
-        """``(measure(inner), measure(inner) + measure(boundary) + measure(pending))``."""
-        m = self.measures
-        return m["inner"], m["inner"] + m["boundary"] + m["pending"]
+        """The certified bracket ``(measure(inner), measure(inner) + measure(boundary) + measure(pending))``,
+        rounded outward: every box's measure and the sums are rounded down for the lower bound, up for the upper
+        one (the figures of :attr:`measures` are rounded to nearest)."""
+        low = ExactSum.of(measures_of(self.inner, "down"))
+        high = ExactSum()
+        for kind in ("inner", "boundary", "pending"):
+            high.add(measures_of(getattr(self, kind), "up"))
+        return low.value_down, high.value_up
 
     def to_dict(self) -> dict:
         m, c = self.measures, self.counts
@@ -458,7 +463,7 @@ class Paving:
                  f"{self.backend}{how}: {self.evaluated} boxes evaluated in {self.seconds:.2f} s",
                  f"certified measure in {fmt_bracket(lo, hi, 6)}"]
         if self.exact_measure is not None:
-            lines.append(f"exact measure {fmt(sp.Float(self.exact_measure), 6)} = {sp.sstr(self.exact_measure)}")
+            lines.append(f"exact measure {fmt(float(sp.N(self.exact_measure)), 6)} = {sp.sstr(self.exact_measure)}")
         if not self.complete:
             lines.append(f"stopped early: {self.stop_reason}; pending boxes are unclassified")
         drawn, n = len(self.inner) + len(self.boundary), len(self.variables)

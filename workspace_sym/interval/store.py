@@ -15,6 +15,12 @@ has always computed it) is added exactly, as an integer multiple of
 does not depend on the order in which the boxes arrive, so a distributed,
 streamed or resumed run reports the same measures, to the last bit, as a
 local one.
+
+The certified bracket of a paving's measure is summed from per-box measures
+rounded outward instead (``measures_of(boxes, "down")`` for the inner boxes,
+``"up"`` for the others) and its exact sums are rounded down and up
+(:attr:`ExactSum.value_down`, :attr:`ExactSum.value_up`): the bracket holds
+the exact measure of the boxes, not only its nearest float.
 """
 
 from __future__ import annotations
@@ -98,6 +104,25 @@ class ExactSum:
             return self.finite
         return float(Fraction(self.total, 1 << _SHIFT))
 
+    def _directed(self, toward: float) -> float:
+        if self.finite != 0.0:
+            return self.finite
+        exact = Fraction(self.total, 1 << _SHIFT)
+        nearest = float(exact)
+        if (toward < 0 and Fraction(nearest) > exact) or (toward > 0 and Fraction(nearest) < exact):
+            nearest = float(np.nextafter(nearest, toward))
+        return nearest
+
+    @property
+    def value_down(self) -> float:
+        """The sum rounded down: the largest float at most the exact sum."""
+        return self._directed(-np.inf)
+
+    @property
+    def value_up(self) -> float:
+        """The sum rounded up: the smallest float at least the exact sum."""
+        return self._directed(np.inf)
+
     def __str__(self):
         return str(self.total) if self.finite == 0.0 else repr(self.finite)
 
@@ -109,9 +134,65 @@ class ExactSum:
             return cls(0, float(text))
 
 
-def measures_of(boxes: np.ndarray) -> np.ndarray:
-    """Measure of each box of an ``(N, n, 2)`` array (the product of its edge widths)."""
-    return np.prod(boxes[:, :, 1] - boxes[:, :, 0], axis=1)
+def measures_of(boxes: np.ndarray, rounding: str = "nearest") -> np.ndarray:
+    """Measure of each box of an ``(N, n, 2)`` array (the product of its edge widths).
+
+    ``rounding="nearest"`` is the float product; ``"down"`` and ``"up"``
+    round every width and every product outward, so that the result is at
+    most (at least) the exact measure of the box.
+
+    >>> box = np.array([[[0.0, 0.1], [0.0, 0.3]]])          # 0.1 x 0.3 is not a float
+    >>> lo, mid, hi = (measures_of(box, r)[0] for r in ("down", "nearest", "up"))
+    >>> bool(lo <= mid <= hi and lo < hi), float(hi - lo)
+    (True, 3.469446951953614e-18)
+    >>> [measures_of(np.array([[[0.0, 0.5], [-1.0, 0.75]]]), r)[0] for r in ("down", "up")]    # exact: unmoved
+    [np.float64(0.875), np.float64(0.875)]
+    """
+    hi, lo = boxes[:, :, 1], boxes[:, :, 0]
+    widths = hi - lo
+    flat = (widths == 0).any(axis=1)                # measure 0, even where other widths overflow (inf x 0)
+    if rounding == "nearest":
+        return np.where(flat, 0.0, np.prod(widths, axis=1))
+    toward = -np.inf if rounding == "down" else np.inf
+    product = _directed(widths, _two_sum_error(hi, -lo, widths), toward)[:, 0]
+    for k in range(1, widths.shape[1]):
+        width = _directed(widths[:, k], _two_sum_error(hi[:, k], -lo[:, k], widths[:, k]), toward)
+        with np.errstate(over="ignore", invalid="ignore"):
+            p = product * width
+        product = _directed(p, _two_product_error(product, width, p), toward)
+    return np.where(flat, 0.0, np.maximum(product, 0.0))
+
+
+# Error-free transformations (Knuth's TwoSum, Dekker's TwoProduct with Veltkamp's split): the exact rounding
+# error of one float operation, so that a result is moved by one ulp only when it was inexact (a width or a
+# product of dyadic numbers, as bisection makes them, usually is exact).  They hold in round-to-nearest without
+# overflow or underflow; outside that range _directed steps whatever the error says.
+_SPLIT = 2.0**27 + 1
+_SAFE = (2.0**-960, 2.0**960)
+
+
+def _two_sum_error(a, b, s):
+    bb = s - a
+    return (a - (s - bb)) + (b - bb)
+
+
+def _two_product_error(a, b, p):
+    with np.errstate(over="ignore", invalid="ignore"):
+        ca, cb = _SPLIT * a, _SPLIT * b
+        ah, bh = ca - (ca - a), cb - (cb - b)
+        al, bl = a - ah, b - bh
+        error = ((ah * bh - p) + ah * bl + al * bh) + al * bl
+    small = (np.abs(a) < _SAFE[1]) & (np.abs(b) < _SAFE[1])      # the split itself must not overflow
+    return np.where(small, error, np.nan)
+
+
+def _directed(x, error, toward):
+    """``x`` (the nearest float to ``x + error``) moved one step toward ``toward`` unless that is not needed."""
+    with np.errstate(invalid="ignore", over="ignore"):
+        magnitude = np.abs(x)
+        trusted = np.isfinite(error) & (((magnitude > _SAFE[0]) & (magnitude < _SAFE[1])) | (x == 0) & (error == 0))
+        needed = (error < 0) if toward < 0 else (error > 0)
+        return np.where(trusted & ~needed, x, np.nextafter(x, toward))
 
 
 _UNITS = {"": 1, "b": 1, "kb": 10**3, "mb": 10**6, "gb": 10**9, "tb": 10**12,
@@ -157,6 +238,8 @@ class BoxStore:
         self.flush_bytes = flush_bytes
         self.counts = dict.fromkeys(KINDS, 0)
         self.sums = {k: ExactSum() for k in KINDS}
+        self.sums_down = {k: ExactSum() for k in KINDS}      # per-box measures rounded down, for proved bounds
+        self.sums_up = {k: ExactSum() for k in KINDS}        # ... and up
         self.parts = dict.fromkeys(KINDS, 0)
         self._buffer: dict[str, list[np.ndarray]] = {k: [] for k in KINDS}
         self._buffered = dict.fromkeys(KINDS, 0)
@@ -169,6 +252,8 @@ class BoxStore:
             return
         self.counts[kind] += len(boxes)
         self.sums[kind].add(measures_of(boxes))
+        self.sums_down[kind].add(measures_of(boxes, "down"))
+        self.sums_up[kind].add(measures_of(boxes, "up"))
         self._buffer[kind].append(boxes)
         self._buffered[kind] += boxes.nbytes
         if self.directory is not None and self._buffered[kind] >= self.flush_bytes:
@@ -207,6 +292,8 @@ class BoxStore:
     def state(self) -> dict:
         """What a checkpoint records (after :meth:`flush`): counts, exact sums, parts."""
         return {"counts": dict(self.counts), "sums": {k: str(s) for k, s in self.sums.items()},
+                "sums_down": {k: str(s) for k, s in self.sums_down.items()},
+                "sums_up": {k: str(s) for k, s in self.sums_up.items()},
                 "parts": dict(self.parts),
                 "directory": None if self.directory is None else str(self.directory)}
 
@@ -216,6 +303,11 @@ class BoxStore:
         store = cls(n, state["directory"])
         store.counts = {k: int(v) for k, v in state["counts"].items()}
         store.sums = {k: ExactSum.parse(v) for k, v in state["sums"].items()}
+        if "sums_down" not in state:
+            raise InvalidParameterError("this checkpoint was written by an older workspace_sym without the outward "
+                                        "measure sums; start the run again", parameter="resume")
+        store.sums_down = {k: ExactSum.parse(v) for k, v in state["sums_down"].items()}
+        store.sums_up = {k: ExactSum.parse(v) for k, v in state["sums_up"].items()}
         store.parts = {k: int(v) for k, v in state["parts"].items()}
         if store.directory is None:
             for k in KINDS:

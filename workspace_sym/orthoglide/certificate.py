@@ -68,7 +68,7 @@ class DextrousResult:
 
     @property
     def volume_inner(self) -> float:
-        return self.paving.measures["inner"]
+        return self.paving.measure_bounds[0]          # the proved lower bound (rounded down)
 
     @property
     def volume_undecided(self) -> float:
