@@ -222,3 +222,48 @@ def test_robot_points_both_ways():
             samples = np.random.default_rng(seed).uniform(lo, hi, size=(500, robot.n))
             assert max(np.linalg.norm(np.array(f(*s), dtype=float)) for s in samples) < float(bound) + 1e-12
     assert seen == {True, False}
+
+
+# ------------------------------------------------------------------------------ reports escape what students write
+HOSTILE = ["<img src=x onerror=alert(1)> |p|^2 *b* _i_ `c` [l](http://x) $x$ ~~s~~ & \\", "line one\nline two | x"]
+
+
+def _md_cells(line: str) -> list[str]:
+    """Cells of a GitHub table row: split at the pipes that are not backslash-escaped."""
+    import re
+
+    return re.split(r"(?<!\\)\|", line.strip())[1:-1]
+
+
+def test_reports_escape_every_cell(generated, tmp_path):
+    """Issue 30 item 5 / issue 27: a student's name and answer go into grades.md and grades.html as text.  In the
+    Markdown every table row keeps the column count of its header (an unescaped '|', as in |p|^2, adds cells; a
+    newline ends the row), no '<' of the student reaches the file (inline HTML), no link is made; in the LaTeX
+    of a Document the same cells are escaped too."""
+    from workspace_sym.grading import write_grading
+    from workspace_sym.report import Document
+
+    _, _, key = generated
+    parsed = AnswerKey.from_dict(key)
+    rows = [(name, q.id, answer) for name in HOSTILE for q, answer in zip(parsed.questions, HOSTILE * 9)]
+    paths = write_grading(parsed, grade_answers(parsed, rows), tmp_path)
+    md = paths["markdown"].read_text()
+    header = None
+    for line in md.splitlines():
+        if line.startswith("|"):
+            if line.startswith("|---") or header is None:
+                header = header if line.startswith("|---") else len(_md_cells(line))
+                continue
+            assert len(_md_cells(line)) == header, line
+        else:
+            header = None
+    assert "<img" not in md and "](http" not in md and "line one\n" not in md
+    assert "&lt;img src=x onerror=alert(1)> \\|p\\|^2" in md            # shown, not rendered
+    html_text = paths["html"].read_text()
+    assert "<img" not in html_text and "&lt;img src=x onerror=alert(1)&gt;" in html_text
+    doc = Document("t")
+    doc.table(["who", "answer"], [[HOSTILE[0], HOSTILE[1]]])
+    tex = doc.latex()
+    row = next(line for line in tex.splitlines() if "onerror" in line)
+    assert row.count(" & ") == 1 and "\\textbar{}p\\textbar{}" in row and "\\textless{}img" in row  # two cells
+    assert "line one line two" in row and "\\&" in row and "\\$x\\$" in row
