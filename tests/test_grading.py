@@ -267,3 +267,56 @@ def test_reports_escape_every_cell(generated, tmp_path):
     row = next(line for line in tex.splitlines() if "onerror" in line)
     assert row.count(" & ") == 1 and "\\textbar{}p\\textbar{}" in row and "\\textless{}img" in row  # two cells
     assert "line one line two" in row and "\\&" in row and "\\$x\\$" in row
+
+
+# ------------------------------------------------------------------------------ time and size budgets
+def _long_latex_answer(robot, pairs: int = 20) -> str:
+    """A correct answer padded with ``pairs`` cancelling cosines: x of the glass arm plus sum_k (cos(k theta_1) -
+    cos(k theta_1)) (20 pairs: about 800 characters of LaTeX, 7 s to check on the machine this was written on)."""
+    x = robot.to_latex(robot.position[0])
+    pad = " + ".join(f"\\cos({k}\\theta_1) - \\cos({k}\\theta_1)" for k in range(2, 2 + pairs))
+    return f"{x} + {pad}"
+
+
+def test_grading_budgets(tmp_path):
+    """Issue 30 item 6: one answer that takes seconds to check is stopped at its budget and marked 'cannot check'
+    with the reason (not a wrong answer, no points); once the batch budget is spent the remaining rows are 'not
+    graded'; the report says so.  The same answer with a generous budget is accepted (reference: it is the
+    derived x plus terms that cancel)."""
+    import time
+
+    from workspace_sym.grading import write_grading
+
+    key = AnswerKey.from_dict({"format": "workspace-sym key", "robots": {"G": "glass-handling"},
+                               "questions": [{"id": "x", "kind": "expression", "robot": "G",
+                                              "answer": "c1 (a1 + a2 c2 + a3 c23 + d5 s234)"}]})
+    slow = _long_latex_answer(key.robots["G"])
+    assert 700 <= len(slow) <= 1000
+    began = time.perf_counter()
+    (g,) = grade_answers(key, [("ann", "x", slow)], answer_seconds=0.05)
+    assert time.perf_counter() - began < 1.0
+    assert g.verdict.status == "cannot check" and g.points == 0 and "0.05 s" in g.verdict.message
+    short = _long_latex_answer(key.robots["G"], pairs=1)          # the same answer, one cancelling pair
+    assert grade_answers(key, [("ann", "x", short)], answer_seconds=60)[0].verdict.status == "correct"
+    rows = [("ann", "x", slow)] + [("bob", "x", "c1")] * 5
+    graded = grade_answers(key, rows, answer_seconds=0.05, total_seconds=0.05)
+    assert [g.verdict.status for g in graded] == ["cannot check"] + ["not graded"] * 5
+    began = time.perf_counter()
+    md = write_grading(key, graded, tmp_path)["markdown"].read_text()
+    assert time.perf_counter() - began < 1.0                # the report does not read the refused answer again
+    assert "1 answer(s) could not be checked within their time budget" in md and "5 were not graded" in md
+    with pytest.raises(Exception, match="answer_seconds must be a positive number"):
+        grade_answers(key, rows, answer_seconds=0)
+
+
+def test_answers_file_has_a_row_limit(tmp_path):
+    """More rows than MAX_ROWS: refused at once with the limit named, nothing graded (issue 30 item 6)."""
+    from workspace_sym.grading import MAX_ROWS, read_answers_csv
+
+    assert MAX_ROWS <= 20_000
+    path = tmp_path / "answers.csv"
+    path.write_text("student,question,answer\n" + "ann,1,c1\n" * (MAX_ROWS + 1))
+    with pytest.raises(Exception, match=rf"more than {MAX_ROWS} rows, the most one run grades"):
+        read_answers_csv(path)
+    path.write_text("student,question,answer\n" + "ann,1,c1\n" * MAX_ROWS)
+    assert len(read_answers_csv(path)) == MAX_ROWS

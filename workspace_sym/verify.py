@@ -27,9 +27,11 @@ __all__ = ["Verdict", "cannot_read", "check_expression", "check_factors", "check
 class Verdict:
     """A judgement with its evidence.
 
-    ``ok`` is True (correct), False (wrong) or None (undecided, or the answer
-    could not be read: then ``evidence["method"]`` is ``"cannot read"`` and
-    ``evidence["position"]`` the column of the problem when known).
+    ``ok`` is True (correct), False (wrong) or None: undecided, or the answer
+    could not be read (``evidence["method"]`` is ``"cannot read"`` and
+    ``evidence["position"]`` the column of the problem when known), or it was
+    not checked within its time budget (``"cannot check"``), or a batch ran
+    out of time before it (``"not graded"``).
     """
 
     ok: bool | None
@@ -41,9 +43,10 @@ class Verdict:
 
     @property
     def status(self) -> str:
-        """``"correct"``, ``"wrong"``, ``"cannot read"`` or ``"undecided"``."""
+        """``"correct"``, ``"wrong"``, ``"cannot read"``, ``"cannot check"``, ``"not graded"`` or ``"undecided"``."""
         if self.ok is None:
-            return "cannot read" if self.evidence.get("method") == "cannot read" else "undecided"
+            method = self.evidence.get("method")
+            return method if method in ("cannot read", "cannot check", "not graded") else "undecided"
         return "correct" if self.ok else "wrong"
 
     def _repr_markdown_(self):
