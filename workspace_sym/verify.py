@@ -4,6 +4,17 @@ Every helper returns a :class:`Verdict` whose ``ok`` is True, False, or None
 (undecided), with a sentence for the student and the evidence: an exact
 identity, a counterexample configuration, a witness configuration, an interval
 certificate, or a certified bracket.
+
+One vocabulary, here, in grading (:mod:`workspace_sym.grading`) and in the
+exercise keys (:mod:`workspace_sym.exercises`): a verdict's ``status`` is
+*correct* or *wrong* only with a proof (``evidence["method"]`` names it:
+``exact identity``, ``counterexample``, ``exact witness``, ``interval
+existence proof``, ``reach bound``, ``interval exclusion``, ``certified
+key``), else *undecided* (``within tolerance``: a numeric witness within
+``t`` times the reach, "within tolerance t of the workspace, not decided";
+``undecided``: nothing found), *cannot read*, *cannot check* (over its time
+budget) or *not graded* (the batch ran out of time).  A key holds proved
+answers only.
 """
 
 from __future__ import annotations
@@ -272,15 +283,16 @@ def _exact_witness(chain, theta, target) -> list | None:
     return config if all(_is_zero(end[i] - target[i]) for i in range(2)) else None
 
 
-def _proved_inside(chain, theta, target) -> bool:
-    """Krawczyk's test (:meth:`ImageMap.prove_inside_at`) around ``theta``: some configuration within the
-    joint limits reaches every point of a box of floats enclosing the exact ``target``."""
+def _proved_inside(chain, theta, target):
+    """Krawczyk's test (:meth:`ImageMap.prove_inside_at`) around ``theta`` refined by Newton's method: the
+    refined configuration when some configuration within the joint limits near it provably reaches every point
+    of a box of floats enclosing the exact ``target``, else None."""
     from .interval.graph import numpy_constant
 
     image = _chain_image(chain)
     T = np.array([[numpy_constant(v) for v in target]], dtype=float)
     q, _ = image.newton(0.5 * (T[:, :, 0] + T[:, :, 1]), np.asarray(theta, dtype=float)[None])
-    return bool(image.prove_inside_at(T, q)[0])
+    return q[0] if image.prove_inside_at(T, q)[0] else None
 
 
 def check_reachable(chain, point, *, max_boxes: int = 500_000, seed: int = 0,
@@ -333,12 +345,16 @@ def check_reachable(chain, point, *, max_boxes: int = 500_000, seed: int = 0,
         if config is not None:
             shown = ", ".join(sp.sstr(c * 180 / sp.pi) for c in config)
             return Verdict(True, f"reachable: theta = ({shown}) deg, within the limits, reaches it exactly "
-                                 "(exact arithmetic)", {"method": "exact witness", **found,
-                                                        "exact_configuration": [sp.sstr(c) for c in config]})
-        if _proved_inside(chain, theta, target):
+                                 "(exact arithmetic)",
+                           {"method": "exact witness", "configuration": [float(c) for c in config], "distance": 0.0,
+                            "exact_configuration": [sp.sstr(c) for c in config]})
+        refined = _proved_inside(chain, theta, target)
+        if refined is not None:
+            deg = [round(math.degrees(t), 6) for t in refined]
             return Verdict(True, f"reachable: an interval Newton (Krawczyk) test proves that a configuration "
                                  f"within the limits near theta = {deg} deg reaches it exactly",
-                           {"method": "interval existence proof", **found})
+                           {"method": "interval existence proof", "configuration": refined.tolist(),
+                            "distance": float(np.hypot(*(chain.forward(refined) - q)))})
     if prove_unreachable(chain, q, max_boxes=max_boxes):
         return Verdict(False, "unreachable: interval arithmetic shows that no configuration within the joint "
                               "limits reaches this point", {"method": "interval exclusion"})
