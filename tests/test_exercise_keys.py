@@ -31,7 +31,7 @@ from workspace_sym.expressions import parse_expr
 CACHE = Path(__file__).parent / "data" / "exercise_keys.json.gz"
 SEEDS = range(200)
 OPTIONS = {"count": 2, "max_joints": 3}
-REGENERATED = (0, 7, 61, 133, 199)          # seeds generated again on every run and compared with the cache
+REGENERATED = (0, 61, 199)          # seeds generated again on every run and compared with the cache
 H = 1e-30                                   # complex step
 
 
@@ -273,7 +273,7 @@ def _distance(L, lo, hi, targets, rng, samples: int = 8000, starts: int = 24):
     t = theta[near]                                            # (m, starts, p)
     goal = targets[:, None, :]
     best = np.linalg.norm(_forward(L, t) - goal, axis=-1)
-    for _ in range(25):
+    for _ in range(15):
         phi = np.cumsum(t, axis=-1)
         r = goal - _forward(L, t)
         # d end / d theta_j = sum_{k >= j} L_k (-cos phi_k, -sin phi_k)
@@ -316,13 +316,15 @@ def test_chain_reachability():
             assert _distance(L, lo, hi, point, rng)[0] > 1e-6, seed
 
 
-def _winding(loops, points, per_arc: int = 48) -> np.ndarray:
-    """Winding number of the arcs' loops (polylines of ``per_arc`` points per arc) about each point."""
+def _winding(loops, points) -> np.ndarray:
+    """Winding number of the arcs' loops about each point (polylines with a vertex every 0.05 rad: a point more
+    than 0.0004 x radius from every circle is on the same side of the polyline as of the arc)."""
     w = np.zeros(len(points))
     for loop in loops:
         poly = np.concatenate([np.stack([cx + r * np.cos(t), cy + r * np.sin(t)], axis=1)
                                for cx, cy, r, a0, a1, _ in loop
-                               for t in [np.linspace(a0, a1, per_arc, endpoint=False)]])
+                               for t in [np.linspace(a0, a1, max(2, math.ceil(abs(a1 - a0) / 0.05)),
+                                                     endpoint=False)]])
         d = poly[None] - points[:, None]
         angle = np.arctan2(d[..., 1], d[..., 0])
         turn = np.diff(np.concatenate([angle, angle[:, :1]], axis=1), axis=1)
@@ -334,7 +336,7 @@ def test_chain_arc_counts_and_areas():
     """Arc-count keys: each cached boundary arc is made of end points (its midpoint is the end point, summed
     here, of its joint values, which lie within the limits) and lies on the boundary (no configuration is
     found reaching a point just outside it, up to 1e-3 x reach: sampling and Gauss-Newton); consecutive arcs of a
-    loop lie on different circles (maximal arcs); every one of 1000 sampled end points lies inside the loops
+    loop lie on different circles (maximal arcs); every one of 400 sampled end points lies inside the loops
     (winding number); the count is the key's.  Area keys: the area enclosed by the loops (Green's theorem, one
     closed form per arc, written here) lies in the key's bracket, and the cells of a 100 x 100 grid hit by
     sampled end points cover no more than the bracket plus the cells along the boundary."""
@@ -363,7 +365,7 @@ def test_chain_arc_counts_and_areas():
             for a, b in zip(loop, loop[1:] + loop[:1]):
                 if len(loop) > 1:
                     assert abs(a[2] - b[2]) > 1e-9 or math.dist(a[:2], b[:2]) > 1e-9, seed
-        ends = _forward(L, rng.uniform(lo, hi, (1000, len(L))))
+        ends = _forward(L, rng.uniform(lo, hi, (400, len(L))))
         gap = np.abs(np.linalg.norm(ends[:, None] - geometry[None, :, :2], axis=2) - geometry[None, :, 2])
         clear = (gap > 2e-3 * L.sum()).all(axis=1)
         assert (_winding(loops, ends[clear]) != 0).all(), seed
@@ -371,7 +373,7 @@ def test_chain_arc_counts_and_areas():
                           - r * cy * (math.cos(a1) - math.cos(a0)) for cx, cy, r, a0, a1, _ in arcs)
         lo_area, hi_area = area["answer"]
         assert lo_area - 1e-9 <= green <= hi_area + 1e-9, (seed, green, area["answer"])
-        ends = _forward(L, rng.uniform(lo, hi, (50_000, len(L))))
+        ends = _forward(L, rng.uniform(lo, hi, (20_000, len(L))))
         box_lo, box_hi = ends.min(axis=0), ends.max(axis=0)
         cells = 100
         size = (box_hi - box_lo) / cells + 1e-12
