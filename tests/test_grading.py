@@ -309,8 +309,9 @@ def test_grading_budgets(tmp_path):
         grade_answers(key, rows, answer_seconds=0)
 
 
-def test_answers_file_has_a_row_limit(tmp_path):
-    """More rows than MAX_ROWS: refused at once with the limit named, nothing graded (issue 30 item 6)."""
+def test_answers_file_has_a_row_limit(tmp_path, capsys):
+    """More rows than MAX_ROWS: refused at once with the limit named, nothing graded or written, on the command
+    line too (exit 2, one line) (issue 30 item 6)."""
     from workspace_sym.grading import MAX_ROWS, read_answers_csv
 
     assert MAX_ROWS <= 20_000
@@ -318,5 +319,11 @@ def test_answers_file_has_a_row_limit(tmp_path):
     path.write_text("student,question,answer\n" + "ann,1,c1\n" * (MAX_ROWS + 1))
     with pytest.raises(Exception, match=rf"more than {MAX_ROWS} rows, the most one run grades"):
         read_answers_csv(path)
+    (tmp_path / "key.json").write_text(json.dumps({"format": "workspace-sym key", "robots": {"G": "glass-handling"},
+                                                   "questions": [{"id": "1", "kind": "expression", "robot": "G",
+                                                                  "answer": "c1"}]}))
+    assert main(["grade", str(tmp_path / "key.json"), str(path), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert f"more than {MAX_ROWS} rows" in err and err.count("\n") == 1 and not (tmp_path / "o").exists()
     path.write_text("student,question,answer\n" + "ann,1,c1\n" * MAX_ROWS)
     assert len(read_answers_csv(path)) == MAX_ROWS
