@@ -222,3 +222,108 @@ def test_robot_points_both_ways():
             samples = np.random.default_rng(seed).uniform(lo, hi, size=(500, robot.n))
             assert max(np.linalg.norm(np.array(f(*s), dtype=float)) for s in samples) < float(bound) + 1e-12
     assert seen == {True, False}
+
+
+# ------------------------------------------------------------------------------ reports escape what students write
+HOSTILE = ["<img src=x onerror=alert(1)> |p|^2 *b* _i_ `c` [l](http://x) $x$ ~~s~~ & \\", "line one\nline two | x"]
+
+
+def _md_cells(line: str) -> list[str]:
+    """Cells of a GitHub table row: split at the pipes that are not backslash-escaped."""
+    import re
+
+    return re.split(r"(?<!\\)\|", line.strip())[1:-1]
+
+
+def test_reports_escape_every_cell(generated, tmp_path):
+    """Issue 30 item 5 / issue 27: a student's name and answer go into grades.md and grades.html as text.  In the
+    Markdown every table row keeps the column count of its header (an unescaped '|', as in |p|^2, adds cells; a
+    newline ends the row), no '<' of the student reaches the file (inline HTML), no link is made; in the LaTeX
+    of a Document the same cells are escaped too."""
+    from workspace_sym.grading import write_grading
+    from workspace_sym.report import Document
+
+    _, _, key = generated
+    parsed = AnswerKey.from_dict(key)
+    rows = [(name, q.id, answer) for name in HOSTILE for q, answer in zip(parsed.questions, HOSTILE * 9)]
+    paths = write_grading(parsed, grade_answers(parsed, rows), tmp_path)
+    md = paths["markdown"].read_text()
+    header = None
+    for line in md.splitlines():
+        if line.startswith("|"):
+            if line.startswith("|---") or header is None:
+                header = header if line.startswith("|---") else len(_md_cells(line))
+                continue
+            assert len(_md_cells(line)) == header, line
+        else:
+            header = None
+    assert "<img" not in md and "](http" not in md and "line one\n" not in md
+    assert "&lt;img src=x onerror=alert(1)> \\|p\\|^2" in md            # shown, not rendered
+    html_text = paths["html"].read_text()
+    assert "<img" not in html_text and "&lt;img src=x onerror=alert(1)&gt;" in html_text
+    doc = Document("t")
+    doc.table(["who", "answer"], [[HOSTILE[0], HOSTILE[1]]])
+    tex = doc.latex()
+    row = next(line for line in tex.splitlines() if "onerror" in line)
+    assert row.count(" & ") == 1 and "\\textbar{}p\\textbar{}" in row and "\\textless{}img" in row  # two cells
+    assert "line one line two" in row and "\\&" in row and "\\$x\\$" in row
+
+
+# ------------------------------------------------------------------------------ time and size budgets
+def _long_latex_answer(robot, pairs: int = 20) -> str:
+    """A correct answer padded with ``pairs`` cancelling cosines: x of the glass arm plus sum_k (cos(k theta_1) -
+    cos(k theta_1)) (20 pairs: about 800 characters of LaTeX, 7 s to check on the machine this was written on)."""
+    x = robot.to_latex(robot.position[0])
+    pad = " + ".join(f"\\cos({k}\\theta_1) - \\cos({k}\\theta_1)" for k in range(2, 2 + pairs))
+    return f"{x} + {pad}"
+
+
+def test_grading_budgets(tmp_path):
+    """Issue 30 item 6: one answer that takes seconds to check is stopped at its budget and marked 'cannot check'
+    with the reason (not a wrong answer, no points); once the batch budget is spent the remaining rows are 'not
+    graded'; the report says so.  The same answer with a generous budget is accepted (reference: it is the
+    derived x plus terms that cancel)."""
+    import time
+
+    from workspace_sym.grading import write_grading
+
+    key = AnswerKey.from_dict({"format": "workspace-sym key", "robots": {"G": "glass-handling"},
+                               "questions": [{"id": "x", "kind": "expression", "robot": "G",
+                                              "answer": "c1 (a1 + a2 c2 + a3 c23 + d5 s234)"}]})
+    slow = _long_latex_answer(key.robots["G"])
+    assert 700 <= len(slow) <= 1000
+    began = time.perf_counter()
+    (g,) = grade_answers(key, [("ann", "x", slow)], answer_seconds=0.05)
+    assert time.perf_counter() - began < 1.0
+    assert g.verdict.status == "cannot check" and g.points == 0 and "0.05 s" in g.verdict.message
+    short = _long_latex_answer(key.robots["G"], pairs=1)          # the same answer, one cancelling pair
+    assert grade_answers(key, [("ann", "x", short)], answer_seconds=60)[0].verdict.status == "correct"
+    rows = [("ann", "x", slow)] + [("bob", "x", "c1")] * 5
+    graded = grade_answers(key, rows, answer_seconds=0.05, total_seconds=0.05)
+    assert [g.verdict.status for g in graded] == ["cannot check"] + ["not graded"] * 5
+    began = time.perf_counter()
+    md = write_grading(key, graded, tmp_path)["markdown"].read_text()
+    assert time.perf_counter() - began < 1.0                # the report does not read the refused answer again
+    assert "1 answer(s) could not be checked within their time budget" in md and "5 were not graded" in md
+    with pytest.raises(Exception, match="answer_seconds must be a positive number"):
+        grade_answers(key, rows, answer_seconds=0)
+
+
+def test_answers_file_has_a_row_limit(tmp_path, capsys):
+    """More rows than MAX_ROWS: refused at once with the limit named, nothing graded or written, on the command
+    line too (exit 2, one line) (issue 30 item 6)."""
+    from workspace_sym.grading import MAX_ROWS, read_answers_csv
+
+    assert MAX_ROWS <= 20_000
+    path = tmp_path / "answers.csv"
+    path.write_text("student,question,answer\n" + "ann,1,c1\n" * (MAX_ROWS + 1))
+    with pytest.raises(Exception, match=rf"more than {MAX_ROWS} rows, the most one run grades"):
+        read_answers_csv(path)
+    (tmp_path / "key.json").write_text(json.dumps({"format": "workspace-sym key", "robots": {"G": "glass-handling"},
+                                                   "questions": [{"id": "1", "kind": "expression", "robot": "G",
+                                                                  "answer": "c1"}]}))
+    assert main(["grade", str(tmp_path / "key.json"), str(path), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert f"more than {MAX_ROWS} rows" in err and err.count("\n") == 1 and not (tmp_path / "o").exists()
+    path.write_text("student,question,answer\n" + "ann,1,c1\n" * MAX_ROWS)
+    assert len(read_answers_csv(path)) == MAX_ROWS

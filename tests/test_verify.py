@@ -120,3 +120,61 @@ def test_assertions_for_autograders():
     assert assert_measure(b.area, b).ok is True
     with pytest.raises(AssertionError, match="above the area"):
         assert_measure(0.5, b)
+
+
+def test_reachable_only_with_a_proof():
+    """Issue 31 item 1: no end point of two unit links is farther than 2 from the origin (triangle inequality), so
+    (2 + 1e-10, 0) is unreachable, proved in exact arithmetic; (2, 0) is reached exactly at theta = (-90, 0) deg
+    (a joint at its limit: the exact witness is checked in SymPy); an interior point is proved reached by the
+    Krawczyk test, and the solution really is near the witness (re-solved here in closed form by the law of
+    cosines); a point just beyond a corner of the workspace is 'within tolerance, not decided', never
+    'reachable'."""
+    arm = PlanarChain(["1", "1"], [-90, -90], [90, 90])
+    v = check_reachable(arm, (2 + 1e-10, 0))
+    assert v.status == "wrong" and v.evidence["method"] == "reach bound"
+    v = check_reachable(arm, (2, 0))
+    assert v.ok is True and v.evidence["method"] == "exact witness"
+    assert [sp.sympify(t) for t in v.evidence["exact_configuration"]] == [-sp.pi / 2, 0]
+    v = check_reachable(arm, (0.5, 1.5))
+    assert v.ok is True and v.evidence["method"] == "interval existence proof"
+    t2 = np.arccos((0.5**2 + 1.5**2 - 2) / 2)                            # law of cosines, elbow angle
+    assert abs(abs(v.evidence["configuration"][1]) - t2) < 1e-8
+    corner = (1 + 1e-10, 1)                                           # theta = (-90, 90) deg reaches (1, 1)
+    v = check_reachable(arm, corner)
+    assert v.ok is None and v.evidence["method"] == "within tolerance" and "not decided" in v.message
+    with pytest.raises(AssertionError, match=r"^undecided: within tolerance 1e-10 x reach"):
+        assert_reachable(arm, corner)
+    with pytest.raises(AssertionError, match=r"claimed reachable, but it is unreachable: .*exact arithmetic"):
+        assert_reachable(arm, (2 + 1e-10, 0))
+    assert assert_reachable(arm, (2, 0)).evidence["method"] == "exact witness"
+
+
+def test_reachable_verdicts_agree_with_the_law_of_cosines():
+    """Random points near the outer circle and the elbow limit of a 2R arm with limits [-90, 90]: every decided
+    verdict agrees with the closed-form answer (the elbow angle from the law of cosines within its limit, then
+    theta_1 within its own), and 'reachable' comes only with a proof."""
+    arm = PlanarChain(["1", "1"], [-90, -90], [90, 90])
+    rng = np.random.default_rng(5)
+    decided = 0
+    for _ in range(12):
+        r = float(rng.choice([2 - 1e-9, 2 + 1e-9, np.sqrt(2) * (1 + 1e-9), np.sqrt(2) * (1 - 1e-9)]))
+        a = float(rng.uniform(-np.pi, np.pi))
+        x, y = r * np.cos(a), r * np.sin(a)
+        v = check_reachable(arm, (x, y), max_boxes=20_000)
+        c2 = (x * x + y * y - 2) / 2
+        truth = None
+        if c2 > 1 or c2 < 0:                                        # |theta_2| > 90 deg or beyond the reach
+            truth = False
+        else:
+            t2 = np.arccos(c2)
+            polar = np.arctan2(y, x)                                  # theta_1 = polar - 90 deg - theta_2 / 2
+            firsts = [polar - np.pi / 2 - s * t2 / 2 for s in (1, -1)]
+            ok = [abs((t + np.pi) % (2 * np.pi) - np.pi) < np.pi / 2 - 1e-6 for t in firsts]
+            near = [abs(abs((t + np.pi) % (2 * np.pi) - np.pi) - np.pi / 2) < 1e-6 for t in firsts]
+            truth = True if any(ok) else (None if any(near) else False)
+        if v.ok is not None:
+            decided += 1
+            assert truth is None or v.ok is truth, (x, y, v)
+            assert v.evidence["method"] in ("exact witness", "interval existence proof", "reach bound",
+                                            "interval exclusion")
+    assert decided >= 8

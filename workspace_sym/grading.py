@@ -21,9 +21,16 @@ expression question without a robot lists its ``symbols`` (``["theta1",
 The key is a file, so it is read like any user text: expressions through the
 safe reader, with the robot's notation.
 
-Answers are a CSV with columns ``student, question, answer``.  Each answer
-gets a :class:`~workspace_sym.verify.Verdict`: correct, wrong (with the
+Answers are a CSV with columns ``student, question, answer``, at most
+:data:`MAX_ROWS` rows.  Each answer gets a
+:class:`~workspace_sym.verify.Verdict`: correct, wrong (with the
 counterexample) or cannot read (with the column), never an exception.
+
+Checking is bounded in time (:func:`grade_answers`): an answer still being
+checked after ``answer_seconds`` (default :data:`ANSWER_SECONDS`) is
+*cannot check*, with the reason; once the batch has spent ``total_seconds``
+(default :data:`TOTAL_SECONDS`) the remaining rows are *not graded* (no
+points).  Both are counted in the report, which says why.
 """
 
 from __future__ import annotations
@@ -32,7 +39,11 @@ import csv
 import io
 import json
 import math
+import signal
+import threading
+import time
 from collections import Counter
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -47,15 +58,19 @@ from .planar import PlanarChain
 from .verify import Verdict, cannot_read, check_expression, check_factors
 
 __all__ = ["KIND_NAMES", "Question", "AnswerKey", "GradedAnswer", "grade_answers", "read_answers_csv",
-           "write_grading"]
+           "write_grading", "MAX_ROWS", "ANSWER_SECONDS", "TOTAL_SECONDS"]
 
 #: Kinds of question a key may hold.
 KIND_NAMES = ("expression", "factors", "reachable", "integer", "measure")
 KEY_FORMAT = "workspace-sym key"
 _YES = {"yes", "y", "true", "reachable", "1", "oui"}
 _NO = {"no", "n", "false", "unreachable", "not reachable", "0", "non"}
-#: Most rows of an answers file.
-MAX_ROWS = 100_000
+#: Most rows of an answers file (a class of 500 students answering 20 questions).
+MAX_ROWS = 10_000
+#: Default seconds one answer may take to check before it is "cannot check".
+ANSWER_SECONDS = 10.0
+#: Default seconds a whole batch may take; the rows left then are "not graded".
+TOTAL_SECONDS = 1800.0
 
 
 @dataclass(frozen=True)
@@ -295,7 +310,9 @@ def read_answers_csv(path) -> list[tuple[str, str, str]]:
         rows = []
         for row in reader:
             if len(rows) >= MAX_ROWS:
-                raise InvalidParameterError(f"answers: more than {MAX_ROWS} rows", parameter="answers")
+                raise InvalidParameterError(f"answers: {str(path)!r} has more than {MAX_ROWS} rows, the most one "
+                                            "run grades (grading.MAX_ROWS); split it into several files",
+                                            parameter="answers")
             rows.append(tuple((row.get(c) or "").strip() for c in ("student", "question", "answer")))
     except csv.Error as exc:
         raise InvalidParameterError(f"answers: {str(path)!r} is not a valid CSV ({exc})",
@@ -303,24 +320,84 @@ def read_answers_csv(path) -> list[tuple[str, str, str]]:
     return rows
 
 
-def grade_answers(key: AnswerKey, rows) -> list[GradedAnswer]:
-    """Grade ``(student, question, answer)`` rows against ``key``; never raises on an answer."""
+class _OverBudget(BaseException):
+    """Raised inside a check by the timer of :func:`_time_budget` (a BaseException: no ``except Exception`` of
+    the checking code swallows it)."""
+
+
+@contextmanager
+def _time_budget(seconds: float):
+    """Interrupt the block after ``seconds`` with :class:`_OverBudget`; yields whether it can (a real-time
+    timer needs the main thread of a POSIX process: elsewhere the block runs to its end and the caller
+    compares the time it took)."""
+    if not (hasattr(signal, "setitimer") and threading.current_thread() is threading.main_thread()):
+        yield False
+        return
+
+    def expire(signum, frame):
+        raise _OverBudget
+
+    previous = signal.signal(signal.SIGALRM, expire)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield True
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+
+
+def _check_budget(value, name: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value <= 0:
+        raise InvalidParameterError(f"{name} must be a positive number of seconds; got {value!r}", parameter=name)
+    return float(value)
+
+
+def grade_answers(key: AnswerKey, rows, *, answer_seconds: float = ANSWER_SECONDS,
+                  total_seconds: float = TOTAL_SECONDS) -> list[GradedAnswer]:
+    """Grade ``(student, question, answer)`` rows against ``key``; never raises on an answer.
+
+    An answer whose check takes more than ``answer_seconds`` is stopped and
+    gets *cannot check* (``ok`` None, no points) with the reason; after
+    ``total_seconds`` for the whole batch, every remaining row gets *not
+    graded*.  Where the check cannot be interrupted (not the main thread, or
+    no POSIX timer) an answer runs to its end and is *cannot check* when it
+    took longer than its budget.
+    """
+    answer_seconds = _check_budget(answer_seconds, "answer_seconds")
+    total_seconds = _check_budget(total_seconds, "total_seconds")
     out = []
+    start = time.perf_counter()
     for student, qid, text in rows:
         q = key.question(qid)
+        full = q.points if q is not None else 0.0
+        left = total_seconds - (time.perf_counter() - start)
+        if left <= 0:
+            verdict = Verdict(None, f"not graded: the batch used its time budget of {total_seconds:g} s before "
+                                    "this answer", {"method": "not graded", "budget": total_seconds})
+            out.append(GradedAnswer(student, qid, text, verdict, 0.0, full))
+            continue
+        budget = min(answer_seconds, left)
+        began = time.perf_counter()
         try:
-            verdict = key.grade(qid, text)
+            with _time_budget(budget):
+                verdict = key.grade(qid, text)
         except WorkspaceError as exc:   # an answer must never stop the batch
             verdict = Verdict(None, " ".join(str(exc).split()), {"method": "cannot read"})
-        full = q.points if q is not None else 0.0
+        except _OverBudget:
+            verdict = None
+        if verdict is None or time.perf_counter() - began > budget:
+            verdict = Verdict(None, f"cannot check: checking this answer was stopped after {budget:g} s, its time "
+                                    "budget (a very long or deeply nested expression); it gets no points, check "
+                                    "it by hand", {"method": "cannot check", "budget": budget})
         out.append(GradedAnswer(student, qid, text, verdict, full if verdict.ok is True else 0.0, full))
     return out
 
 
 def _student_form(key: AnswerKey, g: GradedAnswer):
-    """The answer as read (SymPy, shorthand for the robot) for the report, or the text when unreadable."""
+    """The answer as read (SymPy, shorthand for the robot) for the report, or the text when unreadable or not
+    checked (reading it again would spend the time its budget refused)."""
     q = key.question(g.question)
-    if q is None or q.kind != "expression" or g.verdict.status == "cannot read" or not g.answer:
+    if q is None or q.kind != "expression" or g.verdict.status not in ("correct", "wrong") or not g.answer:
         return g.answer
     try:
         value = read_answer(g.answer, key.notation(q), angles=q.angles)
@@ -362,15 +439,21 @@ def write_grading(key: AnswerKey, graded: list[GradedAnswer], out) -> dict:
         by_student.setdefault(g.student, []).append(g)
         tally["student", g.student, g.verdict.status] += 1
         tally["question", g.question, g.verdict.status] += 1
-    statuses = ("correct", "wrong", "cannot read")
+    unchecked = [g for g in graded if g.verdict.status in ("cannot check", "not graded")]
+    statuses = ("correct", "wrong", "cannot read") + (("cannot check", "not graded") if unchecked else ())
     total = sum(q.points for q in key.questions)
     doc = Document(f"Grades: {key.title}")
+    if unchecked:
+        over = sum(g.verdict.status == "cannot check" for g in graded)
+        doc.para(f"Time budget: {over} answer(s) could not be checked within their time budget (cannot check) and "
+                 f"{len(unchecked) - over} were not graded because the batch ran out of time (not graded); they "
+                 "get no points and are listed below: check them by hand.")
     doc.heading("Per student")
-    doc.table(["student", "score", "correct", "wrong", "cannot read"],
+    doc.table(["student", "score", *statuses],
               [[s, f"{score:g} / {total:g}", *(str(tally["student", s, st]) for st in statuses)]
                for s, score in students.items()])
     doc.heading("Per question")
-    doc.table(["question", "expected", "correct", "wrong", "cannot read"],
+    doc.table(["question", "expected", *statuses],
               [[q.id, _expected_form(key, q), *(str(tally["question", q.id, st]) for st in statuses)]
                for q in key.questions])
     for s, rows in by_student.items():

@@ -28,7 +28,7 @@ import sympy as sp
 from .numbers import fmt, fmt_bound, fmt_bracket, measure_text
 
 __all__ = ["Document", "dh_robot_report", "orthoglide_report", "paving_report", "planar_report", "reproducibility",
-           "tex_escape", "number", "DEGREE", "Equations"]
+           "tex_escape", "md_escape", "number", "DEGREE", "Equations"]
 
 
 def reproducibility(command: str | None = None) -> dict:
@@ -64,14 +64,38 @@ def tex_escape(text: str, *, math: bool = True) -> str:
     >>> tex_escape("")
     ''
     """
-    parts = text.split("$") if math else [text]
+    parts = text.split("$") if math else [" ".join(text.split())]      # user text: one line (a table cell)
     for k in range(0, len(parts), 2):
         part = parts[k].replace("\\", "\0")
         for ch in "_%&#{}" + ("" if math else "$"):
             part = part.replace(ch, "\\" + ch)
         part = part.replace("^", "\\textasciicircum{}").replace("~", "\\textasciitilde{}")
+        if not math:        # the OT1 font prints these three as other glyphs
+            part = part.replace("|", "\\textbar{}").replace("<", "\\textless{}").replace(">", "\\textgreater{}")
         parts[k] = part.replace("\0", "\\textbackslash{}").replace("°", "\\ensuremath{^\\circ}")
     return "$".join(parts)
+
+
+_MD_SPECIAL = re.compile(r"[\\`*_|$~]")
+_MD_LINE_START = re.compile(r"^(\s*)([#>=+-]|\d+[.)])")
+
+
+def md_escape(text, *, block: bool = False) -> str:
+    r"""Plain text made inert in Markdown (CommonMark and GitHub tables): on one line, markup characters
+    backslash-escaped, ``<`` and ``&`` as entities (no inline HTML), no link; with ``block`` (a paragraph of
+    its own) no block marker (heading, list, quote) at the start either.
+
+    Examples
+    --------
+    >>> print(md_escape("|p|^2 <b>x</b> & *a_1*"))
+    \|p\|^2 &lt;b>x&lt;/b> &amp; \*a\_1\*
+    >>> print(md_escape("# [site](http://x)\n- item", block=True))
+    \# [site]\(http://x) - item
+    """
+    text = " ".join(str(text).split())
+    text = text.replace("&", "&amp;").replace("<", "&lt;")
+    text = _MD_SPECIAL.sub(lambda m: "\\" + m.group(), text).replace("](", "]\\(")
+    return _MD_LINE_START.sub(lambda m: m.group(1) + "\\" + m.group(2), text) if block else text
 
 
 def number(value, spec: str = ".6f") -> str:
@@ -191,7 +215,8 @@ class Document:
     # ---------------------------------------------------------------- renderers
     @staticmethod
     def _cell_md(x) -> str:
-        return x if isinstance(x, str) else f"${_tex(x)}$"
+        # text escaped; in math a '|' (\left| of an absolute value) would still end the table cell
+        return md_escape(x) if isinstance(x, str) else "$" + _tex(x).replace("|", "\\vert ") + "$"
 
     @staticmethod
     def _cell_html(x) -> str:
@@ -200,25 +225,27 @@ class Document:
         return f'<math display="inline">{_mathml(x)}</math>'
 
     def markdown(self) -> str:
-        lines = [f"# {self.title}", ""]
+        esc = md_escape
+        lines = [f"# {esc(self.title)}", ""]
         figures = 0
         for b in self.blocks:
             if b[0] == "h":
-                lines += ["#" * b[1] + " " + b[2], ""]
+                lines += ["#" * b[1] + " " + esc(b[2]), ""]
             elif b[0] == "p":
-                lines += [b[1], ""]
+                lines += [esc(b[1], block=True), ""]
             elif b[0] == "eqs":
                 lines += [f"$$ {_tex(lhs)} = {_tex(e)} $$" for lhs, e in b[1]] + [""]
             elif b[0] == "table":
-                lines.append("| " + " | ".join(b[1]) + " |")
+                lines.append("| " + " | ".join(esc(h) for h in b[1]) + " |")
                 lines.append("|" + "---|" * len(b[1]))
                 lines += ["| " + " | ".join(self._cell_md(c) for c in r) + " |" for r in b[2]]
                 lines.append("")
             elif b[0] == "fig":
                 figures += 1
-                lines += [f"![{b[2]}]({b[1].name})", "", f"*Figure {figures}: {b[2]}*", ""]
+                caption = esc(b[2]).replace("[", "\\[").replace("]", "\\]")
+                lines += [f"![{caption}]({b[1].name})", "", f"*Figure {figures}: {esc(b[2])}*", ""]
             elif b[0] == "items":
-                lines += [f"- **{k}**: {v}" for k, v in b[1]] + [""]
+                lines += [f"- **{esc(k)}**: {esc(v)}" for k, v in b[1]] + [""]
         return "\n".join(lines)
 
     @staticmethod

@@ -4,6 +4,17 @@ Every helper returns a :class:`Verdict` whose ``ok`` is True, False, or None
 (undecided), with a sentence for the student and the evidence: an exact
 identity, a counterexample configuration, a witness configuration, an interval
 certificate, or a certified bracket.
+
+One vocabulary, here, in grading (:mod:`workspace_sym.grading`) and in the
+exercise keys (:mod:`workspace_sym.exercises`): a verdict's ``status`` is
+*correct* or *wrong* only with a proof (``evidence["method"]`` names it:
+``exact identity``, ``counterexample``, ``exact witness``, ``interval
+existence proof``, ``reach bound``, ``interval exclusion``, ``certified
+key``), else *undecided* (``within tolerance``: a numeric witness within
+``t`` times the reach, "within tolerance t of the workspace, not decided";
+``undecided``: nothing found), *cannot read*, *cannot check* (over its time
+budget) or *not graded* (the batch ran out of time).  A key holds proved
+answers only.
 """
 
 from __future__ import annotations
@@ -28,9 +39,11 @@ __all__ = ["Verdict", "cannot_read", "check_expression", "check_factors", "check
 class Verdict:
     """A judgement with its evidence.
 
-    ``ok`` is True (correct), False (wrong) or None (undecided, or the answer
-    could not be read: then ``evidence["method"]`` is ``"cannot read"`` and
-    ``evidence["position"]`` the column of the problem when known).
+    ``ok`` is True (correct), False (wrong) or None: undecided, or the answer
+    could not be read (``evidence["method"]`` is ``"cannot read"`` and
+    ``evidence["position"]`` the column of the problem when known), or it was
+    not checked within its time budget (``"cannot check"``), or a batch ran
+    out of time before it (``"not graded"``).
     """
 
     ok: bool | None
@@ -42,9 +55,10 @@ class Verdict:
 
     @property
     def status(self) -> str:
-        """``"correct"``, ``"wrong"``, ``"cannot read"`` or ``"undecided"``."""
+        """``"correct"``, ``"wrong"``, ``"cannot read"``, ``"cannot check"``, ``"not graded"`` or ``"undecided"``."""
         if self.ok is None:
-            return "cannot read" if self.evidence.get("method") == "cannot read" else "undecided"
+            method = self.evidence.get("method")
+            return method if method in ("cannot read", "cannot check", "not graded") else "undecided"
         return "correct" if self.ok else "wrong"
 
     def _repr_markdown_(self):
@@ -231,22 +245,125 @@ def check_factors(student, derived, *, robot=None, angles: str = "radians", seed
     return Verdict(False, "; ".join(parts), {"method": "factor match", "missing": missing, "extra": extra})
 
 
-def check_reachable(chain, point, *, max_boxes: int = 500_000, seed: int = 0) -> Verdict:
-    """Can the planar ``chain`` reach ``point``?  A witness configuration, or an interval proof that it cannot."""
-    from .boundary import prove_unreachable, witness_near
+#: Points whose nearest numeric witness is within this times the reach, and which nothing proves either way,
+#: are "within tolerance" (undecided), never reachable.
+REACH_TOLERANCE = 1e-10
+_SNAP = 1e-3            # radians: a witness angle this close to a limit or a multiple of 15 deg is tried exactly
+                        # (near a stretched or folded chain an end point 1e-10 away leaves the angles ~1e-5 off)
 
-    q = np.array([_number(v, "point") for v in np.ravel(np.asarray(point, dtype=object))]).reshape(2)
-    if not np.isfinite(q).all():
-        raise InvalidParameterError(f"point must be two finite numbers; got {point!r}")
+
+def _chain_image(chain):
+    """The chain's end point as an :class:`~workspace_sym.interval.image.ImageMap` of its joints (exact lengths
+    and limits), built once per chain."""
+    from .exact import _u
+    from .interval.image import ImageMap
+
+    if "_image_map" not in chain.__dict__:
+        theta = sp.symbols(f"theta1:{chain.p + 1}")
+        phi = np.cumsum(np.array(theta, dtype=object))
+        end = sum((L * _u(a) for L, a in zip(chain.exact_lengths, phi)), sp.zeros(2, 1))
+        chain._image_map = ImageMap(list(end), theta, list(zip(chain.exact_lower, chain.exact_upper)),
+                                    [False] * chain.p)
+    return chain._image_map
+
+
+def _exact_witness(chain, theta, target) -> list | None:
+    """Exact joint values near ``theta`` (each a limit or a multiple of 15 degrees) whose end point is exactly
+    ``target``, proved in exact arithmetic; None when there are none."""
+    from .exact import _is_zero, _u
+
+    config = []
+    for t, lo, hi in zip(theta, chain.exact_lower, chain.exact_upper):
+        k = round(t / (math.pi / 12))
+        best = min((lo, hi, k * sp.pi / 12), key=lambda c: abs(float(c) - t))
+        if abs(float(best) - t) > _SNAP or not (bool(lo <= best) and bool(best <= hi)):
+            return None
+        config.append(best)
+    phi = np.cumsum(np.array(config, dtype=object))
+    end = sum((L * _u(a) for L, a in zip(chain.exact_lengths, phi)), sp.zeros(2, 1))
+    return config if all(_is_zero(end[i] - target[i]) for i in range(2)) else None
+
+
+def _proved_inside(chain, theta, target):
+    """Krawczyk's test (:meth:`ImageMap.prove_inside_at`) around ``theta`` refined by Newton's method: the
+    refined configuration when some configuration within the joint limits near it provably reaches every point
+    of a box of floats enclosing the exact ``target``, else None."""
+    from .interval.graph import numpy_constant
+
+    image = _chain_image(chain)
+    T = np.array([[numpy_constant(v) for v in target]], dtype=float)
+    q, _ = image.newton(0.5 * (T[:, :, 0] + T[:, :, 1]), np.asarray(theta, dtype=float)[None])
+    return q[0] if image.prove_inside_at(T, q)[0] else None
+
+
+def check_reachable(chain, point, *, max_boxes: int = 500_000, seed: int = 0,
+                    tol: float = REACH_TOLERANCE) -> Verdict:
+    """Can the planar ``chain`` reach ``point``?  Decided only by a proof, else said to be undecided.
+
+    The point is read exactly (a float as the decimal it prints as, text
+    such as ``"1/3"`` exactly, as :class:`~workspace_sym.planar.PlanarChain`
+    reads lengths).  Verdicts (``evidence["method"]``):
+
+    - reachable (``ok`` True): ``"exact witness"``, joint values within the
+      limits (limits, multiples of 15 degrees) whose end point equals the
+      point in exact arithmetic; or ``"interval existence proof"``, Krawczyk's
+      test (outward-rounded) proving that a configuration within the limits
+      near the numeric witness reaches the point exactly;
+    - unreachable (``ok`` False): ``"reach bound"``, ``|point|`` exceeds the
+      sum of the lengths in exact arithmetic; or ``"interval exclusion"``
+      (:func:`~workspace_sym.boundary.prove_unreachable`);
+    - undecided (``ok`` None): ``"within tolerance"``, a configuration
+      reaches a point within ``tol`` times the reach but nothing proves the
+      point reached or not (a numeric witness is never a proof); or
+      ``"undecided"``, no witness and no proof within ``max_boxes``.
+
+    Examples
+    --------
+    >>> from workspace_sym.planar import PlanarChain
+    >>> arm = PlanarChain(["1", "1"], [-90, -90], [90, 90])
+    >>> [check_reachable(arm, p).evidence["method"] for p in [(2, 0), (2 + 1e-10, 0), (0.5, 1.5), (0.5, 1.2)]]
+    ['exact witness', 'reach bound', 'interval existence proof', 'interval exclusion']
+    """
+    from .boundary import prove_unreachable, witness_near
+    from .planar import _read_value
+
+    flat = list(np.ravel(np.asarray(point, dtype=object)))
+    if len(flat) != 2:
+        raise InvalidParameterError(f"point must be two numbers (x, y); got {point!r:.60}", parameter="point")
+    read = [_read_value(v, "point") for v in flat]
+    q, target = np.array([f for f, _ in read]), [e for _, e in read]
+    reach = sum(chain.exact_lengths)
+    if sp.expand(target[0] ** 2 + target[1] ** 2 - reach**2).is_positive:
+        return Verdict(False, f"unreachable: |p|^2 = {sp.sstr(target[0] ** 2 + target[1] ** 2)} exceeds the square "
+                              f"of the reach {sp.sstr(reach)} (the sum of the lengths), in exact arithmetic",
+                       {"method": "reach bound"})
     theta, err = witness_near(chain, q, seed=seed, k=64, iterations=100)
-    if err[0] <= 1e-10 * chain.reach:
-        deg = [round(math.degrees(t), 6) for t in theta[0]]
-        return Verdict(True, f"reachable, e.g. with theta = {deg} deg (end point within {err[0]:.1e})",
-                       {"method": "witness", "configuration": theta[0].tolist(), "distance": float(err[0])})
-    proved = prove_unreachable(chain, q, max_boxes=max_boxes)
-    if proved:
+    theta, err = theta[0], float(err[0])
+    deg = [round(math.degrees(t), 6) for t in theta]
+    found = {"configuration": theta.tolist(), "distance": err}
+    if err <= 1e-6 * chain.reach:
+        config = _exact_witness(chain, theta, target)
+        if config is not None:
+            shown = ", ".join(sp.sstr(c * 180 / sp.pi) for c in config)
+            return Verdict(True, f"reachable: theta = ({shown}) deg, within the limits, reaches it exactly "
+                                 "(exact arithmetic)",
+                           {"method": "exact witness", "configuration": [float(c) for c in config], "distance": 0.0,
+                            "exact_configuration": [sp.sstr(c) for c in config]})
+        refined = _proved_inside(chain, theta, target)
+        if refined is not None:
+            deg = [round(math.degrees(t), 6) for t in refined]
+            return Verdict(True, f"reachable: an interval Newton (Krawczyk) test proves that a configuration "
+                                 f"within the limits near theta = {deg} deg reaches it exactly",
+                           {"method": "interval existence proof", "configuration": refined.tolist(),
+                            "distance": float(np.hypot(*(chain.forward(refined) - q)))})
+    if prove_unreachable(chain, q, max_boxes=max_boxes):
         return Verdict(False, "unreachable: interval arithmetic shows that no configuration within the joint "
                               "limits reaches this point", {"method": "interval exclusion"})
+    if err <= tol * chain.reach:
+        return Verdict(None, f"within tolerance {tol:g} x reach of the workspace, not decided: theta = {deg} deg "
+                             f"reaches a point {err:.1e} away, but neither an exact witness, an interval existence "
+                             "proof nor a proof of the contrary was found",
+                       {"method": "within tolerance", "tolerance": tol, **found})
     return Verdict(None, f"undecided: no witness found and no proof within {max_boxes} boxes "
                          "(the point may be very close to the boundary)", {"method": "undecided"})
 
@@ -338,9 +455,11 @@ def assert_factors(student, derived, **options) -> Verdict:
 def assert_reachable(chain, point, claimed: bool = True, **options) -> Verdict:
     """Assert the student's claim that ``point`` is (``claimed=True``) or is not reachable by ``chain``.
 
-    Passes only when the library proves the claim (a witness configuration,
-    or an interval proof of unreachability); raises :class:`AssertionError`
-    with the evidence otherwise, also when it cannot decide.
+    Passes only when the library proves the claim (an exact witness or an
+    interval existence proof; an exact reach bound or an interval proof of
+    unreachability: :func:`check_reachable`); raises :class:`AssertionError`
+    with the evidence otherwise, also when it cannot decide (a point within
+    tolerance of the workspace is neither).
 
     Examples
     --------
@@ -351,14 +470,18 @@ def assert_reachable(chain, point, claimed: bool = True, **options) -> Verdict:
     >>> assert_reachable(arm, (0, 2), claimed=False)  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    AssertionError: wrong: claimed unreachable, but it is reachable, e.g. with theta = ...
+    AssertionError: wrong: claimed unreachable, but it is reachable: theta = (0, 0) deg, ... reaches it exactly ...
+    >>> assert_reachable(arm, (0, 2 + 1e-10))  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    AssertionError: wrong: claimed reachable, but it is unreachable: |p|^2 = ... exceeds the square of the reach 2 ...
     """
     verdict = check_reachable(chain, point, **options)
     if verdict.ok is None:
         raise AssertionError(f"undecided: {verdict.message}")
     word = "reachable" if claimed else "unreachable"
     if verdict.ok is bool(claimed):
-        return Verdict(True, f"{word}: {verdict.message}", verdict.evidence)
+        return Verdict(True, verdict.message, verdict.evidence)      # the message starts with the word proved
     raise AssertionError(f"wrong: claimed {word}, but it is {verdict.message}")
 
 
