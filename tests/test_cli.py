@@ -141,6 +141,7 @@ def test_dextrous_json_contract_and_bad_sigma(capsys):
     data = json.loads(out)
     assert code == 0 and set(data["boxes"]) == {"inner", "undecided", "outer"}
     assert data["volume_inner"] > 0 and data["sigma"] == [0.25, 4.0] and data["eps"] == 0.125
+    assert data["shave"] == [0.5]                                 # the default slab fraction, a key added in issue 28
     code, _, err = run(capsys, "dextrous", "orthoglide", "--sigma", "4:0.25")
     assert code == 2 and "sigma_max" in err and err.count("\n") == 1
 

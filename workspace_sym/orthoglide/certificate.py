@@ -65,6 +65,7 @@ class DextrousResult:
     paving: Paving
     sigma: tuple[float, float]
     eps: float
+    shave: tuple[float, ...] = ()
 
     @property
     def volume_inner(self) -> float:
@@ -106,6 +107,7 @@ class DextrousResult:
                       "outer": p.counts["outer"]},
             "eps": self.eps,
             "sigma": list(self.sigma),
+            "shave": list(self.shave),
             "complete": p.complete,
             "boxes_evaluated": p.evaluated,
             "seconds": p.seconds,
@@ -151,6 +153,11 @@ def box_module(boxes: np.ndarray, sigma=(0.25, 4.0)) -> np.ndarray:
         point[~regular] = np.eye(3)
         _, Q = np.linalg.eigh(point)
         S = symmetric.congruence(Q, N_c)
+        # Hansen's sequential mean-value form: N(x) - N(c) is the sum over k of dN/dx_k at a point of
+        # (X_1, ..., X_k, c_k+1, ...) times (x_k - c_k), so dN/dx is enclosed over (X, c_y, c_z) and dN/dy
+        # over (X, Y, c_z), narrower than over the box.
+        partial_boxes = ([X[0], C[1], C[2]], [X[0], X[1], C[2]])
+        gradient = [inverse_entries(*b, *leg_terms(b)[2:])[1][k] for k, b in enumerate(partial_boxes)] + [gradient[2]]
         for k in range(3):
             D = symmetric.congruence(Q, symmetric.from_entries(gradient[k]))
             h = (arith.down(lo[:, k] - mid[:, k])[:, None, None], arith.up(hi[:, k] - mid[:, k])[:, None, None])
@@ -284,7 +291,7 @@ def dextrous(variables, *, eps: float = 0.05, sigma=(0.25, 4.0), box=None, shave
     paving = subdivide(decide, b, delta=eps, size="width", progress=progress, time_limit=time_limit,
                        max_boxes=max_boxes, label="dextrous", chunk=50_000, separate=separate, executor=executor,
                        max_memory=max_memory, store=store, resume=resume)
-    return DextrousResult(paving, sigma, float(eps))
+    return DextrousResult(paving, sigma, float(eps), fractions)
 
 
 def _check_shave(shave) -> tuple[float, ...]:
