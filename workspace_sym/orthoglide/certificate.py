@@ -143,7 +143,7 @@ def box_module(boxes: np.ndarray, sigma=(0.25, 4.0)) -> np.ndarray:
                     1 + squares[2] * (s_low[0] + s_low[1])]
         too_large = np.any([d.lo > b_hi for d in diag_low], axis=0)
 
-        natural, gradient = inverse_entries(*X, s, r)
+        natural, gradient = inverse_entries(*X, s, r, axes=(2,))
         C = [Interval(mid[:, k], mid[:, k].copy()) for k in range(3)]
         centre, _ = inverse_entries(*C, *leg_terms(C)[2:], gradients=False)
         N_nat, N_c = symmetric.from_entries(natural), symmetric.from_entries(centre)
@@ -157,7 +157,8 @@ def box_module(boxes: np.ndarray, sigma=(0.25, 4.0)) -> np.ndarray:
         # (X_1, ..., X_k, c_k+1, ...) times (x_k - c_k), so dN/dx is enclosed over (X, c_y, c_z) and dN/dy
         # over (X, Y, c_z), narrower than over the box.
         partial_boxes = ([X[0], C[1], C[2]], [X[0], X[1], C[2]])
-        gradient = [inverse_entries(*b, *leg_terms(b)[2:])[1][k] for k, b in enumerate(partial_boxes)] + [gradient[2]]
+        gradient = [inverse_entries(*b, *leg_terms(b)[2:], axes=(k,))[1][k]
+                    for k, b in enumerate(partial_boxes)] + [gradient[2]]
         for k in range(3):
             D = symmetric.congruence(Q, symmetric.from_entries(gradient[k]))
             h = (arith.down(lo[:, k] - mid[:, k])[:, None, None], arith.up(hi[:, k] - mid[:, k])[:, None, None])
@@ -314,13 +315,14 @@ def _square(v):
     return v.sq() if isinstance(v, Interval) else v**2
 
 
-def inverse_entries(x, y, z, s, r, *, gradients: bool = True):
+def inverse_entries(x, y, z, s, r, *, gradients: bool = True, axes=(0, 1, 2)):
     """Upper triangle of ``N = A^T B^-2 A`` and of its three partial derivatives.
 
     ``s_i = 1/eta_i^2`` and ``r_i = 1/eta_i`` are passed in with the position,
     so one formula serves SymPy symbols (checked against ``Orthoglide.inverse``
     in the tests), floats and interval arrays.  Returns ``N`` and ``(dN/dx,
-    dN/dy, dN/dz)`` (``None`` unless ``gradients``) as dicts ``{(i, j): entry}``
+    dN/dy, dN/dz)`` (``None`` unless ``gradients``; only those in ``axes``,
+    ``None`` for the others) as dicts ``{(i, j): entry}``
     for ``i <= j``; the chain rule used is ``ds1/dy = 2 y s1^2``,
     ``dr1/dy = y s1 r1`` and the like.
     """
@@ -332,21 +334,25 @@ def inverse_entries(x, y, z, s, r, *, gradients: bool = True):
          (1, 2): y * z * s1 + z * r2 + y * r3}
     if not gradients:
         return N, None
-    dx = {(0, 0): 2 * x * (s2 + s3 + x2 * (_square(s2) + _square(s3))),
-          (1, 1): 2 * x * y2 * _square(s3), (2, 2): 2 * x * z2 * _square(s2),
-          (0, 1): r2 * (1 + x2 * s2) + y * s3 * (1 + 2 * x2 * s3),
-          (0, 2): z * s2 * (1 + 2 * x2 * s2) + r3 * (1 + x2 * s3),
-          (1, 2): x * (z * r2 * s2 + y * r3 * s3)}
-    dy = {(0, 0): 2 * y * x2 * _square(s3), (1, 1): 2 * y * (s1 + s3 + y2 * (_square(s1) + _square(s3))),
-          (2, 2): 2 * y * z2 * _square(s1),
-          (0, 1): r1 * (1 + y2 * s1) + x * s3 * (1 + 2 * y2 * s3),
-          (0, 2): y * (z * r1 * s1 + x * r3 * s3),
-          (1, 2): z * s1 * (1 + 2 * y2 * s1) + r3 * (1 + y2 * s3)}
-    dz = {(0, 0): 2 * z * x2 * _square(s2), (1, 1): 2 * z * y2 * _square(s1),
-          (2, 2): 2 * z * (s1 + s2 + z2 * (_square(s1) + _square(s2))),
-          (0, 1): z * (y * r1 * s1 + x * r2 * s2),
-          (0, 2): r1 * (1 + z2 * s1) + x * s2 * (1 + 2 * z2 * s2),
-          (1, 2): y * s1 * (1 + 2 * z2 * s1) + r2 * (1 + z2 * s2)}
+    dx = dy = dz = None
+    if 0 in axes:
+        dx = {(0, 0): 2 * x * (s2 + s3 + x2 * (_square(s2) + _square(s3))),
+              (1, 1): 2 * x * y2 * _square(s3), (2, 2): 2 * x * z2 * _square(s2),
+              (0, 1): r2 * (1 + x2 * s2) + y * s3 * (1 + 2 * x2 * s3),
+              (0, 2): z * s2 * (1 + 2 * x2 * s2) + r3 * (1 + x2 * s3),
+              (1, 2): x * (z * r2 * s2 + y * r3 * s3)}
+    if 1 in axes:
+        dy = {(0, 0): 2 * y * x2 * _square(s3), (1, 1): 2 * y * (s1 + s3 + y2 * (_square(s1) + _square(s3))),
+              (2, 2): 2 * y * z2 * _square(s1),
+              (0, 1): r1 * (1 + y2 * s1) + x * s3 * (1 + 2 * y2 * s3),
+              (0, 2): y * (z * r1 * s1 + x * r3 * s3),
+              (1, 2): z * s1 * (1 + 2 * y2 * s1) + r3 * (1 + y2 * s3)}
+    if 2 in axes:
+        dz = {(0, 0): 2 * z * x2 * _square(s2), (1, 1): 2 * z * y2 * _square(s1),
+              (2, 2): 2 * z * (s1 + s2 + z2 * (_square(s1) + _square(s2))),
+              (0, 1): z * (y * r1 * s1 + x * r2 * s2),
+              (0, 2): r1 * (1 + z2 * s1) + x * s2 * (1 + 2 * z2 * s2),
+              (1, 2): y * s1 * (1 + 2 * z2 * s1) + r2 * (1 + z2 * s2)}
     return N, (dx, dy, dz)
 
 
