@@ -20,7 +20,9 @@ rather than with any characteristic polynomial:
   short (``1 + x^2 (s2 + s3)``, ``y r1 + x r2 + x y s3``, ... with
   ``s_i = 1/eta_i^2``, ``r_i = 1/eta_i``) and their gradients too;
 * over a box, ``N`` is enclosed in mean-value form ``N(c) + sum_k dN/dx_k (X_k - c_k)``
-  intersected with the natural form, then rotated by the eigenvectors ``Q`` of
+  (Hansen's sequential form: ``dN/dx`` over ``(X, c_y, c_z)``, ``dN/dy`` over
+  ``(X, Y, c_z)``, ``dN/dz`` over the box) intersected with the natural form,
+  then rotated by the eigenvectors ``Q`` of
   ``N(c)``: ``Q^T N Q`` is nearly diagonal and its diagonal varies like the
   eigenvalues themselves (first order);
 * inside (1): ``N - I/sigma_max`` and ``I/sigma_min - N`` are proved positive
@@ -30,6 +32,12 @@ rather than with any characteristic polynomial:
   on the whole box, or the box lies outside a cylinder, or (for a box that
   straddles a cylinder) a diagonal entry of ``N`` exceeds ``1/sigma_min`` on its
   part inside the cylinders.
+
+The paving (:func:`dextrous`) bisects like the paper's section 4.2, and
+contracts each box that would count in the error index E by shaving
+(:func:`shave_boxes`): half-edge slabs next to its faces are cut off when
+``M(B)`` proves them inside or outside.  At eps = 0.05 this takes E from
+0.50 to 0.30 (the paper: 0.48) for about three times the box tests.
 
 The characteristic polynomial of ``J J^T`` (and the pencil ``det(lambda A A^T - B^2)``)
 is derived symbolically for reports; certifying with it was measured far
