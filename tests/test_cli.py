@@ -141,8 +141,24 @@ def test_dextrous_json_contract_and_bad_sigma(capsys):
     data = json.loads(out)
     assert code == 0 and set(data["boxes"]) == {"inner", "undecided", "outer"}
     assert data["volume_inner"] > 0 and data["sigma"] == [0.25, 4.0] and data["eps"] == 0.125
+    assert data["shave"] == [0.5]                                 # the default slab fraction, a key added in issue 28
     code, _, err = run(capsys, "dextrous", "orthoglide", "--sigma", "4:0.25")
     assert code == 2 and "sigma_max" in err and err.count("\n") == 1
+
+
+def test_dextrous_shave_option(capsys):
+    """--shave none is the paper's plain bisection (the API's shave=()); bad fractions exit 2 with one line."""
+    from workspace_sym.orthoglide import Orthoglide
+
+    code, out, _ = run(capsys, "dextrous", "orthoglide", "--eps", "0.125", "--shave", "none", "--json")
+    data = json.loads(out)
+    assert code == 0 and data["shave"] == []
+    assert data["volume_inner"] == Orthoglide().dextrous(eps=0.125, shave=()).volume_inner
+    code, out, _ = run(capsys, "dextrous", "orthoglide", "--eps", "0.125", "--shave", "0.5,0.25", "--json")
+    assert code == 0 and json.loads(out)["shave"] == [0.5, 0.25]
+    for bad, message in (("half", "--shave: expected fractions"), ("1.5", "shave must be a sequence of fractions")):
+        code, _, err = run(capsys, "dextrous", "orthoglide", "--shave", bad)
+        assert code == 2 and message in err and err.count("\n") == 1
 
 
 def test_boundary_json_contract(tmp_path, capsys):

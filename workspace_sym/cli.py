@@ -341,6 +341,20 @@ def _parse_sigma(text: str):
         raise InvalidParameterError(f"--sigma: expected MIN:MAX such as 0.25:4; got {text!r}") from None
 
 
+def _parse_shave(text: str | None):
+    from .orthoglide.certificate import SHAVE
+
+    if text is None:
+        return SHAVE
+    if text.strip().lower() == "none":
+        return ()
+    try:
+        return tuple(float(f) for f in text.split(","))
+    except ValueError:
+        raise InvalidParameterError(f"--shave: expected fractions such as 0.5,0.25 or 'none'; got {text!r}",
+                                    parameter="shave") from None
+
+
 def cmd_dextrous(args) -> int:
     from .orthoglide import Orthoglide
 
@@ -349,8 +363,8 @@ def cmd_dextrous(args) -> int:
         raise WorkspaceError(f"robot {args.robot!r}: the dextrous workspace is implemented for the orthoglide")
     _check_plot_in_memory(args)
     with _distributed(args) as spread:
-        result = model.dextrous(eps=args.eps, sigma=_parse_sigma(args.sigma), progress=args.progress,
-                                time_limit=args.time_limit, **spread)
+        result = model.dextrous(eps=args.eps, sigma=_parse_sigma(args.sigma), shave=_parse_shave(args.shave),
+                                progress=args.progress, time_limit=args.time_limit, **spread)
     if args.plot or args.slices:
         from .plotting import plot_paving, plot_paving_slices, save_figure
 
@@ -685,6 +699,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--time-limit", type=float, help="stop after this many seconds (the rest counts in E)")
     p.add_argument("--plot", metavar="FILE", help="draw the boxes (3D) to an image file")
     p.add_argument("--slices", metavar="FILE", help="draw slices z = -0.4, 0, 0.3 with the numeric boundary")
+    p.add_argument("--shave", metavar="F,F", default=None,
+                   help="slab fractions shaved off the last-level boxes (default 0.5; 'none': plain bisection)")
     p.set_defaults(func=cmd_dextrous)
 
     p = sub.add_parser("cube", help="largest cube in the dextrous workspace (Orthoglide), certified both ways",
