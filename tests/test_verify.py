@@ -178,3 +178,13 @@ def test_reachable_verdicts_agree_with_the_law_of_cosines():
             assert v.evidence["method"] in ("exact witness", "interval existence proof", "reach bound",
                                             "interval exclusion")
     assert decided >= 8
+
+
+def test_a_certified_bracket_has_no_hidden_slack():
+    """check_measure widened every bracket by 1e-12 even with rel_tol=0: a value just above a certified upper bound
+    was accepted.  Reference: the paving's own bracket, and the next float beyond each end."""
+    paving = pave(["x**2 + y**2 <= 1"], {"x": (-1.1, 1.1), "y": (-1.1, 1.1)}, delta=0.2)
+    lo, hi = paving.measure_bounds
+    assert check_measure(lo, paving).ok and check_measure(hi, paving).ok
+    assert check_measure(float(np.nextafter(hi, 10)), paving).ok is False
+    assert check_measure(float(np.nextafter(lo, -10)), paving).ok is False

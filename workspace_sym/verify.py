@@ -405,19 +405,21 @@ def check_measure(claimed: float, result, *, rel_tol: float = 0.0) -> Verdict:
     claimed = _number(claimed, "claimed")
     if not math.isfinite(claimed):
         raise InvalidParameterError(f"claimed must be a finite number; got {claimed!r}")
+    float_error = 0.0               # a certified bracket is taken as it is; a float area gets 1e-12 either side
     if hasattr(result, "loops"):
         lo, hi = result.area, result.area + result.undecided_area
         what = "area from the exact boundary"
+        float_error = 1e-12 * max(1.0, abs(hi))
     elif hasattr(result, "measure_bounds"):
         lo, hi = result.measure_bounds
         what = "certified paving bracket"
     elif hasattr(result, "volume_inner"):
-        lo, hi = result.volume_inner, result.volume_inner + result.volume_undecided
+        lo, hi = result.paving.measure_bounds
         what = "certified dextrous-volume bracket"
     else:
         raise InvalidParameterError(f"result must be a Boundary, a Paving or a DextrousResult; "
                                     f"got {type(result).__name__}")
-    slack = rel_tol * max(abs(lo), abs(hi)) + 1e-12 * max(1.0, abs(hi))
+    slack = rel_tol * max(abs(lo), abs(hi)) + float_error
     if lo - slack <= claimed <= hi + slack:
         return Verdict(True, f"{claimed:g} lies in the {what} {fmt_bracket(lo, hi, 6, 'g')}", {"bracket": [lo, hi]})
     side = "below" if claimed < lo else "above"
