@@ -237,7 +237,7 @@ LIMIT = '<limit lower="-1" upper="1" effort="1" velocity="1"/>'
     ("unparsable", "is not well-formed XML"),
     ("xacro", "xacro file"),
     ("missing", "cannot read"),
-    ("branching", "name the tip link with --tip"),
+    ("branching", "--tip: bad.urdf has leaves"),
     ("mimic", "mimic"),
     ("floating", "is floating"),
     ("no_limit", "has no <limit>"),

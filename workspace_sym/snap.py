@@ -29,7 +29,7 @@ from functools import cache
 
 import sympy as sp
 
-from .errors import InvalidParameterError
+from .errors import DHTableError, InvalidParameterError
 from .expressions import as_sympy
 
 __all__ = ["Snapper", "exact_decimal", "snap_angle", "chop", "summary", "ANGLE_GRID", "DEFAULT_TOL"]
@@ -64,7 +64,10 @@ def snap_angle(value: float, tol: float = DEFAULT_TOL) -> sp.Expr | None:
     >>> snap_angle(1.5708) is None     # 3.7e-6 away: a rounded pi/2, but not within 1e-9
     True
     """
-    k = round(value * ANGLE_GRID / math.pi)
+    turns = value * ANGLE_GRID / math.pi
+    if not math.isfinite(turns):          # 1e308 rad: no multiple of pi/360 is within any tolerance worth having
+        return None
+    k = round(turns)
     if abs(value - k * math.pi / ANGLE_GRID) <= tol:
         return sp.Rational(k, ANGLE_GRID) * sp.pi
     return None
@@ -144,13 +147,22 @@ class Snapper:
     tol: float = DEFAULT_TOL
     #: One sentence per replacement (and per near miss).
     notes: list[str] = field(default_factory=list)
+    #: Raised, naming the field, for a number that is not finite (NaN or infinite) or too large.
+    error: type = field(default=DHTableError, repr=False)
 
     def __post_init__(self):
         self.tol = check_tol(self.tol)
 
+    def _finite(self, value, where: str, *, degrees: bool = False) -> float:
+        """``value`` as a float, refused (:attr:`error`) unless finite, also once in radians."""
+        number = float(value)
+        if not math.isfinite(number) or (degrees and not math.isfinite(math.radians(number))):
+            raise self.error(f"{where}: expected a finite number; got {number!r}", parameter=where)
+        return number
+
     def angle(self, value, where: str, *, degrees: bool = False) -> sp.Expr:
         """An angle, returned in radians: snapped to ``k pi / 360`` within ``tol`` radians, else the float."""
-        value = float(value)
+        value = self._finite(value, where, degrees=degrees)
         radians = math.radians(value) if degrees else value
         kept = sp.Float(value) * sp.pi / 180 if degrees else sp.Float(value)
         if not self.exact:
@@ -170,7 +182,7 @@ class Snapper:
 
     def length(self, value, where: str) -> sp.Expr:
         """A length (or any non-angle number): the decimal it spells, or the float with ``exact=False``."""
-        value = float(value)
+        value = self._finite(value, where)
         if not self.exact:
             return sp.Float(value)
         exact = exact_decimal(value)
@@ -185,7 +197,7 @@ class Snapper:
         ``(sqrt(6) +- sqrt(2))/4`` of 15 and 75 degrees) are the exact values
         such entries take in real robots.
         """
-        value = float(value)
+        value = self._finite(value, where)
         if not self.exact:
             return sp.Float(value)
         for candidate, approx in _cosines():
