@@ -272,8 +272,10 @@ def test_bad_urdf_one_line_exit_2(tmp_path, capsys, case, message):
     assert main(["fk", "--urdf", str(path), *args]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and message in err and "Traceback" not in err, err
-    with pytest.raises(URDFError):
+    with pytest.raises(URDFError) as info:
         DHRobot.from_urdf(path, base_link="l1" if args else None, tip_link="l2" if args else None)
+    # issue 26: the library names its parameters (path, base_link, tip_link); only the CLI speaks of --urdf, --tip
+    assert "--" not in str(info.value) and info.value.parameter in ("path", "base_link", "tip_link")
 
 
 def test_cli_urdf_and_float_dh(tmp_path, capsys):
