@@ -246,3 +246,50 @@ def test_proofs_run_in_round_to_nearest_whatever_mode_is_set():
     assert rounding_mode() == "nearest"
     for kind in ("inner", "boundary", "outer"):
         assert np.array_equal(getattr(plain, kind), getattr(again, kind))
+
+
+# ------------------------------------------------------------------ issue 23 item 7: budgets inside the stages
+def test_power_of_a_sum_is_not_expanded():
+    """``(x + y + 1)**1000`` was expanded (500,000 terms) before the search looked at its clock; each variable
+    occurs once, so the natural extension is already the tightest and no form is searched at all."""
+    import time
+
+    from workspace_sym.interval.compiler import expansion_bound
+
+    e = (x + y + 1) ** 1000
+    assert expansion_bound(e) == (501501, 1000)                     # C(1002, 2) monomials of degree 1000
+    start = time.perf_counter()
+    assert best_form(e, (x, y)) == e
+    assert best_form(e + x, (x, y)) == e + x                        # x repeated: the bound refuses the search
+    assert time.perf_counter() - start < 2
+
+
+def test_bounded_expansion_stops_inside_a_power():
+    """The expansion checks its budget after every product: it gives up on (x + y + 1)**1000 at once."""
+    import time
+
+    from workspace_sym.interval.compiler import OverBudget, expand_bounded
+
+    start = time.perf_counter()
+    with pytest.raises(OverBudget):
+        expand_bounded((x + y + 1) ** 1000, (x, y), max_terms=200)
+    with pytest.raises(OverBudget, match="time"):
+        expand_bounded((x + y + 1) ** 10, (x, y), max_terms=200, deadline=time.perf_counter())
+    assert time.perf_counter() - start < 1
+    for e in ((x - 2 * y + sp.Rational(1, 3)) ** 7 * (x + y), sp.sqrt(2) * (x + sp.pi * y) ** 3 - x):
+        assert sp.expand(expand_bounded(e, (x, y), max_terms=100).as_expr() - e) == 0    # SymPy's expansion
+
+
+@settings(derandomize=True, max_examples=60, deadline=None)
+@given(st.lists(st.tuples(st.integers(-3, 3), st.integers(0, 3), st.integers(0, 3)), min_size=1, max_size=4),
+       st.integers(1, 4), st.integers(-2, 2))
+def test_expansion_bound_bounds_sympys_expansion(terms, power, shift):
+    """Property: the bound, read off the tree, is at least the terms and degree of SymPy's expansion."""
+    from workspace_sym.interval.compiler import expansion_bound
+
+    base = sum((c * x**i * y**j for c, i, j in terms), sp.Integer(0))
+    e = (base + shift) ** power * (x - y) + base
+    expanded = sp.expand(e)
+    count, degree = expansion_bound(e)
+    assert count >= len(sp.Add.make_args(expanded))
+    assert expanded == 0 or degree >= sp.Poly(expanded, x, y).total_degree()

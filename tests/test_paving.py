@@ -331,3 +331,28 @@ def test_stored_paving_has_the_same_outward_bracket(tmp_path):
     lo, hi = local.measure_bounds
     assert Fraction(lo) <= _exact_measure(local.inner)
     assert Fraction(hi) >= _exact_measure(np.concatenate([local.inner, local.boundary]))
+
+
+# ------------------------------------------------------------------ issue 23 item 7, issue 30 item 4
+def test_huge_power_of_a_sum_is_paved_within_seconds():
+    """``(x + y + 1)**1000 <= 1`` ran without bound (the form search expanded the power).  Reference: the set is
+    ``-2 <= x + y <= 0``; inner boxes lie inside it, outer ones outside (exact check on the box corners)."""
+    import time
+
+    start = time.perf_counter()
+    p = pave(["(x1+x2+1)**1000 <= 1"], {"x1": (-1, 1), "x2": (-1, 1)}, delta=0.25)
+    assert time.perf_counter() - start < 10
+    assert len(p.inner) and len(p.outer)
+    for b in p.inner:
+        assert -2 <= b[0][0] + b[1][0] and b[0][1] + b[1][1] <= 0
+    for b in p.outer:
+        assert b[0][0] + b[1][0] > 0 or b[0][1] + b[1][1] < -2
+
+
+@pytest.mark.parametrize("text, edge", [("Abs(x1) + x1 <= 1", 0.5), ("sqrt(x1)**3 <= x1/2", 0.25)])
+def test_abs_and_half_integer_powers_are_paved(text, edge):
+    """``Abs(x) + x <= 1`` failed with a message about re(x) (the mean-value form differentiated Abs);
+    ``sqrt(x)**3`` (SymPy's ``x**(3/2)``) was refused.  Reference: both sets are ``x1 <= edge`` on the box."""
+    p = pave([text], {"x1": (0, 2), "x2": (0, 1)}, delta=0.1)
+    assert len(p.inner) and len(p.outer)
+    assert all(b[0][1] <= edge for b in p.inner) and all(b[0][0] > edge for b in p.outer)

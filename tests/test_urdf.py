@@ -16,13 +16,13 @@ import pytest
 import rtbdata
 import sympy as sp
 import yourdfpy
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from workspace_sym import DHRobot
 from workspace_sym.cli import main
 from workspace_sym.errors import URDFError
-from workspace_sym.snap import Snapper, exact_decimal, snap_angle
+from workspace_sym.snap import Snapper, exact_decimal, snap_angle, written_unit
 
 XACRO = Path(rtbdata.__file__).parent / "xacro"
 URDFS = {
@@ -213,9 +213,55 @@ def test_exact_decimal_stands_for_the_float(x):
 
 
 def test_snapper_tolerance_is_settable():
-    # the Puma URDF writes pi/2 as 1.570796325 (1.8e-9 off): kept at 1e-9, snapped at 2e-9
-    assert Snapper().angle(1.570796325, "x") == sp.Float(1.570796325)
+    # tol = 0: only floats on the grid snap (the ROS rounding rule is off too); tol = 2e-9 snaps the Puma's pi/2
+    assert Snapper(tol=0.0).angle(1.570796325, "x") == sp.Float(1.570796325)
     assert Snapper(tol=2e-9).angle(1.570796325, "x") == sp.pi / 2
+
+
+def test_ros_rounded_angles_snap_by_default():
+    """Issue 23 item 4: ROS files write pi/2 as 1.570796325 (1.8e-9 off, 10 digits) and pi as 3.14159265 (3.6e-9
+    off, 9 digits): both snap at the default, each with a note saying how to keep the float; 1.5708 (5 digits) is
+    kept, since a 5-digit angle lands that close to the grid by chance one time in 40."""
+    s = Snapper()
+    assert (s.angle(1.570796325, "j1"), s.angle(-3.14159265, "j2"), s.angle(1.5707963, "j3")) == (
+        sp.pi / 2, -sp.pi, sp.pi / 2)
+    assert all("exact=False" in note and "--keep-floats" in note for note in s.notes) and len(s.notes) == 3
+    assert "j1: 1.570796325 -> pi/2 (it is written to 10 digits" in s.notes[0]
+    assert s.angle(1.5708, "j4") == sp.Float(1.5708) and "1.5708 kept as a float" in s.notes[-1]
+    assert Snapper(exact=False).angle(1.570796325, "j1") == sp.Float(1.570796325)      # the way to keep it
+
+
+@settings(derandomize=True, max_examples=150, deadline=None)
+@given(st.integers(-1440, 1440), st.integers(8, 12), st.floats(0.0, 1.0))
+def test_rounded_multiples_of_the_grid_snap_and_others_do_not(k, digits, shift):
+    """Property: k pi/360 written to 8-12 significant digits snaps back to it (exact reference); a value moved
+    off it snaps only within two units of its own last written digit."""
+    exact = sp.Rational(k, 360) * sp.pi
+    text = f"{float(exact):.{digits}g}"
+    written, unit = written_unit(float(text))
+    assume(written >= 8)                       # 3.9706240 prints as 3.970624: seven digits, not snapped
+    assert Snapper().angle(float(text), "a") == exact
+    moved = float(text) + 5 * unit * (1 + shift)
+    # moved by 5 units it may still snap, but only if it is written coarser: never farther than 2 units of its own
+    # last digit (or tol) from the multiple it snaps to
+    snapped = Snapper().angle(moved, "a")
+    assert not snapped.has(sp.pi) or abs(moved - float(snapped)) <= max(1e-9, 2 * written_unit(moved)[1])
+
+
+def test_puma_urdf_is_exact_and_prints_its_lengths():
+    """The Puma URDF (1.570796325 and 3.14159265 throughout) gave FK terms such as
+    1.79e-9*s235*sin(theta4 + 3.14159265358979); now the FK is exact, equals yourdfpy's to the snapped amount
+    (reference), and the length sqrt(0.4318^2 + 0.0203^2) = sqrt(18686333)/10000 does not print as 0.43."""
+    path = XACRO / "unimation_puma560_description/urdf/puma560_robot.urdf"
+    robot = DHRobot.from_urdf(path)
+    T = robot.fk()
+    assert not T.atoms(sp.Float)
+    qs = np.random.default_rng(3).uniform(-1.5, 1.5, size=(8, robot.n))
+    assert np.abs(robot.fk_numeric(qs) - _library_fk(path, "link7", qs)).max() < 1e-7    # 3.6e-9 rad x ~2 m
+    notes = "\n".join(robot.input_notes)
+    assert "1.570796325 -> pi/2" in notes and "3.14159265 -> pi" in notes and "exact=False" in notes
+    text = robot.to_str(robot.position[0])
+    assert "0.43*" not in text and "sqrt(18686333)" in text
 
 
 # ------------------------------------------------------------------------------ bad input
@@ -237,7 +283,7 @@ LIMIT = '<limit lower="-1" upper="1" effort="1" velocity="1"/>'
     ("unparsable", "is not well-formed XML"),
     ("xacro", "xacro file"),
     ("missing", "cannot read"),
-    ("branching", "name the tip link with --tip"),
+    ("branching", "--tip: bad.urdf has leaves"),
     ("mimic", "mimic"),
     ("floating", "is floating"),
     ("no_limit", "has no <limit>"),
@@ -272,8 +318,10 @@ def test_bad_urdf_one_line_exit_2(tmp_path, capsys, case, message):
     assert main(["fk", "--urdf", str(path), *args]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and message in err and "Traceback" not in err, err
-    with pytest.raises(URDFError):
+    with pytest.raises(URDFError) as info:
         DHRobot.from_urdf(path, base_link="l1" if args else None, tip_link="l2" if args else None)
+    # issue 26: the library names its parameters (path, base_link, tip_link); only the CLI speaks of --urdf, --tip
+    assert "--" not in str(info.value) and info.value.parameter in ("path", "base_link", "tip_link")
 
 
 def test_cli_urdf_and_float_dh(tmp_path, capsys):

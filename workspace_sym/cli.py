@@ -254,7 +254,13 @@ def cmd_pave(args) -> int:
     else:
         if not args.var or not args.constraint:
             raise WorkspaceError("pave: name a catalog robot (e.g. rpr2) or give --var NAME=LOW:HIGH and --constraint")
-        box = dict(_parse_var(v) for v in args.var)
+        pairs = [_parse_var(v) for v in args.var]
+        names = [str(symbol) for symbol, _ in pairs]
+        repeated = next((n for n in names if names.count(n) > 1), None)
+        if repeated is not None:
+            raise InvalidParameterError(f"--var: {repeated} is given {names.count(repeated)} times; give each "
+                                        "variable once")
+        box = dict(pairs)
         constraints, exact = args.constraint, None
     _check_plot_in_memory(args)
     with _distributed(args) as spread:
@@ -749,6 +755,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("demo", help="the main job: write the demo report and print its path")
     p.add_argument("--out", default="demo-report", help="output directory (default: demo-report)")
     p.set_defaults(func=cmd_demo)
+    parser.commands = sub.choices
     return parser
 
 
@@ -762,22 +769,47 @@ _FLAGS = {
     "seed": "--seed", "count": "--count", "max_joints": "--max-joints",
     "scheduler": "--scheduler", "max_memory": "--max-memory", "store": "--store", "resume": "--resume",
     "reach_delta": "--reach-delta", "reach_time_limit": "--reach-time-limit",
+    "base_link": "--base", "tip_link": "--tip", "out": "--out", "plot": "--plot", "slices": "--slices",
+    "report": "--report",
 }
+# A library error about ``path`` (a DH or URDF file) is about the option that named the file.
+_PATH_OPTIONS = ("urdf", "dh")
+# Options naming a file to write (a figure) and a directory to fill (a report); checked before any work.
+_FIGURE_OPTIONS = ("plot", "slices")
+_DIRECTORY_OPTIONS = ("out", "report")
 
 
 def _error_line(args, exc: WorkspaceError) -> str:
     """The one stderr line of a bad input, with the option to blame when it is known."""
     message = " ".join(str(exc).split())
     flag = _FLAGS.get(exc.parameter)
-    if flag is not None and exc.parameter in vars(args):
-        message = f"{flag}: {message}"
+    if exc.parameter == "path":
+        flag = next((f"--{dest}" for dest in _PATH_OPTIONS if getattr(args, dest, None) is not None), None)
+    if flag is not None and flag[2:].replace("-", "_") in vars(args):
+        # "path: 'x.json' is not valid JSON" becomes "--dh: 'x.json' is not valid JSON"
+        message = f"{flag}: {message.removeprefix(f'{exc.parameter}: ')}"
     return f"workspace-sym {args.command}: error: {message}"
+
+
+def _check_outputs(args) -> None:
+    """Refuse an output path that cannot be written before any work is done (one line, exit 2, nothing written)."""
+    from .files import check_output_dir, check_output_file, figure_formats
+
+    for dest in _FIGURE_OPTIONS:
+        if getattr(args, dest, None) is not None:
+            check_output_file(getattr(args, dest), dest, formats=figure_formats())
+    for dest in _DIRECTORY_OPTIONS:
+        if getattr(args, dest, None) is not None:
+            check_output_dir(getattr(args, dest), dest)
 
 
 def main(argv=None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args, unknown = parser.parse_known_args(argv)
+    if unknown:     # said by the subcommand's parser, so the message names the command
+        parser.commands[args.command].error(f"unrecognized arguments: {' '.join(unknown)}")
     try:
+        _check_outputs(args)
         return args.func(args)
     except WorkspaceError as exc:
         print(_error_line(args, exc), file=sys.stderr)

@@ -17,6 +17,7 @@ __all__ = [
     "UnknownNameError",
     "ConstraintError",
     "BoxError",
+    "OutputError",
 ]
 
 
@@ -84,6 +85,10 @@ class ConstraintError(ExpressionError):
 
 class BoxError(WorkspaceError):
     """A box has inverted or non-finite bounds."""
+
+
+class OutputError(WorkspaceError):
+    """An output path cannot be written (missing or unwritable directory, unknown figure format)."""
 
 
 def check_choice(parameter: str, value, allowed) -> None:

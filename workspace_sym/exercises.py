@@ -32,6 +32,7 @@ import numpy as np
 import sympy as sp
 
 from .errors import InvalidParameterError
+from .files import write_files
 from .grading import KEY_FORMAT
 from .kinematics import DHRobot
 from .numbers import fmt_bracket
@@ -352,10 +353,4 @@ def write_exercises(out, *, seed: int, count: int, max_joints: int = 6) -> dict:
     texts["key.json"] = json.dumps(key, indent=2) + "\n"
     texts["answers-template.csv"] = "student,question,answer\n" + "".join(
         f",{q['id']},\n" for q in key["questions"])
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    paths = {}
-    for name, text in texts.items():
-        (out / name).write_text(text)
-        paths[name] = out / name
-    return paths
+    return write_files(texts, out)

@@ -37,7 +37,6 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 import math
 import signal
 import threading
@@ -52,6 +51,7 @@ import sympy as sp
 from .answers import ANGLE_UNITS, Notation, read_answer
 from .errors import ExpressionError, InvalidParameterError, UnknownNameError, WorkspaceError
 from .expressions import parse_expr, read_symbol
+from .files import read_json, read_text, write_files
 from .kinematics import DHRobot
 from .numbers import fmt_bracket
 from .planar import PlanarChain
@@ -134,14 +134,7 @@ class AnswerKey:
     @classmethod
     def from_file(cls, path) -> AnswerKey:
         """Read a key file (JSON)."""
-        path = Path(path)
-        try:
-            data = json.loads(path.read_text())
-        except OSError as exc:
-            raise InvalidParameterError(f"key: cannot read {str(path)!r}: {exc.strerror}", parameter="key") from None
-        except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-            raise InvalidParameterError(f"key: {str(path)!r} is not valid JSON ({exc})", parameter="key") from None
-        return cls.from_dict(data)
+        return cls.from_dict(read_json(path, "key", error=InvalidParameterError))
 
     def question(self, qid: str) -> Question | None:
         return next((q for q in self.questions if q.id == qid), None)
@@ -292,13 +285,7 @@ class GradedAnswer:
 def read_answers_csv(path) -> list[tuple[str, str, str]]:
     """``(student, question, answer)`` rows of a CSV with those three columns (any order, header required)."""
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except OSError as exc:
-        raise InvalidParameterError(f"answers: cannot read {str(path)!r}: {exc.strerror}",
-                                    parameter="answers") from None
-    except UnicodeDecodeError:
-        raise InvalidParameterError(f"answers: {str(path)!r} is not UTF-8 text", parameter="answers") from None
+    text = read_text(path, "answers", error=InvalidParameterError, encoding="utf-8-sig")
     try:
         reader = csv.DictReader(io.StringIO(text))
         header = [h.strip().lower() for h in (reader.fieldnames or [])]
@@ -461,10 +448,5 @@ def write_grading(key: AnswerKey, graded: list[GradedAnswer], out) -> dict:
         doc.table(["question", "answer as read", "verdict", "explanation"],
                   [[g.question, _student_form(key, g), g.verdict.status, g.verdict.message] for g in rows])
     html, markdown = doc.html(Path(".")), doc.markdown()
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    paths = {"csv": out / "graded.csv", "html": out / "grades.html", "markdown": out / "grades.md"}
-    paths["csv"].write_text(buffer.getvalue())
-    paths["html"].write_text(html)
-    paths["markdown"].write_text(markdown)
-    return paths
+    written = write_files({"graded.csv": buffer.getvalue(), "grades.html": html, "grades.md": markdown}, out)
+    return {"csv": written["graded.csv"], "html": written["grades.html"], "markdown": written["grades.md"]}

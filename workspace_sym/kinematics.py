@@ -10,7 +10,6 @@ the fast numeric evaluators are generated from those same expressions.
 
 from __future__ import annotations
 
-import json
 import math
 import os
 from concurrent.futures import ThreadPoolExecutor
@@ -25,6 +24,7 @@ from sympy.polys.matrices import DomainMatrix
 
 from .errors import DHTableError, ExpressionError, InvalidParameterError, JointLimitError, check_choice
 from .expressions import as_sympy, check_joint_limits, is_finite_value, parse_angle, parse_expr, read_symbol
+from .files import read_json
 from .snap import DEFAULT_TOL, Snapper, chop
 from .symbolic import (
     HalfAngleRing,
@@ -413,14 +413,7 @@ class DHRobot:
     def from_file(cls, path, *, exact: bool = True, tol: float = DEFAULT_TOL) -> DHRobot:
         """Read a DH JSON file (see :meth:`from_dict` for ``exact`` and ``tol``)."""
         path = Path(path)
-        try:
-            text = path.read_text()
-        except OSError as exc:
-            raise DHTableError(f"--dh: cannot read {str(path)!r}: {exc.strerror}") from exc
-        try:
-            data = json.loads(text)
-        except json.JSONDecodeError as exc:
-            raise DHTableError(f"--dh: {str(path)!r} is not valid JSON ({exc.msg} at line {exc.lineno})") from exc
+        data = read_json(path, "path", error=DHTableError)
         return cls.from_dict(data, name=path.stem, exact=exact, tol=tol)
 
     @classmethod

@@ -134,11 +134,16 @@ def save_figure(artists, path, *, dpi=120):
     from matplotlib.figure import Figure
 
     fig = obj if isinstance(obj, Figure) else obj.figure
+    from .errors import OutputError
+
     path = Path(path)
     tmp = path.with_name(f".{path.name}.partial{path.suffix}")
     try:
         fig.savefig(tmp, dpi=dpi, bbox_inches="tight")
         os.replace(tmp, path)
+    except (OSError, ValueError) as exc:    # a missing directory, an unknown format (matplotlib's ValueError)
+        reason = getattr(exc, "strerror", None) or " ".join(str(exc).split())[:160]
+        raise OutputError(f"path: cannot write {str(path)!r}: {reason}", parameter="path") from None
     finally:
         plt.close(fig)
         if tmp.exists():

@@ -16,7 +16,6 @@ import html
 import math
 import platform
 import re
-import shutil
 import sys
 import tempfile
 import time
@@ -25,6 +24,7 @@ from pathlib import Path
 import numpy as np
 import sympy as sp
 
+from .files import publish_dir
 from .numbers import fmt, fmt_bound, fmt_bracket, measure_text
 
 __all__ = ["Document", "dh_robot_report", "orthoglide_report", "paving_report", "planar_report", "reproducibility",
@@ -480,15 +480,7 @@ def _reach_section(doc: Document, robot, paving, tmp: Path) -> None:
 
 
 def _finalise(tmp: Path, out: Path) -> None:
-    out.mkdir(parents=True, exist_ok=True)
-    for item in tmp.iterdir():
-        target = out / item.name
-        if target.exists():
-            if target.is_dir():
-                shutil.rmtree(target)
-            else:
-                target.unlink()
-        shutil.move(str(item), str(target))
+    publish_dir(tmp, out)
 
 
 def _degrees(angle, variables=()):

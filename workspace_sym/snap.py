@@ -8,14 +8,22 @@ exact values by two rules:
 
 - an **angle** (radians) within ``tol`` of a multiple of ``pi/360`` (every
   whole and half degree: ``pi/2``, ``pi/3``, ``pi/8``, ``37*pi/36``) becomes
-  that multiple; any other angle stays the float it was (nothing suggests an
-  exact value) **(choice)**;
+  that multiple; so does an angle written with at least
+  ``ROUNDED_DIGITS`` significant digits that lies within two units of its
+  last digit of such a multiple: ROS files write ``pi/2`` as ``1.570796325``
+  (1.8e-9 away) and ``pi`` as ``3.14159265``, and a float written to ten
+  digits says no more than ten digits (a random angle lands that close to the
+  grid with odds below 1 in 10,000; ``tol = 0`` turns this rule off too);
+  any other angle stays the float it was (nothing suggests an exact value)
+  **(choice)**;
 - a **length** becomes the shortest decimal that the float stands for
   (``0.4318`` is ``2159/5000``), the decimal the file or the user wrote.
 
-Each replacement is kept in :attr:`Snapper.notes`; an angle that is close to a
-multiple of ``pi/360`` but beyond ``tol`` (``1.570796325`` is ``1.8e-9`` from
-``pi/2``) gets a note too, saying which tolerance would snap it.
+Each replacement is kept in :attr:`Snapper.notes` (a rounded angle's note says
+that ``exact=False``, ``--keep-floats`` on the command line, keeps the float);
+an angle that is close to a multiple of ``pi/360`` but snaps by neither rule
+(``1.5708`` is ``3.7e-6`` from ``pi/2``) gets a note too, saying which
+tolerance would snap it.
 
 With ``exact=False`` nothing is snapped: floats stay floats, and
 :func:`chop` removes the terms below ``tol`` that their products leave.
@@ -25,14 +33,16 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from decimal import Decimal
 from functools import cache
 
 import sympy as sp
 
-from .errors import InvalidParameterError
+from .errors import DHTableError, InvalidParameterError
 from .expressions import as_sympy
 
-__all__ = ["Snapper", "exact_decimal", "snap_angle", "chop", "summary", "ANGLE_GRID", "DEFAULT_TOL"]
+__all__ = ["Snapper", "exact_decimal", "snap_angle", "written_unit", "chop", "summary", "ANGLE_GRID", "DEFAULT_TOL",
+           "ROUNDED_DIGITS"]
 
 #: Angles snap to multiples of ``pi / ANGLE_GRID`` (whole and half degrees).
 ANGLE_GRID = 360
@@ -40,6 +50,8 @@ ANGLE_GRID = 360
 DEFAULT_TOL = 1e-9
 # An angle this close to the grid but beyond tol is worth a note (a URDF's 1.5708 is 3.7e-6 from pi/2).
 _NEAR = 1e-4
+#: An angle written with at least this many significant digits snaps within two units of its last digit.
+ROUNDED_DIGITS = 8
 # The shortest decimal may differ from the float by a few units in the last place
 # (0.30000000000000004 is 0.3): floats that went through arithmetic lose their last bit.
 _ULPS = 4
@@ -64,7 +76,10 @@ def snap_angle(value: float, tol: float = DEFAULT_TOL) -> sp.Expr | None:
     >>> snap_angle(1.5708) is None     # 3.7e-6 away: a rounded pi/2, but not within 1e-9
     True
     """
-    k = round(value * ANGLE_GRID / math.pi)
+    turns = value * ANGLE_GRID / math.pi
+    if not math.isfinite(turns):          # 1e308 rad: no multiple of pi/360 is within any tolerance worth having
+        return None
+    k = round(turns)
     if abs(value - k * math.pi / ANGLE_GRID) <= tol:
         return sp.Rational(k, ANGLE_GRID) * sp.pi
     return None
@@ -84,12 +99,33 @@ def exact_decimal(value: float) -> sp.Rational:
     """
     if value == 0 or not math.isfinite(value):
         return sp.Rational(0) if value == 0 else sp.Float(value)
+    return sp.Rational(_shortest(value))
+
+
+def _shortest(value: float) -> str:
+    """The shortest decimal text within :data:`_ULPS` units in the last place of ``value`` (nonzero, finite)."""
     slack = _ULPS * math.ulp(value)
     for digits in range(1, 18):
         text = f"{value:.{digits}g}"
         if abs(float(text) - value) <= slack:
-            return sp.Rational(text)
-    return sp.Rational(repr(value))
+            return text
+    return repr(value)
+
+
+def written_unit(value: float) -> tuple[int, float]:
+    """``(digits, unit)``: significant digits of the decimal ``value`` was written as, and its last digit's unit.
+
+    Examples
+    --------
+    >>> written_unit(1.570796325)
+    (10, 1e-09)
+    >>> written_unit(-3.14159265)
+    (9, 1e-08)
+    """
+    if value == 0 or not math.isfinite(value):
+        return 1, 1.0
+    written = Decimal(_shortest(value)).normalize().as_tuple()
+    return len(written.digits), 10.0 ** written.exponent
 
 
 def chop(expr, tol: float):
@@ -135,7 +171,9 @@ class Snapper:
     >>> s.notes
     ['joint 1 alpha: 1.5707963267948966 -> pi/2', 'joint 2 a: 0.4318 -> 2159/5000']
     >>> s.angle(1.570796325, "j1 rpy"), s.notes[-1]         # doctest: +ELLIPSIS
-    (1.57079632500000, 'j1 rpy: 1.570796325 kept as a float: it is 1.8e-09 rad from pi/2, above tol = 1e-09 ...')
+    (pi/2, 'j1 rpy: 1.570796325 -> pi/2 (it is written to 10 digits; exact=False, or --keep-floats, keeps the float)')
+    >>> s.angle(1.5708, "j2 rpy"), s.notes[-1]              # doctest: +ELLIPSIS
+    (1.57080000000000, 'j2 rpy: 1.5708 kept as a float: it is 3.7e-06 rad from pi/2, above tol = 1e-09 ...')
     >>> s.angle(90.0, "joint 3 alpha", degrees=True)
     pi/2
     """
@@ -144,22 +182,36 @@ class Snapper:
     tol: float = DEFAULT_TOL
     #: One sentence per replacement (and per near miss).
     notes: list[str] = field(default_factory=list)
+    #: Raised, naming the field, for a number that is not finite (NaN or infinite) or too large.
+    error: type = field(default=DHTableError, repr=False)
 
     def __post_init__(self):
         self.tol = check_tol(self.tol)
 
+    def _finite(self, value, where: str, *, degrees: bool = False) -> float:
+        """``value`` as a float, refused (:attr:`error`) unless finite, also once in radians."""
+        number = float(value)
+        if not math.isfinite(number) or (degrees and not math.isfinite(math.radians(number))):
+            raise self.error(f"{where}: expected a finite number; got {number!r}", parameter=where)
+        return number
+
     def angle(self, value, where: str, *, degrees: bool = False) -> sp.Expr:
         """An angle, returned in radians: snapped to ``k pi / 360`` within ``tol`` radians, else the float."""
-        value = float(value)
+        value = self._finite(value, where, degrees=degrees)
         radians = math.radians(value) if degrees else value
         kept = sp.Float(value) * sp.pi / 180 if degrees else sp.Float(value)
         if not self.exact:
             return kept
-        snapped = snap_angle(radians, self.tol)
+        snapped, rounded = snap_angle(radians, self.tol), ""
+        if snapped is None:
+            digits, unit = written_unit(value)
+            if digits >= ROUNDED_DIGITS and self.tol > 0:      # tol = 0: only floats on the grid snap
+                snapped = snap_angle(radians, 2 * (math.radians(unit) if degrees else unit))
+                rounded = (f" (it is written to {digits} digits; exact=False, or --keep-floats, keeps the float)")
         if snapped is not None:
             exact_given = snapped * 180 / sp.pi if degrees else snapped
             if _differs(exact_given, value):
-                self.notes.append(f"{where}: {value!r} -> {sp.sstr(exact_given)}")
+                self.notes.append(f"{where}: {value!r} -> {sp.sstr(exact_given)}{rounded}")
             return snapped
         near = snap_angle(radians, _NEAR)
         if near is not None:
@@ -170,7 +222,7 @@ class Snapper:
 
     def length(self, value, where: str) -> sp.Expr:
         """A length (or any non-angle number): the decimal it spells, or the float with ``exact=False``."""
-        value = float(value)
+        value = self._finite(value, where)
         if not self.exact:
             return sp.Float(value)
         exact = exact_decimal(value)
@@ -185,7 +237,7 @@ class Snapper:
         ``(sqrt(6) +- sqrt(2))/4`` of 15 and 75 degrees) are the exact values
         such entries take in real robots.
         """
-        value = float(value)
+        value = self._finite(value, where)
         if not self.exact:
             return sp.Float(value)
         for candidate, approx in _cosines():

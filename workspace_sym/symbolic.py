@@ -573,6 +573,8 @@ def decimal_form(expr):
     '0.4*c1 + 0.3*c2'
     >>> decimal_form(c2/2 + c1/4)
     c1/4 + c2/2
+    >>> sp.sstr(decimal_form(sp.sqrt(18686333)*c2/10000 + 2159*c1/5000), full_prec=False)   # no 0.43*c2
+    '0.4318*c1 + sqrt(18686333)*c2/10000'
     """
     rationals = expr.atoms(sp.Rational) if isinstance(expr, sp.Basic | sp.MatrixBase) else set()
     if not any(_is_decimal(r) for r in rationals):
@@ -593,7 +595,12 @@ def _spread_decimals(expr):
             if len(sums) == 1:
                 inner = sp.Add(*(coeff * t for t in sums[0].args))
                 return sp.Mul(*(_spread_decimals(f) for f in factors if f is not sums[0]), _spread_decimals(inner))
+            if any(f.is_number for f in factors):
+                # sqrt(18686333)/10000: a float times sqrt(...) is evaluated at the float's few digits (0.43)
+                return sp.Mul(coeff, *(_spread_decimals(f) for f in factors))
             return sp.Mul(_decimal(coeff), *(_spread_decimals(f) for f in factors))
+    if expr.is_Pow:       # an exponent is no length: sqrt(x) keeps its 1/2 (a float 0.5 would evaluate it)
+        return sp.Pow(_spread_decimals(expr.base), expr.exp)
     return expr.func(*(_spread_decimals(a) for a in expr.args))
 
 

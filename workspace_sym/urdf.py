@@ -105,10 +105,11 @@ def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None
     joints = model.robot.joints
     by_child = {j.child: j for j in joints}
     links = [link.name for link in model.robot.links]
+    base_given = base_link is not None
     base_link = _base(links, by_child, base_link, path)
-    tip_link = _tip(links, joints, by_child, base_link, tip_link, path)
+    tip_link = _tip(links, joints, by_child, base_link, tip_link, path, base_given)
     chain = _path(by_child, base_link, tip_link, path)
-    snapper = Snapper(exact=exact, tol=tol)
+    snapper = Snapper(exact=exact, tol=tol, error=URDFError)
     return _dh_robot(model.robot.name or path.stem, chain, snapper, base_link, tip_link)
 
 
@@ -117,16 +118,16 @@ def _load(path: Path):
     try:
         import yourdfpy
     except ImportError:
-        raise URDFError("--urdf: reading URDF files needs yourdfpy: pip install 'workspace_sym[urdf]'",
-                        parameter="urdf") from None
+        raise URDFError("path: reading URDF files needs yourdfpy: pip install 'workspace_sym[urdf]'",
+                        parameter="path") from None
     try:
         text = path.read_bytes()
     except OSError as exc:
-        raise URDFError(f"--urdf: cannot read {str(path)!r}: {exc.strerror}", parameter="urdf") from None
+        raise URDFError(f"path: cannot read {str(path)!r}: {exc.strerror}", parameter="path") from None
     # An expanded file may keep the xmlns:xacro declaration; macros and ${...} mean it was not expanded.
     if path.suffix == ".xacro" or b"<xacro:" in text or b"${" in text:
-        raise URDFError(f"--urdf: {str(path)!r} is a xacro file, which is not read here; expand it first "
-                        "(xacro FILE > robot.urdf) and pass the .urdf", parameter="urdf")
+        raise URDFError(f"path: {str(path)!r} is a xacro file, which is not read here; expand it first "
+                        "(xacro FILE > robot.urdf) and pass the .urdf", parameter="path")
     # yourdfpy logs a parse error and then reads whatever lxml can recover: catch that as a failure.
     logger = logging.getLogger("yourdfpy")
     errors = _Collect()
@@ -134,18 +135,20 @@ def _load(path: Path):
     propagate, logger.propagate = logger.propagate, False
     model, failure = None, None
     try:
-        model = yourdfpy.URDF.load(str(path), build_scene_graph=False, build_collision_scene_graph=False,
-                                   load_meshes=False, load_collision_meshes=False)
+        # nan or inf in an origin: numpy warns while building the matrix; the value is refused when read
+        with np.errstate(all="ignore"):
+            model = yourdfpy.URDF.load(str(path), build_scene_graph=False, build_collision_scene_graph=False,
+                                       load_meshes=False, load_collision_meshes=False)
     except Exception as exc:  # broad on purpose: lxml, KeyError on a missing attribute, float('abc'), ...
         failure = " ".join(str(exc).split())[:120] or type(exc).__name__
     finally:
         logger.removeHandler(errors)
         logger.propagate = propagate
     if errors.messages:   # the XML itself is broken: say so rather than what the recovery tripped on
-        raise URDFError(f"--urdf: {str(path)!r} is not well-formed XML ({errors.messages[0][:120]})",
-                        parameter="urdf")
+        raise URDFError(f"path: {str(path)!r} is not well-formed XML ({errors.messages[0][:120]})",
+                        parameter="path")
     if failure is not None:
-        raise URDFError(f"--urdf: cannot read {str(path)!r} as URDF ({failure})", parameter="urdf")
+        raise URDFError(f"path: cannot read {str(path)!r} as URDF ({failure})", parameter="path")
     return model
 
 
@@ -161,20 +164,24 @@ class _Collect(logging.Handler):
 def _base(links, by_child, base_link, path) -> str:
     if base_link is not None:
         if base_link not in links:
-            raise URDFError(f"--base: no link {base_link!r} in {path.name}; links: {_listed(links)}",
+            raise URDFError(f"base_link: no link {base_link!r} in {path.name}; links: {_listed(links)}",
                             parameter="base_link")
         return base_link
-    roots = [name for name in links if name not in by_child]
+    roots = _roots(links, by_child)
     if len(roots) != 1:
-        raise URDFError(f"--urdf: {path.name} has {len(roots)} root links ({_listed(roots)}); name one with --base",
-                        parameter="urdf")
+        raise URDFError(f"base_link: {path.name} has {len(roots)} root links ({_listed(roots)}); expected the "
+                        "base link to be named", parameter="base_link")
     return roots[0]
 
 
-def _tip(links, joints, by_child, base_link, tip_link, path) -> str:
+def _roots(links, by_child) -> list:
+    return [name for name in links if name not in by_child]
+
+
+def _tip(links, joints, by_child, base_link, tip_link, path, base_given: bool = False) -> str:
     if tip_link is not None:
         if tip_link not in links:
-            raise URDFError(f"--tip: no link {tip_link!r} in {path.name}; links: {_listed(links)}",
+            raise URDFError(f"tip_link: no link {tip_link!r} in {path.name}; links: {_listed(links)}",
                             parameter="tip_link")
         return tip_link
     children = {}
@@ -187,10 +194,14 @@ def _tip(links, joints, by_child, base_link, tip_link, path) -> str:
         if not below and moved:
             leaves.append(link)
         stack.extend((j.child, moved or j.type in MOVING) for j in below)
+    if not leaves and base_given:      # the base chosen is the problem, not the tip left to its default
+        raise URDFError(f"base_link: no joint moves a link below {base_link!r} in {path.name}; expected a link "
+                        f"above the chain's joints (root links: {_listed(_roots(links, by_child))})",
+                        parameter="base_link")
     if len(leaves) != 1:
         found = f"leaves {_listed(sorted(leaves))}" if leaves else "no link moved by a joint"
-        raise URDFError(f"--tip: {path.name} has {found} below {base_link!r}; name the tip link with --tip",
-                        parameter="tip_link")
+        raise URDFError(f"tip_link: {path.name} has {found} below {base_link!r}; expected the tip link to be "
+                        "named", parameter="tip_link")
     return leaves[0]
 
 
@@ -200,25 +211,25 @@ def _path(by_child, base_link, tip_link, path) -> list:
     while link != base_link:
         joint = by_child.get(link)
         if joint is None:
-            raise URDFError(f"--tip: link {tip_link!r} is not connected below {base_link!r} in {path.name}",
-                            parameter="tip_link")
+            raise URDFError(f"tip_link: link {tip_link!r} is not connected below base link {base_link!r} in "
+                            f"{path.name}", parameter="tip_link")
         chain.append(joint)
         link = joint.parent
         if len(chain) > len(by_child):
-            raise URDFError(f"--urdf: the joints of {path.name} form a loop", parameter="urdf")
+            raise URDFError(f"path: the joints of {path.name} form a loop", parameter="path")
     chain.reverse()
     for j in chain:
         if j.type not in (*MOVING, "fixed"):
-            raise URDFError(f"--urdf: joint {j.name!r} is {j.type}; a serial chain takes revolute, continuous, "
-                            "prismatic and fixed joints only", parameter="urdf")
+            raise URDFError(f"path: joint {j.name!r} is {j.type}; a serial chain takes revolute, continuous, "
+                            "prismatic and fixed joints only", parameter="path")
         if j.mimic is not None:
-            raise URDFError(f"--urdf: joint {j.name!r} mimics {j.mimic.joint!r}; mimic joints are not supported",
-                            parameter="urdf")
+            raise URDFError(f"path: joint {j.name!r} mimics {j.mimic.joint!r}; mimic joints are not supported",
+                            parameter="path")
         if j.type in ("revolute", "prismatic") and j.limit is None:
-            raise URDFError(f"--urdf: joint {j.name!r} ({j.type}) has no <limit>; URDF requires lower and upper "
-                            "limits for it (or make it continuous)", parameter="urdf")
+            raise URDFError(f"path: joint {j.name!r} ({j.type}) has no <limit>; URDF requires lower and upper "
+                            "limits for it (or make it continuous)", parameter="path")
     if not any(j.type in MOVING for j in chain):
-        raise URDFError(f"--urdf: no moving joint between {base_link!r} and {tip_link!r}", parameter="urdf")
+        raise URDFError(f"path: no moving joint between {base_link!r} and {tip_link!r}", parameter="path")
     return chain
 
 
@@ -254,7 +265,7 @@ def _axis(joint, snapper: Snapper) -> tuple[sp.Matrix, sp.Expr]:
     u = sp.Matrix([snapper.cosine(v, f"joint {joint.name!r} axis") for v in raw])
     norm2 = _clean(u.dot(u))
     if norm2 == 0 or float(norm2) < 1e-24:
-        raise URDFError(f"--urdf: joint {joint.name!r} has a zero axis {raw.tolist()}", parameter="urdf")
+        raise URDFError(f"path: joint {joint.name!r} has a zero axis {raw.tolist()}", parameter="path")
     norm = _clean(sp.sqrt(norm2))
     return (u if norm == 1 else (u / norm).applyfunc(_clean)), norm
 

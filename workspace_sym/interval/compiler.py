@@ -11,9 +11,18 @@ still repeated, the evaluator also computes the centred (mean-value) form
 Rewritings are exact: the constants are made exact first
 (:func:`~workspace_sym.interval.graph.exact_constants`) and hidden behind
 placeholder symbols while SymPy rewrites, and a candidate is kept only when
-it expands back to the expression.  The preparation is bounded: expressions
-larger than ``MAX_REWRITE_OPS`` operations, or a search that has run for
-``REWRITE_SECONDS``, keep the forms found so far (at least the natural one).
+it expands back to the expression.  The preparation is bounded, and every
+stage whose cost grows with the input looks at its budget before or while it
+runs: an expression in which each variable occurs once is already its best
+form (no search at all: ``(x + y + 1)**1000`` is evaluated as written, an
+interval power of an interval sum); the size of the expanded polynomial is
+bounded from the expression tree before anything is expanded, and the search
+is skipped past ``MAX_EXPANDED_TERMS`` terms or total degree
+``MAX_REWRITE_DEGREE`` (SymPy takes 30 s to factor ``(x + y)**100``); the
+expansion itself (:func:`expand_bounded`) checks the number of terms and the
+clock after every product; expressions larger than ``MAX_REWRITE_OPS``
+operations, or a search that has run for ``REWRITE_SECONDS``, keep the forms
+found so far (at least the natural one).
 
 The evaluators are :class:`~workspace_sym.interval.graph.Graph` forward
 sweeps; compiled evaluators are cached per (expression, variables, backend).
@@ -21,6 +30,7 @@ sweeps; compiled evaluators are cached per (expression, variables, backend).
 
 from __future__ import annotations
 
+import math
 import time
 from functools import lru_cache
 
@@ -31,11 +41,14 @@ from ..expressions import as_sympy
 from . import arith
 from .graph import Graph, exact_constants
 
-__all__ = ["best_form", "compile_expr", "CompiledExpr", "BACKENDS", "repeated_occurrences"]
+__all__ = ["best_form", "compile_expr", "CompiledExpr", "BACKENDS", "repeated_occurrences", "expansion_bound",
+           "expand_bounded", "OverBudget"]
 
 BACKENDS = ("numpy", "mpmath")
 MAX_REWRITE_OPS = 400     # larger expressions are evaluated as written
 REWRITE_SECONDS = 2.0     # no further candidate form is tried after this
+MAX_EXPANDED_TERMS = 200  # polynomials that expand to more terms are evaluated as written
+MAX_REWRITE_DEGREE = 40   # ... and so are those of higher total degree (factoring cost grows steeply with it)
 
 
 # ----------------------------------------------------------------------------- forms
@@ -85,6 +98,111 @@ def _hide_constants(expr: sp.Expr):
     return expr.xreplace(hide), {d: r for r, d in hide.items()}
 
 
+# ----------------------------------------------------------------------------- budgets
+class OverBudget(Exception):
+    """A bounded stage gave up: its input would grow past its budget (terms, degree or time)."""
+
+
+def expansion_bound(expr: sp.Expr) -> tuple[int, int]:
+    """``(terms, degree)``: upper bounds on the number of terms and the total degree of ``expand(expr)``.
+
+    Computed on the expression tree, without expanding (linear in the size
+    of the tree): a sum adds the terms of its parts, a product multiplies
+    them, a power ``b**n`` has at most ``C(n + t - 1, t - 1)`` terms when
+    ``b`` has ``t``.  Every symbol has degree 1; a subexpression that is not
+    a sum, product or positive integer power counts as one term of degree 1
+    when it holds a symbol, 0 otherwise.
+
+    Examples
+    --------
+    >>> x, y = sp.symbols("x y")
+    >>> expansion_bound((x + y + 1)**1000)
+    (501501, 1000)
+    >>> expansion_bound(x**2 - 10*x + y**2 - 119)
+    (4, 2)
+    """
+    seen: dict = {}
+
+    def walk(e):
+        if e in seen:
+            return seen[e]
+        if e.is_Add or e.is_Mul:
+            parts = [walk(a) for a in e.args]
+            if e.is_Add:
+                out = (sum(t for t, _ in parts), max(d for _, d in parts))
+            else:
+                out = (math.prod(t for t, _ in parts), sum(d for _, d in parts))
+        elif e.is_Pow and e.exp.is_Integer and e.exp > 0:
+            t, d = walk(e.base)
+            n = int(e.exp)
+            # C(n + t - 1, t - 1) grows fast: stop computing it once it is past any budget
+            out = (math.comb(n + t - 1, t - 1) if min(n, t - 1) < 64 else 2**64, n * d)
+        else:
+            out = (1, 1 if e.free_symbols else 0)
+        seen[e] = out
+        return out
+
+    return walk(expr)
+
+
+def expand_bounded(expr: sp.Expr, gens, *, max_terms: int, deadline: float | None = None):
+    """``expr`` expanded as a polynomial in ``gens`` (a SymPy ring element), or :class:`OverBudget`.
+
+    The expansion is done by ring arithmetic (sums, products and powers by
+    repeated squaring) and the number of terms and the clock are checked
+    after every operation, so no step runs far past ``max_terms`` or
+    ``deadline`` (a :func:`time.perf_counter` value).  Constants other than
+    rationals (``sqrt(2)``, ``pi``) are coefficients of the expression
+    domain.  Raises :class:`OverBudget`, or ``ValueError`` when ``expr`` is
+    not a polynomial in ``gens``.
+
+    Examples
+    --------
+    >>> x, y = sp.symbols("x y")
+    >>> expand_bounded((x + y)**2 - x**2, (x, y), max_terms=10).as_expr()
+    2*x*y + y**2
+    >>> expand_bounded((x + y)**50, (x, y), max_terms=10)
+    Traceback (most recent call last):
+    ...
+    workspace_sym.interval.compiler.OverBudget: more than 10 terms
+    """
+    gens = tuple(gens)
+    numbers = all(a.is_Rational for a in expr.atoms(sp.Number)) and not (
+        expr.atoms(sp.NumberSymbol) or any(not a.free_symbols for a in expr.atoms(sp.Function)))
+    R = sp.polys.rings.PolyRing(gens, sp.QQ if numbers else sp.EX, sp.polys.orderings.lex)
+    where = {g: R.gens[k] for k, g in enumerate(gens)}
+
+    def check(p):
+        if len(p) > max_terms:
+            raise OverBudget(f"more than {max_terms} terms")
+        if deadline is not None and time.perf_counter() > deadline:
+            raise OverBudget("out of time")
+        return p
+
+    def walk(e):
+        if e in where:
+            return where[e]
+        if not (e.free_symbols & set(gens)):
+            return R(R.domain.from_sympy(e))
+        if e.is_Add or e.is_Mul:
+            out = walk(e.args[0])
+            for a in e.args[1:]:
+                out = check(out + walk(a) if e.is_Add else out * walk(a))
+            return out
+        if e.is_Pow and e.exp.is_Integer and e.exp > 0:
+            base, n, out = walk(e.base), int(e.exp), R.one
+            while n:                      # square and multiply, checked at every step
+                if n & 1:
+                    out = check(out * base)
+                n >>= 1
+                if n:
+                    base = check(base * base)
+            return out
+        raise ValueError(f"{e} is not a polynomial in {gens}")
+
+    return walk(expr)
+
+
 def best_form(expr, variables, *, seconds: float = REWRITE_SECONDS) -> sp.Expr:
     """The rewriting of ``expr`` whose interval extension overestimates least (an exact identity).
 
@@ -103,22 +221,40 @@ def best_form(expr, variables, *, seconds: float = REWRITE_SECONDS) -> sp.Expr:
     """
     expr = exact_constants(as_sympy(expr))
     variables = tuple(variables)
+    if not _worth_rewriting(expr, variables):
+        return expr
     candidates = [expr]
-    if variables and expr.is_polynomial(*variables) and sp.count_ops(expr) <= MAX_REWRITE_OPS:
-        hidden, back = _hide_constants(expr)
-        reference = sp.expand(hidden)
-        start = time.perf_counter()
-        for make in (sp.factor, lambda e: sp.horner(e, *variables),
-                     lambda e: _complete_squares(sp.expand(e), variables)):
-            if time.perf_counter() - start >= seconds:
-                break
-            try:
-                form = make(hidden)
-            except (sp.polys.polyerrors.BasePolynomialError, ValueError, TypeError):
-                continue
-            if form is not None and sp.expand(form - reference) == 0:
-                candidates.append(form.xreplace(back))
+    hidden, back = _hide_constants(expr)
+    terms, degree = expansion_bound(hidden)     # the placeholders count as symbols for SymPy's factoring
+    if terms > MAX_EXPANDED_TERMS or degree > MAX_REWRITE_DEGREE:
+        return expr
+    gens = variables + tuple(sorted(hidden.free_symbols - set(variables), key=sp.default_sort_key))
+    start = time.perf_counter()
+    deadline = start + seconds
+    try:
+        reference = expand_bounded(hidden, gens, max_terms=MAX_EXPANDED_TERMS, deadline=deadline)
+    except (OverBudget, ValueError, sp.polys.polyerrors.BasePolynomialError):
+        return expr
+    for make in (sp.factor, lambda e: sp.horner(e, *variables),
+                 lambda e: _complete_squares(reference.as_expr(), variables)):
+        if time.perf_counter() >= deadline:
+            break
+        try:
+            form = make(hidden)
+            # the candidate is kept when it is the same polynomial (checked within the same budget)
+            same = form is not None and expand_bounded(form, gens, max_terms=4 * MAX_EXPANDED_TERMS) == reference
+        except (OverBudget, sp.polys.polyerrors.BasePolynomialError, ValueError, TypeError):
+            continue
+        if same:
+            candidates.append(form.xreplace(back))
     return min(candidates, key=lambda e: (repeated_occurrences(e, variables), sp.count_ops(e)))
+
+
+def _worth_rewriting(expr: sp.Expr, variables) -> bool:
+    """Whether a form with fewer repeated variables may exist and the search fits the budgets (cheap checks)."""
+    if not variables or repeated_occurrences(expr, variables) == 0:
+        return False              # each variable once: the natural extension is already the tightest
+    return expr.is_polynomial(*variables) and sp.count_ops(expr) <= MAX_REWRITE_OPS
 
 
 # ----------------------------------------------------------------------------- public
@@ -135,7 +271,10 @@ class CompiledExpr:
         self.backend = backend
         expr = exact_constants(as_sympy(expr))
         self.expr = best_form(expr, self.variables)
-        self.centred = repeated_occurrences(self.expr, self.variables) > 0 and backend == "numpy"
+        # The mean-value form needs a derivative: Abs has none at 0 (SymPy writes it with re(x) and im(x)),
+        # so an expression holding Abs is enclosed by its natural extension alone.
+        self.centred = (repeated_occurrences(self.expr, self.variables) > 0 and backend == "numpy"
+                        and not self.expr.has(sp.Abs))
         roots = [self.expr]
         if self.centred:
             roots += [best_form(sp.diff(expr, v), self.variables) for v in self.variables]

@@ -34,7 +34,7 @@ from . import mp as mpi
 
 __all__ = ["Graph", "exact_constants", "SUPPORTED", "numpy_constant"]
 
-SUPPORTED = "+ - * /, integer powers, sqrt, sin, cos, Abs"
+SUPPORTED = "+ - * /, integer and half-integer powers, sqrt, sin, cos, Abs"
 _ONE = (1.0, 1.0)
 _FUNCTIONS = {sp.sin: "sin", sp.cos: "cos", sp.Abs: "abs"}
 
@@ -224,11 +224,12 @@ class Graph:
                 b = self._build(base)
                 p = b if int(e) == -1 else self._add(("pow", (b,), -int(e)), base ** (-e))
                 return self._add(("recip", (p,), None), expr)
-            if e == sp.Rational(1, 2):
-                return self._add(("sqrt", (self._build(base),), None), expr)
-            if e == sp.Rational(-1, 2):
-                r = self._add(("sqrt", (self._build(base),), None), sp.sqrt(base))
-                return self._add(("recip", (r,), None), expr)
+            if e.is_Rational and e.q == 2:     # sqrt(x)**3 is x**(3/2) in SymPy
+                if e < 0:
+                    return self._add(("recip", (self._build(base ** -e),), None), expr)
+                if e.p == 1:
+                    return self._add(("sqrt", (self._build(base),), None), expr)
+                return self._add(("pow", (self._build(sp.sqrt(base)),), int(e.p)), expr)
         kind = _FUNCTIONS.get(type(expr))
         if kind is not None:
             return self._add((kind, (self._build(expr.args[0]),), None), expr)

@@ -89,6 +89,9 @@ class Box:
                 raise BoxError(f"box: {len(pairs)} bounds for {len(variables)} variables")
         if not pairs:
             raise BoxError("box: at least one variable is needed; got an empty box")
+        repeated = sorted({str(v) for v in variables if list(map(str, variables)).count(str(v)) > 1})
+        if repeated:
+            raise BoxError(f"box: each variable needs one range; {', '.join(repeated)} is given more than once")
         lower, upper = [], []
         for v, pair in zip(variables, pairs):
             try:
@@ -103,8 +106,14 @@ class Box:
                 raise BoxError(f"box: bounds of {v} must be finite; got [{lo}, {hi}]")
             if lo_f > hi_f:
                 raise BoxError(f"box: lower bound of {v} ({lo}) must not exceed its upper bound ({hi})")
+            if not math.isfinite(hi_f - lo_f):
+                raise BoxError(f"box: bounds of {v} must be finite with a finite width; got [{lo}, {hi}], whose "
+                               "width overflows double precision")
             lower.append(lo_f)
             upper.append(hi_f)
+        if not math.isfinite(math.prod(h - lo_ for lo_, h in zip(lower, upper))):
+            raise BoxError(f"box: the measure of the box overflows double precision; got "
+                           f"{', '.join(f'{v} in [{a:g}, {b:g}]' for v, a, b in zip(variables, lower, upper))}")
         return cls(variables, tuple(lower), tuple(upper))
 
     @property

@@ -1,0 +1,230 @@
+"""Files named by the user: read as text or JSON, and written whole or not at all.
+
+Every reader of a user's file (DH tables, URDF files, answer keys and CSVs)
+and every writer of a user's output path (figures, reports, grades, exercise
+sheets) goes through here, so that a missing file, a file that is not UTF-8,
+JSON nested 100,000 deep, a missing or unwritable output directory or an
+unknown figure format each raise a :class:`~workspace_sym.errors.WorkspaceError`
+naming the parameter, the path and what was expected, never a traceback.
+
+Outputs are checked before the work starts (:func:`check_output_file`,
+:func:`check_output_dir`) and written under a temporary name that is renamed
+once complete (:func:`publish_dir`), so a failure leaves nothing half-written.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import tempfile
+from pathlib import Path
+
+from .errors import OutputError, WorkspaceError
+
+__all__ = ["read_text", "read_json", "check_output_file", "check_output_dir", "publish_dir", "write_files",
+           "figure_formats"]
+
+
+def read_text(path, parameter: str, *, error: type[WorkspaceError] = WorkspaceError, encoding: str = "utf-8") -> str:
+    """The text of the file ``path``; ``error`` (naming ``parameter``) when it cannot be read or is not UTF-8.
+
+    Examples
+    --------
+    >>> read_text("/no/such/file.json", "path")
+    Traceback (most recent call last):
+    ...
+    workspace_sym.errors.WorkspaceError: path: cannot read '/no/such/file.json': No such file or directory
+    """
+    path = Path(path)
+    try:
+        return path.read_text(encoding=encoding)
+    except UnicodeDecodeError as exc:
+        raise error(f"{parameter}: {str(path)!r} is not UTF-8 text (byte {exc.object[exc.start]:#04x} at offset "
+                    f"{exc.start}); save it as UTF-8", parameter=parameter) from None
+    except OSError as exc:
+        raise error(f"{parameter}: cannot read {str(path)!r}: {exc.strerror or exc}", parameter=parameter) from None
+
+
+def read_json(path, parameter: str, *, error: type[WorkspaceError] = WorkspaceError):
+    """The JSON value of the file ``path`` (UTF-8); ``error`` for unreadable, invalid or too deeply nested JSON.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> deep = pathlib.Path(tempfile.mkdtemp()) / "deep.json"
+    >>> _ = deep.write_text("[" * 100000 + "]" * 100000)
+    >>> read_json(deep, "path")                              # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    workspace_sym.errors.WorkspaceError: path: '...deep.json' is not valid JSON (nested too deeply)
+    """
+    text = read_text(path, parameter, error=error)
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError as exc:
+        reason = f"{exc.msg} at line {exc.lineno}"
+    except RecursionError:
+        reason = "nested too deeply"
+    raise error(f"{parameter}: {str(path)!r} is not valid JSON ({reason})", parameter=parameter)
+
+
+def figure_formats() -> tuple[str, ...]:
+    """File name extensions matplotlib can write (``png``, ``pdf``, ``svg``, ...)."""
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    return tuple(sorted(FigureCanvasBase.get_supported_filetypes()))
+
+
+def _writable_dir(directory: Path, parameter: str, path: Path) -> None:
+    """Raise unless ``directory`` can hold new files, or can be created (its nearest existing ancestor can)."""
+    probe = directory
+    while not probe.exists():
+        if probe.parent == probe:
+            break
+        probe = probe.parent
+    if not probe.is_dir():
+        raise OutputError(f"{parameter}: cannot write {str(path)!r}: {str(probe)!r} is not a directory",
+                          parameter=parameter)
+    if not os.access(probe, os.W_OK | os.X_OK):
+        raise OutputError(f"{parameter}: cannot write {str(path)!r}: directory {str(probe)!r} is not writable",
+                          parameter=parameter)
+    if probe != directory and not _can_create(probe):
+        raise OutputError(f"{parameter}: cannot write {str(path)!r}: no directory can be created in {str(probe)!r}",
+                          parameter=parameter)
+
+
+def _can_create(directory: Path) -> bool:
+    """Whether a directory can be made in ``directory`` (write bits are not enough: /proc, read-only mounts)."""
+    try:
+        tempfile.mkdtemp(prefix=".workspace-sym-probe-", dir=directory)
+    except OSError:
+        return False
+    else:
+        for probe in directory.glob(".workspace-sym-probe-*"):
+            shutil.rmtree(probe, ignore_errors=True)
+        return True
+
+
+def check_output_file(path, parameter: str, *, formats=None) -> Path:
+    """``path`` as a Path, once its directory exists and is writable and its extension is one of ``formats``.
+
+    Called before a long computation, so that a typo in the output path is
+    reported at once.  The directory must exist (a figure is not written into
+    a directory that nobody created).
+
+    Examples
+    --------
+    >>> check_output_file("/missing/dir/x.png", "plot")
+    Traceback (most recent call last):
+    ...
+    workspace_sym.errors.OutputError: plot: cannot write '/missing/dir/x.png': directory '/missing/dir' does not \
+exist
+    >>> check_output_file("x.txt", "plot", formats=("pdf", "png"))
+    Traceback (most recent call last):
+    ...
+    workspace_sym.errors.OutputError: plot: cannot write 'x.txt': unknown image format 'txt'; expected a file \
+name ending in .pdf, .png
+    """
+    path = Path(path)
+    if formats is not None:
+        suffix = path.suffix.lower().lstrip(".")
+        if suffix not in formats:
+            got = f"unknown image format {suffix!r}" if suffix else "no extension"
+            raise OutputError(f"{parameter}: cannot write {str(path)!r}: {got}; expected a file name ending in "
+                              + ", ".join(f".{f}" for f in formats), parameter=parameter)
+    directory = path.parent
+    if not directory.is_dir():
+        what = "is not a directory" if directory.exists() else "does not exist"
+        raise OutputError(f"{parameter}: cannot write {str(path)!r}: directory {str(directory)!r} {what}",
+                          parameter=parameter)
+    if path.is_dir():
+        raise OutputError(f"{parameter}: cannot write {str(path)!r}: it is a directory", parameter=parameter)
+    _writable_dir(directory, parameter, path)
+    return path
+
+
+def check_output_dir(path, parameter: str) -> Path:
+    """``path`` as a Path, once it is a writable directory or can be created (before any work is done).
+
+    Examples
+    --------
+    >>> check_output_dir("/proc/1/new-report", "out")          # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    workspace_sym.errors.OutputError: out: cannot write '/proc/1/new-report': ...
+    """
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise OutputError(f"{parameter}: cannot write into {str(path)!r}: it is a file, not a directory",
+                          parameter=parameter)
+    _writable_dir(path, parameter, path)
+    return path
+
+
+def publish_dir(files: Path, out, parameter: str = "out") -> Path:
+    """Move the files of the directory ``files`` into ``out`` (created if needed) without leaving it half-filled.
+
+    A new ``out`` is first filled as a hidden sibling and renamed in one step;
+    into an existing ``out`` the files are copied as hidden siblings first
+    and renamed only once all of them are there.  On failure the hidden
+    copies are removed and :class:`OutputError` names ``parameter``.
+    """
+    out = Path(out)
+    check_output_dir(out, parameter)
+    staged = []
+    try:
+        out.parent.mkdir(parents=True, exist_ok=True)
+        if not out.exists():
+            partial = Path(tempfile.mkdtemp(prefix=f".{out.name}.partial-", dir=out.parent))
+            staged.append(partial)
+            for item in files.iterdir():
+                _copy(item, partial / item.name)
+            partial.chmod(0o777 & ~_umask())
+            os.rename(partial, out)
+            staged.clear()
+            return out
+        pairs = []
+        for item in files.iterdir():
+            hidden = out / f".{item.name}.partial"
+            staged.append(hidden)
+            _copy(item, hidden)
+            pairs.append((hidden, out / item.name))
+        for hidden, target in pairs:
+            if target.is_dir() and not target.is_symlink():
+                shutil.rmtree(target)
+            os.replace(hidden, target)
+        staged.clear()
+        return out
+    except OSError as exc:
+        raise OutputError(f"{parameter}: cannot write into {str(out)!r}: {exc.strerror or exc}",
+                          parameter=parameter) from None
+    finally:
+        for leftover in staged:
+            shutil.rmtree(leftover, ignore_errors=True) if leftover.is_dir() else leftover.unlink(missing_ok=True)
+
+
+def write_files(texts: dict, out, parameter: str = "out") -> dict:
+    """Write ``{file name: text}`` into the directory ``out`` as :func:`publish_dir` does: all or nothing.
+
+    Returns ``{file name: path}``.
+    """
+    out = check_output_dir(out, parameter)
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, text in texts.items():
+            (Path(tmp) / name).write_text(text, encoding="utf-8")
+        publish_dir(Path(tmp), out, parameter)
+    return {name: out / name for name in texts}
+
+
+def _copy(source: Path, target: Path) -> None:
+    if source.is_dir():
+        shutil.copytree(source, target)
+    else:
+        shutil.copyfile(source, target)
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
