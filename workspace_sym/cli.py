@@ -215,6 +215,23 @@ def cmd_jacobian(args) -> int:
     return 0
 
 
+def cmd_codegen(args) -> int:
+    """Write C for the forward kinematics and the geometric Jacobian of a robot."""
+    robot = _robot_from_args(args)
+    start = time.perf_counter()
+    paths = robot.codegen(out=args.out, lang=args.lang, prefix=args.prefix)
+    _wrote(*paths)
+    functions = {"fk": f"void {args.prefix}fk(const double *q, double *T)",
+                 "jacobian": f"void {args.prefix}jacobian(const double *q, double *J)"}
+    if args.json:
+        _emit_json({"robot": robot.name, "lang": args.lang, "joints": robot.n, "files": [str(p) for p in paths],
+                    "functions": functions, "seconds": time.perf_counter() - start})
+        return 0
+    print(f"{robot.name}: {functions['fk']} (4 x 4 row-major) and {functions['jacobian']} (6 x {robot.n} "
+          f"row-major) in {paths[1]}, declared in {paths[0]}")
+    return 0
+
+
 def _power(text: str, m: int, *, latex: bool = False) -> str:
     """``f`` or ``(f)^m`` for a factor of multiplicity ``m``."""
     if m == 1:
@@ -648,6 +665,13 @@ def build_parser() -> argparse.ArgumentParser:
                                 "Jacobian, coefficients as sums of squared minors (tens of seconds for a 6R arm)")
         p.set_defaults(func=func)
 
+    p = sub.add_parser("codegen", help="C code of the forward kinematics and the geometric Jacobian",
+                       parents=[dh_robot, json_])
+    p.add_argument("--lang", choices=("c",), default="c", help="language of the generated code (default c)")
+    p.add_argument("--prefix", default="", help="prefix of the function names (e.g. ur5_ for ur5_fk)")
+    p.add_argument("--out", required=True, help="output directory (<robot>.h and <robot>.c)")
+    p.set_defaults(func=cmd_codegen)
+
     p = sub.add_parser("pave", help="certified non-uniform covering of a constraint set",
                        parents=[resolution, budget, progress, json_, spread])
     p.add_argument("robot", nargs="?", help="catalog model described by constraints (e.g. rpr2)")
@@ -745,7 +769,7 @@ _FLAGS = {
     "eps": "--eps", "sigma": "--sigma", "alpha": "--alpha",
     "seed": "--seed", "count": "--count", "max_joints": "--max-joints",
     "scheduler": "--scheduler", "max_memory": "--max-memory", "store": "--store", "resume": "--resume",
-    "reach_delta": "--reach-delta", "reach_time_limit": "--reach-time-limit",
+    "reach_delta": "--reach-delta", "reach_time_limit": "--reach-time-limit", "out": "--out", "prefix": "--prefix",
 }
 
 

@@ -725,6 +725,12 @@ class DHRobot:
 
         return reach(self, delta=delta, **options)
 
+    def codegen(self, *, out, lang: str = "c", prefix: str = "") -> list:
+        """Write C for ``fk`` and ``jacobian`` into directory ``out``: :func:`workspace_sym.codegen.write_code`."""
+        from .codegen import write_code  # one way: codegen builds on this module
+
+        return write_code(self, out, lang=lang, prefix=prefix)
+
     def joint_limits(self, default: float = math.pi) -> np.ndarray:
         """``(n, 2)`` float array of limits; unlimited joints get ``[-default, default]``."""
         out = np.empty((self.n, 2))
