@@ -437,6 +437,14 @@ class DHRobot:
 
         return read_urdf(path, base_link=base_link, tip_link=tip_link, exact=exact, tol=tol)
 
+    @classmethod
+    def from_mjcf(cls, path, *, base_link: str | None = None, tip_link: str | None = None, exact: bool = True,
+                  tol: float = DEFAULT_TOL) -> DHRobot:
+        """The chain of bodies ``base_link -> tip_link`` of a MuJoCo file: :func:`workspace_sym.mjcf.read_mjcf`."""
+        from .mjcf import read_mjcf  # mjcf builds on this module
+
+        return read_mjcf(path, base_link=base_link, tip_link=tip_link, exact=exact, tol=tol)
+
     # ------------------------------------------------------------------ basics
     @property
     def n(self) -> int:
