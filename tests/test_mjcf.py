@@ -220,3 +220,32 @@ def test_cli_bad_mjcf_is_one_line_exit_2(tmp_path, capsys):
     assert main(["fk", "--mjcf", str(path)]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "<body name='b'> pos: expected 3 numbers" in err
+
+
+@pytest.fixture(scope="module")
+def scratch(tmp_path_factory):
+    return tmp_path_factory.mktemp("untrusted") / "model.xml"
+
+
+TOKENS = ["1", "-2.5", ".5", "1e-3", "nan", "inf", "0x1", "1_0", "+", "1e", "--1", "0.5e+2"]
+
+
+@settings(derandomize=True, max_examples=25, deadline=None)
+@given(value=st.one_of(st.text(st.characters(blacklist_categories=("Cs", "Cc")), max_size=24),
+                       st.lists(st.sampled_from(TOKENS), max_size=4).map(" ".join)))
+@example(value="1e400 0 0")
+@example(value="0 0 0")
+def test_any_pos_attribute_is_read_or_refused_with_mjcf_error(scratch, value):
+    """Untrusted attribute text: either three plain numbers (read as MuJoCo reads them) or MJCFError, nothing else."""
+    from xml.sax.saxutils import quoteattr
+
+    scratch.write_text(f'<mujoco><worldbody><body name="b" pos={quoteattr(value)}><joint axis="0 0 1"/></body>'
+                       '</worldbody></mujoco>')
+    try:
+        robot = DHRobot.from_mjcf(scratch)
+    except MJCFError as exc:
+        assert "<body name='b'> pos" in str(exc)
+        return
+    tokens = value.split()
+    assert len(tokens) == 3
+    np.testing.assert_allclose(robot.fk_numeric(np.zeros(1))[:3, 3], [float(t) for t in tokens], atol=1e-12)
