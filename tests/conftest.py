@@ -54,15 +54,16 @@ def fk_numpy(robot, q):
 
 # ---------------------------------------------------------------------- system tools (browser, TeX)
 def pytest_terminal_summary(terminalreporter):
-    """A loud banner when the browser or TeX tests were skipped for want of their programs."""
+    """A loud banner when the browser, TeX or C compiler tests were skipped for want of their programs."""
     from system_tools import TOOL_SKIP
 
     skipped = [r for r in terminalreporter.stats.get("skipped", [])
                if isinstance(r.longrepr, tuple) and TOOL_SKIP in str(r.longrepr[2])]
     if skipped:
         tr = terminalreporter
-        tr.write_sep("!", "BROWSER / TEX TESTS NOT RUN", red=True, bold=True)
+        tr.write_sep("!", "BROWSER / TEX / C COMPILER TESTS NOT RUN", red=True, bold=True)
         for r in skipped:
             tr.write_line(f"SKIPPED {r.nodeid}: {r.longrepr[2]}", red=True)
-        tr.write_line("The HTML reports were not opened in a browser and the LaTeX reports were not compiled. "
-                      "Install the packages above (as .ci/run does) to run them.", red=True, bold=True)
+        tr.write_line("The HTML reports were not opened in a browser, the LaTeX reports or the generated C code "
+                      "were not compiled. Install the packages above (as .ci/run does) to run them.",
+                      red=True, bold=True)

@@ -78,15 +78,20 @@ def _wrote_report(path) -> None:
 
 def _robot_from_args(args) -> DHRobot:
     given = [f"catalog robot {args.robot!r}" if args.robot is not None else None,
-             "--dh FILE" if args.dh is not None else None, "--urdf FILE" if args.urdf is not None else None]
+             "--dh FILE" if args.dh is not None else None, "--urdf FILE" if args.urdf is not None else None,
+             "--mjcf FILE" if args.mjcf is not None else None]
     given = [g for g in given if g]
     if len(given) > 1:
-        raise WorkspaceError(f"give one of a catalog robot, --dh FILE or --urdf FILE; got {' and '.join(given)}")
-    if (args.base or args.tip) and args.urdf is None:
-        raise WorkspaceError("--base and --tip name links of a URDF file: give --urdf FILE")
-    if args.dh is not None or args.urdf is not None:
+        raise WorkspaceError(f"give one of a catalog robot, --dh FILE, --urdf FILE or --mjcf FILE; got "
+                             f"{' and '.join(given)}")
+    if (args.base or args.tip) and args.urdf is None and args.mjcf is None:
+        raise WorkspaceError("--base and --tip name links of a URDF file or bodies of an MJCF file: give --urdf FILE "
+                             "or --mjcf FILE")
+    if args.dh is not None or args.urdf is not None or args.mjcf is not None:
         exact = not args.keep_floats
         robot = (DHRobot.from_file(args.dh, exact=exact, tol=args.snap_tol) if args.dh is not None else
+                 DHRobot.from_mjcf(args.mjcf, base_link=args.base, tip_link=args.tip, exact=exact, tol=args.snap_tol)
+                 if args.mjcf is not None else
                  DHRobot.from_urdf(args.urdf, base_link=args.base, tip_link=args.tip, exact=exact, tol=args.snap_tol))
         line = summary(robot.input_notes)
         if line:
@@ -212,6 +217,23 @@ def cmd_jacobian(args) -> int:
             print(f"    lambda^{len(charpoly) - 1 - k}: {robot.to_str(c)}")
     if extra:
         print(f"  {extra['note']}")
+    return 0
+
+
+def cmd_codegen(args) -> int:
+    """Write C for the forward kinematics and the geometric Jacobian of a robot."""
+    robot = _robot_from_args(args)
+    start = time.perf_counter()
+    paths = robot.codegen(out=args.out, lang=args.lang, prefix=args.prefix)
+    _wrote(*paths)
+    functions = {"fk": f"void {args.prefix}fk(const double *q, double *T)",
+                 "jacobian": f"void {args.prefix}jacobian(const double *q, double *J)"}
+    if args.json:
+        _emit_json({"robot": robot.name, "lang": args.lang, "joints": robot.n, "files": [str(p) for p in paths],
+                    "functions": functions, "seconds": time.perf_counter() - start})
+        return 0
+    print(f"{robot.name}: {functions['fk']} (4 x 4 row-major) and {functions['jacobian']} (6 x {robot.n} "
+          f"row-major) in {paths[1]}, declared in {paths[0]}")
     return 0
 
 
@@ -605,8 +627,12 @@ _TIME_LIMIT = (("--time-limit",), {"type": float, "help": "stop after this many 
 _ROBOT = (("robot",), {"nargs": "?", "help": "catalog DH robot (see 'workspace-sym robots'), or none with --dh"})
 _DH = (("--dh",), {"metavar": "FILE", "help": _DH_HELP})
 _URDF = (("--urdf",), {"metavar": "FILE", "help": "a URDF file (plain XML, not xacro): its serial chain as a DH robot"})
-_BASE = (("--base",), {"metavar": "LINK", "help": "with --urdf: first link of the chain (default: the root link)"})
-_TIP = (("--tip",), {"metavar": "LINK", "help": "with --urdf: last link (default: the only leaf moved by a joint)"})
+_MJCF = (("--mjcf",), {"metavar": "FILE",
+                       "help": "a MuJoCo model (MJCF XML): its serial chain of bodies as a DH robot"})
+_BASE = (("--base",), {"metavar": "LINK", "help": "with --urdf/--mjcf: first link or body of the chain (default: the "
+                       "root link, the world body)"})
+_TIP = (("--tip",), {"metavar": "LINK", "help": "with --urdf/--mjcf: last link or body (default: the only leaf moved "
+                     "by a joint)"})
 _SNAP_TOL = (("--snap-tol",), {"type": float, "default": DEFAULT_TOL, "metavar": "RAD",
                                "help": "float angles of --dh/--urdf this close to a multiple of pi/360 become it "
                                        f"(default {DEFAULT_TOL:g})"})
@@ -644,7 +670,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     json_, progress, budget = _parent(_JSON), _parent(_PROGRESS), _parent(_MAX_BOXES, _TIME_LIMIT)
-    dh_robot = _parent(_ROBOT, _DH, _URDF, _BASE, _TIP, _SNAP_TOL, _KEEP_FLOATS)
+    dh_robot = _parent(_ROBOT, _DH, _URDF, _MJCF, _BASE, _TIP, _SNAP_TOL, _KEEP_FLOATS)
     sigma, resolution = _parent(_SIGMA), _parent(_DELTA, _SIZE)
     spread, scheduler = _parent(_SCHEDULER, _MAX_MEMORY, _STORE, _RESUME), _parent(_SCHEDULER)
 
@@ -667,6 +693,13 @@ def build_parser() -> argparse.ArgumentParser:
                            help="also give det(lambda I - J J^T) of the 6 x n geometric or 3 x n position "
                                 "Jacobian, coefficients as sums of squared minors (tens of seconds for a 6R arm)")
         p.set_defaults(func=func)
+
+    p = sub.add_parser("codegen", help="C code of the forward kinematics and the geometric Jacobian",
+                       parents=[dh_robot, json_])
+    p.add_argument("--lang", choices=("c",), default="c", help="language of the generated code (default c)")
+    p.add_argument("--prefix", default="", help="prefix of the function names (e.g. ur5_ for ur5_fk)")
+    p.add_argument("--out", required=True, help="output directory (<robot>.h and <robot>.c)")
+    p.set_defaults(func=cmd_codegen)
 
     p = sub.add_parser("pave", help="certified non-uniform covering of a constraint set",
                        parents=[resolution, budget, progress, json_, spread])
@@ -770,10 +803,10 @@ _FLAGS = {
     "scheduler": "--scheduler", "max_memory": "--max-memory", "store": "--store", "resume": "--resume",
     "reach_delta": "--reach-delta", "reach_time_limit": "--reach-time-limit",
     "base_link": "--base", "tip_link": "--tip", "out": "--out", "plot": "--plot", "slices": "--slices",
-    "report": "--report",
+    "report": "--report", "prefix": "--prefix",
 }
-# A library error about ``path`` (a DH or URDF file) is about the option that named the file.
-_PATH_OPTIONS = ("urdf", "dh")
+# A library error about ``path`` (a DH, URDF or MJCF file) is about the option that named the file.
+_PATH_OPTIONS = ("urdf", "mjcf", "dh")
 # Options naming a file to write (a figure) and a directory to fill (a report); checked before any work.
 _FIGURE_OPTIONS = ("plot", "slices")
 _DIRECTORY_OPTIONS = ("out", "report")

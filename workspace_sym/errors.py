@@ -12,6 +12,7 @@ __all__ = [
     "InvalidParameterError",
     "DHTableError",
     "URDFError",
+    "MJCFError",
     "ExpressionError",
     "JointLimitError",
     "UnknownNameError",
@@ -52,6 +53,10 @@ class DHTableError(WorkspaceError):
 
 class URDFError(DHTableError):
     """A URDF file cannot be read as a serial chain (unreadable, xacro, branching, unsupported joint)."""
+
+
+class MJCFError(DHTableError):
+    """A MuJoCo model cannot be read as a serial chain (malformed number, ball or free joint, unknown body)."""
 
 
 class ExpressionError(WorkspaceError):

@@ -430,6 +430,14 @@ class DHRobot:
 
         return read_urdf(path, base_link=base_link, tip_link=tip_link, exact=exact, tol=tol)
 
+    @classmethod
+    def from_mjcf(cls, path, *, base_link: str | None = None, tip_link: str | None = None, exact: bool = True,
+                  tol: float = DEFAULT_TOL) -> DHRobot:
+        """The chain of bodies ``base_link -> tip_link`` of a MuJoCo file: :func:`workspace_sym.mjcf.read_mjcf`."""
+        from .mjcf import read_mjcf  # mjcf builds on this module
+
+        return read_mjcf(path, base_link=base_link, tip_link=tip_link, exact=exact, tol=tol)
+
     # ------------------------------------------------------------------ basics
     @property
     def n(self) -> int:
@@ -717,6 +725,12 @@ class DHRobot:
         from .serial_workspace import reach  # one way: serial_workspace builds on this module
 
         return reach(self, delta=delta, **options)
+
+    def codegen(self, *, out, lang: str = "c", prefix: str = "") -> list:
+        """Write C for ``fk`` and ``jacobian`` into directory ``out``: :func:`workspace_sym.codegen.write_code`."""
+        from .codegen import write_code  # one way: codegen builds on this module
+
+        return write_code(self, out, lang=lang, prefix=prefix)
 
     def joint_limits(self, default: float = math.pi) -> np.ndarray:
         """``(n, 2)`` float array of limits; unlimited joints get ``[-default, default]``."""

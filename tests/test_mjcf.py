@@ -1,0 +1,251 @@
+"""MuJoCo models (MJCF) read as DH robots (workspace_sym.mjcf).
+
+Reference: MuJoCo's own forward kinematics (``mujoco.mj_kinematics``, an independent implementation of the
+same file): the tip body's ``xpos``/``xmat`` relative to the base body equal ``robot.fk_numeric`` to 1e-12 at
+configurations drawn by hypothesis, on small models written here and on the model that the mujoco package
+ships as test data (``mujoco/testdata/model.xml``: default classes, two hinges in one body, Euler angles in
+degrees, a slide joint).  Exact SymPy identities for a planar arm.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import pytest
+import sympy as sp
+from hypothesis import example, given, settings
+from hypothesis import strategies as st
+
+from workspace_sym import DHRobot
+from workspace_sym.cli import main
+from workspace_sym.errors import MJCFError
+
+GEOM = '<geom size="0.02"/>'      # MuJoCo refuses moving bodies without mass; the reader ignores geoms
+MODELS = {
+    # radian angles, every orientation attribute, hinge anchors off the body origin, ref on hinge and slide
+    # (one or two joints per model: the textbook form of long chains of float angles takes minutes)
+    "euler": f"""<mujoco model="euler"><compiler angle="radian"/><worldbody>
+      <body name="b1" pos="0.1 0.2 0.3" euler="0.3 -0.2 0.5">{GEOM}
+        <joint type="hinge" axis="0 1 1" pos="0.05 0 0" range="-1 1" ref="0.3"/>
+        <body name="tip" pos="0.3 0 0.1" axisangle="1 1 0 0.7">{GEOM}</body></body></worldbody></mujoco>""",
+    "quat": f"""<mujoco model="quat"><worldbody>
+      <body name="b2" pos="0.4 0 0" quat="0.9 0.1 -0.3 0.2">{GEOM}
+        <joint type="slide" axis="1 0 0" ref="0.1"/><joint axis="0 0 1" pos="0 0.1 0" ref="30"/>
+        <body name="tip" pos="0.2 0 0.1">{GEOM}</body></body></worldbody></mujoco>""",
+    "axes": f"""<mujoco model="axes"><worldbody>
+      <body name="b3" pos="0 0.2 0" xyaxes="0 1 0 -1 0.2 0">{GEOM}<joint axis="1 0 0"/>
+        <body name="b4" pos="0.1 0 0" zaxis="0.3 -0.4 0.8">{GEOM}<joint axis="0 1 0" pos="0 0 0.05"/>
+        </body></body></worldbody></mujoco>""",
+    # degrees (MuJoCo's default), extrinsic Euler sequence, default classes with childclass and inheritance
+    "defaults": f"""<mujoco model="defaults"><compiler eulerseq="ZYX"/>
+      <default><joint axis="0 1 0" range="-90 90"/>
+        <default class="arm"><joint axis="1 0 0"/><default class="wrist"><joint range="-45 30"/></default></default>
+      </default>
+      <worldbody><body name="base" pos="0 0 0.5" euler="90 0 -90">{GEOM}<joint axis="0 0 1" limited="false"/>
+        <body name="upper" childclass="arm" pos="0 0.1 0.2">{GEOM}<joint/>
+          <body name="fore" pos="0 0 0.35" euler="0 90 0">{GEOM}<joint class="wrist"/>
+            <body name="hand" pos="0.05 0 0.25">{GEOM}<joint class="main" type="slide" range="0 0.1"/>
+            </body></body></body></body></worldbody></mujoco>""",
+}
+REAL = Path(mujoco.__file__).parent / "testdata" / "model.xml"
+# Names given to three of the model's unnamed bodies, so that a chain can end there (names change no kinematics).
+REAL_NAMES = {'<body euler="0 0 120" pos="-.15 .2 -.2">': '<body name="leg1" euler="0 0 120" pos="-.15 .2 -.2">',
+              '<body pos=".45 0 -.3">\n          <joint name="wheel_1"':
+              '<body name="wheel1" pos=".45 0 -.3">\n          <joint name="wheel_1"',
+              '<body pos="-.33 0 1">': '<body name="slider" pos="-.33 0 1">'}
+CHAINS = {   # name: (model text key, base body, tip body)
+    "euler": ("euler", "world", "tip"),
+    "quat": ("quat", "world", "tip"),
+    "axes": ("axes", "world", "b4"),
+    "defaults": ("defaults", "world", "hand"),
+    "real-leg": ("real", "head", "wheel1"),
+    "real-slider": ("real", "world", "slider"),
+}
+
+
+def _real_text() -> str:
+    text = REAL.read_text()
+    for old, new in REAL_NAMES.items():
+        assert text.count(old) == 1, old
+        text = text.replace(old, new)
+    return text
+
+
+@pytest.fixture(scope="module")
+def chains(tmp_path_factory):
+    """``chains[name] = (robot, mujoco model, qpos addresses of the robot's joints, base id, tip id)``."""
+    directory = tmp_path_factory.mktemp("mjcf")
+    texts = {**MODELS, "real": _real_text()}
+    out = {}
+    for name, (key, base, tip) in CHAINS.items():
+        path = directory / f"{key}.xml"
+        path.write_text(texts[key])
+        robot = DHRobot.from_mjcf(path, base_link=base, tip_link=tip)
+        model = mujoco.MjModel.from_xml_string(texts[key])
+        tip_id, base_id = model.body(tip).id, model.body(base).id
+        chain, body = [], tip_id
+        while body != base_id:          # the joints from base to tip, in order
+            first, count = model.body_jntadr[body], model.body_jntnum[body]
+            chain = [model.jnt_qposadr[j] for j in range(first, first + count)] + chain
+            body = model.body_parentid[body]
+        assert len(chain) == robot.n
+        out[name] = (robot, model, chain, base_id, tip_id)
+    return out
+
+
+def _mujoco_pose(model, addresses, base_id, tip_id, q) -> np.ndarray:
+    data = mujoco.MjData(model)
+    data.qpos[addresses] = q
+    mujoco.mj_kinematics(model, data)
+
+    def pose(b):
+        T = np.eye(4)
+        T[:3, :3], T[:3, 3] = data.xmat[b].reshape(3, 3), data.xpos[b]
+        return T
+
+    return np.linalg.inv(pose(base_id)) @ pose(tip_id)
+
+
+@pytest.mark.parametrize("name", sorted(CHAINS))
+@settings(derandomize=True, max_examples=30, deadline=None)
+@given(q=st.lists(st.floats(-3.5, 3.5, allow_nan=False), min_size=5, max_size=5).map(np.array))
+@example(q=np.zeros(5))
+@example(q=np.full(5, np.pi))
+def test_fk_matches_mujoco(chains, name, q):
+    robot, model, addresses, base_id, tip_id = chains[name]
+    q = q[:robot.n]
+    np.testing.assert_allclose(robot.fk_numeric(q), _mujoco_pose(model, addresses, base_id, tip_id, q),
+                               rtol=0, atol=1e-12)
+
+
+def test_limits_follow_compiler_units_classes_and_limited(chains):
+    """Degrees made exact radians; limited="false" drops the range; a class's range is inherited; slide in m."""
+    robot = chains["defaults"][0]
+    assert [j.limits for j in robot.joints] == [None, (-sp.pi / 2, sp.pi / 2), (-sp.pi / 4, sp.pi / 6),
+                                                (0, sp.Rational(1, 10))]
+    assert [j.kind for j in robot.joints] == ["R", "R", "R", "P"]
+    leg = chains["real-leg"][0]
+    assert leg.joints[0].limits == (-sp.pi / 3, sp.pi / 3)          # class hip1: range="-60 60" degrees
+    assert leg.joints[1].limits is None and leg.joints[2].limits is None
+    assert "theta1 = hipz_1, theta2 = hipy_1, theta3 = wheel_1" in leg.input_notes[1]
+    slider = chains["real-slider"][0]
+    assert slider.joints[0].limits == (-sp.Rational(1, 5), sp.Rational(1, 2))
+
+
+def test_unlimited_slide_has_no_limits(tmp_path):
+    path = tmp_path / "slide.xml"
+    path.write_text(f'<mujoco><worldbody><body name="s">{GEOM}<joint type="slide" axis="0 0 1"/></body>'
+                    '</worldbody></mujoco>')
+    robot = DHRobot.from_mjcf(path)
+    assert robot.joints[0].kind == "P" and robot.joints[0].limits is None
+
+
+def test_planar_arm_is_exactly_the_dh_arm(tmp_path):
+    """Exact identity: the MJCF 2R arm has the DH table a = 2/5, 3/10 (lengths snapped to the decimals written)."""
+    path = tmp_path / "arm.xml"
+    path.write_text('<mujoco model="arm"><worldbody><body name="upper"><joint axis="0 0 1"/>'
+                    '<body name="fore" pos="0.4 0 0"><joint axis="0 0 1"/><body name="tip" pos="0.3 0 0"/>'
+                    '</body></body></worldbody></mujoco>')
+    robot = DHRobot.from_mjcf(path)
+    t1, t2 = robot.q
+    expected = sp.Matrix([sp.Rational(2, 5) * sp.cos(t1) + sp.Rational(3, 10) * sp.cos(t1 + t2),
+                          sp.Rational(2, 5) * sp.sin(t1) + sp.Rational(3, 10) * sp.sin(t1 + t2), 0])
+    assert sp.simplify(robot.position - expected) == sp.zeros(3, 1)
+    assert robot.name == "arm"
+
+
+BAD = [
+    ('<mujoco><worldbody><body name="b" pos="0.1 abc 0"><joint/></body></worldbody></mujoco>',
+     r"<body name='b'> pos: expected 3 numbers; got '0.1 abc 0'"),
+    ('<mujoco><worldbody><body name="b" pos="0 nan 0"><joint/></body></worldbody></mujoco>',
+     r"<body name='b'> pos: expected 3 numbers; got '0 nan 0'"),
+    ('<mujoco><worldbody><body name="b" pos="1e999 0 0"><joint/></body></worldbody></mujoco>',
+     r"<body name='b'> pos: numbers must be finite"),
+    ('<mujoco><worldbody><body name="b" quat="1 0 0"><joint/></body></worldbody></mujoco>',
+     r"<body name='b'> quat: expected 4 numbers"),
+    ('<mujoco><worldbody><body name="b" quat="1 0 0 0" euler="0 0 1"><joint/></body></worldbody></mujoco>',
+     r"<body name='b'> gives the orientation twice \(quat and euler\)"),
+    ('<mujoco><worldbody><body name="b"><joint name="j" type="ball"/></body></worldbody></mujoco>',
+     r"joint 'j' is ball; a serial chain takes hinge and slide joints only"),
+    ('<mujoco><worldbody><body name="b"><freejoint/></body></worldbody></mujoco>',
+     r"joint 'joint 1 of body b' is free"),
+    ('<mujoco><worldbody><body name="b"><joint name="j" axis="0 0 0"/></body></worldbody></mujoco>',
+     r"<joint name='j'> axis: a zero vector"),
+    ('<mujoco><worldbody><body name="b"><joint name="j" limited="true"/></body></worldbody></mujoco>',
+     r"<joint name='j'> is limited but has no range"),
+    ('<mujoco><worldbody><body name="b"><joint name="j" limited="yes" range="0 1"/></body></worldbody></mujoco>',
+     r"<joint name='j'> limited: expected true, false or auto; got 'yes'"),
+    ('<mujoco><worldbody><body name="b"><joint name="j" class="nope"/></body></worldbody></mujoco>',
+     r"<joint name='j'> class: no default class 'nope'"),
+    ('<mujoco><compiler angle="grad"/><worldbody/></mujoco>', r"<compiler angle> must be 'degree' or 'radian'"),
+    ('<!DOCTYPE m [<!ENTITY a "aaaa">]><mujoco><worldbody/></mujoco>', r"declares a document type or entities"),
+    ('<mujoco><worldbody><body', r"is not well-formed XML"),
+    ('<robot name="r"/>', r"is not an MJCF model \(root element <robot>"),
+    ('<mujoco><include file="other.xml"/><worldbody/></mujoco>', r"uses <include>"),
+    ('<mujoco><worldbody><body name="b"/></worldbody></mujoco>', r"tip_link: the model has no body moved by a joint"),
+]
+
+
+@pytest.mark.parametrize("text, message", BAD)
+def test_bad_models_name_element_and_attribute(tmp_path, text, message):
+    path = tmp_path / "bad.xml"
+    path.write_text(text)
+    with pytest.raises(MJCFError, match=message):
+        DHRobot.from_mjcf(path)
+
+
+def test_unknown_tip_body_is_named(tmp_path):
+    path = tmp_path / "m.xml"
+    path.write_text(MODELS["euler"])
+    with pytest.raises(MJCFError, match=r"tip_link: no body 'hand' in the model; bodies: 'world', 'b1', 'tip'") \
+            as info:
+        DHRobot.from_mjcf(path, tip_link="hand")
+    assert info.value.parameter == "tip_link"
+
+
+def test_cli_fk_of_an_mjcf_chain(tmp_path, capsys):
+    path = tmp_path / "model.xml"
+    path.write_text(_real_text())
+    assert main(["fk", "--mjcf", str(path), "--base", "head", "--tip", "wheel1", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert len(data["position"]) == 3 and data["robot"] == "model"
+
+
+def test_cli_bad_mjcf_is_one_line_exit_2(tmp_path, capsys):
+    path = tmp_path / "bad.xml"
+    path.write_text(BAD[0][0])
+    assert main(["fk", "--mjcf", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "<body name='b'> pos: expected 3 numbers" in err
+
+
+@pytest.fixture(scope="module")
+def scratch(tmp_path_factory):
+    return tmp_path_factory.mktemp("untrusted") / "model.xml"
+
+
+TOKENS = ["1", "-2.5", ".5", "1e-3", "nan", "inf", "0x1", "1_0", "+", "1e", "--1", "0.5e+2"]
+
+
+@settings(derandomize=True, max_examples=25, deadline=None)
+@given(value=st.one_of(st.text(st.characters(blacklist_categories=("Cs", "Cc")), max_size=24),
+                       st.lists(st.sampled_from(TOKENS), max_size=4).map(" ".join)))
+@example(value="1e400 0 0")
+@example(value="0 0 0")
+def test_any_pos_attribute_is_read_or_refused_with_mjcf_error(scratch, value):
+    """Untrusted attribute text: either three plain numbers (read as MuJoCo reads them) or MJCFError, nothing else."""
+    from xml.sax.saxutils import quoteattr
+
+    scratch.write_text(f'<mujoco><worldbody><body name="b" pos={quoteattr(value)}><joint axis="0 0 1"/></body>'
+                       '</worldbody></mujoco>')
+    try:
+        robot = DHRobot.from_mjcf(scratch)
+    except MJCFError as exc:
+        assert "<body name='b'> pos" in str(exc)
+        return
+    tokens = value.split()
+    assert len(tokens) == 3
+    np.testing.assert_allclose(robot.fk_numeric(np.zeros(1))[:3, 3], [float(t) for t in tokens], atol=1e-12)
