@@ -80,6 +80,8 @@ CASES = [
     (["grade", "{deep}", "{answers}", "--out", "{file}/g"], "--out: cannot write"),
     (["exercises", "--out", "{file}/ex"], "--out: cannot write '{file}/ex': '{file}' is not a directory"),
     (["demo", "--out", "{file}/d"], "--out: cannot write '{file}/d': '{file}' is not a directory"),
+    (["codegen", "planar-3r", "--out", "{file}"], "--out: cannot write into '{file}': it is a file, not a directory"),
+    (["codegen", "--dh", "{deep}", "--out", "{tmp}/c"], "--dh: '{deep}' is not valid JSON (nested too deeply)"),
 ]
 
 
