@@ -155,7 +155,7 @@ class Arrangement:
                 merged[0] = [last[0], max(last[1], merged[0][0] + merged[0][1] + _TWO_PI - last[0])]
             merged = [(s, min(w, _TWO_PI)) for s, w in merged]
             if merged and merged[0][1] >= _TWO_PI - ang_tol:
-                merged = [(0.0, _TWO_PI)]
+                merged = [(merged[0][0], _TWO_PI)]      # cut where an input arc starts: a vertex with a closed form
             self.covered.append(merged)
 
     def _on_circle(self, c, pts):

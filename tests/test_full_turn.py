@@ -1,0 +1,133 @@
+"""Joints that turn fully or almost fully (issue 23 item 2, issue 31 item 2): the planar boundary against the
+closed-form annulus, and extreme lengths (issue 30 item 3) against the scaling law of areas."""
+
+import math
+import warnings
+
+import pytest
+import sympy as sp
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from workspace_sym import InvalidParameterError
+from workspace_sym.exact import exact_area
+from workspace_sym.planar import PlanarChain
+
+ISSUE23 = ["0.325", "1.458", "0.822"]
+# limits within 1e-6 deg of a full turn, written as datasheets write them, and asymmetric
+NEAR_FULL = [(-180, 180), (-360, 360), (-179.999999, 180), (-180, 179.999999), (-179.9999995, 179.9999995),
+             (-179.999999, 179.999999), (0, 360)]
+
+
+def annulus(lengths):
+    """The workspace of full-turn joints, exactly: R - 2 l_max ... as max(0, l_max - (R - l_max)) <= r <= R."""
+    L = [sp.Rational(x) for x in lengths]
+    R, m = sum(L), max(L)
+    inner = max(sp.Integer(0), m - (R - m))
+    return R, inner, sp.pi * (R ** 2 - inner ** 2)
+
+
+def quiet_boundary(chain):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")       # an undecided face would make the checks vacuous
+        return chain.boundary()
+
+
+@pytest.mark.parametrize("lower, upper", NEAR_FULL)
+def test_issue23_chain_is_the_annulus(lower, upper):
+    """Issue 23 item 2: (0.325, 1.458, 0.822) with every joint in [-179.999999, 180] gave an area of 8.08 (two
+    outer loops, the annulus cut by 4.5e-8-wide features of the missing 1e-6 deg); ±180 was refused.  Reference:
+    the annulus 0.311 <= r <= 2.605, area 836163 pi / 125000 exactly (SymPy identity on the closed form)."""
+    c = PlanarChain(ISSUE23, [lower] * 3, [upper] * 3)
+    b = quiet_boundary(c)
+    R, inner, area = annulus(ISSUE23)
+    assert b.area == pytest.approx(float(area), rel=1e-12)
+    assert sp.simplify(exact_area(b) - area) == 0
+    assert sorted(loop.kind for loop in b.loops) == ["hole", "outer"]
+    assert b.contains((0.0, 0.0)) == "outside"
+    for rho, want in ((0.5 * float(inner), "outside"), (0.5 * float(inner + R), "inside"),
+                      (1.01 * float(R), "outside")):
+        assert b.contains((rho * math.cos(1.0), rho * math.sin(1.0))) == want
+
+
+@settings(derandomize=True, max_examples=40, deadline=None)
+@given(lengths=st.lists(st.integers(50, 1500), min_size=2, max_size=5),
+       limits=st.lists(st.sampled_from(NEAR_FULL), min_size=5, max_size=5), seed=st.integers(0, 1000))
+def test_near_full_turns_give_the_annulus(lengths, limits, seed):
+    """Property over random chains of 2-5 joints, each within 1e-6 deg of a full turn: the area is that of the
+    closed-form annulus to 1e-9, the origin is inside exactly when the annulus has no hole, and the images of
+    random configurations (and of the corners of the joint box) are never classified outside."""
+    lengths = [f"{x / 1000:g}" for x in lengths]
+    lower, upper = zip(*limits[:len(lengths)])
+    c = PlanarChain(lengths, lower, upper)
+    b = quiet_boundary(c)
+    R, inner, area = annulus(lengths)
+    assert b.area == pytest.approx(float(area), rel=1e-9)
+    if inner > 1e-6:
+        assert b.contains((0.0, 0.0)) == "outside"
+    elif inner == 0 and 2 * max(map(sp.Rational, lengths)) < sum(map(sp.Rational, lengths)) - sp.Rational(1, 10**6):
+        assert b.contains((0.0, 0.0)) == "inside"
+    verdicts = b.classify(c.forward(c.sample(500, seed=seed)))
+    assert (verdicts != "outside").all()
+
+
+@pytest.mark.parametrize("span, full", [(180, (-180, 180)), (90, (-360, 360)), (120, (-179.9999999, 180))])
+def test_limited_first_joint_and_a_full_turn(span, full):
+    """Two links, joint 1 limited to ``span`` deg and joint 2 a full turn: the union of circles of radius l2
+    centred on an arc of radius l1 is the annular sector plus two half discs, of area
+    2 l1 l2 span + pi l2^2 (exact SymPy reference, for span <= 180 deg)."""
+    l1, l2 = sp.Rational(3, 10), sp.Rational(1, 5)
+    c = PlanarChain([l1, l2], [-span / 2, full[0]], [span / 2, full[1]])
+    b = quiet_boundary(c)
+    want = 2 * l1 * l2 * sp.rad(span) + sp.pi * l2 ** 2
+    assert b.area == pytest.approx(float(want), rel=1e-12)
+    assert sp.simplify(exact_area(b) - want) == 0
+
+
+def test_first_joint_range_may_be_anywhere():
+    """A rotation of the first joint's range turns the workspace rigidly: [170, 300], [-190, -60] and
+    [-65, 65] deg give one area (ranges outside (-180, 180] are accepted as given)."""
+    areas = [quiet_boundary(PlanarChain([0.5, 0.3], [lo, -10], [hi, 30])).area
+             for lo, hi in ((170, 300), (-190, -60), (-65, 65))]
+    assert areas == pytest.approx([areas[2]] * 3, rel=1e-12)
+
+
+@pytest.mark.parametrize("scale", [2.0 ** -300, 1e-90, 1e90, 2.0 ** 300])
+def test_extreme_lengths_scale_the_area(scale):
+    """Issue 30 item 3: (1e160, 1e160) gave an empty boundary and (1e154, 1e154) an area of NaN.  Lengths of any
+    magnitude the chain accepts give the area of the (1, 1) chain (0.0070699) times scale^2 (scaling law),
+    and the boundary's radii scale with them."""
+    ref = quiet_boundary(PlanarChain([1, 1], [-10, -10], [10, 10]))
+    b = quiet_boundary(PlanarChain([scale, scale], [-10, -10], [10, 10]))
+    assert b.area == pytest.approx(ref.area * scale * scale, rel=1e-9)
+    assert sorted(a.radius for a in b.arcs) == pytest.approx(sorted(a.radius * scale for a in ref.arcs), rel=1e-12)
+
+
+@pytest.mark.parametrize("lengths, match", [
+    ((1e160, 1e160), r"the longest link \(1e\+160\) must lie between 1e-100 and 1e\+100"),
+    ((1e154, 1e154), r"the longest link \(1e\+154\)"),
+    ((1e-120, 1e-120), r"the longest link \(1e-120\)"),
+    ((1, 1e-8), r"the shortest link \(1e-08\) must be at least 1e-07 times the longest \(1\)"),
+])
+def test_extreme_lengths_refused_with_the_parameter_named(lengths, match):
+    """Issue 30 item 3: lengths whose squares leave the float range, or a link finer than the detail the boundary
+    resolves, are refused (never a wrong number); the message names ``lengths`` and the value."""
+    with pytest.raises(InvalidParameterError, match="^lengths: " + match.split(" must")[0]):
+        PlanarChain(lengths, [-10, -10], [10, 10])
+    with pytest.raises(InvalidParameterError, match=match):
+        PlanarChain(lengths, [-10, -10], [10, 10])
+
+
+def test_cli_accepts_full_turns_and_refuses_extreme_lengths(capsys):
+    """The CLI reads limits through PlanarChain: ±180 deg answers (exit 0) with the annulus; (1e160, 1e160)
+    exits 2 with one line naming lengths."""
+    import json
+
+    from workspace_sym.cli import main
+
+    code = main(["boundary", "--lengths=0.325,1.458,0.822", "--lower=-180,-180,-180", "--upper=180,180,180", "--json"])
+    data = json.loads(capsys.readouterr().out)
+    assert code == 0 and data["area"] == pytest.approx(float(annulus(ISSUE23)[2]), rel=1e-12)
+    code = main(["boundary", "--lengths=1e160,1e160", "--lower=-10,-10", "--upper=10,10"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and "lengths" in err[0]
