@@ -131,3 +131,45 @@ def test_cli_accepts_full_turns_and_refuses_extreme_lengths(capsys):
     code = main(["boundary", "--lengths=1e160,1e160", "--lower=-10,-10", "--upper=10,10"])
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(err) == 1 and "lengths" in err[0]
+
+
+@pytest.mark.parametrize("lengths", [(0.309, 1.078), (0.31, 1.243), (0.284, 1.283)])
+def test_two_links_at_179_99_keep_their_hole(lengths):
+    """Issue 31 item 2: a 2R chain with both joints in [-179.99, 179.99] came out as a disc (area 7.58 for
+    (0.31, 1.243), origin inside): at the top of the hole the arrangement read a short edge's chord and a long
+    one's at different lengths and turned the hole into the face around it.  Reference: the annulus
+    |l1 - l2| <= r <= l1 + l2, which the joints' missing 0.02 deg change by O(1e-8) of the area."""
+    c = PlanarChain(lengths, [-179.99] * 2, [179.99] * 2)
+    b = quiet_boundary(c)
+    _, _, area = annulus([f"{x:g}" for x in lengths])
+    assert b.area == pytest.approx(float(area), rel=1e-6)
+    assert sorted(loop.kind for loop in b.loops) == ["hole", "outer"]
+    assert b.contains((0.0, 0.0)) == "outside"
+
+
+@settings(derandomize=True, max_examples=25, deadline=None)
+@given(lengths=st.lists(st.integers(100, 1500), min_size=2, max_size=4), seed=st.integers(0, 1000))
+def test_random_chains_at_179_99_against_the_annulus(lengths, seed):
+    """Issue 31 item 2, property: chains of 2-4 joints, every joint in [-179.99, 179.99] deg (3 of 30 lost a hole
+    or overstated the area by up to 15 %): the area is the annulus's to 1e-6 (the missing 0.02 deg of each joint
+    move the inner circle by O(l eps^2)), the origin is outside when the annulus has a hole of radius above
+    1e-3, and the images of random configurations and of the corners of the joint box are never outside."""
+    lengths = [f"{x / 1000:g}" for x in lengths]
+    c = PlanarChain(lengths, [-179.99] * len(lengths), [179.99] * len(lengths))
+    b = quiet_boundary(c)
+    _, inner, area = annulus(lengths)
+    assert b.area == pytest.approx(float(area), rel=1e-6)
+    if inner > 1e-3:
+        assert b.contains((0.0, 0.0)) == "outside"
+    assert (b.classify(c.forward(c.sample(500, seed=seed))) != "outside").all()
+
+
+def test_issue31_chain_at_179_9999():
+    """Issue 31 item 2: (0.817, 1.431, 0.302) with every joint in [-179.9999, 179.9999] put the origin inside with
+    an area of 20.43, above the full-turn annulus (20.12).  Reference: that annulus, to 1e-9."""
+    c = PlanarChain([0.817, 1.431, 0.302], [-179.9999] * 3, [179.9999] * 3)
+    b = c.boundary()
+    _, _, area = annulus(["0.817", "1.431", "0.302"])
+    assert b.undecided_area == 0
+    assert b.area == pytest.approx(float(area), rel=1e-9)
+    assert b.contains((0.0, 0.0)) == "outside"

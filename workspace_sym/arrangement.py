@@ -7,9 +7,9 @@ is float arithmetic with these explicit tolerances (relative to ``scale``).
 
 A half-edge runs along an edge with its face on the left; ``next`` turns as
 far clockwise as possible at each vertex, so each face is traced once.  The
-orientation of outgoing half-edges at a vertex is read a short arc length
-along each of them, so that circles tangent at a vertex are ordered by their
-curvature.
+orientation of outgoing half-edges at a vertex is read one short arc length
+along all of them (a quarter of the shortest edge there), so that circles
+tangent at a vertex are ordered by their curvature.
 """
 
 from __future__ import annotations
@@ -271,11 +271,17 @@ class Arrangement:
         self.head = np.zeros(2 * ne, int)
         key = np.zeros(2 * ne)
         outgoing = [[] for _ in range(len(self.vertices))]
+        # Every half-edge leaving a vertex is read at one arc length from it, the shortest quarter edge there:
+        # chords of different lengths compared different amounts of curvature, and a long edge's chord turned
+        # past a nearly tangent short one (circles 7e-5 rad apart: a 2R chain at +-179.99 deg lost its hole).
+        quarter = [min(0.25 * self.circles[e.circle, 2] * e.span, 1e-3 * self.scale) for e in self.edges]
+        read_at = np.full(len(self.vertices), np.inf)
+        for k, e in enumerate(self.edges):
+            read_at[[e.tail, e.head]] = np.minimum(read_at[[e.tail, e.head]], quarter[k])
         for k, e in enumerate(self.edges):
             r = self.circles[e.circle, 2]
-            length = r * e.span
-            step = min(0.25 * length, 1e-3 * self.scale) / r
-            for h, (v, t) in ((2 * k, (e.tail, e.t0 + step)), (2 * k + 1, (e.head, e.t0 + e.span - step))):
+            for h, (v, t) in ((2 * k, (e.tail, e.t0 + read_at[e.tail] / r)),
+                              (2 * k + 1, (e.head, e.t0 + e.span - read_at[e.head] / r))):
                 self.tail[h], self.head[h] = v, (e.head if h % 2 == 0 else e.tail)
                 q = self.edge_point(e, t) - self.vertices[v]
                 key[h] = math.atan2(q[1], q[0])
