@@ -173,3 +173,37 @@ def test_issue31_chain_at_179_9999():
     assert b.undecided_area == 0
     assert b.area == pytest.approx(float(area), rel=1e-9)
     assert b.contains((0.0, 0.0)) == "outside"
+
+
+def two_link_symmetric_area(l1, l2, limit_deg):
+    """Independent reference: the area of a 2R chain with both joints in [-E, E], as a 1-D integral at 30 digits.
+
+    For E >= 90 deg, theta_2 in [0, E] covers the radii sqrt(l1^2 + l2^2 + 2 l1 l2 cos E) <= r <= l1 + l2 once; at
+    theta_1 = 0 the points of radius r lie at polar angles +-alpha(r) from e_y (law of cosines), and turning
+    joint 1 over [-E, E] sweeps each into an arc of 2E: the circle of radius r holds min(2 pi, 2E + min(2 alpha,
+    2E)) of angle.  Integrated over r with mpmath.quad, split at the kinks."""
+    import mpmath
+
+    with mpmath.workdps(30):
+        l1, l2, E = mpmath.mpf(l1), mpmath.mpf(l2), mpmath.radians(mpmath.mpf(limit_deg))
+        outer, inner = l1 + l2, mpmath.sqrt(l1 ** 2 + l2 ** 2 + 2 * l1 * l2 * mpmath.cos(E))
+
+        def alpha(r):
+            return mpmath.acos(max(-1, min(1, (r * r + l1 * l1 - l2 * l2) / (2 * r * l1))))
+
+        kinks = [inner, outer]
+        for target in (mpmath.pi - E, E):        # alpha(r) = target: r^2 - 2 r l1 cos(target) + l1^2 - l2^2 = 0
+            c = l1 * mpmath.cos(target)
+            disc = c * c - (l1 * l1 - l2 * l2)
+            if disc >= 0:
+                kinks += [r for r in (c - mpmath.sqrt(disc), c + mpmath.sqrt(disc)) if inner < r < outer]
+        return float(mpmath.quad(lambda r: min(2 * mpmath.pi, 2 * E + min(2 * alpha(r), 2 * E)) * r, sorted(kinks)))
+
+
+@pytest.mark.parametrize("lengths", [(0.3, 0.2), (0.309, 1.078), (1.0, 1.0)])
+@pytest.mark.parametrize("limit", [90, 150, 179, 179.9, 179.99, 179.999])
+def test_two_links_near_a_full_turn_against_the_integral(lengths, limit):
+    """Issue 31 item 2: 2R chains with both joints in [-E, E] up to 0.001 deg short of a full turn, against the
+    independent 1-D integral above (relative 1e-12), every face decided."""
+    b = quiet_boundary(PlanarChain(list(lengths), [-limit] * 2, [limit] * 2))
+    assert b.area == pytest.approx(two_link_symmetric_area(*lengths, limit), rel=1e-12)
