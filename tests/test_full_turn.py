@@ -50,7 +50,7 @@ def test_issue23_chain_is_the_annulus(lower, upper):
         assert b.contains((rho * math.cos(1.0), rho * math.sin(1.0))) == want
 
 
-@settings(derandomize=True, max_examples=40, deadline=None)
+@settings(derandomize=True, max_examples=25, deadline=None)
 @given(lengths=st.lists(st.integers(50, 1500), min_size=2, max_size=5),
        limits=st.lists(st.sampled_from(NEAR_FULL), min_size=5, max_size=5), seed=st.integers(0, 1000))
 def test_near_full_turns_give_the_annulus(lengths, limits, seed):
@@ -147,7 +147,7 @@ def test_two_links_at_179_99_keep_their_hole(lengths):
     assert b.contains((0.0, 0.0)) == "outside"
 
 
-@settings(derandomize=True, max_examples=25, deadline=None)
+@settings(derandomize=True, max_examples=15, deadline=None)
 @given(lengths=st.lists(st.integers(100, 1500), min_size=2, max_size=4), seed=st.integers(0, 1000))
 def test_random_chains_at_179_99_against_the_annulus(lengths, seed):
     """Issue 31 item 2, property: chains of 2-4 joints, every joint in [-179.99, 179.99] deg (3 of 30 lost a hole
@@ -201,9 +201,31 @@ def two_link_symmetric_area(l1, l2, limit_deg):
 
 
 @pytest.mark.parametrize("lengths", [(0.3, 0.2), (0.309, 1.078), (1.0, 1.0)])
-@pytest.mark.parametrize("limit", [90, 150, 179, 179.9, 179.99, 179.999])
+@pytest.mark.parametrize("limit", [90, 150, 179, 179.9, 179.99, 179.999, 179.9999, 179.99999])
 def test_two_links_near_a_full_turn_against_the_integral(lengths, limit):
-    """Issue 31 item 2: 2R chains with both joints in [-E, E] up to 0.001 deg short of a full turn, against the
-    independent 1-D integral above (relative 1e-12), every face decided."""
+    """Issue 31 item 2: 2R chains with both joints in [-E, E] up to 2e-5 deg short of a full turn, against the
+    independent 1-D integral above (relative 1e-12), every face decided.  At 179.9999 deg lenses 1e-6 wide and
+    3 long between the circles of joint 1 at its two limits were left undecided (area 1.1e-6 short): the probes
+    stepped into a face by fractions of its edges' length, all wider than the lens."""
     b = quiet_boundary(PlanarChain(list(lengths), [-limit] * 2, [limit] * 2))
     assert b.area == pytest.approx(two_link_symmetric_area(*lengths, limit), rel=1e-12)
+
+
+@settings(derandomize=True, max_examples=10, deadline=None)
+@given(lengths=st.lists(st.integers(100, 1500), min_size=3, max_size=4), seed=st.integers(0, 1000),
+       limit=st.sampled_from([179.9999, 179.99999]))
+def test_random_chains_a_hair_short_of_a_full_turn(lengths, limit, seed):
+    """Issue 31 item 2, property: chains of 3-4 joints in [-E, E], E = 179.9999 or 179.99999 deg: the area is the
+    annulus's to 1e-9 (the missing angles change it by O(l^2 eps^2)), faces left undecided (points where many
+    nearly tangent circles meet) total below 1e-9 of it, and random configurations are never outside."""
+    lengths = [f"{x / 1000:g}" for x in lengths]
+    c = PlanarChain(lengths, [-limit] * len(lengths), [limit] * len(lengths))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        b = c.boundary()
+    _, inner, area = annulus(lengths)
+    assert b.area == pytest.approx(float(area), rel=1e-9)
+    assert b.undecided_area <= 1e-9 * float(area)
+    if inner > 1e-3:
+        assert b.contains((0.0, 0.0)) == "outside"
+    assert (b.classify(c.forward(c.sample(500, seed=seed))) != "outside").all()

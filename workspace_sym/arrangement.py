@@ -420,14 +420,19 @@ class Arrangement:
         best, best_clear = None, -1.0
         hs = list(self.cycles[self.face_cycles[f]])
         hs.sort(key=lambda h: -self.circles[self.edges[h // 2].circle, 2] * self.edges[h // 2].span)
+        perimeter = sum(self.circles[self.edges[k].circle, 2] * self.edges[k].span for k in self.face_edges(f))
+        width = 2 * abs(self.face_area[f]) / perimeter if perimeter > 0 else 0.0
         for h in hs[:24]:
             cx, cy, r, a, b = self.half_edge_arc(h)
             length = r * self.edges[h // 2].span
             toward_centre = h % 2 == 0       # the left of a counter-clockwise arc is the centre side
+            # steps from the edge's length, then from the face's mean width (a long thin face, such as the
+            # lens between circles 1e-6 apart of a joint 1e-4 deg short of a full turn, is narrower than them)
+            distances = [step * min(length, 0.2 * self.scale) for step in (0.3, 0.1, 0.03, 0.01, 3e-3, 1e-3, 1e-4,
+                                                                             1e-5)] + [0.5 * width, 0.25 * width]
             for frac in (0.5, 0.25, 0.75):
                 m = a + frac * (b - a)
-                for step in (0.3, 0.1, 0.03, 0.01, 3e-3, 1e-3, 1e-4, 1e-5):
-                    d = step * min(length, 0.2 * self.scale)
+                for d in distances:
                     rr = r - d if toward_centre else r + d
                     if rr <= 0 or d <= 20 * self.tol:
                         continue
