@@ -44,6 +44,11 @@ def test_issue23_chain_is_the_annulus(lower, upper):
     assert b.area == pytest.approx(float(area), rel=1e-12)
     assert sp.simplify(exact_area(b) - area) == 0
     assert sorted(loop.kind for loop in b.loops) == ["hole", "outer"]
+    # both circles are whole turns of joint 1, shown over [-180, 180] (the hole, walked clockwise, read
+    # [-540, -180] before), with the folded joints at 180 for the hole
+    assert [row["theta_sets"] for row in b.table(exact=True)] == [[(-180, 180), (0,), (0,)],
+                                                                  [(-180, 180), (180,), (180,)]]
+    assert [row["theta_sets"][0] for row in b.table()] == [(-180.0, 180.0)] * 2
     assert b.contains((0.0, 0.0)) == "outside"
     for rho, want in ((0.5 * float(inner), "outside"), (0.5 * float(inner + R), "inside"),
                       (1.01 * float(R), "outside")):

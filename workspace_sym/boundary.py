@@ -664,6 +664,8 @@ def _boundary_arc(chain, kept, arr, m) -> BoundaryArc:
         # a full-turn joint: the piece may cross the joint's -180/180 seam, so follow it from its start
         t_start = theta_at(m["a0"])
         t0, t1 = sorted((t_start, t_start + m["a1"] - m["a0"]))
+        turns = math.ceil((lo_src - t0 - 1e-9) / _TWO_PI)       # from [lo, hi] on: -180..180, not -540..-180
+        t0, t1 = t0 + turns * _TWO_PI, t1 + turns * _TWO_PI
     else:
         t0, t1 = sorted((theta_at(m["a0"]), theta_at(m["a1"])))
     sets = tuple((float(t0), float(t1)) if k == i else s for k, s in enumerate(src.theta_sets))
