@@ -77,10 +77,10 @@ def test_bad_input(args, error, match):
 
 
 @pytest.mark.parametrize("lower, upper", [(-180, 180), (-360, 360), (-179.999999, 180), (-180, 179.9999999),
-                                          (-179.99999999, 179.99999999), (0, 360)])
+                                          (-179.99999999, 179.99999999), (0, 360), (-180, 179.99999)])
 def test_full_turn_is_a_joint_without_limits(lower, upper):
     """Issue 23 item 2: a range of 360 deg or more (datasheets write +-180 or +-360) is accepted and is a full
-    turn, and so is one within RESOLUTION rad (5.7e-6 deg) of it; the joint runs over [-pi, pi]."""
+    turn, and so is one within 2 RESOLUTION rad (1.1e-5 deg) of it; the joint runs over [-pi, pi]."""
     c = PlanarChain([0.3, 0.2], [lower, -90], [upper, 90])
     assert c.full == (True, False)
     assert (c.lower[0], c.upper[0]) == (-math.pi, math.pi)

@@ -39,8 +39,9 @@ __all__ = ["PlanarChain", "Arc"]
 _TOL = 1e-12          # angles (radians) and lengths relative to the chain's reach
 _ZERO_B = 1e-9        # |B_j| <= _ZERO_B |u| |v_j| counts as B_j = 0 (Lemma 3.1)
 # The finest detail Step 2 resolves, relative to the reach: faces narrower than this are merged
-# (boundary.SLIVER_WIDTH).  A joint whose range falls short of a full turn by less than this many radians
-# is a full turn: the angles it leaves out move the end point by less than RESOLUTION * reach.
+# (boundary.SLIVER_WIDTH).  A joint whose range falls short of a full turn by at most twice this many radians
+# is a full turn: each angle it leaves out lies within RESOLUTION of a limit, so the points only they reach
+# lie within RESOLUTION * reach of the workspace of the limited joint.
 RESOLUTION = 1e-7
 _SAFE_LENGTHS = (1e-100, 1e100)   # the longest link: its square times the number of faces stays a normal float
 _TWO_PI = 2 * math.pi
@@ -138,8 +139,8 @@ class PlanarChain:
         such as ``"3/20"`` or ``"sqrt(2)/10"``)
     lower, upper : joint limits, ``lower < upper`` (degrees by default), any values: a range of a full turn
         (360 degrees) or more, such as ``[-180, 180]`` or a datasheet's ``[-360, 360]``, is a joint without
-        limits, and so is one that falls short of a full turn by less than :data:`RESOLUTION` radians
-        (the angles it leaves out move the end point by less than the detail the boundary resolves)
+        limits, and so is one that falls short of a full turn by at most ``2 *`` :data:`RESOLUTION` radians
+        (1.1e-5 deg: the angles it leaves out move the end point by less than the detail the boundary resolves)
     degrees : bool
 
     Inputs are kept exact as well: a float is read as the decimal it prints as
@@ -188,7 +189,7 @@ class PlanarChain:
         self.lengths = tuple(l for l, _, _ in floats)
         # a full turn has no limits: it is held nowhere, any alignment angle is allowed, and it runs over
         # [-pi, pi] (exactly, for the closed forms)
-        self.full = tuple((hi - lo) * scale >= _TWO_PI - RESOLUTION for _, lo, hi in floats)
+        self.full = tuple((hi - lo) * scale >= _TWO_PI - 2 * RESOLUTION for _, lo, hi in floats)
         self.lower = tuple(-math.pi if f else lo * scale for f, (_, lo, _) in zip(self.full, floats))
         self.upper = tuple(math.pi if f else hi * scale for f, (_, _, hi) in zip(self.full, floats))
         self.exact_lengths = tuple(e[0] for e in exact)
