@@ -189,7 +189,7 @@ def test_boundary_bad_input_writes_nothing(tmp_path, capsys):
     for argv, needle in ((["--lengths", "0.3,0.15", "--lower=-60,10", "--upper=0,10"], "joint 2"),
                          (["--lengths", "0.3,-1", "--lower=-60,0", "--upper=0,10"], "length of joint 2"),
                          (["--lengths", "0.3,", "--lower=-60,0", "--upper=0,10"], "--lengths"),
-                         (["--lengths", "0.3", "--lower=-180", "--upper=0"], "(-180, 180]"),
+                         (["--lengths", "1e160,1e160", "--lower=-10,-10", "--upper=10,10"], "lengths: the longest"),
                          (["--lengths", "nan", "--lower=-60", "--upper=0"], "length of joint 1"),
                          (["--lengths", "0.3,0.2", "--lower=-60", "--upper=0,1"], "one value per joint")):
         code, out, err = run(capsys, "boundary", *argv, "--report", str(report))

@@ -5,6 +5,7 @@ import math
 
 import numpy as np
 import pytest
+import sympy as sp
 
 from workspace_sym import InvalidParameterError, JointLimitError
 from workspace_sym.planar import PlanarChain
@@ -62,7 +63,10 @@ def test_outermost_kept_arc_is_the_reach_with_workspace_inside():
 
 @pytest.mark.parametrize("args, error, match", [
     (([0.1, 0.2], [-10, 20], [10, 10]), JointLimitError, r"upper limit of joint 2 \(10 deg\) must exceed"),
-    (([0.1], [-180], [10]), JointLimitError, r"limits of joint 1 must lie in \(-180, 180\]"),
+    (([0.1], [float("-inf")], [10]), InvalidParameterError, "lower limit of joint 1 must be a finite number"),
+    (([1e160, 1e160], [-10, -10], [10, 10]), InvalidParameterError, r"lengths: the longest link \(1e\+160\)"),
+    (([1e154, 1e154], [-10, -10], [10, 10]), InvalidParameterError, r"lengths: the longest link \(1e\+154\)"),
+    (([1, 1e-8], [-10, -10], [10, 10]), InvalidParameterError, r"lengths: the shortest link \(1e-08\) must be at "),
     (([0.1, -1], [0, 0], [1, 1]), InvalidParameterError, "length of joint 2 must be positive; got -1"),
     (([], [], []), InvalidParameterError, "at least one joint"),
     (([float("nan")], [0], [1]), InvalidParameterError, "length of joint 1 must be a finite number"),
@@ -70,3 +74,22 @@ def test_outermost_kept_arc_is_the_reach_with_workspace_inside():
 def test_bad_input(args, error, match):
     with pytest.raises(error, match=match):
         PlanarChain(*args)
+
+
+@pytest.mark.parametrize("lower, upper", [(-180, 180), (-360, 360), (-179.999999, 180), (-180, 179.9999999),
+                                          (-179.99999999, 179.99999999), (0, 360), (-180, 179.99999)])
+def test_full_turn_is_a_joint_without_limits(lower, upper):
+    """Issue 23 item 2: a range of 360 deg or more (datasheets write +-180 or +-360) is accepted and is a full
+    turn, and so is one within 2 RESOLUTION rad (1.1e-5 deg) of it; the joint runs over [-pi, pi]."""
+    c = PlanarChain([0.3, 0.2], [lower, -90], [upper, 90])
+    assert c.full == (True, False)
+    assert (c.lower[0], c.upper[0]) == (-math.pi, math.pi)
+    assert c.exact_lower[0] == -sp.pi and c.exact_upper[0] == sp.pi
+
+
+def test_a_range_short_of_a_full_turn_keeps_its_limits():
+    """2e-5 deg short of a full turn (above RESOLUTION rad) keeps its limits; ranges outside (-180, 180] are
+    accepted as they are."""
+    c = PlanarChain([0.3, 0.2], [-179.99998, 170], [180, 300])
+    assert c.full == (False, False)
+    assert c.lower[1] == pytest.approx(math.radians(170)) and c.upper[1] == pytest.approx(math.radians(300))

@@ -7,9 +7,9 @@ is float arithmetic with these explicit tolerances (relative to ``scale``).
 
 A half-edge runs along an edge with its face on the left; ``next`` turns as
 far clockwise as possible at each vertex, so each face is traced once.  The
-orientation of outgoing half-edges at a vertex is read a short arc length
-along each of them, so that circles tangent at a vertex are ordered by their
-curvature.
+orientation of outgoing half-edges at a vertex is read one short arc length
+along all of them (a quarter of the shortest edge there), so that circles
+tangent at a vertex are ordered by their curvature.
 """
 
 from __future__ import annotations
@@ -155,7 +155,7 @@ class Arrangement:
                 merged[0] = [last[0], max(last[1], merged[0][0] + merged[0][1] + _TWO_PI - last[0])]
             merged = [(s, min(w, _TWO_PI)) for s, w in merged]
             if merged and merged[0][1] >= _TWO_PI - ang_tol:
-                merged = [(0.0, _TWO_PI)]
+                merged = [(merged[0][0], _TWO_PI)]      # cut where an input arc starts: a vertex with a closed form
             self.covered.append(merged)
 
     def _on_circle(self, c, pts):
@@ -271,11 +271,17 @@ class Arrangement:
         self.head = np.zeros(2 * ne, int)
         key = np.zeros(2 * ne)
         outgoing = [[] for _ in range(len(self.vertices))]
+        # Every half-edge leaving a vertex is read at one arc length from it, the shortest quarter edge there:
+        # chords of different lengths compared different amounts of curvature, and a long edge's chord turned
+        # past a nearly tangent short one (circles 7e-5 rad apart: a 2R chain at +-179.99 deg lost its hole).
+        quarter = [min(0.25 * self.circles[e.circle, 2] * e.span, 1e-3 * self.scale) for e in self.edges]
+        read_at = np.full(len(self.vertices), np.inf)
+        for k, e in enumerate(self.edges):
+            read_at[[e.tail, e.head]] = np.minimum(read_at[[e.tail, e.head]], quarter[k])
         for k, e in enumerate(self.edges):
             r = self.circles[e.circle, 2]
-            length = r * e.span
-            step = min(0.25 * length, 1e-3 * self.scale) / r
-            for h, (v, t) in ((2 * k, (e.tail, e.t0 + step)), (2 * k + 1, (e.head, e.t0 + e.span - step))):
+            for h, (v, t) in ((2 * k, (e.tail, e.t0 + read_at[e.tail] / r)),
+                              (2 * k + 1, (e.head, e.t0 + e.span - read_at[e.head] / r))):
                 self.tail[h], self.head[h] = v, (e.head if h % 2 == 0 else e.tail)
                 q = self.edge_point(e, t) - self.vertices[v]
                 key[h] = math.atan2(q[1], q[0])
@@ -414,14 +420,19 @@ class Arrangement:
         best, best_clear = None, -1.0
         hs = list(self.cycles[self.face_cycles[f]])
         hs.sort(key=lambda h: -self.circles[self.edges[h // 2].circle, 2] * self.edges[h // 2].span)
+        perimeter = sum(self.circles[self.edges[k].circle, 2] * self.edges[k].span for k in self.face_edges(f))
+        width = 2 * abs(self.face_area[f]) / perimeter if perimeter > 0 else 0.0
         for h in hs[:24]:
             cx, cy, r, a, b = self.half_edge_arc(h)
             length = r * self.edges[h // 2].span
             toward_centre = h % 2 == 0       # the left of a counter-clockwise arc is the centre side
+            # steps from the edge's length, then from the face's mean width (a long thin face, such as the
+            # lens between circles 1e-6 apart of a joint 1e-4 deg short of a full turn, is narrower than them)
+            distances = [step * min(length, 0.2 * self.scale) for step in (0.3, 0.1, 0.03, 0.01, 3e-3, 1e-3, 1e-4,
+                                                                             1e-5)] + [0.5 * width, 0.25 * width]
             for frac in (0.5, 0.25, 0.75):
                 m = a + frac * (b - a)
-                for step in (0.3, 0.1, 0.03, 0.01, 3e-3, 1e-3, 1e-4, 1e-5):
-                    d = step * min(length, 0.2 * self.scale)
+                for d in distances:
                     rr = r - d if toward_centre else r + d
                     if rr <= 0 or d <= 20 * self.tol:
                         continue

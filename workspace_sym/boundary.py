@@ -43,7 +43,7 @@ from .exact import closed_forms, exact_area
 from .interval import arith
 from .interval.search import prove_all
 from .numbers import clean, fmt
-from .planar import Arc
+from .planar import RESOLUTION, Arc
 from .progress import stage_bar
 
 __all__ = ["Boundary", "BoundaryArc", "Loop", "build_boundary", "format_set", "prove_unreachable",
@@ -435,7 +435,7 @@ def witness_near(chain, targets, *, starts=None, points=None, samples: int = 409
     near = np.argsort(((points[None, :, :] - targets[:, None, :]) ** 2).sum(-1), axis=1)[:, :k]
     return _local_witness(chain, targets, starts[near], iterations)
 
-SLIVER_WIDTH = 1e-7     # faces narrower than this times the reach are merged into their neighbours
+SLIVER_WIDTH = RESOLUTION     # faces narrower than this times the reach are merged into their neighbours
 
 
 def _slivers(chain, arr: Arrangement) -> dict:
@@ -660,7 +660,14 @@ def _boundary_arc(chain, kept, arr, m) -> BoundaryArc:
         rel = (angle - src.start_angle + 1e-9) % _TWO_PI - 1e-9
         return lo_src + min(max(rel, 0.0), src.theta_sets[i][1] - lo_src)
 
-    t0, t1 = sorted((theta_at(m["a0"]), theta_at(m["a1"])))
+    if src.end_angle - src.start_angle >= _TWO_PI - 1e-12:
+        # a full-turn joint: the piece may cross the joint's -180/180 seam, so follow it from its start
+        t_start = theta_at(m["a0"])
+        t0, t1 = sorted((t_start, t_start + m["a1"] - m["a0"]))
+        turns = math.ceil((lo_src - t0 - 1e-9) / _TWO_PI)       # from [lo, hi] on: -180..180, not -540..-180
+        t0, t1 = t0 + turns * _TWO_PI, t1 + turns * _TWO_PI
+    else:
+        t0, t1 = sorted((theta_at(m["a0"]), theta_at(m["a1"])))
     sets = tuple((float(t0), float(t1)) if k == i else s for k, s in enumerate(src.theta_sets))
     return BoundaryArc(src.type, src.free_joint, sets, (float(src.center[0]), float(src.center[1])), float(src.radius),
                        float(m["a0"]), float(m["a1"]), src.side, m["source"])

@@ -364,6 +364,12 @@ def closed_forms(boundary) -> list[dict]:
                 t = src["lo"] + ang - src["a0"]
                 cands = [_fit(t, v, 2 * sp.pi) for v in a.theta_sets[src["i"]]]
                 ts.append(next((c for c in cands if c is not None), t))
+            sweep = (a.end_angle - a.start_angle) / (2 * math.pi)
+            turns = int(math.copysign(math.floor(abs(sweep) + 1e-9), sweep))
+            if turns > 0:       # a whole circle (a full-turn joint): its two ends are one vertex, a turn apart
+                ts[1] = ts[0] + turns * 2 * sp.pi
+            elif turns < 0:
+                ts[0] = ts[1] - turns * 2 * sp.pi
             values[k], ends[k] = ts, (a.start_angle, a.end_angle)
     _shorter_vertices(chain, boundary.loops, boundary.arcs, sources, values)
     result = []

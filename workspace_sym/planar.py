@@ -30,7 +30,7 @@ from numbers import Integral, Number
 import numpy as np
 import sympy as sp
 
-from .errors import ExpressionError, InvalidParameterError, JointLimitError
+from .errors import ExpressionError, InvalidParameterError
 from .expressions import check_joint_limits, parse_expr
 from .numbers import clean, fmt
 
@@ -38,6 +38,13 @@ __all__ = ["PlanarChain", "Arc"]
 
 _TOL = 1e-12          # angles (radians) and lengths relative to the chain's reach
 _ZERO_B = 1e-9        # |B_j| <= _ZERO_B |u| |v_j| counts as B_j = 0 (Lemma 3.1)
+# The finest detail Step 2 resolves, relative to the reach: faces narrower than this are merged
+# (boundary.SLIVER_WIDTH).  A joint whose range falls short of a full turn by at most twice this many radians
+# is a full turn: each angle it leaves out lies within RESOLUTION of a limit, so the points only they reach
+# lie within RESOLUTION * reach of the workspace of the limited joint.
+RESOLUTION = 1e-7
+_SAFE_LENGTHS = (1e-100, 1e100)   # the longest link: its square times the number of faces stays a normal float
+_TWO_PI = 2 * math.pi
 
 
 def _wrap(a):
@@ -130,7 +137,10 @@ class PlanarChain:
     ----------
     lengths : sequence of positive numbers (floats, integers, fractions or strings
         such as ``"3/20"`` or ``"sqrt(2)/10"``)
-    lower, upper : joint limits, ``-180 < lower < upper <= 180`` (degrees by default)
+    lower, upper : joint limits, ``lower < upper`` (degrees by default), any values: a range of a full turn
+        (360 degrees) or more, such as ``[-180, 180]`` or a datasheet's ``[-360, 360]``, is a joint without
+        limits, and so is one that falls short of a full turn by at most ``2 *`` :data:`RESOLUTION` radians
+        (1.1e-5 deg: the angles it leaves out move the end point by less than the detail the boundary resolves)
     degrees : bool
 
     Inputs are kept exact as well: a float is read as the decimal it prints as
@@ -154,7 +164,6 @@ class PlanarChain:
             raise InvalidParameterError(f"lengths, lower and upper must have one value per joint; got "
                                         f"{len(lengths)}, {len(lower)}, {len(upper)}")
         unit = "deg" if degrees else "rad"
-        half_turn = 180.0 if degrees else math.pi
         floats, exact = [], []
         for k, (l, lo, hi) in enumerate(zip(lengths, lower, upper), start=1):
             row = [_read_value(v, f"{name} of joint {k}")
@@ -162,20 +171,30 @@ class PlanarChain:
             (l, _), (lo, _), (hi, _) = row
             if l <= 0:
                 raise InvalidParameterError(f"length of joint {k} must be positive; got {lengths[k - 1]}")
-            if not (-half_turn < lo and hi <= half_turn):
-                raise JointLimitError(f"limits of joint {k} must lie in (-{half_turn:g}, {half_turn:g}] {unit}; "
-                                      f"got [{lower[k - 1]}, {upper[k - 1]}]")
             check_joint_limits(k, lo, hi, shown=(lower[k - 1], upper[k - 1]), unit=unit)
             floats.append((l, lo, hi))
             exact.append(tuple(e for _, e in row))
+        longest = max(l for l, _, _ in floats)
+        if not _SAFE_LENGTHS[0] <= longest <= _SAFE_LENGTHS[1]:
+            raise InvalidParameterError(f"lengths: the longest link ({fmt(longest, 6, 'g')}) must lie between "
+                                        f"{_SAFE_LENGTHS[0]:g} and {_SAFE_LENGTHS[1]:g} (areas and squared radii "
+                                        f"stay finite floats); express the lengths in another unit")
+        shortest = min(l for l, _, _ in floats)
+        if shortest < RESOLUTION * longest:
+            raise InvalidParameterError(f"lengths: the shortest link ({fmt(shortest, 6, 'g')}) must be at least "
+                                        f"{RESOLUTION:g} times the longest ({fmt(longest, 6, 'g')}): the boundary "
+                                        f"resolves no detail finer than {RESOLUTION:g} of the reach")
         scale = math.pi / 180 if degrees else 1.0
         exact_scale = sp.pi / 180 if degrees else sp.Integer(1)
         self.lengths = tuple(l for l, _, _ in floats)
-        self.lower = tuple(lo * scale for _, lo, _ in floats)
-        self.upper = tuple(hi * scale for _, _, hi in floats)
+        # a full turn has no limits: it is held nowhere, any alignment angle is allowed, and it runs over
+        # [-pi, pi] (exactly, for the closed forms)
+        self.full = tuple((hi - lo) * scale >= _TWO_PI - 2 * RESOLUTION for _, lo, hi in floats)
+        self.lower = tuple(-math.pi if f else lo * scale for f, (_, lo, _) in zip(self.full, floats))
+        self.upper = tuple(math.pi if f else hi * scale for f, (_, _, hi) in zip(self.full, floats))
         self.exact_lengths = tuple(e[0] for e in exact)
-        self.exact_lower = tuple(e[1] * exact_scale for e in exact)
-        self.exact_upper = tuple(e[2] * exact_scale for e in exact)
+        self.exact_lower = tuple(-sp.pi if f else e[1] * exact_scale for f, e in zip(self.full, exact))
+        self.exact_upper = tuple(sp.pi if f else e[2] * exact_scale for f, e in zip(self.full, exact))
         self.p = len(self.lengths)
         self.reach = float(sum(self.lengths))
         self._boundaries = {}
@@ -231,17 +250,20 @@ class PlanarChain:
         ``free`` (n,), ``center`` (n, 2), ``radius`` (n,), ``start`` (n,) polar angle at the lower limit."""
         p, L = self.p, np.array(self.lengths)
         lo, hi = np.array(self.lower), np.array(self.upper)
+        full = np.array(self.full)
         tol_len = _TOL * self.reach
         out = []
         for i in range(p):
+            if full[:i].any():     # a joint before the free one is held at a limit, and a full turn has none
+                break
             st = _Scan(p, i, L[i])
             for j in range(i + 1, p):
-                st = st.branch(j, L[j], lo[j], hi[j], lo, hi, tol_len)
+                st = st.branch(j, L[j], lo[j], hi[j], lo, hi, full, tol_len)
                 if st.n == 0:
                     break
             if st.n == 0:
                 continue
-            st = st.close(lo, hi, tol_len)
+            st = st.close(lo, hi, full, tol_len)
             keep = np.abs(st.radius) > tol_len
             theta_s, aligned_s = st.theta[keep], st.aligned[keep]
             if not len(theta_s):
@@ -414,24 +436,25 @@ class _Scan:
             setattr(new, k, v[rows])
         return new
 
-    def _close_body(self, lo, hi, tol_len):
+    def _close_body(self, lo, hi, full, tol_len):
         """Close the current body: check the pending alignment angle, add the chord to the radius."""
         gamma = np.arctan2(-self.vx, self.vy)
         length = np.hypot(self.vx, self.vy)
         good = length > tol_len
         has = self.pend_joint >= 0
         pj = np.where(has, self.pend_joint, 0)
-        t = _wrap(self.pend - gamma)
-        good &= ~has | ((t > lo[pj] + _TOL) & (t < hi[pj] - _TOL))
+        t = np.where(full[pj], _wrap(self.pend - gamma), lo[pj] + np.mod(self.pend - gamma - lo[pj], _TWO_PI))
+        good &= ~has | full[pj] | ((t > lo[pj] + _TOL) & (t < hi[pj] - _TOL))
         rows = np.flatnonzero(good)
         self.theta[rows[has[rows]], pj[rows[has[rows]]]] = t[rows[has[rows]]]
         self.radius = self.radius + self.orient * length
         return rows, gamma
 
-    def branch(self, j, length, lo_j, hi_j, lo, hi, tol_len):
-        """Joint ``j`` at its lower limit, at its upper limit, or free with the next chord parallel or anti-parallel."""
+    def branch(self, j, length, lo_j, hi_j, lo, hi, full, tol_len):
+        """Joint ``j`` at its lower limit, at its upper limit (not for a full turn), or free with the next chord
+        parallel or anti-parallel."""
         parts = []
-        for value in (lo_j, hi_j):
+        for value in () if full[j] else (lo_j, hi_j):
             s = self._take(slice(None))
             s.theta = self.theta.copy()
             s.theta[:, j] = value
@@ -441,7 +464,7 @@ class _Scan:
             parts.append(s)
         base = self._take(slice(None))
         base.theta = self.theta.copy()
-        rows, gamma = base._close_body(lo, hi, tol_len)
+        rows, gamma = base._close_body(lo, hi, full, tol_len)
         for sign in (0, 1):
             s = base._take(rows)
             s.theta = s.theta.copy()
@@ -457,6 +480,6 @@ class _Scan:
             setattr(out, k, np.concatenate([getattr(s, k) for s in parts]))
         return out
 
-    def close(self, lo, hi, tol_len):
-        rows, _ = self._close_body(lo, hi, tol_len)
+    def close(self, lo, hi, full, tol_len):
+        rows, _ = self._close_body(lo, hi, full, tol_len)
         return self._take(rows)
