@@ -234,3 +234,32 @@ def test_random_chains_a_hair_short_of_a_full_turn(lengths, limit, seed):
     if inner > 1e-3:
         assert b.contains((0.0, 0.0)) == "outside"
     assert (b.classify(c.forward(c.sample(500, seed=seed))) != "outside").all()
+
+
+def test_a_lost_hole_is_refused_not_answered():
+    """Limits 3.5e-7 rad short of a full turn: the arrangement orders nearly tangent arcs wrongly and lost the hole,
+    answering 3.2878 where every configuration lies in the annulus of area 3.2371 (r in [0.127, 1.023]).  Reference:
+    that annulus, a closed form; now the boundary is refused with the limits named, or (once the arrangement is
+    robust there) answered within the annulus."""
+    from workspace_sym.errors import BoundaryError
+
+    lengths = (0.575, 0.124, 0.324)
+    chain = PlanarChain([str(v) for v in lengths], [-180] * 3, [179.99998] * 3)
+    reach, inner = sum(lengths), 2 * max(lengths) - sum(lengths)
+    try:
+        area = chain.boundary().area
+    except BoundaryError as error:
+        assert error.parameter == "lower" and "could not be computed reliably" in str(error)
+    else:
+        assert area <= math.pi * (reach**2 - inner**2) * (1 + 1e-9)
+
+
+def test_undecided_faces_near_a_full_turn_are_reported_not_hidden():
+    """Known limit of the arrangement (issue 31 item 2): (0.1, 0.1, 0.1, 0.52) at +-179.9999 deg leaves a face of
+    area 0.152 undecided where many nearly tangent circles meet.  The answer stays honest: the area proved is the
+    annulus's (closed form 78 pi / 125) and the doubt is reported, with a warning, never added to it."""
+    chain = PlanarChain(["0.1", "0.1", "0.1", "0.52"], [-179.9999] * 4, [179.9999] * 4)
+    with pytest.warns(UserWarning, match="could not be classified"):
+        b = chain.boundary()
+    assert b.area == pytest.approx(float(78 * sp.pi / 125), rel=1e-9)
+    assert 0 <= b.undecided_area < 0.2

@@ -39,6 +39,7 @@ from functools import cached_property
 import numpy as np
 
 from .arrangement import Arrangement, arc_area_term, arc_distance, in_span, parity_inside
+from .errors import BoundaryError
 from .exact import closed_forms, exact_area
 from .interval import arith
 from .interval.search import prove_all
@@ -630,6 +631,7 @@ def _boundary_of(chain, kept, arr, step0, t0, say, *, samples, seed, max_boxes) 
         loops.append(Loop("outer" if area > 0 else "hole", tuple(range(base, len(arcs))), area))
     loops.sort(key=lambda l: (l.kind != "outer", -abs(l.area)))
     undecided = float(sum(arr.face_area[f] for f, s in enumerate(status) if s == "undecided"))
+    _check_consistent(chain, sum(loop.area for loop in loops), undecided)
     if undecided > 0:
         warnings.warn(f"{sum(s == 'undecided' for s in status)} face(s) of total area {undecided:.3g} could not be "
                       f"classified (no witness, interval exclusion within max_boxes={max_boxes} and the argument "
@@ -640,6 +642,26 @@ def _boundary_of(chain, kept, arr, step0, t0, say, *, samples, seed, max_boxes) 
     faces = {f: s for f, s in enumerate(status)}
     return Boundary(chain, arcs, loops, counts, faces, evidence, undecided, time.perf_counter() - t0, arr,
                     merged_slivers)
+
+
+def _check_consistent(chain, area: float, undecided: float) -> None:
+    """Refuse a boundary that contradicts what holds for every chain: the workspace lies in the annulus
+    ``max(0, 2 l_max - R) <= r <= R`` its joints reach when they all turn fully, and no face has negative area.
+
+    Arcs that are nearly tangent at clusters of vertices (limits a hair short of a full turn) can be ordered wrongly
+    around a vertex, and a hole is then lost; this check turns such a silent wrong area into an error.
+    """
+    lengths = [float(v) for v in chain.lengths]
+    reach = sum(lengths)
+    inner = max(0.0, 2 * max(lengths) - reach)
+    bound = math.pi * (reach - inner) * (reach + inner)
+    slack = 1e-9 * math.pi * reach * reach
+    if area > bound + slack or undecided < -slack or area < -slack:      # undecided faces are honest doubt
+        raise BoundaryError(f"the boundary of this chain could not be computed reliably: it gives an area of "
+                            f"{area:.10g} (undecided {undecided:.3g}) where every configuration lies in an annulus of "
+                            f"area {bound:.10g}; limits a hair short of a full turn make nearly tangent arcs whose "
+                            f"order the arrangement cannot tell (give such a joint a full turn, or limits further "
+                            f"from one)", parameter="lower")
 
 
 def _piece(arr, kept, h):

@@ -92,6 +92,11 @@ class BoxError(WorkspaceError):
     """A box has inverted or non-finite bounds."""
 
 
+class BoundaryError(WorkspaceError):
+    """The exact boundary of a planar chain could not be computed reliably for these inputs (it would contradict
+    a property every chain has): refused rather than answered wrongly."""
+
+
 class OutputError(WorkspaceError):
     """An output path cannot be written (missing or unwritable directory, unknown figure format)."""
 
