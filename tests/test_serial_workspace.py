@@ -397,6 +397,25 @@ def test_a_time_limit_stops_the_pair_method_between_chunks():
     assert sum(p.measures.values()) == pytest.approx(p.box.measure, rel=1e-12)
 
 
+def test_a_time_limit_bounds_the_whole_run_and_leaves_the_rest_pending():
+    """Issue 31 item 3: the UR5 by the pair method with a 4 s limit stops within the limit (plus a generous
+    3 s: a chunk is not started when it would end past the limit) with pending boxes, and the classes tile the
+    initial box; the run's seconds count the symbolic preparation (a fresh robot: the model is built in the
+    call)."""
+    import time
+
+    robot = DHRobot.from_file(DATA / "dh" / "ur5.json")
+    start = time.perf_counter()
+    cold = reach(robot, delta=0.05, method="pairs", max_boxes=1)
+    assert cold.seconds >= 0.9 * (time.perf_counter() - start)          # the model is built inside the run
+    start = time.perf_counter()
+    p = reach(robot, delta=0.05, method="pairs", time_limit=4)
+    wall = time.perf_counter() - start
+    assert wall <= 4 + 3 and p.seconds <= wall
+    assert not p.complete and "time limit" in p.stop_reason and len(p.pending) > 0
+    assert sum(p.measures.values()) == pytest.approx(p.box.measure, rel=1e-12)
+
+
 # Arms whose workspaces are known exactly, one per way of classifying boxes and per kind of joint range: the
 # name maps to the robot, its membership test (a point in Fractions; True, False, or None on a measure-zero set
 # the test cannot decide) and the methods whose pavings are checked.

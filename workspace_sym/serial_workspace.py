@@ -51,7 +51,10 @@ makes ``q_1``'s period ``4 pi``); a joint whose range spans a period is then
 paved over one period without limit faces.  An unlimited revolute joint is
 paved over one period of the position (``theta_1 = q_1/2``: ``q_1`` in
 ``[-2 pi, 2 pi]``), or raises :class:`~workspace_sym.errors.JointLimitError`
-when the position is not periodic in it.
+when the position is not periodic in it.  ``time_limit`` bounds the whole call
+(the model's symbolic preparation included, which cannot be interrupted); a
+chunk of work expected to end past it is not started, and what is left is
+pending.
 
 Every verdict rests on outward-rounded interval arithmetic (numpy engine):
 the enclosures of the position and of the Jacobian's minors, the Krawczyk
@@ -62,6 +65,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import time
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -538,24 +542,30 @@ def _pairs(robot, parameters, delta, size, run, *, max_pairs, inner_depth, execu
     run.total = box.measure
     step = _ReachStep(robot, parameters, float(delta), size, inner_depth, int(max_pairs), float(_volumes(T)[0]))
     spread = None if executor is None else _runner(executor, step)
+    rate = 0.0                                  # seconds per (task box, pair) of the last wave of chunks
     try:
         while len(T):
-            reason = run.stop_reason(evaluated)
-            if reason:
-                break
             pieces = max(1, math.ceil(len(Q) / chunk_pairs))
-            left = []                           # task boxes of chunks not run: the time limit came first
-            if spread is None:
-                results = []
-                for part in _parts(T, Q, owner, pieces):
-                    if reason:
-                        left.append(part[0])
-                        continue
-                    results.append(step(part))
-                    reason = run.stop_reason(evaluated)
-            else:
+            if spread is not None:
                 pieces = max(pieces, min(spread.slots, math.ceil(len(T) / _MIN_CHUNK)))
-                results = [f.result() for f in [spread.submit(part) for part in _parts(T, Q, owner, pieces)]]
+            parts = list(_parts(T, Q, owner, pieces))
+            # Waves of one chunk (here) or one per slot (executor); the budget is looked at before each wave,
+            # and a wave expected to end past the time limit is not started: its task boxes stay pending.
+            width = 1 if spread is None else spread.slots
+            results, left = [], []
+            for w in range(0, len(parts), width):
+                wave = parts[w:w + width]
+                work = sum(len(t) + len(q) for t, q, _ in wave)
+                reason = run.stop_reason(evaluated, ahead=rate * work)
+                if reason:
+                    left = [t for t, _, _ in parts[w:]]
+                    break
+                start = time.perf_counter()
+                if spread is None:
+                    results.append(step(wave[0]))
+                else:
+                    results += [f.result() for f in [spread.submit(part) for part in wave]]
+                rate = (time.perf_counter() - start) / max(1, work)
             evaluated += len(T) - sum(map(len, left))
             children, pairs, owners = [], [], []
             for i, b, o, c, q, w in results:
@@ -565,7 +575,9 @@ def _pairs(robot, parameters, delta, size, run, *, max_pairs, inner_depth, execu
                 owners.append(w + sum(map(len, children)))
                 children.append(c)
                 pairs.append(q)
-            T, Q, owner = np.concatenate(children), np.concatenate(pairs), np.concatenate(owners)
+            T = np.concatenate(children) if children else T[:0]
+            Q = np.concatenate(pairs) if pairs else Q[:0]
+            owner = np.concatenate(owners) if owners else owner[:0]
             if left:
                 T = np.concatenate([T, *left])
                 break
@@ -710,17 +722,19 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
             raise InvalidParameterError(f"{name} must be a whole number, {least} or more; got {value!r}",
                                         parameter=name)
     parameters = tuple(sorted((parameters or {}).items(), key=lambda item: str(item[0])))
-    model = _model(robot, parameters)
-    root = model.enclose(model.limits[None])[0]
-    if not np.isfinite(root).all():
-        raise InvalidParameterError("robot: the position has no finite enclosure over the joint limits")
-    extent = box_sizes(root[None], size)[0]
-    if delta > extent:
-        raise InvalidParameterError(f"delta must be at most the size of the workspace's enclosing box "
-                                    f"({extent:.6g} {robot.units}); got {delta!r}", parameter="delta")
-    kind = resolve_method(robot, method, parameters)
+    # The time limit bounds the whole call: the clock starts before the symbolic preparation of the model.
     run = RunBudget(max_boxes=max_boxes, time_limit=time_limit, progress=progress, total=0.0, label="reach")
+    model = root = None
     try:
+        model = _model(robot, parameters)
+        root = model.enclose(model.limits[None])[0]
+        if not np.isfinite(root).all():
+            raise InvalidParameterError("robot: the position has no finite enclosure over the joint limits")
+        extent = box_sizes(root[None], size)[0]
+        if delta > extent:
+            raise InvalidParameterError(f"delta must be at most the size of the workspace's enclosing box "
+                                        f"({extent:.6g} {robot.units}); got {delta!r}", parameter="delta")
+        kind = resolve_method(robot, method, parameters)
         result = None
         if kind == "critical":
             try:
@@ -734,11 +748,15 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
             result = _pairs(robot, parameters, delta, size, run, max_pairs=max_pairs, inner_depth=inner_depth,
                             executor=executor, chunk_pairs=chunk_pairs)
     except KeyboardInterrupt:
+        if root is None:
+            raise
         whole = Box(model.task_variables, tuple(root[:, 0]), tuple(root[:, 1]))
         result = whole, [], [], [], root[None], 0, "interrupted"
     finally:
         run.close()
     box, inner, boundary, outer, pending, evaluated, reason = result
+    if pending is None or not len(pending):
+        reason = ""                             # a budget that ran out after the last box: nothing is pending
     m = len(model.task_variables)
     empty = np.empty((0, m, 2))
 
