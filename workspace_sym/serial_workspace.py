@@ -22,8 +22,10 @@ by disjoint sets of joints (a SCARA: ``x, y`` by two revolute joints, ``z``
 by a prismatic one) has the product of their images as workspace: the plane
 factor is paved that way, a single coordinate's image is an interval (outer:
 its enclosure; inner: between two configurations whose values are proved).
-Otherwise a spatial robot whose first joint is revolute
-(standard DH, no base transform) has ``p = Rz(theta_1) (u, c, v)`` with
+Otherwise a spatial robot whose first joint is revolute with
+``theta_1 = k q_1 + offset`` and ``q_1`` in no other entry of the table (its
+own ``d_1``, ``a_1``, ``alpha_1`` included) nor in the tool (standard DH, no
+base transform) has ``p = Rz(theta_1) (u, c, v)`` with
 ``(u, v)`` depending on the other joints and ``c`` constant (a lateral
 offset): the section ``S`` of points ``(u, v)`` is paved that way (cells of
 ``SECTION_RATIO delta``), and a box of ``(x, y, z)`` is classified from the
@@ -42,6 +44,18 @@ wider than the half); a task box left without joint boxes is outer.  Inner
 proofs: the Krawczyk test of :class:`~workspace_sym.interval.image.ImageMap`
 around a Newton solution for the box centre.
 
+Joint ranges: a joint's range is its limits.  The position is periodic in a
+joint variable only when that variable appears in angles alone, each a
+rational multiple of it plus a constant (a coupled ``theta_2 = q_2 + q_1/2``
+makes ``q_1``'s period ``4 pi``); a joint whose range spans a period is then
+paved over one period without limit faces.  An unlimited revolute joint is
+paved over one period of the position (``theta_1 = q_1/2``: ``q_1`` in
+``[-2 pi, 2 pi]``), or raises :class:`~workspace_sym.errors.JointLimitError`
+when the position is not periodic in it.  ``time_limit`` bounds the whole call
+(the model's symbolic preparation included, which cannot be interrupted); a
+chunk of work expected to end past it is not started, and what is left is
+pending.
+
 Every verdict rests on outward-rounded interval arithmetic (numpy engine):
 the enclosures of the position and of the Jacobian's minors, the Krawczyk
 operator, and the box classification.
@@ -51,6 +65,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import time
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -86,19 +101,67 @@ _MARGIN = 1e-12                  # of angle comparisons after reduction modulo 2
 _TWO_PI = 2 * math.pi
 
 
-def _joint_range(robot: DHRobot, k: int):
-    """Exact limits of joint ``k`` (a revolute joint without limits turns fully: ``[-pi, pi]``), and whether
-    the position is ``2 pi`` periodic in it over its whole range (a revolute joint turning fully)."""
+def _exact(value) -> sp.Expr:
+    """``value`` with its floats replaced by the rationals they are (a float is its binary value exactly)."""
+    value = sp.sympify(value)
+    return value.xreplace({f: sp.Rational(f) for f in value.atoms(sp.Float)})
+
+
+def _period(robot: DHRobot, k: int, parameters: dict | None):
+    """``(T, "")``, ``T`` the least period of the position in joint ``k``'s variable ``q``, or ``(None, why)``
+    when it is not proved periodic.
+
+    A DH matrix holds its angles only through their cosines and sines, so if ``q`` appears in angles alone
+    (theta and alpha of any row), each ``c_i q + (terms free of q)`` with every ratio ``c_i / c_0`` rational
+    (``n_i / D`` over a common denominator, ``g = gcd(n_i)``), the position is ``T`` periodic in ``q`` where
+    ``c_i T`` is in ``2 pi Z`` for every ``i``: ``T = 2 pi D / (g |c_0|)``.
+    """
+    q = robot.q[k]
+    lengths = [e for j in robot.joints for e in (j.d, j.a)]
+    if any(q in sp.sympify(e).free_symbols for e in lengths):
+        return None, f"{q} sets a length of the table"
+    if any(M is not None and q in M.free_symbols for M in (robot.base, robot.tool)):
+        return None, f"{q} enters the base or tool transform"
+    slopes = []
+    for joint in robot.joints:
+        for angle in (joint.theta, joint.alpha):
+            angle = _exact(robot.substitute(angle, parameters))
+            if q in angle.free_symbols:
+                slope = sp.diff(angle, q)
+                if slope.free_symbols or slope == 0:
+                    return None, f"the angle {angle} is not c {q} + terms free of {q} with a constant c"
+                slopes.append(slope)
+    ratios = [sp.simplify(c / slopes[0]) for c in slopes]
+    if not all(r.is_Rational for r in ratios):
+        return None, f"its angles turn with {q} at rates {', '.join(map(str, slopes))} of irrational ratio"
+    common = math.lcm(*(int(r.q) for r in ratios))
+    turns = math.gcd(*(int(r * common) for r in ratios))
+    return 2 * sp.pi * common / (turns * abs(slopes[0])), ""
+
+
+def _joint_range(robot: DHRobot, k: int, parameters: dict | None):
+    """Exact range of joint ``k`` in the reach model, and whether the position is periodic in it with that
+    range as its period (a joint turning the position through whole periods has no limit faces).
+
+    A joint whose range spans a period ``T`` of the position (:func:`_period`) is given ``[lo, lo + T]``
+    (an unlimited one ``[-T/2, T/2]``): the image is the same.  Whether the limits span ``T`` is decided
+    exactly; undecidable counts as not, which is always sound.
+    """
     joint = robot.joints[k]
-    if joint.limits is None and joint.kind == "P":
-        raise JointLimitError(f"joint {k + 1} ({joint.variable}) is prismatic: reach needs its limits")
-    lo, hi = (-sp.pi, sp.pi) if joint.limits is None else joint.limits
-    slope = sp.diff(joint.theta, joint.variable) if joint.kind == "R" else None
-    try:                                    # exact comparison (a float limit is its binary value exactly)
-        full = joint.limits is None or bool(sp.simplify(hi - lo - 2 * sp.pi) >= 0)
-    except TypeError:                       # undecidable: treated as limited, which is always sound
+    period, why = _period(robot, k, parameters)
+    if joint.limits is None:
+        if joint.kind == "P":
+            raise JointLimitError(f"joint {k + 1} ({joint.variable}) is prismatic: reach needs its limits")
+        if period is None:
+            raise JointLimitError(f"joint {k + 1} ({joint.variable}) has no limits and the position is not "
+                                  f"periodic in it ({why}): reach needs its limits")
+        return (-period / 2, period / 2), True
+    lo, hi = joint.limits
+    try:
+        full = period is not None and bool(sp.simplify(_exact(hi - lo) - period) >= 0)
+    except TypeError:
         full = False
-    return (lo, hi), joint.kind == "R" and slope in (1, -1) and full
+    return ((lo, lo + period) if full else (lo, hi)), full
 
 
 class ReachModel(ImageMap):
@@ -120,12 +183,13 @@ class ReachModel(ImageMap):
                                         "(the position must be numeric apart from the joints)")
         moving = position.free_symbols
         self.robot = robot
+        self.parameters = parameters
         self.position = position
         self.joints = [k for k, q in enumerate(robot.q) if q in moving]
         self.coordinates = [i for i in range(3) if position[i].free_symbols]
         if not self.joints:
             raise InvalidParameterError(f"robot: the position of {robot.name} does not depend on any joint")
-        ranges = [_joint_range(robot, k) for k in self.joints]
+        ranges = [_joint_range(robot, k, parameters) for k in self.joints]
         self.exact_limits = [r for r, _ in ranges]
         self.task_variables = tuple(_TASK[i] for i in self.coordinates)
         super().__init__([position[i] for i in self.coordinates], [robot.q[k] for k in self.joints],
@@ -153,15 +217,17 @@ def _revolved(model: ReachModel) -> _Revolved | None:
     q1 = joint.variable
     if joint.kind != "R":
         return None
-    slope = sp.diff(joint.theta, q1)
-    if slope not in (1, -1):
+    # theta_1 = slope q1 + offset must turn everything after it and nothing else: q1 appears in no other entry
+    # of the table (its own row's d, a and alpha included) nor in the tool.
+    others = [joint.d, joint.a, joint.alpha] + [e for j in robot.joints[1:] for e in (j.theta, j.d, j.a, j.alpha)]
+    others += list(robot.tool) if robot.tool is not None else []
+    if any(q1 in sp.sympify(e).free_symbols for e in others):
         return None
-    # theta_1 must turn everything after it and nothing else: q1 appears in no later row nor in the tool.
-    later = [e for j in robot.joints[1:] for e in (j.theta, j.d, j.a, j.alpha)]
-    later += list(robot.tool) if robot.tool is not None else []
-    if any(q1 in sp.sympify(e).free_symbols for e in later):
+    theta = robot.substitute(joint.theta, model.parameters)
+    slope = sp.diff(theta, q1)
+    if slope.free_symbols or slope == 0:
         return None
-    offset = joint.theta.subs(q1, 0)
+    offset = theta.subs(q1, 0)
     # Standard DH without base: T = Rz(theta_1) Tz(d_1) Tx(a_1) Rx(alpha_1) ..., so p = Rz(theta_1) p(theta_1 = 0).
     p1 = [sp.simplify(e.subs(q1, -offset / slope)) for e in model.position]
     if p1[1].free_symbols & set(robot.q):
@@ -171,8 +237,9 @@ def _revolved(model: ReachModel) -> _Revolved | None:
         return None
     rows = [model.variables.index(q) for q in variables]
     section = ImageMap([p1[0], p1[2]], variables, [model.exact_limits[r] for r in rows], model.periodic[rows])
+    # theta_1's range is the image of q1's (one period of the position when q1 turns it fully: a whole turn).
     (lo, hi), full = model.exact_limits[0], bool(model.periodic[0])
-    lo, hi = sorted([slope * lo + offset, slope * hi + offset], key=lambda v: float(v))
+    lo, hi = (slope * lo + offset, slope * hi + offset)[::1 if slope > 0 else -1]
     lo_f, hi_f = numpy_constant(lo), numpy_constant(hi)
     return _Revolved(section, numpy_constant(p1[1]), (lo_f[0], hi_f[1]), (lo_f[1], hi_f[0]), full)
 
@@ -475,24 +542,30 @@ def _pairs(robot, parameters, delta, size, run, *, max_pairs, inner_depth, execu
     run.total = box.measure
     step = _ReachStep(robot, parameters, float(delta), size, inner_depth, int(max_pairs), float(_volumes(T)[0]))
     spread = None if executor is None else _runner(executor, step)
+    rate = 0.0                                  # seconds per (task box, pair) of the last wave of chunks
     try:
         while len(T):
-            reason = run.stop_reason(evaluated)
-            if reason:
-                break
             pieces = max(1, math.ceil(len(Q) / chunk_pairs))
-            left = []                           # task boxes of chunks not run: the time limit came first
-            if spread is None:
-                results = []
-                for part in _parts(T, Q, owner, pieces):
-                    if reason:
-                        left.append(part[0])
-                        continue
-                    results.append(step(part))
-                    reason = run.stop_reason(evaluated)
-            else:
+            if spread is not None:
                 pieces = max(pieces, min(spread.slots, math.ceil(len(T) / _MIN_CHUNK)))
-                results = [f.result() for f in [spread.submit(part) for part in _parts(T, Q, owner, pieces)]]
+            parts = list(_parts(T, Q, owner, pieces))
+            # Waves of one chunk (here) or one per slot (executor); the budget is looked at before each wave,
+            # and a wave expected to end past the time limit is not started: its task boxes stay pending.
+            width = 1 if spread is None else spread.slots
+            results, left = [], []
+            for w in range(0, len(parts), width):
+                wave = parts[w:w + width]
+                work = sum(len(t) + len(q) for t, q, _ in wave)
+                reason = run.stop_reason(evaluated, ahead=rate * work)
+                if reason:
+                    left = [t for t, _, _ in parts[w:]]
+                    break
+                start = time.perf_counter()
+                if spread is None:
+                    results.append(step(wave[0]))
+                else:
+                    results += [f.result() for f in [spread.submit(part) for part in wave]]
+                rate = (time.perf_counter() - start) / max(1, work)
             evaluated += len(T) - sum(map(len, left))
             children, pairs, owners = [], [], []
             for i, b, o, c, q, w in results:
@@ -502,7 +575,9 @@ def _pairs(robot, parameters, delta, size, run, *, max_pairs, inner_depth, execu
                 owners.append(w + sum(map(len, children)))
                 children.append(c)
                 pairs.append(q)
-            T, Q, owner = np.concatenate(children), np.concatenate(pairs), np.concatenate(owners)
+            T = np.concatenate(children) if children else T[:0]
+            Q = np.concatenate(pairs) if pairs else Q[:0]
+            owner = np.concatenate(owners) if owners else owner[:0]
             if left:
                 T = np.concatenate([T, *left])
                 break
@@ -647,17 +722,19 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
             raise InvalidParameterError(f"{name} must be a whole number, {least} or more; got {value!r}",
                                         parameter=name)
     parameters = tuple(sorted((parameters or {}).items(), key=lambda item: str(item[0])))
-    model = _model(robot, parameters)
-    root = model.enclose(model.limits[None])[0]
-    if not np.isfinite(root).all():
-        raise InvalidParameterError("robot: the position has no finite enclosure over the joint limits")
-    extent = box_sizes(root[None], size)[0]
-    if delta > extent:
-        raise InvalidParameterError(f"delta must be at most the size of the workspace's enclosing box "
-                                    f"({extent:.6g} {robot.units}); got {delta!r}", parameter="delta")
-    kind = resolve_method(robot, method, parameters)
+    # The time limit bounds the whole call: the clock starts before the symbolic preparation of the model.
     run = RunBudget(max_boxes=max_boxes, time_limit=time_limit, progress=progress, total=0.0, label="reach")
+    model = root = None
     try:
+        model = _model(robot, parameters)
+        root = model.enclose(model.limits[None])[0]
+        if not np.isfinite(root).all():
+            raise InvalidParameterError("robot: the position has no finite enclosure over the joint limits")
+        extent = box_sizes(root[None], size)[0]
+        if delta > extent:
+            raise InvalidParameterError(f"delta must be at most the size of the workspace's enclosing box "
+                                        f"({extent:.6g} {robot.units}); got {delta!r}", parameter="delta")
+        kind = resolve_method(robot, method, parameters)
         result = None
         if kind == "critical":
             try:
@@ -671,11 +748,15 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
             result = _pairs(robot, parameters, delta, size, run, max_pairs=max_pairs, inner_depth=inner_depth,
                             executor=executor, chunk_pairs=chunk_pairs)
     except KeyboardInterrupt:
+        if root is None:
+            raise
         whole = Box(model.task_variables, tuple(root[:, 0]), tuple(root[:, 1]))
         result = whole, [], [], [], root[None], 0, "interrupted"
     finally:
         run.close()
     box, inner, boundary, outer, pending, evaluated, reason = result
+    if pending is None or not len(pending):
+        reason = ""                             # a budget that ran out after the last box: nothing is pending
     m = len(model.task_variables)
     empty = np.empty((0, m, 2))
 

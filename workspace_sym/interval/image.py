@@ -1,7 +1,7 @@
 """Certified image of a box of joints under a smooth map: which points are reached, which are not.
 
 :class:`ImageMap` holds a map ``p = f(q)`` from a box of joint values ``Q``
-(revolute joints may be periodic) to ``R^m``, with its interval enclosures
+(joints the map is periodic in may be marked so) to ``R^m``, with its interval enclosures
 (outward-rounded numpy engine), float evaluators, and two proofs:
 
 * **outer**, :meth:`ImageMap.prove_outside`: joint boxes covering every
@@ -81,8 +81,11 @@ class ImageMap:
     expressions : the ``m`` coordinates of ``f`` as SymPy expressions of ``variables``.
     variables : the ``k`` joint symbols.
     limits : ``k`` pairs ``(lo, hi)``, exact (SymPy) or floats.
-    periodic : ``k`` booleans: the map is ``2 pi`` periodic in that joint and its
-        range is the whole circle (no limit faces).
+    periodic : ``k`` booleans: the map is periodic in that joint with period
+        ``hi - lo`` (its limits span exactly one period, so it has no limit faces
+        and any value of it is allowed).  A joint turning through a full circle
+        is periodic only when the map is (a joint in a coupled angle such as
+        ``q2 + q1/2`` is not ``2 pi`` periodic).
     """
 
     COMBOS_TRIED = 3       # choices of the m joints of the inner test tried per box, best-conditioned first
@@ -177,7 +180,8 @@ class ImageMap:
                 JJ = np.einsum("nik,njk->nij", J, J) + 1e-14 * np.eye(self.m)
                 step = np.einsum("nik,ni->nk", J, np.linalg.solve(JJ, r[:, :, None])[:, :, 0])
                 q = q - step
-                q = np.where(self.periodic, np.remainder(q + np.pi, 2 * np.pi) - np.pi,
+                lo, hi = self.limits[:, 0], self.limits[:, 1]
+                q = np.where(self.periodic, lo + np.remainder(q - lo, hi - lo),
                              np.clip(q, self.inner_limits[:, 0], self.inner_limits[:, 1]))
             residual = np.linalg.norm(self.position_float(q) - targets, axis=1)
         return q, np.isfinite(q).all(axis=1) & (residual <= 1e-9 * (1 + np.abs(targets).max(axis=1)))

@@ -518,9 +518,11 @@ class RunBudget:
         """Whether the bar draws (callers skip computing what it would show otherwise)."""
         return not self.bar.disable
 
-    def stop_reason(self, evaluated: int) -> str:
+    def stop_reason(self, evaluated: int, *, ahead: float = 0.0) -> str:
+        """``ahead``: seconds the next step is expected to take; the run stops before a step that would end
+        past the time limit."""
         elapsed = self.seconds
-        if self.time_limit is not None and elapsed > self.time_limit:
+        if self.time_limit is not None and elapsed + ahead > self.time_limit:
             return f"time limit of {self.time_limit} s reached"
         if self.max_boxes is not None and evaluated >= self.max_boxes:
             return f"budget of {self.max_boxes} boxes reached"
