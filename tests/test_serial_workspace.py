@@ -664,3 +664,17 @@ def _in_any_box(points, boxes, pad=0.0):
         rows = order[a:b]
         hit[rows] |= ((points[rows] >= lo) & (points[rows] <= hi)).all(axis=1)
     return hit
+
+
+def test_the_json_names_the_method_that_ran(capsys):
+    """reach --json reported the method chosen before the run ('critical') even when 'auto' fell back to the pair
+    method; the Paving now records the method that decided its boxes."""
+    import json
+
+    from workspace_sym.cli import main
+
+    assert main(["reach", "planar-2r", "--delta", "0.5", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["method"] == "critical"
+    paving = reach(planar_robot([sp.Integer(1), sp.Rational(1, 2)]), delta=0.5, method="pairs")
+    assert paving.method == "pairs" and paving.to_dict()["method"] == "pairs"

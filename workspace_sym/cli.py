@@ -338,7 +338,7 @@ def _show_paving(paving, as_json: bool, extra: dict | None = None) -> None:
 
 
 def cmd_reach(args) -> int:
-    from .serial_workspace import ReachModel, reach, resolve_method
+    from .serial_workspace import ReachModel, reach
 
     robot = _robot_from_args(args)
     with _distributed(args, ()) as spread:
@@ -351,7 +351,7 @@ def cmd_reach(args) -> int:
                                        units=robot.units), args.plot))
     model = ReachModel(robot)
     extra = {"robot": robot.name, "variables": [str(v) for v in paving.variables],
-             "joints_subdivided": [str(q) for q in model.variables], "method": resolve_method(robot, args.method)}
+             "joints_subdivided": [str(q) for q in model.variables], "method": paving.method}
     if not args.json:
         print(f"{robot.name}: position workspace over ({', '.join(extra['variables'])}); joints subdivided: "
               f"{', '.join(extra['joints_subdivided'])}; method {extra['method']}")

@@ -725,6 +725,7 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     # The time limit bounds the whole call: the clock starts before the symbolic preparation of the model.
     run = RunBudget(max_boxes=max_boxes, time_limit=time_limit, progress=progress, total=0.0, label="reach")
     model = root = None
+    kind = method
     try:
         model = _model(robot, parameters)
         root = model.enclose(model.limits[None])[0]
@@ -745,6 +746,7 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
                     raise InvalidParameterError(f"method 'critical': {error} (joints with parallel axes?); use "
                                                 "method='pairs'", parameter="method") from None
         if result is None:
+            kind = "pairs"                      # also when the critical cover was too large (auto)
             result = _pairs(robot, parameters, delta, size, run, max_pairs=max_pairs, inner_depth=inner_depth,
                             executor=executor, chunk_pairs=chunk_pairs)
     except KeyboardInterrupt:
@@ -766,4 +768,4 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
 
     return Paving(model.task_variables, box, (), float(delta), "numpy", size, stack(inner), stack(boundary),
                   stack(outer), empty if pending is None else pending, run.seconds, not reason, evaluated, reason,
-                  units=robot.units)
+                  units=robot.units, method=kind)

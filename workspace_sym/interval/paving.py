@@ -404,6 +404,7 @@ class Paving:
     exact_measure: object = field(default=None)
     contract: bool = False
     units: str | None = None
+    method: str = ""                # how the boxes were decided, when a caller chose among ways (reach)
 
     @property
     def counts(self) -> dict:
@@ -446,6 +447,8 @@ class Paving:
             out["stop_reason"] = self.stop_reason
         if self.units:
             out["units"] = self.units
+        if self.method:
+            out["method"] = self.method
         if self.exact_measure is not None:
             out["exact_measure"] = float(sp.N(self.exact_measure, 17))
             out["exact_measure_expr"] = sp.sstr(self.exact_measure)
