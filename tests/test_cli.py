@@ -470,3 +470,13 @@ def test_nonsensical_options_exit_2_with_one_line(capsys, tmp_path, argv, needle
     plot = tmp_path / "never.png"
     code, out, err = run(capsys, *argv, "--plot", str(plot))
     assert code == 2 and out == "" and err.count("\n") == 1 and needle in err and not plot.exists()
+
+
+def test_help_points_to_the_installed_contract(capsys):
+    """--help named docs/cli.md, which a pip install did not ship (issue 27): the package now carries docs/ and the
+    help gives the installed path, which must exist and be the contract."""
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    out = " ".join(capsys.readouterr().out.split())        # argparse wraps the epilog
+    path = Path(re.search(r"installed with the package as (\S+cli\.md)", out).group(1))
+    assert path.is_file() and "DH files" in path.read_text()

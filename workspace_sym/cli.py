@@ -606,6 +606,7 @@ def cmd_exercises(args) -> int:
 
 # ------------------------------------------------------------------------------ parser
 # Options shared by several subcommands, declared once as parent parsers.
+DOCS = Path(__file__).resolve().parent / "docs"     # docs/ ships inside the package (pyproject package-data)
 _DH_HELP = "DH table as JSON instead of a catalog robot (format: docs/cli.md, 'DH files')"
 
 
@@ -666,7 +667,8 @@ def _chain_parent(*, required: bool) -> argparse.ArgumentParser:
 
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="workspace-sym", description="Robot workspaces, exactly or with proofs.",
-                     epilog="The options, the DH file format and the JSON keys are described in docs/cli.md.")
+                     epilog=f"The options, the DH file format and the JSON keys are described in docs/cli.md, "
+                            f"installed with the package as {DOCS / 'cli.md'}.")
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     json_, progress, budget = _parent(_JSON), _parent(_PROGRESS), _parent(_MAX_BOXES, _TIME_LIMIT)
