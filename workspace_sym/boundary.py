@@ -371,9 +371,12 @@ def unreachable_via_subchain(chain, q, *, margin: float = 1e-9):
         return None, None
     sub = chain.subchain
     l1 = chain.lengths[0]
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        w = sub.boundary(progress=False)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            w = sub.boundary(progress=False)
+    except BoundaryError:                       # W itself is not reliable: no argument through it
+        return None, None
     if w.undecided_area > 0 or not w.arcs:
         return None, None
     theta1 = np.linspace(chain.lower[0], chain.upper[0], 257)
