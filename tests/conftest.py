@@ -24,7 +24,7 @@ def scara():
 
 
 def dh_numpy(theta, d, a, alpha):
-    """Independent plain-numpy standard DH matrix (METHODS.md section 1)."""
+    """Independent plain-numpy standard DH matrix (docs/methods.md section 1)."""
     ct, st, ca, sa = np.cos(theta), np.sin(theta), np.cos(alpha), np.sin(alpha)
     return np.array([[ct, -st * ca, st * sa, a * ct],
                      [st, ct * ca, -ct * sa, a * st],

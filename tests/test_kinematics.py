@@ -47,7 +47,7 @@ def test_glass_position_prints_as_textbook(glass):
 
 
 def test_glass_rotation_is_the_corrected_form(glass):
-    """Paper 004 with theta6 = 0; row 2 as corrected in METHODS.md section 1 (c234, not s234)."""
+    """Paper 004 with theta6 = 0; row 2 as corrected in docs/methods.md section 1 (c234, not s234)."""
     R = glass.rotation.subs(th[5], 0)
     expected = sp.Matrix([
         [s[1] * s[5] + c[1] * c234 * c[5], s[1] * c[5] - c[1] * c234 * s[5], c[1] * s234],

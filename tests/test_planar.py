@@ -25,7 +25,7 @@ def test_paper_counts(chain, step0, step1):
 
 
 def test_candidate_bound():
-    """At most 2^(2p-1) - 2^(p-1) candidates (METHODS.md section 4)."""
+    """At most 2^(2p-1) - 2^(p-1) candidates (docs/methods.md section 4)."""
     for chain in (HUMAN_ARM, P2, P6):
         p = len(chain[0])
         assert len(PlanarChain(*chain).candidate_arcs()) <= 2 ** (2 * p - 1) - 2 ** (p - 1)

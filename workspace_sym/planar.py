@@ -1,6 +1,6 @@
 """Planar serial chains with joint limits: the alignment method of Bastien (2018).
 
-Notation of METHODS.md section 4, with 0-based indices in the code: segment
+Notation of docs/methods.md section 4, with 0-based indices in the code: segment
 ``k`` goes from ``P_k`` to ``P_{k+1}`` with length ``l_k``; ``theta_0`` is
 measured from the +y axis and ``theta_k`` from segment ``k-1``;
 ``phi_k = theta_0 + ... + theta_k`` and ``P_p = sum_k l_k (-sin phi_k, cos phi_k)``.

@@ -102,7 +102,7 @@ the wrist and gripper) are not limited in the paper and get the full turn."""
 
 
 def glass_handling_arm(**parameters) -> DHRobot:
-    """6R glass-handling arm of Mohammadi & Mirnajafizade (2016), standard DH (METHODS.md section 1).
+    """6R glass-handling arm of Mohammadi & Mirnajafizade (2016), standard DH (docs/methods.md section 1).
 
     Examples
     --------

@@ -571,7 +571,7 @@ def pave(constraints, box, *, delta: float, variables=None, backend: str = "nump
          max_boxes: int | None = None, time_limit: float | None = None, progress: bool | None = None,
          digits: int = 30, chunk: int = 200_000, exact_measure=None, contract: bool = False,
          executor=None, max_memory=None, store=None, resume=None) -> Paving:
-    """Non-uniform covering of ``{x in box : every constraint}`` (METHODS.md section 2).
+    """Non-uniform covering of ``{x in box : every constraint}`` (docs/methods.md section 2).
 
     Parameters
     ----------

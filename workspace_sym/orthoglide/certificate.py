@@ -1,6 +1,6 @@
 """The Orthoglide's certified box module M(B) and the dextrous workspace paving (Chablat, Wenger, Merlet 2002).
 
-Model (METHODS.md section 3, leg length 1, the working mode of the isotropic
+Model (docs/methods.md section 3, leg length 1, the working mode of the isotropic
 configuration): ``A = [[eta1, y, z], [x, eta2, z], [x, y, eta3]]``,
 ``B = diag(eta1, eta2, eta3)``, ``J = A^-1 B`` with
 ``eta1 = sqrt(1 - y^2 - z^2)``, ``eta2 = sqrt(1 - x^2 - z^2)``, ``eta3 = sqrt(1 - x^2 - y^2)``.
