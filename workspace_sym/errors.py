@@ -19,6 +19,7 @@ __all__ = [
     "ConstraintError",
     "BoxError",
     "OutputError",
+    "BoundaryError",
 ]
 
 
