@@ -149,3 +149,20 @@ def test_publishing_a_directory_is_all_or_nothing(tmp_path, monkeypatch):
     monkeypatch.setattr(files, "_copy", real)
     files.publish_dir(source, old)
     assert sorted(p.name for p in old.iterdir()) == ["a.md", "b.html", "c.png"] and (old / "a.md").read_text() == "a.md"
+
+
+@pytest.mark.parametrize("rows", [25, 10_000])
+def test_a_table_past_the_joint_limit_is_refused_at_once(tmp_path, capsys, rows):
+    """Issue 30 item 6: fk of a 50-joint planar chain did not finish in 60 s and a 10,000-row file never answered,
+    without a message.  Now the table is refused before any row is read or derived, naming the limit."""
+    import time
+
+    from workspace_sym.kinematics import MAX_JOINTS
+
+    path = tmp_path / "long.json"
+    path.write_text(json.dumps({"joints": [{"type": "R", "d": 0, "a": 1, "alpha": 0}] * rows}))
+    start = time.perf_counter()
+    assert main(["fk", "--dh", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"at most {MAX_JOINTS} joints" in err and f"got {rows}" in err
+    assert time.perf_counter() - start < 30                     # generous: the refusal reads no row

@@ -256,6 +256,17 @@ class AnalyticJacobian:
     note: str
 
 
+MAX_JOINTS = 24
+"""The most joints a :class:`DHRobot` takes: its symbolic kinematics grow with every joint (a planar chain of 20
+joints takes seconds, one of 50 did not finish in a minute), so a larger table is refused at once, not left to run."""
+
+
+def _check_joint_count(n: int) -> None:
+    if n > MAX_JOINTS:
+        raise DHTableError(f"joints: a robot has at most {MAX_JOINTS} joints (the symbolic kinematics grow with every "
+                           f"joint); got {n}", parameter="joints")
+
+
 class DHRobot:
     """A serial robot described by a DH table.
 
@@ -301,6 +312,7 @@ class DHRobot:
         joints = tuple(joints)
         if not joints:
             raise DHTableError("joints: a robot needs at least one joint; got an empty table")
+        _check_joint_count(len(joints))
         variables = [j.variable for j in joints]
         if len(set(variables)) != len(variables):
             raise DHTableError(f"joint variables must be distinct; got {variables}")
@@ -361,6 +373,7 @@ class DHRobot:
         rows = data.get("joints")
         if not isinstance(rows, list) or not rows:
             raise DHTableError(f"joints: expected a non-empty list of DH rows; got {rows!r}")
+        _check_joint_count(len(rows))                   # before reading 10,000 rows one by one
         joints = []
         for i, row in enumerate(rows, start=1):
             if not isinstance(row, dict):
