@@ -166,3 +166,21 @@ def test_a_table_past_the_joint_limit_is_refused_at_once(tmp_path, capsys, rows)
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and f"at most {MAX_JOINTS} joints" in err and f"got {rows}" in err
     assert time.perf_counter() - start < 30                     # generous: the refusal reads no row
+
+
+def test_an_unforeseen_failure_is_one_line_exit_2(tmp_path, capsys, monkeypatch):
+    """Issue 30 ('every CLI path turns any failure into one line and exit 2'): a 2R table with a 36 degree offset
+    made the singular factors raise SymPy's ValueError (issue 29) and the CLI printed a traceback with exit 1.
+    Whatever the symbolic layer does with it, the command line answers or says one line."""
+    path = tmp_path / "offset36.json"
+    rows = [{"type": "R", "theta": t, "d": 0, "a": "1", "alpha": 0} for t in (0, 36)]
+    path.write_text(json.dumps({"angles": "degrees", "joints": rows}))
+    code = main(["jacobian", "--dh", str(path)])
+    err = capsys.readouterr().err
+    assert code == 0 or (code == 2 and err.count("\n") == 1 and "Traceback" not in err)
+    # the mechanism itself, on a failure no command foresees
+    monkeypatch.setattr("workspace_sym.cli.cmd_fk", lambda args: 1 / 0)
+    assert main(["fk", "puma560"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("workspace-sym fk: error: could not complete this command (ZeroDivisionError")
+    assert err.count("\n") == 1

@@ -856,6 +856,15 @@ def main(argv=None) -> int:
         # the reader of stdout went away (e.g. `| head`): stop quietly, as Unix tools do
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
+    except Exception as exc:
+        # A failure the library did not foresee (SymPy refusing a number field, say) is still one line and exit 2;
+        # WORKSPACE_SYM_DEBUG=1 shows the traceback for a bug report.
+        if os.environ.get("WORKSPACE_SYM_DEBUG"):
+            raise
+        first = (str(exc).splitlines() or [""])[0][:200]
+        print(f"workspace-sym {args.command}: error: could not complete this command ({type(exc).__name__}: "
+              f"{first}); please report it, with WORKSPACE_SYM_DEBUG=1 for the traceback", file=sys.stderr)
+        return 2
 
 
 if __name__ == "__main__":  # pragma: no cover
