@@ -1,8 +1,14 @@
-"""Exceptions of workspace_sym.
+"""Exceptions of workspace_sym: every exception class of the package is defined here.
 
 Every error a user can provoke with bad input derives from :class:`WorkspaceError`,
 and its message names the parameter, the value received and what was expected.
 The command line turns any of them into exit status 2 and one line on stderr.
+
+Two classes are not bad input but a bounded stage giving up, which its caller
+catches and answers otherwise: :class:`OverBudget` (an expansion would grow
+past its budget) and :class:`CoverTooLarge` (a critical set needs too many
+joint boxes).  Modules that raised them first still re-export them
+(``workspace_sym.interval.image.CoverTooLarge`` is this class).
 """
 
 from __future__ import annotations
@@ -20,6 +26,9 @@ __all__ = [
     "BoxError",
     "OutputError",
     "BoundaryError",
+    "MissingExtraError",
+    "OverBudget",
+    "CoverTooLarge",
 ]
 
 
@@ -100,6 +109,19 @@ class BoundaryError(WorkspaceError):
 
 class OutputError(WorkspaceError):
     """An output path cannot be written (missing or unwritable directory, unknown figure format)."""
+
+
+class MissingExtraError(WorkspaceError):
+    """An optional dependency is not installed (distributed runs need dask.distributed:
+    ``pip install 'workspace_sym[distributed]'``)."""
+
+
+class OverBudget(Exception):
+    """A bounded stage gave up: its input would grow past its budget (terms, degree or time)."""
+
+
+class CoverTooLarge(RuntimeError):
+    """The critical sets need more than ``image.MAX_COVER_BOXES`` joint boxes at once."""
 
 
 def check_choice(parameter: str, value, allowed) -> None:

@@ -36,7 +36,7 @@ from functools import lru_cache
 
 import sympy as sp
 
-from ..errors import ExpressionError, check_choice
+from ..errors import ExpressionError, OverBudget, check_choice
 from ..expressions import as_sympy
 from . import arith
 from .graph import Graph, exact_constants
@@ -99,10 +99,6 @@ def _hide_constants(expr: sp.Expr):
 
 
 # ----------------------------------------------------------------------------- budgets
-class OverBudget(Exception):
-    """A bounded stage gave up: its input would grow past its budget (terms, degree or time)."""
-
-
 def expansion_bound(expr: sp.Expr) -> tuple[int, int]:
     """``(terms, degree)``: upper bounds on the number of terms and the total degree of ``expand(expr)``.
 
@@ -164,7 +160,7 @@ def expand_bounded(expr: sp.Expr, gens, *, max_terms: int, deadline: float | Non
     >>> expand_bounded((x + y)**50, (x, y), max_terms=10)
     Traceback (most recent call last):
     ...
-    workspace_sym.interval.compiler.OverBudget: more than 10 terms
+    workspace_sym.errors.OverBudget: more than 10 terms
     """
     gens = tuple(gens)
     numbers = all(a.is_Rational for a in expr.atoms(sp.Number)) and not (

@@ -52,7 +52,7 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from ..errors import InvalidParameterError, WorkspaceError
+from ..errors import InvalidParameterError, MissingExtraError, WorkspaceError
 from ..numbers import fmt_bracket
 from . import arith
 from .paving import Box, Paving, RunBudget, box_measure, expand, initial_boxes
@@ -64,10 +64,6 @@ _EXTRA = "pip install 'workspace_sym[distributed]'"
 _BYTES_PER_BOX = 16 * 1024       # working memory of a box being decided (Orthoglide certificate: 2.7 KB measured)
 _MIN_CHUNK = 1024                # below this a chunk costs more in overhead than in work
 _CHECKPOINT_EVERY = 60.0         # seconds between checkpoints of a streamed run
-
-
-class MissingExtraError(WorkspaceError):
-    """Distributed runs need dask.distributed, an optional dependency."""
 
 
 def _distributed():

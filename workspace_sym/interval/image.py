@@ -50,6 +50,7 @@ import math
 import numpy as np
 import sympy as sp
 
+from ..errors import CoverTooLarge
 from . import arith
 from .compiler import compile_expr
 from .graph import numpy_constant
@@ -393,10 +394,6 @@ def _regular(image: ImageMap, Q: np.ndarray, free: np.ndarray, inward: np.ndarra
                 left |= side > 0
                 right |= side < 0
     return regular | (left & right)
-
-
-class CoverTooLarge(RuntimeError):
-    """The critical sets need more than ``MAX_COVER_BOXES`` joint boxes at once."""
 
 
 def critical_cover(image: ImageMap, face_list, target: float, clip: np.ndarray):
