@@ -44,7 +44,7 @@ from .exact import closed_forms, exact_area
 from .interval import arith
 from .interval.search import prove_all
 from .numbers import clean, fmt
-from .planar import RESOLUTION, Arc
+from .planar import RESOLUTION, Arc, PlanarChain
 from .progress import stage_bar
 
 __all__ = ["Boundary", "BoundaryArc", "Loop", "build_boundary", "format_set", "prove_unreachable",
@@ -104,7 +104,7 @@ class Loop:
 class Boundary:
     """The boundary of a planar chain's workspace (Step 2), with area, perimeter and point queries."""
 
-    chain: object
+    chain: PlanarChain
     arcs: list
     loops: list
     counts: dict
@@ -479,7 +479,7 @@ def _merge_slivers(arr: Arrangement, status, evidence, slivers: dict) -> dict:
     for a, b in sides:
         if a in slivers and b in slivers:
             parent[find(a)] = find(b)
-    around = {}
+    around: dict[int, set[str]] = {}
     for a, b in sides:
         for f, g in ((a, b), (b, a)):
             if f in slivers and g not in slivers:
@@ -614,7 +614,7 @@ def _boundary_of(chain, kept, arr, step0, t0, say, *, samples, seed, max_boxes) 
     arcs, loops = [], []
     for loop in loops_h:
         pieces = [_piece(arr, kept, h) for h in loop]
-        merged = []
+        merged: list[dict] = []
         for pc in pieces:
             if merged and merged[-1]["circle"] == pc["circle"] and merged[-1]["source"] == pc["source"]:
                 merged[-1]["a1"] += pc["a1"] - pc["a0"]
@@ -624,7 +624,7 @@ def _boundary_of(chain, kept, arr, step0, t0, say, *, samples, seed, max_boxes) 
         if len(merged) > 1 and first["circle"] == last["circle"] and first["source"] == last["source"]:
             merged[0]["a0"] -= merged[-1]["a1"] - merged[-1]["a0"]
             merged.pop()
-        area = float(sum(arc_area_term(*arr.circles[m["circle"]], m["a0"], m["a1"]) for m in merged))
+        area = float(sum(arc_area_term(*_circle(arr, m), m["a0"], m["a1"]) for m in merged))
         if area > 0:  # start the outer loop at its point farthest from the origin
             far = [np.hypot(*arr.circles[m["circle"], :2]) + arr.circles[m["circle"], 2] for m in merged]
             k = int(np.argmax(far))
@@ -675,9 +675,15 @@ def _piece(arr, kept, h):
     return {"circle": e.circle, "source": min(srcs), "a0": a0, "a1": a1}
 
 
+def _circle(arr, piece: dict) -> tuple[float, float, float]:
+    """Centre and radius ``(cx, cy, r)`` of the circle a loop's piece runs on."""
+    cx, cy, r = arr.circles[piece["circle"]]
+    return cx, cy, r
+
+
 def _boundary_arc(chain, kept, arr, m) -> BoundaryArc:
     src = kept[m["source"]]
-    cx, cy, r = arr.circles[m["circle"]]
+    cx, cy, r = _circle(arr, m)
     i = src.free_joint - 1
     lo_src = src.theta_sets[i][0]
 

@@ -27,6 +27,7 @@ import json
 import math
 import warnings
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import sympy as sp
@@ -47,6 +48,7 @@ __all__ = ["make_exercises", "write_exercises", "exact_parameters", "reach_bound
 MAX_COUNT = 20
 _LENGTHS = [sp.Rational(k, 20) for k in range(2, 11)]          # 0.1 .. 0.5
 _COORD = ("x", "y", "z")
+_Question = tuple[dict[str, Any], str]      # (the key's entry, the answer as the key document shows it)
 
 
 def _dh_description(rng, name: str, n: int) -> dict:
@@ -56,7 +58,7 @@ def _dh_description(rng, name: str, n: int) -> dict:
     for k, kind in enumerate(kinds, start=1):
         alpha = int(rng.choice([0, 90, -90]))
         a = f"a{k}" if rng.random() < 0.6 else 0
-        row = {"type": kind, "a": a, "alpha": alpha}
+        row: dict[str, Any] = {"type": kind, "a": a, "alpha": alpha}
         if kind == "R":
             d = f"d{k}" if rng.random() < 0.4 else 0
             span = int(rng.choice([90, 120, 150, 180]))
@@ -194,7 +196,7 @@ def _can_answer(robot, rng) -> bool:
     return any(f.free_symbols & set(robot.q) for f in robot.singular_factors("position"))
 
 
-def _robot_problem(rng, number: int, n: int):
+def _robot_problem(rng, number: int, n: int) -> tuple[dict, DHRobot, list[_Question]]:
     """A DH robot and its questions (prompt, key entry, key display).
 
     Robots that cannot answer a question are drawn again: the end point must
@@ -209,7 +211,7 @@ def _robot_problem(rng, number: int, n: int):
             break
     else:  # pragma: no cover - about half of the random robots qualify
         raise RuntimeError("no robot able to answer every question in 100 draws")
-    questions = []
+    questions: list[_Question] = []
     i = _interesting(list(robot.position), rng)
     entry = robot.position[i]
     questions.append(({"kind": "expression", "answer": robot.to_str(entry),
@@ -251,7 +253,7 @@ def _split_circles(boundary) -> bool:
     return False
 
 
-def _chain_problem(rng, number: int):
+def _chain_problem(rng, number: int) -> tuple[str, dict, PlanarChain, list[_Question]]:
     name = f"C{number}"
     for _ in range(50):
         spec = _chain_description(rng)
@@ -267,7 +269,7 @@ def _chain_problem(rng, number: int):
         raise RuntimeError("no chain with a fully certified boundary in 50 draws")
     point, reachable, why, witness = _chain_point(chain, rng)
     lo, hi = boundary.area, boundary.area + boundary.undecided_area
-    questions = [
+    questions: list[_Question] = [
         ({"kind": "reachable", "answer": reachable, "evidence": why, "point": [sp.sstr(p) for p in point],
           "witness": witness,
           "prompt": f"Can the end point reach ({point[0]}, {point[1]})? Answer yes or no."},
@@ -297,7 +299,7 @@ def make_exercises(*, seed: int, count: int, max_joints: int = 6):
     rng = np.random.default_rng(seed)
     title = f"Workspace exercises (seed {seed})"
     sheet, key_doc = Document(title), Document(f"Answer key: {title}")
-    key = {"format": KEY_FORMAT, "version": 1, "title": title, "seed": seed, "robots": {}, "chains": {},
+    key: dict[str, Any] = {"format": KEY_FORMAT, "version": 1, "title": title, "seed": seed, "robots": {}, "chains": {},
            "questions": []}
     for number in range(1, count + 1):
         if number % 2:

@@ -151,6 +151,13 @@ def _numbers(element: ET.Element, attribute: str, count: int, attrs: dict | None
     return values
 
 
+def _given(element: ET.Element, attribute: str, count: int) -> list[float]:
+    """:func:`_numbers` of an attribute the caller found in ``element``."""
+    values = _numbers(element, attribute, count)
+    assert values is not None
+    return values
+
+
 def _rotation(axis, angle: float) -> np.ndarray:
     """Rodrigues' rotation about a unit ``axis`` by ``angle`` radians."""
     x, y, z = axis
@@ -247,7 +254,8 @@ class _Model:
 
     def chain(self, base: ET.Element, tip: ET.Element) -> list[_Joint]:
         """URDF-shaped joints from ``base`` to ``tip``: each body's pose, then its joints."""
-        bodies, body = [], tip
+        bodies: list[ET.Element] = []
+        body: ET.Element | None = tip
         while body is not base:
             if body is None:
                 raise MJCFError(f"tip_link: body {self.name(tip)!r} is not below {self.name(base)!r}",
@@ -271,24 +279,24 @@ class _Model:
                             parameter="mjcf")
         R = np.eye(3)
         if given == ["quat"]:
-            w, x, y, z = _unit(_numbers(body, "quat", 4), body, "quat")
+            w, x, y, z = _unit(_given(body, "quat", 4), body, "quat")
             R = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
                           [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
                           [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
         elif given == ["axisangle"]:
-            *axis, a = _numbers(body, "axisangle", 4)
+            *axis, a = _given(body, "axisangle", 4)
             R = _rotation(_unit(axis, body, "axisangle"), self._angle(a))
         elif given == ["euler"]:
-            for ch, a in zip(self.eulerseq, _numbers(body, "euler", 3)):
+            for ch, a in zip(self.eulerseq, _given(body, "euler", 3)):
                 step = _rotation(np.eye(3)["xyz".index(ch.lower())], self._angle(a))
                 R = R @ step if ch.islower() else step @ R     # lower case: axes moving with the frame
         elif given == ["xyaxes"]:
-            v = _numbers(body, "xyaxes", 6)
+            v = _given(body, "xyaxes", 6)
             x = _unit(v[:3], body, "xyaxes")
             y = _unit(np.asarray(v[3:]) - np.dot(v[3:], x) * x, body, "xyaxes")
             R = np.column_stack([x, y, np.cross(x, y)])
         elif given == ["zaxis"]:
-            z = _unit(_numbers(body, "zaxis", 3), body, "zaxis")
+            z = _unit(_given(body, "zaxis", 3), body, "zaxis")
             c = np.cross([0.0, 0.0, 1.0], z)     # the smallest rotation taking the z axis to z
             s = float(np.linalg.norm(c))
             R = (_rotation(c / s, math.atan2(s, z[2])) if s > 1e-12 else

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 from fractions import Fraction
 from functools import cached_property
 from numbers import Integral, Number
+from typing import TYPE_CHECKING
 
 import numpy as np
 import sympy as sp
@@ -33,6 +34,9 @@ import sympy as sp
 from .errors import ExpressionError, InvalidParameterError
 from .expressions import check_joint_limits, parse_expr
 from .numbers import clean, fmt
+
+if TYPE_CHECKING:
+    from .boundary import Boundary
 
 __all__ = ["PlanarChain", "Arc"]
 
@@ -69,7 +73,7 @@ class Arc:
     type: str
     free_joint: int
     theta_sets: tuple
-    center: tuple
+    center: tuple[float, float]
     radius: float
     start_angle: float
     end_angle: float
@@ -197,7 +201,7 @@ class PlanarChain:
         self.exact_upper = tuple(sp.pi if f else e[2] * exact_scale for f, e in zip(self.full, exact))
         self.p = len(self.lengths)
         self.reach = float(sum(self.lengths))
-        self._boundaries = {}
+        self._boundaries: dict[tuple, Boundary] = {}
 
     def __repr__(self):
         def deg(v):
@@ -324,7 +328,7 @@ class PlanarChain:
         """Step 1 (computed once): the kept arcs, in the order the boundary's ``source`` indices refer to."""
         cand = self.step0
         lo, hi = np.array(self.lower), np.array(self.upper)
-        kept = []
+        kept: list[Arc] = []
         for i in range(self.p):
             idx = np.flatnonzero(cand["free"] == i)
             if not len(idx):
@@ -364,7 +368,7 @@ class PlanarChain:
             side = np.where(plus, 1, np.where(minus, -1, 0))
             side[(wnorm <= _TOL * self.reach).any(1)] = 0
             for r in np.flatnonzero((side != 0).any(axis=1)):
-                pieces = []
+                pieces: list[tuple[float, float, int]] = []
                 for m in range(side.shape[1]):
                     a, b, sd = bounds[r, m], bounds[r, m + 1], side[r, m]
                     if sd == 0 or b - a <= _TOL:

@@ -125,6 +125,7 @@ def written_unit(value: float) -> tuple[int, float]:
     if value == 0 or not math.isfinite(value):
         return 1, 1.0
     written = Decimal(_shortest(value)).normalize().as_tuple()
+    assert isinstance(written.exponent, int)         # 'n', 'N', 'F' only for NaN and infinities, returned above
     return len(written.digits), 10.0 ** written.exponent
 
 

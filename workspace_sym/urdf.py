@@ -184,7 +184,7 @@ def _tip(links, joints, by_child, base_link, tip_link, path, base_given: bool = 
             raise URDFError(f"tip_link: no link {tip_link!r} in {path.name}; links: {_listed(links)}",
                             parameter="tip_link")
         return tip_link
-    children = {}
+    children: dict[str, list] = {}           # parent link -> its joints (yourdfpy's Joint objects)
     for j in joints:
         children.setdefault(j.parent, []).append(j)
     leaves, stack = [], [(base_link, False)]
@@ -289,7 +289,8 @@ def _is_zero(e, tol: float) -> bool:
 
 # ---------------------------------------------------------------------------- DH extraction
 def _dh_robot(name, chain, snapper: Snapper, base_link, tip_link) -> DHRobot:
-    lines, pending, notes = [], sp.eye(4), []
+    lines, pending = [], sp.eye(4)
+    notes: list[str] = []
     moving = []
     for j in chain:
         pending = pending * _origin(j, snapper)

@@ -237,8 +237,10 @@ def best_form(expr, variables, *, seconds: float = REWRITE_SECONDS) -> sp.Expr:
             break
         try:
             form = make(hidden)
+            if form is None:
+                continue
             # the candidate is kept when it is the same polynomial (checked within the same budget)
-            same = form is not None and expand_bounded(form, gens, max_terms=4 * MAX_EXPANDED_TERMS) == reference
+            same = expand_bounded(form, gens, max_terms=4 * MAX_EXPANDED_TERMS) == reference
         except (OverBudget, sp.polys.polyerrors.BasePolynomialError, ValueError, TypeError):
             continue
         if same:

@@ -151,9 +151,9 @@ def box_module(boxes: np.ndarray, sigma=(0.25, 4.0)) -> np.ndarray:
                     1 + squares[2] * (s_low[0] + s_low[1])]
         too_large = np.any([d.lo > b_hi for d in diag_low], axis=0)
 
-        natural, gradient = inverse_entries(*X, s, r, axes=(2,))
+        natural, gradient = _inverse_over(X, s, r, axes=(2,))
         C = [Interval(mid[:, k], mid[:, k].copy()) for k in range(3)]
-        centre, _ = inverse_entries(*C, *leg_terms(C)[2:], gradients=False)
+        centre, _ = _inverse_over(C, *leg_terms(C)[2:], gradients=False)
         N_nat, N_c = symmetric.from_entries(natural), symmetric.from_entries(centre)
         regular = (np.all([e.lo > 0 for e in eta2], axis=0) & np.isfinite(N_nat[0]).all(axis=(1, 2))
                    & np.isfinite(N_nat[1]).all(axis=(1, 2)))
@@ -165,7 +165,7 @@ def box_module(boxes: np.ndarray, sigma=(0.25, 4.0)) -> np.ndarray:
         # (X_1, ..., X_k, c_k+1, ...) times (x_k - c_k), so dN/dx is enclosed over (X, c_y, c_z) and dN/dy
         # over (X, Y, c_z), narrower than over the box.
         partial_boxes = ([X[0], C[1], C[2]], [X[0], X[1], C[2]])
-        gradient = [inverse_entries(*b, *leg_terms(b)[2:], axes=(k,))[1][k]
+        gradient = [_inverse_over(b, *leg_terms(b)[2:], axes=(k,))[1][k]
                     for k, b in enumerate(partial_boxes)] + [gradient[2]]
         for k in range(3):
             D = symmetric.congruence(Q, symmetric.from_entries(gradient[k]))
@@ -188,7 +188,7 @@ def numeric_dextrous(pts, sigma) -> np.ndarray:
     pts = np.atleast_2d(np.asarray(pts, dtype=float))
     x_, y_, z_ = pts.T
     e2 = np.stack([1 - y_**2 - z_**2, 1 - x_**2 - z_**2, 1 - x_**2 - y_**2])
-    ok = (e2 > 0).all(axis=0)
+    ok = np.asarray((e2 > 0).all(axis=0))
     s = 1 / np.where(ok, e2, 1.0)
     N, _ = inverse_entries(x_, y_, z_, s, np.sqrt(s), gradients=False)
     # 1/sigma_max <= every eigenvalue of N <= 1/sigma_min, by Sylvester's criterion on N - I/sigma_max
@@ -323,6 +323,12 @@ def _square(v):
     return v.sq() if isinstance(v, Interval) else v**2
 
 
+def _inverse_over(box: list[Interval], s: list[Interval], r: list[Interval], **options):
+    """:func:`inverse_entries` over a box ``[X, Y, Z]`` given its leg terms ``s`` and ``r`` (:func:`leg_terms`)."""
+    x, y, z = box
+    return inverse_entries(x, y, z, s, r, **options)
+
+
 def inverse_entries(x, y, z, s, r, *, gradients: bool = True, axes=(0, 1, 2)):
     """Upper triangle of ``N = A^T B^-2 A`` and of its three partial derivatives.
 
@@ -364,7 +370,7 @@ def inverse_entries(x, y, z, s, r, *, gradients: bool = True, axes=(0, 1, 2)):
     return N, (dx, dy, dz)
 
 
-def leg_terms(X):
+def leg_terms(X) -> tuple[list[Interval], list[Interval], list[Interval], list[Interval]]:
     """Squares, ``eta_i^2``, ``s_i = 1/eta_i^2`` and ``r_i = 1/eta_i`` as intervals.
 
     ``s_i`` and ``r_i`` are NaN (no enclosure) where ``eta_i^2`` may be <= 0.

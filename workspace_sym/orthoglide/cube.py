@@ -60,8 +60,9 @@ class CubeResult:
                 f"{float(e['center']):.9f} (binding: {self._binding()})")
 
     def _binding(self) -> str:
-        """The corners that bind the closed form and the bounds they meet."""
-        return "; ".join(f"corner ({s}, {s}, {s}) on {', '.join(b)}" for s, b in self.exact["bounds"].items())
+        """The corners that bind the closed form and the bounds they meet (none without a closed form)."""
+        bounds = self.exact["bounds"] if self.exact is not None else {}
+        return "; ".join(f"corner ({s}, {s}, {s}) on {', '.join(b)}" for s, b in bounds.items())
 
     def __repr__(self):
         return (f"CubeResult(edge in {fmt_bracket(self.edge_lower, self.edge_upper, 6)}, centre "
@@ -286,7 +287,7 @@ def closed_form_cube(model, binding, t: float, half: float, sigma, *, tol: float
     numeric corner is kept.  None when the binding points are elsewhere,
     the roots disagree, or SymPy finds no root there.
     """
-    corners = {}
+    corners: dict[int, set[str]] = {}
     for b in binding:
         signs = tuple(int(v) for v in b["signs"])
         if signs not in ((1, 1, 1), (-1, -1, -1)) or "cylinder" in b["bounds"]:
@@ -322,8 +323,7 @@ def closed_form_cube(model, binding, t: float, half: float, sigma, *, tol: float
 def surface_points(n: int) -> np.ndarray:
     """Points of the surface of the cube [-1, 1]^3 on an n x n grid per face, (m, 3)."""
     g = np.linspace(-1, 1, n)
-    a, b = np.meshgrid(g, g)
-    a, b = a.ravel(), b.ravel()
+    a, b = (m.ravel() for m in np.meshgrid(g, g))
     faces = []
     for axis in range(3):
         for side in (-1.0, 1.0):

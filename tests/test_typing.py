@@ -1,0 +1,37 @@
+"""The package type-checks clean under mypy, configured in pyproject.toml (issue 26 item 7).
+
+Reference: mypy itself.  The second test plants a type error in a snippet and checks that the same configuration
+reports it, so a configuration that silently checks nothing (say, a wrong ``files`` entry) fails here too.
+"""
+
+import subprocess
+import sys
+from pathlib import Path
+
+import workspace_sym
+
+ROOT = Path(__file__).resolve().parents[1]
+PYPROJECT = ROOT / "pyproject.toml"
+
+
+def _mypy(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "mypy", "--config-file", str(PYPROJECT), *args], cwd=ROOT,
+                          capture_output=True, text=True, timeout=600)
+
+
+def test_mypy_is_clean_on_the_package():
+    run = _mypy()
+    assert run.returncode == 0, f"mypy found problems in workspace_sym:\n{run.stdout}{run.stderr}"
+    assert "Success: no issues found" in run.stdout
+    checked = int(run.stdout.split("in ")[-1].split()[0])
+    modules = list(Path(workspace_sym.__file__).parent.rglob("*.py"))
+    assert checked == len(modules), f"mypy checked {checked} files; the package has {len(modules)}"
+
+
+def test_the_configuration_reports_a_planted_error(tmp_path):
+    planted = tmp_path / "planted.py"
+    planted.write_text("from workspace_sym.errors import WorkspaceError\n\nx: int = WorkspaceError('a')\n")
+    run = _mypy(str(planted))
+    assert run.returncode == 1, run.stdout + run.stderr
+    assert "Incompatible types in assignment" in run.stdout
+
