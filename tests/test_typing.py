@@ -6,6 +6,7 @@ reports it, so a configuration that silently checks nothing (say, a wrong ``file
 
 import subprocess
 import sys
+import tomllib
 from pathlib import Path
 
 import workspace_sym
@@ -35,3 +36,11 @@ def test_the_configuration_reports_a_planted_error(tmp_path):
     assert run.returncode == 1, run.stdout + run.stderr
     assert "Incompatible types in assignment" in run.stdout
 
+
+
+def test_the_package_ships_its_type_marker():
+    """PEP 561: without ``py.typed`` a user's mypy ignores the package's annotations."""
+    assert (Path(workspace_sym.__file__).parent / "py.typed").is_file()
+    with PYPROJECT.open("rb") as f:
+        package_data = tomllib.load(f)["tool"]["setuptools"]["package-data"]["workspace_sym"]
+    assert "py.typed" in package_data, "py.typed is not in the wheel unless package-data names it"
