@@ -27,6 +27,7 @@ __all__ = [
     "OutputError",
     "BoundaryError",
     "MissingExtraError",
+    "WorkerResultError",
     "OverBudget",
     "CoverTooLarge",
 ]
@@ -114,6 +115,11 @@ class OutputError(WorkspaceError):
 class MissingExtraError(WorkspaceError):
     """An optional dependency is not installed (distributed runs need dask.distributed:
     ``pip install 'workspace_sym[distributed]'``)."""
+
+
+class WorkerResultError(WorkspaceError):
+    """A worker of ``executor`` sent back something other than what its task can produce (wrong type, dtype or
+    shape, non-finite bounds, boxes outside the chunk it was given): refused rather than stored as a proof."""
 
 
 class OverBudget(Exception):

@@ -52,7 +52,7 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from ..errors import InvalidParameterError, MissingExtraError, WorkspaceError
+from ..errors import InvalidParameterError, MissingExtraError, WorkerResultError, WorkspaceError
 from ..numbers import fmt_bracket
 from . import arith
 from .paving import Box, Paving, RunBudget, box_measure, expand, initial_boxes
@@ -86,7 +86,9 @@ class Step:
     size: str
 
     def __call__(self, boxes):
-        return expand(boxes, self.decide, self.separate, self.delta, self.size)
+        # plain float arrays only: what a worker sends back is checked by _checked_step on the driver
+        return tuple(np.ascontiguousarray(a, dtype=float) for a in
+                     expand(boxes, self.decide, self.separate, self.delta, self.size))
 
 
 @arith.nearest_rounding
@@ -121,6 +123,48 @@ def _call_in_worker(fn, boxes):
     """The entry point in another process: its allocator tuned once, then as :func:`_call`."""
     tune_malloc()
     return _call(fn, boxes)
+
+
+def _refuse(what: str, got: str):
+    raise WorkerResultError(f"executor: a worker returned {what}; got {got} (a worker of another version or an "
+                            "untrusted cluster?)", parameter="executor")
+
+
+def _checked_boxes(name: str, value, chunk: np.ndarray) -> np.ndarray:
+    """``value`` if it is a plain float64 ``(N, n, 2)`` array of finite boxes inside the hull of ``chunk``."""
+    n = chunk.shape[1]
+    if type(value) is not np.ndarray:
+        _refuse(f"{name} that is not a numpy array", type(value).__name__)
+    if value.dtype != np.float64 or value.ndim != 3 or value.shape[1:] != (n, 2):
+        _refuse(f"{name} that is not a float64 array of shape (N, {n}, 2)", f"{value.dtype} {value.shape}")
+    if not np.isfinite(value).all() or (value[:, :, 0] > value[:, :, 1]).any():
+        _refuse(f"{name} with non-finite or inverted bounds", f"{int((~np.isfinite(value)).sum())} non-finite")
+    if len(value) and ((value[:, :, 0] < chunk[:, :, 0].min(axis=0)).any()
+                       or (value[:, :, 1] > chunk[:, :, 1].max(axis=0)).any()):
+        _refuse(f"{name} outside the boxes it was sent", f"{len(value)} boxes")
+    return value
+
+
+def _checked_step(result, chunk: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """A step's result ``(inner, boundary, outer, children)`` as sent back for ``chunk``, checked before it is
+    stored: plain float arrays of the chunk's dimension, finite, ordered, inside the chunk's hull.  It cannot
+    check the verdicts themselves (that would be doing the work again): an untrusted cluster stays untrusted."""
+    if type(result) not in (tuple, list) or len(result) != 4:
+        _refuse("something other than 4 arrays (inner, boundary, outer, children)", type(result).__name__)
+    inner, boundary, outer, children = (_checked_boxes(name, value, chunk) for name, value in
+                                        zip(("inner boxes", "boundary boxes", "outer boxes", "children"), result))
+    return inner, boundary, outer, children
+
+
+def _checked_codes(codes, chunk: np.ndarray) -> np.ndarray:
+    """A decider's codes for ``chunk`` as sent back: one integer 1, 0 or -1 a box."""
+    if type(codes) is not np.ndarray:
+        _refuse("codes that are not a numpy array", type(codes).__name__)
+    if codes.dtype.kind not in "iuf" or codes.shape != (len(chunk),):
+        _refuse(f"codes that are not {len(chunk)} numbers", f"{codes.dtype} {codes.shape}")
+    if not np.isin(codes, (-1, 0, 1)).all():
+        _refuse("codes other than 1, 0 and -1", repr(sorted(set(np.unique(codes).tolist()) - {-1, 0, 1})[:5]))
+    return codes
 
 
 def _itself(value):
@@ -255,8 +299,9 @@ def map_codes(decide, boxes: np.ndarray, executor, *, chunk: int = 50_000) -> np
     runner = _runner(executor, decide)
     try:
         parts = max(1, min(runner.slots, math.ceil(len(boxes) / _MIN_CHUNK)), math.ceil(len(boxes) / chunk))
-        futures = [runner.submit(b) for b in np.array_split(boxes, parts)]
-        return np.concatenate([f.result() for f in futures])
+        chunks = np.array_split(boxes, parts)
+        futures = [runner.submit(b) for b in chunks]
+        return np.concatenate([_checked_codes(f.result(), b) for f, b in zip(futures, chunks)])
     finally:
         runner.close()
 
@@ -487,7 +532,8 @@ def run_paving(decide, box: Box, *, delta: float, size: str = "diameter", max_bo
             if not inflight:
                 break
             for future in runner.wait(inflight, timeout=0.25):
-                inner, boundary, outer, children = future.result()
+                # the chunk leaves `inflight` (what stays pending) only once its result is in hand and checked
+                inner, boundary, outer, children = _checked_step(future.result(), inflight[future])
                 evaluated += len(inflight.pop(future))
                 for kind, boxes in zip(KINDS, (inner, boundary, outer)):
                     keeper.add(kind, boxes)
