@@ -57,6 +57,7 @@ from ..numbers import fmt_bracket
 from . import arith
 from .paving import Box, Paving, RunBudget, box_measure, expand, initial_boxes
 from .store import KINDS, BoxStore, ExactSum, measures_of, parse_memory
+from .verdict import VERDICTS, Decider
 
 __all__ = ["Step", "StoredPaving", "connect", "map_codes", "run_paving", "tune_malloc", "MissingExtraError"]
 
@@ -162,8 +163,8 @@ def _checked_codes(codes, chunk: np.ndarray) -> np.ndarray:
         _refuse("codes that are not a numpy array", type(codes).__name__)
     if codes.dtype.kind not in "iuf" or codes.shape != (len(chunk),):
         _refuse(f"codes that are not {len(chunk)} numbers", f"{codes.dtype} {codes.shape}")
-    if not np.isin(codes, (-1, 0, 1)).all():
-        _refuse("codes other than 1, 0 and -1", repr(sorted(set(np.unique(codes).tolist()) - {-1, 0, 1})[:5]))
+    if not np.isin(codes, VERDICTS).all():
+        _refuse("codes other than 1, 0 and -1", repr(sorted(set(np.unique(codes).tolist()) - set(VERDICTS))[:5]))
     return codes
 
 
@@ -288,7 +289,7 @@ def connect(address: str):
         yield client
 
 
-def map_codes(decide, boxes: np.ndarray, executor, *, chunk: int = 50_000) -> np.ndarray:
+def map_codes(decide: Decider, boxes: np.ndarray, executor, *, chunk: int = 50_000) -> np.ndarray:
     """``decide(boxes)`` computed chunk by chunk through ``executor`` (same codes, in order).
 
     For searches whose loop stays here (:func:`~workspace_sym.interval.search.prove_all`):
@@ -456,7 +457,7 @@ def _store_for(n, max_memory, store, resume):
     return BoxStore(n, store, flush_bytes=flush), budget
 
 
-def run_paving(decide, box: Box, *, delta: float, size: str = "diameter", max_boxes: int | None = None,
+def run_paving(decide: Decider, box: Box, *, delta: float, size: str = "diameter", max_boxes: int | None = None,
                time_limit: float | None = None, progress: bool | None = None, chunk: int = 200_000,
                constraints=(), backend: str = "numpy", exact_measure=None, label: str = "paving",
                presplit: int = 512, separate=None, executor=None, max_memory=None, store=None,

@@ -26,11 +26,12 @@ from ..errors import BoxError, ConstraintError, ExpressionError, InvalidParamete
 from ..expressions import parse_expr
 from ..numbers import fmt, fmt_bracket, measure_text
 from ..progress import progress_bar
-from . import arith
+from . import arith, verdict
 from . import mp as mpi
 from .compiler import BACKENDS, best_form, compile_expr
 from .contractor import Program
 from .store import ExactSum, measures_of
+from .verdict import CODE, INSIDE, OUTSIDE, UNDECIDED, Decider, codes_from_masks
 
 __all__ = ["Certificate", "Box", "Constraint", "parse_constraints", "certify_box", "pave", "subdivide", "threaded",
            "bisect", "box_sizes", "check_delta", "check_digits", "expand", "RunBudget",
@@ -40,11 +41,11 @@ SIZES = ("diameter", "width")
 
 
 class Certificate(enum.Enum):
-    """Outcome of a box test; only IN and OUT are proved statements."""
+    """Outcome of a box test; only IN and OUT are proved statements (the codes of :mod:`.verdict`)."""
 
-    IN = 1
-    OUT = -1
-    UNDECIDED = 0
+    IN = INSIDE
+    OUT = OUTSIDE
+    UNDECIDED = verdict.UNDECIDED
 
     def __bool__(self):
         raise TypeError("a Certificate is not a boolean; compare with Certificate.IN / OUT / UNDECIDED")
@@ -233,11 +234,11 @@ def _decide_numpy(shared, parts, constraints, boxes: np.ndarray):
             else:
                 all_in &= hi <= 0
                 some_out |= lo > 0
-    return np.where(some_out, -1, np.where(all_in, 1, 0))
+    return codes_from_masks(all_in, some_out)
 
 
 def _decide_mpmath(compiled, constraints, boxes: np.ndarray, digits: int):
-    codes = np.zeros(len(boxes), dtype=int)
+    codes = np.zeros(len(boxes), dtype=CODE)
     with mpi.precision(digits):
         for i, b in enumerate(boxes):
             X = [mpi.from_float_bounds(lo, hi) for lo, hi in b]
@@ -254,7 +255,7 @@ def _decide_mpmath(compiled, constraints, boxes: np.ndarray, digits: int):
                 else:
                     all_in &= bool(hi <= 0)
                     some_out |= bool(lo > 0)
-            codes[i] = -1 if some_out else (1 if all_in else 0)
+            codes[i] = codes_from_masks(all_in, some_out)
     return codes
 
 
@@ -357,7 +358,7 @@ def certify_box(box, constraints, *, variables=None, backend: str = "numpy", dig
     """
     cons, b = _setup(constraints, box, variables)
     code = _decider(cons, b.variables, backend, digits)(b.array[None, :, :])[0]
-    return {1: Certificate.IN, -1: Certificate.OUT, 0: Certificate.UNDECIDED}[int(code)]
+    return Certificate(int(code))
 
 
 # ----------------------------------------------------------------------------- paving
@@ -675,7 +676,7 @@ def initial_boxes(box: Box, delta: float, size: str, presplit: int) -> np.ndarra
     return work
 
 
-def expand(batch: np.ndarray, decide, separate, delta: float, size: str):
+def expand(batch: np.ndarray, decide: Decider, separate, delta: float, size: str):
     """One step of the branch and bisect on a batch: ``(inner, boundary, outer, children)`` arrays.
 
     Each box is decided on its own, so the union of the results does not
@@ -683,13 +684,13 @@ def expand(batch: np.ndarray, decide, separate, delta: float, size: str):
     :mod:`~workspace_sym.interval.executor` sends to other processes.
     """
     codes = decide(batch)
-    und = batch[codes == 0]
-    inner, outer = [batch[codes == 1]], [batch[codes == -1]]
+    und = batch[codes == UNDECIDED]
+    inner, outer = [batch[codes == INSIDE]], [batch[codes == OUTSIDE]]
     if separate is not None:
         cut = separate(und)
         # The contraction proposes slices; each is declared only when the forward evaluation
         # that decides every other box proves it too.  The rest stays undecided.
-        proved_in, proved_out = decide(cut.inner) == 1, decide(cut.outer) == -1
+        proved_in, proved_out = decide(cut.inner) == INSIDE, decide(cut.outer) == OUTSIDE
         inner.append(cut.inner[proved_in])
         outer.append(cut.outer[proved_out])
         und = np.concatenate([cut.kept, cut.inner[~proved_in], cut.outer[~proved_out]])
@@ -699,7 +700,7 @@ def expand(batch: np.ndarray, decide, separate, delta: float, size: str):
 
 
 @arith.nearest_rounding
-def subdivide(decide, box: Box, *, delta: float, size: str = "diameter", max_boxes: int | None = None,
+def subdivide(decide: Decider, box: Box, *, delta: float, size: str = "diameter", max_boxes: int | None = None,
               time_limit: float | None = None, progress: bool | None = None, chunk: int = 200_000,
               constraints=(), backend: str = "numpy", exact_measure=None, label: str = "paving",
               presplit: int = 512, separate=None, executor=None, max_memory=None, store=None,

@@ -15,6 +15,7 @@ import numpy as np
 from ..errors import InvalidParameterError, check_choice
 from . import arith
 from .executor import map_codes
+from .verdict import OUTSIDE, UNDECIDED
 
 __all__ = ["SPLITS", "prove_all", "bisect_along", "split_every_axis", "split_widest"]
 
@@ -98,9 +99,9 @@ def prove_all(boxes, test, *, max_boxes: int, min_width: float = 0.0, split: str
         else:
             codes, axis = map_codes(test, work, executor), None
         codes = np.asarray(codes)
-        if (codes == -1).any():
+        if (codes == OUTSIDE).any():
             return False, used
-        undecided = codes == 0
+        undecided = codes == UNDECIDED
         work = work[undecided]
         if not len(work):
             return True, used

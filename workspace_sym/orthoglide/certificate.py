@@ -61,6 +61,7 @@ from ..interval.arith import Interval
 from ..interval.contractor import Separation
 from ..interval.executor import StoredPaving
 from ..interval.paving import Box, Paving, subdivide, threaded
+from ..interval.verdict import CODE, INSIDE, OUTSIDE, UNDECIDED, codes_from_masks
 from ..numbers import fmt_bound
 
 __all__ = ["DextrousResult", "box_module", "check_sigma", "dextrous", "inverse_entries", "leg_terms",
@@ -179,7 +180,7 @@ def box_module(boxes: np.ndarray, sigma=(0.25, 4.0)) -> np.ndarray:
         small = arith.sub(S, symmetric.scale(a_lo, G))[1][:, 0, 0] < 0         # lambda_min(N) < 1/sigma_max
         large = arith.sub(S, symmetric.scale(b_hi, G))[0][:, 2, 2] > 0         # lambda_max(N) > 1/sigma_min
         outside = outside_cyl | too_large | (regular & (small | large))
-    return np.where(outside, -1, np.where(inside, 1, 0))
+    return codes_from_masks(inside, outside)
 
 
 def numeric_dextrous(pts, sigma) -> np.ndarray:
@@ -214,7 +215,7 @@ def witnessed_module(boxes: np.ndarray, sigma) -> np.ndarray:
     pts = boxes[:, None, :, 0] + _CORNERS_AND_CENTRE[None] * (boxes[:, None, :, 1] - boxes[:, None, :, 0])
     ok = numeric_dextrous(pts.reshape(-1, 3), sigma).reshape(len(boxes), len(_CORNERS_AND_CENTRE))
     decidable = ok.all(axis=1) | ~ok.any(axis=1)
-    codes = np.zeros(len(boxes), dtype=int)
+    codes = np.zeros(len(boxes), dtype=CODE)
     if decidable.any():
         codes[decidable] = box_module(boxes[decidable], sigma)
     return codes
@@ -256,10 +257,10 @@ def shave_boxes(boxes: np.ndarray, *, sigma, delta: float, fractions=SHAVE, deci
                 cut = lo + f * (hi - lo) if side == 0 else hi - f * (hi - lo)
                 ok = (cut > lo) & (cut < hi)                    # a slab one float thick is not cut
                 slab[:, k, 1 - side] = cut
-                codes = np.where(ok, decide(slab), 0)
-                inner.append(slab[codes == 1])
-                outer.append(slab[codes == -1])
-                kept[last[codes != 0], k, side] = cut[codes != 0]
+                codes = np.where(ok, decide(slab), UNDECIDED)
+                inner.append(slab[codes == INSIDE])
+                outer.append(slab[codes == OUTSIDE])
+                kept[last[codes != UNDECIDED], k, side] = cut[codes != UNDECIDED]
     return Separation(np.concatenate(inner), np.concatenate(outer), kept)
 
 

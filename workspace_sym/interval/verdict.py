@@ -1,0 +1,49 @@
+"""One encoding of a box's verdict, shared by every decider: an ``int8`` code a box.
+
+``INSIDE`` (1) and ``OUTSIDE`` (-1) are proved statements about the whole box
+(outward-rounded interval arithmetic); ``UNDECIDED`` (0) is everything else,
+including a box that two tests would claim both ways (a contradiction is doubt,
+never a verdict).  A :class:`Decider` maps an ``(N, n, 2)`` array of boxes to
+``N`` codes; :func:`codes_from_masks` is the one place where masks of proofs
+become codes.  :class:`~workspace_sym.interval.paving.Certificate` is the same
+code as an enum, for one box.
+"""
+
+from __future__ import annotations
+
+from typing import Protocol, runtime_checkable
+
+import numpy as np
+
+__all__ = ["CODE", "INSIDE", "OUTSIDE", "UNDECIDED", "VERDICTS", "Decider", "codes_from_masks"]
+
+CODE = np.int8
+INSIDE, OUTSIDE, UNDECIDED = 1, -1, 0
+VERDICTS = (INSIDE, OUTSIDE, UNDECIDED)
+
+
+@runtime_checkable
+class Decider(Protocol):
+    """Boxes in, verdicts out: ``decide(boxes)`` with ``boxes`` an ``(N, n, 2)`` float array returns ``N``
+    codes (:data:`INSIDE`, :data:`OUTSIDE`, :data:`UNDECIDED`).  Each box is decided on its own, so any
+    batching of the boxes gives the same codes; a decider sent to other processes must pickle."""
+
+    def __call__(self, boxes: np.ndarray, /) -> np.ndarray: ...
+
+
+def codes_from_masks(inside, outside) -> np.ndarray:
+    """``int8`` codes from a mask of boxes proved inside and one of boxes proved outside.
+
+    A box in both masks gets :data:`UNDECIDED`: two proofs that contradict
+    each other prove nothing.
+
+    Examples
+    --------
+    >>> codes_from_masks([True, False, False, True], [False, True, False, True])
+    array([ 1, -1,  0,  0], dtype=int8)
+    """
+    inside, outside = np.asarray(inside, dtype=bool), np.asarray(outside, dtype=bool)
+    codes = np.zeros(np.broadcast_shapes(inside.shape, outside.shape), dtype=CODE)
+    codes[inside & ~outside] = INSIDE
+    codes[outside & ~inside] = OUTSIDE
+    return codes
