@@ -25,11 +25,11 @@ __all__ = [
     "ConstraintError",
     "BoxError",
     "OutputError",
-    "BoundaryError",
     "MissingExtraError",
     "WorkerResultError",
     "OverBudget",
     "CoverTooLarge",
+    "BoundaryError",
 ]
 
 
@@ -108,10 +108,6 @@ class BoundaryError(WorkspaceError):
     a property every chain has): refused rather than answered wrongly."""
 
 
-class OutputError(WorkspaceError):
-    """An output path cannot be written (missing or unwritable directory, unknown figure format)."""
-
-
 class MissingExtraError(WorkspaceError):
     """An optional dependency is not installed (distributed runs need dask.distributed:
     ``pip install 'workspace_sym[distributed]'``)."""
@@ -128,6 +124,10 @@ class OverBudget(Exception):
 
 class CoverTooLarge(RuntimeError):
     """The critical sets need more than ``image.MAX_COVER_BOXES`` joint boxes at once."""
+
+
+class OutputError(WorkspaceError):
+    """An output path cannot be written (missing or unwritable directory, unknown figure format)."""
 
 
 def check_choice(parameter: str, value, allowed) -> None:
