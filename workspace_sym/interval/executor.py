@@ -131,17 +131,25 @@ def _refuse(what: str, got: str):
                             "untrusted cluster?)", parameter="executor")
 
 
-def _checked_boxes(name: str, value, chunk: np.ndarray) -> np.ndarray:
-    """``value`` if it is a plain float64 ``(N, n, 2)`` array of finite boxes inside the hull of ``chunk``."""
-    n = chunk.shape[1]
+def _hull(boxes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Lowest lower and highest upper bound of ``boxes`` per variable (column by column: a reduction along
+    the first axis of the strided array is several times slower)."""
+    n = boxes.shape[1]
+    return (np.array([boxes[:, k, 0].min() for k in range(n)]), np.array([boxes[:, k, 1].max() for k in range(n)]))
+
+
+def _checked_boxes(name: str, value, n: int, hull: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
+    """``value`` if it is a plain float64 ``(N, n, 2)`` array of finite boxes inside ``hull`` (that of the chunk)."""
     if type(value) is not np.ndarray:
         _refuse(f"{name} that is not a numpy array", type(value).__name__)
     if value.dtype != np.float64 or value.ndim != 3 or value.shape[1:] != (n, 2):
         _refuse(f"{name} that is not a float64 array of shape (N, {n}, 2)", f"{value.dtype} {value.shape}")
+    if not len(value):
+        return value
     if not np.isfinite(value).all() or (value[:, :, 0] > value[:, :, 1]).any():
         _refuse(f"{name} with non-finite or inverted bounds", f"{int((~np.isfinite(value)).sum())} non-finite")
-    if len(value) and ((value[:, :, 0] < chunk[:, :, 0].min(axis=0)).any()
-                       or (value[:, :, 1] > chunk[:, :, 1].max(axis=0)).any()):
+    lo, hi = _hull(value)
+    if (lo < hull[0]).any() or (hi > hull[1]).any():
         _refuse(f"{name} outside the boxes it was sent", f"{len(value)} boxes")
     return value
 
@@ -152,7 +160,8 @@ def _checked_step(result, chunk: np.ndarray) -> tuple[np.ndarray, np.ndarray, np
     check the verdicts themselves (that would be doing the work again): an untrusted cluster stays untrusted."""
     if type(result) not in (tuple, list) or len(result) != 4:
         _refuse("something other than 4 arrays (inner, boundary, outer, children)", type(result).__name__)
-    inner, boundary, outer, children = (_checked_boxes(name, value, chunk) for name, value in
+    n, hull = chunk.shape[1], _hull(chunk)
+    inner, boundary, outer, children = (_checked_boxes(name, value, n, hull) for name, value in
                                         zip(("inner boxes", "boundary boxes", "outer boxes", "children"), result))
     return inner, boundary, outer, children
 
@@ -180,9 +189,15 @@ class _Runner:
     """``fn`` applied to chunks of boxes somewhere, with futures: the seam every paving goes through."""
 
     slots = 1
+    local = False                   # results computed in this process's threads: never unpickled, not checked
 
     def submit(self, boxes):
         raise NotImplementedError
+
+    def result(self, future, boxes: np.ndarray, check):
+        """The result of ``future`` (the task on ``boxes``), checked by ``check`` when it came from elsewhere."""
+        value = future.result()
+        return value if self.local else check(value, boxes)
 
     def wait(self, futures, timeout: float) -> list:
         done, _ = concurrent.futures.wait(futures, timeout=timeout, return_when=concurrent.futures.FIRST_COMPLETED)
@@ -201,7 +216,8 @@ class _Futures(_Runner):
 
     def __init__(self, executor, fn, slots: int):
         self.executor, self.fn, self.slots = executor, fn, slots
-        self.entry = _call if isinstance(executor, concurrent.futures.ThreadPoolExecutor) else _call_in_worker
+        self.local = isinstance(executor, concurrent.futures.ThreadPoolExecutor)
+        self.entry = _call if self.local else _call_in_worker
 
     def submit(self, boxes):
         return self.executor.submit(self.entry, self.fn, boxes)
@@ -302,7 +318,7 @@ def map_codes(decide: Decider, boxes: np.ndarray, executor, *, chunk: int = 50_0
         parts = max(1, min(runner.slots, math.ceil(len(boxes) / _MIN_CHUNK)), math.ceil(len(boxes) / chunk))
         chunks = np.array_split(boxes, parts)
         futures = [runner.submit(b) for b in chunks]
-        return np.concatenate([_checked_codes(f.result(), b) for f, b in zip(futures, chunks)])
+        return np.concatenate([runner.result(f, b, _checked_codes) for f, b in zip(futures, chunks)])
     finally:
         runner.close()
 
@@ -534,7 +550,7 @@ def run_paving(decide: Decider, box: Box, *, delta: float, size: str = "diameter
                 break
             for future in runner.wait(inflight, timeout=0.25):
                 # the chunk leaves `inflight` (what stays pending) only once its result is in hand and checked
-                inner, boundary, outer, children = _checked_step(future.result(), inflight[future])
+                inner, boundary, outer, children = runner.result(future, inflight[future], _checked_step)
                 evaluated += len(inflight.pop(future))
                 for kind, boxes in zip(KINDS, (inner, boundary, outer)):
                     keeper.add(kind, boxes)
