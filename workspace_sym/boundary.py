@@ -8,14 +8,18 @@ no boundary point, and is connected).  Each face is classified, and
 * **inside** when a kept arc has its side (Lemma 3.1) pointing into the face —
   the configurations on that arc cover a one-sided neighbourhood there — or
   when a witness configuration lands in the face;
-* **outside** for the unbounded face, and for a bounded face when interval
+* **outside** for the unbounded face, and for a bounded face when a point of
+  it lies strictly outside the annulus ``2 l_max - R <= r <= R`` that holds
+  every configuration whatever the limits (:func:`outside_every_turn`, exact
+  rational arithmetic: the hole of joints a hair short of a full turn touches
+  reachable points, so no finite exclusion covers it), or when interval
   exclusion shows that no configuration of the joint box reaches a point of it
   (:func:`prove_unreachable`, outward-rounded, within a budget of boxes), or
   else when the arc that the point describes in the frame of link 1 misses the
   workspace of the joints 2..p, computed by this same method
   (:func:`unreachable_via_subchain`, float geometry with explicit tolerances).
 
-Only interval exclusion is outward-rounded; the other verdicts are float
+Only interval exclusion and the annulus are proofs; the other verdicts are float
 geometry with explicit tolerances, the standard of the whole arrangement (the
 topology of Step 2 is decided in floats).  The planar boundary is therefore an
 exact-geometry result, not a certified-box result; a face that no argument
@@ -346,6 +350,25 @@ def _arc_arc_distance(a, b) -> float:
     return float(best)
 
 
+def outside_every_turn(chain, q) -> bool:
+    """Whether ``q`` lies strictly outside the annulus ``2 l_max - R <= r <= R`` that holds every configuration
+    whatever the limits (triangle inequality), decided in exact rational arithmetic.
+
+    A face of the arrangement is reachable everywhere or nowhere, so one such point proves the whole face outside:
+    the hole of a chain whose joints turn a hair short of a full turn is tangent to reachable points, and no finite
+    interval exclusion can cover it.
+    """
+    from fractions import Fraction
+
+    if not all(length.is_Rational for length in chain.exact_lengths):
+        return False                            # irrational lengths: no exact comparison here, no claim
+    r2 = sum(Fraction(float(v)) ** 2 for v in q)
+    lengths = [Fraction(int(length.p), int(length.q)) for length in chain.exact_lengths]
+    reach, longest = sum(lengths), max(lengths)
+    inner = 2 * longest - reach
+    return r2 > reach * reach or (inner > 0 and r2 < inner * inner)
+
+
 def unreachable_via_subchain(chain, q, *, margin: float = 1e-9):
     """Decide whether ``q`` is reachable through the workspace ``W`` of the joints 2..p.
 
@@ -543,6 +566,9 @@ def _classify(chain, arr: Arrangement, kept, samples, seed, max_boxes, slivers=(
             q, clearance = probes[f]
             if e < 0.5 * clearance:
                 status[f], evidence[f] = "inside", {"method": "witness", "configuration": th.tolist()}
+                continue
+            if outside_every_turn(chain, q):
+                status[f], evidence[f] = "outside", {"method": "annulus of full turns", "point": q.tolist()}
                 continue
             decided, witness = unreachable_via_subchain(chain, q)
             if decided is False and witness is not None:
