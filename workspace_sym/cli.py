@@ -573,7 +573,7 @@ def cmd_report(args) -> int:
 
 def cmd_grade(args) -> int:
     """Grade a CSV of students' answers against a key; write the graded CSV and the report."""
-    from .grading import AnswerKey, grade_answers, read_answers_csv, write_grading
+    from .grading import AnswerKey, duplicate_rows, grade_answers, read_answers_csv, write_grading
 
     key = AnswerKey.from_file(args.key)
     graded = grade_answers(key, read_answers_csv(args.answers))
@@ -582,12 +582,16 @@ def cmd_grade(args) -> int:
     scores = {}
     for g in graded:
         scores[g.student] = scores.get(g.student, 0.0) + g.points
+    repeated = duplicate_rows(graded)
     if args.json:
         _emit_json({"students": scores, "total": total, "answers": len(graded),
-                    "files": {k: str(v) for k, v in paths.items()}})
+                    "files": {k: str(v) for k, v in paths.items()}, "duplicates": repeated})
     else:
         for student, score in scores.items():
             print(f"{student}: {score:g} / {total:g}")
+        if repeated:
+            print(f"{sum(len(d['rows']) - 1 for d in repeated)} duplicate row(s), not graded (only a student's "
+                  "first answer to a question is): listed in the report")
         print(f"wrote {paths['csv']} and {paths['html']}")
     return 0
 
