@@ -7,6 +7,7 @@ import json
 import numpy as np
 import pytest
 import sympy as sp
+from system_tools import assert_compiles, require_tool
 
 from workspace_sym.answers import Notation, read_answer
 from workspace_sym.cli import main
@@ -205,6 +206,20 @@ def test_write_exercises_writes_everything(tmp_path):
     header, *rows = paths["answers-template.csv"].read_text().splitlines()
     assert header == "student,question,answer" and len(rows) == len(json.loads(paths["key.json"].read_text())
                                                                       ["questions"])
+
+
+def test_answer_key_typesets_its_answers(tmp_path):
+    """Issue 27: key.html showed a literal \\text{answer} (the label went into MathML as a symbol's name) and
+    key.tex an overfull box 163 pt wide (the entries of a Jacobian column, set side by side in alignment columns,
+    were pushed right by the wide row naming them).  Reference: pdflatex's own log."""
+    paths = write_exercises(tmp_path, seed=0, count=1, max_joints=JOINTS)
+    page = paths["key.html"].read_text()
+    assert "\\text" not in page and page.count("<mtext>answer</mtext>") >= 2
+    assert "<mi>answer</mi>" not in page
+    tex = paths["key.tex"].read_text()
+    assert "\\text{answer} &= " in tex and "\\text{answer}_{1} &= " in tex
+    require_tool("pdflatex")
+    assert_compiles(paths["key.tex"])
 
 
 def test_robot_points_both_ways():
