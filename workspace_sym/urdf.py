@@ -247,10 +247,14 @@ def _origin(joint, snapper: Snapper) -> sp.Matrix:
     M = np.eye(4) if joint.origin is None else np.asarray(joint.origin, dtype=float)
     where = f"joint {joint.name!r} origin"
     xyz = [snapper.length(v, f"{where} xyz") for v in M[:3, 3]]
-    rpy = [snapper.angle(v, f"{where} rpy") for v in transformations.euler_from_matrix(M, "sxyz")]
+    angles = transformations.euler_from_matrix(M, "sxyz")
+    rpy = [snapper.angle(v, f"{where} rpy") for v in angles]
     T = xyz_rpy(xyz, rpy)
     gap = float(np.abs(np.array(T[:3, :3].evalf(), dtype=float) - M[:3, :3]).max())
-    if gap > 10 * snapper.tol + 1e-12:   # Euler angles recovered badly near pitch = +-pi/2: keep the matrix
+    # snapping moves an entry of the rotation by at most the sum of the angles' moves (a snap from the digits
+    # written, 1.5707963 -> pi/2, may move an angle by more than tol); beyond that the angles were recovered badly
+    moved = sum(abs(float(r) - a) for r, a in zip(rpy, angles))
+    if gap > 10 * snapper.tol + moved + 1e-12:   # Euler angles recovered badly near pitch = +-pi/2: keep the matrix
         T[:3, :3] = sp.Matrix(3, 3, [snapper.cosine(v, f"{where} rotation") for v in M[:3, :3].ravel()])
     return snapper.chop(T)
 
