@@ -77,7 +77,8 @@ def _wrote_report(path) -> None:
 
 
 def _robot_from_args(args) -> DHRobot:
-    given = [f"catalog robot {args.robot!r}" if args.robot is not None else None,
+    catalog = getattr(args, "robot", None)
+    given = [f"catalog robot {catalog!r}" if catalog is not None else None,
              "--dh FILE" if args.dh is not None else None, "--urdf FILE" if args.urdf is not None else None,
              "--mjcf FILE" if args.mjcf is not None else None]
     given = [g for g in given if g]
@@ -97,13 +98,26 @@ def _robot_from_args(args) -> DHRobot:
         if line:
             print(f"workspace-sym {args.command}: note: {line}", file=sys.stderr)
         return robot
-    if args.robot is None:
+    if catalog is None:
         raise WorkspaceError("robot: name a catalog robot (see 'workspace-sym robots') or pass --dh FILE or "
                              "--urdf FILE")
-    model = robots.build(args.robot)
+    model = robots.build(catalog)
     if not isinstance(model, DHRobot):
-        raise WorkspaceError(f"robot {args.robot!r} is not a serial DH robot; this command needs one")
+        raise WorkspaceError(f"robot {catalog!r} is not a serial DH robot; this command needs one")
     return model
+
+
+_ROBOT_FILES = ("dh", "urdf", "mjcf")
+
+
+def _report_summary(path, start: float, **extra) -> dict:
+    """The JSON of a command that wrote a report: its Markdown file, the three renderings, the figures."""
+    path = Path(path)
+    return {"report": str(path), **extra,
+            "files": {kind: str(path.with_suffix(suffix)) for kind, suffix in
+                      (("markdown", ".md"), ("html", ".html"), ("latex", ".tex"))},
+            "figures": sorted(str(f) for f in path.parent.glob("*.png")),
+            "seconds": time.perf_counter() - start}
 
 
 def _matrix_strings(M) -> list:
@@ -513,11 +527,17 @@ def cmd_demo(args) -> int:
                          paving=paving, paving_title="Certified paving of Rybak's 2-RPR robot (delta 0.07)")
     b = chain.boundary()
     lo, hi = paving.measure_bounds
+    _wrote_report(path)
+    if args.json:
+        _emit_json(_report_summary(path, start,
+                                   boundary={"counts": dict(b.counts), "area": b.area, "arcs": len(b.arcs)},
+                                   paving={"measure_bounds": [lo, hi], "exact_measure": float(model.exact_measure),
+                                           "delta": 0.07}))
+        return 0
     print(f"human arm (Bastien 2018, Table 1 iii): {b.counts['step0']} / {b.counts['step1']} / {b.counts['step2']} "
           f"arcs after steps 0 / 1 / 2, area {fmt(b.area, 10)}")
     print(f"2-RPR paving (Rybak et al. 2016), delta 0.07: area in {fmt_bracket(lo, hi)}, "
           f"exact {fmt(float(model.exact_measure))}")
-    _wrote_report(path)
     print(f"{time.perf_counter() - start:.1f} s; report: {path} (also {path.with_suffix('.html').name}, "
           f"{path.with_suffix('.tex').name})")
     return 0
@@ -526,31 +546,42 @@ def cmd_demo(args) -> int:
 def cmd_report(args) -> int:
     from .report import dh_robot_report, planar_report
 
+    start = time.perf_counter()
     command = " ".join(["workspace-sym"] + sys.argv[1:])
     reach = {"reach_delta": args.reach_delta, "reach_time_limit": args.reach_time_limit}
+    files = [f"--{dest} FILE" for dest in _ROBOT_FILES if getattr(args, dest) is not None]
+    extra = {}
 
     def no_reach():
         if args.reach_delta is not None:
             raise InvalidParameterError(f"the certified workspace section needs a DH robot (catalog or --dh FILE); "
                                         f"{args.what!r} is not one", parameter="reach_delta")
 
+    if (args.base or args.tip) and not (args.urdf or args.mjcf):
+        raise WorkspaceError("--base and --tip name links of a URDF file or bodies of an MJCF file: give --urdf FILE "
+                             "or --mjcf FILE")
+    if args.what is not None and files:
+        raise WorkspaceError(f"report: give either {args.what!r} or a robot file ({' and '.join(files)}), not both")
     if args.what == "chain":
         no_reach()
         if not (args.lengths and args.lower and args.upper):
             raise WorkspaceError("report chain: give --lengths, --lower and --upper")
         path = planar_report(_chain_from_args(args), args.out, command=command)
-    elif args.dh is not None or args.what is None:
-        if args.what is not None:
-            raise WorkspaceError(f"report: give either {args.what!r} or --dh FILE, not both")
-        if args.dh is None:
-            raise WorkspaceError("report: name 'chain', a catalog robot, rpr2 or orthoglide, or pass --dh FILE")
-        path = dh_robot_report(DHRobot.from_file(args.dh), args.out, command=command, **reach)
+    elif files or args.what is None:
+        if not files:
+            raise WorkspaceError("report: name 'chain', a catalog robot, rpr2 or orthoglide, or pass --dh FILE, "
+                                 "--urdf FILE or --mjcf FILE")
+        robot = _robot_from_args(args)
+        extra = {"robot": robot.name, "joints": robot.n}
+        path = dh_robot_report(robot, args.out, command=command, **reach)
     else:
         from .orthoglide import Orthoglide
         from .parallel import ConstraintModel
 
         model = robots.build(args.what)
+        extra = {"robot": args.what}
         if isinstance(model, DHRobot):
+            extra["joints"] = model.n
             path = dh_robot_report(model, args.out, command=command, **reach)
         elif isinstance(model, ConstraintModel):
             no_reach()
@@ -567,7 +598,10 @@ def cmd_report(args) -> int:
         else:
             raise WorkspaceError(f"report: no report for {args.what!r}; use 'chain', a DH robot, rpr2 or orthoglide")
     _wrote_report(path)
-    print(f"report: {path}")
+    if args.json:
+        _emit_json(_report_summary(path, start, **extra))
+    else:
+        print(f"report: {path}")
     return 0
 
 
@@ -677,6 +711,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     json_, progress, budget = _parent(_JSON), _parent(_PROGRESS), _parent(_MAX_BOXES, _TIME_LIMIT)
     dh_robot = _parent(_ROBOT, _DH, _URDF, _MJCF, _BASE, _TIP, _SNAP_TOL, _KEEP_FLOATS)
+    robot_files = _parent(_DH, _URDF, _MJCF, _BASE, _TIP, _SNAP_TOL, _KEEP_FLOATS)      # report: no positional
     sigma, resolution = _parent(_SIGMA), _parent(_DELTA, _SIZE)
     spread, scheduler = _parent(_SCHEDULER, _MAX_MEMORY, _STORE, _RESUME), _parent(_SCHEDULER)
 
@@ -762,10 +797,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_boundary)
 
     p = sub.add_parser("report", help="write a report (Markdown, HTML, LaTeX) for a chain or a catalog robot",
-                       parents=[_chain_parent(required=False)])
+                       parents=[_chain_parent(required=False), robot_files, json_])
     p.add_argument("what", nargs="?",
-                   help="'chain' (with --lengths/--lower/--upper), a DH robot, rpr2 or orthoglide; none with --dh")
-    p.add_argument(*_DH[0], **_DH[1])
+                   help="'chain' (with --lengths/--lower/--upper), a DH robot, rpr2 or orthoglide; none with "
+                        "--dh, --urdf or --mjcf")
     p.add_argument("--delta", type=float, default=0.07, help="paving resolution (rpr2)")
     p.add_argument("--eps", type=float, default=0.125, help="dextrous workspace resolution (orthoglide)")
     p.add_argument("--alpha", type=float, default=0.01, help="largest-cube accuracy (orthoglide)")
@@ -791,7 +826,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True, help="output directory")
     p.set_defaults(func=cmd_exercises)
 
-    p = sub.add_parser("demo", help="the main job: write the demo report and print its path")
+    p = sub.add_parser("demo", help="the main job: write the demo report and print its path", parents=[json_])
     p.add_argument("--out", default="demo-report", help="output directory (default: demo-report)")
     p.set_defaults(func=cmd_demo)
     parser.commands = sub.choices
