@@ -217,14 +217,13 @@ def cmd_jacobian(args) -> int:
             print(f"det(lambda I - J J^T), coefficients of lambda^{len(charpoly) - 1} down to lambda^0: "
                   + ", ".join(robot.to_latex(c) for c in charpoly))
         if pairs is not None:
-            print("singular: " + r" \cdot ".join(_power(robot.to_latex(f), m, latex=True) for f, m in pairs) + " = 0")
+            print("singular: " + (f"{_product(robot, pairs, latex=True)} = 0" if pairs else NO_SINGULAR_FACTOR))
         return 0
     print(f"{robot.name}: {args.kind} Jacobian ({J.rows} x {J.cols})")
     for j in range(J.cols):
         print(f"  column {j + 1}: " + " | ".join(robot.to_str(J[i, j]) for i in range(J.rows)))
     if pairs is not None:
-        shown = " * ".join(_power(robot.to_str(f), m) for f, m in pairs) if pairs else "(no hypersurface of rank loss)"
-        print(f"  singular where: {shown} = 0")
+        print(f"  singular where: {_product(robot, pairs)} = 0" if pairs else f"  singular: {NO_SINGULAR_FACTOR}")
     if charpoly is not None:
         print(f"  det(lambda I - J J^T), {args.charpoly} Jacobian:")
         for k, c in enumerate(charpoly):
@@ -251,12 +250,21 @@ def cmd_codegen(args) -> int:
     return 0
 
 
-def _power(text: str, m: int, *, latex: bool = False) -> str:
-    """``f`` or ``(f)^m`` for a factor of multiplicity ``m``."""
-    if m == 1:
-        return text
-    base = text if text.replace("_", "").replace("{", "").replace("}", "").isalnum() else f"({text})"
-    return f"{base}^{{{m}}}" if latex else f"{base}**{m}"
+#: What the jacobian text says when the singular set is given by no single equation.
+NO_SINGULAR_FACTOR = ("no single equation: no factor is common to every maximal minor, so the rank drops only "
+                      "where several equations hold at once, if anywhere")
+
+
+def _product(robot, pairs, *, latex: bool = False) -> str:
+    """``f1 * (f2)**m * ...``: the singular factors with their multiplicities as one product that reads back as
+    written (a sum is bracketed, so is a product raised to a power); LaTeX with ``\\cdot``."""
+    def factor(f, m):
+        text = robot.to_latex(f) if latex else robot.to_str(f)
+        if f.is_Add or (m > 1 and not (f.is_Symbol or f.is_Function)):
+            text = f"\\left({text}\\right)" if latex else f"({text})"
+        return text if m == 1 else f"{text}^{{{m}}}" if latex else f"{text}**{m}"
+
+    return (r" \cdot " if latex else " * ").join(factor(f, m) for f, m in pairs)
 
 
 def _parse_var(text: str):
