@@ -281,7 +281,7 @@ LIMIT = '<limit lower="-1" upper="1" effort="1" velocity="1"/>'
 
 @pytest.mark.parametrize("case, message", [
     ("unparsable", "is not well-formed XML"),
-    ("xacro", "xacro file"),
+    ("xacro", "is a xacro file that could not be expanded"),
     ("missing", "cannot read"),
     ("branching", "--tip: bad.urdf has leaves"),
     ("mimic", "mimic"),
@@ -296,7 +296,7 @@ def test_bad_urdf_one_line_exit_2(tmp_path, capsys, case, message):
         path.write_text('<robot name="t"><link name="l0"/><joint name="j1" type="revolute"></robot')
     elif case == "xacro":
         path = tmp_path / "arm.urdf.xacro"
-        path.write_text('<robot xmlns:xacro="http://ros.org/wiki/xacro"><xacro:macro name="m"/></robot>')
+        path.write_text('<robot xmlns:xacro="http://ros.org/wiki/xacro"><link name="${undefined}"/></robot>')
     elif case == "missing":
         path = tmp_path / "nowhere.urdf"
     elif case == "branching":   # l0 -> l1 and l0 -> l2, both revolute

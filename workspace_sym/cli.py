@@ -88,12 +88,15 @@ def _robot_from_args(args) -> DHRobot:
     if (args.base or args.tip) and args.urdf is None and args.mjcf is None:
         raise WorkspaceError("--base and --tip name links of a URDF file or bodies of an MJCF file: give --urdf FILE "
                              "or --mjcf FILE")
+    if args.package and args.urdf is None:
+        raise WorkspaceError("--package names the directory of a package of a xacro file: give --urdf FILE")
     if args.dh is not None or args.urdf is not None or args.mjcf is not None:
         exact = not args.keep_floats
         robot = (DHRobot.from_file(args.dh, exact=exact, tol=args.snap_tol) if args.dh is not None else
                  DHRobot.from_mjcf(args.mjcf, base_link=args.base, tip_link=args.tip, exact=exact, tol=args.snap_tol)
                  if args.mjcf is not None else
-                 DHRobot.from_urdf(args.urdf, base_link=args.base, tip_link=args.tip, exact=exact, tol=args.snap_tol))
+                 DHRobot.from_urdf(args.urdf, base_link=args.base, tip_link=args.tip, exact=exact, tol=args.snap_tol,
+                                   packages=_packages(args.package)))
         line = summary(robot.input_notes)
         if line:
             print(f"workspace-sym {args.command}: note: {line}", file=sys.stderr)
@@ -108,6 +111,18 @@ def _robot_from_args(args) -> DHRobot:
 
 
 _ROBOT_FILES = ("dh", "urdf", "mjcf")
+
+
+def _packages(values) -> dict:
+    """``--package PKG=DIR`` options as ``{PKG: DIR}``."""
+    out = {}
+    for text in values or ():
+        name, sep, folder = text.partition("=")
+        if not sep or not name.strip() or not folder.strip():
+            raise InvalidParameterError(f"--package: expected PKG=DIR (a package of the xacro file and its "
+                                        f"directory); got {text!r:.80}", parameter="packages")
+        out[name.strip()] = folder.strip()
+    return out
 
 
 def _report_summary(path, start: float, **extra) -> dict:
@@ -565,9 +580,8 @@ def cmd_report(args) -> int:
             raise InvalidParameterError(f"the certified workspace section needs a DH robot (catalog or --dh FILE); "
                                         f"{args.what!r} is not one", parameter="reach_delta")
 
-    if (args.base or args.tip) and not (args.urdf or args.mjcf):
-        raise WorkspaceError("--base and --tip name links of a URDF file or bodies of an MJCF file: give --urdf FILE "
-                             "or --mjcf FILE")
+    if (args.base or args.tip or args.package) and not (args.urdf or args.mjcf):
+        _robot_from_args(args)            # says which file --base, --tip or --package needs
     if args.what is not None and files:
         raise WorkspaceError(f"report: give either {args.what!r} or a robot file ({' and '.join(files)}), not both")
     if args.what == "chain":
@@ -673,7 +687,11 @@ _MAX_BOXES = (("--max-boxes",), {"type": int, "help": "stop after this many boxe
 _TIME_LIMIT = (("--time-limit",), {"type": float, "help": "stop after this many seconds (the rest is pending)"})
 _ROBOT = (("robot",), {"nargs": "?", "help": "catalog DH robot (see 'workspace-sym robots'), or none with --dh"})
 _DH = (("--dh",), {"metavar": "FILE", "help": _DH_HELP})
-_URDF = (("--urdf",), {"metavar": "FILE", "help": "a URDF file (plain XML, not xacro): its serial chain as a DH robot"})
+_URDF = (("--urdf",), {"metavar": "FILE", "help": "a URDF file (or xacro, with the xacro extra): its serial chain as a "
+                                                   "DH robot"})
+_PACKAGE = (("--package",), {"action": "append", "default": [], "metavar": "PKG=DIR",
+                             "help": "with a xacro --urdf: the directory of package PKG, for $(find PKG) (default: a "
+                                     "folder PKG above the file or beside the folders above it); repeatable"})
 _MJCF = (("--mjcf",), {"metavar": "FILE",
                        "help": "a MuJoCo model (MJCF XML): its serial chain of bodies as a DH robot"})
 _BASE = (("--base",), {"metavar": "LINK", "help": "with --urdf/--mjcf: first link or body of the chain (default: the "
@@ -718,8 +736,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     json_, progress, budget = _parent(_JSON), _parent(_PROGRESS), _parent(_MAX_BOXES, _TIME_LIMIT)
-    dh_robot = _parent(_ROBOT, _DH, _URDF, _MJCF, _BASE, _TIP, _SNAP_TOL, _KEEP_FLOATS)
-    robot_files = _parent(_DH, _URDF, _MJCF, _BASE, _TIP, _SNAP_TOL, _KEEP_FLOATS)      # report: no positional
+    dh_robot = _parent(_ROBOT, _DH, _URDF, _MJCF, _BASE, _TIP, _PACKAGE, _SNAP_TOL, _KEEP_FLOATS)
+    robot_files = _parent(_DH, _URDF, _MJCF, _BASE, _TIP, _PACKAGE, _SNAP_TOL, _KEEP_FLOATS)   # report: no positional
     sigma, resolution = _parent(_SIGMA), _parent(_DELTA, _SIZE)
     spread, scheduler = _parent(_SCHEDULER, _MAX_MEMORY, _STORE, _RESUME), _parent(_SCHEDULER)
 
@@ -852,7 +870,7 @@ _FLAGS = {
     "scheduler": "--scheduler", "max_memory": "--max-memory", "store": "--store", "resume": "--resume",
     "reach_delta": "--reach-delta", "reach_time_limit": "--reach-time-limit",
     "base_link": "--base", "tip_link": "--tip", "out": "--out", "plot": "--plot", "slices": "--slices",
-    "report": "--report", "prefix": "--prefix",
+    "report": "--report", "prefix": "--prefix", "packages": "--package",
 }
 # A library error about ``path`` (a DH, URDF or MJCF file) is about the option that named the file.
 _PATH_OPTIONS = ("urdf", "mjcf", "dh")

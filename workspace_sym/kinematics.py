@@ -431,17 +431,19 @@ class DHRobot:
 
     @classmethod
     def from_urdf(cls, path, *, base_link: str | None = None, tip_link: str | None = None, exact: bool = True,
-                  tol: float = DEFAULT_TOL) -> DHRobot:
+                  tol: float = DEFAULT_TOL, packages: dict | None = None) -> DHRobot:
         """The serial chain from ``base_link`` to ``tip_link`` of a URDF file, as a DH robot.
 
         Every chain of revolute and prismatic joints has a standard DH table
         once constant base and tool transforms are allowed; it is extracted
         exactly, and ``fk()`` equals the URDF's own forward kinematics.  See
-        :func:`workspace_sym.urdf.read_urdf` (needs the ``urdf`` extra, yourdfpy).
+        :func:`workspace_sym.urdf.read_urdf` (needs the ``urdf`` extra, yourdfpy;
+        a xacro file the ``xacro`` extra, ``packages`` naming the directories of
+        its ``$(find pkg)``).
         """
         from .urdf import read_urdf  # optional dependency; urdf builds on this module
 
-        return read_urdf(path, base_link=base_link, tip_link=tip_link, exact=exact, tol=tol)
+        return read_urdf(path, base_link=base_link, tip_link=tip_link, exact=exact, tol=tol, packages=packages)
 
     @classmethod
     def from_mjcf(cls, path, *, base_link: str | None = None, tip_link: str | None = None, exact: bool = True,
