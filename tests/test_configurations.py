@@ -65,6 +65,8 @@ def test_fk_of_a_list_is_the_pose_there():
         [2, sp.Rational(1, 3)])
     assert arm.fk(np.array([0.0, 0.0]))[0, 3] == pytest.approx(1.5, abs=1e-15)
     assert arm.fk(2) == arm.fk()            # a frame number still names a frame
+    with pytest.raises(WorkspaceError, match="parameters apply to a configuration"):
+        arm.fk(2, parameters={"l1": 1})
 
 
 @pytest.mark.parametrize(("q", "words"), [

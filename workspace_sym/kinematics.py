@@ -524,6 +524,9 @@ class DHRobot:
         """
         if isinstance(k, (list, tuple, np.ndarray, sp.MatrixBase)):
             return self.fk_at(k, parameters=parameters)
+        if parameters is not None:
+            raise InvalidParameterError("parameters apply to a configuration: fk(q, parameters=...) with q a list of "
+                                        f"{self.n} joint values", parameter="parameters")
         k = self.n if k is None else k
         if isinstance(k, bool) or not isinstance(k, (int, np.integer)):
             raise InvalidParameterError(f"k must be a frame number from 0 to {self.n} or a configuration (a list of "
