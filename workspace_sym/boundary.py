@@ -41,6 +41,7 @@ from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
+import sympy as sp
 
 from .arrangement import Arrangement, arc_area_term, arc_distance, in_span, parity_inside
 from .errors import BoundaryError
@@ -90,6 +91,38 @@ def format_set(values, digits: int = 4) -> str:
     if len(values) == 1:
         return f"{{{fmt(values[0], digits)}}}"
     return f"[{fmt(values[0], digits)}, {fmt(values[1], digits)}]"
+
+
+class ArcTable(list):
+    """:meth:`Boundary.table`: a list of ``{"type", "free_joint", "theta_sets"}`` dicts, one per arc, that Jupyter
+    displays as the table it is (HTML, or Markdown), held joints in braces and free ones as intervals."""
+
+    def __init__(self, rows, *, joints: int, exact: bool = False):
+        super().__init__(rows)
+        self.joints, self.exact = joints, exact
+
+    def _cells(self) -> tuple[list, list]:
+        def shown(values):
+            if not self.exact:
+                return format_set(values)
+            text = ", ".join(sp.sstr(v) for v in values)
+            return f"{{{text}}}" if len(values) == 1 else f"[{text}]"
+
+        header = ["#", "type"] + [f"θ{j + 1} (deg)" for j in range(self.joints)]
+        return header, [[k, row["type"], *(shown(v) for v in row["theta_sets"])] for k, row in enumerate(self, 1)]
+
+    def _repr_html_(self) -> str:
+        from .display import html_table
+
+        header, rows = self._cells()
+        return html_table(header, rows, caption="Boundary arcs (Table 2 form)")
+
+    def _repr_markdown_(self) -> str:
+        from .report import md_escape
+
+        header, rows = self._cells()
+        return "\n".join(["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+                         + ["| " + " | ".join(md_escape(str(c)) for c in row) + " |" for row in rows]) + "\n"
 
 
 def _degrees(radians: float) -> float:
@@ -178,8 +211,9 @@ class Boundary:
             return np.zeros((0, self.chain.p))
         return np.unique(np.round(np.array(out), 12), axis=0)
 
-    def table(self, *, exact: bool = False) -> list[dict]:
-        """Rows in the form of the paper's Table 2: type and the set of every joint, in degrees."""
+    def table(self, *, exact: bool = False) -> ArcTable:
+        """Rows in the form of the paper's Table 2: type and the set of every joint, in degrees (a list of dicts
+        that a notebook displays as a table)."""
         rows = []
         ex = self.exact if exact else None
         for k, a in enumerate(self.arcs):
@@ -190,7 +224,7 @@ class Boundary:
                 else:
                     sets.append(tuple(_degrees(v) for v in s))
             rows.append({"type": a.type, "free_joint": a.free_joint, "theta_sets": sets})
-        return rows
+        return ArcTable(rows, joints=self.chain.p, exact=exact)
 
     def to_dict(self, *, exact: bool = False) -> dict:
         """The JSON object of ``workspace-sym boundary`` (docs/cli.md)."""
@@ -222,7 +256,7 @@ class Boundary:
 
     def _repr_html_(self) -> str:
         """Counts per step, loops, area, the Table-2-style table and the picture (Jupyter)."""
-        from .display import figure_html, html_table
+        from .display import figure_html
         from .plotting import plot_boundary_loops
 
         c = self.counts
@@ -231,12 +265,8 @@ class Boundary:
         lines += [f"{loop.kind} loop: arcs {', '.join(str(k + 1) for k in loop.arcs)}" for loop in self.loops]
         if self.undecided_area:
             lines.append(f"undecided faces of area {fmt(self.undecided_area, 3, 'g')}: the area is a lower bound")
-        header = ["#", "type"] + [f"θ{j + 1} (deg)" for j in range(self.chain.p)]
-        rows = [[k, row["type"], *(format_set(v) for v in row["theta_sets"])]
-                for k, row in enumerate(self.table(), start=1)]
         picture = figure_html(plot_boundary_loops(self), alt="boundary loops") if self.arcs else ""
-        return ("<p>" + "<br/>".join(lines) + "</p>" + html_table(header, rows, caption="Boundary arcs (Table 2 form)")
-                + picture)
+        return "<p>" + "<br/>".join(lines) + "</p>" + self.table()._repr_html_() + picture
 
     def polygon(self, *, step: float = 0.01):
         """The loops as polylines (list of (n, 2) arrays) for drawing and polygon checks."""
