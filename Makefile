@@ -28,8 +28,10 @@ $(VENV)/.installed-bench: pyproject.toml | $(BIN)/python
 demo: $(VENV)/.installed
 	$(BIN)/workspace-sym demo --out $(OUT)
 
+# The suite runs its test files on every core (pytest-xdist, at most 4 workers; a file stays on one worker so its
+# module fixtures are built once).  Extra pytest options: make test PYTEST_ARGS="--basetemp=/tmp/x/pytest-0"
 test: $(VENV)/.installed-test lint
-	$(BIN)/python -m pytest
+	$(BIN)/python -m pytest --numprocesses=auto --maxprocesses=4 --dist=loadfile $(PYTEST_ARGS)
 
 lint: $(VENV)/.installed-test
 	$(BIN)/ruff check .

@@ -11,6 +11,8 @@ Run: python benchmarks/bench_paving.py
 """
 
 import datetime
+import subprocess
+import sys
 
 from _common import best_of, machine
 from workspace_sym import robots
@@ -38,6 +40,43 @@ def codac_runs(delta):
         inner, bound = p.boxes(C.PavingInOut.inner), p.boxes(C.PavingInOut.bound)
         out[name] = (t, area(inner), area(bound), len(inner), len(bound))
     return out
+
+
+OURS_COLD = """
+from workspace_sym import robots
+print(robots.build("rpr2").pave(delta={delta}, size="width").seconds)
+"""
+
+CODAC_COLD = """
+import time
+import codac as C
+t0 = time.perf_counter()
+x = C.VectorVar(2)
+f = C.AnalyticFunction([x], C.vec(C.sqr(x[0]) + C.sqr(x[1]), C.sqr(x[0] - 5) + C.sqr(x[1])))
+C.sivia(C.IntervalVector([[-12, 17], [0, 12]]), f, C.IntervalVector([[64, 144], [64, 144]]), {delta})
+print(time.perf_counter() - t0)
+"""
+
+
+def cold(script: str, delta: float, repeat: int = 10) -> float:
+    """Best of ``repeat`` fresh processes: the time the process itself reports for its first paving (ours: the
+    paving's ``seconds``; codac: building the function plus ``sivia``), imports excluded on both sides."""
+    runs = [subprocess.run([sys.executable, "-c", script.format(delta=delta)], capture_output=True, text=True,
+                           check=True) for _ in range(repeat)]
+    return min(float(r.stdout.split()[-1]) for r in runs)
+
+
+def cold_rows():
+    """Issue 28 item 3: the first paving in a process, ours against codac.sivia's, at delta 0.07 and 0.01."""
+    try:
+        import codac  # noqa: F401
+    except ImportError:
+        print("  (codac not installed: no cold comparison)")
+        return
+    print("cold start (fresh process, best of 10), width:")
+    for delta in (0.07, 0.01):
+        ours, theirs = cold(OURS_COLD, delta), cold(CODAC_COLD, delta)
+        print(f"{delta:>6} workspace_sym {ours:.4f} s   codac.sivia {theirs:.4f} s   {theirs / ours:.1f}x faster")
 
 
 def main():
@@ -73,6 +112,7 @@ def main():
                   f"{plain[3]:.4f} vs {sivia[2]:.4f}")
             print(f"{'':>6} contract vs codac.pave(SepInverse): {sep[0] / cut[1]:.1f}x faster, boundary "
                   f"{cut[3]:.4f} vs {sep[2]:.4f}")
+    cold_rows()
 
 
 if __name__ == "__main__":

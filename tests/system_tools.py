@@ -8,7 +8,9 @@ fails the test instead, so CI always runs both.
 """
 
 import os
+import re
 import shutil
+import subprocess
 
 import pytest
 
@@ -24,3 +26,16 @@ def require_tool(*names: str, install: str = "chromium chromium-driver texlive-l
         if os.environ.get("CI", "").lower() == "true":
             pytest.fail(message)
         pytest.skip(message)
+
+
+def assert_compiles(tex_path, *, min_pdf_bytes: int = 10_000) -> None:
+    """pdflatex compiles ``tex_path`` (in its folder) with no error, no undefined control sequence and no overfull
+    box wider than 10 pt."""
+    subprocess.run(["pdflatex", "-interaction=nonstopmode", "-halt-on-error", tex_path.name], cwd=tex_path.parent,
+                   capture_output=True, timeout=120)
+    log = tex_path.with_suffix(".log").read_text(errors="replace")
+    assert tex_path.with_suffix(".pdf").stat().st_size > min_pdf_bytes
+    assert not re.search(r"^! ", log, re.M), log[-2000:]
+    assert "Undefined control sequence" not in log
+    over = [float(x) for x in re.findall(r"Overfull \\[hv]box \(([\d.]+)pt too", log)]
+    assert all(x <= 10 for x in over), over

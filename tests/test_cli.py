@@ -340,6 +340,32 @@ def test_jacobian_reports_multiplicities(capsys, tmp_path):
     assert got == {"q3": 2, "sin(theta2)": 1, "sin(theta5)": 1}
 
 
+def test_jacobian_text_brackets_the_sums_of_its_product(capsys, tmp_path):
+    """Issue 27: 'singular where: a2 * s5 * a3*s3 + c3*d4 * ...' read as a different product.  The text and the LaTeX
+    of the Puma's singular set, read back with the students' reader, are the product of its factors (exact
+    identity); an arm whose maximal minors share no factor says so in words, not '(...) = 0'."""
+    from workspace_sym import robots
+    from workspace_sym.answers import Notation, read_answer
+
+    puma = robots.build("puma560")
+    product = sp.Mul(*(f**m for f, m in puma.singular_factors("geometric", multiplicity=True)))
+    code, out, _ = run(capsys, "jacobian", "puma560")
+    line = next(x for x in out.splitlines() if "singular where:" in x)
+    assert "(a3*s3 + c3*d4)" in line and line.endswith(" = 0")
+    text = line.split("singular where:")[1].removesuffix(" = 0")
+    assert sp.expand(read_answer(text, Notation.from_robot(puma)) - product) == 0
+    code, out, _ = run(capsys, "jacobian", "puma560", "--latex")
+    tex = out.splitlines()[-1].removeprefix("singular: ").removesuffix(" = 0")
+    assert "\\left(a_{3} s_{3} + c_{3} d_{4}\\right)" in tex
+    assert sp.expand(read_answer(tex, Notation.from_robot(puma)) - product) == 0
+    path = tmp_path / "one.json"
+    path.write_text(json.dumps({"joints": [{"type": "R", "d": 0, "a": 0, "alpha": 0}]}))
+    for extra in ([], ["--latex"]):
+        code, out, _ = run(capsys, "jacobian", "--dh", str(path), *extra)
+        assert code == 0 and "= 0" not in out and "no hypersurface" not in out
+        assert "no single equation: no factor is common to every maximal minor" in out
+
+
 def test_jacobian_charpoly(capsys):
     """--charpoly position on the planar 3R: trace of J J^T is the sum of squared column norms (exact identity
     l1^2 + 2 l2^2 + 3 l3^2 + 2 l1 l2 c2 + 2 l1 l3 c23 + 4 l2 l3 c3), the constant term det(J J^T) of a rank-2

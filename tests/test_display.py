@@ -279,3 +279,19 @@ def test_notebook_shows_sympy_results_as_mathml():
         data, _ = shell.display_formatter.format(result)
         assert data["text/html"].startswith('<math display="block">') and needle in data["text/html"]
         assert "text/plain" in data                      # the plain form stays for consoles
+
+
+def test_boundary_table_displays_as_a_table(arm_boundary):
+    """Issue 27: b.table() showed as a raw list of dicts in Jupyter.  It is still that list of dicts, and displays as
+    a table: one row per arc (8 for case iii, Table 2 of Bastien 2018), a held joint in braces, a free one as an
+    interval, -55.1005 among them; the exact table too."""
+    rows = arm_boundary.table()
+    assert isinstance(rows, list) and rows == [dict(r) for r in rows] and len(rows) == 8
+    page = rows._repr_html_()
+    assert page.count("<tr>") == 1 + 8 and "θ3 (deg)" in page and "[-60.0000, -55.1005]" in page
+    lines = rows._repr_markdown_().strip().splitlines()
+    assert len(lines) == 2 + 8 and lines[0] == "| # | type | θ1 (deg) | θ2 (deg) | θ3 (deg) |"
+    assert lines[2].startswith(f"| 1 | {rows[0]['type']} | ")
+    exact = arm_boundary.table(exact=True)
+    assert len(exact) == 8 and exact._repr_html_().count("<tr>") == 1 + 8
+    assert "-60" in exact._repr_markdown_() and "atan" in exact._repr_markdown_()

@@ -256,12 +256,30 @@ def test_a_lost_hole_is_refused_not_answered():
         assert area <= math.pi * (reach**2 - inner**2) * (1 + 1e-9)
 
 
-def test_undecided_faces_near_a_full_turn_are_reported_not_hidden():
-    """Known limit of the arrangement (issue 31 item 2): (0.1, 0.1, 0.1, 0.52) at +-179.9999 deg leaves a face of
-    area 0.152 undecided where many nearly tangent circles meet.  The answer stays honest: the area proved is the
-    annulus's (closed form 78 pi / 125) and the doubt is reported, with a warning, never added to it."""
+def test_the_hole_a_hair_short_of_a_full_turn_is_proved_by_the_annulus():
+    """Issue 31 item 2: (0.1, 0.1, 0.1, 0.52) at +-179.9999 deg left its hole (r < 0.22, area 0.152) undecided: the
+    hole is tangent to reachable points (the folded configurations), so no finite interval exclusion covers it.
+    Every configuration, whatever its limits, lies in the annulus 2 l_max - R <= r <= R (triangle inequality), and a
+    face is reachable everywhere or nowhere, so one probe strictly inside the hole proves the face outside.
+    Reference: the annulus's area, closed form 78 pi / 125, with nothing undecided."""
     chain = PlanarChain(["0.1", "0.1", "0.1", "0.52"], [-179.9999] * 4, [179.9999] * 4)
-    with pytest.warns(UserWarning, match="could not be classified"):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
         b = chain.boundary()
+    assert b.undecided_area == 0
     assert b.area == pytest.approx(float(78 * sp.pi / 125), rel=1e-9)
-    assert 0 <= b.undecided_area < 0.2
+    assert b.contains((0.0, 0.0)) == "outside" and b.contains((0.2199, 0.0)) == "outside"
+    assert any(e.get("method") == "annulus of full turns" for e in b.evidence.values())
+
+
+def test_the_annulus_proof_is_exact_at_its_edge():
+    """The annulus argument decides in exact rational arithmetic: a point one ulp inside the hole's rim is outside,
+    the rim itself and one ulp beyond it are not claimed (reference: exact identities for lengths 3, 1, 1, rim 1)."""
+    from workspace_sym.boundary import outside_every_turn
+
+    chain = PlanarChain(["3", "1", "1"], [-180] * 3, [180] * 3)
+    below, above = math.nextafter(1.0, 0.0), math.nextafter(1.0, 2.0)
+    assert outside_every_turn(chain, (below, 0.0)) and not outside_every_turn(chain, (1.0, 0.0))
+    assert not outside_every_turn(chain, (above, 0.0)) and not outside_every_turn(chain, (0.0, -1.0))
+    assert outside_every_turn(chain, (math.nextafter(5.0, 6.0), 0.0)) and not outside_every_turn(chain, (3.0, 4.0))
+    assert not outside_every_turn(PlanarChain(["sqrt(2)", "1"], [-90] * 2, [90] * 2), (0.0, 0.0))

@@ -7,6 +7,7 @@ import json
 import numpy as np
 import pytest
 import sympy as sp
+from system_tools import assert_compiles, require_tool
 
 from workspace_sym.answers import Notation, read_answer
 from workspace_sym.cli import main
@@ -32,6 +33,13 @@ def _right_answers(key: dict) -> dict:
                         "reachable": lambda a=a: "yes" if a else "no", "integer": lambda a=a: str(a),
                         "measure": lambda a=a: f"{a[0]:.3g}"}[q["kind"]]()
     return out
+
+
+def _sentence_answers(key: dict) -> dict:
+    """Answers to the count, measure and yes/no questions written as sentences, with units (issue 27)."""
+    forms = {"reachable": lambda a: "Yes." if a else "No.", "integer": lambda a: f"{a} arcs.",
+             "measure": lambda a: f"{a[0] * 1e4:.4g} cm²"}
+    return {q["id"]: forms[q["kind"]](q["answer"]) for q in key["questions"] if q["kind"] in forms}
 
 
 def _latex_answers(key: dict, parsed: AnswerKey) -> dict:
@@ -106,6 +114,7 @@ def test_own_key_gives_full_marks_and_a_flipped_sign_the_expected_wrong_answers(
     right, latex = _right_answers(key), _latex_answers(key, parsed)
     rows = [("ann", qid, text) for qid, text in right.items()]
     rows += [("cat", qid, latex.get(qid, text)) for qid, text in right.items()]
+    rows += [("dee", qid, text) for qid, text in _sentence_answers(key).items()]
     graded = grade_answers(parsed, rows)
     assert all(g.verdict.status == "correct" for g in graded), [(g.question, g.verdict.message) for g in graded]
     assert sum(g.points for g in graded if g.student == "ann") == len(key["questions"])
@@ -129,8 +138,8 @@ def test_wrong_and_unreadable_answers_in_a_class(generated):
     integer = next(q for q in key["questions"] if q["kind"] == "integer")
     reach = next(q for q in key["questions"] if q["kind"] == "reachable")
     rows = [("bob", expression["id"], "c1 + * s2"), ("bob", integer["id"], str(integer["answer"] + 1)),
-            ("bob", reach["id"], "no" if reach["answer"] else "yes"), ("bob", reach["id"], "perhaps"),
-            ("bob", "9z", "1"), ("bob", expression["id"], "__import__('os')")]
+            ("bob", reach["id"], "no" if reach["answer"] else "yes"), ("bea", reach["id"], "perhaps"),
+            ("bob", "9z", "1"), ("bea", expression["id"], "__import__('os')")]
     status = [g.verdict.status for g in grade_answers(parsed, rows)]
     assert status == ["cannot read", "wrong", "wrong", "cannot read", "cannot read", "cannot read"]
 
@@ -197,6 +206,20 @@ def test_write_exercises_writes_everything(tmp_path):
     header, *rows = paths["answers-template.csv"].read_text().splitlines()
     assert header == "student,question,answer" and len(rows) == len(json.loads(paths["key.json"].read_text())
                                                                       ["questions"])
+
+
+def test_answer_key_typesets_its_answers(tmp_path):
+    """Issue 27: key.html showed a literal \\text{answer} (the label went into MathML as a symbol's name) and
+    key.tex an overfull box 163 pt wide (the entries of a Jacobian column, set side by side in alignment columns,
+    were pushed right by the wide row naming them).  Reference: pdflatex's own log."""
+    paths = write_exercises(tmp_path, seed=0, count=1, max_joints=JOINTS)
+    page = paths["key.html"].read_text()
+    assert "\\text" not in page and page.count("<mtext>answer</mtext>") >= 2
+    assert "<mi>answer</mi>" not in page
+    tex = paths["key.tex"].read_text()
+    assert "\\text{answer} &= " in tex and "\\text{answer}_{1} &= " in tex
+    require_tool("pdflatex")
+    assert_compiles(paths["key.tex"])
 
 
 def test_robot_points_both_ways():
@@ -299,7 +322,7 @@ def test_grading_budgets(tmp_path):
     assert g.verdict.status == "cannot check" and g.points == 0 and "0.05 s" in g.verdict.message
     short = _long_latex_answer(key.robots["G"], pairs=1)          # the same answer, one cancelling pair
     assert grade_answers(key, [("ann", "x", short)], answer_seconds=60)[0].verdict.status == "correct"
-    rows = [("ann", "x", slow)] + [("bob", "x", "c1")] * 5
+    rows = [("ann", "x", slow)] + [(f"bob{k}", "x", "c1") for k in range(5)]
     graded = grade_answers(key, rows, answer_seconds=0.05, total_seconds=0.05)
     assert [g.verdict.status for g in graded] == ["cannot check"] + ["not graded"] * 5
     began = time.perf_counter()

@@ -2,13 +2,12 @@
 
 import re
 import shutil
-import subprocess
 from html.parser import HTMLParser
 from pathlib import Path
 
 import numpy as np
 import pytest
-from system_tools import require_tool
+from system_tools import assert_compiles, require_tool
 
 from workspace_sym import robots
 from workspace_sym.interval import pave
@@ -309,12 +308,6 @@ def test_html_report_renders_in_chromium(planar, dh, reach2d, reach3d):
         driver.quit()
 
 
-def _pdflatex(tex_path):
-    subprocess.run(["pdflatex", "-interaction=nonstopmode", "-halt-on-error", tex_path.name], cwd=tex_path.parent,
-                   capture_output=True, timeout=120)
-    return tex_path.with_suffix(".log").read_text(errors="replace")
-
-
 def test_dh_report_of_a_decimal_table(tmp_path):
     """UR5 (roboticstoolbox's DH table, decimal lengths): lengths and formulas show the table's decimals, and a
     Jacobian column too wide for the page is set entry by entry, so pdflatex finds no overfull box."""
@@ -335,15 +328,6 @@ def test_latex_report_compiles(planar, dh, reach2d, reach3d):
     require_tool("pdflatex")
     for md_path in (planar[0], dh[0], reach2d[0], reach3d[0]):
         assert_compiles(md_path.with_suffix(".tex"))
-
-
-def assert_compiles(tex_path):
-    log = _pdflatex(tex_path)
-    assert tex_path.with_suffix(".pdf").stat().st_size > 10_000
-    assert not re.search(r"^! ", log, re.M), log[-2000:]
-    assert "Undefined control sequence" not in log
-    over = [float(x) for x in re.findall(r"Overfull \\[hv]box \(([\d.]+)pt too", log)]
-    assert all(x <= 10 for x in over), over
 
 
 def test_paving_report(tmp_path):

@@ -281,7 +281,7 @@ LIMIT = '<limit lower="-1" upper="1" effort="1" velocity="1"/>'
 
 @pytest.mark.parametrize("case, message", [
     ("unparsable", "is not well-formed XML"),
-    ("xacro", "xacro file"),
+    ("xacro", "is a xacro file that could not be expanded"),
     ("missing", "cannot read"),
     ("branching", "--tip: bad.urdf has leaves"),
     ("mimic", "mimic"),
@@ -296,7 +296,7 @@ def test_bad_urdf_one_line_exit_2(tmp_path, capsys, case, message):
         path.write_text('<robot name="t"><link name="l0"/><joint name="j1" type="revolute"></robot')
     elif case == "xacro":
         path = tmp_path / "arm.urdf.xacro"
-        path.write_text('<robot xmlns:xacro="http://ros.org/wiki/xacro"><xacro:macro name="m"/></robot>')
+        path.write_text('<robot xmlns:xacro="http://ros.org/wiki/xacro"><link name="${undefined}"/></robot>')
     elif case == "missing":
         path = tmp_path / "nowhere.urdf"
     elif case == "branching":   # l0 -> l1 and l0 -> l2, both revolute
@@ -381,3 +381,21 @@ def test_keep_floats_recognises_an_identity_base():
     path, _ = URDFS["irb140"]
     robot = DHRobot.from_urdf(path, exact=False)
     assert robot.base is None and "frame 0 is the base link's frame" in robot.input_notes[0]
+
+
+def test_an_origin_angle_snapped_from_its_written_digits_gives_the_exact_rotation(tmp_path):
+    """An origin rpy of 1.5707963 (pi/2 written to 8 digits, 2.7e-8 short) is snapped to pi/2, as the note says, so
+    the rotation is the exact quarter turn (reference: Rz(pi/2)); it was the matrix of the float, with entries
+    2.68e-8 (the 'Euler angles recovered badly' check compared the snapped rotation with the float one at tol
+    alone)."""
+    path = _urdf(tmp_path, [GOOD_JOINT.format(i=1, p=0, kind="revolute", extra=LIMIT),
+                            GOOD_JOINT.format(i=2, p=1, kind="fixed", extra="").replace(
+                                'rpy="0 0 0"', 'rpy="0 0 1.5707963"')])
+    robot = DHRobot.from_urdf(path)
+    assert any("1.5707963 -> pi/2" in note for note in robot.input_notes)
+    assert robot.tool[:3, :3] == sp.Matrix([[0, -1, 0], [1, 0, 0], [0, 0, 1]])
+    q = sp.Symbol("theta1")
+    assert sp.simplify(robot.fk()[:3, :3] - sp.Matrix([[-sp.sin(q), -sp.cos(q), 0], [sp.cos(q), -sp.sin(q), 0],
+                                                       [0, 0, 1]])) == sp.zeros(3, 3)
+    kept = DHRobot.from_urdf(path, exact=False)          # the float, on request
+    assert abs(float(kept.tool[0, 0]) - math.cos(1.5707963)) < 1e-15

@@ -33,10 +33,10 @@ from string import ascii_lowercase
 import sympy as sp
 
 from .errors import ExpressionError, check_choice
-from .expressions import CONSTANTS, MAX_DEPTH, MAX_LENGTH, nesting_depth, parse_math, quoted, subscript_name
+from .expressions import CONSTANTS, FUNCTIONS, MAX_DEPTH, MAX_LENGTH, nesting_depth, parse_math, quoted, subscript_name
 
 __all__ = ["Notation", "read_answer", "read_latex", "split_top_level", "expansion_size", "ANGLE_UNITS",
-           "MAX_EXPANSION"]
+           "MAX_EXPANSION", "Unit", "read_unit", "split_unit", "read_count", "read_yes_no", "plain_sentence"]
 
 #: How numbers inside sin, cos and tan are read.
 ANGLE_UNITS = ("radians", "degrees")
@@ -649,3 +649,125 @@ def read_answer(text, notation: Notation, *, angles: str = "radians", parameter:
         raise ExpressionError(f"{parameter}: cannot check {quoted(text)}: expanded it would have more than "
                               f"{MAX_EXPANSION} terms", parameter=parameter)
     return result
+
+
+# ------------------------------------------------------------------------------ yes/no, counts, quantities
+_YES = {"yes", "y", "true", "reachable", "1", "oui"}
+_NO = {"no", "n", "false", "unreachable", "not reachable", "0", "non"}
+_FORMULA_WORDS = {w.lower() for w in (*CONSTANTS, *FUNCTIONS)}
+_ONES = {w: k for k, w in enumerate("zero one two three four five six seven eight nine ten eleven twelve thirteen "
+                                    "fourteen fifteen sixteen seventeen eighteen nineteen".split())}
+_TENS = {w: 10 * k for k, w in enumerate("twenty thirty forty fifty sixty seventy eighty ninety".split(), start=2)}
+#: Length units (metres per unit) and angle units (radians per unit) an answer may carry.
+_LENGTH_UNITS = {"m": 1.0, "metre": 1.0, "metres": 1.0, "meter": 1.0, "meters": 1.0, "dm": 0.1, "cm": 0.01,
+                 "mm": 0.001, "km": 1000.0}
+_ANGLE_UNITS = {"rad": 1.0, "radian": 1.0, "radians": 1.0, "deg": math.pi / 180, "degree": math.pi / 180,
+                "degrees": math.pi / 180, "°": math.pi / 180}
+_UNIT = (r"(?<![A-Za-z_])(?P<base>metres?|meters?|radians?|degrees?|rad|deg|km|dm|cm|mm|m|°)"
+         r"(?:\s*(?:\^|\*\*)\s*(?P<power>[123])|(?P<digit>[123])|(?P<sup>[²³]))?")
+_QUANTITY = re.compile(r"(?P<number>.*?)\s*" + _UNIT + r"\s*", re.DOTALL)
+_DIMENSIONS = {("length", 1): "a length", ("length", 2): "an area", ("length", 3): "a volume",
+               ("angle", 1): "an angle"}
+
+
+def plain_sentence(text: str) -> str:
+    """``text`` without surrounding blanks and the full stop or exclamation marks ending a sentence (``"No."``,
+    ``"4 arcs."``): nothing a formula ends with."""
+    stripped = text.strip()
+    return stripped.rstrip(".!").rstrip() or stripped
+
+
+def read_yes_no(text: str) -> bool | None:
+    """``True`` for yes, ``False`` for no, ``None`` when ``text`` is neither; a reason may follow the word after a
+    comma, colon, semicolon or dash (``"No, it is beyond the reach"``).
+
+    Examples
+    --------
+    >>> read_yes_no("No."), read_yes_no("yes: theta = 0"), read_yes_no("no idea")
+    (False, True, None)
+    """
+    said = " ".join(plain_sentence(text).lower().split())
+    lead = re.fullmatch(r"([^,;:\u2013\u2014-]+?)\s*[,;:\u2013\u2014-]\s*\S.*", said, re.DOTALL)
+    for word in (said, lead[1] if lead else None):
+        if word in _YES or word in _NO:
+            return word in _YES
+    return None
+
+
+def read_count(text: str) -> tuple[int, str] | None:
+    """A whole number written in digits or in words (``4``, ``four``, ``twenty-one``) with the words that follow it
+    (``"4 circular arcs"`` is ``(4, "circular arcs")``); ``None`` when ``text`` is not of that form, or when a
+    word after the number means something in a formula (``"2 pi"``, ``"3 sqrt"``).
+
+    Examples
+    --------
+    >>> read_count("Four arcs"), read_count("twenty-one"), read_count("4 <b>")
+    ((4, 'arcs'), (21, ''), None)
+    """
+    m = re.fullmatch(r"\s*([0-9]{1,9})\s*([A-Za-z][A-Za-z\s-]*)?", text)
+    if m:
+        rest = (m[2] or "").split()
+        return None if _FORMULA_WORDS & {w.lower() for w in rest} else (int(m[1]), " ".join(rest))
+    words = [w for w in re.split(r"[\s-]+", text.strip().lower()) if w]
+    if not words:
+        return None
+    value, used = _TENS.get(words[0]), 1
+    if value is not None and len(words) > 1 and 0 < _ONES.get(words[1], 0) < 10:
+        value, used = value + _ONES[words[1]], 2
+    elif value is None:
+        value = _ONES.get(words[0])
+    rest = words[used:]
+    if value is None or not all(w.isalpha() and w.isascii() for w in rest) or _FORMULA_WORDS & set(rest):
+        return None
+    return value, " ".join(rest)
+
+
+@dataclass(frozen=True)
+class Unit:
+    """A unit of length, area, volume or angle as written (``"cm^2"``, ``"m²"``, ``"°"``): its dimension
+    (``"length"`` with ``power`` 1 to 3, or ``"angle"``) and ``scale``, the value of one unit in metres to the
+    power, or in radians."""
+
+    text: str
+    dimension: str
+    power: int
+    scale: float
+
+    @property
+    def kind(self) -> str:
+        """``"a length"``, ``"an area"``, ``"a volume"`` or ``"an angle"``."""
+        return _DIMENSIONS[self.dimension, self.power]
+
+
+def _unit(m) -> Unit | None:
+    power = int(m["power"] or m["digit"] or {"²": 2, "³": 3}.get(m["sup"] or "", 1))
+    written = m.string[m.start("base"):m.end()].strip()
+    if m["base"] in _ANGLE_UNITS:
+        return Unit(written, "angle", 1, _ANGLE_UNITS[m["base"]]) if power == 1 else None
+    return Unit(written, "length", power, _LENGTH_UNITS[m["base"]] ** power)
+
+
+def read_unit(text: str) -> Unit | None:
+    """The unit ``text`` spells (``"m^2"``, ``"cm²"``, ``"rad"``, ``"degrees"``), ``None`` when it is none of them.
+
+    Examples
+    --------
+    >>> read_unit("cm^2").scale, read_unit("m³").kind, read_unit("ft")
+    (0.0001, 'a volume', None)
+    """
+    m = re.fullmatch(r"\s*" + _UNIT + r"\s*", text) if isinstance(text, str) else None
+    return _unit(m) if m else None
+
+
+def split_unit(text: str) -> tuple[str, Unit | None]:
+    """``text`` as the number it starts with and the unit it ends with (``"0.327 m^2"``, ``"45°"``), or as it is
+    with ``None`` when it ends with no unit.
+
+    Examples
+    --------
+    >>> split_unit("3270 cm²")[0], split_unit("pi/4 rad")[1].scale, split_unit("2*pi")
+    ('3270', 1.0, ('2*pi', None))
+    """
+    m = _QUANTITY.fullmatch(text)
+    unit = _unit(m) if m and m["number"].strip() else None
+    return (m["number"].strip(), unit) if unit else (text, None)

@@ -8,14 +8,18 @@ no boundary point, and is connected).  Each face is classified, and
 * **inside** when a kept arc has its side (Lemma 3.1) pointing into the face —
   the configurations on that arc cover a one-sided neighbourhood there — or
   when a witness configuration lands in the face;
-* **outside** for the unbounded face, and for a bounded face when interval
+* **outside** for the unbounded face, and for a bounded face when a point of
+  it lies strictly outside the annulus ``2 l_max - R <= r <= R`` that holds
+  every configuration whatever the limits (:func:`outside_every_turn`, exact
+  rational arithmetic: the hole of joints a hair short of a full turn touches
+  reachable points, so no finite exclusion covers it), or when interval
   exclusion shows that no configuration of the joint box reaches a point of it
   (:func:`prove_unreachable`, outward-rounded, within a budget of boxes), or
   else when the arc that the point describes in the frame of link 1 misses the
   workspace of the joints 2..p, computed by this same method
   (:func:`unreachable_via_subchain`, float geometry with explicit tolerances).
 
-Only interval exclusion is outward-rounded; the other verdicts are float
+Only interval exclusion and the annulus are proofs; the other verdicts are float
 geometry with explicit tolerances, the standard of the whole arrangement (the
 topology of Step 2 is decided in floats).  The planar boundary is therefore an
 exact-geometry result, not a certified-box result; a face that no argument
@@ -37,6 +41,7 @@ from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
+import sympy as sp
 
 from .arrangement import Arrangement, arc_area_term, arc_distance, in_span, parity_inside
 from .errors import BoundaryError
@@ -86,6 +91,38 @@ def format_set(values, digits: int = 4) -> str:
     if len(values) == 1:
         return f"{{{fmt(values[0], digits)}}}"
     return f"[{fmt(values[0], digits)}, {fmt(values[1], digits)}]"
+
+
+class ArcTable(list):
+    """:meth:`Boundary.table`: a list of ``{"type", "free_joint", "theta_sets"}`` dicts, one per arc, that Jupyter
+    displays as the table it is (HTML, or Markdown), held joints in braces and free ones as intervals."""
+
+    def __init__(self, rows, *, joints: int, exact: bool = False):
+        super().__init__(rows)
+        self.joints, self.exact = joints, exact
+
+    def _cells(self) -> tuple[list, list]:
+        def shown(values):
+            if not self.exact:
+                return format_set(values)
+            text = ", ".join(sp.sstr(v) for v in values)
+            return f"{{{text}}}" if len(values) == 1 else f"[{text}]"
+
+        header = ["#", "type"] + [f"θ{j + 1} (deg)" for j in range(self.joints)]
+        return header, [[k, row["type"], *(shown(v) for v in row["theta_sets"])] for k, row in enumerate(self, 1)]
+
+    def _repr_html_(self) -> str:
+        from .display import html_table
+
+        header, rows = self._cells()
+        return html_table(header, rows, caption="Boundary arcs (Table 2 form)")
+
+    def _repr_markdown_(self) -> str:
+        from .report import md_escape
+
+        header, rows = self._cells()
+        return "\n".join(["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+                         + ["| " + " | ".join(md_escape(str(c)) for c in row) + " |" for row in rows]) + "\n"
 
 
 def _degrees(radians: float) -> float:
@@ -174,8 +211,9 @@ class Boundary:
             return np.zeros((0, self.chain.p))
         return np.unique(np.round(np.array(out), 12), axis=0)
 
-    def table(self, *, exact: bool = False) -> list[dict]:
-        """Rows in the form of the paper's Table 2: type and the set of every joint, in degrees."""
+    def table(self, *, exact: bool = False) -> ArcTable:
+        """Rows in the form of the paper's Table 2: type and the set of every joint, in degrees (a list of dicts
+        that a notebook displays as a table)."""
         rows = []
         ex = self.exact if exact else None
         for k, a in enumerate(self.arcs):
@@ -186,7 +224,7 @@ class Boundary:
                 else:
                     sets.append(tuple(_degrees(v) for v in s))
             rows.append({"type": a.type, "free_joint": a.free_joint, "theta_sets": sets})
-        return rows
+        return ArcTable(rows, joints=self.chain.p, exact=exact)
 
     def to_dict(self, *, exact: bool = False) -> dict:
         """The JSON object of ``workspace-sym boundary`` (docs/cli.md)."""
@@ -218,7 +256,7 @@ class Boundary:
 
     def _repr_html_(self) -> str:
         """Counts per step, loops, area, the Table-2-style table and the picture (Jupyter)."""
-        from .display import figure_html, html_table
+        from .display import figure_html
         from .plotting import plot_boundary_loops
 
         c = self.counts
@@ -227,12 +265,8 @@ class Boundary:
         lines += [f"{loop.kind} loop: arcs {', '.join(str(k + 1) for k in loop.arcs)}" for loop in self.loops]
         if self.undecided_area:
             lines.append(f"undecided faces of area {fmt(self.undecided_area, 3, 'g')}: the area is a lower bound")
-        header = ["#", "type"] + [f"θ{j + 1} (deg)" for j in range(self.chain.p)]
-        rows = [[k, row["type"], *(format_set(v) for v in row["theta_sets"])]
-                for k, row in enumerate(self.table(), start=1)]
         picture = figure_html(plot_boundary_loops(self), alt="boundary loops") if self.arcs else ""
-        return ("<p>" + "<br/>".join(lines) + "</p>" + html_table(header, rows, caption="Boundary arcs (Table 2 form)")
-                + picture)
+        return "<p>" + "<br/>".join(lines) + "</p>" + self.table()._repr_html_() + picture
 
     def polygon(self, *, step: float = 0.01):
         """The loops as polylines (list of (n, 2) arrays) for drawing and polygon checks."""
@@ -344,6 +378,25 @@ def _arc_arc_distance(a, b) -> float:
             if in_span(math.atan2(y - ay, x - ax), a0, aw):
                 best = min(best, float(arc_distance(np.array([[x, y]]), *[np.array([v]) for v in b])[0, 0]))
     return float(best)
+
+
+def outside_every_turn(chain, q) -> bool:
+    """Whether ``q`` lies strictly outside the annulus ``2 l_max - R <= r <= R`` that holds every configuration
+    whatever the limits (triangle inequality), decided in exact rational arithmetic.
+
+    A face of the arrangement is reachable everywhere or nowhere, so one such point proves the whole face outside:
+    the hole of a chain whose joints turn a hair short of a full turn is tangent to reachable points, and no finite
+    interval exclusion can cover it.
+    """
+    from fractions import Fraction
+
+    if not all(length.is_Rational for length in chain.exact_lengths):
+        return False                            # irrational lengths: no exact comparison here, no claim
+    r2 = sum(Fraction(float(v)) ** 2 for v in q)
+    lengths = [Fraction(int(length.p), int(length.q)) for length in chain.exact_lengths]
+    reach, longest = sum(lengths), max(lengths)
+    inner = 2 * longest - reach
+    return r2 > reach * reach or (inner > 0 and r2 < inner * inner)
 
 
 def unreachable_via_subchain(chain, q, *, margin: float = 1e-9):
@@ -543,6 +596,9 @@ def _classify(chain, arr: Arrangement, kept, samples, seed, max_boxes, slivers=(
             q, clearance = probes[f]
             if e < 0.5 * clearance:
                 status[f], evidence[f] = "inside", {"method": "witness", "configuration": th.tolist()}
+                continue
+            if outside_every_turn(chain, q):
+                status[f], evidence[f] = "outside", {"method": "annulus of full turns", "point": q.tolist()}
                 continue
             decided, witness = unreachable_via_subchain(chain, q)
             if decided is False and witness is not None:

@@ -77,7 +77,8 @@ def _wrote_report(path) -> None:
 
 
 def _robot_from_args(args) -> DHRobot:
-    given = [f"catalog robot {args.robot!r}" if args.robot is not None else None,
+    catalog = getattr(args, "robot", None)
+    given = [f"catalog robot {catalog!r}" if catalog is not None else None,
              "--dh FILE" if args.dh is not None else None, "--urdf FILE" if args.urdf is not None else None,
              "--mjcf FILE" if args.mjcf is not None else None]
     given = [g for g in given if g]
@@ -87,23 +88,51 @@ def _robot_from_args(args) -> DHRobot:
     if (args.base or args.tip) and args.urdf is None and args.mjcf is None:
         raise WorkspaceError("--base and --tip name links of a URDF file or bodies of an MJCF file: give --urdf FILE "
                              "or --mjcf FILE")
+    if args.package and args.urdf is None:
+        raise WorkspaceError("--package names the directory of a package of a xacro file: give --urdf FILE")
     if args.dh is not None or args.urdf is not None or args.mjcf is not None:
         exact = not args.keep_floats
         robot = (DHRobot.from_file(args.dh, exact=exact, tol=args.snap_tol) if args.dh is not None else
                  DHRobot.from_mjcf(args.mjcf, base_link=args.base, tip_link=args.tip, exact=exact, tol=args.snap_tol)
                  if args.mjcf is not None else
-                 DHRobot.from_urdf(args.urdf, base_link=args.base, tip_link=args.tip, exact=exact, tol=args.snap_tol))
+                 DHRobot.from_urdf(args.urdf, base_link=args.base, tip_link=args.tip, exact=exact, tol=args.snap_tol,
+                                   packages=_packages(args.package)))
         line = summary(robot.input_notes)
         if line:
             print(f"workspace-sym {args.command}: note: {line}", file=sys.stderr)
         return robot
-    if args.robot is None:
+    if catalog is None:
         raise WorkspaceError("robot: name a catalog robot (see 'workspace-sym robots') or pass --dh FILE or "
                              "--urdf FILE")
-    model = robots.build(args.robot)
+    model = robots.build(catalog)
     if not isinstance(model, DHRobot):
-        raise WorkspaceError(f"robot {args.robot!r} is not a serial DH robot; this command needs one")
+        raise WorkspaceError(f"robot {catalog!r} is not a serial DH robot; this command needs one")
     return model
+
+
+_ROBOT_FILES = ("dh", "urdf", "mjcf")
+
+
+def _packages(values) -> dict:
+    """``--package PKG=DIR`` options as ``{PKG: DIR}``."""
+    out = {}
+    for text in values or ():
+        name, sep, folder = text.partition("=")
+        if not sep or not name.strip() or not folder.strip():
+            raise InvalidParameterError(f"--package: expected PKG=DIR (a package of the xacro file and its "
+                                        f"directory); got {text!r:.80}", parameter="packages")
+        out[name.strip()] = folder.strip()
+    return out
+
+
+def _report_summary(path, start: float, **extra) -> dict:
+    """The JSON of a command that wrote a report: its Markdown file, the three renderings, the figures."""
+    path = Path(path)
+    return {"report": str(path), **extra,
+            "files": {kind: str(path.with_suffix(suffix)) for kind, suffix in
+                      (("markdown", ".md"), ("html", ".html"), ("latex", ".tex"))},
+            "figures": sorted(str(f) for f in path.parent.glob("*.png")),
+            "seconds": time.perf_counter() - start}
 
 
 def _matrix_strings(M) -> list:
@@ -203,14 +232,13 @@ def cmd_jacobian(args) -> int:
             print(f"det(lambda I - J J^T), coefficients of lambda^{len(charpoly) - 1} down to lambda^0: "
                   + ", ".join(robot.to_latex(c) for c in charpoly))
         if pairs is not None:
-            print("singular: " + r" \cdot ".join(_power(robot.to_latex(f), m, latex=True) for f, m in pairs) + " = 0")
+            print("singular: " + (f"{_product(robot, pairs, latex=True)} = 0" if pairs else NO_SINGULAR_FACTOR))
         return 0
     print(f"{robot.name}: {args.kind} Jacobian ({J.rows} x {J.cols})")
     for j in range(J.cols):
         print(f"  column {j + 1}: " + " | ".join(robot.to_str(J[i, j]) for i in range(J.rows)))
     if pairs is not None:
-        shown = " * ".join(_power(robot.to_str(f), m) for f, m in pairs) if pairs else "(no hypersurface of rank loss)"
-        print(f"  singular where: {shown} = 0")
+        print(f"  singular where: {_product(robot, pairs)} = 0" if pairs else f"  singular: {NO_SINGULAR_FACTOR}")
     if charpoly is not None:
         print(f"  det(lambda I - J J^T), {args.charpoly} Jacobian:")
         for k, c in enumerate(charpoly):
@@ -237,12 +265,21 @@ def cmd_codegen(args) -> int:
     return 0
 
 
-def _power(text: str, m: int, *, latex: bool = False) -> str:
-    """``f`` or ``(f)^m`` for a factor of multiplicity ``m``."""
-    if m == 1:
-        return text
-    base = text if text.replace("_", "").replace("{", "").replace("}", "").isalnum() else f"({text})"
-    return f"{base}^{{{m}}}" if latex else f"{base}**{m}"
+#: What the jacobian text says when the singular set is given by no single equation.
+NO_SINGULAR_FACTOR = ("no single equation: no factor is common to every maximal minor, so the rank drops only "
+                      "where several equations hold at once, if anywhere")
+
+
+def _product(robot, pairs, *, latex: bool = False) -> str:
+    """``f1 * (f2)**m * ...``: the singular factors with their multiplicities as one product that reads back as
+    written (a sum is bracketed, so is a product raised to a power); LaTeX with ``\\cdot``."""
+    def factor(f, m):
+        text = robot.to_latex(f) if latex else robot.to_str(f)
+        if f.is_Add or (m > 1 and not (f.is_Symbol or f.is_Function)):
+            text = f"\\left({text}\\right)" if latex else f"({text})"
+        return text if m == 1 else f"{text}^{{{m}}}" if latex else f"{text}**{m}"
+
+    return (r" \cdot " if latex else " * ").join(factor(f, m) for f, m in pairs)
 
 
 def _parse_var(text: str):
@@ -513,11 +550,17 @@ def cmd_demo(args) -> int:
                          paving=paving, paving_title="Certified paving of Rybak's 2-RPR robot (delta 0.07)")
     b = chain.boundary()
     lo, hi = paving.measure_bounds
+    _wrote_report(path)
+    if args.json:
+        _emit_json(_report_summary(path, start,
+                                   boundary={"counts": dict(b.counts), "area": b.area, "arcs": len(b.arcs)},
+                                   paving={"measure_bounds": [lo, hi], "exact_measure": float(model.exact_measure),
+                                           "delta": 0.07}))
+        return 0
     print(f"human arm (Bastien 2018, Table 1 iii): {b.counts['step0']} / {b.counts['step1']} / {b.counts['step2']} "
           f"arcs after steps 0 / 1 / 2, area {fmt(b.area, 10)}")
     print(f"2-RPR paving (Rybak et al. 2016), delta 0.07: area in {fmt_bracket(lo, hi)}, "
           f"exact {fmt(float(model.exact_measure))}")
-    _wrote_report(path)
     print(f"{time.perf_counter() - start:.1f} s; report: {path} (also {path.with_suffix('.html').name}, "
           f"{path.with_suffix('.tex').name})")
     return 0
@@ -526,31 +569,41 @@ def cmd_demo(args) -> int:
 def cmd_report(args) -> int:
     from .report import dh_robot_report, planar_report
 
+    start = time.perf_counter()
     command = " ".join(["workspace-sym"] + sys.argv[1:])
     reach = {"reach_delta": args.reach_delta, "reach_time_limit": args.reach_time_limit}
+    files = [f"--{dest} FILE" for dest in _ROBOT_FILES if getattr(args, dest) is not None]
+    extra = {}
 
     def no_reach():
         if args.reach_delta is not None:
             raise InvalidParameterError(f"the certified workspace section needs a DH robot (catalog or --dh FILE); "
                                         f"{args.what!r} is not one", parameter="reach_delta")
 
+    if (args.base or args.tip or args.package) and not (args.urdf or args.mjcf):
+        _robot_from_args(args)            # says which file --base, --tip or --package needs
+    if args.what is not None and files:
+        raise WorkspaceError(f"report: give either {args.what!r} or a robot file ({' and '.join(files)}), not both")
     if args.what == "chain":
         no_reach()
         if not (args.lengths and args.lower and args.upper):
             raise WorkspaceError("report chain: give --lengths, --lower and --upper")
         path = planar_report(_chain_from_args(args), args.out, command=command)
-    elif args.dh is not None or args.what is None:
-        if args.what is not None:
-            raise WorkspaceError(f"report: give either {args.what!r} or --dh FILE, not both")
-        if args.dh is None:
-            raise WorkspaceError("report: name 'chain', a catalog robot, rpr2 or orthoglide, or pass --dh FILE")
-        path = dh_robot_report(DHRobot.from_file(args.dh), args.out, command=command, **reach)
+    elif files or args.what is None:
+        if not files:
+            raise WorkspaceError("report: name 'chain', a catalog robot, rpr2 or orthoglide, or pass --dh FILE, "
+                                 "--urdf FILE or --mjcf FILE")
+        robot = _robot_from_args(args)
+        extra = {"robot": robot.name, "joints": robot.n}
+        path = dh_robot_report(robot, args.out, command=command, **reach)
     else:
         from .orthoglide import Orthoglide
         from .parallel import ConstraintModel
 
         model = robots.build(args.what)
+        extra = {"robot": args.what}
         if isinstance(model, DHRobot):
+            extra["joints"] = model.n
             path = dh_robot_report(model, args.out, command=command, **reach)
         elif isinstance(model, ConstraintModel):
             no_reach()
@@ -567,13 +620,16 @@ def cmd_report(args) -> int:
         else:
             raise WorkspaceError(f"report: no report for {args.what!r}; use 'chain', a DH robot, rpr2 or orthoglide")
     _wrote_report(path)
-    print(f"report: {path}")
+    if args.json:
+        _emit_json(_report_summary(path, start, **extra))
+    else:
+        print(f"report: {path}")
     return 0
 
 
 def cmd_grade(args) -> int:
     """Grade a CSV of students' answers against a key; write the graded CSV and the report."""
-    from .grading import AnswerKey, grade_answers, read_answers_csv, write_grading
+    from .grading import AnswerKey, duplicate_rows, grade_answers, read_answers_csv, write_grading
 
     key = AnswerKey.from_file(args.key)
     graded = grade_answers(key, read_answers_csv(args.answers))
@@ -582,12 +638,16 @@ def cmd_grade(args) -> int:
     scores = {}
     for g in graded:
         scores[g.student] = scores.get(g.student, 0.0) + g.points
+    repeated = duplicate_rows(graded)
     if args.json:
         _emit_json({"students": scores, "total": total, "answers": len(graded),
-                    "files": {k: str(v) for k, v in paths.items()}})
+                    "files": {k: str(v) for k, v in paths.items()}, "duplicates": repeated})
     else:
         for student, score in scores.items():
             print(f"{student}: {score:g} / {total:g}")
+        if repeated:
+            print(f"{sum(len(d['rows']) - 1 for d in repeated)} duplicate row(s), not graded (only a student's "
+                  "first answer to a question is): listed in the report")
         print(f"wrote {paths['csv']} and {paths['html']}")
     return 0
 
@@ -627,7 +687,11 @@ _MAX_BOXES = (("--max-boxes",), {"type": int, "help": "stop after this many boxe
 _TIME_LIMIT = (("--time-limit",), {"type": float, "help": "stop after this many seconds (the rest is pending)"})
 _ROBOT = (("robot",), {"nargs": "?", "help": "catalog DH robot (see 'workspace-sym robots'), or none with --dh"})
 _DH = (("--dh",), {"metavar": "FILE", "help": _DH_HELP})
-_URDF = (("--urdf",), {"metavar": "FILE", "help": "a URDF file (plain XML, not xacro): its serial chain as a DH robot"})
+_URDF = (("--urdf",), {"metavar": "FILE", "help": "a URDF file (or xacro, with the xacro extra): its serial chain as a "
+                                                   "DH robot"})
+_PACKAGE = (("--package",), {"action": "append", "default": [], "metavar": "PKG=DIR",
+                             "help": "with a xacro --urdf: the directory of package PKG, for $(find PKG) (default: a "
+                                     "folder PKG above the file or beside the folders above it); repeatable"})
 _MJCF = (("--mjcf",), {"metavar": "FILE",
                        "help": "a MuJoCo model (MJCF XML): its serial chain of bodies as a DH robot"})
 _BASE = (("--base",), {"metavar": "LINK", "help": "with --urdf/--mjcf: first link or body of the chain (default: the "
@@ -672,7 +736,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     json_, progress, budget = _parent(_JSON), _parent(_PROGRESS), _parent(_MAX_BOXES, _TIME_LIMIT)
-    dh_robot = _parent(_ROBOT, _DH, _URDF, _MJCF, _BASE, _TIP, _SNAP_TOL, _KEEP_FLOATS)
+    dh_robot = _parent(_ROBOT, _DH, _URDF, _MJCF, _BASE, _TIP, _PACKAGE, _SNAP_TOL, _KEEP_FLOATS)
+    robot_files = _parent(_DH, _URDF, _MJCF, _BASE, _TIP, _PACKAGE, _SNAP_TOL, _KEEP_FLOATS)   # report: no positional
     sigma, resolution = _parent(_SIGMA), _parent(_DELTA, _SIZE)
     spread, scheduler = _parent(_SCHEDULER, _MAX_MEMORY, _STORE, _RESUME), _parent(_SCHEDULER)
 
@@ -758,10 +823,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_boundary)
 
     p = sub.add_parser("report", help="write a report (Markdown, HTML, LaTeX) for a chain or a catalog robot",
-                       parents=[_chain_parent(required=False)])
+                       parents=[_chain_parent(required=False), robot_files, json_])
     p.add_argument("what", nargs="?",
-                   help="'chain' (with --lengths/--lower/--upper), a DH robot, rpr2 or orthoglide; none with --dh")
-    p.add_argument(*_DH[0], **_DH[1])
+                   help="'chain' (with --lengths/--lower/--upper), a DH robot, rpr2 or orthoglide; none with "
+                        "--dh, --urdf or --mjcf")
     p.add_argument("--delta", type=float, default=0.07, help="paving resolution (rpr2)")
     p.add_argument("--eps", type=float, default=0.125, help="dextrous workspace resolution (orthoglide)")
     p.add_argument("--alpha", type=float, default=0.01, help="largest-cube accuracy (orthoglide)")
@@ -787,7 +852,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", required=True, help="output directory")
     p.set_defaults(func=cmd_exercises)
 
-    p = sub.add_parser("demo", help="the main job: write the demo report and print its path")
+    p = sub.add_parser("demo", help="the main job: write the demo report and print its path", parents=[json_])
     p.add_argument("--out", default="demo-report", help="output directory (default: demo-report)")
     p.set_defaults(func=cmd_demo)
     parser.commands = sub.choices
@@ -805,7 +870,7 @@ _FLAGS = {
     "scheduler": "--scheduler", "max_memory": "--max-memory", "store": "--store", "resume": "--resume",
     "reach_delta": "--reach-delta", "reach_time_limit": "--reach-time-limit",
     "base_link": "--base", "tip_link": "--tip", "out": "--out", "plot": "--plot", "slices": "--slices",
-    "report": "--report", "prefix": "--prefix",
+    "report": "--report", "prefix": "--prefix", "packages": "--package",
 }
 # A library error about ``path`` (a DH, URDF or MJCF file) is about the option that named the file.
 _PATH_OPTIONS = ("urdf", "mjcf", "dh")

@@ -403,7 +403,9 @@ def exact_arcs(boundary) -> list[dict]:
 
 
 def _shortest(*forms):
-    return min(forms, key=lambda e: len(str(e)))
+    # Printed length without ordering the terms: the str printer orders an Add by evaluating its terms numerically,
+    # which for the nested radicals of a six-link chain costs minutes; the order changes no length.
+    return min(forms, key=lambda e: len(sp.sstr(e, order="none")))
 
 
 def area_terms(boundary, rows=None) -> list[sp.Expr]:

@@ -274,11 +274,11 @@ def _chain_problem(rng, number: int) -> tuple[str, dict, PlanarChain, list[_Ques
           "witness": witness,
           "prompt": f"Can the end point reach ({point[0]}, {point[1]})? Answer yes or no."},
          ("yes: " if reachable else "no: ") + why),
-        ({"kind": "integer", "answer": len(boundary.arcs),
-          "prompt": "How many circular arcs make up the boundary of the workspace?"}, str(len(boundary.arcs))),
-        ({"kind": "measure", "answer": [lo, hi], "rel_tol": 0.01,
+        ({"kind": "integer", "answer": len(boundary.arcs), "unit": "arcs",
+          "prompt": "How many circular arcs make up the boundary of the workspace?"}, f"{len(boundary.arcs)} arcs"),
+        ({"kind": "measure", "answer": [lo, hi], "rel_tol": 0.01, "unit": "m^2",
           "prompt": "What is the area of the workspace? (3 significant digits)"},
-         f"{lo:.6g}" if hi == lo else f"in {fmt_bracket(lo, hi, 6, 'g')}"),
+         f"{lo:.6g} m^2" if hi == lo else f"in {fmt_bracket(lo, hi, 6, 'g')} m^2"),
     ]
     return name, spec, chain, questions
 
@@ -321,8 +321,8 @@ def make_exercises(*, seed: int, count: int, max_joints: int = 6):
             subject = {"chain": name}
             for doc in (sheet, key_doc):
                 doc.heading(f"Problem {number}: a planar chain of {chain.p} revolute joints")
-                doc.para(f"Lengths {', '.join(spec['lengths'])}; joint limits (degrees, each angle measured from "
-                         f"the previous segment, the first from +y): "
+                doc.para(f"Lengths (metres) {', '.join(spec['lengths'])}; joint limits (degrees, each angle "
+                         f"measured from the previous segment, the first from +y): "
                          + ", ".join(f"[{lo}, {hi}]" for lo, hi in zip(spec["lower"], spec["upper"])) + ".")
         for letter, (entry, shown) in zip("abcdefg", questions):
             qid = f"{number}{letter}"

@@ -11,20 +11,26 @@ one by hand)::
        {"id": "1b", "kind": "expression", "robot": "R1", "answer": "[-s1*a2, c1*a2, 0]"},   # a matrix
        {"id": "1c", "kind": "factors", "robot": "R1", "answer": ["s3", "a2*c2 + a3*c23"]},
        {"id": "1d", "kind": "reachable", "answer": true, "evidence": "witness theta = ..."},
-       {"id": "2a", "kind": "integer", "answer": 8},
-       {"id": "2b", "kind": "measure", "answer": [0.2681, 0.2682], "rel_tol": 0.01}]}
+       {"id": "2a", "kind": "integer", "answer": 8, "unit": "arcs"},
+       {"id": "2b", "kind": "measure", "answer": [0.2681, 0.2682], "rel_tol": 0.01, "unit": "m^2"}]}
 
 Every question may carry ``points`` (default 1) and ``angles``
 (``"radians"`` or ``"degrees"``, how numbers inside sin and cos are read); an
 expression question without a robot lists its ``symbols`` (``["theta1",
-"a1"]``).
+"a1"]``).  A count may name what it counts (``unit``, a word such as ``"arcs"``) and a measure
+its unit (``"m"``, ``"m^2"``, ``"cm^3"``, ``"rad"``, ``"deg"``...): an answer then may carry a unit of the same
+kind (converted: ``3270 cm^2`` is ``0.327 m^2``) and one of another kind is wrong, with the reason.
+Students write ``No.``, ``Four arcs.`` or ``0.327 m²``: a sentence's final full stop, number words and
+units are read (:func:`~workspace_sym.answers.read_count`, :func:`~workspace_sym.answers.split_unit`).
 The key is a file, so it is read like any user text: expressions through the
 safe reader, with the robot's notation.
 
 Answers are a CSV with columns ``student, question, answer``, at most
 :data:`MAX_ROWS` rows.  Each answer gets a
 :class:`~workspace_sym.verify.Verdict`: correct, wrong (with the
-counterexample) or cannot read (with the column), never an exception.
+counterexample) or cannot read (with the column), never an exception; a
+blank answer is *no answer*, and a student's second answer to a question is
+*duplicate* (not graded: the first one is, and the report lists the rows).
 
 Checking is bounded in time (:func:`grade_answers`): an answer still being
 checked after ``answer_seconds`` (default :data:`ANSWER_SECONDS`) is
@@ -38,6 +44,7 @@ from __future__ import annotations
 import csv
 import io
 import math
+import re
 import signal
 import threading
 import time
@@ -48,7 +55,7 @@ from pathlib import Path
 
 import sympy as sp
 
-from .answers import ANGLE_UNITS, Notation, read_answer
+from .answers import ANGLE_UNITS, Notation, plain_sentence, read_answer, read_count, read_unit, read_yes_no, split_unit
 from .errors import ExpressionError, InvalidParameterError, UnknownNameError, WorkspaceError
 from .expressions import parse_expr, read_symbol
 from .files import read_json, read_text, write_files
@@ -58,13 +65,11 @@ from .planar import PlanarChain
 from .verify import Verdict, cannot_read, check_expression, check_factors
 
 __all__ = ["KIND_NAMES", "Question", "AnswerKey", "GradedAnswer", "grade_answers", "read_answers_csv",
-           "write_grading", "MAX_ROWS", "ANSWER_SECONDS", "TOTAL_SECONDS"]
+           "write_grading", "duplicate_rows", "MAX_ROWS", "ANSWER_SECONDS", "TOTAL_SECONDS"]
 
 #: Kinds of question a key may hold.
 KIND_NAMES = ("expression", "factors", "reachable", "integer", "measure")
 KEY_FORMAT = "workspace-sym key"
-_YES = {"yes", "y", "true", "reachable", "1", "oui"}
-_NO = {"no", "n", "false", "unreachable", "not reachable", "0", "non"}
 #: Most rows of an answers file (a class of 500 students answering 20 questions).
 MAX_ROWS = 10_000
 #: Default seconds one answer may take to check before it is "cannot check".
@@ -88,6 +93,7 @@ class Question:
     rel_tol: float = 0.0
     evidence: str = ""
     symbols: tuple = ()
+    unit: str = ""
 
 
 @dataclass
@@ -163,7 +169,8 @@ class AnswerKey:
             known = ", ".join(x.id for x in self.questions)
             return Verdict(None, f"unknown question {qid!r}; the key has {known}", {"method": "cannot read"})
         if not isinstance(text, str) or not text.strip():
-            return Verdict(False, "no answer", {"method": "blank"})
+            return Verdict(None, "no answer", {"method": "no answer"})
+        text = plain_sentence(text)
         robot = self.robots.get(q.robot) if q.robot else None
         if q.kind == "expression":
             return check_expression(text, self.derived(q), robot=robot, angles=q.angles)
@@ -172,7 +179,7 @@ class AnswerKey:
         if q.kind == "reachable":
             return _grade_yes_no(text, bool(q.answer), q.evidence)
         if q.kind == "integer":
-            return _grade_integer(text, int(q.answer))
+            return _grade_integer(text, int(q.answer), q.unit)
         return _grade_measure(text, q)
 
 
@@ -222,52 +229,93 @@ def _question(row, k: int, robots: dict, chains: dict) -> Question:
     symbols = row.get("symbols", [])
     if not isinstance(symbols, list) or not all(isinstance(n, str) for n in symbols):
         raise InvalidParameterError(f"key: symbols of question {qid!r} must be a list of names", parameter="key")
+    unit = row.get("unit", "")
+    if kind == "measure" and unit != "" and (not isinstance(unit, str) or read_unit(unit) is None):
+        raise InvalidParameterError(f"key: unit of question {qid!r} must be a unit of length, area, volume or angle "
+                                    f"such as m, m^2, cm^3, rad, deg; got {unit!r:.60}", parameter="key")
+    if kind == "integer" and not (isinstance(unit, str) and re.fullmatch(r"[A-Za-z]{0,40}", unit)):
+        raise InvalidParameterError(f"key: unit of question {qid!r} must be one word (what is counted, such as "
+                                    f"arcs); got {unit!r:.60}", parameter="key")
+    if kind not in ("integer", "measure") and unit != "":
+        raise InvalidParameterError(f"key: unit of question {qid!r}: only a count or a measure has one",
+                                    parameter="key")
     question = Question(qid, kind, answer, str(row.get("prompt", "")), robot, chain, float(points), angles,
-                        float(rel_tol), str(row.get("evidence", "")), tuple(symbols))
+                        float(rel_tol), str(row.get("evidence", "")), tuple(symbols), unit)
     if kind in ("expression", "factors"):  # the key's own expressions must read: fail now, not per student
         AnswerKey([question], robots, chains).derived(question)
     return question
 
 
 def _grade_yes_no(text: str, truth: bool, evidence: str) -> Verdict:
-    word = " ".join(text.strip().lower().split())
-    if word not in _YES | _NO:
+    claimed = read_yes_no(text)
+    if claimed is None:
         return Verdict(None, f"cannot read {text[:60]!r}: answer yes (reachable) or no (unreachable)",
                        {"method": "cannot read", "position": 1})
-    claimed = word in _YES
     said = "reachable" if truth else "unreachable"
     if claimed is truth:
         return Verdict(True, f"{said}: {evidence}".rstrip(": "), {"method": "certified key"})
     return Verdict(False, f"the point is {said}: {evidence}".rstrip(": "), {"method": "certified key"})
 
 
-def _grade_integer(text: str, truth: int) -> Verdict:
+def _singular(word: str) -> str:
+    word = word.lower()
+    return word[:-1] if len(word) > 1 and word.endswith("s") else word
+
+
+def _grade_integer(text: str, truth: int, unit: str = "") -> Verdict:
+    words = ""
     try:
         value = parse_expr(text, "answer", new_symbols=False, max_length=40)
     except ExpressionError as exc:
-        return cannot_read(exc)
+        counted = read_count(text) if len(text) <= 80 else None      # "4 arcs", "four", "twenty-one"
+        if counted is None:
+            return cannot_read(exc)
+        value, words = sp.Integer(counted[0]), counted[1]
     if not value.is_Integer:
         return Verdict(None, f"cannot read {text[:60]!r}: expected a whole number", {"method": "cannot read"})
+    note = ""
+    if words and unit and _singular(words.split()[-1]) != _singular(unit):
+        return Verdict(False, f"{text[:60]!r}: the question counts {unit}, not {words.split()[-1]}",
+                       {"method": "unit"})
+    if words and not unit:
+        note = f" (the words {words!r} are not checked: the key names nothing counted)"
     if int(value) == truth:
-        return Verdict(True, f"{truth}", {"method": "certified key"})
-    return Verdict(False, f"{int(value)}, but the derived count is {truth}", {"method": "certified key"})
+        return Verdict(True, f"{truth}{note}", {"method": "certified key"})
+    return Verdict(False, f"{int(value)}, but the derived count is {truth}{note}", {"method": "certified key"})
 
 
 def _grade_measure(text: str, q: Question) -> Verdict:
+    number, unit = split_unit(text)
     try:
-        value = parse_expr(text, "answer", new_symbols=False, max_length=200)
+        value = parse_expr(number, "answer", new_symbols=False, max_length=200)
         claimed = float(value)
     except ExpressionError as exc:
+        loose = re.fullmatch(r"[-+]?[0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?\s*([A-Za-z].{0,20})", text.strip())
+        if unit is None and loose:                        # "0.327 ft^2": a number and a unit not known here
+            return Verdict(None, f"cannot read {text[:60]!r}: unknown unit {loose[1]!r}; write the number alone or "
+                                 f"with a unit such as {q.unit or 'm, m^2, rad or deg'}", {"method": "cannot read"})
         return cannot_read(exc)
     except (TypeError, ValueError):
         return Verdict(None, f"cannot read {text[:60]!r}: expected a number", {"method": "cannot read"})
+    expected = read_unit(q.unit) if q.unit else None
     lo, hi = q.answer
+    shown, note = f"{claimed:g}", ""
+    if unit is not None and expected is None:
+        note = f" (the unit {unit.text} is not checked: the key gives none)"
+    elif unit is not None:
+        if (unit.dimension, unit.power) != (expected.dimension, expected.power):
+            return Verdict(False, f"{text[:60]!r}: {unit.text} is {unit.kind}, but the answer is {expected.kind} "
+                                  f"({q.unit})", {"method": "unit", "bracket": [lo, hi]})
+        if unit.scale != expected.scale:
+            claimed = claimed * unit.scale / expected.scale
+            shown = f"{number} {unit.text} = {claimed:g} {q.unit}"
+    in_unit = f" {q.unit}" if q.unit else ""
     slack = q.rel_tol * max(abs(lo), abs(hi))
+    bracket = fmt_bracket(lo, hi, 6, "g") + in_unit
     if math.isfinite(claimed) and lo - slack <= claimed <= hi + slack:
-        return Verdict(True, f"{claimed:g} is within {q.rel_tol:.0%} of the certified {fmt_bracket(lo, hi, 6, 'g')}",
+        return Verdict(True, f"{shown} is within {q.rel_tol:.0%} of the certified {bracket}{note}",
                        {"bracket": [lo, hi]})
-    return Verdict(False, f"{claimed:g} is not within {q.rel_tol:.0%} of the certified value "
-                          f"{fmt_bracket(lo, hi, 6, 'g')}",
+    return Verdict(False, f"{shown} is not within {q.rel_tol:.0%} of the certified value {bracket}{note}",
                    {"bracket": [lo, hi]})
 
 
@@ -349,14 +397,26 @@ def grade_answers(key: AnswerKey, rows, *, answer_seconds: float = ANSWER_SECOND
     graded*.  Where the check cannot be interrupted (not the main thread, or
     no POSIX timer) an answer runs to its end and is *cannot check* when it
     took longer than its budget.
+
+    A student's first row for a question is graded; a later one is
+    *duplicate* (no points), naming both rows as numbered in the CSV (the
+    header is row 1: the first answer is row 2).
     """
     answer_seconds = _check_budget(answer_seconds, "answer_seconds")
     total_seconds = _check_budget(total_seconds, "total_seconds")
     out = []
+    first_row = {}
     start = time.perf_counter()
-    for student, qid, text in rows:
+    for row, (student, qid, text) in enumerate(rows, start=2):
         q = key.question(qid)
         full = q.points if q is not None else 0.0
+        earlier = first_row.setdefault((student, qid), row)
+        if earlier != row:
+            verdict = Verdict(None, f"duplicate: row {row} repeats row {earlier}, which answered question {qid} "
+                                    f"for student {student}; only the first answer is graded",
+                              {"method": "duplicate", "rows": [earlier, row]})
+            out.append(GradedAnswer(student, qid, text, verdict, 0.0, full))
+            continue
         left = total_seconds - (time.perf_counter() - start)
         if left <= 0:
             verdict = Verdict(None, f"not graded: the batch used its time budget of {total_seconds:g} s before "
@@ -378,6 +438,17 @@ def grade_answers(key: AnswerKey, rows, *, answer_seconds: float = ANSWER_SECOND
                                     "it by hand", {"method": "cannot check", "budget": budget})
         out.append(GradedAnswer(student, qid, text, verdict, full if verdict.ok is True else 0.0, full))
     return out
+
+
+def duplicate_rows(graded: list[GradedAnswer]) -> list[dict]:
+    """Each student and question answered more than once, with its rows as numbered in the CSV (the header being
+    row 1), in the order of first appearance."""
+    seen: dict = {}
+    for g in graded:
+        if g.verdict.status == "duplicate":
+            first, row = g.verdict.evidence["rows"]
+            seen.setdefault((g.student, g.question), [first]).append(row)
+    return [{"student": s, "question": q, "rows": rows} for (s, q), rows in seen.items()]
 
 
 def _student_form(key: AnswerKey, g: GradedAnswer):
@@ -427,9 +498,18 @@ def write_grading(key: AnswerKey, graded: list[GradedAnswer], out) -> dict:
         tally["student", g.student, g.verdict.status] += 1
         tally["question", g.question, g.verdict.status] += 1
     unchecked = [g for g in graded if g.verdict.status in ("cannot check", "not graded")]
-    statuses = ("correct", "wrong", "cannot read") + (("cannot check", "not graded") if unchecked else ())
+    statuses = ("correct", "wrong", "cannot read") + tuple(
+        st for st in ("no answer", "duplicate") if any(g.verdict.status == st for g in graded)) + (
+        ("cannot check", "not graded") if unchecked else ())
     total = sum(q.points for q in key.questions)
     doc = Document(f"Grades: {key.title}")
+    repeated = duplicate_rows(graded)
+    if repeated:
+        doc.para(f"Duplicates: {sum(len(d['rows']) - 1 for d in repeated)} duplicate row(s): only the first answer "
+                 "of a student to a question is graded, the later ones get no points (rows numbered as in the CSV, "
+                 "the header being row 1). "
+                 + "; ".join(f"{d['student']}, question {d['question']}: rows {', '.join(map(str, d['rows']))}"
+                             for d in repeated) + ".")
     if unchecked:
         over = sum(g.verdict.status == "cannot check" for g in graded)
         doc.para(f"Time budget: {over} answer(s) could not be checked within their time budget (cannot check) and "

@@ -431,17 +431,19 @@ class DHRobot:
 
     @classmethod
     def from_urdf(cls, path, *, base_link: str | None = None, tip_link: str | None = None, exact: bool = True,
-                  tol: float = DEFAULT_TOL) -> DHRobot:
+                  tol: float = DEFAULT_TOL, packages: dict | None = None) -> DHRobot:
         """The serial chain from ``base_link`` to ``tip_link`` of a URDF file, as a DH robot.
 
         Every chain of revolute and prismatic joints has a standard DH table
         once constant base and tool transforms are allowed; it is extracted
         exactly, and ``fk()`` equals the URDF's own forward kinematics.  See
-        :func:`workspace_sym.urdf.read_urdf` (needs the ``urdf`` extra, yourdfpy).
+        :func:`workspace_sym.urdf.read_urdf` (needs the ``urdf`` extra, yourdfpy;
+        a xacro file the ``xacro`` extra, ``packages`` naming the directories of
+        its ``$(find pkg)``).
         """
         from .urdf import read_urdf  # optional dependency; urdf builds on this module
 
-        return read_urdf(path, base_link=base_link, tip_link=tip_link, exact=exact, tol=tol)
+        return read_urdf(path, base_link=base_link, tip_link=tip_link, exact=exact, tol=tol, packages=packages)
 
     @classmethod
     def from_mjcf(cls, path, *, base_link: str | None = None, tip_link: str | None = None, exact: bool = True,
@@ -513,12 +515,22 @@ class DHRobot:
         T = self._frames[-1]
         return T if self.tool is None else textbook_matrix(T * self.tool)
 
-    def fk(self, k: int | None = None) -> sp.Matrix:
+    def fk(self, k=None, *, parameters: dict | None = None) -> sp.Matrix:
         """``base T_0^k``, with the tool transform appended for ``k = n`` (the default).
 
-        ``k = 0`` is the base transform (the identity without one).
+        ``k = 0`` is the base transform (the identity without one).  A list of
+        ``n`` joint values instead of ``k`` gives the pose there:
+        :meth:`fk_at`.
         """
+        if isinstance(k, (list, tuple, np.ndarray, sp.MatrixBase)):
+            return self.fk_at(k, parameters=parameters)
+        if parameters is not None:
+            raise InvalidParameterError("parameters apply to a configuration: fk(q, parameters=...) with q a list of "
+                                        f"{self.n} joint values", parameter="parameters")
         k = self.n if k is None else k
+        if isinstance(k, bool) or not isinstance(k, (int, np.integer)):
+            raise InvalidParameterError(f"k must be a frame number from 0 to {self.n} or a configuration (a list of "
+                                        f"{self.n} joint values); got {k!r:.60}", parameter="k")
         if not 0 <= k <= self.n:
             raise InvalidParameterError(f"k must be between 0 and {self.n}; got {k}")
         return self._tip if k == self.n else self._frames[k]
@@ -797,6 +809,60 @@ class DHRobot:
         params = ", ".join(f"{k} = {v}" for k, v in self.parameters.items())
         extra = f"<p>parameters: {expr_text(params)}</p>" if params else ""
         return table + extra
+
+    # ------------------------------------------------------------------ a configuration, the other convention
+    def fk_at(self, q, *, parameters: dict | None = None) -> sp.Matrix:
+        """``fk()`` at the configuration ``q`` (``n`` joint values: radians, or lengths for prismatic joints) with
+        the default numeric parameters, or ``parameters``, substituted; exact values give an exact pose.
+
+        Examples
+        --------
+        >>> robot = DHRobot([DHJoint.revolute(1, a=1), DHJoint.revolute(2, a=1)])
+        >>> robot.fk_at([0, sp.pi / 2])[:2, 3].T
+        Matrix([[1, 1]])
+        """
+        values = list(q)
+        if len(values) != self.n:
+            raise InvalidParameterError(f"q must hold {self.n} joint values (one per joint); got {len(values)}",
+                                        parameter="q")
+        config = {}
+        for variable, value in zip(self.q, values):
+            value = as_sympy(value.item() if isinstance(value, np.generic) else value, "q")
+            if not (isinstance(value, sp.Expr) and value.is_number and is_finite_value(value)):
+                raise InvalidParameterError(f"q: the value of {variable} must be a finite real number; got "
+                                            f"{value!r:.60}", parameter="q")
+            config[variable] = value
+        return self.substitute(self.fk().xreplace(config), parameters)
+
+    def to_convention(self, convention: str) -> DHRobot:
+        """The same robot in the other DH convention (``"standard"`` or ``"modified"``), FK identical.
+
+        ``Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)`` rows regrouped as
+        ``Rx(alpha_(i-1)) Tx(a_(i-1)) Rz(theta_i) Tz(d_i)`` (``Tx`` and ``Rx``
+        commute): standard to modified moves ``a`` and ``alpha`` one row down,
+        the last pair into the tool; modified to standard moves them one row
+        up, the first pair into the base.  The robot itself when it is already
+        in ``convention``.
+        """
+        check_choice("convention", convention, CONVENTIONS)
+        if convention == self.convention:
+            return self
+        J = self.joints
+        pairs = [(j.a, j.alpha) for j in J]
+        if convention == "modified":
+            moved, (a, alpha) = [(sp.Integer(0), sp.Integer(0)), *pairs[:-1]], pairs[-1]
+            end = dh_matrix(0, 0, a, alpha)                       # Tx(a_n) Rx(alpha_n), before the tool
+            base, tool = self.base, end if self.tool is None else end * self.tool
+        else:
+            moved, (a, alpha) = [*pairs[1:], (sp.Integer(0), sp.Integer(0))], pairs[0]
+            start = dh_matrix(0, 0, a, alpha, convention="modified")   # Rx(alpha_0) Tx(a_0), after the base
+            base, tool = start if self.base is None else self.base * start, self.tool
+        joints = [DHJoint(j.kind, j.theta, j.d, a, alpha, j.variable, j.limits) for j, (a, alpha) in zip(J, moved)]
+        identity = sp.eye(4)
+        return DHRobot(joints, convention=convention, name=self.name, parameters=self.parameters, units=self.units,
+                       base=None if base == identity else base, tool=None if tool == identity else tool,
+                       input_notes=(*self.input_notes, f"converted from {self.convention} to {convention} DH"),
+                       chop_tol=self.chop_tol)
 
 
 _THREADS = max(1, os.cpu_count() or 1)

@@ -135,9 +135,49 @@ def _mathml(x) -> str:
     return sp.mathml(x, printer="presentation")
 
 
+class _Word(sp.Symbol):
+    """A word naming a left-hand side (``answer``, ``edge``), set upright as text: ``\\text{answer}`` in LaTeX,
+    ``<mtext>`` in MathML (a Symbol's name would be printed as it is written); ``answer_2`` has a subscript."""
+
+    def _parts(self):
+        word, _, sub = self.name.partition("_")
+        return word, sub
+
+    def _latex(self, printer):
+        word, sub = self._parts()
+        return f"\\text{{{word}}}" + (f"_{{{sub}}}" if sub else "")
+
+    def _mathml_presentation(self, printer):
+        word, sub = self._parts()
+        text = printer.dom.createElement("mtext")
+        text.appendChild(printer.dom.createTextNode(word))
+        if not sub:
+            return text
+        node = printer.dom.createElement("msub")
+        index = printer.dom.createElement("mn")
+        index.appendChild(printer.dom.createTextNode(sub))
+        node.appendChild(text)
+        node.appendChild(index)
+        return node
+
+
+_WORD = re.compile(r"\\text\{([A-Za-z][A-Za-z ]*)\}|([A-Za-z]{2,})")
+
+
 def _label(name):
-    """A left-hand side: SymPy object, or a name such as ``"c_1"`` or ``"T^0_6"`` made a Symbol."""
-    return sp.Symbol(name) if isinstance(name, str) else name
+    """A left-hand side: SymPy object; a word (``"answer"``, ``"\\text{answer}"``: upright text), or a name such
+    as ``"c_1"``, ``"T^0_6"`` or ``"theta"`` made a Symbol."""
+    if not isinstance(name, str):
+        return name
+    word = _WORD.fullmatch(name)
+    if word and (word[1] or sp.latex(sp.Symbol(word[2])) == word[2]):      # not a Greek letter such as theta
+        return _Word(word[1] or word[2])
+    return sp.Symbol(name)
+
+
+def _subscripted(label, index: str):
+    """``label`` with the subscript ``index`` (``J`` -> ``J_{1,2}``; a word stays a word)."""
+    return (_Word if isinstance(label, _Word) else sp.Symbol)(f"{label}_{index}")
 
 
 def _lines(expr, width: int = _WIDTH) -> list:
@@ -309,17 +349,19 @@ class Document:
                     lines.append(f"{left} &= {_tex(e)}")
                     continue
                 # too wide for the page: the matrix by columns, as many side by side as fit
-                names = [sp.Symbol(f"{lhs}_{j + 1}") if isinstance(lhs, sp.Symbol) else sp.Symbol(f"c_{j + 1}")
-                         for j in range(e.cols)]
+                base = lhs if isinstance(lhs, sp.Symbol) else sp.Symbol("c")
+                names = [_subscripted(base, str(j + 1)) for j in range(e.cols)]
                 lines.append(f"{left} &= {_tex(sp.Matrix([names]))}")
                 for g in groups:
                     if len(g) == 1 and _column_width(e, g[0]) > _WIDTH:
                         # one column still too wide: its entries one by one, each broken like a sum
-                        base = str(lhs) if isinstance(lhs, sp.Symbol) else "c"
-                        lines += Document._tex_lines([(sp.Symbol(f"{base}_{i + 1},{g[0] + 1}"), e[i, g[0]])
+                        lines += Document._tex_lines([(_subscripted(base, f"{i + 1},{g[0] + 1}"), e[i, g[0]])
                                                       for i in range(e.rows)])
                         continue
-                    lines.append(" &\\quad ".join(f"{_tex(names[j])} &= {_tex(e[:, j])}" for j in g))
+                    # one alignment column pair per line: more pairs would line up with the (wider) names row
+                    # above and run off the page
+                    lines.append(f"{_tex(names[g[0]])} &= " + " \\quad ".join(
+                        (f"{_tex(names[j])} = " if j != g[0] else "") + _tex(e[:, j]) for j in g))
                 continue
             for k, part in enumerate(_lines(e)):
                 tex = _tex(part)

@@ -26,12 +26,20 @@ Numbers are snapped as in :mod:`workspace_sym.snap`: lengths become the
 decimals of the file, ``rpy`` angles within ``tol`` of a multiple of ``pi/360``
 become that multiple (``1.57079632679`` is ``pi/2`` at the default 1e-9, the
 rounded ``1.5708`` is not), axis components within ``tol`` of ``cos(k pi/12)``
-become it, and the axis is normalised exactly.  Xacro files are not read:
-expand them first (``xacro robot.urdf.xacro > robot.urdf``).
+become it, and the axis is normalised exactly.
+
+Xacro files (``robot.urdf.xacro``) are expanded with the ``xacro`` package
+(``pip install 'workspace_sym[xacro]'``; without it they are refused with the
+command that expands them).  ``$(find pkg)`` is the directory given in
+``packages`` (``--package pkg=DIR``), else a folder named ``pkg`` above the
+file or beside one of the folders above it (the layout of rtb-data and of a ROS
+workspace).  Expanding runs the ``${...}`` expressions of the file with xacro's
+own evaluator, as ROS does: expand only files you would run.
 """
 
 from __future__ import annotations
 
+import io
 import logging
 import math
 from pathlib import Path
@@ -54,13 +62,13 @@ _DUST = 1e-14
 
 
 def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None, exact: bool = True,
-              tol: float = DEFAULT_TOL) -> DHRobot:
+              tol: float = DEFAULT_TOL, packages: dict | None = None) -> DHRobot:
     """The serial chain ``base_link -> tip_link`` of a URDF file as an exact DH robot.
 
     Parameters
     ----------
     path : str or Path
-        A URDF file (plain XML; xacro is refused with a hint).
+        A URDF file, or a xacro file (expanded with the ``xacro`` extra).
     base_link : str, optional
         Default: the root of the link tree.
     tip_link : str, optional
@@ -69,6 +77,8 @@ def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None
     exact, tol
         Snapping of floats (see :mod:`workspace_sym.snap`); ``exact=False`` keeps
         floats and chops entries below ``tol``.
+    packages : dict, optional
+        Directories of the packages a xacro file names in ``$(find pkg)``.
 
     Joint ``k`` of the chain (fixed joints skipped) gets the variable
     ``theta{k}`` (revolute, continuous) or ``d{k}`` (prismatic), the URDF joint
@@ -77,7 +87,7 @@ def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None
     Raises
     ------
     URDFError
-        Unreadable file, xacro, unknown or unconnected links, a branching tree
+        Unreadable file, xacro that cannot be expanded, unknown or unconnected links, a branching tree
         without ``tip_link``, a mimic, floating or planar joint on the chain, a
         revolute or prismatic joint without ``<limit>``, a chain without joints.
     Examples
@@ -101,7 +111,7 @@ def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None
     '0.4*c1 + 0.3*c12'
     """
     path = Path(path)
-    model = _load(path)
+    model = _load(path, _package_dirs(packages))
     joints = model.robot.joints
     by_child = {j.child: j for j in joints}
     links = [link.name for link in model.robot.links]
@@ -114,7 +124,60 @@ def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None
 
 
 # ---------------------------------------------------------------------------- reading the file
-def _load(path: Path):
+def _package_dirs(packages) -> dict:
+    """``packages`` checked: package names to existing directories."""
+    out = {}
+    for name, folder in (packages or {}).items():
+        if not isinstance(name, str) or not name.strip() or not Path(folder).is_dir():
+            raise URDFError(f"packages: expected a package name and an existing directory; got {name!r} = "
+                            f"{str(folder)!r}", parameter="packages")
+        out[name.strip()] = Path(folder)
+    return out
+
+
+def _find_package(name: str, path: Path, packages: dict) -> str:
+    """``$(find name)`` for the xacro file ``path``: a given directory, a folder ``name`` above the file, or beside
+    one of the folders above it."""
+    if name in packages:
+        return str(packages[name])
+    for folder in path.resolve().parents:
+        if folder.name == name:
+            return str(folder)
+        if (folder / name).is_dir():
+            return str(folder / name)
+    raise URDFError(f"packages: {path.name} needs $(find {name}), and no folder {name!r} is above it or beside "
+                    f"the folders above it; give its directory (packages={{{name!r}: DIR}}, --package {name}=DIR)",
+                    parameter="packages")
+
+
+def _expand_xacro(path: Path, packages: dict) -> bytes:
+    """The URDF a xacro file expands to (the ``xacro`` package, ``$(find pkg)`` through :func:`_find_package`)."""
+    try:
+        import xacro
+        from xacro import substitution_args
+    except ImportError:
+        raise URDFError(f"path: {str(path)!r} is a xacro file; install the xacro extra to expand it here (pip "
+                        "install 'workspace_sym[xacro]'), or expand it first (xacro FILE > robot.urdf) and pass the "
+                        ".urdf", parameter="path") from None
+    saved = substitution_args._eval_find
+    substitution_args._eval_find = lambda name: _find_package(name, path, packages)
+    try:
+        return xacro.process_file(str(path), mappings={}).toxml().encode()
+    except Exception as exc:  # broad on purpose: xacro raises its own and Python's exceptions on a bad file
+        cause, seen = exc, set()
+        while cause is not None and id(cause) not in seen:      # our own error about a package, wrapped by xacro
+            if isinstance(cause, URDFError):
+                raise cause from None
+            seen.add(id(cause))
+            cause = getattr(cause, "exc", None) or cause.__cause__ or cause.__context__
+        reason = " ".join(str(exc).split())[:160] or type(exc).__name__
+        raise URDFError(f"path: {str(path)!r} is a xacro file that could not be expanded ({reason})",
+                        parameter="path") from None
+    finally:
+        substitution_args._eval_find = saved
+
+
+def _load(path: Path, packages: dict | None = None):
     try:
         import yourdfpy
     except ImportError:
@@ -125,9 +188,9 @@ def _load(path: Path):
     except OSError as exc:
         raise URDFError(f"path: cannot read {str(path)!r}: {exc.strerror}", parameter="path") from None
     # An expanded file may keep the xmlns:xacro declaration; macros and ${...} mean it was not expanded.
+    source = str(path)
     if path.suffix == ".xacro" or b"<xacro:" in text or b"${" in text:
-        raise URDFError(f"path: {str(path)!r} is a xacro file, which is not read here; expand it first "
-                        "(xacro FILE > robot.urdf) and pass the .urdf", parameter="path")
+        source = io.BytesIO(_expand_xacro(path, packages or {}))
     # yourdfpy logs a parse error and then reads whatever lxml can recover: catch that as a failure.
     logger = logging.getLogger("yourdfpy")
     errors = _Collect()
@@ -137,7 +200,7 @@ def _load(path: Path):
     try:
         # nan or inf in an origin: numpy warns while building the matrix; the value is refused when read
         with np.errstate(all="ignore"):
-            model = yourdfpy.URDF.load(str(path), build_scene_graph=False, build_collision_scene_graph=False,
+            model = yourdfpy.URDF.load(source, build_scene_graph=False, build_collision_scene_graph=False,
                                        load_meshes=False, load_collision_meshes=False)
     except Exception as exc:  # broad on purpose: lxml, KeyError on a missing attribute, float('abc'), ...
         failure = " ".join(str(exc).split())[:120] or type(exc).__name__
@@ -247,10 +310,14 @@ def _origin(joint, snapper: Snapper) -> sp.Matrix:
     M = np.eye(4) if joint.origin is None else np.asarray(joint.origin, dtype=float)
     where = f"joint {joint.name!r} origin"
     xyz = [snapper.length(v, f"{where} xyz") for v in M[:3, 3]]
-    rpy = [snapper.angle(v, f"{where} rpy") for v in transformations.euler_from_matrix(M, "sxyz")]
+    angles = transformations.euler_from_matrix(M, "sxyz")
+    rpy = [snapper.angle(v, f"{where} rpy") for v in angles]
     T = xyz_rpy(xyz, rpy)
     gap = float(np.abs(np.array(T[:3, :3].evalf(), dtype=float) - M[:3, :3]).max())
-    if gap > 10 * snapper.tol + 1e-12:   # Euler angles recovered badly near pitch = +-pi/2: keep the matrix
+    # snapping moves an entry of the rotation by at most the sum of the angles' moves (a snap from the digits
+    # written, 1.5707963 -> pi/2, may move an angle by more than tol); beyond that the angles were recovered badly
+    moved = sum(abs(float(r) - a) for r, a in zip(rpy, angles))
+    if gap > 10 * snapper.tol + moved + 1e-12:   # Euler angles recovered badly near pitch = +-pi/2: keep the matrix
         T[:3, :3] = sp.Matrix(3, 3, [snapper.cosine(v, f"{where} rotation") for v in M[:3, :3].ravel()])
     return snapper.chop(T)
 

@@ -35,6 +35,10 @@ __all__ = ["Verdict", "cannot_read", "check_expression", "check_factors", "check
            "assert_expression", "assert_factors", "assert_reachable", "assert_boundary_arc", "assert_measure"]
 
 
+#: Statuses of an answer without a verdict (``ok`` None), by the reason.
+_UNGRADED = ("cannot read", "cannot check", "not graded", "no answer", "duplicate")
+
+
 @dataclass
 class Verdict:
     """A judgement with its evidence.
@@ -43,7 +47,8 @@ class Verdict:
     could not be read (``evidence["method"]`` is ``"cannot read"`` and
     ``evidence["position"]`` the column of the problem when known), or it was
     not checked within its time budget (``"cannot check"``), or a batch ran
-    out of time before it (``"not graded"``).
+    out of time before it (``"not graded"``), or it is blank (``"no answer"``)
+    or a student's second answer to one question (``"duplicate"``).
     """
 
     ok: bool | None
@@ -55,10 +60,11 @@ class Verdict:
 
     @property
     def status(self) -> str:
-        """``"correct"``, ``"wrong"``, ``"cannot read"``, ``"cannot check"``, ``"not graded"`` or ``"undecided"``."""
+        """``"correct"``, ``"wrong"``, ``"cannot read"``, ``"cannot check"``, ``"not graded"``, ``"no answer"``,
+        ``"duplicate"`` or ``"undecided"``."""
         if self.ok is None:
             method = self.evidence.get("method")
-            return method if method in ("cannot read", "cannot check", "not graded") else "undecided"
+            return method if method in _UNGRADED else "undecided"
         return "correct" if self.ok else "wrong"
 
     def _repr_markdown_(self):

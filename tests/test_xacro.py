@@ -1,0 +1,95 @@
+"""Xacro files read as URDF (issue 27, engineer): expanded with the ``xacro`` package (the ``xacro`` extra),
+``$(find pkg)`` resolved in the tree the file lives in or through ``packages`` / ``--package pkg=DIR``.
+Reference: rtb-data ships the KUKA KR16 both as xacro and as the URDF ROS's xacro expanded it to; the DH robot read
+from either is the same exact model (table, base and tool compared as SymPy objects)."""
+
+import json
+import sys
+from pathlib import Path
+
+import pytest
+import rtbdata
+import xacro  # noqa: F401  (the xacro extra is part of [test])
+
+from workspace_sym import DHRobot
+from workspace_sym.cli import main
+from workspace_sym.errors import URDFError
+
+XACRO = Path(rtbdata.__file__).parent / "xacro"
+KR16 = XACRO / "kuka_description" / "kuka_kr16"
+KR16_PACKAGE = {"kuka_kr16_support": str(KR16)}       # rtb-data renamed the folder of ROS's kuka_kr16_support
+
+MACRO = """<robot xmlns:xacro="http://ros.org/wiki/xacro">
+  <xacro:macro name="arm" params="prefix length">
+    <link name="${prefix}base"/><link name="${prefix}upper"/><link name="${prefix}tip"/>
+    <joint name="${prefix}j1" type="revolute"><parent link="${prefix}base"/><child link="${prefix}upper"/>
+      <origin xyz="0 0 0" rpy="0 0 0"/><axis xyz="0 0 1"/>
+      <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+    <joint name="${prefix}j2" type="revolute"><parent link="${prefix}upper"/><child link="${prefix}tip"/>
+      <origin xyz="${length} 0 0" rpy="0 0 0"/><axis xyz="0 0 1"/>
+      <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  </xacro:macro>
+</robot>
+"""
+ROBOT = """<robot name="two" xmlns:xacro="http://ros.org/wiki/xacro">
+  <xacro:include filename="$(find {package})/urdf/macro.xacro"/>
+  <xacro:arm prefix="" length="0.5"/>
+</robot>
+"""
+
+
+def test_xacro_is_the_urdf_it_expands_to():
+    robot = DHRobot.from_urdf(KR16 / "urdf" / "kr16_2.xacro", packages=KR16_PACKAGE)
+    expanded = DHRobot.from_urdf(KR16 / "urdf" / "kr16_2.urdf")
+    assert robot.joints == expanded.joints and robot.base == expanded.base and robot.tool == expanded.tool
+
+
+def test_find_resolves_in_the_tree_or_through_package(tmp_path, capsys):
+    """$(find mypkg) from inside mypkg/ (a folder of that name above the file) needs nothing; a package elsewhere
+    needs --package, and without it the one line names the package and the option."""
+    (tmp_path / "ws" / "mypkg" / "urdf").mkdir(parents=True)
+    (tmp_path / "ws" / "mypkg" / "urdf" / "macro.xacro").write_text(MACRO)
+    inside = tmp_path / "ws" / "mypkg" / "urdf" / "two.urdf.xacro"
+    inside.write_text(ROBOT.format(package="mypkg"))
+    robot = DHRobot.from_urdf(inside)
+    assert robot.n == 2 and robot.to_str(robot.position[0]) == "c1/2"
+    elsewhere = tmp_path / "other" / "two.urdf.xacro"
+    elsewhere.parent.mkdir()
+    elsewhere.write_text(ROBOT.format(package="arm_support"))
+    assert main(["fk", "--urdf", str(elsewhere), "--json"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "$(find arm_support)" in err and "--package arm_support=DIR" in err
+    assert err.startswith("workspace-sym fk: error: --package:")
+    assert main(["fk", "--urdf", str(elsewhere), "--package", f"arm_support={tmp_path / 'ws' / 'mypkg'}",
+                 "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["position"][0] == "cos(theta1)/2"
+    out = tmp_path / "rep"
+    assert main(["report", "--urdf", str(elsewhere), "--package", f"arm_support={tmp_path / 'ws' / 'mypkg'}",
+                 "--out", str(out), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["joints"] == 2
+
+
+@pytest.mark.parametrize(("argv", "needle"), [
+    (["fk", "glass-handling", "--package", "a=b"], "--package names the directory of a package"),
+    (["fk", "--urdf", "{kr16}", "--package", "nodir"], "--package: expected PKG=DIR"),
+    (["fk", "--urdf", "{kr16}", "--package", "kuka_kr16_support={missing}"], "an existing directory"),
+])
+def test_package_option_bad_input(tmp_path, capsys, argv, needle):
+    values = {"kr16": KR16 / "urdf" / "kr16_2.xacro", "missing": tmp_path / "none"}
+    assert main([a.format(**values) for a in argv]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and needle in err, err
+
+
+def test_a_xacro_that_cannot_expand_is_one_line(tmp_path, capsys):
+    path = tmp_path / "bad.urdf.xacro"
+    path.write_text('<robot name="b" xmlns:xacro="http://ros.org/wiki/xacro"><link name="${nowhere}"/></robot>')
+    assert main(["fk", "--urdf", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "is a xacro file that could not be expanded" in err and "nowhere" in err
+
+
+def test_without_the_extra_a_xacro_file_is_refused_with_the_way_out(monkeypatch):
+    monkeypatch.setitem(sys.modules, "xacro", None)          # as if the extra were not installed
+    with pytest.raises(URDFError, match=r"install the xacro extra .*or expand it first \(xacro FILE > robot.urdf\)"):
+        DHRobot.from_urdf(KR16 / "urdf" / "kr16_2.xacro", packages=KR16_PACKAGE)
