@@ -276,6 +276,7 @@ class _LatexRewriter:
     # names and numbers -------------------------------------------------------
     def name(self, word: str, column: int) -> str:
         m = re.fullmatch(r"(\\?)([A-Za-z]+)(?:_(?:\{([^{}]*)\}|([0-9A-Za-z]))|([0-9]+))?", word)
+        assert m is not None                    # the tokenizer made ``word`` a name of this form
         backslash, base, braced, single, digits = m.groups()
         sub = braced if braced is not None else single if single is not None else digits or ""
         if backslash and base not in _GREEK and base != "pi":
@@ -435,7 +436,8 @@ class _LatexRewriter:
                 raise self.error(self.peek()[2], f"unexpected {self.peek()[1]!r}")
             return text
         self.take()
-        rows, row = [], []
+        rows: list[list] = []
+        row: list = []
         while True:
             tok = self.peek()
             if tok is None:
@@ -770,4 +772,4 @@ def split_unit(text: str) -> tuple[str, Unit | None]:
     """
     m = _QUANTITY.fullmatch(text)
     unit = _unit(m) if m and m["number"].strip() else None
-    return (m["number"].strip(), unit) if unit else (text, None)
+    return (m["number"].strip(), unit) if m and unit else (text, None)

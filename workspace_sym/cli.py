@@ -51,6 +51,8 @@ def _join_list_values(argv: list[str]) -> list[str]:
 class _Parser(argparse.ArgumentParser):
     """argparse with a one-line error and exit status 2, like every other bad input."""
 
+    commands: dict[str, _Parser]                     # the subcommands' parsers (build_parser)
+
     def error(self, message):
         self.exit(2, f"{self.prog}: error: {message}\n")
 
@@ -84,7 +86,7 @@ def _robot_from_args(args) -> DHRobot:
     given = [g for g in given if g]
     if len(given) > 1:
         raise WorkspaceError(f"give one of a catalog robot, --dh FILE, --urdf FILE or --mjcf FILE; got "
-                             f"{' and '.join(given)}")
+                             f"{' and '.join(g for g in given if g)}")
     if (args.base or args.tip) and args.urdf is None and args.mjcf is None:
         raise WorkspaceError("--base and --tip name links of a URDF file or bodies of an MJCF file: give --urdf FILE "
                              "or --mjcf FILE")
@@ -635,7 +637,7 @@ def cmd_grade(args) -> int:
     graded = grade_answers(key, read_answers_csv(args.answers))
     paths = write_grading(key, graded, args.out)
     total = sum(q.points for q in key.questions)
-    scores = {}
+    scores: dict[str, float] = {}
     for g in graded:
         scores[g.student] = scores.get(g.student, 0.0) + g.points
     repeated = duplicate_rows(graded)
@@ -670,7 +672,7 @@ DOCS = Path(__file__).resolve().parent / "docs"     # docs/ ships inside the pac
 _DH_HELP = "DH table as JSON instead of a catalog robot (format: docs/cli.md, 'DH files')"
 
 
-def _parent(*options) -> argparse.ArgumentParser:
+def _parent(*options) -> _Parser:
     """A parent parser holding ``options``, each ``(names, keyword arguments of add_argument)``."""
     p = _Parser(add_help=False)
     for names, kwargs in options:
@@ -717,7 +719,7 @@ _SIZE = (("--size",), {"choices": ("diameter", "width"), "default": "diameter",
                        "help": "box size compared with delta: diameter (default, as in the paper) or largest edge"})
 
 
-def _chain_parent(*, required: bool) -> argparse.ArgumentParser:
+def _chain_parent(*, required: bool) -> _Parser:
     p = _Parser(add_help=False)
     p.add_argument("--lengths", required=required,
                    help="segment lengths, comma-separated (e.g. 0.186,0.146,0.108)")
@@ -729,7 +731,7 @@ def _chain_parent(*, required: bool) -> argparse.ArgumentParser:
     return p
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser() -> _Parser:
     parser = _Parser(prog="workspace-sym", description="Robot workspaces, exactly or with proofs.",
                      epilog=f"The options, the DH file format and the JSON keys are described in docs/cli.md, "
                             f"installed with the package as {DOCS / 'cli.md'}.")
@@ -861,7 +863,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 # Library errors name the API parameter (WorkspaceError.parameter); the command line adds its option when the
 # running subcommand has one of that name (argparse's dest is the parameter name).
-_FLAGS = {
+_FLAGS: dict[str | None, str] = {
     "delta": "--delta", "size": "--size", "max_boxes": "--max-boxes", "time_limit": "--time-limit",
     "backend": "--backend", "digits": "--digits", "inner_depth": "--inner-depth",
     "l0": "--l0", "lmin": "--lmin", "lmax": "--lmax",

@@ -108,6 +108,7 @@ class _Checker:
                 raise _Refused(f"{value!r} is not a real number")
             if type(value) is float and not math.isfinite(value):  # 1e999; an int of any length is fine
                 raise _Refused("a number is out of range")
+            assert isinstance(value, (int, float))          # for mypy: the type test above is exact
             return math.log10(abs(value)) if abs(value) > 1 else 0.0
         if isinstance(node, ast.Name):
             return self._name(node.id)
@@ -175,7 +176,7 @@ class _Checker:
         digits = len(match["int"].replace("_", "").lstrip("0")) + len((match["frac"] or "").replace("_", ""))
         exponent = match["exp"].replace("_", "") if match["exp"] else "0"
         if len(exponent) > 6:
-            raise _Refused(f"the number {value} is out of range")
+            raise _Refused(f"the number {match.group()} is out of range")
         return digits + abs(int(exponent)) + 1.0
 
     def _call(self, node: ast.Call, depth: int):
@@ -322,7 +323,7 @@ allowed; allowed: numbers, + - * / ** ^, q2, pi, E, sqrt, sin, cos, ..., Abs, Mi
         raise ExpressionError(f"{parameter}: expected a number or an expression, got {type(value).__name__} "
                               f"{quoted(repr(value))}")
     if isinstance(expr, sp.Expr):
-        parts = (expr,)
+        parts: tuple = (expr,)
     elif relational and isinstance(expr, sp.core.relational.Relational):
         parts = expr.args
     elif relational and isinstance(expr, sp.logic.boolalg.BooleanAtom):
@@ -441,6 +442,7 @@ def _math_tokens(text: str, parameter: str, offset: int = 0):
             raise _math_error(parameter, text, offset + pos + 1, f"unexpected character {ch!r}")
         if match.lastgroup != "space":
             kind = match.lastgroup
+            assert kind is not None                         # every alternative of _MATH_TOKEN is a named group
             word = match.group()
             if kind == "open":
                 word = "("

@@ -52,6 +52,7 @@ from collections import Counter
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import sympy as sp
 
@@ -84,7 +85,7 @@ class Question:
 
     id: str
     kind: str
-    answer: object
+    answer: Any                 # by kind: text, a bool, a count, a [lo, hi] bracket, a list of factors
     prompt: str = ""
     robot: str | None = None
     chain: str | None = None
@@ -207,8 +208,8 @@ def _question(row, k: int, robots: dict, chains: dict) -> Question:
     if chain is not None and chain not in chains:
         raise InvalidParameterError(f"key: question {qid!r} names chain {chain!r}, which the key does not define",
                                     parameter="key")
-    answer = row.get("answer")
-    expected = {"expression": str, "factors": list, "reachable": bool, "integer": int, "measure": list}[kind]
+    answer: Any = row.get("answer")
+    expected: Any = {"expression": str, "factors": list, "reachable": bool, "integer": int, "measure": list}[kind]
     if not isinstance(answer, expected) or (kind == "integer" and isinstance(answer, bool)):
         raise InvalidParameterError(f"key: answer of question {qid!r} ({kind}) must be a JSON {expected.__name__}",
                                     parameter="key")
@@ -302,7 +303,7 @@ def _grade_measure(text: str, q: Question) -> Verdict:
     shown, note = f"{claimed:g}", ""
     if unit is not None and expected is None:
         note = f" (the unit {unit.text} is not checked: the key gives none)"
-    elif unit is not None:
+    elif unit is not None and expected is not None:
         if (unit.dimension, unit.power) != (expected.dimension, expected.power):
             return Verdict(False, f"{text[:60]!r}: {unit.text} is {unit.kind}, but the answer is {expected.kind} "
                                   f"({q.unit})", {"method": "unit", "bracket": [lo, hi]})
@@ -342,7 +343,7 @@ def read_answers_csv(path) -> list[tuple[str, str, str]]:
             raise InvalidParameterError(f"answers: {str(path)!r} needs the columns student, question, answer; "
                                         f"missing {', '.join(missing)}", parameter="answers")
         reader.fieldnames = header
-        rows = []
+        rows: list = []
         for row in reader:
             if len(rows) >= MAX_ROWS:
                 raise InvalidParameterError(f"answers: {str(path)!r} has more than {MAX_ROWS} rows, the most one "
@@ -405,7 +406,8 @@ def grade_answers(key: AnswerKey, rows, *, answer_seconds: float = ANSWER_SECOND
     answer_seconds = _check_budget(answer_seconds, "answer_seconds")
     total_seconds = _check_budget(total_seconds, "total_seconds")
     out = []
-    first_row = {}
+    first_row: dict = {}
+    verdict: Verdict | None                                  # None: stopped by its time budget
     start = time.perf_counter()
     for row, (student, qid, text) in enumerate(rows, start=2):
         q = key.question(qid)
@@ -491,7 +493,9 @@ def write_grading(key: AnswerKey, graded: list[GradedAnswer], out) -> dict:
         position = g.verdict.evidence.get("position")
         writer.writerow([g.student, g.question, g.answer, g.verdict.status, f"{g.points:g}", f"{g.max_points:g}",
                          g.verdict.message, "" if position is None else position])
-    students, by_student, tally = {}, {}, Counter()          # one pass over the rows
+    students: dict[str, float] = {}                           # one pass over the rows
+    by_student: dict = {}
+    tally: Counter = Counter()
     for g in graded:
         students[g.student] = students.get(g.student, 0.0) + g.points
         by_student.setdefault(g.student, []).append(g)

@@ -964,7 +964,8 @@ def _all_minors(entries, shape, ring) -> dict:
     """Every minor of a matrix of ring elements, keyed by ``(rows, cols)``; Laplace along the first row,
     each minor built once from those one size smaller."""
     m, n = shape
-    minors = {((i,), (j,)): entries[i][j] for i in range(m) for j in range(n)}
+    minors: dict[tuple[tuple[int, ...], tuple[int, ...]], object] = {((i,), (j,)): entries[i][j]
+                                                                      for i in range(m) for j in range(n)}
     for k in range(2, min(m, n) + 1):
         for rows in combinations(range(m), k):
             top, rest = rows[0], rows[1:]
@@ -1028,7 +1029,8 @@ def gram_characteristic_polynomial(J, lam: sp.Symbol | None = None, *, simplify=
     rows = [[R.from_expr(entries[i * J.cols + j]) for j in range(J.cols)] for i in range(J.rows)]
     minors = _all_minors(rows, J.shape, R)
     simplify = simplify or (lambda e: e)
-    coeffs, cache = [sp.Integer(1)], {}
+    coeffs = [sp.Integer(1)]
+    cache: dict = {}                # irreducible factors already simplified (_factored)
     for k in range(1, J.rows + 1):
         distinct: dict = {}   # minors up to sign, with how often they occur
         for (r, _), minor in minors.items():

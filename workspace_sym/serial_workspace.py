@@ -273,14 +273,15 @@ def _product(model: ReachModel) -> _Product | None:
     if model.m != 3:
         return None
     uses = [model.expressions[i].free_symbols & set(model.variables) for i in range(3)]
-    groups = []
+    groups: list[list[int]] = []
     for i in range(3):
         joined = [g for g in groups if any(uses[i] & uses[j] for j in g)]
         merged = sorted({i, *(j for g in joined for j in g)})
         groups = [g for g in groups if g not in joined] + [merged]
     if len(groups) < 2:
         return None
-    plane, section, intervals = (), None, []
+    plane: tuple = ()
+    section, intervals = None, []
     rng = np.random.default_rng(0)
     for g in groups:
         variables = [q for q in model.variables if q in set().union(*(uses[i] for i in g))]
@@ -309,7 +310,11 @@ def _section(robot: DHRobot, parameters: tuple) -> _Revolved | _Product | None:
 
 
 def _plane_map(robot: DHRobot, parameters: tuple, which: str) -> ImageMap:
-    return _model(robot, parameters) if which == "planar" else _section(robot, parameters).section
+    if which == "planar":
+        return _model(robot, parameters)
+    section = _section(robot, parameters)
+    assert section is not None and section.section is not None     # asked only of a robot with a plane map
+    return section.section
 
 
 @dataclass(frozen=True)
@@ -750,12 +755,13 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
             result = _pairs(robot, parameters, delta, size, run, max_pairs=max_pairs, inner_depth=inner_depth,
                             executor=executor, chunk_pairs=chunk_pairs)
     except KeyboardInterrupt:
-        if root is None:
+        if model is None or root is None:
             raise
         whole = Box(model.task_variables, tuple(root[:, 0]), tuple(root[:, 1]))
         result = whole, [], [], [], root[None], 0, "interrupted"
     finally:
         run.close()
+    assert model is not None                    # set before anything that returns a result
     box, inner, boundary, outer, pending, evaluated, reason = result
     if pending is None or not len(pending):
         reason = ""                             # a budget that ran out after the last box: nothing is pending

@@ -362,7 +362,8 @@ def factor_half_angle(poly_expr: sp.Expr, pairs, *, extension=(), multiplicity: 
         return [(sp.Integer(0), 1)] if multiplicity else [sp.Integer(0)]
     factors = _factor_list(poly_expr, extension)
     units = {sp.expand(S**2 + C**2) for _, S, C in pairs}
-    even, odd = [], []
+    even: list = []
+    odd: list = []
     for f, m in factors:
         if not f.free_symbols or sp.expand(f) in units:
             continue

@@ -164,7 +164,8 @@ def _expand_xacro(path: Path, packages: dict) -> bytes:
     try:
         return xacro.process_file(str(path), mappings={}).toxml().encode()
     except Exception as exc:  # broad on purpose: xacro raises its own and Python's exceptions on a bad file
-        cause, seen = exc, set()
+        cause: BaseException | None = exc
+        seen = set()
         while cause is not None and id(cause) not in seen:      # our own error about a package, wrapped by xacro
             if isinstance(cause, URDFError):
                 raise cause from None
@@ -188,7 +189,7 @@ def _load(path: Path, packages: dict | None = None):
     except OSError as exc:
         raise URDFError(f"path: cannot read {str(path)!r}: {exc.strerror}", parameter="path") from None
     # An expanded file may keep the xmlns:xacro declaration; macros and ${...} mean it was not expanded.
-    source = str(path)
+    source: str | io.BytesIO = str(path)
     if path.suffix == ".xacro" or b"<xacro:" in text or b"${" in text:
         source = io.BytesIO(_expand_xacro(path, packages or {}))
     # yourdfpy logs a parse error and then reads whatever lxml can recover: catch that as a failure.

@@ -320,7 +320,7 @@ def _dot(c, v):
 def meets(E: np.ndarray, T: np.ndarray) -> np.ndarray:
     """Closed boxes ``E`` and ``T`` (same shape) share a point; NaN bounds count as meeting."""
     apart = (E[:, :, 0] > T[:, :, 1]) | (E[:, :, 1] < T[:, :, 0])
-    return ~apart.any(axis=1)
+    return ~np.asarray(apart.any(axis=1))
 
 
 def distribute(model, T, Q, owner, cap, *, rounds: int = 4, ratio: float = 1.0):
