@@ -17,6 +17,8 @@ __all__ = [
     "UnknownNameError",
     "ConstraintError",
     "BoxError",
+    "SymbolicError",
+    "SymbolicBudgetError",
 ]
 
 
@@ -84,6 +86,15 @@ class ConstraintError(ExpressionError):
 
 class BoxError(WorkspaceError):
     """A box has inverted or non-finite bounds."""
+
+
+class SymbolicError(WorkspaceError):
+    """A symbolic derivation (forward kinematics, a Jacobian, its singular factors, a characteristic
+    polynomial) could not be carried out on this input; the message names what could not be done."""
+
+
+class SymbolicBudgetError(SymbolicError):
+    """A symbolic step did not finish within its budget (time, or the size of an expansion or a table)."""
 
 
 def check_choice(parameter: str, value, allowed) -> None:
