@@ -33,6 +33,8 @@ for the joint variables of a robot.
 from __future__ import annotations
 
 import math
+import signal
+import threading
 import time
 from contextlib import contextmanager
 from contextvars import ContextVar
@@ -83,7 +85,9 @@ def symbolic_budget(seconds: float | None = None, what: str = "symbolic computat
     The steps check the deadline inside their loops (:func:`check_budget`) and
     raise :class:`~workspace_sym.errors.SymbolicBudgetError` past it; a nested
     block never extends the deadline of the enclosing one.  ``None`` means
-    :data:`DEFAULT_SECONDS` (read when the block starts).
+    :data:`DEFAULT_SECONDS` (read when the block starts).  In the main thread a
+    timer (``SIGALRM``) also interrupts the SymPy calls that have no loop of ours
+    inside (a multivariate factorisation's Hensel lifting ran for minutes).
 
     Examples
     --------
@@ -98,11 +102,37 @@ def symbolic_budget(seconds: float | None = None, what: str = "symbolic computat
         raise SymbolicBudgetError(f"seconds must be a finite number >= 0; got {seconds!r}", parameter="seconds")
     outer = _DEADLINE.get()
     mine = (time.monotonic() + seconds, seconds, what)
-    token = _DEADLINE.set(mine if outer is None or mine[0] < outer[0] else outer)
+    current = mine if outer is None or mine[0] < outer[0] else outer
+    token = _DEADLINE.set(current)
+    alarm = _arm_alarm(current)
     try:
         yield
     finally:
         _DEADLINE.reset(token)
+        _disarm_alarm(alarm, outer)
+
+
+def _arm_alarm(current):
+    """Arm SIGALRM for the deadline ``current`` (main thread, Unix); returns the handler it replaced or None."""
+    if not hasattr(signal, "setitimer") or threading.current_thread() is not threading.main_thread():
+        return None
+
+    def expired(signum, frame):
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        raise SymbolicBudgetError(f"{current[2]}: not finished within the budget of {current[1]:g} s")
+
+    previous = signal.signal(signal.SIGALRM, expired)
+    signal.setitimer(signal.ITIMER_REAL, max(current[0] - time.monotonic(), 1e-3))
+    return (previous,)
+
+
+def _disarm_alarm(alarm, outer) -> None:
+    if alarm is None:
+        return
+    signal.setitimer(signal.ITIMER_REAL, 0)
+    signal.signal(signal.SIGALRM, alarm[0])
+    if outer is not None:   # the enclosing budget's timer runs on
+        signal.setitimer(signal.ITIMER_REAL, max(outer[0] - time.monotonic(), 1e-3))
 
 
 @contextmanager
@@ -482,8 +512,9 @@ def trig_ring_form(exprs) -> tuple[list, list, dict]:
     (terms ``2e-13 cos(theta3 - theta4)`` in a factor).  Constants SymPy writes
     with square roots of rationals (``pi/4``, ``pi/12``) are expanded as before.
 
-    Returns the polynomials, the ``(u, c_u, s_u)`` list and the substitution
-    that puts the constants back (for :func:`restore_constants`).
+    Returns the polynomials, the ``(u, c_u, s_u)`` list of the joint angles and
+    the substitution that puts the constants back (for :func:`restore_constants`):
+    a constant angle's cosine and sine are plain symbols in the polynomials.
     """
     exprs = [as_sympy(e, "exprs") for e in exprs]
     atoms = set().union(*(e.atoms(sp.sin, sp.cos) for e in exprs)) if exprs else set()
@@ -501,7 +532,12 @@ def trig_ring_form(exprs) -> tuple[list, list, dict]:
         subs[a] = a.func(var + sign * k)
     exprs = [e.xreplace(subs) for e in exprs] if subs else exprs
     polys, pairs = trig_polynomials(exprs)
-    return polys, pairs, back
+    # A constant angle's cosine and sine are plain symbols (s**2 already reduced to 1 - c**2), not a
+    # half-angle pair: four generators of doubled degree per constant made a 3-joint factoring take minutes.
+    constant = [(u, c, s) for u, c, s in pairs if u in back]
+    for u, c, s in constant:
+        back[c], back[s] = sp.cos(u), sp.sin(u)
+    return polys, [p for p in pairs if p[0] not in back], back
 
 
 def put_back(expr, back: dict):
@@ -793,7 +829,9 @@ def restore_constants(factors, back) -> list:
         return factors
     counts: dict = {}
     for f, m in factors:
-        h = textbook(put_back(f, back))
+        # one pass puts back cos(k) for a constant angle's symbol (gathered with the joint angles by textbook,
+        # sin(theta2 + k)), the second the value of k: sin(theta2 + pi/5)
+        h = put_back(textbook(f.xreplace(back)), back)
         if not h.free_symbols:
             continue
         _, h = h.as_independent(*h.free_symbols, as_Add=False)
