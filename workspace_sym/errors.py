@@ -20,6 +20,8 @@ __all__ = [
     "BoxError",
     "OutputError",
     "BoundaryError",
+    "SymbolicError",
+    "SymbolicBudgetError",
 ]
 
 
@@ -100,6 +102,15 @@ class BoundaryError(WorkspaceError):
 
 class OutputError(WorkspaceError):
     """An output path cannot be written (missing or unwritable directory, unknown figure format)."""
+
+
+class SymbolicError(WorkspaceError):
+    """A symbolic derivation (forward kinematics, a Jacobian, its singular factors, a characteristic
+    polynomial) could not be carried out on this input; the message names what could not be done."""
+
+
+class SymbolicBudgetError(SymbolicError):
+    """A symbolic step did not finish within its budget (time, or the size of an expansion or a table)."""
 
 
 def check_choice(parameter: str, value, allowed) -> None:
