@@ -100,6 +100,31 @@ def test_al5d_factors_have_no_round_off():
     assert _factors_match_rank_loss(robot, factors, lambda q: np.linalg.svd(Jf(q), compute_uv=False)[-1])
 
 
+# ---------------------------------------------------------------------- textbook: an identity, never a new function
+_A, _B, _C, _X = sp.symbols("a b c x")
+_FACTORS = [sp.sin(_A), sp.cos(_A), sp.sin(_B), sp.cos(_B), sp.cos(_A + _B), sp.sin(_C), sp.cos(_C), _X,
+            sp.cos(sp.pi / 5, evaluate=False), sp.sqrt(2)]
+_monomials = st.tuples(st.sampled_from([1, -1, 2, sp.Rational(-1, 2)]),
+                       st.lists(st.sampled_from(_FACTORS), min_size=1, max_size=4))
+
+
+@settings(max_examples=60, deadline=None, derandomize=True)
+@given(st.lists(_monomials, min_size=1, max_size=8))
+@example([(1, [sp.cos(_A), sp.sin(_A), sp.cos(_B)]), (1, [sp.sin(_A), sp.sin(_B)])])
+@example([(1, [sp.cos(_A), sp.sin(_A), sp.cos(_B)]), (-1, [_X, sp.sin(_A), sp.sin(_B)]), (1, [sp.sin(_A), sp.sin(_B)])])
+def test_textbook_is_the_same_function(terms):
+    """textbook(e) - e vanishes at random points (50-digit evaluation) for sums of products of sines, cosines,
+    constants and a length.  The first example was rewritten s_a c_(a-b): the angle-sum gathering took
+    s_a s_b as the partner of s_a c_a c_b (the true partner s_a**2 s_b had its exponent lost), and a 3-joint
+    table got a singular factor that vanished where its Jacobian kept full rank (ratio 7e-4)."""
+    e = sp.Add(*(k * sp.Mul(*fs) for k, fs in terms))
+    t = symbolic.textbook(e)
+    rng = np.random.default_rng(5)
+    for _ in range(3):
+        point = {s: sp.Float(v, 50) for s, v in zip((_A, _B, _C, _X), rng.uniform(-3, 3, 4))}
+        assert abs(sp.N((t - e).xreplace(point), 50)) < 1e-40, (e, t)
+
+
 # ---------------------------------------------------------------------- property tests over random tables
 def _table(draw, n_max=3, tool=False):
     n = draw(st.integers(2, n_max))

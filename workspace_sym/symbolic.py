@@ -275,6 +275,15 @@ def _gather_sums(expr: sp.Expr) -> sp.Expr:
     until no pair is left (three-angle sums).  SymPy's ``fu.TR10i`` gives the same
     forms on the catalog robots but searches the pairs one by one: minutes on the
     100-term entries of a 6-joint table with twists and a tool.
+
+    Examples
+    --------
+    >>> a, b = sp.symbols("a b")
+    >>> _gather_sums(sp.cos(a) * sp.cos(b) - sp.sin(a) * sp.sin(b))
+    cos(a + b)
+    >>> e = sp.cos(a) * sp.sin(a) * sp.cos(b) + sp.sin(a) * sp.sin(b)   # no pair: s_a c_a c_b's is s_a**2 s_b
+    >>> _gather_sums(e) == e
+    True
     """
     for _ in range(16):
         check_budget("gathering angle sums")
@@ -283,26 +292,18 @@ def _gather_sums(expr: sp.Expr) -> sp.Expr:
             coeff, powers = _term_factors(t)
             key = frozenset(powers.items())
             terms[key] = terms.get(key, 0) + coeff
-        used, out = set(), []
+        done, out = set(), []
         for key, k in terms.items():
-            if key in used or not k:
+            if key in done or not k:
                 continue
-            trig = sorted((b for b, e in key if e == 1 and isinstance(b, (sp.sin, sp.cos))), key=sp.default_sort_key)
-            found = None
-            for i, f in enumerate(trig):
-                for g in trig[i + 1:]:
-                    found = _partner(key, k, f, g, terms, used)
-                    if found is not None:
-                        break
-                if found is not None:
-                    break
+            done.add(key)
+            found = _partner(key, k, terms, done)
             if found is None:
                 out.append(k * sp.Mul(*(b**e for b, e in key)))
                 continue
-            partner, combined = found
-            used |= {key, partner}
-            rest = [b**e for b, e in key if b not in (f, g)]
-            out.append(k * combined * sp.Mul(*rest))
+            partner, combined, rest = found
+            done.add(partner)
+            out.append(k * combined * rest)
         new = sp.Add(*out)
         if new == expr:
             break
@@ -310,27 +311,43 @@ def _gather_sums(expr: sp.Expr) -> sp.Expr:
     return expr
 
 
-def _partner(key, k, f, g, terms, used):
-    """The term that gathers with ``k f g`` (``f``, ``g`` sines or cosines) and the combined sine or cosine."""
-    (a, fa), (b, fb) = (f.args[0], type(f)), (g.args[0], type(g))
-    swap = {sp.sin: sp.cos, sp.cos: sp.sin}
-    # c_a c_b pairs with s_a s_b, s_a c_b with c_a s_b: both factors swap kind
-    other = frozenset((key - {(f, 1), (g, 1)}) | {(swap[fa](a), 1), (swap[fb](b), 1)})
-    if other == key or other in used or other not in terms:
-        return None
-    m = terms[other]
-    if m not in (k, -k):
-        return None
-    same = m == k
-    if fa is sp.cos and fb is sp.cos:     # c_a c_b - s_a s_b = c(a+b), c_a c_b + s_a s_b = c(a-b)
-        combined = sp.cos(a - b) if same else sp.cos(a + b)
-    elif fa is sp.sin and fb is sp.sin:   # s_a s_b - c_a c_b = -c(a+b), s_a s_b + c_a c_b = c(a-b)
-        combined = sp.cos(a - b) if same else -sp.cos(a + b)
-    elif fa is sp.sin:                    # s_a c_b + c_a s_b = s(a+b), s_a c_b - c_a s_b = s(a-b)
-        combined = sp.sin(a + b) if same else sp.sin(a - b)
-    else:                                 # c_a s_b + s_a c_b = s(a+b), c_a s_b - s_a c_b = s(b-a)
-        combined = sp.sin(a + b) if same else sp.sin(b - a)
-    return other, combined
+_SWAP = {sp.sin: sp.cos, sp.cos: sp.sin}
+
+
+def _partner(key, k, terms, done):
+    """The monomial that gathers with ``k * key`` by an angle-addition rule: ``(partner, combined, rest)``
+    with ``k * key + terms[partner] == k * combined * rest``, or None.
+
+    Only sines and cosines of exponent 1 whose swapped kinds (``sin a`` for ``cos a``) are absent from the
+    monomial are paired: ``s_a c_a c_b`` has no partner of that shape (it would be ``s_a**2 s_b``), and
+    taking ``s_a s_b`` for it turned ``s_a c_a c_b + s_a s_b`` into ``s_a c_(a-b)``, a different function.
+    """
+    powers = dict(key)
+    trig = sorted((b for b, e in key if e == 1 and isinstance(b, (sp.sin, sp.cos))
+                   and _SWAP[type(b)](b.args[0]) not in powers), key=sp.default_sort_key)
+    for i, f in enumerate(trig):
+        for g in trig[i + 1:]:
+            (a, fa), (b, fb) = (f.args[0], type(f)), (g.args[0], type(g))
+            if a == b:
+                continue
+            swapped = {_SWAP[fa](a), _SWAP[fb](b)}
+            if len(swapped) < 2:
+                continue
+            rest = {x: e for x, e in powers.items() if x not in (f, g)}
+            other = frozenset(list(rest.items()) + [(x, 1) for x in swapped])
+            if other in done or other not in terms or terms[other] not in (k, -k):
+                continue
+            same = terms[other] == k
+            if fa is sp.cos and fb is sp.cos:     # c_a c_b - s_a s_b = c(a+b), c_a c_b + s_a s_b = c(a-b)
+                combined = sp.cos(a - b) if same else sp.cos(a + b)
+            elif fa is sp.sin and fb is sp.sin:   # s_a s_b - c_a c_b = -c(a+b), s_a s_b + c_a c_b = c(a-b)
+                combined = sp.cos(a - b) if same else -sp.cos(a + b)
+            elif fa is sp.sin:                    # s_a c_b + c_a s_b = s(a+b), s_a c_b - c_a s_b = s(a-b)
+                combined = sp.sin(a + b) if same else sp.sin(a - b)
+            else:                                 # c_a s_b + s_a c_b = s(a+b), c_a s_b - s_a c_b = s(b-a)
+                combined = sp.sin(a + b) if same else sp.sin(b - a)
+            return other, combined, sp.Mul(*(x**e for x, e in rest.items()))
+    return None
 
 
 def numeric_atoms(exprs, *, sums: bool = False) -> tuple:
