@@ -6,6 +6,7 @@ polynomial, and the exact SymPy value sin(u)/cos(u) for the closed forms.
 """
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -314,3 +315,50 @@ def test_failure_inside_the_symbolic_layer_is_one_line(monkeypatch, tmp_path, ca
     assert len(err) == 1 and "singular factors" in err[0] and "RecursionError" in err[0]
     with pytest.raises(SymbolicError):
         DHRobot.from_file(path).singular_factors()
+
+
+# ---------------------------------------------------------------------- reach: the time limit covers the model build
+def test_reach_time_limit_bounds_the_symbolic_model(tmp_path, capsys):
+    """Issue 31 item 3: a cold UR5 reach with a 4 s limit stopped at 13 s (the model build could not be
+    interrupted).  A limit the symbolic preparation cannot meet (1 ms: the UR5's fk alone takes far longer
+    anywhere) ends with one SymbolicBudgetError naming time_limit, from the library and the command line
+    (one line, exit 2, --time-limit named); nothing is reported as proved."""
+    from workspace_sym.serial_workspace import reach
+
+    path = Path(__file__).parent / "data" / "dh" / "ur5.json"
+    with pytest.raises(SymbolicBudgetError, match=r"time_limit: the symbolic model of UR5 .* not ready within the "
+                                                  r"time limit of 0\.001 s") as info:
+        reach(DHRobot.from_file(path), delta=0.1, time_limit=0.001)
+    assert info.value.parameter == "time_limit"
+    assert main(["reach", "--dh", str(path), "--delta", "0.1", "--time-limit", "0.001", "--json"]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and err.count("\n") == 1 and "--time-limit" in err and "no box was decided" in err
+
+
+def test_budget_timer_interrupts_sympy_and_keeps_an_enclosing_timer():
+    """The budget's timer stops a SymPy call that has no budget check of ours inside, even one wrapped in
+    ``except Exception`` (a swallowed timer ran on for minutes), and a timer armed before the block (a
+    grading time limit) still fires after it."""
+    import signal
+    import time
+
+    x, y, z = sp.symbols("x y z")
+    start = time.monotonic()
+    with pytest.raises(SymbolicBudgetError, match=r"expansion: not finished within the budget of 0\.2 s"):
+        with symbolic.symbolic_budget(0.2, "expansion"):
+            try:
+                sp.expand((x + y + z + 1) ** 400)
+            except Exception:
+                pass
+    assert time.monotonic() - start < 30   # generous: the expansion alone runs for minutes
+    fired = []
+    previous = signal.signal(signal.SIGALRM, lambda *args: fired.append(True))
+    try:
+        signal.setitimer(signal.ITIMER_REAL, 0.3)
+        with symbolic.symbolic_budget(5.0, "short"):
+            pass
+        time.sleep(1.0)
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+    assert fired == [True]
