@@ -119,11 +119,13 @@ def test_textbook_is_the_same_function(terms):
     s_a s_b as the partner of s_a c_a c_b (the true partner s_a**2 s_b had its exponent lost), and a 3-joint
     table got a singular factor that vanished where its Jacobian kept full rank (ratio 7e-4)."""
     e = sp.Add(*(k * sp.Mul(*fs) for k, fs in terms))
-    t = symbolic.textbook(e)
-    rng = np.random.default_rng(5)
-    for _ in range(3):
-        point = {s: sp.Float(v, 50) for s, v in zip((_A, _B, _C, _X), rng.uniform(-3, 3, 4))}
-        assert abs(sp.N((t - e).xreplace(point), 50)) < 1e-40, (e, t)
+    # times a cube: more terms than RING_TERMS, so the polynomial-ring path is checked too
+    for e in (e, e * (_X + sp.cos(_A) + sp.sin(_C)) ** 3):
+        t = symbolic.textbook(e)
+        rng = np.random.default_rng(5)
+        for _ in range(3):
+            point = {s: sp.Float(v, 50) for s, v in zip((_A, _B, _C, _X), rng.uniform(-3, 3, 4))}
+            assert abs(sp.N((t - e).xreplace(point), 50)) < 1e-40, (e, t)
 
 
 # ---------------------------------------------------------------------- property tests over random tables
@@ -278,16 +280,43 @@ def test_charpoly_roots_are_numpy_eigenvalues(data):
 # ---------------------------------------------------------------------- budgets, sizes, the command line
 def test_textbook_is_never_longer_than_its_input_and_refuses_huge_expansions():
     """Issue 23 item 7: (l1 + 1)**1000 ended in a RecursionError, (l1 + l2 + 1)**60 ran past 60 s; both come back
-    as they are within a second, and a DH row with such a length gives fk in seconds."""
-    import time
-
-    l1, l2 = sp.symbols("l1 l2")
-    start = time.perf_counter()
+    as they are (each power one symbol: opaque_powers), and gathered around it (c12, not c1 c2 - s1 s2)."""
+    l1, l2, t1, t2 = sp.symbols("l1 l2 theta1 theta2")
     for e in ((l1 + 1) ** 1000, (l1 + l2 + 1) ** 60, sp.cos(l1) * (l1 + l2 + 1) ** 60):
         assert symbolic.textbook(e) == e
-    assert time.perf_counter() - start < 2
-    robot = DHRobot([DHJoint.revolute(1, a=(l1 + 1) ** 1000), DHJoint.revolute(2, a=(l1 + l2 + 1) ** 60)])
-    assert robot.fk()[0, 3].has((l1 + 1) ** 1000)
+    e = (l1 + 1) ** 1000 * sp.cos(t1) + sp.cos(t1) * sp.cos(t2) - sp.sin(t1) * sp.sin(t2)
+    assert symbolic.textbook(e) == (l1 + 1) ** 1000 * sp.cos(t1) + sp.cos(t1 + t2)
+
+
+@pytest.mark.parametrize("length", ["(l1 + 1)**1000", "(l1 + l2 + 1)**60"])
+def test_huge_power_lengths_end_with_a_result(length, tmp_path, capsys):
+    """Issue 23 item 7 through the DH reader and the command line: a 2R with a1 = P, a2 = l1 (P the power) gives
+    fk, Jacobian, singular factors and the charpoly (a result, or the one SymbolicBudgetError: never a
+    traceback).  References: the position Jacobian's 2 x 2 minor is P l1 s2 (a textbook 2R with a1 = P), the
+    geometric one's minors P s1, P c1, P l1 s2 have gcd P; the charpoly's roots are numpy's eigenvalues of
+    J J^T at l1 = 0.01 (P stays a finite float there), relative to the largest."""
+    data = {"joints": [{"type": "R", "theta": 0, "d": 0, "a": length, "alpha": 0},
+                       {"type": "R", "theta": 0, "d": 0, "a": "l1", "alpha": 0}]}
+    robot = DHRobot.from_dict(data)
+    P = sp.sympify(length)
+    t2 = sp.Symbol("theta2")
+    try:
+        with symbolic.symbolic_budget(20.0, "test"):
+            assert robot.fk()[0, 3] == sp.cos(sp.Symbol("theta1")) * P + sp.Symbol("l1") * sp.cos(robot.q[0] + t2)
+            assert set(robot.singular_factors("position")) == {sp.Symbol("l1"), sp.sin(t2), P}
+            assert robot.singular_factors() == [P]
+            p = robot.characteristic_polynomial("position")
+    except SymbolicBudgetError:
+        return
+    values = {sp.Symbol("l1"): 0.01, sp.Symbol("l2"): 0.01, robot.q[0]: 0.4, t2: 1.3}
+    J = np.array(robot.position_jacobian.xreplace(values).evalf(), dtype=float)
+    expected = np.linalg.eigvalsh(J @ J.T)   # 0, ~1e-4 and ~4e8: np.roots is exact relative to the largest
+    assert np.allclose(eigenvalues_from_charpoly(p, values), expected, rtol=1e-9, atol=1e-9 * expected.max())
+    path = tmp_path / "power.json"
+    path.write_text(json.dumps(data))
+    assert main(["jacobian", "--dh", str(path), "--json"]) in (0, 2)
+    out, err = capsys.readouterr()
+    assert err.count("\n") <= 1 and "Traceback" not in err
 
 
 def test_budget_spent_is_one_error_naming_the_step():
@@ -346,11 +375,12 @@ def test_budget_timer_interrupts_sympy_and_keeps_an_enclosing_timer():
     start = time.monotonic()
     with pytest.raises(SymbolicBudgetError, match=r"expansion: not finished within the budget of 0\.2 s"):
         with symbolic.symbolic_budget(0.2, "expansion"):
-            try:
-                sp.expand((x + y + z + 1) ** 400)
-            except Exception:
-                pass
-    assert time.monotonic() - start < 30   # generous: the expansion alone runs for minutes
+            for k in range(10**9):       # SymPy calls without a budget check, failures swallowed
+                try:
+                    sp.expand((x + y + z + k) ** 6)
+                except Exception:
+                    pass
+    assert time.monotonic() - start < 30   # generous: the loop alone runs for hours
     fired = []
     previous = signal.signal(signal.SIGALRM, lambda *args: fired.append(True))
     try:

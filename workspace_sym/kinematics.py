@@ -39,6 +39,7 @@ from .symbolic import (
     derivation,
     factor_half_angle,
     generic_constants,
+    opaque_powers,
     restore_constants,
     roots_as_symbols,
     shorthand,
@@ -982,7 +983,7 @@ def gram_characteristic_polynomial(J, lam: sp.Symbol | None = None, *, simplify=
     """
     J = sp.Matrix(J)
     lam = lam if lam is not None else sp.Symbol("lambda")
-    entries, atoms = [as_sympy(e) for e in J], set()
+    (entries, opaque), atoms = opaque_powers([as_sympy(e) for e in J]), set()
     for e in entries:
         atoms |= e.atoms(sp.sin, sp.cos) | set(algebraic_constants([e]))
     # Sines and cosines become generators before the constants become symbols: the other way round,
@@ -990,6 +991,7 @@ def gram_characteristic_polynomial(J, lam: sp.Symbol | None = None, *, simplify=
     forward = {a: sp.Dummy() for a in sorted(atoms, key=sp.default_sort_key)}
     entries, back = generic_constants([e.xreplace(forward) for e in entries])
     back.update({v: k for k, v in forward.items()})
+    back.update(opaque)
     gens = sorted(set().union(*(e.free_symbols for e in entries)) or {sp.Dummy()}, key=sp.default_sort_key)
     R, *_ = sp.ring(gens, sp.QQ)
     rows = [[R.from_expr(entries[i * J.cols + j]) for j in range(J.cols)] for i in range(J.rows)]
@@ -1083,7 +1085,12 @@ def maximal_minor_factors(J: sp.Matrix, *, seed: int = 0, multiplicity: bool = F
     if not rows:
         return [(sp.Integer(0), 1)] if multiplicity else [sp.Integer(0)]
     J = J.extract(rows, cols)
-    numeric = np.array(J.xreplace(point).evalf(), dtype=float)
+    values = J.xreplace(point).evalf()
+    # Each column scaled by its largest entry (SymPy floats have no overflow): a length (l1 + 1)**1000 is
+    # 1e431 at the sample point, an infinity in numpy that made the rank 0 (every configuration singular).
+    scales = [max((abs(v) for v in values[:, k]), default=1) or 1 for k in range(values.cols)]
+    numeric = np.array([[values[i, k] / scales[k] for k in range(values.cols)] for i in range(values.rows)],
+                       dtype=float).reshape(values.shape)
     r = int(np.linalg.matrix_rank(numeric))
     if r == 0:
         return [(sp.Integer(0), 1)] if multiplicity else [sp.Integer(0)]

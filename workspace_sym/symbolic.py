@@ -52,6 +52,7 @@ __all__ = [
     "derivation",
     "check_budget",
     "expansion_size",
+    "opaque_powers",
     "angle_label",
     "textbook_matrix",
     "group_terms",
@@ -225,6 +226,37 @@ def expansion_size(expr, limit: int) -> int:
     return size(sp.sympify(expr))
 
 
+OPAQUE_TERMS = 64   # a power of a sum with more terms than this once expanded stays one symbol
+
+
+def opaque_powers(exprs) -> tuple[list, dict]:
+    """``exprs`` with every power of a sum free of sines and cosines whose expansion would exceed
+    :data:`OPAQUE_TERMS` terms (:func:`expansion_size`) replaced by a symbol, and the substitution back.
+
+    A DH length ``(l1 + 1)**1000`` or ``(l1 + l2 + 1)**60`` (1891 terms) is then one more length for the
+    textbook form, the minors and their factors (a factor found with the symbol divides at every value of
+    it); expanded, it ended in a RecursionError or ran for minutes.
+
+    Examples
+    --------
+    >>> l1, t = sp.symbols("l1 t")
+    >>> (e,), back = opaque_powers([(l1 + 1) ** 1000 * sp.cos(t) + (l1 + 1) ** 2])
+    >>> e.xreplace(back) == (l1 + 1) ** 1000 * sp.cos(t) + (l1 + 1) ** 2, len(back)
+    (True, 1)
+    """
+    exprs = [sp.sympify(e) for e in exprs]
+    found = set()
+    for e in exprs:
+        for p in e.atoms(sp.Pow):
+            if (p.base.is_Add and p.exp.is_Integer and p.exp > 1 and not p.has(sp.sin, sp.cos)
+                    and expansion_size(p, OPAQUE_TERMS) > OPAQUE_TERMS):
+                found.add(p)
+    if not found:
+        return exprs, {}
+    forward = {p: sp.Dummy(f"P{k}") for k, p in enumerate(sorted(found, key=sp.default_sort_key))}
+    return [e.xreplace(forward) for e in exprs], {v: k for k, v in forward.items()}
+
+
 def trig_pair(t):
     """``(cos t, sin t)``: SymPy's values, unless ``t`` is an exact constant whose values SymPy writes with nested
     radicals (``sin(pi/5) = sqrt(5/8 - sqrt(5)/8)``) or not at all (``cos(pi/7)``): then the two unevaluated atoms.
@@ -310,23 +342,51 @@ def _gather_sums(expr: sp.Expr) -> sp.Expr:
             coeff, powers = _term_factors(t)
             key = frozenset(powers.items())
             terms[key] = terms.get(key, 0) + coeff
-        done, out = set(), []
-        for key, k in terms.items():
-            if key in done or not k:
-                continue
-            done.add(key)
-            found = _partner(key, k, terms, done)
-            if found is None:
-                out.append(k * sp.Mul(*(b**e for b, e in key)))
-                continue
-            partner, combined, rest = found
-            done.add(partner)
-            out.append(k * combined * rest)
-        new = sp.Add(*out)
+        new = sp.Add(*(k * sp.Mul(*(b**e for b, e in key)) * rest for key, k, rest in _gather_pass(terms)))
         if new == expr:
             break
         expr = new
     return expr
+
+
+def _gather_pass(terms: dict) -> list:
+    """One pass of the angle-addition rules over ``{monomial: coefficient}`` (a monomial a frozenset of
+    ``(base, exponent)``): ``(monomial, coefficient, factor)`` triples whose sum ``coefficient * monomial *
+    factor`` equals the input, ``factor`` the gathered sine or cosine (1 for a term left alone)."""
+    done, out = set(), []
+    for key, k in terms.items():
+        if key in done or not k:
+            continue
+        done.add(key)
+        found = _partner(key, k, terms, done)
+        if found is None:
+            out.append((key, k, sp.Integer(1)))
+            continue
+        partner, combined, rest = found
+        done.add(partner)
+        out.append((rest, k, combined))
+    return out
+
+
+def _gather_terms(terms: dict) -> dict:
+    """:func:`_gather_sums` on ``{monomial: coefficient}``, with no SymPy sum built between the passes."""
+    for _ in range(16):
+        check_budget("gathering angle sums")
+        new: dict = {}
+        changed = False
+        for key, k, factor in _gather_pass(terms):
+            if factor != 1:
+                changed = True
+                sign, powers = _term_factors(factor)
+                merged = dict(key)
+                for b, e in powers.items():
+                    merged[b] = merged.get(b, 0) + e
+                key, k = frozenset(merged.items()), k * sign
+            new[key] = new.get(key, 0) + k
+        terms = {key: k for key, k in new.items() if k}
+        if not changed:
+            break
+    return terms
 
 
 _SWAP = {sp.sin: sp.cos, sp.cos: sp.sin}
@@ -334,7 +394,7 @@ _SWAP = {sp.sin: sp.cos, sp.cos: sp.sin}
 
 def _partner(key, k, terms, done):
     """The monomial that gathers with ``k * key`` by an angle-addition rule: ``(partner, combined, rest)``
-    with ``k * key + terms[partner] == k * combined * rest``, or None.
+    with ``k * key + terms[partner] == k * combined * rest`` (``rest`` a monomial), or None.
 
     Only sines and cosines of exponent 1 whose swapped kinds (``sin a`` for ``cos a``) are absent from the
     monomial are paired: ``s_a c_a c_b`` has no partner of that shape (it would be ``s_a**2 s_b``), and
@@ -364,7 +424,20 @@ def _partner(key, k, terms, done):
                 combined = sp.sin(a + b) if same else sp.sin(a - b)
             else:                                 # c_a s_b + s_a c_b = s(a+b), c_a s_b - s_a c_b = s(b-a)
                 combined = sp.sin(a + b) if same else sp.sin(b - a)
-            return other, combined, sp.Mul(*(x**e for x, e in rest.items()))
+            return other, combined, frozenset(rest.items())
+    for f in trig:   # k c_a +/- k s_a: sqrt(2) k sin(a + pi/4) or cos(a + pi/4), as TR10i (a -45 deg tool)
+        a, fa = f.args[0], type(f)
+        rest = {x: e for x, e in powers.items() if x != f}
+        other = frozenset(list(rest.items()) + [(_SWAP[fa](a), 1)])
+        if other in done or other not in terms or terms[other] not in (k, -k):
+            continue
+        if terms[other] == k:            # c_a + s_a = s_a + c_a = sqrt(2) s(a + pi/4)
+            combined = sp.sqrt(2) * sp.sin(a + sp.pi / 4)
+        elif fa is sp.cos:               # c_a - s_a = sqrt(2) c(a + pi/4)
+            combined = sp.sqrt(2) * sp.cos(a + sp.pi / 4)
+        else:                            # s_a - c_a = -sqrt(2) c(a + pi/4)
+            combined = -sp.sqrt(2) * sp.cos(a + sp.pi / 4)
+        return other, combined, frozenset(rest.items())
     return None
 
 
@@ -431,17 +504,37 @@ def textbook(expr) -> sp.Expr:
     True
     """
     expr = as_sympy(expr)
-    ops = sp.count_ops(expr)
+    (expr,), opaque = opaque_powers([expr])
+    if opaque:
+        return textbook(expr).xreplace(opaque)
+    length = _length(expr)
     # An expansion many times longer than the input rarely collapses back below it, and costs its size
     # (both in terms and in coefficient digits): (l1 + l2 + 1)**60 is 1891 terms for 4 operations.
-    limit = min(TEXTBOOK_MAX_TERMS, 64 + EXPANSION_RATIO * ops)
+    limit = min(TEXTBOOK_MAX_TERMS, 64 + EXPANSION_RATIO * (length[0] if length[0] is not None else length[1]))
     if expansion_size(expr, limit) > limit:
         return expr
     try:
         out = _textbook(expr)
     except RecursionError:   # a tree too deep for SymPy's own recursive walks
         return expr
-    return out if out == expr or sp.count_ops(out) <= ops else expr
+    return out if out == expr or _not_longer(_length(out), length) else expr
+
+
+EXACT_LENGTH_NODES = 400   # larger expressions are compared by their number of nodes, not count_ops
+
+
+def _length(expr) -> tuple:
+    """``(count_ops, nodes)`` of ``expr``; ``count_ops`` is None beyond :data:`EXACT_LENGTH_NODES` nodes (it took a
+    third of a 6-joint table's fk; the node count is linear and ranks lengths alike up to a factor 2)."""
+    nodes = sum(1 for _ in sp.preorder_traversal(expr))
+    return (sp.count_ops(expr) if nodes <= EXACT_LENGTH_NODES else None, nodes)
+
+
+def _not_longer(length: tuple, than: tuple) -> bool:
+    """``length <= than`` in ``count_ops`` when both have it, else in nodes (see :func:`_length`)."""
+    if length[0] is not None and than[0] is not None:
+        return length[0] <= than[0]
+    return length[1] <= than[1]
 
 
 def _textbook(expr: sp.Expr) -> sp.Expr:
@@ -455,10 +548,59 @@ def _textbook(expr: sp.Expr) -> sp.Expr:
     pairs = [(constants[sp.sin(c, evaluate=False)], constants[sp.cos(c, evaluate=False)])
              for c in {a.args[0] for a in constants if isinstance(a, sp.sin)}
              if sp.cos(c, evaluate=False) in constants]
-    expr = _reduce_pythagorean(sp.expand(expr.xreplace(constants)), pairs)
-    check_budget("textbook form")
-    expr = group_terms(_gather_sums(expr))
+    expr = expr.xreplace(constants)
+    terms = _ring_terms(expr, pairs) if expansion_size(expr, RING_TERMS) > RING_TERMS else None
+    if terms is None:
+        expr = _reduce_pythagorean(sp.expand(expr), pairs)
+        check_budget("textbook form")
+        expr = group_terms(_gather_sums(expr))
+    else:
+        check_budget("textbook form")
+        expr = _group_monomials(_gather_terms(terms))
     return expr.xreplace({v: k for k, v in constants.items()}) if constants else expr
+
+
+RING_TERMS = 64   # expansions estimated larger are made in a polynomial ring (SymPy's expand: seconds each)
+
+
+def _ring_terms(expr: sp.Expr, pairs=()) -> dict | None:
+    """``{monomial: coefficient}`` of ``expr`` expanded with ``sin(u)**2 -> 1 - cos(u)**2`` (and ``S**2 -> 1 -
+    C**2`` for the pairs of :func:`_reduce_pythagorean`), computed in a sparse polynomial ring over QQ: the
+    same terms as ``_reduce_pythagorean(expand(expr))`` at a fraction of the cost.  None when ``expr`` is no
+    polynomial over QQ in its sines, cosines and symbols (floats, roots, other functions)."""
+    if expr.has(sp.Float):
+        return None
+    trig = sorted(expr.atoms(sp.sin, sp.cos), key=sp.default_sort_key)
+    cosine = dict(pairs)
+    for a in trig:
+        if isinstance(a, sp.sin):
+            cosine[a] = sp.cos(a.args[0])
+    sines = [a for a in cosine if a in trig or a in expr.free_symbols]
+    others = sorted((set(trig) | expr.free_symbols | {cosine[a] for a in sines}) - set(sines),
+                    key=sp.default_sort_key)
+    atoms = sines + others          # sines first: lex order makes sin(u)**2 the leading term of its identity
+    forward = {a: sp.Dummy() for a in atoms}
+    try:
+        R, *gens = sp.ring([forward[a] for a in atoms], sp.QQ)
+        p = R.from_expr(expr.xreplace(forward))
+    except (ValueError, TypeError, sp.polys.polyerrors.PolynomialError, sp.polys.polyerrors.CoercionFailed):
+        return None
+    index = {a: i for i, a in enumerate(atoms)}
+    identities = [gens[index[s]] ** 2 + gens[index[c]] ** 2 - 1 for s, c in cosine.items()
+                  if s in index and c in index]
+    if identities:
+        p = p.rem(identities)
+    to_sympy = R.domain.to_sympy
+    return {frozenset((atoms[i], e) for i, e in enumerate(monom) if e): to_sympy(coeff)
+            for monom, coeff in p.terms()}
+
+
+def _group_monomials(terms: dict) -> sp.Expr:
+    """:func:`group_terms` of the sum of ``{monomial: coefficient}``."""
+    items = [(k, dict(key)) for key, k in terms.items() if k]
+    if GROUP_FAST_TERMS < len(items) <= GROUP_MAX_TERMS:
+        return _grouped(items)
+    return group_terms(sp.Add(*(k * sp.Mul(*(b**e for b, e in p.items())) for k, p in items)))
 
 
 def _term_factors(term: sp.Expr) -> tuple:
@@ -555,9 +697,9 @@ def trig_ring_form(exprs) -> tuple[list, list, dict]:
     the substitution that puts the constants back (for :func:`restore_constants`):
     a constant angle's cosine and sine are plain symbols in the polynomials.
     """
-    exprs = [as_sympy(e, "exprs") for e in exprs]
+    exprs, back = opaque_powers([as_sympy(e, "exprs") for e in exprs])
     atoms = set().union(*(e.atoms(sp.sin, sp.cos) for e in exprs)) if exprs else set()
-    angles, subs, back = {}, {}, {}
+    angles, subs = {}, {}
     for a in atoms:
         u = a.args[0]
         const, var = (u, sp.Integer(0)) if u.is_number else u.as_independent(*u.free_symbols, as_Add=True)

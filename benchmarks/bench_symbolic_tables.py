@@ -6,7 +6,11 @@ geometric Jacobian, singular factors (under a 30 s budget: the result or "not fa
 the 3 x n characteristic polynomial of J J^T (same budget), and the size of T against the raw DH product.
 Targets: fk + J < 5 s, singular factors < 30 s or an explicit budget message, charpoly 3 x n < 30 s.
 
-Run: python benchmarks/bench_anytable.py [--tables 5] [--seed 0] [--budget 30]
+Also: the DH lengths (l1 + 1)**1000 and (l1 + l2 + 1)**60 of issue 23 item 7 (fk, Jacobian, singular factors,
+charpoly: seconds to a result or to the one SymbolicBudgetError), and a cold reach of the UR5 with a 4 s time
+limit (issue 31 item 3: wall time to its end, result or error).
+
+Run: python benchmarks/bench_symbolic_tables.py [--tables 5] [--seed 0] [--budget 30]
 """
 
 import argparse
@@ -62,7 +66,7 @@ def main():
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--budget", type=float, default=30.0)
     args = ap.parse_args()
-    print(f"# bench_anytable  {datetime.date.today()}  {machine()}")
+    print(f"# bench_symbolic_tables  {datetime.date.today()}  {machine()}")
     print("table | fk + J | singular factors | charpoly 3 x n | ops in T: ours / raw product | longer entries")
     tables = [("issue 29", ISSUE_TABLE)] + [(f"seed {args.seed + k}", random_table(args.seed + k))
                                             for k in range(args.tables)]
@@ -79,6 +83,25 @@ def main():
         t_cp, _, err_c = timed(lambda r=robot: r.characteristic_polynomial("position"), args.budget)
         cp = f"{t_cp:.2f} s" if err_c is None else f"{t_cp:.2f} s, {err_c}"
         print(f"{name} | {t_fk:.2f} s | {sing} | {cp} | {ops(T)} / {ops(raw)} | {longer} of 16", flush=True)
+    print("huge length | fk + J + singular factors + charpoly | outcome")
+    for length in ("(l1 + 1)**1000", "(l1 + l2 + 1)**60"):
+        robot = DHRobot.from_dict({"joints": [{"type": "R", "theta": 0, "d": 0, "a": length, "alpha": 0},
+                                              {"type": "R", "theta": 0, "d": 0, "a": "l1", "alpha": 0}]})
+        t, out, err = timed(lambda r=robot: (r.fk(), r.geometric_jacobian, r.singular_factors(),
+                                             r.characteristic_polynomial("position")), args.budget)
+        print(f"{length} | {t:.2f} s | {err or f'factors {out[2]}'}", flush=True)
+    from pathlib import Path
+
+    from workspace_sym.serial_workspace import reach
+
+    path = Path(__file__).resolve().parent.parent / "tests" / "data" / "dh" / "ur5.json"
+    start = time.perf_counter()
+    try:
+        paving = reach(DHRobot.from_file(path), delta=0.05, time_limit=4.0, progress=False)
+        outcome = f"paving, complete={paving.complete}, {len(paving.pending)} pending"
+    except SymbolicError as exc:
+        outcome = f"SymbolicBudgetError: {str(exc)[:80]}"
+    print(f"cold UR5 reach, time limit 4 s | {time.perf_counter() - start:.2f} s | {outcome}", flush=True)
 
 
 if __name__ == "__main__":
