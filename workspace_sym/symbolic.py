@@ -149,8 +149,11 @@ def _disarm_alarm(alarm) -> None:
     previous, previous_deadline = alarm
     signal.setitimer(signal.ITIMER_REAL, 0)
     signal.signal(signal.SIGALRM, previous)
-    if math.isfinite(previous_deadline):   # the enclosing timer runs on
-        signal.setitimer(signal.ITIMER_REAL, max(previous_deadline - time.monotonic(), 1e-3))
+    left = previous_deadline - time.monotonic()
+    # The enclosing timer runs on; one already due has fired through ours (chained), and re-arming it
+    # would raise a second time while the first SymbolicBudgetError is on its way out.
+    if math.isfinite(left) and left > 1e-3:
+        signal.setitimer(signal.ITIMER_REAL, left)
 
 
 @contextmanager
