@@ -268,6 +268,13 @@ class AnalyticJacobian:
     note: str
 
 
+def _product(A: sp.Matrix, B: sp.Matrix) -> sp.Matrix:
+    """``A * B`` with each entry one SymPy sum of its products: the same expressions as SymPy's product, which
+    adds the products one at a time (a quarter of a 6-joint table's fk went into those partial sums)."""
+    return sp.Matrix(A.rows, B.cols, lambda i, j: sp.Add(*(A[i, k] * B[k, j] for k in range(A.cols)
+                                                           if A[i, k] != 0 and B[k, j] != 0)))
+
+
 MAX_JOINTS = 24
 """The most joints a :class:`DHRobot` takes: its symbolic kinematics grow with every joint (a planar chain of 20
 joints takes seconds, one of 50 did not finish in a minute), so a larger table is refused at once, not left to run."""
@@ -510,7 +517,7 @@ class DHRobot:
         with derivation(f"forward kinematics of {self.name}"):
             for k in range(self.n):
                 check_budget(f"T_0^{k + 1}")
-                T = textbook_matrix(T * self.row_matrix(k + 1))
+                T = textbook_matrix(_product(T, self.row_matrix(k + 1)))
                 out.append(T)
         return tuple(out)
 
@@ -521,7 +528,7 @@ class DHRobot:
         if self.base is None:
             return frames
         with derivation(f"forward kinematics of {self.name} (base)"):
-            return tuple(textbook_matrix(self.base * T) for T in frames)
+            return tuple(textbook_matrix(_product(self.base, T)) for T in frames)
 
     @cached_property
     def _tip(self) -> sp.Matrix:
@@ -529,7 +536,7 @@ class DHRobot:
         if self.tool is None:
             return T
         with derivation(f"forward kinematics of {self.name} (tool)"):
-            return textbook_matrix(T * self.tool)
+            return textbook_matrix(_product(T, self.tool))
 
     def fk(self, k: int | None = None) -> sp.Matrix:
         """``base T_0^k``, with the tool transform appended for ``k = n`` (the default).
@@ -704,7 +711,7 @@ class DHRobot:
         J = self.jacobian(kind)
         R = self._frames[self.n // 2][:3, :3].T
         with derivation(f"the {kind} Jacobian of {self.name} in a middle frame"):
-            return textbook_matrix(sp.diag(*([R] * (J.rows // 3))) * J)
+            return textbook_matrix(_product(sp.diag(*([R] * (J.rows // 3))), J))
 
     def characteristic_polynomial(self, kind: str = "geometric", lam: sp.Symbol | None = None) -> sp.Poly:
         """``det(lambda I - J J^T)`` of the geometric (6 x n) or position (3 x n) Jacobian.
