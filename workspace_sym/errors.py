@@ -30,6 +30,8 @@ __all__ = [
     "OverBudget",
     "CoverTooLarge",
     "BoundaryError",
+    "SymbolicError",
+    "SymbolicBudgetError",
 ]
 
 
@@ -128,6 +130,15 @@ class CoverTooLarge(RuntimeError):
 
 class OutputError(WorkspaceError):
     """An output path cannot be written (missing or unwritable directory, unknown figure format)."""
+
+
+class SymbolicError(WorkspaceError):
+    """A symbolic derivation (forward kinematics, a Jacobian, its singular factors, a characteristic
+    polynomial) could not be carried out on this input; the message names what could not be done."""
+
+
+class SymbolicBudgetError(SymbolicError):
+    """A symbolic step did not finish within its budget (time, or the size of an expansion or a table)."""
 
 
 def check_choice(parameter: str, value, allowed) -> None:

@@ -20,18 +20,26 @@ from pathlib import Path
 
 import numpy as np
 import sympy as sp
-from sympy.polys.matrices import DomainMatrix
 
-from .errors import DHTableError, ExpressionError, InvalidParameterError, JointLimitError, check_choice
+from .errors import (
+    DHTableError,
+    ExpressionError,
+    InvalidParameterError,
+    JointLimitError,
+    check_choice,
+)
 from .expressions import as_sympy, check_joint_limits, is_finite_value, parse_angle, parse_expr, read_symbol
 from .files import read_json
 from .snap import DEFAULT_TOL, Snapper, chop
 from .symbolic import (
     HalfAngleRing,
     algebraic_constants,
+    check_budget,
     decimal_form,
+    derivation,
     factor_half_angle,
     generic_constants,
+    opaque_powers,
     restore_constants,
     roots_as_symbols,
     shorthand,
@@ -39,7 +47,8 @@ from .symbolic import (
     shorthand_str,
     textbook,
     textbook_matrix,
-    trig_polynomials,
+    trig_pair,
+    trig_ring_form,
 )
 
 __all__ = [
@@ -62,13 +71,13 @@ EULER_CONVENTIONS = ("zyz", "rpy")
 JOINT_KINDS = ("R", "P")
 
 
-def _rz(t):
-    c, s = sp.cos(t), sp.sin(t)
+def _rz(t, trig=None):
+    c, s = trig or (sp.cos(t), sp.sin(t))
     return sp.Matrix([[c, -s, 0, 0], [s, c, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]])
 
 
-def _rx(t):
-    c, s = sp.cos(t), sp.sin(t)
+def _rx(t, trig=None):
+    c, s = trig or (sp.cos(t), sp.sin(t))
     return sp.Matrix([[1, 0, 0, 0], [0, c, -s, 0], [0, s, c, 0], [0, 0, 0, 1]])
 
 
@@ -103,9 +112,12 @@ def dh_matrix(theta, d, a, alpha, *, convention: str = "standard") -> sp.Matrix:
     [     0,       0, 0,      1]])
     """
     check_choice("convention", convention, CONVENTIONS)
+    # Constant angles whose cosines SymPy writes as nested radicals (36 deg) or not at all (1 deg)
+    # stay cos(c), sin(c) atoms (trig_pair): products of nested radicals grow without end.
+    rz, rx = _rz(theta, trig_pair(theta)), _rx(alpha, trig_pair(alpha))
     if convention == "standard":
-        return _rz(theta) * _translate(z=d) * _translate(x=a) * _rx(alpha)
-    return _rx(alpha) * _translate(x=a) * _rz(theta) * _translate(z=d)
+        return rz * _translate(z=d) * _translate(x=a) * rx
+    return rx * _translate(x=a) * rz * _translate(z=d)
 
 
 @dataclass(frozen=True, slots=True)
@@ -254,6 +266,13 @@ class AnalyticJacobian:
     angles: tuple[sp.Expr, sp.Expr, sp.Expr]
     singular_when: sp.Expr
     note: str
+
+
+def _product(A: sp.Matrix, B: sp.Matrix) -> sp.Matrix:
+    """``A * B`` with each entry one SymPy sum of its products: the same expressions as SymPy's product, which
+    adds the products one at a time (a quarter of a 6-joint table's fk went into those partial sums)."""
+    return sp.Matrix(A.rows, B.cols, lambda i, j: sp.Add(*(A[i, k] * B[k, j] for k in range(A.cols)
+                                                           if A[i, k] != 0 and B[k, j] != 0)))
 
 
 MAX_JOINTS = 24
@@ -497,9 +516,11 @@ class DHRobot:
         """``(T_0^1, ..., T_0^n)`` of the DH table alone (no base, no tool), in textbook form."""
         out = []
         T = sp.eye(4)
-        for k in range(self.n):
-            T = textbook_matrix(T * self.row_matrix(k + 1))
-            out.append(T)
+        with derivation(f"forward kinematics of {self.name}"):
+            for k in range(self.n):
+                check_budget(f"T_0^{k + 1}")
+                T = textbook_matrix(_product(T, self.row_matrix(k + 1)))
+                out.append(T)
         return tuple(out)
 
     @cached_property
@@ -508,12 +529,16 @@ class DHRobot:
         frames = (sp.eye(4),) + self.transforms
         if self.base is None:
             return frames
-        return tuple(textbook_matrix(self.base * T) for T in frames)
+        with derivation(f"forward kinematics of {self.name} (base)"):
+            return tuple(textbook_matrix(_product(self.base, T)) for T in frames)
 
     @cached_property
     def _tip(self) -> sp.Matrix:
         T = self._frames[-1]
-        return T if self.tool is None else textbook_matrix(T * self.tool)
+        if self.tool is None:
+            return T
+        with derivation(f"forward kinematics of {self.name} (tool)"):
+            return textbook_matrix(_product(T, self.tool))
 
     def fk(self, k=None, *, parameters: dict | None = None) -> sp.Matrix:
         """``base T_0^k``, with the tool transform appended for ``k = n`` (the default).
@@ -577,8 +602,13 @@ class DHRobot:
         """
         p = self.position
         twists = [self._parameter_twists(i) for i in range(self.n)]
+        with derivation(f"geometric Jacobian of {self.name}"):
+            return self._jacobian_columns(p, twists)
+
+    def _jacobian_columns(self, p, twists) -> sp.Matrix:
         cols = []
         for q in self.q:
+            check_budget(f"the Jacobian column of {q}")
             col = sp.zeros(6, 1)
             for joint, tw in zip(self.joints, twists):
                 for name in ("theta", "d", "a", "alpha"):
@@ -615,6 +645,10 @@ class DHRobot:
         """
         check_choice("convention", convention, EULER_CONVENTIONS)
         R = self.rotation
+        with derivation(f"analytic ({convention}) Jacobian of {self.name}"):
+            return self._analytic_jacobian(convention, R)
+
+    def _analytic_jacobian(self, convention: str, R: sp.Matrix) -> AnalyticJacobian:
         if convention == "zyz":
             S = sp.sqrt(textbook(R[0, 2] ** 2 + R[1, 2] ** 2))
             pairs = [(R[1, 2], R[0, 2]), (S, R[2, 2]), (R[2, 1], -R[2, 0])]
@@ -674,7 +708,8 @@ class DHRobot:
         cache = self.__dict__.setdefault("_singular_cache", {})
         if kind not in cache:
             J = self._middle_frame_jacobian(kind) if kind != "analytic" else self.jacobian(kind)
-            cache[kind] = maximal_minor_factors(J, multiplicity=True)
+            with derivation(f"singular factors of the {kind} Jacobian of {self.name}"):
+                cache[kind] = maximal_minor_factors(J, multiplicity=True)
         pairs = cache[kind]
         return list(pairs) if multiplicity else [f for f, _ in pairs]
 
@@ -687,7 +722,8 @@ class DHRobot:
         """
         J = self.jacobian(kind)
         R = self._frames[self.n // 2][:3, :3].T
-        return textbook_matrix(sp.diag(*([R] * (J.rows // 3))) * J)
+        with derivation(f"the {kind} Jacobian of {self.name} in a middle frame"):
+            return textbook_matrix(_product(sp.diag(*([R] * (J.rows // 3))), J))
 
     def characteristic_polynomial(self, kind: str = "geometric", lam: sp.Symbol | None = None) -> sp.Poly:
         """``det(lambda I - J J^T)`` of the geometric (6 x n) or position (3 x n) Jacobian.
@@ -707,7 +743,9 @@ class DHRobot:
         check_choice("kind", kind, ("geometric", "position"))
         cache = self.__dict__.setdefault("_charpoly_cache", {})
         if kind not in cache:
-            cache[kind] = gram_characteristic_polynomial(self._middle_frame_jacobian(kind), sp.Symbol("lambda"))
+            J = self._middle_frame_jacobian(kind)
+            with derivation(f"characteristic polynomial of J J^T ({kind} Jacobian of {self.name})"):
+                cache[kind] = gram_characteristic_polynomial(J, sp.Symbol("lambda"))
         poly = cache[kind]
         return poly if lam is None else sp.Poly.from_list(poly.all_coeffs(), lam, domain="EX")
 
@@ -970,6 +1008,7 @@ def _all_minors(entries, shape, ring) -> dict:
         for rows in combinations(range(m), k):
             top, rest = rows[0], rows[1:]
             for cols in combinations(range(n), k):
+                check_budget(f"the {k} x {k} minors")
                 total = ring.zero
                 for pos, j in enumerate(cols):
                     if entries[top][j]:
@@ -982,6 +1021,7 @@ def _all_minors(entries, shape, ring) -> dict:
 
 def _factored(p, back: dict, simplify, cache: dict) -> sp.Expr:
     """A ring element as its numeric content times its irreducible factors, each simplified once."""
+    check_budget("factoring a minor")
     content, factors = p.factor_list()
     out = p.ring.domain.to_sympy(content)
     for f, m in factors:
@@ -1017,13 +1057,15 @@ def gram_characteristic_polynomial(J, lam: sp.Symbol | None = None, *, simplify=
     """
     J = sp.Matrix(J)
     lam = lam if lam is not None else sp.Symbol("lambda")
-    (entries, back), atoms = generic_constants(list(J)), set()
-    entries = [as_sympy(e) for e in entries]
+    (entries, opaque), atoms = opaque_powers([as_sympy(e) for e in J]), set()
     for e in entries:
         atoms |= e.atoms(sp.sin, sp.cos) | set(algebraic_constants([e]))
+    # Sines and cosines become generators before the constants become symbols: the other way round,
+    # cos(theta2 + pi/6) turned into cos(theta2 + _k0/6) and that placeholder reached the output.
     forward = {a: sp.Dummy() for a in sorted(atoms, key=sp.default_sort_key)}
-    entries = [e.xreplace(forward) for e in entries]
+    entries, back = generic_constants([e.xreplace(forward) for e in entries])
     back.update({v: k for k, v in forward.items()})
+    back.update(opaque)
     gens = sorted(set().union(*(e.free_symbols for e in entries)) or {sp.Dummy()}, key=sp.default_sort_key)
     R, *_ = sp.ring(gens, sp.QQ)
     rows = [[R.from_expr(entries[i * J.cols + j]) for j in range(J.cols)] for i in range(J.rows)]
@@ -1118,12 +1160,18 @@ def maximal_minor_factors(J: sp.Matrix, *, seed: int = 0, multiplicity: bool = F
     if not rows:
         return [(sp.Integer(0), 1)] if multiplicity else [sp.Integer(0)]
     J = J.extract(rows, cols)
-    numeric = np.array(J.xreplace(point).evalf(), dtype=float)
+    values = J.xreplace(point).evalf()
+    # Each column scaled by its largest entry (SymPy floats have no overflow): a length (l1 + 1)**1000 is
+    # 1e431 at the sample point, an infinity in numpy that made the rank 0 (every configuration singular).
+    scales = [max((abs(v) for v in values[:, k]), default=1) or 1 for k in range(values.cols)]
+    numeric = np.array([[values[i, k] / scales[k] for k in range(values.cols)] for i in range(values.rows)],
+                       dtype=float).reshape(values.shape)
     r = int(np.linalg.matrix_rank(numeric))
     if r == 0:
         return [(sp.Integer(0), 1)] if multiplicity else [sp.Integer(0)]
-    entries, pairs = trig_polynomials(list(J))
+    entries, pairs, angles = trig_ring_form(list(J))
     entries, back = generic_constants(entries)
+    back.update(angles)
     extension = algebraic_constants(entries)
     if extension and J.cols > EXTENSION_GCD_COLUMNS:
         # gcds over QQ(sqrt 2, sqrt 3) in many variables run for many minutes (subresultants of
@@ -1132,14 +1180,14 @@ def maximal_minor_factors(J: sp.Matrix, *, seed: int = 0, multiplicity: bool = F
         back.update(roots)
         extension = ()
     ring = HalfAngleRing(pairs, set().union(*(e.free_symbols for e in entries)), extension=extension)
-    P = DomainMatrix([[ring.element(entries[i * J.cols + j]) for j in range(J.cols)] for i in range(J.rows)],
-                     J.shape, ring.domain)
+    P = [[ring.element(entries[i * J.cols + j]) for j in range(J.cols)] for i in range(J.rows)]
     common = None
     for rr in combinations(range(J.rows), r):
         for cc in combinations(range(J.cols), r):
             if abs(np.linalg.det(numeric[np.ix_(rr, cc)])) < 1e-9:
                 continue  # vanishes at a generic point: identically zero, no information
-            det = ring.convert(P.extract(list(rr), list(cc)).det())
+            det = ring.convert(_bareiss_det([[P[i][j] for j in cc] for i in rr], ring.domain))
+            check_budget("the maximal minors' gcd")
             common = det if common is None else common.gcd(det)
             if common.is_ground:
                 return []
@@ -1148,6 +1196,25 @@ def maximal_minor_factors(J: sp.Matrix, *, seed: int = 0, multiplicity: bool = F
     factors = factor_half_angle(ring.to_expr(common), ring.half, extension=extension, multiplicity=True)
     factors = [(f, m) for f, m in restore_constants(factors, back) if f != 0]
     return factors if multiplicity else [f for f, _ in factors]
+
+
+def _bareiss_det(M: list, domain):
+    """Determinant of a square matrix of polynomial-ring elements, fraction-free (Bareiss 1968), the budget
+    checked at every elimination step (DomainMatrix.det cannot be interrupted: 14 minutes on a float AL5D)."""
+    M = [row[:] for row in M]
+    n, sign, prev = len(M), 1, domain.one
+    for k in range(n - 1):
+        if not M[k][k]:
+            swap = next((i for i in range(k + 1, n) if M[i][k]), None)
+            if swap is None:
+                return domain.zero
+            M[k], M[swap], sign = M[swap], M[k], -sign
+        for i in range(k + 1, n):
+            check_budget("a maximal minor")
+            for j in range(k + 1, n):
+                M[i][j] = domain.exquo(M[k][k] * M[i][j] - M[i][k] * M[k][j], prev)
+        prev = M[k][k]
+    return M[n - 1][n - 1] if sign > 0 else -M[n - 1][n - 1]
 
 
 def _quotient(num: sp.Expr, den: sp.Expr) -> sp.Expr:

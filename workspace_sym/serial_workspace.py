@@ -51,8 +51,11 @@ makes ``q_1``'s period ``4 pi``); a joint whose range spans a period is then
 paved over one period without limit faces.  An unlimited revolute joint is
 paved over one period of the position (``theta_1 = q_1/2``: ``q_1`` in
 ``[-2 pi, 2 pi]``), or raises :class:`~workspace_sym.errors.JointLimitError`
-when the position is not periodic in it.  ``time_limit`` bounds the whole call
-(the model's symbolic preparation included, which cannot be interrupted); a
+when the position is not periodic in it.  ``time_limit`` bounds the whole call:
+the model's symbolic preparation runs under a budget of the time limit
+(:func:`~workspace_sym.symbolic.symbolic_budget`) and raises
+:class:`~workspace_sym.errors.SymbolicBudgetError` naming ``time_limit`` when
+it is not ready in time (no task box is known then: nothing is decided); a
 chunk of work expected to end past it is not started, and what is left is
 pending.
 
@@ -66,13 +69,14 @@ from __future__ import annotations
 import itertools
 import math
 import time
+from contextlib import contextmanager
 from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
 import sympy as sp
 
-from .errors import InvalidParameterError, JointLimitError
+from .errors import InvalidParameterError, JointLimitError, SymbolicBudgetError
 from .interval import arith
 from .interval.executor import _MIN_CHUNK, _runner
 from .interval.graph import numpy_constant
@@ -89,6 +93,7 @@ from .interval.image import (
 from .interval.paving import Box, Paving, RunBudget, bisect, box_measure, box_sizes, check_delta, halves
 from .interval.search import split_every_axis
 from .kinematics import DHRobot
+from .symbolic import symbolic_budget
 
 __all__ = ["reach", "resolve_method", "ReachModel", "METHODS"]
 
@@ -670,6 +675,23 @@ def resolve_method(robot: DHRobot, method: str = "auto", parameters=()) -> str:
     return method if method != "auto" else ("critical" if fits else "pairs")
 
 
+@contextmanager
+def _prepared_within(robot: DHRobot, time_limit: float | None, spent: float = 0.0):
+    """The symbolic preparation of the reach model (kinematics, enclosures) within what is left of the time
+    limit: past it, one :class:`SymbolicBudgetError` naming ``time_limit`` (no task box is known yet, so there
+    is no paving to return: nothing was decided)."""
+    if time_limit is None:
+        yield
+        return
+    try:
+        with symbolic_budget(max(time_limit - spent, 0.0), f"the symbolic model of {robot.name}"):
+            yield
+    except SymbolicBudgetError as exc:
+        raise SymbolicBudgetError(f"time_limit: the symbolic model of {robot.name} (position, Jacobian, "
+                                  f"enclosures) was not ready within the time limit of {time_limit:g} s, so no "
+                                  "box was decided; allow more time", parameter="time_limit") from exc
+
+
 @arith.nearest_rounding
 def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: dict | None = None,
           method: str = "auto", max_boxes: int | None = None, time_limit: float | None = None,
@@ -689,7 +711,8 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         coordinates are moved by disjoint sets of joints, and a spatial robot
         turned by a revolute first joint (standard DH, no base transform);
         ``"pairs"`` otherwise.
-    max_boxes, time_limit : budget; what is left undecided is returned as ``pending``.
+    max_boxes, time_limit : budget; what is left undecided is returned as ``pending``.  A symbolic model not
+        ready within ``time_limit`` raises :class:`~workspace_sym.errors.SymbolicBudgetError`.
     progress : progress bar (:mod:`workspace_sym.progress`; default: on an
         interactive output once the run has lasted a second).
     inner_depth, max_pairs, chunk_pairs : of the ``"pairs"`` method: a box about
@@ -732,15 +755,17 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     model = root = None
     kind = method
     try:
-        model = _model(robot, parameters)
-        root = model.enclose(model.limits[None])[0]
+        with _prepared_within(robot, time_limit, run.seconds):
+            model = _model(robot, parameters)
+            root = model.enclose(model.limits[None])[0]
         if not np.isfinite(root).all():
             raise InvalidParameterError("robot: the position has no finite enclosure over the joint limits")
         extent = box_sizes(root[None], size)[0]
         if delta > extent:
             raise InvalidParameterError(f"delta must be at most the size of the workspace's enclosing box "
                                         f"({extent:.6g} {robot.units}); got {delta!r}", parameter="delta")
-        kind = resolve_method(robot, method, parameters)
+        with _prepared_within(robot, time_limit, run.seconds):
+            kind = resolve_method(robot, method, parameters)
         result = None
         if kind == "critical":
             try:
