@@ -216,10 +216,18 @@ def test_report_with_a_certified_workspace(tmp_path, capsys):
     assert code == 0 and f"report: {out_dir / 'report.md'}" in out and f"{out_dir / 'reach.png'}" in err
     md = (out_dir / "report.md").read_text()
     assert "## Certified workspace (proved boxes)" in md and "The run completed" in md and "| area (m²) |" in md
-    code, out, err = run(capsys, "report", "puma560", "--reach-delta", "0.002", "--reach-time-limit", "0.5",
+    # The limit bounds the symbolic preparation too (issue 31 item 3): 0.001 s cannot hold it, and the section
+    # says nothing was decided instead of the report failing.
+    code, out, err = run(capsys, "report", "planar-2r", "--reach-delta", "0.2", "--reach-time-limit", "0.001",
+                         "--out", str(tmp_path / "early"))
+    md = (tmp_path / "early" / "report.md").read_text()
+    assert code == 0 and "Not computed: the time limit of 0.001 s" in md and "so no box was decided" in md
+    assert not (tmp_path / "early" / "reach.png").exists()
+    # 6 s hold the Puma's model (about 1 s) but not a paving down to 2 mm: pending boxes, drawn.
+    code, out, err = run(capsys, "report", "puma560", "--reach-delta", "0.002", "--reach-time-limit", "6",
                          "--out", str(tmp_path / "puma"))
     md = (tmp_path / "puma" / "report.md").read_text()
-    assert code == 0 and "The run did not complete (time limit of 0.5 s reached)" in md
+    assert code == 0 and "The run did not complete (time limit of 6 s reached)" in md
     assert re.search(r"^\| pending \| [1-9]\d* \| ", md, re.M) and "pending (blue)" in md
     assert "| volume (m³) |" in md and (tmp_path / "puma" / "reach-slices.png").stat().st_size > 10_000
 

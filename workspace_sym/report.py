@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 import sympy as sp
 
+from .errors import SymbolicBudgetError
 from .files import publish_dir
 from .numbers import fmt, fmt_bound, fmt_bracket, measure_text
 
@@ -521,6 +522,13 @@ def _reach_section(doc: Document, robot, paving, tmp: Path) -> None:
     _paving_section(doc, paving, tmp, units=robot.units, stem="reach")
 
 
+def _reach_not_started(doc: Document, time_limit: float) -> None:
+    """The certified-workspace section of a run whose time limit passed while the model was being prepared."""
+    doc.heading("Certified workspace (proved boxes)")
+    doc.para(f"Not computed: the time limit of {time_limit:g} s (reach_time_limit) passed while the symbolic model "
+             "(position, Jacobian, enclosures) was being prepared, so no box was decided. Allow more time.")
+
+
 def _finalise(tmp: Path, out: Path) -> None:
     publish_dir(tmp, out)
 
@@ -600,8 +608,14 @@ def dh_robot_report(robot, out, *, samples: int = 20000, command: str | None = N
         doc.heading("Workspace (sampled picture, not a proof)")
         doc.figure(tmp / "workspace.png", f"{samples} random configurations")
         if reach_delta is not None:
-            _reach_section(doc, robot, robot.reach(delta=reach_delta, time_limit=reach_time_limit, progress=False),
-                           tmp)
+            try:
+                paving = robot.reach(delta=reach_delta, time_limit=reach_time_limit, progress=False)
+            except SymbolicBudgetError as error:
+                if error.parameter != "time_limit":
+                    raise
+                _reach_not_started(doc, reach_time_limit)
+            else:
+                _reach_section(doc, robot, paving, tmp)
         return _publish(doc, tmp, out, command=command, start=start)
 
 
