@@ -90,7 +90,7 @@ __all__ = ["PoseConstraint", "approach_constraint", "orientation_constraint", "r
 ORTHOGONAL_TOL = 1e-9            # a matrix farther than this from a rotation (entrywise) is refused
 _TASK = (sp.Symbol("x"), sp.Symbol("y"), sp.Symbol("z"))
 _MIN_PAIRS = 64
-WRIST_CELLS = 256               # wrist boxes examined per arm box at once
+WRIST_CELLS = 64               # wrist boxes examined per arm box at once
 
 
 def _exact(value) -> sp.Expr:
@@ -315,7 +315,10 @@ class PoseModel:
         approach = sp.Matrix(approach)
         if constraint.kind == "cone":
             d = sp.Matrix(constraint.direction)
-            quantities = [approach.dot(d)]
+            e1, e2 = _orthonormal_pair(d)
+            # The exact direction is also a . e1 = a . e2 = 0: enclosures of these exclude 0 at a distance of
+            # the order of the box, where a . d only falls quadratically short of |d|.
+            quantities = [approach.dot(d)] + ([approach.dot(e1), approach.dot(e2)] if constraint.cone == 0 else [])
         else:
             quantities = list(rotation)
         # Arm joints move the position; wrist joints only the constrained quantity (docs/methods.md section 8).
@@ -331,7 +334,6 @@ class PoseModel:
         if constraint.kind == "cone":
             norm = sp.sqrt(d.dot(d))
             self.bound = numpy_constant(norm * sp.cos(constraint.cone))
-            e1, e2 = _orthonormal_pair(d)
             if constraint.cone == 0:
                 self.proof = _ConstrainedMap(position, [approach.dot(e1), approach.dot(e2)], approach.dot(d), 0.0,
                                              False, variables, limits, periodic)
@@ -365,7 +367,10 @@ class PoseModel:
         E = self._enclosures(Q)
         if self.constraint.kind == "cone":
             lo, hi = E[0]
-            return hi < self.bound[0], lo >= self.bound[1]
+            violated = hi < self.bound[0]
+            for lo_e, hi_e in E[1:]:                 # the exact direction: a . e = 0
+                violated |= (lo_e > 0) | (hi_e < 0)
+            return violated, (lo >= self.bound[1]) & (len(E) == 1)
         violated = np.zeros(len(Q), dtype=bool)
         for (lo, hi), (r_lo, r_hi) in zip(E, self.entries):
             violated |= (hi < r_lo) | (lo > r_hi)
