@@ -266,6 +266,8 @@ class _ConstrainedMap(ImageMap):
     condition ``s(q) > bound`` (``>=`` when ``closed``) proved over the Krawczyk box."""
 
     def __init__(self, position, equations, side, bound, closed, variables, limits, periodic, aim=None):
+        # An equation that is identically zero holds everywhere: it is not part of the square system.
+        equations = [e for e in equations if sp.simplify(e) != 0]
         super().__init__(list(position) + list(equations), variables, limits, periodic)
         self.extra = len(equations)
         self._side = compile_expr(side, self.variables)
@@ -284,6 +286,8 @@ class _ConstrainedMap(ImageMap):
 
     def prove_inside(self, T, seeds, *, newton: int = 8):
         """Inner test of position boxes ``T`` (``(N, 3, 2)``): the equations ``g = 0`` get the target 0."""
+        if self.k < self.m:
+            return np.zeros(len(T), dtype=bool)
         padded = np.concatenate([T, np.zeros((len(T), self.extra, 2))], axis=1)
         centre = 0.5 * (padded[:, :, 0] + padded[:, :, 1])
         proved = np.zeros(len(T), dtype=bool)
@@ -385,10 +389,10 @@ class PoseModel:
         Wrist boxes are halved (widest first) while wider than the arm box, at most ``WRIST_CELLS`` per arm
         box; a wrist box is dropped when the constraint is proved violated over it times the arm box."""
         n, kw = len(A), self.wrist.k
-        witness = np.repeat(0.5 * (self.wrist.inner_limits[:, 0] + self.wrist.inner_limits[:, 1])[None], n, axis=0)
         if kw == 0:
             dead, sure = self.constraint_status(A)
-            return dead, sure, witness
+            return dead, sure, np.zeros((n, 0))
+        witness = np.repeat(0.5 * (self.wrist.inner_limits[:, 0] + self.wrist.inner_limits[:, 1])[None], n, axis=0)
         W = np.repeat(self.wrist.limits[None], n, axis=0)
         row = np.arange(n)
         target = np.max(A[:, :, 1] - A[:, :, 0], axis=1)
