@@ -79,7 +79,7 @@ from .expressions import parse_angle
 from .interval import arith
 from .interval.compiler import compile_expr
 from .interval.graph import numpy_constant
-from .interval.image import INNER, OUTER, UNDECIDED, CellGrid, ImageMap, meets
+from .interval.image import INNER, OUTER, UNDECIDED, CellGrid, ImageMap, _dot, meets
 from .interval.paving import Box, Paving, RunBudget, bisect, box_measure, box_sizes, check_delta, halves
 from .kinematics import DHRobot
 from .snap import snap_angle
@@ -91,6 +91,7 @@ ORTHOGONAL_TOL = 1e-9            # a matrix farther than this from a rotation (e
 _TASK = (sp.Symbol("x"), sp.Symbol("y"), sp.Symbol("z"))
 _MIN_PAIRS = 64
 WRIST_CELLS = 64               # wrist boxes examined per arm box at once
+WRIST_GRID = 9                 # wrist values per joint tried first for a witness of the cone
 
 
 def _exact(value) -> sp.Expr:
@@ -303,6 +304,103 @@ class _ConstrainedMap(ImageMap):
         return proved
 
 
+class _WristSolver:
+    """A parametric Krawczyk test on the wrist: for an arm box ``A``, a wrist box ``W`` around a Newton
+    solution ``w0`` for the arm box's centre and a float matrix ``C``, if
+    ``K = w0 - C g(A, w0) + (I - C J_w(A, W)) (W - w0)`` lies in the interior of ``W`` (outward-rounded), then
+    for every arm value in ``A`` the equations ``g(arm, w) = 0`` have a solution ``w`` in ``W`` (the Krawczyk
+    operator of ``g(arm, .)`` maps ``W`` into its interior); with ``W`` within the wrist limits and the side
+    condition ``s > 0`` proved over ``A x W``, the arm box is admissible everywhere."""
+
+    def __init__(self, equations, side, variables, ka):
+        self.ka = ka
+        wrist = variables[ka:]
+        self.g = [compile_expr(e, variables) for e in equations]
+        self.dg = [[compile_expr(sp.diff(e, w), variables) for w in wrist] for e in equations]
+        self.side = compile_expr(side, variables)
+        self.side_float = sp.lambdify([variables], side, modules="numpy")
+        self.g_float = sp.lambdify([variables], equations, modules="numpy")
+        self.dg_float = sp.lambdify([variables], [[sp.diff(e, w) for w in wrist] for e in equations],
+                                    modules="numpy")
+
+    def _floats(self, f, q, shape):
+        with np.errstate(all="ignore"):
+            out = f(q.T)
+        return np.moveaxis(np.array([[np.broadcast_to(np.asarray(v, dtype=float), (len(q),)) for v in row]
+                                     for row in out] if len(shape) == 2 else
+                                    [np.broadcast_to(np.asarray(v, dtype=float), (len(q),)) for v in out]), -1, 0)
+
+    @staticmethod
+    def _eval(f, Q):
+        X = [(Q[:, j, 0], Q[:, j, 1]) for j in range(Q.shape[1])]
+        with np.errstate(all="ignore"):
+            lo, hi = f(X)
+        return np.broadcast_to(lo, (len(Q),)), np.broadcast_to(hi, (len(Q),))
+
+    def solves(self, arm, w, wrist: ImageMap) -> np.ndarray:
+        """Mask of the float wrist values ``w`` solving the equations at ``arm`` to 1e-9, within the limits,
+        with the side condition (no proof: it only spares the search for a proof of violation)."""
+        q = np.concatenate([arm, w], axis=1)
+        g = self._floats(self.g_float, q, (wrist.k,))
+        with np.errstate(all="ignore"):
+            side = np.broadcast_to(np.asarray(self.side_float(q.T), dtype=float), (len(q),))
+        within = ((w >= wrist.inner_limits[:, 0]) & (w <= wrist.inner_limits[:, 1])).all(axis=1)
+        return within & (np.abs(g).max(axis=1) <= 1e-9) & (side > 0)
+
+    def prove(self, A, w, wrist: ImageMap, *, steps: int = 6):
+        """Mask of the arm boxes ``A`` proved admissible everywhere, and the wrist value of each."""
+        n, k = len(A), wrist.k
+        centre = 0.5 * (A[:, :, 0] + A[:, :, 1])
+        for _ in range(steps):                           # Newton on the wrist at the arm box's centre
+            q = np.concatenate([centre, w], axis=1)
+            g = self._floats(self.g_float, q, (k,))
+            J = self._floats(self.dg_float, q, (k, k))
+            with np.errstate(all="ignore"):
+                try:
+                    step = np.linalg.solve(J + 1e-12 * np.eye(k), g[:, :, None])[:, :, 0]
+                except np.linalg.LinAlgError:
+                    break
+                w = np.where(np.isfinite(step), w - step, w)
+        w = np.clip(w, wrist.inner_limits[:, 0], wrist.inner_limits[:, 1])
+        q = np.concatenate([centre, w], axis=1)
+        J = self._floats(self.dg_float, q, (k, k))
+        with np.errstate(all="ignore"):
+            det = np.linalg.det(np.where(np.isfinite(J), J, 0.0))
+        singular = ~(np.abs(det) > 1e-12) | ~np.isfinite(J).all(axis=(1, 2))
+        J[singular] = np.eye(k)
+        C = np.linalg.inv(J)
+        usable = ~singular & np.isfinite(C).all(axis=(1, 2)) & np.isfinite(w).all(axis=1)
+        C = np.where(usable[:, None, None], C, 0.0)
+        point = np.concatenate([A, np.repeat(w[:, :, None], 2, axis=2)], axis=1)
+        g0 = [self._eval(f, point) for f in self.g]
+        # W: a box around w0 of the size by which the arm box moves the solution, widened.
+        spread = np.stack([np.maximum(np.abs(lo), np.abs(hi)) for lo, hi in g0], axis=1)
+        radius = 2.0 * np.einsum("nij,nj->ni", np.abs(C), spread) + 1e-12
+        proved = np.zeros(n, dtype=bool)
+        for _ in range(3):
+            W = np.stack([w - radius, w + radius], axis=2)
+            within = ((W[:, :, 0] >= wrist.inner_limits[:, 0]) & (W[:, :, 1] <= wrist.inner_limits[:, 1])
+                      | wrist.periodic).all(axis=1)
+            full = np.concatenate([A, W], axis=1)
+            JW = [[self._eval(f, full) for f in row] for row in self.dg]
+            K = np.empty((n, k, 2))
+            for a in range(k):
+                c = [(C[:, a, i], C[:, a, i]) for i in range(k)]
+                acc = arith.neg(_dot(c, g0))
+                for b in range(k):
+                    cj = _dot(c, [JW[i][b] for i in range(k)])
+                    identity = (1.0, 1.0) if a == b else (0.0, 0.0)
+                    offset = arith.sub((W[:, b, 0], W[:, b, 1]), (w[:, b], w[:, b]))
+                    acc = arith.add(acc, arith.mul(arith.sub(identity, cj), offset))
+                K[:, a, 0], K[:, a, 1] = arith.add(acc, (w[:, a], w[:, a]))
+            side_lo, _ = self._eval(self.side, full)
+            inside = (K[:, :, 0] > W[:, :, 0]).all(axis=1) & (K[:, :, 1] < W[:, :, 1]).all(axis=1)
+            proved |= usable & within & inside & (side_lo > 0)
+            grow = np.maximum(np.abs(K[:, :, 0] - w), np.abs(K[:, :, 1] - w))
+            radius = np.where(np.isfinite(grow), np.maximum(radius, 1.2 * grow), radius)
+        return proved, w
+
+
 class PoseModel:
     """A position map (``m`` task coordinates) over the joints that move the position or the constrained
     quantity, the constraint's enclosures, and the square system of the inner test (module docstring).
@@ -335,12 +433,17 @@ class PoseModel:
         self.variables = tuple(variables)
         self.task_variables = tuple(task_variables)
         self._quantities = [compile_expr(e, self.variables) for e in quantities]
+        self.solver = None
+        self._lead_float = sp.lambdify([self.variables], quantities[0], modules="numpy")
         if constraint.kind == "cone":
             norm = sp.sqrt(d.dot(d))
             self.bound = numpy_constant(norm * sp.cos(constraint.cone))
             if constraint.cone == 0:
                 self.proof = _ConstrainedMap(position, [approach.dot(e1), approach.dot(e2)], approach.dot(d), 0.0,
                                              False, variables, limits, periodic)
+                if self.wrist.k == 2:
+                    self.solver = _WristSolver([approach.dot(e1), approach.dot(e2)], approach.dot(d), self.variables,
+                                               self.ka)
             else:
                 aim = ImageMap(position + [approach.dot(e1), approach.dot(e2)], variables, limits, periodic)
                 self.proof = _ConstrainedMap(position, [], approach.dot(d), self.bound[1], True, variables, limits,
@@ -387,16 +490,38 @@ class PoseModel:
         violated).
 
         Wrist boxes are halved (widest first) while wider than the arm box, at most ``WRIST_CELLS`` per arm
-        box; a wrist box is dropped when the constraint is proved violated over it times the arm box."""
+        box; a wrist box is dropped when the constraint is proved violated over it times the arm box.  This
+        search for a proof of violation is skipped where a float search finds a wrist value satisfying the
+        constraint at the arm box's centre (a box is only dropped on a proof, so skipping is always sound)."""
         n, kw = len(A), self.wrist.k
         if kw == 0:
             dead, sure = self.constraint_status(A)
             return dead, sure, np.zeros((n, 0))
         witness = np.repeat(0.5 * (self.wrist.inner_limits[:, 0] + self.wrist.inner_limits[:, 1])[None], n, axis=0)
-        W = np.repeat(self.wrist.limits[None], n, axis=0)
-        row = np.arange(n)
-        target = np.max(A[:, :, 1] - A[:, :, 0], axis=1)
         sure, alive = np.zeros(n, dtype=bool), np.zeros(n, dtype=bool)
+        centre = 0.5 * (A[:, :, 0] + A[:, :, 1])
+        if self.constraint.kind == "cone" and self.constraint.cone != 0:
+            # First the wrist value of a small grid that best aims the axis at the arm box's centre (floats),
+            # then the proof that it satisfies the cone over the whole arm box.
+            best = self._best_wrist(centre)
+            point = np.repeat(best[:, :, None], 2, axis=2)
+            _, holds = self.constraint_status(np.concatenate([A, point], axis=1))
+            sure[holds], witness[holds] = True, best[holds]
+            with np.errstate(all="ignore"):
+                value = self._lead_float(np.concatenate([centre, best], axis=1).T)
+            plausible = np.broadcast_to(np.asarray(value, dtype=float), (n,)) >= self.bound[1]
+        elif self.solver is not None:
+            best = self._best_wrist(centre)
+            holds, value = self.solver.prove(A, best, self.wrist)
+            sure[holds], witness[holds] = True, value[holds]
+            plausible = self.solver.solves(centre, value, self.wrist)
+        else:
+            plausible = np.zeros(n, dtype=bool)
+        keep = plausible & ~sure
+        alive[keep], witness[keep] = True, (best if self.solver is None else value)[keep]
+        W = np.repeat(self.wrist.limits[None], n, axis=0)[~sure & ~plausible]
+        row = np.nonzero(~sure & ~plausible)[0]
+        target = np.max(A[:, :, 1] - A[:, :, 0], axis=1)
         while len(W):
             violated, _ = self.constraint_status(np.concatenate([A[row], W], axis=1))
             W, row = W[~violated], row[~violated]
@@ -423,6 +548,21 @@ class PoseModel:
             W = np.concatenate([W[split][~ok], children])
             row = np.concatenate([row[split][~ok], np.repeat(row[split][ok], 2)])
         return ~alive & ~sure, sure, witness
+
+    def _best_wrist(self, arm: np.ndarray) -> np.ndarray:
+        """Per arm value (``(N, ka)``), the wrist value of a grid over the wrist limits (``WRIST_GRID`` per joint)
+        where the first constrained quantity (``a . d``) is largest, in floats."""
+        axes = [np.linspace(lo, hi, WRIST_GRID) for lo, hi in self.wrist.inner_limits]
+        grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, self.wrist.k)
+        best = np.empty((len(arm), self.wrist.k))
+        for start in range(0, len(arm), 4096):
+            a = arm[start:start + 4096]
+            q = np.concatenate([np.repeat(a, len(grid), axis=0), np.tile(grid, (len(a), 1))], axis=1)
+            with np.errstate(all="ignore"):
+                value = np.broadcast_to(np.asarray(self._lead_float(q.T), dtype=float), (len(q),))
+            value = np.where(np.isfinite(value), value, -np.inf).reshape(len(a), len(grid))
+            best[start:start + 4096] = grid[np.argmax(value, axis=1)]
+        return best
 
     def distribute(self, T, Q, owner, cap, *, rounds: int = 4):
         """Keep the (joint box, task box) pairs whose arm box may hold an admissible configuration with its
