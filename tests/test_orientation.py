@@ -210,3 +210,28 @@ def test_errors_are_workspace_errors():
     assert issubclass(InvalidParameterError, WorkspaceError)
     with pytest.raises(WorkspaceError):
         reach_pose(robots.build("planar-2r"), delta=0.1, approach=(0, 0, 1), cone=10)
+
+
+def _full_wrist_puma():
+    """The Puma 560 with its wrist joints over a full turn: the wrist then reaches every orientation."""
+    base = robots.build("puma560")
+    wrist = [ws.DHJoint.revolute(k + 4, d=j.d, a=j.a, alpha=j.alpha, limits=(-sp.pi, sp.pi))
+             for k, j in enumerate(base.joints[3:])]
+    return ws.DHRobot(list(base.joints[:3]) + wrist, name="puma-full-wrist", parameters=base.parameters, units="m")
+
+
+def test_spherical_wrist_tool_down_is_the_wrist_centre_workspace():
+    # Reference: for a spherical wrist reaching every orientation, the tool point p = w + d6 R z; the Puma's
+    # table has d6 = 0 (the tool point is the wrist centre), so the constant-orientation workspace is the
+    # position workspace of the wrist centre (reach's critical section, an independent method), shifted by
+    # -d6 R z = 0: checked both ways (no inner box of one meets an outer box of the other), and its bracket
+    # meets the position's.
+    robot = _full_wrist_puma()
+    oriented = reach(robot, delta=0.4, rpy=(180, 0, 0))
+    position = reach(robot, delta=0.4)
+    assert oriented.method == "section" and position.counts["inner"] > 0 and oriented.counts["outer"] > 0
+    assert not _overlap(position.inner, oriented.outer).any()
+    assert not _overlap(oriented.inner, position.outer).any()
+    lo, hi = oriented.measure_bounds
+    p_lo, p_hi = position.measure_bounds
+    assert lo <= p_hi and p_lo <= hi

@@ -901,7 +901,7 @@ def _section_classes(model, width: float, run, options):
     """A :class:`CellGrid` over the constrained section and the class of each cell, from a pairs paving whose
     boxes are unions of cells (cells of a power-of-two width on a grid of its multiples: every edge and every
     midpoint is a float exactly); ``(grid, classes, evaluated, reason)``."""
-    w = 2.0 ** math.floor(math.log2(width))
+    w = 2.0 ** round(math.log2(width))
     root = model.position.enclose(model.position.limits[None])[0]
     grid = CellGrid(np.stack([np.floor(root[:, 0] / w) * w, root[:, 1]], axis=1), w)
     lo = np.array([e[0] for e in grid.edges])
