@@ -765,7 +765,7 @@ def constraint_from(approach=None, cone=None, every: bool = False, orientation=N
 def reach_pose(robot: DHRobot, *, delta: float, approach=None, cone=None, every: bool = False, orientation=None,
                rpy=None, size: str = "diameter", parameters: dict | None = None, max_boxes: int | None = None,
                time_limit: float | None = None, progress: bool | None = None, max_pairs: int = 400_000,
-               inner_depth: int = 1, chunk_pairs: int = 200_000) -> Paving:
+               inner_depth: int = 1, chunk_pairs: int = 200_000, section_ratio: float | None = None) -> Paving:
     """Pave the positions a serial robot's tool reaches under an approach cone or a constant orientation
     (module docstring); reached from :func:`workspace_sym.serial_workspace.reach` with the same keywords.
 
@@ -783,6 +783,8 @@ def reach_pose(robot: DHRobot, *, delta: float, approach=None, cone=None, every:
     size, parameters, max_boxes, time_limit, progress, inner_depth : as for ``reach``.
     max_pairs, chunk_pairs : a task box holds at most ``max_pairs`` times its share of the root box's
         measure of joint boxes (64 at least); about ``chunk_pairs`` pairs are handled at once.
+    section_ratio : of the section method: its cells are about this times the width of the 3D cells
+        (default ``serial_workspace.SECTION_RATIO``; rounded to a power of two).
 
     Returns
     -------
@@ -810,13 +812,16 @@ def reach_pose(robot: DHRobot, *, delta: float, approach=None, cone=None, every:
                                         parameter=name)
     parameters = tuple(sorted((parameters or {}).items(), key=lambda item: str(item[0])))
     run = RunBudget(max_boxes=max_boxes, time_limit=time_limit, progress=progress, total=0.0, label="reach")
+    if section_ratio is not None and not (isinstance(section_ratio, int | float) and 0 < section_ratio <= 4):
+        raise InvalidParameterError(f"section_ratio must be a number in (0, 4]; got {section_ratio!r}",
+                                    parameter="section_ratio")
     options = dict(max_pairs=max_pairs, inner_depth=inner_depth, chunk_pairs=chunk_pairs)
     try:
         plan = _plan(robot, parameters, constraint)
         if plan.revolved is None:
             result = _pave_direct(plan.model, robot, delta, size, run, options)
         else:
-            result = _pave_revolved(plan, robot, parameters, delta, size, run, options)
+            result = _pave_revolved(plan, robot, parameters, delta, size, run, options, section_ratio)
     finally:
         run.close()
     box, inner, boundary, outer, pending, evaluated, reason = result
@@ -928,7 +933,7 @@ def _section_classes(model, width: float, run, options):
     return grid, classes, evaluated, ""
 
 
-def _pave_revolved(plan: _Plan, robot, parameters, delta, size, run, options):
+def _pave_revolved(plan: _Plan, robot, parameters, delta, size, run, options, ratio=None):
     """The section paving turned by the first joint (``serial_workspace``'s section test, with the section
     of the admissible configurations)."""
     from .serial_workspace import SECTION_RATIO, _cell_width, _SectionTest
@@ -939,8 +944,9 @@ def _pave_revolved(plan: _Plan, robot, parameters, delta, size, run, options):
     _check_root(root, delta, size, robot)
     box = Box(_TASK, tuple(root[:, 0]), tuple(root[:, 1]))
     run.total = box.measure
-    grid, classes, evaluated, reason = _section_classes(plan.model, SECTION_RATIO * _cell_width(delta, size, 3),
-                                                        run, options)
+    ratio = SECTION_RATIO if ratio is None else ratio
+    grid, classes, evaluated, reason = _section_classes(plan.model, ratio * _cell_width(delta, size, 3), run,
+                                                        options)
     T = root[None].copy()
     inner, boundary, outer = [], [], []
     if reason:
