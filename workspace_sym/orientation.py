@@ -516,12 +516,14 @@ class PoseModel:
             sure[holds], witness[holds] = True, value[holds]
             plausible = self.solver.solves(centre, value, self.wrist)
         else:
-            plausible = np.zeros(n, dtype=bool)
+            best, plausible = witness, np.zeros(n, dtype=bool)
         keep = plausible & ~sure
         alive[keep], witness[keep] = True, (best if self.solver is None else value)[keep]
         W = np.repeat(self.wrist.limits[None], n, axis=0)[~sure & ~plausible]
         row = np.nonzero(~sure & ~plausible)[0]
         target = np.max(A[:, :, 1] - A[:, :, 0], axis=1)
+        survives = np.zeros(n, dtype=bool)          # a wrist box not proved violated is left at the end
+        seen = np.zeros(n, dtype=bool)
         while len(W):
             violated, _ = self.constraint_status(np.concatenate([A[row], W], axis=1))
             W, row = W[~violated], row[~violated]
@@ -532,22 +534,22 @@ class PoseModel:
                 _, holds = self.constraint_status(np.concatenate([A[row], point], axis=1))
                 sure[row[holds]] = True
                 witness[row[holds]] = centre[holds]
-            fresh = ~alive[row] & ~sure[row]
+            fresh = ~seen[row] & ~sure[row]
             witness[row[fresh]] = centre[fresh]
-            alive[row] = True
+            seen[row] = True
             keep = ~sure[row]
             W, row = W[keep], row[keep]
             width = W[:, :, 1] - W[:, :, 0]
             split = np.max(width, axis=1) > target[row]
             count = np.bincount(row, minlength=n) + np.bincount(row[split], minlength=n)
             split &= (count <= WRIST_CELLS)[row]
-            if not split.any():
-                break
             children, ok = halves(W[split])
-            children = children.reshape(-1, 2, kw, 2)[ok].reshape(-1, kw, 2)
-            W = np.concatenate([W[split][~ok], children])
-            row = np.concatenate([row[split][~ok], np.repeat(row[split][ok], 2)])
-        return ~alive & ~sure, sure, witness
+            # Boxes not split, or one float wide, are final: their arm box is not proved violated.
+            survives[row[~split]] = True
+            survives[row[split][~ok]] = True
+            W = children.reshape(-1, 2, kw, 2)[ok].reshape(-1, kw, 2)
+            row = np.repeat(row[split][ok], 2)
+        return ~alive & ~sure & ~survives, sure, witness
 
     def _best_wrist(self, arm: np.ndarray) -> np.ndarray:
         """Per arm value (``(N, ka)``), the wrist value of a grid over the wrist limits (``WRIST_GRID`` per joint)
