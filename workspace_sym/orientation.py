@@ -18,18 +18,25 @@ It returns the same three kinds of boxes as
 * **boundary**: neither is proved and the box is at most ``delta``.
 
 The method is the ``"pairs"`` method of ``reach`` with the constraint as a
-filter on joint boxes.  The joints are those that move the position or the
-constrained quantity (``a(q) . d``, or ``R(q)``).  Each task box carries
-joint boxes covering every *admissible* configuration whose position may lie
-in it; a joint box is dropped when its position enclosure misses the task
-box or when the enclosure of the constraint proves it violated everywhere on
-the box (cone: the upper bound of ``a . d`` below the lower bound of
-``|d| cos c``; orientation: some entry of ``R(q)`` whose enclosure misses the
-enclosure of that entry of ``R``).  A task box left without joint boxes is
-outer.  Joint boxes are halved along the joint that widens the position most
-while their position is wider than the task box, and along the joint that
-turns the constrained quantity most (an angle times ``L``, half the width of
-the root box) while the constraint is not proved satisfied on them.
+filter (docs/methods.md section 8).  The joints are split into *arm* joints,
+which move the position, and *wrist* joints, which move only the constrained
+quantity (``a(q) . d``, or ``R(q)``).  Each task box carries arm boxes
+covering every *admissible* configuration whose position may lie in it; an
+arm box is dropped when its position enclosure misses the task box, or when
+the constraint is proved violated over it times every box of a cover of the
+wrist limits (cone: the upper bound of ``a . d`` below the lower bound of
+``|d| cos c``, and for ``c = 0`` also ``a . e1`` or ``a . e2`` excluding 0;
+orientation: some entry of ``R(q)`` whose enclosure misses that entry of
+``R``).  A task box left without arm boxes is outer.  An arm box proved
+admissible for every arm value (a wrist value satisfying the cone over the
+whole box; for the exact direction, a parametric Krawczyk test on the wrist)
+keeps that status in its halves.
+
+A constant orientation is reduced to the exact direction ``R z`` when the
+last joint spins the tool about its approach axis through a full turn (the
+Puma, the UR5, a SCARA); a cone about the vertical on a robot turned by its
+first joint (``reach``'s section structure) is paved on the section
+``(u, v)`` and turned by the first joint: ``method`` is then ``"section"``.
 
 Inner proofs: the Krawczyk test of
 :class:`~workspace_sym.interval.image.ImageMap` on a square system around a
@@ -41,7 +48,7 @@ Krawczyk box ``U`` (:meth:`ImageMap.admissible`):
   over ``U``: every point of the box is reached by a configuration in ``U``,
   all of which satisfy the constraint;
 * cone with ``c = 0``: ``p(q) = y``, ``a . e1 = a . e2 = 0`` (``e1, e2`` an
-  exact orthogonal basis of ``d``'s normal plane) in five joints, and
+  exact orthogonal basis of ``d``'s normal plane) in as many joints, and
   ``a . d > 0`` over ``U`` (so ``a`` is ``d / |d|``, not its opposite);
 * orientation: ``p(q) = y`` and the skew part of ``R^T R(q)`` zero in six
   joints, and ``trace(R^T R(q)) > -1`` over ``U``: ``R^T R(q)`` is then a
