@@ -235,3 +235,13 @@ def test_spherical_wrist_tool_down_is_the_wrist_centre_workspace():
     lo, hi = oriented.measure_bounds
     p_lo, p_hi = position.measure_bounds
     assert lo <= p_hi and p_lo <= hi
+
+
+def test_a_section_cut_by_the_budget_keeps_a_sound_bracket(puma_cone):
+    # Reference: the complete run (fixture); a run stopped early proves less, never something else.
+    cut = reach(robots.build("puma560"), delta=0.3, approach=(0, 0, -1), cone=20, max_boxes=40)
+    assert not cut.complete and "budget" in cut.stop_reason
+    assert not _overlap(cut.outer, puma_cone.inner).any() and not _overlap(cut.inner, puma_cone.outer).any()
+    lo, hi = cut.measure_bounds
+    full_lo, full_hi = puma_cone.measure_bounds
+    assert lo <= full_hi and full_lo <= hi and hi - lo >= full_hi - full_lo - 1e-9

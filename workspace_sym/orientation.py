@@ -834,8 +834,8 @@ def reach_pose(robot: DHRobot, *, delta: float, approach=None, cone=None, every:
     finally:
         run.close()
     box, inner, boundary, outer, pending, evaluated, reason = result
-    if pending is None or not len(pending):
-        pending, reason = None, ""
+    if pending is None:
+        reason = ""
     empty = np.empty((0, 3, 2))
 
     def stack(parts):
@@ -923,8 +923,7 @@ def _section_classes(model, width: float, run, options):
     square = np.stack([lo, lo + side], axis=1)
     inner, boundary, outer, pending, evaluated, reason = _pave_pairs(model, square, w, "width", run, **options)
     classes = np.full(grid.shape, UNDECIDED, dtype=np.int8)
-    if reason:
-        return grid, classes, evaluated, reason
+    # A run stopped by the budget keeps what it proved: its pending boxes stay undecided.
     for value, parts in ((INNER, inner), (OUTER, outer)):
         boxes = np.concatenate([p for p in parts if len(p)] or [np.empty((0, 2, 2))])
         first = np.rint((boxes[:, :, 0] - lo) / w).astype(np.int64)
@@ -939,7 +938,7 @@ def _section_classes(model, width: float, run, options):
         np.add.at(counts, (last[:, 0], first[:, 1]), -1)
         np.add.at(counts, (last[:, 0], last[:, 1]), 1)
         classes[np.cumsum(np.cumsum(counts, axis=0), axis=1)[:-1, :-1] > 0] = value
-    return grid, classes, evaluated, ""
+    return grid, classes, evaluated, reason
 
 
 def _pave_revolved(plan: _Plan, robot, parameters, delta, size, run, options, ratio=None):
@@ -958,11 +957,12 @@ def _pave_revolved(plan: _Plan, robot, parameters, delta, size, run, options, ra
                                                         options)
     T = root[None].copy()
     inner, boundary, outer = [], [], []
-    if reason:
-        return box, inner, boundary, outer, T, evaluated, reason
+    # A section cut short by the budget still classifies (its undecided cells leave boundary boxes, so the
+    # bracket holds); the run is then reported incomplete, with the reason.
+    cut = reason
     test = _SectionTest(plan.revolved, grid, classes)
     while len(T):
-        reason = run.stop_reason(evaluated)
+        reason = "" if cut else run.stop_reason(evaluated)
         if reason:
             break
         evaluated += len(T)
@@ -974,4 +974,6 @@ def _pave_revolved(plan: _Plan, robot, parameters, delta, size, run, options, ra
         boundary.append(T[small])
         T, thin = bisect(T[und & ~small])
         boundary.append(thin)
+    if cut:
+        return box, inner, boundary, outer, T, evaluated, cut
     return box, inner, boundary, outer, T if len(T) and reason else None, evaluated, reason
