@@ -86,21 +86,27 @@ def capability_map(robot, options, box, rng):
     return reached.reshape(shape), centres
 
 
-def lookup(paving, centres):
-    """Class of each cell centre in the paving: 1 inner, 0 outer, 2 undecided (boundary, pending, none)."""
-    flat = centres.reshape(-1, 3)
+def lookup(paving, points):
+    """Class of each point (``(..., 3)``) in the paving: 1 inner, 0 outer (its interior), 2 undecided."""
+    flat = points.reshape(-1, 3)
     out = np.full(len(flat), 2, dtype=np.int8)
+    order = np.argsort(flat[:, 0])
+    xs = flat[order, 0]
     for value, boxes in ((1, paving.inner), (0, paving.outer)):
-        for start in range(0, len(boxes), 2000):
-            b = boxes[start:start + 2000]
+        # The points whose x lies in the box's x range (a sorted search), then the other two coordinates.
+        first = np.searchsorted(xs, boxes[:, 0, 0], side="left" if value == 1 else "right")
+        last = np.searchsorted(xs, boxes[:, 0, 1], side="right" if value == 1 else "left")
+        for b, i, j in zip(boxes, first, last):
+            if i >= j:
+                continue
+            rows = order[i:j]
+            p = flat[rows, 1:]
             if value == 1:
-                inside = np.all((flat[:, None, :] >= b[None, :, :, 0]) & (flat[:, None, :] <= b[None, :, :, 1]),
-                                axis=2)
+                inside = np.all((p >= b[1:, 0]) & (p <= b[1:, 1]), axis=1)
             else:       # the interior of an outer box: a point on a face it shares with a boundary box is undecided
-                inside = np.all((flat[:, None, :] > b[None, :, :, 0]) & (flat[:, None, :] < b[None, :, :, 1]),
-                                axis=2)
-            out[inside.any(axis=1)] = value
-    return out.reshape(centres.shape[:-1])
+                inside = np.all((p > b[1:, 0]) & (p < b[1:, 1]), axis=1)
+            out[rows[inside]] = value
+    return out.reshape(points.shape[:-1])
 
 
 def main():
