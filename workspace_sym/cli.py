@@ -380,9 +380,18 @@ def cmd_reach(args) -> int:
     from .serial_workspace import ReachModel, reach
 
     robot = _robot_from_args(args)
-    with _distributed(args, ()) as spread:
+    constraint = _pose_options(args)
+    if constraint:
+        from .orientation import constraint_from
+
+        described = constraint_from(**constraint)
         paving = reach(robot, delta=args.delta, size=args.size, max_boxes=args.max_boxes, time_limit=args.time_limit,
-                       progress=args.progress, inner_depth=args.inner_depth, method=args.method, **spread)
+                       progress=args.progress, **constraint)
+    else:
+        with _distributed(args, ()) as spread:
+            paving = reach(robot, delta=args.delta, size=args.size, max_boxes=args.max_boxes,
+                           time_limit=args.time_limit, progress=args.progress, inner_depth=args.inner_depth,
+                           method=args.method, **spread)
     if args.plot:
         from .plotting import plot_paving, save_figure
 
@@ -391,11 +400,44 @@ def cmd_reach(args) -> int:
     model = ReachModel(robot)
     extra = {"robot": robot.name, "variables": [str(v) for v in paving.variables],
              "joints_subdivided": [str(q) for q in model.variables], "method": paving.method}
+    if constraint:
+        extra["constraint"] = described.to_dict()
+        if not args.json:
+            print(f"{robot.name}: tool {described}")
     if not args.json:
         print(f"{robot.name}: position workspace over ({', '.join(extra['variables'])}); joints subdivided: "
               f"{', '.join(extra['joints_subdivided'])}; method {extra['method']}")
     _show_paving(paving, args.json, extra)
     return 0
+
+
+def _numbers(text: str, parameter: str, count: int, what: str) -> list:
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        values = []
+    if len(values) != count:
+        raise InvalidParameterError(f"{parameter} must be {what}; got {text!r}", parameter=parameter)
+    return values
+
+
+def _pose_options(args) -> dict:
+    """The keywords of reach's tool constraint from --approach/--cone/--every/--orientation."""
+    if args.orientation is not None:
+        text = args.orientation.strip()
+        if text.lower().startswith("rpy:"):
+            return {"rpy": _numbers(text[4:], "rpy", 3, "three angles in degrees such as rpy:0,180,0")}
+        values = _numbers(text, "orientation", 9, "rpy:R,P,Y (degrees) or nine numbers, the rotation matrix by rows")
+        out = {"orientation": [values[0:3], values[3:6], values[6:9]]}
+    else:
+        out = {}
+    if args.approach is not None:
+        out["approach"] = _numbers(args.approach, "approach", 3, "three numbers such as 0,0,-1")
+    if args.cone is not None:
+        out["cone"] = args.cone
+    if args.every:
+        out["every"] = True
+    return out
 
 
 def _parse_sigma(text: str):
@@ -797,6 +839,15 @@ def build_parser() -> _Parser:
     p.add_argument("--inner-depth", type=int, default=2,
                    help="pairs method: halvings of a last-level box when proving it reachable piece by piece "
                         "(default 2)")
+    p.add_argument("--approach", metavar="AX,AY,AZ",
+                   help="tool constraint: the approach axis (z of the tool frame) within --cone degrees of this "
+                        "direction")
+    p.add_argument("--cone", type=float, metavar="DEG", help="with --approach: half-angle of the cone (0: exact)")
+    p.add_argument("--every", action="store_true",
+                   help="with --approach: every direction of the cone (not implemented for a cone above 0)")
+    p.add_argument("--orientation", metavar="rpy:R,P,Y|R11,...,R33",
+                   help="tool constraint: the tool frame exactly this rotation (roll, pitch, yaw in degrees, or "
+                        "the matrix by rows)")
     p.add_argument("--plot", metavar="FILE", help="draw the boxes to an image file")
     p.set_defaults(func=cmd_reach)
 
@@ -871,6 +922,8 @@ _FLAGS: dict[str | None, str] = {
     "seed": "--seed", "count": "--count", "max_joints": "--max-joints",
     "scheduler": "--scheduler", "max_memory": "--max-memory", "store": "--store", "resume": "--resume",
     "reach_delta": "--reach-delta", "reach_time_limit": "--reach-time-limit",
+    "approach": "--approach", "cone": "--cone", "every": "--every", "orientation": "--orientation",
+    "rpy": "--orientation",
     "base_link": "--base", "tip_link": "--tip", "out": "--out", "plot": "--plot", "slices": "--slices",
     "report": "--report", "prefix": "--prefix", "packages": "--package",
 }

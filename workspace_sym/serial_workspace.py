@@ -696,7 +696,8 @@ def _prepared_within(robot: DHRobot, time_limit: float | None, spent: float = 0.
 def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: dict | None = None,
           method: str = "auto", max_boxes: int | None = None, time_limit: float | None = None,
           progress: bool | None = None, max_pairs: int = 200_000, inner_depth: int = 2, executor=None,
-          chunk_pairs: int = 100_000) -> Paving:
+          chunk_pairs: int = 100_000, approach=None, cone=None, every: bool = False, orientation=None,
+          rpy=None) -> Paving:
     """Pave the position workspace of a serial robot within its joint limits (module docstring).
 
     Parameters
@@ -721,6 +722,13 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         joint boxes once it would hold more than ``max_pairs`` times its share of
         the root box's measure (64 pairs at least); about ``chunk_pairs``
         (joint box, task box) pairs go in one chunk of work.
+    approach, cone, every, orientation, rpy : a constraint on the tool frame
+        (:func:`workspace_sym.orientation.reach_pose`): the approach axis (z of
+        the tool frame) within ``cone`` degrees of ``approach``, or the frame
+        exactly ``orientation`` (a rotation matrix; ``rpy`` roll, pitch, yaw in
+        degrees).  Then inner boxes are proved reached by configurations within
+        the limits satisfying the constraint exactly, outer boxes proved reached
+        by none (docs/methods.md section 8); ``method``, ``executor`` do not apply.
     executor : None (this process), a :class:`concurrent.futures.Executor`
         or a ``dask.distributed.Client``
         (:func:`workspace_sym.interval.executor.connect`): the critical covers
@@ -742,6 +750,12 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     >>> bool(lo <= 2 * np.pi <= hi)
     True
     """
+    if approach is not None or cone is not None or every or orientation is not None or rpy is not None:
+        from .orientation import reach_pose  # one way: orientation builds on this module
+
+        return reach_pose(robot, delta=delta, approach=approach, cone=cone, every=every, orientation=orientation,
+                          rpy=rpy, size=size, parameters=parameters, max_boxes=max_boxes, time_limit=time_limit,
+                          progress=progress)
     check_delta(delta)
     if size not in ("diameter", "width"):
         raise InvalidParameterError(f"size must be one of 'diameter', 'width'; got {size!r}", parameter="size")

@@ -244,6 +244,12 @@ class ImageMap:
             proved[rows] = self.prove_inside_at(T[rows], q)
         return (proved, hit) if reached else proved
 
+    def admissible(self, box: np.ndarray) -> np.ndarray:
+        """Mask of the joint boxes ``box`` (``(N, k, 2)``, fixed joints as points) on which a side condition
+        of the inner test is proved; a test around a box outside the mask fails.  The plain map has none: a
+        constrained map (:mod:`workspace_sym.orientation`) proves its constraint over the Krawczyk box."""
+        return np.ones(len(box), dtype=bool)
+
     def _krawczyk(self, T, q, cols, factor, *, inflations: int = 2):
         """Mask of the boxes ``T`` for which the Krawczyk test succeeds on a box ``U`` around ``q``.
 
@@ -268,7 +274,7 @@ class ImageMap:
             box[:, sub, 0] = q[rows][:, sub] - radius[rows]
             box[:, sub, 1] = q[rows][:, sub] + radius[rows]
             within = (box[:, :, 0] >= self.inner_limits[:, 0]) & (box[:, :, 1] <= self.inner_limits[:, 1])
-            allowed = (within | self.periodic).all(axis=1)
+            allowed = (within | self.periodic).all(axis=1) & self.admissible(box)
             K = self._krawczyk_image(T[rows], q[rows], C[rows], box, sub)
             ok = allowed & (K[:, :, 0] > box[:, sub, 0]).all(axis=1) & (K[:, :, 1] < box[:, sub, 1]).all(axis=1)
             proved[rows[ok]] = True

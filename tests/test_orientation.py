@@ -1,0 +1,247 @@
+"""Certified orientation workspaces (issue 25): bad input, the CLI, and the verdicts against independent
+references (the position workspace of ``reach``, sampled configurations, an inverse kinematics at 50 digits)."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import mpmath
+import numpy as np
+import pytest
+import sympy as sp
+
+import workspace_sym as ws
+from workspace_sym import robots
+from workspace_sym.cli import main
+from workspace_sym.errors import InvalidParameterError, WorkspaceError
+from workspace_sym.orientation import _plan, constraint_from, orientation_constraint, reach_pose
+from workspace_sym.serial_workspace import reach
+
+
+@pytest.mark.parametrize("options, parameter, fragment", [
+    (dict(approach=(0, 0, 0), cone=20), "approach", "non-zero"),
+    (dict(approach=(0, 0), cone=20), "approach", "three numbers"),
+    (dict(approach=(0, 0, float("nan")), cone=20), "approach", "finite"),
+    (dict(approach=(0, 0, -1), cone=181), "cone", "between 0 and 180"),
+    (dict(approach=(0, 0, -1), cone=-1), "cone", "between 0 and 180"),
+    (dict(approach=(0, 0, -1), cone=float("inf")), "cone", "between 0 and 180"),
+    (dict(approach=(0, 0, -1)), "cone", "cone must be given"),
+    (dict(approach=(0, 0, -1), cone=20, every=True), "every", "not implemented"),
+    (dict(orientation=[[1, 0, 0], [0, 1, 0], [0, 0, 2]]), "orientation", "rotation matrix"),
+    (dict(orientation=[[1, 0, 0], [0, 1, 0], [0, 0, -1]]), "orientation", "determinant"),
+    (dict(orientation=[[1, 0], [0, 1]]), "orientation", "3 x 3"),
+    (dict(rpy=(0, 180)), "rpy", "three angles"),
+    (dict(approach=(0, 0, -1), cone=20, rpy=(0, 0, 0)), "approach", "not both"),
+    (dict(cone=20, rpy=(0, 0, 0)), "cone", "need approach"),
+])
+def test_bad_constraints_name_the_parameter_value_and_expectation(options, parameter, fragment):
+    with pytest.raises(InvalidParameterError) as caught:
+        reach(robots.build("scara"), delta=0.05, **options)
+    assert caught.value.parameter == parameter
+    assert fragment in str(caught.value)
+
+
+def test_rotation_is_made_exact_and_keeps_the_matrix_given():
+    # Reference: the exact rotation by pi about x (tool down), given as floats off by a rounding error.
+    c = orientation_constraint([[1, 0, 0], [0, -1, 1e-17], [0, -1e-17, -1]])
+    assert c.rotation == sp.Matrix([[1, 0, 0], [0, -1, 0], [0, 0, -1]])
+    assert abs(c.rpy[0]) == sp.pi and c.rpy[1:] == (0, 0)
+    # a float angle that is not a multiple of pi/360 is kept as its exact binary value (numbers are degrees)
+    R = np.array(sp.N(orientation_constraint(rpy=(0, 0, "1/3")).rotation, 30).tolist(), dtype=float)
+    c2 = orientation_constraint(R)
+    assert abs(float(c2.rpy[2]) - math.pi / 540) < 1e-12        # 1/3 degree: no multiple of pi/360
+    assert sp.simplify(c2.rotation.T * c2.rotation - sp.eye(3)) == sp.zeros(3)
+
+
+def test_every_direction_of_a_zero_cone_is_the_direction():
+    assert constraint_from(approach=(0, 0, -1), cone=0, every=True).cone == 0
+
+
+def _overlap(A, B, pad=1e-9):
+    """Pairs of boxes of A and B whose interiors (shrunk by pad) meet: (N, M) mask."""
+    if not len(A) or not len(B):
+        return np.zeros((len(A), len(B)), dtype=bool)
+    lo = np.maximum(A[:, None, :, 0], B[None, :, :, 0])
+    hi = np.minimum(A[:, None, :, 1], B[None, :, :, 1])
+    return np.all(hi - lo > pad, axis=2)
+
+
+@pytest.fixture(scope="module")
+def scara_tool_down():
+    return reach(robots.build("scara"), delta=0.05, rpy=(180, 0, 0))
+
+
+def test_scara_tool_down_is_its_position_workspace(scara_tool_down):
+    # Reference: the SCARA's approach axis is always straight down and its last joint spins the tool through
+    # a full turn, so tool down is reached wherever the position is: its constant-orientation workspace is the
+    # position workspace of reach (an independent method, the critical section), checked both ways, and holds
+    # the exact volume (Bastien's area of the x, y region times the 0.21 m stroke).
+    position = reach(robots.build("scara"), delta=0.05)
+    oriented = scara_tool_down
+    assert not _overlap(oriented.inner, position.outer).any()
+    assert not _overlap(position.inner, oriented.outer).any()
+    exact = ws.PlanarChain([0.325, 0.275], [-50, -88], [50, 88]).boundary().area * 0.21
+    lo, hi = oriented.measure_bounds
+    assert lo <= exact <= hi and lo > 0.2 * exact
+    assert oriented.method == "pairs"
+
+
+def test_an_unreachable_direction_is_proved_outer_everywhere():
+    # Reference: the SCARA's approach axis is (0, 0, -1) for every configuration: 90 degrees from x.
+    p = reach(robots.build("scara"), delta=0.05, approach=(1, 0, 0), cone=30)
+    assert p.counts["inner"] == 0 and p.complete
+    assert p.measures["outer"] == pytest.approx(p.box.measure)
+
+
+@pytest.fixture(scope="module")
+def puma_cone():
+    return reach(robots.build("puma560"), delta=0.3, approach=(0, 0, -1), cone=20)
+
+
+def _fk(robot):
+    T = robot.substitute(robot.fk())
+    return sp.lambdify([robot.q], T, modules="numpy"), T
+
+
+def test_puma_configurations_in_the_cone_never_land_in_an_outer_box(puma_cone):
+    # Reference: random configurations within the limits whose approach axis is in the cone (with a margin of
+    # 1e-9 for float rounding): none may be the position of a point of an outer box.
+    robot = robots.build("puma560")
+    f, _ = _fk(robot)
+    rng = np.random.default_rng(7)
+    lim = robot.joint_limits()
+    q = rng.uniform(lim[:, 0], lim[:, 1], size=(20000, 6))
+    T = np.stack([np.asarray(f(qi), dtype=float) for qi in q[:20000:4]])
+    keep = -T[:, 2, 2] >= math.cos(math.radians(20)) + 1e-9
+    points = T[keep, :3, 3]
+    assert len(points) > 100
+    outer = puma_cone.outer
+    inside = np.all((points[:, None, :] > outer[None, :, :, 0] + 1e-9) & (points[:, None, :] < outer[None, :, :, 1]
+                                                                             - 1e-9), axis=2)
+    assert not inside.any()
+    assert puma_cone.method == "section" and puma_cone.counts["inner"] > 0
+
+
+def _solve_pose_50_digits(robot, target, q0, equations):
+    """A root of ``equations(q)`` (position minus target, then the constraint) near ``q0`` at 50 digits."""
+    with mpmath.workdps(50):
+        root = mpmath.findroot(lambda *q: equations(q, target), [mpmath.mpf(float(v)) for v in q0])
+        return [root[i] for i in range(len(q0))]
+
+
+def test_points_of_puma_inner_boxes_are_reached_in_the_cone_at_50_digits(puma_cone):
+    # Reference: an inverse kinematics at 50 digits (mpmath findroot on the position in three joints, the
+    # wrist kept where a float search put it), within the limits, with the approach in the cone.
+    robot = robots.build("puma560")
+    _, T = _fk(robot)
+    q = robot.q
+    position = sp.lambdify(q, list(T[:3, 3]), modules="mpmath")
+    approach_z = sp.lambdify(q, T[2, 2], modules="mpmath")
+    p_float = sp.lambdify(q, list(T[:3, 3]), modules="numpy")
+    j_float = sp.lambdify(q, T[:3, 3].jacobian(q), modules="numpy")
+    a_float = sp.lambdify(q, T[2, 2], modules="numpy")
+    plan = _plan(robot, (), constraint_from(approach=(0, 0, -1), cone=20))
+    rng = np.random.default_rng(3)
+    boxes = puma_cone.inner[rng.choice(len(puma_cone.inner), size=6, replace=False)]
+    lim = robot.joint_limits()
+    for box in boxes:
+        y = rng.uniform(box[:, 0], box[:, 1])
+        found = False
+        for _ in range(400):
+            q0 = rng.uniform(lim[:, 0], lim[:, 1])
+            # float search: the position by least squares from a random start, then a wrist among random ones
+            # whose approach is in the cone (the Puma's wrist does not move its position)
+            for _ in range(30):
+                p = np.array(p_float(*q0), dtype=float) - y
+                J = np.array(j_float(*q0), dtype=float)
+                q0 = np.clip(q0 - np.linalg.lstsq(J, p, rcond=None)[0], lim[:, 0], lim[:, 1])
+            p = np.array(p_float(*q0), dtype=float) - y
+            if np.linalg.norm(p) > 1e-8:
+                continue
+            wrists = rng.uniform(lim[3:, 0], lim[3:, 1], size=(2000, 3))
+            values = np.broadcast_to(a_float(*q0[:3], *wrists.T), (2000,))
+            good = np.nonzero(-values >= math.cos(math.radians(20)) + 1e-6)[0]
+            if not len(good):
+                continue
+            q0[3:] = wrists[good[0]]
+
+            def equations(qa, target, q0=q0):
+                full = list(qa) + [mpmath.mpf(float(v)) for v in q0[3:]]
+                return [a - mpmath.mpf(float(b)) for a, b in zip(position(*full), target)]
+
+            with mpmath.workdps(50):
+                qa = _solve_pose_50_digits(robot, y, q0[:3], equations)
+                full = qa + [mpmath.mpf(float(v)) for v in q0[3:]]
+                residual = max(abs(a - mpmath.mpf(float(b))) for a, b in zip(position(*full), y))
+                within = all(mpmath.mpf(lim[i, 0]) <= full[i] <= mpmath.mpf(lim[i, 1]) for i in range(6))
+                if residual < mpmath.mpf(10) ** -40 and within and -approach_z(*full) >= mpmath.cos(mpmath.pi / 9):
+                    found = True
+                    break
+        assert found, f"no configuration in the cone reaches {y} of inner box {box.tolist()}"
+    assert plan.revolved is not None
+
+
+def test_cli_reach_with_a_constraint_echoes_it(capsys):
+    code = main(["reach", "scara", "--delta", "0.05", "--approach", "1,0,0", "--cone", "30", "--json"])
+    out, _ = capsys.readouterr()
+    assert code == 0
+    data = json.loads(out)
+    assert data["constraint"] == {"approach": [1.0, 0.0, 0.0], "cone_deg": 30.0, "every": False}
+    assert data["inner"]["boxes"] == 0 and data["complete"]
+
+
+@pytest.mark.parametrize("argv, flag", [
+    (["--approach", "0,0,0", "--cone", "20"], "--approach"),
+    (["--approach", "0,0,-1", "--cone", "200"], "--cone"),
+    (["--approach", "0,0,-1", "--cone", "20", "--every"], "--every"),
+    (["--orientation", "1,0,0,0,1,0,0,0,2"], "--orientation"),
+    (["--orientation", "rpy:0,180"], "--orientation"),
+])
+def test_cli_bad_constraint_is_exit_2_and_one_line(capsys, argv, flag):
+    code = main(["reach", "scara", "--delta", "0.05", *argv])
+    out, err = capsys.readouterr()
+    assert code == 2 and out == ""
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(f"workspace-sym reach: error: {flag}:")
+
+
+def test_errors_are_workspace_errors():
+    assert issubclass(InvalidParameterError, WorkspaceError)
+    with pytest.raises(WorkspaceError):
+        reach_pose(robots.build("planar-2r"), delta=0.1, approach=(0, 0, 1), cone=10)
+
+
+def _full_wrist_puma():
+    """The Puma 560 with its wrist joints over a full turn: the wrist then reaches every orientation."""
+    base = robots.build("puma560")
+    wrist = [ws.DHJoint.revolute(k + 4, d=j.d, a=j.a, alpha=j.alpha, limits=(-sp.pi, sp.pi))
+             for k, j in enumerate(base.joints[3:])]
+    return ws.DHRobot(list(base.joints[:3]) + wrist, name="puma-full-wrist", parameters=base.parameters, units="m")
+
+
+def test_spherical_wrist_tool_down_is_the_wrist_centre_workspace():
+    # Reference: for a spherical wrist reaching every orientation, the tool point p = w + d6 R z; the Puma's
+    # table has d6 = 0 (the tool point is the wrist centre), so the constant-orientation workspace is the
+    # position workspace of the wrist centre (reach's critical section, an independent method), shifted by
+    # -d6 R z = 0: checked both ways (no inner box of one meets an outer box of the other), and its bracket
+    # meets the position's.
+    robot = _full_wrist_puma()
+    oriented = reach(robot, delta=0.4, rpy=(180, 0, 0))
+    position = reach(robot, delta=0.4)
+    assert oriented.method == "section" and position.counts["inner"] > 0 and oriented.counts["outer"] > 0
+    assert not _overlap(position.inner, oriented.outer).any()
+    assert not _overlap(oriented.inner, position.outer).any()
+    lo, hi = oriented.measure_bounds
+    p_lo, p_hi = position.measure_bounds
+    assert lo <= p_hi and p_lo <= hi
+
+
+def test_a_section_cut_by_the_budget_keeps_a_sound_bracket(puma_cone):
+    # Reference: the complete run (fixture); a run stopped early proves less, never something else.
+    cut = reach(robots.build("puma560"), delta=0.3, approach=(0, 0, -1), cone=20, max_boxes=40)
+    assert not cut.complete and "budget" in cut.stop_reason
+    assert not _overlap(cut.outer, puma_cone.inner).any() and not _overlap(cut.inner, puma_cone.outer).any()
+    lo, hi = cut.measure_bounds
+    full_lo, full_hi = puma_cone.measure_bounds
+    assert lo <= full_hi and full_lo <= hi and hi - lo >= full_hi - full_lo - 1e-9

@@ -1,0 +1,979 @@
+"""Certified orientation workspaces of a serial robot: where the tool can be *and point where it must*.
+
+:func:`reach_pose` paves the space of tool positions ``(x, y, z)`` under one
+of two constraints on the tool frame (its rotation ``R(q)``, the tool
+transform included; the approach axis ``a(q)`` is its third column):
+
+* **cone** (``approach=d, cone=c``): ``a(q) . d >= |d| cos c`` (the approach
+  axis within ``c`` degrees of ``d``; ``c = 0`` is the exact direction);
+* **orientation** (``orientation=R`` or ``rpy=(r, p, y)``): ``R(q) = R``.
+
+It returns the same three kinds of boxes as
+:func:`workspace_sym.serial_workspace.reach`:
+
+* **outer**: no configuration within the joint limits that satisfies the
+  constraint puts the tool point in the box;
+* **inner**: every point of the box is the tool point of some configuration
+  within the limits that satisfies the constraint;
+* **boundary**: neither is proved and the box is at most ``delta``.
+
+The method is the ``"pairs"`` method of ``reach`` with the constraint as a
+filter (docs/methods.md section 8).  The joints are split into *arm* joints,
+which move the position, and *wrist* joints, which move only the constrained
+quantity (``a(q) . d``, or ``R(q)``).  Each task box carries arm boxes
+covering every *admissible* configuration whose position may lie in it; an
+arm box is dropped when its position enclosure misses the task box, or when
+the constraint is proved violated over it times every box of a cover of the
+wrist limits (cone: the upper bound of ``a . d`` below the lower bound of
+``|d| cos c``, and for ``c = 0`` also ``a . e1`` or ``a . e2`` excluding 0;
+orientation: some entry of ``R(q)`` whose enclosure misses that entry of
+``R``).  A task box left without arm boxes is outer.  An arm box proved
+admissible for every arm value (a wrist value satisfying the cone over the
+whole box; for the exact direction, a parametric Krawczyk test on the wrist)
+keeps that status in its halves.
+
+A constant orientation is reduced to the exact direction ``R z`` when the
+last joint spins the tool about its approach axis through a full turn (the
+Puma, the UR5, a SCARA); a cone about the vertical on a robot turned by its
+first joint (``reach``'s section structure) is paved on the section
+``(u, v)`` and turned by the first joint: ``method`` is then ``"section"``.
+
+Inner proofs: the Krawczyk test of
+:class:`~workspace_sym.interval.image.ImageMap` on a square system around a
+Newton solution for the box centre, with a side condition proved over the
+Krawczyk box ``U`` (:meth:`ImageMap.admissible`):
+
+* cone with ``c > 0``: the position equations ``p(q) = y`` in three joints
+  (the others fixed at the Newton solution), and ``a . d >= |d| cos c`` proved
+  over ``U``: every point of the box is reached by a configuration in ``U``,
+  all of which satisfy the constraint;
+* cone with ``c = 0``: ``p(q) = y``, ``a . e1 = a . e2 = 0`` (``e1, e2`` an
+  exact orthogonal basis of ``d``'s normal plane) in as many joints, and
+  ``a . d > 0`` over ``U`` (so ``a`` is ``d / |d|``, not its opposite);
+* orientation: ``p(q) = y`` and the skew part of ``R^T R(q)`` zero in six
+  joints, and ``trace(R^T R(q)) > -1`` over ``U``: ``R^T R(q)`` is then a
+  symmetric rotation other than a half turn, the identity, so ``R(q) = R``.
+
+So an inner box is proved with the constraint *exactly* (no tolerance):
+the solution the Krawczyk operator proves lies in ``U``, inside the limits.
+
+``every=True`` (positions from which every direction of the cone is
+reachable, the dextrous workspace of Kumar and Waldron) is not implemented
+for ``c > 0`` and raises; for ``c = 0`` it is the same as ``every=False``.
+
+The target rotation is made exact: ``rpy`` angles are read like the angles
+of a DH file (numbers are degrees, ``pi`` makes radians); a matrix must be a
+rotation within ``ORTHOGONAL_TOL``; it is read as its roll, pitch and yaw,
+each snapped to a multiple of ``pi/360`` within that tolerance
+(:func:`workspace_sym.snap.snap_angle`) or else taken as the exact binary
+value of its float, and the workspace is that of the rotation those angles
+define (within ``ORTHOGONAL_TOL`` of the matrix given; ``constraint.rotation``).
+Every verdict rests on outward-rounded interval arithmetic (numpy engine).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+import sympy as sp
+
+from .errors import InvalidParameterError
+from .expressions import parse_angle
+from .interval import arith
+from .interval.compiler import compile_expr
+from .interval.graph import numpy_constant
+from .interval.image import INNER, OUTER, UNDECIDED, CellGrid, ImageMap, _dot, meets
+from .interval.paving import Box, Paving, RunBudget, bisect, box_measure, box_sizes, check_delta, halves
+from .kinematics import DHRobot
+from .snap import snap_angle
+
+__all__ = ["PoseConstraint", "approach_constraint", "orientation_constraint", "reach_pose", "PoseModel",
+           "ORTHOGONAL_TOL"]
+
+ORTHOGONAL_TOL = 1e-9            # a matrix farther than this from a rotation (entrywise) is refused
+_TASK = (sp.Symbol("x"), sp.Symbol("y"), sp.Symbol("z"))
+_MIN_PAIRS = 64
+WRIST_CELLS = 64               # wrist boxes examined per arm box at once
+WRIST_GRID = 9                 # wrist values per joint tried first for a witness of the cone
+
+
+def _exact(value) -> sp.Expr:
+    """``value`` with its floats replaced by the rationals they are."""
+    value = sp.sympify(value)
+    return value.xreplace({f: sp.Rational(f) for f in value.atoms(sp.Float)})
+
+
+def _real(value, parameter: str, what: str) -> float:
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise InvalidParameterError(f"{parameter} must be {what}; got {value!r}", parameter=parameter) from None
+    if not math.isfinite(number):
+        raise InvalidParameterError(f"{parameter} must be {what}; got {value!r}", parameter=parameter)
+    return number
+
+
+def _rotation(roll, pitch, yaw) -> sp.Matrix:
+    """``Rz(yaw) Ry(pitch) Rx(roll)`` (the URDF convention), exact."""
+    cr, sr, cp, spi, cy, sy = (sp.cos(roll), sp.sin(roll), sp.cos(pitch), sp.sin(pitch), sp.cos(yaw),
+                               sp.sin(yaw))
+    Rz = sp.Matrix([[cy, -sy, 0], [sy, cy, 0], [0, 0, 1]])
+    Ry = sp.Matrix([[cp, 0, spi], [0, 1, 0], [-spi, 0, cp]])
+    Rx = sp.Matrix([[1, 0, 0], [0, cr, -sr], [0, sr, cr]])
+    return sp.ImmutableMatrix(Rz * Ry * Rx)
+
+
+@dataclass(frozen=True)
+class PoseConstraint:
+    """A constraint on the tool frame: ``kind`` is ``"cone"`` (``direction`` an exact 3-vector, ``cone`` the
+    exact half-angle in radians, ``degrees`` as given, ``every``) or ``"orientation"`` (``rotation`` an exact
+    rotation matrix, ``rpy`` its exact roll, pitch, yaw in radians)."""
+
+    kind: str
+    direction: tuple = ()
+    cone: sp.Expr = sp.S.Zero
+    degrees: float = 0.0
+    every: bool = False
+    rotation: sp.Matrix | None = None
+    rpy: tuple = ()
+
+    def to_dict(self) -> dict:
+        """The constraint for a JSON answer (floats; the exact values as text)."""
+        if self.kind == "cone":
+            return {"approach": [float(c) for c in self.direction], "cone_deg": self.degrees, "every": self.every}
+        return {"orientation": [[float(self.rotation[i, j]) for j in range(3)] for i in range(3)],
+                "rpy_deg": [float(a * 180 / sp.pi) for a in self.rpy],
+                "rpy_exact": [sp.sstr(a) for a in self.rpy]}
+
+    def __str__(self) -> str:
+        if self.kind == "cone":
+            d = ", ".join(f"{float(c):g}" for c in self.direction)
+            return f"approach within {self.degrees:g} deg of ({d})" + (" (every direction)" if self.every else "")
+        return "orientation rpy = (" + ", ".join(f"{float(a * 180 / sp.pi):g}" for a in self.rpy) + ") deg"
+
+
+def approach_constraint(approach, cone, every: bool = False) -> PoseConstraint:
+    """The cone constraint, checked: ``approach`` three finite numbers not all zero, ``cone`` in [0, 180]
+    degrees.
+
+    Examples
+    --------
+    >>> str(approach_constraint((0, 0, -2), 20))
+    'approach within 20 deg of (0, 0, -2)'
+    >>> approach_constraint((0, 0, 0), 20)
+    Traceback (most recent call last):
+    ...
+    workspace_sym.errors.InvalidParameterError: approach must be a non-zero vector (ax, ay, az); got (0, 0, 0)
+    """
+    try:
+        values = tuple(approach)
+    except TypeError:
+        values = ()
+    if len(values) != 3:
+        raise InvalidParameterError(f"approach must be three numbers (ax, ay, az); got {approach!r}",
+                                    parameter="approach")
+    numbers = [_real(v, "approach", "three finite numbers (ax, ay, az)") for v in values]
+    if not any(numbers):
+        raise InvalidParameterError(f"approach must be a non-zero vector (ax, ay, az); got {approach!r}",
+                                    parameter="approach")
+    if cone is None:
+        raise InvalidParameterError("cone must be given with approach (degrees, 0 for the exact direction); got "
+                                    "None", parameter="cone")
+    degrees = _real(cone, "cone", "an angle in degrees between 0 and 180")
+    if not 0 <= degrees <= 180:
+        raise InvalidParameterError(f"cone must be an angle in degrees between 0 and 180; got {cone!r}",
+                                    parameter="cone")
+    if not isinstance(every, bool):
+        raise InvalidParameterError(f"every must be True or False; got {every!r}", parameter="every")
+    if every and degrees > 0:
+        raise InvalidParameterError(f"every=True (every direction of a {degrees:g} degree cone, the dextrous "
+                                    "workspace) is not implemented: no certified answer is given; use every=False "
+                                    "(some direction of the cone) or cone=0", parameter="every")
+    direction = tuple(_exact(v) for v in numbers)
+    return PoseConstraint("cone", direction, _exact(degrees) * sp.pi / 180, degrees, every)
+
+
+def orientation_constraint(orientation=None, rpy=None) -> PoseConstraint:
+    """The constant-orientation constraint from a 3 x 3 rotation matrix or from roll, pitch, yaw angles
+    (``Rz(yaw) Ry(pitch) Rx(roll)``; numbers are degrees, text with ``pi`` radians), made exact (module
+    docstring).
+
+    Examples
+    --------
+    >>> c = orientation_constraint(rpy=(180, 0, 0))
+    >>> c.rotation
+    Matrix([
+    [1,  0,  0],
+    [0, -1,  0],
+    [0,  0, -1]])
+    >>> orientation_constraint([[1, 0, 0], [0, 1, 0], [0, 0, 2]])  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    workspace_sym.errors.InvalidParameterError: orientation must be a rotation matrix ...
+    """
+    if (orientation is None) == (rpy is None):
+        raise InvalidParameterError("give one of orientation (a 3 x 3 rotation matrix) and rpy (roll, pitch, yaw); "
+                                    f"got orientation={orientation!r}, rpy={rpy!r}", parameter="orientation")
+    if rpy is not None:
+        try:
+            values = tuple(rpy)
+        except TypeError:
+            values = ()
+        if len(values) != 3:
+            raise InvalidParameterError(f"rpy must be three angles (roll, pitch, yaw); got {rpy!r}", parameter="rpy")
+        angles = []
+        for v in values:
+            angle = parse_angle(v if isinstance(v, str) else _exact(_real(v, "rpy", "three finite angles")),
+                                "rpy", degrees=True)
+            if angle.free_symbols or not angle.is_real:
+                raise InvalidParameterError(f"rpy must be three numeric angles; got {rpy!r}", parameter="rpy")
+            angles.append(angle)
+        return PoseConstraint("orientation", rotation=_rotation(*angles), rpy=tuple(angles))
+    expected = "a rotation matrix (3 x 3, orthonormal rows, determinant +1, within 1e-09)"
+    try:
+        M = np.array(orientation, dtype=float)
+    except (TypeError, ValueError):
+        raise InvalidParameterError(f"orientation must be {expected}; got {orientation!r}",
+                                    parameter="orientation") from None
+    if M.shape != (3, 3) or not np.isfinite(M).all():
+        raise InvalidParameterError(f"orientation must be {expected}; got {orientation!r}", parameter="orientation")
+    error = np.abs(M.T @ M - np.eye(3)).max()
+    if error > ORTHOGONAL_TOL or np.linalg.det(M) < 0:
+        why = f"M^T M - I is {error:.3g} away from zero" if error > ORTHOGONAL_TOL else "its determinant is -1"
+        raise InvalidParameterError(f"orientation must be {expected}; got {M.tolist()} ({why})",
+                                    parameter="orientation")
+    # Roll, pitch, yaw of Rz(y) Ry(p) Rx(r), each snapped to a multiple of pi/360 or kept as its float.
+    pitch = math.atan2(-M[2, 0], math.hypot(M[0, 0], M[1, 0]))
+    if math.hypot(M[0, 0], M[1, 0]) > 1e-6:
+        roll, yaw = math.atan2(M[2, 1], M[2, 2]), math.atan2(M[1, 0], M[0, 0])
+    else:                                   # gimbal lock: yaw = 0
+        roll, yaw = math.atan2(-M[1, 2], M[1, 1]), 0.0
+    angles = tuple(snap_angle(a, ORTHOGONAL_TOL) or sp.Rational(a) for a in (roll, pitch, yaw))
+    R = _rotation(*angles)
+    if np.abs(np.array(R.evalf(20).tolist(), dtype=float) - M).max() > ORTHOGONAL_TOL:
+        raise InvalidParameterError(f"orientation must be {expected}; got {M.tolist()} (no roll, pitch, yaw "
+                                    "reproduces it)", parameter="orientation")
+    return PoseConstraint("orientation", rotation=R, rpy=angles)
+
+
+def _orthonormal_pair(d):
+    """Two exact vectors spanning the plane normal to ``d`` (orthogonal to it and to each other)."""
+    d = sp.Matrix(d)
+    k = min(range(3), key=lambda i: abs(float(d[i])))
+    e = sp.Matrix([1 if i == k else 0 for i in range(3)])
+    e1 = e - d * (d.dot(e) / d.dot(d))
+    return e1, d.cross(e1)
+
+
+class _ConstrainedMap(ImageMap):
+    """The square system of the inner test (module docstring): ``p(q) = y`` and ``g(q) = 0``, with the side
+    condition ``s(q) > bound`` (``>=`` when ``closed``) proved over the Krawczyk box."""
+
+    def __init__(self, position, equations, side, bound, closed, variables, limits, periodic, aim=None):
+        # An equation that is identically zero holds everywhere: it is not part of the square system.
+        equations = [e for e in equations if sp.simplify(e) != 0]
+        super().__init__(list(position) + list(equations), variables, limits, periodic)
+        self.extra = len(equations)
+        self._side = compile_expr(side, self.variables)
+        self.bound, self.closed = bound, closed
+        self.aim = aim                      # a map whose Newton solutions are tried first (cone: a = d)
+
+    def side(self, Q: np.ndarray):
+        X = [(Q[:, j, 0], Q[:, j, 1]) for j in range(self.k)]
+        with np.errstate(all="ignore"):
+            lo, hi = self._side(X)
+        return np.broadcast_to(lo, (len(Q),)), np.broadcast_to(hi, (len(Q),))
+
+    def admissible(self, box):
+        lo, _ = self.side(box)
+        return (lo >= self.bound) if self.closed else (lo > self.bound)
+
+    def prove_inside(self, T, seeds, *, newton: int = 8):
+        """Inner test of position boxes ``T`` (``(N, 3, 2)``): the equations ``g = 0`` get the target 0."""
+        if self.k < self.m:
+            return np.zeros(len(T), dtype=bool)
+        padded = np.concatenate([T, np.zeros((len(T), self.extra, 2))], axis=1)
+        centre = 0.5 * (padded[:, :, 0] + padded[:, :, 1])
+        proved = np.zeros(len(T), dtype=bool)
+        if self.aim is not None:
+            aim_centre = np.concatenate([centre, np.zeros((len(T), self.aim.m - self.m))], axis=1)
+            q, ok = self.aim.newton(aim_centre, seeds, steps=newton)
+            rows = np.nonzero(ok)[0]
+            proved[rows] = self.prove_inside_at(padded[rows], q[rows])
+        rows = np.nonzero(~proved)[0]
+        if len(rows):
+            q, _ = self.newton(centre[rows], seeds[rows], steps=newton)
+            proved[rows] = self.prove_inside_at(padded[rows], q)
+        return proved
+
+
+class _WristSolver:
+    """A parametric Krawczyk test on the wrist: for an arm box ``A``, a wrist box ``W`` around a Newton
+    solution ``w0`` for the arm box's centre and a float matrix ``C``, if
+    ``K = w0 - C g(A, w0) + (I - C J_w(A, W)) (W - w0)`` lies in the interior of ``W`` (outward-rounded), then
+    for every arm value in ``A`` the equations ``g(arm, w) = 0`` have a solution ``w`` in ``W`` (the Krawczyk
+    operator of ``g(arm, .)`` maps ``W`` into its interior); with ``W`` within the wrist limits and the side
+    condition ``s > 0`` proved over ``A x W``, the arm box is admissible everywhere."""
+
+    def __init__(self, equations, side, variables, ka):
+        self.ka = ka
+        wrist = variables[ka:]
+        self.g = [compile_expr(e, variables) for e in equations]
+        self.dg = [[compile_expr(sp.diff(e, w), variables) for w in wrist] for e in equations]
+        self.side = compile_expr(side, variables)
+        self.side_float = sp.lambdify([variables], side, modules="numpy")
+        self.g_float = sp.lambdify([variables], equations, modules="numpy")
+        self.dg_float = sp.lambdify([variables], [[sp.diff(e, w) for w in wrist] for e in equations],
+                                    modules="numpy")
+
+    def _floats(self, f, q, shape):
+        with np.errstate(all="ignore"):
+            out = f(q.T)
+        return np.moveaxis(np.array([[np.broadcast_to(np.asarray(v, dtype=float), (len(q),)) for v in row]
+                                     for row in out] if len(shape) == 2 else
+                                    [np.broadcast_to(np.asarray(v, dtype=float), (len(q),)) for v in out]), -1, 0)
+
+    @staticmethod
+    def _eval(f, Q):
+        X = [(Q[:, j, 0], Q[:, j, 1]) for j in range(Q.shape[1])]
+        with np.errstate(all="ignore"):
+            lo, hi = f(X)
+        return np.broadcast_to(lo, (len(Q),)), np.broadcast_to(hi, (len(Q),))
+
+    def solves(self, arm, w, wrist: ImageMap) -> np.ndarray:
+        """Mask of the float wrist values ``w`` solving the equations at ``arm`` to 1e-9, within the limits,
+        with the side condition (no proof: it only spares the search for a proof of violation)."""
+        q = np.concatenate([arm, w], axis=1)
+        g = self._floats(self.g_float, q, (wrist.k,))
+        with np.errstate(all="ignore"):
+            side = np.broadcast_to(np.asarray(self.side_float(q.T), dtype=float), (len(q),))
+        within = ((w >= wrist.inner_limits[:, 0]) & (w <= wrist.inner_limits[:, 1])).all(axis=1)
+        return within & (np.abs(g).max(axis=1) <= 1e-9) & (side > 0)
+
+    def prove(self, A, w, wrist: ImageMap, *, steps: int = 6):
+        """Mask of the arm boxes ``A`` proved admissible everywhere, and the wrist value of each."""
+        n, k = len(A), wrist.k
+        centre = 0.5 * (A[:, :, 0] + A[:, :, 1])
+        for _ in range(steps):                           # Newton on the wrist at the arm box's centre
+            q = np.concatenate([centre, w], axis=1)
+            g = self._floats(self.g_float, q, (k,))
+            J = self._floats(self.dg_float, q, (k, k))
+            with np.errstate(all="ignore"):
+                try:
+                    step = np.linalg.solve(J + 1e-12 * np.eye(k), g[:, :, None])[:, :, 0]
+                except np.linalg.LinAlgError:
+                    break
+                w = np.where(np.isfinite(step), w - step, w)
+        w = np.clip(w, wrist.inner_limits[:, 0], wrist.inner_limits[:, 1])
+        q = np.concatenate([centre, w], axis=1)
+        J = self._floats(self.dg_float, q, (k, k))
+        with np.errstate(all="ignore"):
+            det = np.linalg.det(np.where(np.isfinite(J), J, 0.0))
+        singular = ~(np.abs(det) > 1e-12) | ~np.isfinite(J).all(axis=(1, 2))
+        J[singular] = np.eye(k)
+        C = np.linalg.inv(J)
+        usable = ~singular & np.isfinite(C).all(axis=(1, 2)) & np.isfinite(w).all(axis=1)
+        C = np.where(usable[:, None, None], C, 0.0)
+        point = np.concatenate([A, np.repeat(w[:, :, None], 2, axis=2)], axis=1)
+        g0 = [self._eval(f, point) for f in self.g]
+        # W: a box around w0 of the size by which the arm box moves the solution, widened.
+        spread = np.stack([np.maximum(np.abs(lo), np.abs(hi)) for lo, hi in g0], axis=1)
+        radius = 2.0 * np.einsum("nij,nj->ni", np.abs(C), spread) + 1e-12
+        proved = np.zeros(n, dtype=bool)
+        for _ in range(3):
+            W = np.stack([w - radius, w + radius], axis=2)
+            within = ((W[:, :, 0] >= wrist.inner_limits[:, 0]) & (W[:, :, 1] <= wrist.inner_limits[:, 1])
+                      | wrist.periodic).all(axis=1)
+            full = np.concatenate([A, W], axis=1)
+            JW = [[self._eval(f, full) for f in row] for row in self.dg]
+            K = np.empty((n, k, 2))
+            for a in range(k):
+                c = [(C[:, a, i], C[:, a, i]) for i in range(k)]
+                acc = arith.neg(_dot(c, g0))
+                for b in range(k):
+                    cj = _dot(c, [JW[i][b] for i in range(k)])
+                    identity = (1.0, 1.0) if a == b else (0.0, 0.0)
+                    offset = arith.sub((W[:, b, 0], W[:, b, 1]), (w[:, b], w[:, b]))
+                    acc = arith.add(acc, arith.mul(arith.sub(identity, cj), offset))
+                K[:, a, 0], K[:, a, 1] = arith.add(acc, (w[:, a], w[:, a]))
+            side_lo, _ = self._eval(self.side, full)
+            inside = (K[:, :, 0] > W[:, :, 0]).all(axis=1) & (K[:, :, 1] < W[:, :, 1]).all(axis=1)
+            proved |= usable & within & inside & (side_lo > 0)
+            grow = np.maximum(np.abs(K[:, :, 0] - w), np.abs(K[:, :, 1] - w))
+            radius = np.where(np.isfinite(grow), np.maximum(radius, 1.2 * grow), radius)
+        return proved, w
+
+
+class PoseModel:
+    """A position map (``m`` task coordinates) over the joints that move the position or the constrained
+    quantity, the constraint's enclosures, and the square system of the inner test (module docstring).
+
+    ``approach`` is the tool's approach axis (three expressions) and ``rotation`` its frame (3 x 3, for a
+    constant orientation); ``limits`` are exact, ``periodic`` as for :class:`ImageMap`.
+    """
+
+    def __init__(self, position, approach, rotation, constraint: PoseConstraint, variables, limits, periodic,
+                 task_variables):
+        self.constraint = constraint
+        variables, limits, periodic = list(variables), list(limits), list(periodic)
+        position = [sp.sympify(e) for e in position]
+        approach = sp.Matrix(approach)
+        if constraint.kind == "cone":
+            d = sp.Matrix(constraint.direction)
+            e1, e2 = _orthonormal_pair(d)
+            # The exact direction is also a . e1 = a . e2 = 0: enclosures of these exclude 0 at a distance of
+            # the order of the box, where a . d only falls quadratically short of |d|.
+            quantities = [approach.dot(d)] + ([approach.dot(e1), approach.dot(e2)] if constraint.cone == 0 else [])
+        else:
+            quantities = list(rotation)
+        # Arm joints move the position; wrist joints only the constrained quantity (docs/methods.md section 8).
+        moving = set().union(*(e.free_symbols for e in position))
+        order = sorted(range(len(variables)), key=lambda j: variables[j] not in moving)
+        variables, limits, periodic = ([seq[j] for j in order] for seq in (variables, limits, periodic))
+        self.ka = sum(q in moving for q in variables)
+        self.position = ImageMap(position, variables[:self.ka], limits[:self.ka], periodic[:self.ka])
+        self.wrist = ImageMap([], variables[self.ka:], limits[self.ka:], periodic[self.ka:])
+        self.variables = tuple(variables)
+        self.task_variables = tuple(task_variables)
+        self._quantities = [compile_expr(e, self.variables) for e in quantities]
+        self.solver = None
+        self._lead_float = sp.lambdify([self.variables], quantities[0], modules="numpy")
+        if constraint.kind == "cone":
+            norm = sp.sqrt(d.dot(d))
+            self.bound = numpy_constant(norm * sp.cos(constraint.cone))
+            if constraint.cone == 0:
+                self.proof = _ConstrainedMap(position, [approach.dot(e1), approach.dot(e2)], approach.dot(d), 0.0,
+                                             False, variables, limits, periodic)
+                if self.wrist.k == 2:
+                    self.solver = _WristSolver([approach.dot(e1), approach.dot(e2)], approach.dot(d), self.variables,
+                                               self.ka)
+            else:
+                aim = ImageMap(position + [approach.dot(e1), approach.dot(e2)], variables, limits, periodic)
+                self.proof = _ConstrainedMap(position, [], approach.dot(d), self.bound[1], True, variables, limits,
+                                             periodic, aim=aim)
+        else:
+            self.entries = np.array([numpy_constant(e) for e in constraint.rotation], dtype=float)   # (9, 2)
+            M = constraint.rotation.T * rotation
+            skew = [M[2, 1] - M[1, 2], M[0, 2] - M[2, 0], M[1, 0] - M[0, 1]]
+            self.proof = _ConstrainedMap(position, skew, M.trace(), -1.0, False, variables, limits, periodic)
+        root = self.position.enclose(self.position.limits[None])[0]
+        length = 0.5 * float(np.max(root[:, 1] - root[:, 0]))
+        # How much a joint moves the position (largest Jacobian entry over the limits) and the constrained
+        # quantity (an angle of at most the joint's turn, as a length: times half the root box).
+        J = self.position.jacobian_enclosure(self.position.limits[None])
+        m = self.position.m
+        scale = np.array([max(max(abs(float(J[i][j][0][0])), abs(float(J[i][j][1][0]))) for i in range(m))
+                          for j in range(self.position.k)])
+        self.position_scale = np.where(np.isfinite(scale), scale, length)
+
+    def _enclosures(self, Q: np.ndarray) -> list:
+        X = [(Q[:, j, 0], Q[:, j, 1]) for j in range(Q.shape[1])]
+        with np.errstate(all="ignore"):
+            return [tuple(np.broadcast_to(v, (len(Q),)) for v in f(X)) for f in self._quantities]
+
+    def constraint_status(self, Q: np.ndarray):
+        """Masks of the boxes ``Q`` over all joints (arm, then wrist) on which the constraint is proved
+        violated everywhere, and proved satisfied everywhere (NaN: neither)."""
+        E = self._enclosures(Q)
+        if self.constraint.kind == "cone":
+            lo, hi = E[0]
+            violated = hi < self.bound[0]
+            for lo_e, hi_e in E[1:]:                 # the exact direction: a . e = 0
+                violated |= (lo_e > 0) | (hi_e < 0)
+            return violated, (lo >= self.bound[1]) & (len(E) == 1)
+        violated = np.zeros(len(Q), dtype=bool)
+        for (lo, hi), (r_lo, r_hi) in zip(E, self.entries):
+            violated |= (hi < r_lo) | (lo > r_hi)
+        return violated, np.zeros(len(Q), dtype=bool)
+
+    def admissibility(self, A: np.ndarray):
+        """For arm boxes ``A`` (``(N, ka, 2)``): the mask of those on which no wrist within its limits
+        satisfies the constraint (proved), the mask of those on which one wrist value satisfies it for every
+        arm value (proved), and a wrist value per box (that value, or the centre of a wrist box not proved
+        violated).
+
+        Wrist boxes are halved (widest first) while wider than the arm box, at most ``WRIST_CELLS`` per arm
+        box; a wrist box is dropped when the constraint is proved violated over it times the arm box.  This
+        search for a proof of violation is skipped where a float search finds a wrist value satisfying the
+        constraint at the arm box's centre (a box is only dropped on a proof, so skipping is always sound)."""
+        n, kw = len(A), self.wrist.k
+        if kw == 0:
+            dead, sure = self.constraint_status(A)
+            return dead, sure, np.zeros((n, 0))
+        witness = np.repeat(0.5 * (self.wrist.inner_limits[:, 0] + self.wrist.inner_limits[:, 1])[None], n, axis=0)
+        sure, alive = np.zeros(n, dtype=bool), np.zeros(n, dtype=bool)
+        centre = 0.5 * (A[:, :, 0] + A[:, :, 1])
+        if self.constraint.kind == "cone" and self.constraint.cone != 0:
+            # First the wrist value of a small grid that best aims the axis at the arm box's centre (floats),
+            # then the proof that it satisfies the cone over the whole arm box.
+            best = self._best_wrist(centre)
+            point = np.repeat(best[:, :, None], 2, axis=2)
+            _, holds = self.constraint_status(np.concatenate([A, point], axis=1))
+            sure[holds], witness[holds] = True, best[holds]
+            with np.errstate(all="ignore"):
+                value = self._lead_float(np.concatenate([centre, best], axis=1).T)
+            plausible = np.broadcast_to(np.asarray(value, dtype=float), (n,)) >= self.bound[1]
+        elif self.solver is not None:
+            best = self._best_wrist(centre)
+            holds, value = self.solver.prove(A, best, self.wrist)
+            sure[holds], witness[holds] = True, value[holds]
+            plausible = self.solver.solves(centre, value, self.wrist)
+        else:
+            best, plausible = witness, np.zeros(n, dtype=bool)
+        keep = plausible & ~sure
+        alive[keep], witness[keep] = True, (best if self.solver is None else value)[keep]
+        W = np.repeat(self.wrist.limits[None], n, axis=0)[~sure & ~plausible]
+        row = np.nonzero(~sure & ~plausible)[0]
+        target = np.max(A[:, :, 1] - A[:, :, 0], axis=1)
+        survives = np.zeros(n, dtype=bool)          # a wrist box not proved violated is left at the end
+        seen = np.zeros(n, dtype=bool)
+        while len(W):
+            violated, _ = self.constraint_status(np.concatenate([A[row], W], axis=1))
+            W, row = W[~violated], row[~violated]
+            centre = np.clip(0.5 * (W[:, :, 0] + W[:, :, 1]), self.wrist.inner_limits[:, 0],
+                             self.wrist.inner_limits[:, 1])
+            if self.constraint.kind == "cone":
+                point = np.repeat(centre[:, :, None], 2, axis=2)
+                _, holds = self.constraint_status(np.concatenate([A[row], point], axis=1))
+                sure[row[holds]] = True
+                witness[row[holds]] = centre[holds]
+            fresh = ~seen[row] & ~sure[row]
+            witness[row[fresh]] = centre[fresh]
+            seen[row] = True
+            keep = ~sure[row]
+            W, row = W[keep], row[keep]
+            width = W[:, :, 1] - W[:, :, 0]
+            split = np.max(width, axis=1) > target[row]
+            count = np.bincount(row, minlength=n) + np.bincount(row[split], minlength=n)
+            split &= (count <= WRIST_CELLS)[row]
+            children, ok = halves(W[split])
+            # Boxes not split, or one float wide, are final: their arm box is not proved violated.
+            survives[row[~split]] = True
+            survives[row[split][~ok]] = True
+            W = children.reshape(-1, 2, kw, 2)[ok].reshape(-1, kw, 2)
+            row = np.repeat(row[split][ok], 2)
+        return ~alive & ~sure & ~survives, sure, witness
+
+    def _best_wrist(self, arm: np.ndarray) -> np.ndarray:
+        """Per arm value (``(N, ka)``), the wrist value of a grid over the wrist limits (``WRIST_GRID`` per joint)
+        where the first constrained quantity (``a . d``) is largest, in floats."""
+        axes = [np.linspace(lo, hi, WRIST_GRID) for lo, hi in self.wrist.inner_limits]
+        grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, self.wrist.k)
+        best = np.empty((len(arm), self.wrist.k))
+        for start in range(0, len(arm), 4096):
+            a = arm[start:start + 4096]
+            q = np.concatenate([np.repeat(a, len(grid), axis=0), np.tile(grid, (len(a), 1))], axis=1)
+            with np.errstate(all="ignore"):
+                value = np.broadcast_to(np.asarray(self._lead_float(q.T), dtype=float), (len(q),))
+            value = np.where(np.isfinite(value), value, -np.inf).reshape(len(a), len(grid))
+            best[start:start + 4096] = grid[np.argmax(value, axis=1)]
+        return best
+
+    def distribute(self, T, Q, owner, cap, *, rounds: int = 4):
+        """Keep the (joint box, task box) pairs whose arm box may hold an admissible configuration with its
+        position in the task box, halving arm boxes along the joint that widens the position most while
+        their position is wider than the task box, while a task box holds at most ``cap`` pairs.
+
+        ``Q`` holds per pair the arm box, then a wrist value per wrist joint and a status (0: not examined,
+        1: not proved either way, 2: admissible for every arm value) as point intervals."""
+        ka, kw = self.ka, self.wrist.k
+        for r in range(rounds + 1):
+            fresh = Q[:, -1, 0] == 0
+            if fresh.any():
+                dead, sure, witness = self.admissibility(Q[fresh, :ka])
+                rows = np.nonzero(fresh)[0]
+                Q[rows, ka:ka + kw] = witness[:, :, None]
+                Q[rows, -1] = np.where(sure, 2.0, np.where(dead, -1.0, 1.0))[:, None]
+            E = self.position.enclose(Q[:, :ka])
+            keep = meets(E, T[owner]) & (Q[:, -1, 0] > 0)
+            Q, owner, E = Q[keep], owner[keep], E[keep]
+            if r == rounds:
+                break
+            width = Q[:, :ka, 1] - Q[:, :ka, 0]
+            task = np.max(T[owner, :, 1] - T[owner, :, 0], axis=1)
+            split = np.max(E[:, :, 1] - E[:, :, 0], axis=1) > task
+            after = np.bincount(owner, minlength=len(T)) + np.bincount(owner[split], minlength=len(T))
+            split &= (after <= cap)[owner]
+            if not split.any():
+                break
+            children, ok = halves(Q[split], np.argmax(width * self.position_scale, axis=1)[split])
+            children = children.reshape(-1, 2, *Q.shape[1:])[ok].reshape(-1, *Q.shape[1:])
+            children[:, -1] = np.where(children[:, -1] == 2.0, 2.0, 0.0)      # admissible stays admissible
+            Q = np.concatenate([Q[~split], Q[split][~ok], children])
+            owner = np.concatenate([owner[~split], owner[split][~ok], np.repeat(owner[split][ok], 2)])
+        return Q, owner
+
+    def root_pairs(self) -> np.ndarray:
+        """The one pair of the root: the arm limits, a wrist value, status 0."""
+        return np.concatenate([self.position.limits, np.zeros((self.wrist.k + 1, 2))])[None]
+
+    def seeds(self, Q: np.ndarray) -> np.ndarray:
+        """Configurations (arm, then wrist) from pairs: the arm box's centre and the pair's wrist value."""
+        return np.concatenate([Q[:, :self.ka].mean(axis=2), Q[:, self.ka:-1, 0]], axis=1)
+
+
+def _free_of(expressions, q) -> bool:
+    return all(q not in sp.sympify(e).free_symbols for e in expressions)
+
+
+def _spin_reduction(robot: DHRobot, params, constraint: PoseConstraint, T) -> PoseConstraint:
+    """A constant orientation ``R`` as the exact direction ``R z`` when the last joint spins the tool about its
+    approach axis through a full turn (docs/methods.md section 8), else the constraint itself.
+
+    The tool frame is ``R_pre Rz(theta_n) C`` with ``R_pre`` and ``C`` free of ``q_n`` when ``q_n`` enters only
+    ``theta_n``; an approach axis ``R_pre Rz(theta_n) C z`` free of ``q_n`` makes ``C z = +-z``, so turning
+    ``theta_n`` by ``phi`` turns the frame about its own ``z`` by ``+-phi`` at a fixed position (the position
+    being free of ``q_n``): when ``q_n``'s range spans a period, every frame with the approach ``R z`` at that
+    position is reached, ``R`` among them.
+    """
+    from .serial_workspace import _joint_range
+
+    if constraint.kind != "orientation":
+        return constraint
+    k = robot.n - 1
+    joint = robot.joints[k]
+    q = joint.variable
+    others = [joint.d, joint.a, joint.alpha] + [e for j in robot.joints[:k] for e in (j.theta, j.d, j.a, j.alpha)]
+    others += [e for M in (robot.base, robot.tool) if M is not None for e in M]
+    if joint.kind != "R" or not _free_of(others, q) or not _free_of(list(T[:3, 2]) + list(T[:3, 3]), q):
+        return constraint
+    if not _joint_range(robot, k, params)[1]:
+        return constraint
+    return PoseConstraint("cone", tuple(constraint.rotation[:, 2]), sp.S.Zero, 0.0, False)
+
+
+def _joints_of(robot, expressions, params):
+    from .serial_workspace import _joint_range
+
+    moving = set().union(*(sp.sympify(e).free_symbols for e in expressions))
+    joints = [k for k, q in enumerate(robot.q) if q in moving]
+    ranges = [_joint_range(robot, k, params) for k in joints]
+    return [robot.q[k] for k in joints], [r for r, _ in ranges], [p for _, p in ranges]
+
+
+@dataclass(frozen=True)
+class _Plan:
+    """How the constrained workspace is paved: ``model`` over ``(x, y, z)``, or over the section ``(u, v)`` of
+    a robot turned by its first joint (``revolved``, the position's section structure) when the constraint is
+    invariant under that turn (a cone about the vertical)."""
+
+    model: PoseModel
+    revolved: object = None
+
+
+def _section_plan(robot: DHRobot, parameters: tuple, constraint: PoseConstraint, T) -> _Plan | None:
+    """The section plan (``_Plan``) when the robot is turned by its first joint (``serial_workspace``'s
+    section structure: standard DH, no base, ``q_1`` only in ``theta_1``) and the cone's axis is vertical:
+    then ``p = Rz(theta_1) p'`` and ``a = Rz(theta_1) a'`` with ``p', a'`` the pose at ``theta_1 = 0``, and
+    ``a . d = a' . d``, so the admissible configurations of the other joints do not depend on ``theta_1``."""
+    from . import serial_workspace as sw
+
+    if constraint.kind != "cone" or constraint.direction[0] != 0 or constraint.direction[1] != 0:
+        return None
+    revolved = sw._revolved(sw._model(robot, parameters))
+    if revolved is None:
+        return None
+    params = dict(parameters) or None
+    q1 = robot.q[0]
+    theta = robot.substitute(robot.joints[0].theta, params)
+    zero = {q1: -theta.subs(q1, 0) / sp.diff(theta, q1)}
+    approach = [e.subs(zero) for e in T[:3, 2]]
+    position = list(revolved.section.expressions)
+    variables, limits, periodic = _joints_of(robot, position + approach, params)
+    if q1 in variables:
+        return None
+    model = PoseModel(position, approach, None, constraint, variables, limits, periodic, (sp.Symbol("u"),
+                                                                                         sp.Symbol("v")))
+    return _Plan(model, revolved)
+
+
+@lru_cache(maxsize=8)
+def _plan(robot: DHRobot, parameters: tuple, constraint: PoseConstraint) -> _Plan:
+    if not isinstance(robot, DHRobot):
+        raise InvalidParameterError(f"robot: reach needs a serial DH robot; got {type(robot).__name__}",
+                                    parameter="robot")
+    params = dict(parameters) or None
+    T = robot.substitute(robot.fk(), params)
+    free = T.free_symbols - set(robot.q)
+    if free:
+        raise InvalidParameterError(f"parameters: give values for {', '.join(sorted(map(str, free)))} "
+                                    "(the pose must be numeric apart from the joints)", parameter="parameters")
+    position = list(T[:3, 3])
+    if not all(e.free_symbols for e in position):
+        raise InvalidParameterError(f"robot: an approach or orientation constraint needs a spatial robot whose "
+                                    f"three position coordinates move; {robot.name}'s position is {position}",
+                                    parameter="robot")
+    reduced = _spin_reduction(robot, params, constraint, T)
+    plan = _section_plan(robot, parameters, reduced, T)
+    if plan is not None:
+        return plan
+    rotation = T[:3, :3]
+    quantities = list(T[:3, 2]) if reduced.kind == "cone" else list(rotation)
+    variables, limits, periodic = _joints_of(robot, position + quantities, params)
+    return _Plan(PoseModel(position, T[:3, 2], rotation, reduced, variables, limits, periodic, _TASK))
+
+
+def _volumes(T: np.ndarray) -> np.ndarray:
+    return np.prod(T[:, :, 1] - T[:, :, 0], axis=1)
+
+
+def _step(model: PoseModel, T, Q, owner, *, delta, size, inner_depth, max_pairs, root_measure):
+    """One generation on task boxes ``T`` with their pairs: inner, boundary, outer boxes, the children of the
+    split boxes and their pairs."""
+    from .serial_workspace import _prove_in_pieces
+
+    cap = np.maximum(_MIN_PAIRS, np.floor(max_pairs * (_volumes(T) / root_measure)))
+    Q, owner = model.distribute(T, Q, owner, cap)
+    is_out = np.bincount(owner, minlength=len(T)) == 0
+    live, first = np.unique(owner, return_index=True)
+    is_in = np.zeros(len(T), dtype=bool)
+    if len(live):
+        last = box_sizes(T[live], size) <= delta
+        depth = np.where(last, inner_depth, 0)
+        is_in[live] = _prove_in_pieces(model.proof, T[live], model.seeds(Q[first]), depth)
+        # A second seed: the last joint box of each task box (another branch of the inverse kinematics).
+        again = np.nonzero(~is_in[live])[0]
+        if len(again):
+            ends = np.searchsorted(owner, live[again], side="right") - 1
+            is_in[live[again]] = _prove_in_pieces(model.proof, T[live[again]], model.seeds(Q[ends]),
+                                                     depth[again])
+    und = ~is_out & ~is_in
+    small = und & (box_sizes(T, size) <= delta)
+    split = und & ~small
+    children, ok = halves(T[split])
+    boundary = np.concatenate([T[small], T[split][~ok]])
+    split[np.nonzero(split)[0][~ok]] = False
+    children = children.reshape(-1, 2, *T.shape[1:])[ok].reshape(-1, *T.shape[1:])
+    new_index = np.full(len(T), -1)
+    new_index[split] = np.arange(split.sum())
+    pair = new_index[owner] >= 0
+    Q, base = Q[pair], new_index[owner[pair]]
+    return T[is_in], boundary, T[is_out], children, np.concatenate([Q, Q]), np.concatenate([2 * base, 2 * base + 1])
+
+
+def constraint_from(approach=None, cone=None, every: bool = False, orientation=None, rpy=None) -> PoseConstraint:
+    """The constraint of :func:`reach_pose`'s keywords (exactly one of ``approach`` and ``orientation`` /
+    ``rpy``)."""
+    if approach is not None and (orientation is not None or rpy is not None):
+        raise InvalidParameterError("give either approach (with cone) or orientation / rpy, not both; got "
+                                    f"approach={approach!r} and orientation={orientation!r}, rpy={rpy!r}",
+                                    parameter="approach")
+    if approach is not None:
+        return approach_constraint(approach, cone, every)
+    if cone is not None or every:
+        raise InvalidParameterError(f"cone and every need approach (the axis of the cone); got cone={cone!r}",
+                                    parameter="cone")
+    return orientation_constraint(orientation, rpy)
+
+
+@arith.nearest_rounding
+def reach_pose(robot: DHRobot, *, delta: float, approach=None, cone=None, every: bool = False, orientation=None,
+               rpy=None, size: str = "diameter", parameters: dict | None = None, max_boxes: int | None = None,
+               time_limit: float | None = None, progress: bool | None = None, max_pairs: int = 400_000,
+               inner_depth: int = 1, chunk_pairs: int = 200_000, section_ratio: float | None = None) -> Paving:
+    """Pave the positions a serial robot's tool reaches under an approach cone or a constant orientation
+    (module docstring); reached from :func:`workspace_sym.serial_workspace.reach` with the same keywords.
+
+    Parameters
+    ----------
+    robot : DHRobot (spatial)
+    delta : float
+        Undecided task boxes whose size is at most ``delta`` become boundary boxes.
+    approach, cone : the axis ``(ax, ay, az)`` (any non-zero length) and the half-angle in degrees,
+        ``0 <= cone <= 180``: the tool's approach axis (z of the tool frame) within ``cone`` of ``approach``.
+    every : positions from which every direction of the cone is reached: not implemented for ``cone > 0``
+        (raises); with ``cone = 0`` the same as False.
+    orientation, rpy : the tool frame exactly ``orientation`` (3 x 3 rotation matrix) or
+        ``Rz(yaw) Ry(pitch) Rx(roll)`` with ``rpy = (roll, pitch, yaw)`` in degrees.
+    size, parameters, max_boxes, time_limit, progress, inner_depth : as for ``reach``.
+    max_pairs, chunk_pairs : a task box holds at most ``max_pairs`` times its share of the root box's
+        measure of joint boxes (64 at least); about ``chunk_pairs`` pairs are handled at once.
+    section_ratio : of the section method: its cells are about this times the width of the 3D cells
+        (default ``serial_workspace.SECTION_RATIO``; rounded to a power of two).
+
+    Returns
+    -------
+    Paving
+        Over ``x, y, z``: ``inner`` boxes are proved reachable with the
+        constraint, ``outer`` boxes proved unreachable with it.
+
+    Examples
+    --------
+    >>> from workspace_sym.kinematics import DHJoint
+    >>> arm = DHRobot([DHJoint.revolute(1, d=1, alpha=sp.pi / 2, limits=(-sp.pi, sp.pi)),
+    ...                DHJoint.revolute(2, a=1, limits=(-sp.pi / 2, sp.pi / 2))])
+    >>> p = reach_pose(arm, delta=0.5, approach=(0, 0, 1), cone=10)
+    >>> p.counts["inner"]                   # the tool's z axis is horizontal: never within 10 deg of up
+    0
+    """
+    constraint = constraint_from(approach, cone, every, orientation, rpy)
+    check_delta(delta)
+    if size not in ("diameter", "width"):
+        raise InvalidParameterError(f"size must be one of 'diameter', 'width'; got {size!r}", parameter="size")
+    for name, value, least in (("inner_depth", inner_depth, 0), ("chunk_pairs", chunk_pairs, 1),
+                               ("max_pairs", max_pairs, 1)):
+        if not isinstance(value, int) or isinstance(value, bool) or value < least:
+            raise InvalidParameterError(f"{name} must be a whole number, {least} or more; got {value!r}",
+                                        parameter=name)
+    parameters = tuple(sorted((parameters or {}).items(), key=lambda item: str(item[0])))
+    run = RunBudget(max_boxes=max_boxes, time_limit=time_limit, progress=progress, total=0.0, label="reach")
+    if section_ratio is not None and not (isinstance(section_ratio, int | float) and 0 < section_ratio <= 4):
+        raise InvalidParameterError(f"section_ratio must be a number in (0, 4]; got {section_ratio!r}",
+                                    parameter="section_ratio")
+    options = dict(max_pairs=max_pairs, inner_depth=inner_depth, chunk_pairs=chunk_pairs)
+    try:
+        plan = _plan(robot, parameters, constraint)
+        if plan.revolved is None:
+            result = _pave_direct(plan.model, robot, delta, size, run, options)
+        else:
+            result = _pave_revolved(plan, robot, parameters, delta, size, run, options, section_ratio)
+    finally:
+        run.close()
+    box, inner, boundary, outer, pending, evaluated, reason = result
+    if pending is None:
+        reason = ""
+    empty = np.empty((0, 3, 2))
+
+    def stack(parts):
+        parts = [p for p in parts if len(p)]
+        return np.concatenate(parts) if parts else empty
+
+    return Paving(_TASK, box, (), float(delta), "numpy", size, stack(inner), stack(boundary), stack(outer),
+                  empty if pending is None else pending, run.seconds, not reason, evaluated, reason,
+                  units=robot.units, method="pairs" if plan.revolved is None else "section")
+
+
+def _check_root(root, delta, size, robot):
+    if not np.isfinite(root).all():
+        raise InvalidParameterError("robot: the position has no finite enclosure over the joint limits",
+                                    parameter="robot")
+    extent = box_sizes(root[None], size)[0]
+    if delta > extent:
+        raise InvalidParameterError(f"delta must be at most the size of the workspace's enclosing box "
+                                    f"({extent:.6g} {robot.units}); got {delta!r}", parameter="delta")
+
+
+def _pave_pairs(model: PoseModel, root, delta, size, run, *, max_pairs, inner_depth, chunk_pairs):
+    """The pairs paving of ``model``'s task space from the task box ``root``: ``(inner, boundary, outer,
+    pending or None, evaluated, reason)``, lists of box arrays."""
+    from .serial_workspace import _parts
+
+    Q = model.root_pairs()
+    T, owner = root[None].copy(), np.zeros(1, dtype=int)
+    inner, boundary, outer = [], [], []
+    evaluated, reason, rate = 0, "", 0.0
+    options = dict(delta=float(delta), size=size, inner_depth=inner_depth, max_pairs=max_pairs,
+                   root_measure=float(_volumes(T)[0]))
+    decided = 0.0
+    while len(T):
+        parts = list(_parts(T, Q, owner, max(1, math.ceil(len(Q) / chunk_pairs))))
+        children, pairs, owners, left = [], [], [], []
+        for n, (t, q, o) in enumerate(parts):
+            reason = run.stop_reason(evaluated, ahead=rate * (len(t) + len(q)))
+            if not reason:
+                try:
+                    start = time.perf_counter()
+                    i, b, out, c, cq, co = _step(model, t, q, o, **options)
+                    rate = (time.perf_counter() - start) / max(1, len(t) + len(q))
+                except KeyboardInterrupt:
+                    reason = "interrupted"
+            if reason:
+                left = [p[0] for p in parts[n:]]
+                break
+            evaluated += len(t)
+            inner.append(i)
+            boundary.append(b)
+            outer.append(out)
+            owners.append(co + sum(map(len, children)))
+            children.append(c)
+            pairs.append(cq)
+            decided += box_measure(i) + box_measure(b) + box_measure(out)
+        T = np.concatenate(children) if children else T[:0]
+        Q = np.concatenate(pairs) if pairs else Q[:0]
+        owner = np.concatenate(owners) if owners else owner[:0]
+        if left:
+            return inner, boundary, outer, np.concatenate([T, *left]), evaluated, reason
+        if run.showing and root.shape[0] == 3:
+            run.show(decided, evaluated)
+    return inner, boundary, outer, None, evaluated, ""
+
+
+def _pave_direct(model, robot, delta, size, run, options):
+    """The pairs paving over ``(x, y, z)``."""
+    root = model.position.enclose(model.position.limits[None])[0]
+    _check_root(root, delta, size, robot)
+    box = Box(_TASK, tuple(root[:, 0]), tuple(root[:, 1]))
+    run.total = box.measure
+    return (box, *_pave_pairs(model, root, delta, size, run, **options))
+
+
+def _section_classes(model, width: float, run, options):
+    """A :class:`CellGrid` over the constrained section and the class of each cell, from a pairs paving whose
+    boxes are unions of cells (cells of a power-of-two width on a grid of its multiples: every edge and every
+    midpoint is a float exactly); ``(grid, classes, evaluated, reason)``."""
+    w = 2.0 ** round(math.log2(width))
+    root = model.position.enclose(model.position.limits[None])[0]
+    grid = CellGrid(np.stack([np.floor(root[:, 0] / w) * w, root[:, 1]], axis=1), w)
+    lo = np.array([e[0] for e in grid.edges])
+    side = w * 2 ** math.ceil(math.log2(max(len(e) - 1 for e in grid.edges)))
+    square = np.stack([lo, lo + side], axis=1)
+    inner, boundary, outer, pending, evaluated, reason = _pave_pairs(model, square, w, "width", run, **options)
+    classes = np.full(grid.shape, UNDECIDED, dtype=np.int8)
+    # A run stopped by the budget keeps what it proved: its pending boxes stay undecided.
+    for value, parts in ((INNER, inner), (OUTER, outer)):
+        boxes = np.concatenate([p for p in parts if len(p)] or [np.empty((0, 2, 2))])
+        first = np.rint((boxes[:, :, 0] - lo) / w).astype(np.int64)
+        last = np.rint((boxes[:, :, 1] - lo) / w).astype(np.int64)
+        exact = np.all((lo + first * w == boxes[:, :, 0]) & (lo + last * w == boxes[:, :, 1]), axis=1)
+        first, last = first[exact], last[exact]
+        shape = np.array(grid.shape)
+        first, last = np.minimum(first, shape), np.minimum(last, shape)
+        counts = np.zeros((grid.shape[0] + 1, grid.shape[1] + 1), dtype=np.int64)
+        np.add.at(counts, (first[:, 0], first[:, 1]), 1)
+        np.add.at(counts, (first[:, 0], last[:, 1]), -1)
+        np.add.at(counts, (last[:, 0], first[:, 1]), -1)
+        np.add.at(counts, (last[:, 0], last[:, 1]), 1)
+        classes[np.cumsum(np.cumsum(counts, axis=0), axis=1)[:-1, :-1] > 0] = value
+    return grid, classes, evaluated, reason
+
+
+def _pave_revolved(plan: _Plan, robot, parameters, delta, size, run, options, ratio=None):
+    """The section paving turned by the first joint (``serial_workspace``'s section test, with the section
+    of the admissible configurations)."""
+    from .serial_workspace import SECTION_RATIO, _cell_width, _SectionTest
+    from .serial_workspace import _model as reach_model
+
+    position = reach_model(robot, parameters)
+    root = position.enclose(position.limits[None])[0]
+    _check_root(root, delta, size, robot)
+    box = Box(_TASK, tuple(root[:, 0]), tuple(root[:, 1]))
+    run.total = box.measure
+    ratio = SECTION_RATIO if ratio is None else ratio
+    grid, classes, evaluated, reason = _section_classes(plan.model, ratio * _cell_width(delta, size, 3), run,
+                                                        options)
+    T = root[None].copy()
+    inner, boundary, outer = [], [], []
+    # A section cut short by the budget still classifies (its undecided cells leave boundary boxes, so the
+    # bracket holds); the run is then reported incomplete, with the reason.
+    cut = reason
+    test = _SectionTest(plan.revolved, grid, classes)
+    while len(T):
+        reason = "" if cut else run.stop_reason(evaluated)
+        if reason:
+            break
+        evaluated += len(T)
+        is_in, is_out = test(T)
+        inner.append(T[is_in])
+        outer.append(T[is_out])
+        und = ~is_in & ~is_out
+        small = und & (box_sizes(T, size) <= delta)
+        boundary.append(T[small])
+        T, thin = bisect(T[und & ~small])
+        boundary.append(thin)
+    if cut:
+        return box, inner, boundary, outer, T, evaluated, cut
+    return box, inner, boundary, outer, T if len(T) and reason else None, evaluated, reason
