@@ -89,6 +89,7 @@ from .interval.image import (
 from .interval.paving import Box, Paving, RunBudget, bisect, box_measure, box_sizes, check_delta, halves
 from .interval.search import split_every_axis
 from .kinematics import DHRobot
+from .reach_section import Turned, TurnedTest, section_paving, turned
 
 __all__ = ["reach", "resolve_method", "ReachModel", "METHODS"]
 
@@ -301,11 +302,11 @@ def _model(robot: DHRobot, parameters: tuple) -> ReachModel:
 
 
 @lru_cache(maxsize=16)
-def _section(robot: DHRobot, parameters: tuple) -> _Revolved | _Product | None:
+def _section(robot: DHRobot, parameters: tuple) -> _Revolved | _Product | Turned | None:
     """How a spatial robot's workspace reduces to a map into the plane: a product of images, a section
-    turned by the first joint, or None."""
+    turned by the first joint (constant lateral offset, or any in cylindrical coordinates), or None."""
     model = _model(robot, parameters)
-    return _product(model) or _revolved(model)
+    return _product(model) or _revolved(model) or turned(model)
 
 
 def _plane_map(robot: DHRobot, parameters: tuple, which: str) -> ImageMap:
@@ -621,7 +622,10 @@ def _spatial(robot, parameters, delta, size, run, *, executor):
     run.total = box.measure
     width = _cell_width(delta, size, 3)
     grid, classes, evaluated, reason = None, None, 0, ""
-    if plan.section is not None:
+    if isinstance(plan, Turned) and plan.section.k > 2:
+        grid, classes, evaluated, reason = section_paving(plan.section, SECTION_RATIO * width,
+                                                          budget=run.stop_reason)
+    elif plan.section is not None:
         grid, classes, evaluated, reason = critical_paving(plan.section, SECTION_RATIO * width,
                                                            budget=run.stop_reason,
                                                            cover=_cover_with(executor, robot, parameters, "section"))
@@ -630,7 +634,8 @@ def _spatial(robot, parameters, delta, size, run, *, executor):
     inner, boundary, outer = [], [], []
     if reason:
         return box, inner, boundary, outer, T, evaluated, reason
-    test = (_ProductTest if isinstance(plan, _Product) else _SectionTest)(plan, grid, classes)
+    tests = {_Product: _ProductTest, _Revolved: _SectionTest, Turned: TurnedTest}
+    test = tests[type(plan)](plan, grid, classes)
     while len(T):
         reason = run.stop_reason(evaluated)
         if reason:
@@ -659,8 +664,9 @@ def resolve_method(robot: DHRobot, method: str = "auto", parameters=()) -> str:
     fits = _model(robot, parameters).m == 2 or _section(robot, parameters) is not None
     if method == "critical" and not fits:
         raise InvalidParameterError(f"method 'critical' needs a planar robot, coordinates moved by disjoint sets "
-                                    f"of joints, or a first revolute joint turning the rest (standard DH, no base "
-                                    f"transform); {robot.name} has none of these: use method='pairs'",
+                                    f"of joints, or a first revolute joint turning the rest (its variable in its "
+                                    f"angle theta_1 = k q_1 + offset alone, a rigid base); {robot.name} has none of "
+                                    f"these: use method='pairs'",
                                     parameter="method")
     return method if method != "auto" else ("critical" if fits else "pairs")
 
