@@ -43,6 +43,7 @@ is declared inner (the polar angle's interval is not modelled: left to the
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 
 import numpy as np
@@ -227,9 +228,7 @@ def turned(model) -> Turned | None:
     w = [sp.simplify(e) for e in (R.T * (model.position - t)).subs(at_zero)]
     if any(q1 in e.free_symbols for e in w):
         return None
-    rho2 = sp.expand(w[0] ** 2 + w[1] ** 2)
-    short = sp.expand(sp.fu(rho2)) if sp.count_ops(rho2) <= 400 else rho2
-    rho2 = short if sp.count_ops(short) < sp.count_ops(rho2) else rho2
+    rho2 = w[0] ** 2 + w[1] ** 2        # its floats only (enclosures come from u, c, v: SquareMap)
     # Joints that move the section: decided on the exact expressions (a joint absent from them is dropped).
     variables = [q for q in model.variables[1:] if q in (rho2.free_symbols | w[2].free_symbols)]
     if not variables:
@@ -288,34 +287,65 @@ class TurnedTest:
         return inner, outer & ~inner
 
 
-SECTION_PAIRS = 60_000          # (cell block, joint box) pairs of one generation of section_paving at most
+SECTION_PAIRS = 60_000           # (cell block, joint box) pairs of one generation of section_paving at most
+SECTION_SAMPLES = 400_000        # sampled configurations whose cells are proved inside first
 
 
 def section_paving(image: RadialMap, width: float, *, budget=None, show=None, max_pairs: int = SECTION_PAIRS):
     """Classify the cells of a grid of the given width over the section, for sections moved by three joints
     or more (whose critical sets are too costly to cover): blocks of cells, from the whole grid down to
-    single cells (halved along their longer side), carry the joint boxes whose enclosures meet them
+    single cells (halved along their longer side), after the cells hit by sampled configurations have each
+    been proved inside from their sample (Krawczyk), carry the joint boxes whose enclosures meet them
     (:func:`~workspace_sym.interval.image.distribute`); a block left without joint boxes is outside the
     section, a block proved by the Krawczyk test from its first joint box's centre is inside.  Returns
-    ``(grid, classes, evaluated, stopped)`` as :func:`~workspace_sym.interval.image.critical_paving`."""
-    budget = budget or (lambda evaluated: "")
+    ``(grid, classes, evaluated, stopped)`` as :func:`~workspace_sym.interval.image.critical_paving`, except
+    that the cells classified when a budget stops the run keep their (proved) class.  ``budget(evaluated,
+    ahead=seconds)`` is asked before each generation with twice the last one's time."""
+    budget = budget or (lambda evaluated, ahead=0.0: "")
     show = show or (lambda share, evaluated: None)
     root = image.enclose(image.limits[None])[0]
     grid = CellGrid(root, width)
     classes = np.full(grid.shape, UNDECIDED, dtype=np.int8)
+    evaluated = 0
+    # Cells hit by sampled configurations: each is proved inside from its sample (Krawczyk).
+    rng = np.random.default_rng(0)
+    q = image.random_configurations(min(SECTION_SAMPLES, 20 * classes.size), rng)
+    p = image.position_float(q)
+    first, _ = grid.span(np.repeat(p[:, :, None], 2, axis=2))
+    index, row = np.unique(first, axis=0, return_index=True)
+    for part in np.array_split(np.arange(len(index)), max(1, len(index) // 20_000)):
+        stopped = budget(evaluated)
+        if stopped:
+            return grid, classes, evaluated, stopped
+        evaluated += len(part)
+        inside = image.prove_inside(grid.cells(index[part]), q[row[part]])
+        classes[tuple(index[part][inside].T)] = INNER
+    show(float(np.mean(classes != UNDECIDED)), evaluated)
+    proved = grid.prefix(classes, INNER)
     # Blocks as index ranges [i0, i1) x [j0, j1) of cells.
     blocks = np.array([[0, grid.shape[0], 0, grid.shape[1]]])
     Q = image.limits[None].copy()
     owner = np.zeros(1, dtype=int)
-    evaluated, stopped = 0, ""
+    stopped = ""
     e0, e1 = grid.edges
+    last = 0.0                  # seconds of the last generation; the next is expected to take about twice
     while len(blocks):
-        stopped = budget(evaluated)
+        stopped = budget(evaluated, ahead=2 * last)
         if stopped:
             break
+        start = time.perf_counter()
         evaluated += len(blocks)
         T = np.stack([np.stack([e0[blocks[:, 0]], e0[blocks[:, 1]]], axis=1),
                       np.stack([e1[blocks[:, 2]], e1[blocks[:, 3]]], axis=1)], axis=1)
+        # A block whose cells are all proved inside already is left.
+        i0, i1, j0, j1 = blocks.T
+        done = proved[i1, j1] - proved[i0, j1] - proved[i1, j0] + proved[i0, j0] == (i1 - i0) * (j1 - j0)
+        if done.any():
+            keep = ~done[owner]
+            new_index = np.cumsum(~done) - 1
+            blocks, T, Q, owner = blocks[~done], T[~done], Q[keep], new_index[owner[keep]]
+            if not len(blocks):
+                break
         cap = np.full(len(T), max(64, max_pairs // max(1, len(T))))
         Q, owner = distribute(image, T, Q, owner, cap)
         count = np.bincount(owner, minlength=len(T))
@@ -345,4 +375,5 @@ def section_paving(image: RadialMap, width: float, *, budget=None, show=None, ma
         blocks = np.stack([left, right], axis=1).reshape(-1, 4)
         Q, owner = np.concatenate([Q, Q]), np.concatenate([2 * base, 2 * base + 1])
         show(float(np.mean(classes != UNDECIDED)), evaluated)
+        last = time.perf_counter() - start
     return grid, classes, evaluated, stopped

@@ -97,6 +97,7 @@ _TASK = (sp.Symbol("x"), sp.Symbol("y"), sp.Symbol("z"))
 _MIN_PAIRS = 64                  # pairs a task box may always hold, however small its share of the root box
 METHODS = ("auto", "critical", "pairs")
 SECTION_RATIO = 0.25             # cell width of the section against the width of the task boxes
+SECTION_SHARE = 0.8              # share of the time limit a section paved by blocks may take
 ANGLE_PAD = 1e-9                 # widening of float angles (rad)
 _MARGIN = 1e-12                  # of angle comparisons after reduction modulo 2 pi
 _TWO_PI = 2 * math.pi
@@ -623,8 +624,15 @@ def _spatial(robot, parameters, delta, size, run, *, executor):
     width = _cell_width(delta, size, 3)
     grid, classes, evaluated, reason = None, None, 0, ""
     if isinstance(plan, Turned) and plan.section.k > 2:
+        # Blocks of the section keep what they proved when stopped: past SECTION_SHARE of the time limit the
+        # rest of the section stays undecided and the (x, y, z) boxes are classified with what is proved.
+        def section_budget(count, ahead=0.0):
+            late = run.time_limit is not None and run.seconds + ahead > SECTION_SHARE * run.time_limit
+            return run.stop_reason(count) or ("section share" if late else "")
+
         grid, classes, evaluated, reason = section_paving(plan.section, SECTION_RATIO * width,
-                                                          budget=run.stop_reason)
+                                                          budget=section_budget)
+        reason = "" if reason == "section share" else reason
     elif plan.section is not None:
         grid, classes, evaluated, reason = critical_paving(plan.section, SECTION_RATIO * width,
                                                            budget=run.stop_reason,
