@@ -113,7 +113,7 @@ def test_three_joint_section_is_paved_by_blocks():
     robot = offset_arm(wrist=True)
     plan = _section(robot, ())
     assert isinstance(plan, Turned) and plan.section.k == 3
-    paving = reach(robot, delta=0.4)
+    paving = reach(robot, delta=0.25)
     lo, hi = paving.measure_bounds
     volume = _pappus_volume(robot, n=400_000, h=0.01)
     assert lo <= volume <= hi, (lo, volume, hi)

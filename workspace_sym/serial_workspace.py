@@ -34,7 +34,11 @@ it is inner when one branch ``u = +s`` or ``u = -s`` lies in proved cells of
 ``S`` with the needed ``theta_1`` inside the limits for every point, outer
 when for both branches the cells are proved outside ``S`` or the needed
 ``theta_1`` misses the limits.  Angles are float ``atan2`` of the box corners
-widened by ``ANGLE_PAD`` (10^6 times their rounding error).
+widened by ``ANGLE_PAD`` (10^6 times their rounding error).  When ``c``
+varies with the other joints, or a rigid base transform comes first (any
+URDF robot), the section is ``(rho, z)`` in the first joint's frame
+(:mod:`workspace_sym.reach_section`: inner boxes need ``q_1`` to turn a
+full circle; outer boxes hold whatever its limits).
 
 ``"pairs"`` (any robot).  Each task box carries joint boxes covering every
 configuration whose position may lie in it; the root task box is the
@@ -696,7 +700,7 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     method : {"auto", "critical", "pairs"}
         ``"auto"``: ``"critical"`` for a planar robot, a spatial robot whose
         coordinates are moved by disjoint sets of joints, and a spatial robot
-        turned by a revolute first joint (standard DH, no base transform);
+        turned by a revolute first joint (a rigid base transform allowed);
         ``"pairs"`` otherwise.
     max_boxes, time_limit : budget; what is left undecided is returned as ``pending``.
     progress : progress bar (:mod:`workspace_sym.progress`; default: on an
