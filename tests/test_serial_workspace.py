@@ -23,6 +23,7 @@ from hypothesis import strategies as st
 import workspace_sym as ws
 from workspace_sym.errors import InvalidParameterError, JointLimitError
 from workspace_sym.kinematics import DHJoint, DHRobot
+from workspace_sym.reach_section import Turned
 from workspace_sym.serial_workspace import ReachModel, _model, _section, reach, resolve_method
 
 DATA = Path(__file__).parent / "data"
@@ -325,7 +326,8 @@ def test_glass_arm_outer_boxes_meet_no_configuration():
 
 def test_the_method_follows_the_structure():
     """glass arm and Puma: p = Rz(theta1) (u, c, v); the SCARA is a product (x, y) x z; the UR5's wrist
-    offsets fit neither, so it takes the pair method and 'critical' on it is a clear error."""
+    offsets make c vary: its section is in cylindrical coordinates; a coupled first joint fits nothing, so
+    'critical' on it is a clear error."""
     glass = _section(ws.robots.build("glass-handling"), ())
     assert [str(v) for v in glass.section.variables] == ["theta2", "theta3", "theta4"] and glass.c == (0.0, 0.0)
     puma = _section(ws.robots.build("puma560"), ())
@@ -338,9 +340,12 @@ def test_the_method_follows_the_structure():
                        DHJoint("R", q2 - q1, 0, sp.Rational(1, 2), 0, q2, (-1, 1)),
                        DHJoint.revolute(3, a=sp.Rational(1, 4), limits=(-1, 1))])
     assert _section(coupled, ()) is None
-    ur5 = DHRobot.from_file(DATA / "dh" / "ur5.json")
     with pytest.raises(InvalidParameterError, match="method 'critical' needs"):
-        reach(ur5, delta=0.1, method="critical")
+        reach(coupled, delta=0.1, method="critical")
+    # The UR5's lateral offset varies with its wrist joints: a section in cylindrical coordinates (issue 24).
+    ur5 = _section(DHRobot.from_file(DATA / "dh" / "ur5.json"), ())
+    assert isinstance(ur5, Turned) and ur5.full and ur5.inverse is None
+    assert [str(v) for v in ur5.section.variables] == ["theta2", "theta3", "theta4", "theta5"]
     with pytest.raises(InvalidParameterError, match="method must be one of"):
         reach(ws.robots.build("scara"), delta=0.1, method="fast")
 

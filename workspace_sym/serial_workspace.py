@@ -34,7 +34,11 @@ it is inner when one branch ``u = +s`` or ``u = -s`` lies in proved cells of
 ``S`` with the needed ``theta_1`` inside the limits for every point, outer
 when for both branches the cells are proved outside ``S`` or the needed
 ``theta_1`` misses the limits.  Angles are float ``atan2`` of the box corners
-widened by ``ANGLE_PAD`` (10^6 times their rounding error).
+widened by ``ANGLE_PAD`` (10^6 times their rounding error).  When ``c``
+varies with the other joints, or a rigid base transform comes first (any
+URDF robot), the section is ``(rho, z)`` in the first joint's frame
+(:mod:`workspace_sym.reach_section`: inner boxes need ``q_1`` to turn a
+full circle; outer boxes hold whatever its limits).
 
 ``"pairs"`` (any robot).  Each task box carries joint boxes covering every
 configuration whose position may lie in it; the root task box is the
@@ -93,6 +97,7 @@ from .interval.image import (
 from .interval.paving import Box, Paving, RunBudget, bisect, box_measure, box_sizes, check_delta, halves
 from .interval.search import split_every_axis
 from .kinematics import DHRobot
+from .reach_section import Turned, TurnedTest, section_paving, turned
 from .symbolic import symbolic_budget
 
 __all__ = ["reach", "resolve_method", "ReachModel", "METHODS"]
@@ -101,6 +106,7 @@ _TASK = (sp.Symbol("x"), sp.Symbol("y"), sp.Symbol("z"))
 _MIN_PAIRS = 64                  # pairs a task box may always hold, however small its share of the root box
 METHODS = ("auto", "critical", "pairs")
 SECTION_RATIO = 0.25             # cell width of the section against the width of the task boxes
+SECTION_SHARE = 0.8              # share of the time limit a section paved by blocks may take
 ANGLE_PAD = 1e-9                 # widening of float angles (rad)
 _MARGIN = 1e-12                  # of angle comparisons after reduction modulo 2 pi
 _TWO_PI = 2 * math.pi
@@ -307,11 +313,11 @@ def _model(robot: DHRobot, parameters: tuple) -> ReachModel:
 
 
 @lru_cache(maxsize=16)
-def _section(robot: DHRobot, parameters: tuple) -> _Revolved | _Product | None:
+def _section(robot: DHRobot, parameters: tuple) -> _Revolved | _Product | Turned | None:
     """How a spatial robot's workspace reduces to a map into the plane: a product of images, a section
-    turned by the first joint, or None."""
+    turned by the first joint (constant lateral offset, or any in cylindrical coordinates), or None."""
     model = _model(robot, parameters)
-    return _product(model) or _revolved(model)
+    return _product(model) or _revolved(model) or turned(model)
 
 
 def _plane_map(robot: DHRobot, parameters: tuple, which: str) -> ImageMap:
@@ -631,7 +637,17 @@ def _spatial(robot, parameters, delta, size, run, *, executor):
     run.total = box.measure
     width = _cell_width(delta, size, 3)
     grid, classes, evaluated, reason = None, None, 0, ""
-    if plan.section is not None:
+    if isinstance(plan, Turned) and plan.section.k > 2:
+        # Blocks of the section keep what they proved when stopped: past SECTION_SHARE of the time limit the
+        # rest of the section stays undecided and the (x, y, z) boxes are classified with what is proved.
+        def section_budget(count, ahead=0.0):
+            late = run.time_limit is not None and run.seconds + ahead > SECTION_SHARE * run.time_limit
+            return run.stop_reason(count) or ("section share" if late else "")
+
+        grid, classes, evaluated, reason = section_paving(plan.section, SECTION_RATIO * width,
+                                                          budget=section_budget)
+        reason = "" if reason == "section share" else reason
+    elif plan.section is not None:
         grid, classes, evaluated, reason = critical_paving(plan.section, SECTION_RATIO * width,
                                                            budget=run.stop_reason,
                                                            cover=_cover_with(executor, robot, parameters, "section"))
@@ -640,7 +656,8 @@ def _spatial(robot, parameters, delta, size, run, *, executor):
     inner, boundary, outer = [], [], []
     if reason:
         return box, inner, boundary, outer, T, evaluated, reason
-    test = (_ProductTest if isinstance(plan, _Product) else _SectionTest)(plan, grid, classes)
+    tests = {_Product: _ProductTest, _Revolved: _SectionTest, Turned: TurnedTest}
+    test = tests[type(plan)](plan, grid, classes)
     while len(T):
         reason = run.stop_reason(evaluated)
         if reason:
@@ -669,8 +686,9 @@ def resolve_method(robot: DHRobot, method: str = "auto", parameters=()) -> str:
     fits = _model(robot, parameters).m == 2 or _section(robot, parameters) is not None
     if method == "critical" and not fits:
         raise InvalidParameterError(f"method 'critical' needs a planar robot, coordinates moved by disjoint sets "
-                                    f"of joints, or a first revolute joint turning the rest (standard DH, no base "
-                                    f"transform); {robot.name} has none of these: use method='pairs'",
+                                    f"of joints, or a first revolute joint turning the rest (its variable in its "
+                                    f"angle theta_1 = k q_1 + offset alone, a rigid base); {robot.name} has none of "
+                                    f"these: use method='pairs'",
                                     parameter="method")
     return method if method != "auto" else ("critical" if fits else "pairs")
 
@@ -710,7 +728,7 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     method : {"auto", "critical", "pairs"}
         ``"auto"``: ``"critical"`` for a planar robot, a spatial robot whose
         coordinates are moved by disjoint sets of joints, and a spatial robot
-        turned by a revolute first joint (standard DH, no base transform);
+        turned by a revolute first joint (a rigid base transform allowed);
         ``"pairs"`` otherwise.
     max_boxes, time_limit : budget; what is left undecided is returned as ``pending``.  A symbolic model not
         ready within ``time_limit`` raises :class:`~workspace_sym.errors.SymbolicBudgetError`.

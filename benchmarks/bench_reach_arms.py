@@ -1,0 +1,114 @@
+"""Issue 24 benchmark: certified position workspaces of industrial arms turned by their first joint.
+
+For each arm, delta and time limit (one cold process per arm: nothing cached): the method, the seconds, where
+they go (symbolic preparation of the model and of the section, the paving of the section, the classification of
+the (x, y, z) boxes), the proved bracket, its width as a share of its upper bound, and a reference volume the
+bracket must hold: Pappus's theorem on the section sampled at 10^6 configurations (cells of (rho, z) of side
+h hit by a sample, each turned through a full circle; an estimate, no bound).
+
+Arms: UR5 (``tests/data/dh/ur5.json``), KUKA KR16 (rtb-data's ``kr16_2.urdf``, limits from the file), the
+glass-handling arm and the Puma 560 of the catalog (the constant-offset section, for the before/after check).
+
+Run: python benchmarks/bench_reach_arms.py [--quick] [ARM ...]
+"""
+
+import datetime
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+ARMS = {"ur5": [(0.2, 60), (0.1, 60)], "kr16": [(0.1, 120)], "glass": [(0.0125, 60)], "puma": [(0.02, 60)]}
+
+
+def load(name):
+    from workspace_sym import robots
+    from workspace_sym.kinematics import DHRobot
+
+    if name == "ur5":
+        return DHRobot.from_file(ROOT / "tests" / "data" / "dh" / "ur5.json")
+    if name == "kr16":
+        import rtbdata
+
+        path = Path(rtbdata.__file__).parent / "xacro/kuka_description/kuka_kr16/urdf/kr16_2.urdf"
+        return DHRobot.from_urdf(path)
+    return robots.build({"glass": "glass-handling", "puma": "puma560"}[name])
+
+
+def pappus(robot, plan, n=1_000_000, h=0.005):
+    """Volume of the sampled section turned through a full circle (the first joint's range ignored)."""
+    from workspace_sym.reach_section import Turned, to_first_frame
+    from workspace_sym.serial_workspace import ReachModel
+
+    if not isinstance(plan, Turned) or not plan.full:
+        return None
+    model = ReachModel(robot)
+    p = model.position_float(model.random_configurations(n, np.random.default_rng(0)))
+    F = to_first_frame(plan.inverse, np.repeat(p[:, :, None], 2, axis=2))[:, :, 0]
+    cells = np.unique(np.stack([np.floor(np.hypot(F[:, 0], F[:, 1]) / h), np.floor(F[:, 2] / h)], axis=1), axis=0)
+    return float(np.sum(2 * np.pi * (cells[:, 0] + 0.5) * h ** 3))
+
+
+def one(name, delta, limit):
+    """One arm in this process: a line of the table."""
+    from workspace_sym import reach_section, serial_workspace
+
+    phases = {"section paving": 0.0}
+
+    def timed(fn):
+        def wrapper(*args, **kwargs):
+            t = time.perf_counter()
+            try:
+                return fn(*args, **kwargs)
+            finally:
+                phases["section paving"] += time.perf_counter() - t
+        return wrapper
+
+    serial_workspace.section_paving = timed(reach_section.section_paving)
+    serial_workspace.critical_paving = timed(serial_workspace.critical_paving)
+    robot = load(name)
+    t = time.perf_counter()
+    paving = serial_workspace.reach(robot, delta=delta, time_limit=limit)
+    total = time.perf_counter() - t
+    plan = serial_workspace._section(robot, ())
+    t = time.perf_counter()
+    serial_workspace._section.cache_clear()
+    serial_workspace._model.cache_clear()
+    serial_workspace._section(robot, ())
+    prep = time.perf_counter() - t
+    lo, hi = paving.measure_bounds
+    ref = pappus(robot, plan)
+    c = paving.counts
+    holds = "" if ref is None else ("holds" if lo <= ref <= hi else "MISSES")
+    rest = total - prep - phases["section paving"]
+    ref_text = "-" if ref is None else f"{ref:.4f} ({holds})"
+    print(f"| {name} | {paving.method} | {delta} | {limit} | {total:.1f} (prep {prep:.1f} + section "
+          f"{phases['section paving']:.1f} + boxes {rest:.1f}) | {c['inner']} / {c['boundary']} / {c['outer']} "
+          f"/ {c['pending']} | [{lo:.4f}, {hi:.4f}] | {100 * (hi - lo) / hi:.1f}% | {ref_text} |", flush=True)
+
+
+def main():
+    args = [a for a in sys.argv[1:] if not a.startswith("--")]
+    if len(args) == 3 and args[0] in ARMS:              # child process: one arm
+        one(args[0], float(args[1]), float(args[2]))
+        return
+    from _common import machine
+
+    with open("/proc/loadavg") as f:
+        load_avg = f.read().split()[0]
+    print(f"{datetime.date.today()}, {machine()}, load average {load_avg} at the start")
+    print("| arm | method | delta | time limit | seconds (where) | inner / boundary / outer / pending | bracket "
+          "| width / upper | Pappus reference |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    names = args or list(ARMS)
+    for name in names:
+        for delta, limit in ARMS[name][:1] if "--quick" in sys.argv else ARMS[name]:
+            subprocess.run([sys.executable, __file__, name, str(delta), str(limit)], check=False,
+                           cwd=Path(__file__).parent)
+
+
+if __name__ == "__main__":
+    main()

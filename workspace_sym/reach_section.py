@@ -1,0 +1,379 @@
+"""A spatial arm turned by its first joint: the certified section in cylindrical coordinates.
+
+The structure (used by :func:`workspace_sym.serial_workspace.reach`): the
+first joint is revolute with ``theta_1 = k q_1 + offset`` and ``q_1`` in no
+other entry of the table (its own ``d_1``, ``a_1``, ``alpha_1`` included),
+nor in the base or tool transforms.  Then, standard or modified DH, with a
+rigid base transform ``B`` (the robot's base, times ``Rx(alpha_0) Tx(a_0)``
+of the first row in modified DH),
+
+    p = B Rz(theta_1) w(q'),    w = (u, c, v) of the other joints q',
+
+where the lateral offset ``c`` may vary with ``q'`` (UR5, KUKA KR16 with
+its URDF base).  In the frame of the first joint (``B^-1 p``), a point of
+cylindrical coordinates ``(rho, psi, z)`` is ``Rz(theta_1)`` of
+``w = (rho cos psi', rho sin psi', z)`` with ``rho^2 = u^2 + c^2``: when
+``q_1`` turns the position through a whole period, the workspace is the solid
+of revolution of the section
+
+    S = {(rho, z) = (sqrt(u^2 + c^2), v)(q')},
+
+the image of a map into the plane that
+:func:`~workspace_sym.interval.image.critical_paving` paves.  :class:`RadialMap`
+is that map: its enclosures are those of ``(u^2 + c^2, v)`` with an
+outward-rounded square root on the first coordinate; its critical set is
+decided on the smooth map ``(u^2 + c^2, v)``, whose ``2 x 2`` minors are those
+of ``(rho, v)`` times ``2 rho`` (the same signs off the axis, and zero on the
+axis ``u = c = 0`` where ``rho`` is not smooth: those configurations count as
+critical, so their image is marked and the connectedness argument holds); its
+Krawczyk and outside proofs run on ``(u^2 + c^2, v)`` for the squared box
+(outward-rounded), which holds the same points.
+
+A box of world ``(x, y, z)`` is mapped to the frame of the first joint by
+``B^-1`` in outward-rounded interval arithmetic (an enclosing box); the
+interval of ``rho`` over it and its ``z`` interval form a rectangle of the
+section's grid: the box is **inner** when the rectangle lies in cells proved
+inside ``S`` (every point is reached: any ``theta_1`` is allowed), **outer**
+when it lies in cells proved outside (no point of the box is on the solid of
+revolution, which holds the workspace whatever the limits of ``q_1``).  With
+``q_1`` limited to less than a period the outer verdicts still hold and no box
+is declared inner (the polar angle's interval is not modelled: left to the
+``"pairs"`` method when asked for).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+import sympy as sp
+
+from .interval import arith
+from .interval.graph import numpy_constant
+from .interval.image import INNER, OUTER, UNDECIDED, CellGrid, ImageMap, distribute
+from .kinematics import _rx, _translate
+
+__all__ = ["RadialMap", "Turned", "turned", "TurnedTest"]
+
+
+def _square_boxes(T: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(rho, z)`` boxes as ``(rho^2, z)`` boxes holding the same points (outward-rounded), and the mask of
+    those lying in ``rho >= 0`` (a box reaching ``rho < 0`` holds points no configuration reaches)."""
+    T2 = T.copy()
+    with np.errstate(all="ignore"):
+        lo, hi = arith.sqr((np.maximum(T[:, 0, 0], 0.0), np.maximum(T[:, 0, 1], 0.0)))
+    T2[:, 0, 0], T2[:, 0, 1] = lo, hi
+    return T2, T[:, 0, 0] >= 0
+
+
+class SquareMap(ImageMap):
+    """``q' -> (u^2 + c^2, v)`` whose interval enclosures (values and Jacobian, used by the Krawczyk test)
+    come from those of ``(u, c, v)`` and their derivatives: ``sqr(u) + sqr(c)`` and ``2 (u u_j + c c_j)``,
+    tighter than the expanded expression's (kept for the floats of Newton's method)."""
+
+    def __init__(self, rho2, w, variables, limits, periodic):
+        super().__init__([rho2, w[2]], variables, limits, periodic)
+        self.lateral = ImageMap(w, variables, limits, periodic)
+
+    def enclose(self, Q: np.ndarray) -> np.ndarray:
+        W = self.lateral.enclose(Q)
+        E = np.empty((len(Q), 2, 2))
+        with np.errstate(all="ignore"):
+            lo, hi = arith.add(arith.sqr((W[:, 0, 0], W[:, 0, 1])), arith.sqr((W[:, 1, 0], W[:, 1, 1])))
+        E[:, 0, 0], E[:, 0, 1] = np.maximum(lo, 0.0), hi
+        E[:, 1] = W[:, 2]
+        return np.where(np.isnan(E), np.inf * np.array([-1.0, 1.0]), E)
+
+    def jacobian_enclosure(self, Q: np.ndarray):
+        W = self.lateral.enclose(Q)
+        J = self.lateral.jacobian_enclosure(Q)
+        u, c = (W[:, 0, 0], W[:, 0, 1]), (W[:, 1, 0], W[:, 1, 1])
+        two = (2.0, 2.0)
+        with np.errstate(all="ignore"):
+            top = [arith.mul(two, arith.add(arith.mul(u, J[0][j]), arith.mul(c, J[1][j]))) for j in range(self.k)]
+        return [top, [J[2][j] for j in range(self.k)]]
+
+
+class RadialMap:
+    """The section map ``q' -> (rho, v) = (sqrt(u^2 + c^2), v)`` (module docstring), with what
+    :func:`~workspace_sym.interval.image.critical_paving` needs; the rest is the squared map's."""
+
+    def __init__(self, square: ImageMap, lateral: ImageMap):
+        if square.m != 2 or lateral.m != 3:
+            raise ValueError("RadialMap needs the maps (u^2 + c^2, v) and (u, c, v)")
+        self.square, self.lateral = square, lateral
+        self._last = None
+
+    def __getattr__(self, name):
+        if name in ("square", "lateral", "_last"):   # not set yet (unpickling): no recursion
+            raise AttributeError(name)
+        return getattr(self.square, name)
+
+    def enclose(self, Q: np.ndarray) -> np.ndarray:
+        """Enclosures of ``(rho, v)``, ``rho = sqrt(u^2 + c^2)`` from the enclosures of ``u`` and ``c``."""
+        W = self.lateral.enclose(Q)
+        E = np.empty((len(Q), 2, 2))
+        with np.errstate(all="ignore"):
+            r2 = arith.add(arith.sqr((W[:, 0, 0], W[:, 0, 1])), arith.sqr((W[:, 1, 0], W[:, 1, 1])))
+            E[:, 0, 0], E[:, 0, 1] = arith.sqrt((np.maximum(r2[0], 0.0), r2[1]))
+        E[:, 1] = W[:, 2]
+        return np.where(np.isnan(E), np.inf * np.array([-1.0, 1.0]), E)
+
+    def _rows(self, Q: np.ndarray):
+        """Interval Jacobian rows ``u u_j + c c_j`` (half the derivative of ``rho^2``) and ``v_j`` over ``Q``,
+        from the enclosures of ``u, c`` and of their derivatives (the last ``Q`` is remembered)."""
+        if self._last is not None and self._last[0] is Q:
+            return self._last[1]
+        W = self.lateral.enclose(Q)
+        J = self.lateral.jacobian_enclosure(Q)
+        u, c = (W[:, 0, 0], W[:, 0, 1]), (W[:, 1, 0], W[:, 1, 1])
+        with np.errstate(all="ignore"):
+            top = [arith.add(arith.mul(u, J[0][j]), arith.mul(c, J[1][j])) for j in range(self.k)]
+        rows = (top, [J[2][j] for j in range(self.k)])
+        self._last = (Q, rows)
+        return rows
+
+    def minor_enclosure(self, Q: np.ndarray, i: int, j: int):
+        """An enclosure of ``det [J_i, J_j]`` of ``(u^2 + c^2, v) / 2`` (the sign of that of ``(rho, v)``
+        off the axis; zero on it): the interval product of the entries, cut to one sign where the interval
+        ``2 x 2`` matrix is proved regular (its product with the inverse ``C`` of its midpoint lies within
+        distance 1 of the identity in the max-row-sum norm, so every matrix in it has the sign of ``det C``,
+        itself enclosed)."""
+        top, bottom = self._rows(Q)
+        a, b, c, d = top[i], top[j], bottom[i], bottom[j]
+        with np.errstate(all="ignore"):
+            lo, hi = arith.sub(arith.mul(a, d), arith.mul(b, c))
+            mid = [0.5 * (x[0] + x[1]) for x in (a, b, c, d)]
+            det = mid[0] * mid[3] - mid[1] * mid[2]
+            C = [mid[3] / det, -mid[1] / det, -mid[2] / det, mid[0] / det]      # inverse of [[a, b], [c, d]]
+            point = [(x, x) for x in C]
+            B = [arith.add(arith.mul(point[0], a), arith.mul(point[1], c)), arith.add(arith.mul(point[0], b),
+                 arith.mul(point[1], d)), arith.add(arith.mul(point[2], a), arith.mul(point[3], c)),
+                 arith.add(arith.mul(point[2], b), arith.mul(point[3], d))]
+            gap = [arith.sub((1.0, 1.0) if k in (0, 3) else (0.0, 0.0), B[k]) for k in range(4)]
+            size = [np.maximum(np.abs(g[0]), np.abs(g[1])) for g in gap]
+            row0, row1 = arith.up(size[0] + size[1]), arith.up(size[2] + size[3])
+            regular = np.isfinite(row0) & np.isfinite(row1) & (row0 < 1) & (row1 < 1)
+            det_c = arith.sub(arith.mul(point[0], point[3]), arith.mul(point[1], point[2]))
+        positive = regular & (det_c[0] > 0)
+        negative = regular & (det_c[1] < 0)
+        tiny = np.finfo(float).tiny
+        lo = np.where(positive, np.maximum(lo, tiny), lo)
+        hi = np.where(negative, np.minimum(hi, -tiny), hi)
+        return (lo, hi) if i < j else (-hi, -lo)
+
+    def position_float(self, q: np.ndarray) -> np.ndarray:
+        p = self.square.position_float(q)
+        p[:, 0] = np.sqrt(np.maximum(p[:, 0], 0.0))
+        return p
+
+    def prove_inside_multistart(self, T: np.ndarray, rng, **options):
+        T2, ok = _square_boxes(T)
+        result = self.square.prove_inside_multistart(T2, rng, **options)
+        if isinstance(result, tuple):
+            return result[0] & ok, result[1]
+        return result & ok
+
+    def prove_inside(self, T: np.ndarray, seeds: np.ndarray, **options) -> np.ndarray:
+        T2, ok = _square_boxes(T)
+        return self.square.prove_inside(T2, seeds, **options) & ok
+
+    def prove_outside(self, T: np.ndarray, **options) -> np.ndarray:
+        # The outward enclosures of rho: a joint box is dropped only when they miss the box.
+        return ImageMap.prove_outside(self, T, **options)
+
+
+@dataclass(frozen=True)
+class Turned:
+    """``p = B Rz(theta_1) w(q')``: the section map, ``B^-1`` as interval rotation rows and translation
+    (None for the identity), and whether ``q_1`` turns the position through a whole period."""
+
+    section: RadialMap
+    inverse: tuple | None
+    full: bool
+
+
+def _first_frame(robot, parameters) -> sp.Matrix:
+    """``B``: the base transform, times ``Rx(alpha_0) Tx(a_0)`` of the first row in modified DH."""
+    B = robot.base if robot.base is not None else sp.eye(4)
+    if robot.convention == "modified":
+        joint = robot.joints[0]
+        B = B * _rx(robot.substitute(joint.alpha, parameters)) * _translate(x=robot.substitute(joint.a, parameters))
+    return B
+
+
+def turned(model) -> Turned | None:
+    """The structure of the module docstring in a :class:`~workspace_sym.serial_workspace.ReachModel`,
+    or None."""
+    robot = model.robot
+    if model.m != 3 or model.joints[:1] != [0] or robot.joints[0].kind != "R":
+        return None
+    joint = robot.joints[0]
+    q1 = joint.variable
+    others = [joint.d, joint.a, joint.alpha] + [e for j in robot.joints[1:] for e in (j.theta, j.d, j.a, j.alpha)]
+    others += [e for M in (robot.base, robot.tool) if M is not None for e in M]
+    if any(q1 in sp.sympify(e).free_symbols for e in others):
+        return None
+    theta = robot.substitute(joint.theta, model.parameters)
+    slope = sp.diff(theta, q1)
+    if slope.free_symbols or slope == 0:
+        return None
+    B = _first_frame(robot, model.parameters)
+    R, t = B[:3, :3], B[:3, 3]
+    if B[3, :] != sp.Matrix([[0, 0, 0, 1]]) or sp.simplify(R.T * R - sp.eye(3)) != sp.zeros(3, 3):
+        return None                                     # not rigid: the structure is not there
+    # w = Rz(-theta_1) B^-1 p, read at theta_1 = 0.
+    at_zero = {q1: -theta.subs(q1, 0) / slope}
+    w = [sp.simplify(e) for e in (R.T * (model.position - t)).subs(at_zero)]
+    if any(q1 in e.free_symbols for e in w):
+        return None
+    rho2 = w[0] ** 2 + w[1] ** 2        # its floats only (enclosures come from u, c, v: SquareMap)
+    # Joints that move the section: decided on the exact expressions (a joint absent from them is dropped).
+    variables = [q for q in model.variables[1:] if q in (rho2.free_symbols | w[2].free_symbols)]
+    if not variables:
+        return None
+    rows = [model.variables.index(q) for q in variables]
+    limits, periodic = [model.exact_limits[r] for r in rows], model.periodic[rows]
+    square = SquareMap(rho2, w, variables, limits, periodic)
+    inverse = None
+    if B != sp.eye(4):
+        Rt = R.T
+        back = -Rt * t
+        inverse = (tuple(tuple(numpy_constant(Rt[i, j]) for j in range(3)) for i in range(3)),
+                   tuple(numpy_constant(back[i]) for i in range(3)))
+    return Turned(RadialMap(square, square.lateral), inverse, bool(model.periodic[0]))
+
+
+def to_first_frame(inverse, X: np.ndarray) -> np.ndarray:
+    """Boxes enclosing ``B^-1`` of the world boxes ``X`` (outward-rounded; ``X`` itself without ``B``)."""
+    if inverse is None:
+        return X
+    rows, back = inverse
+    out = np.empty_like(X)
+    with np.errstate(all="ignore"):
+        for i in range(3):
+            acc = (np.full(len(X), back[i][0]), np.full(len(X), back[i][1]))
+            for j in range(3):
+                if rows[i][j] != (0.0, 0.0):
+                    acc = arith.add(acc, arith.mul(rows[i][j], (X[:, j, 0], X[:, j, 1])))
+            out[:, i, 0], out[:, i, 1] = acc
+    return out
+
+
+class TurnedTest:
+    """Classify world boxes of ``(x, y, z)`` from a paving of the section (module docstring)."""
+
+    def __init__(self, plan: Turned, grid, classes):
+        self.plan, self.grid = plan, grid
+        self.inside = grid.prefix(classes, INNER)
+        self.outside = grid.prefix(classes, OUTER)
+
+    def rectangles(self, X: np.ndarray) -> np.ndarray:
+        """``(N, 2, 2)`` rectangles of ``(rho, z)`` holding the points of the world boxes ``X``."""
+        F = to_first_frame(self.plan.inverse, X)
+        with np.errstate(all="ignore"):
+            r2 = arith.add(arith.sqr((F[:, 0, 0], F[:, 0, 1])), arith.sqr((F[:, 1, 0], F[:, 1, 1])))
+            rho = arith.sqrt(r2)
+        return np.stack([np.stack(rho, axis=1), F[:, 2]], axis=1)
+
+    def __call__(self, X: np.ndarray):
+        rect = self.rectangles(X)
+        finite = np.isfinite(rect).all(axis=(1, 2))
+        inner = finite & self.grid.all_in_class(self.inside, rect, outside_counts=False)
+        if not self.plan.full:
+            inner[:] = False
+        outer = finite & self.grid.all_in_class(self.outside, rect, outside_counts=True)
+        return inner, outer & ~inner
+
+
+SECTION_PAIRS = 60_000           # (cell block, joint box) pairs of one generation of section_paving at most
+SECTION_SAMPLES = 400_000        # sampled configurations whose cells are proved inside first
+
+
+def section_paving(image: RadialMap, width: float, *, budget=None, show=None, max_pairs: int = SECTION_PAIRS):
+    """Classify the cells of a grid of the given width over the section, for sections moved by three joints
+    or more (whose critical sets are too costly to cover): blocks of cells, from the whole grid down to
+    single cells (halved along their longer side), after the cells hit by sampled configurations have each
+    been proved inside from their sample (Krawczyk), carry the joint boxes whose enclosures meet them
+    (:func:`~workspace_sym.interval.image.distribute`); a block left without joint boxes is outside the
+    section, a block proved by the Krawczyk test from its first joint box's centre is inside.  Returns
+    ``(grid, classes, evaluated, stopped)`` as :func:`~workspace_sym.interval.image.critical_paving`, except
+    that the cells classified when a budget stops the run keep their (proved) class.  ``budget(evaluated,
+    ahead=seconds)`` is asked before each generation with twice the last one's time."""
+    budget = budget or (lambda evaluated, ahead=0.0: "")
+    show = show or (lambda share, evaluated: None)
+    root = image.enclose(image.limits[None])[0]
+    grid = CellGrid(root, width)
+    classes = np.full(grid.shape, UNDECIDED, dtype=np.int8)
+    evaluated = 0
+    # Cells hit by sampled configurations: each is proved inside from its sample (Krawczyk).
+    rng = np.random.default_rng(0)
+    q = image.random_configurations(min(SECTION_SAMPLES, 20 * classes.size), rng)
+    p = image.position_float(q)
+    first, _ = grid.span(np.repeat(p[:, :, None], 2, axis=2))
+    index, row = np.unique(first, axis=0, return_index=True)
+    for part in np.array_split(np.arange(len(index)), max(1, len(index) // 20_000)):
+        stopped = budget(evaluated)
+        if stopped:
+            return grid, classes, evaluated, stopped
+        evaluated += len(part)
+        inside = image.prove_inside(grid.cells(index[part]), q[row[part]])
+        classes[tuple(index[part][inside].T)] = INNER
+    show(float(np.mean(classes != UNDECIDED)), evaluated)
+    proved = grid.prefix(classes, INNER)
+    # Blocks as index ranges [i0, i1) x [j0, j1) of cells.
+    blocks = np.array([[0, grid.shape[0], 0, grid.shape[1]]])
+    Q = image.limits[None].copy()
+    owner = np.zeros(1, dtype=int)
+    stopped = ""
+    e0, e1 = grid.edges
+    last = 0.0                  # seconds of the last generation; the next is expected to take about twice
+    while len(blocks):
+        stopped = budget(evaluated, ahead=2 * last)
+        if stopped:
+            break
+        start = time.perf_counter()
+        evaluated += len(blocks)
+        T = np.stack([np.stack([e0[blocks[:, 0]], e0[blocks[:, 1]]], axis=1),
+                      np.stack([e1[blocks[:, 2]], e1[blocks[:, 3]]], axis=1)], axis=1)
+        # A block whose cells are all proved inside already is left.
+        i0, i1, j0, j1 = blocks.T
+        done = proved[i1, j1] - proved[i0, j1] - proved[i1, j0] + proved[i0, j0] == (i1 - i0) * (j1 - j0)
+        if done.any():
+            keep = ~done[owner]
+            new_index = np.cumsum(~done) - 1
+            blocks, T, Q, owner = blocks[~done], T[~done], Q[keep], new_index[owner[keep]]
+            if not len(blocks):
+                break
+        cap = np.full(len(T), max(64, max_pairs // max(1, len(T))))
+        Q, owner = distribute(image, T, Q, owner, cap)
+        count = np.bincount(owner, minlength=len(T))
+        verdict = np.full(len(T), UNDECIDED, dtype=np.int8)
+        verdict[count == 0] = OUTER
+        live, first = np.unique(owner, return_index=True)
+        if len(live):
+            inside = image.prove_inside(T[live], Q[first].mean(axis=2))
+            verdict[live[inside]] = INNER
+        for b in np.nonzero(verdict != UNDECIDED)[0]:
+            i0, i1, j0, j1 = blocks[b]
+            classes[i0:i1, j0:j1] = verdict[b]
+        cells = (blocks[:, 1] - blocks[:, 0]) * (blocks[:, 3] - blocks[:, 2])
+        split = (verdict == UNDECIDED) & (cells > 1)
+        # Children: halve the longer side in index space.
+        rows = blocks[split]
+        wide = (rows[:, 1] - rows[:, 0]) >= (rows[:, 3] - rows[:, 2])
+        mid_i = (rows[:, 0] + rows[:, 1]) // 2
+        mid_j = (rows[:, 2] + rows[:, 3]) // 2
+        left, right = rows.copy(), rows.copy()
+        left[wide, 1], right[wide, 0] = mid_i[wide], mid_i[wide]
+        left[~wide, 3], right[~wide, 2] = mid_j[~wide], mid_j[~wide]
+        new_index = np.full(len(T), -1)
+        new_index[split] = np.arange(split.sum())
+        keep = new_index[owner] >= 0
+        Q, base = Q[keep], new_index[owner[keep]]
+        blocks = np.stack([left, right], axis=1).reshape(-1, 4)
+        Q, owner = np.concatenate([Q, Q]), np.concatenate([2 * base, 2 * base + 1])
+        show(float(np.mean(classes != UNDECIDED)), evaluated)
+        last = time.perf_counter() - start
+    return grid, classes, evaluated, stopped
