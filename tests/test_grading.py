@@ -351,3 +351,27 @@ def test_answers_file_has_a_row_limit(tmp_path, capsys):
     assert f"more than {MAX_ROWS} rows" in err and err.count("\n") == 1 and not (tmp_path / "o").exists()
     path.write_text("student,question,answer\n" + "ann,1,c1\n" * MAX_ROWS)
     assert len(read_answers_csv(path)) == MAX_ROWS
+
+
+def test_a_budget_swallowed_once_still_stops_the_check():
+    """The timer's exception lands wherever the interpreter is; in a gc callback it is only printed (a suite run
+    graded a 0.05 s answer for 3 s).  The timer fires again until the block ends, so a check that swallows the
+    first interruption is still stopped, within a few retries (reference: the 2 s the loop would run)."""
+    import time
+
+    from workspace_sym.grading import RETRY_SECONDS, _OverBudget, _time_budget
+
+    swallowed = 0
+    began = time.perf_counter()
+    with pytest.raises(_OverBudget):
+        with _time_budget(0.02) as interruptible:
+            assert interruptible
+            while time.perf_counter() - began < 2.0:
+                try:
+                    time.sleep(0.001)
+                except _OverBudget:
+                    if swallowed:
+                        raise
+                    swallowed += 1
+    assert swallowed == 1 and time.perf_counter() - began < 2.0 - 50 * RETRY_SECONDS
+    time.sleep(3 * RETRY_SECONDS)           # the timer is disarmed with the block: nothing fires after it

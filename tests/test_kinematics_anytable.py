@@ -392,3 +392,26 @@ def test_budget_timer_interrupts_sympy_and_keeps_an_enclosing_timer():
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, previous)
     assert fired == [True]
+
+
+def test_a_symbolic_budget_swallowed_once_still_stops_the_step():
+    """As for grading: the budget's interruption swallowed once on its way (a gc callback only prints it) is
+    raised again, and the block ends with SymbolicBudgetError instead of running to its end (2 s here)."""
+    import time
+
+    from workspace_sym.errors import SymbolicBudgetError
+    from workspace_sym.symbolic import _Expired, symbolic_budget
+
+    swallowed = 0
+    began = time.perf_counter()
+    with pytest.raises(SymbolicBudgetError):
+        with symbolic_budget(0.02, "demo"):
+            while time.perf_counter() - began < 2.0:
+                try:
+                    time.sleep(0.001)
+                except _Expired:
+                    if swallowed:
+                        raise
+                    swallowed += 1
+    assert swallowed == 1 and time.perf_counter() - began < 1.0
+    time.sleep(0.15)                        # disarmed with the block: nothing fires after it

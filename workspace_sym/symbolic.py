@@ -133,6 +133,9 @@ def _arm_alarm(deadline: float):
     def expired(signum, frame):
         now = time.monotonic()
         if now >= deadline - 1e-3:
+            # raised again shortly if it is swallowed on the way (a gc callback or __del__ only prints it);
+            # the budget's block disarms the timer when it ends
+            signal.setitimer(signal.ITIMER_REAL, 0.05)
             raise _Expired
         if now >= previous_deadline - 1e-3 and callable(previous):   # the enclosing timer's turn
             previous(signum, frame)
