@@ -87,7 +87,7 @@ from .interval import arith
 from .interval.compiler import compile_expr
 from .interval.graph import numpy_constant
 from .interval.image import INNER, OUTER, UNDECIDED, CellGrid, ImageMap, _dot, meets
-from .interval.paving import Box, Paving, RunBudget, bisect, box_measure, box_sizes, check_delta, halves
+from .interval.paving import Box, Paving, RunBudget, box_measure, box_sizes, check_delta, halves
 from .kinematics import DHRobot
 from .snap import snap_angle
 
@@ -724,7 +724,7 @@ def _volumes(T: np.ndarray) -> np.ndarray:
 def _step(model: PoseModel, T, Q, owner, *, delta, size, inner_depth, max_pairs, root_measure):
     """One generation on task boxes ``T`` with their pairs: inner, boundary, outer boxes, the children of the
     split boxes and their pairs."""
-    from .serial_workspace import _prove_in_pieces
+    from .serial_workspace import _prove_in_pieces, split_pairs
 
     cap = np.maximum(_MIN_PAIRS, np.floor(max_pairs * (_volumes(T) / root_measure)))
     Q, owner = model.distribute(T, Q, owner, cap)
@@ -741,18 +741,7 @@ def _step(model: PoseModel, T, Q, owner, *, delta, size, inner_depth, max_pairs,
             ends = np.searchsorted(owner, live[again], side="right") - 1
             is_in[live[again]] = _prove_in_pieces(model.proof, T[live[again]], model.seeds(Q[ends]),
                                                      depth[again])
-    und = ~is_out & ~is_in
-    small = und & (box_sizes(T, size) <= delta)
-    split = und & ~small
-    children, ok = halves(T[split])
-    boundary = np.concatenate([T[small], T[split][~ok]])
-    split[np.nonzero(split)[0][~ok]] = False
-    children = children.reshape(-1, 2, *T.shape[1:])[ok].reshape(-1, *T.shape[1:])
-    new_index = np.full(len(T), -1)
-    new_index[split] = np.arange(split.sum())
-    pair = new_index[owner] >= 0
-    Q, base = Q[pair], new_index[owner[pair]]
-    return T[is_in], boundary, T[is_out], children, np.concatenate([Q, Q]), np.concatenate([2 * base, 2 * base + 1])
+    return split_pairs(T, Q, owner, is_in, is_out, delta, size)
 
 
 def constraint_from(approach=None, cone=None, every: bool = False, orientation=None, rpy=None) -> PoseConstraint:
@@ -944,7 +933,7 @@ def _section_classes(model, width: float, run, options):
 def _pave_revolved(plan: _Plan, robot, parameters, delta, size, run, options, ratio=None):
     """The section paving turned by the first joint (``serial_workspace``'s section test, with the section
     of the admissible configurations)."""
-    from .serial_workspace import SECTION_RATIO, _cell_width, _SectionTest
+    from .serial_workspace import SECTION_RATIO, _cell_width, _SectionTest, classify_task_boxes
     from .serial_workspace import _model as reach_model
 
     position = reach_model(robot, parameters)
@@ -960,20 +949,8 @@ def _pave_revolved(plan: _Plan, robot, parameters, delta, size, run, options, ra
     # A section cut short by the budget still classifies (its undecided cells leave boundary boxes, so the
     # bracket holds); the run is then reported incomplete, with the reason.
     cut = reason
-    test = _SectionTest(plan.revolved, grid, classes)
-    while len(T):
-        reason = "" if cut else run.stop_reason(evaluated)
-        if reason:
-            break
-        evaluated += len(T)
-        is_in, is_out = test(T)
-        inner.append(T[is_in])
-        outer.append(T[is_out])
-        und = ~is_in & ~is_out
-        small = und & (box_sizes(T, size) <= delta)
-        boundary.append(T[small])
-        T, thin = bisect(T[und & ~small])
-        boundary.append(thin)
+    T, evaluated, reason = classify_task_boxes(_SectionTest(plan.revolved, grid, classes), T, inner, boundary,
+                                               outer, delta, size, run, evaluated, stop=not cut)
     if cut:
         return box, inner, boundary, outer, T, evaluated, cut
     return box, inner, boundary, outer, T if len(T) and reason else None, evaluated, reason

@@ -203,13 +203,14 @@ def _first_frame(robot, parameters) -> sp.Matrix:
     return B
 
 
-def turned(model) -> Turned | None:
-    """The structure of the module docstring in a :class:`~workspace_sym.serial_workspace.ReachModel`,
-    or None."""
+def first_joint_turn(model):
+    """``(q1, theta_1, slope)`` when the first joint is revolute with ``theta_1 = slope q1 + offset`` and ``q1``
+    appears in no other entry of the table (its own row's ``d``, ``a``, ``alpha`` included), nor in the base or
+    the tool: then it turns everything after it and nothing else.  None otherwise."""
     robot = model.robot
-    if model.m != 3 or model.joints[:1] != [0] or robot.joints[0].kind != "R":
-        return None
     joint = robot.joints[0]
+    if joint.kind != "R":
+        return None
     q1 = joint.variable
     others = [joint.d, joint.a, joint.alpha] + [e for j in robot.joints[1:] for e in (j.theta, j.d, j.a, j.alpha)]
     others += [e for M in (robot.base, robot.tool) if M is not None for e in M]
@@ -219,6 +220,19 @@ def turned(model) -> Turned | None:
     slope = sp.diff(theta, q1)
     if slope.free_symbols or slope == 0:
         return None
+    return q1, theta, slope
+
+
+def turned(model) -> Turned | None:
+    """The structure of the module docstring in a :class:`~workspace_sym.serial_workspace.ReachModel`,
+    or None."""
+    robot = model.robot
+    if model.m != 3 or model.joints[:1] != [0] or robot.joints[0].kind != "R":
+        return None
+    turn = first_joint_turn(model)
+    if turn is None:
+        return None
+    q1, theta, slope = turn
     B = _first_frame(robot, model.parameters)
     R, t = B[:3, :3], B[:3, 3]
     if B[3, :] != sp.Matrix([[0, 0, 0, 1]]) or sp.simplify(R.T * R - sp.eye(3)) != sp.zeros(3, 3):

@@ -97,7 +97,7 @@ from .interval.image import (
 from .interval.paving import Box, Paving, RunBudget, bisect, box_measure, box_sizes, check_delta, halves
 from .interval.search import split_every_axis
 from .kinematics import DHRobot
-from .reach_section import Turned, TurnedTest, section_paving, turned
+from .reach_section import Turned, TurnedTest, first_joint_turn, section_paving, turned
 from .symbolic import symbolic_budget
 
 __all__ = ["reach", "resolve_method", "ReachModel", "METHODS"]
@@ -224,20 +224,10 @@ def _revolved(model: ReachModel) -> _Revolved | None:
     robot = model.robot
     if robot.convention != "standard" or robot.base is not None or model.m != 3 or model.joints[:1] != [0]:
         return None
-    joint = robot.joints[0]
-    q1 = joint.variable
-    if joint.kind != "R":
+    turn = first_joint_turn(model)        # theta_1 = slope q1 + offset turns everything after it, nothing else
+    if turn is None:
         return None
-    # theta_1 = slope q1 + offset must turn everything after it and nothing else: q1 appears in no other entry
-    # of the table (its own row's d, a and alpha included) nor in the tool.
-    others = [joint.d, joint.a, joint.alpha] + [e for j in robot.joints[1:] for e in (j.theta, j.d, j.a, j.alpha)]
-    others += list(robot.tool) if robot.tool is not None else []
-    if any(q1 in sp.sympify(e).free_symbols for e in others):
-        return None
-    theta = robot.substitute(joint.theta, model.parameters)
-    slope = sp.diff(theta, q1)
-    if slope.free_symbols or slope == 0:
-        return None
+    q1, theta, slope = turn
     offset = theta.subs(q1, 0)
     # Standard DH without base: T = Rz(theta_1) Tz(d_1) Tx(a_1) Rx(alpha_1) ..., so p = Rz(theta_1) p(theta_1 = 0).
     p1 = [sp.simplify(e.subs(q1, -offset / slope)) for e in model.position]
@@ -519,19 +509,26 @@ class _ReachStep:
             # A box that would become a boundary box is also tried in pieces (every piece proved).
             last = box_sizes(T[live], self.size) <= self.delta
             is_in[live] = _prove_in_pieces(model, T[live], seeds, np.where(last, self.inner_depth, 0))
-        und = ~is_out & ~is_in
-        small = und & (box_sizes(T, self.size) <= self.delta)
-        split = und & ~small
-        # Children of every split box, and the pairs of each child (both halves inherit the joint boxes).
-        children, ok = halves(T[split])
-        boundary = np.concatenate([T[small], T[split][~ok]])     # too thin to split: delta below float resolution
-        split[np.nonzero(split)[0][~ok]] = False
-        children = children.reshape(-1, 2, *T.shape[1:])[ok].reshape(-1, *T.shape[1:])
-        new_index = np.full(len(T), -1)
-        new_index[split] = np.arange(split.sum())
-        pair = new_index[owner] >= 0
-        Q, base = Q[pair], new_index[owner[pair]]
-        return T[is_in], boundary, T[is_out], children, np.concatenate([Q, Q]), np.concatenate([2 * base, 2 * base + 1])
+        return split_pairs(T, Q, owner, is_in, is_out, self.delta, self.size)
+
+
+def split_pairs(T, Q, owner, is_in, is_out, delta: float, size: str):
+    """One step of the pair method after its proofs: ``(inner, boundary, outer, children, Q, owner)``.
+
+    Undecided task boxes of size at most ``delta`` (or too thin to halve in floats) are boundary boxes; the
+    others are halved, and both halves inherit the joint boxes ``Q`` their parent owned."""
+    und = ~is_out & ~is_in
+    small = und & (box_sizes(T, size) <= delta)
+    split = und & ~small
+    children, ok = halves(T[split])
+    boundary = np.concatenate([T[small], T[split][~ok]])     # too thin to split: delta below float resolution
+    split[np.nonzero(split)[0][~ok]] = False
+    children = children.reshape(-1, 2, *T.shape[1:])[ok].reshape(-1, *T.shape[1:])
+    new_index = np.full(len(T), -1)
+    new_index[split] = np.arange(split.sum())
+    pair = new_index[owner] >= 0
+    Q, base = Q[pair], new_index[owner[pair]]
+    return T[is_in], boundary, T[is_out], children, np.concatenate([Q, Q]), np.concatenate([2 * base, 2 * base + 1])
 
 
 def _parts(T, Q, owner, pieces: int):
@@ -658,8 +655,21 @@ def _spatial(robot, parameters, delta, size, run, *, executor):
         return box, inner, boundary, outer, T, evaluated, reason
     tests = {_Product: _ProductTest, _Revolved: _SectionTest, Turned: TurnedTest}
     test = tests[type(plan)](plan, grid, classes)
+    T, evaluated, reason = classify_task_boxes(test, T, inner, boundary, outer, delta, size, run, evaluated,
+                                               total=box.measure)
+    return box, inner, boundary, outer, T if len(T) and reason else None, evaluated, reason
+
+
+def classify_task_boxes(test, T, inner: list, boundary: list, outer: list, delta: float, size: str, run,
+                        evaluated: int, *, stop: bool = True, total: float | None = None):
+    """Bisect the task boxes ``T`` breadth first, each generation classified by ``test`` (``(is_in, is_out)``
+    masks from a paved section): proved boxes go to ``inner``/``outer``, undecided ones of size at most
+    ``delta`` to ``boundary``.  With ``stop``, the run's budget is checked before each generation; ``total``
+    (the task box's measure) moves the progress bar.  Returns the boxes left, the count evaluated and the
+    reason the run stopped ("" when it finished)."""
+    reason = ""
     while len(T):
-        reason = run.stop_reason(evaluated)
+        reason = run.stop_reason(evaluated) if stop else ""
         if reason:
             break
         evaluated += len(T)
@@ -671,9 +681,9 @@ def _spatial(robot, parameters, delta, size, run, *, executor):
         boundary.append(T[small])
         T, thin = bisect(T[und & ~small])
         boundary.append(thin)
-        if run.showing:
-            run.show(box.measure - box_measure(T), evaluated)
-    return box, inner, boundary, outer, T if len(T) and reason else None, evaluated, reason
+        if total is not None and run.showing:
+            run.show(total - box_measure(T), evaluated)
+    return T, evaluated, reason
 
 
 def resolve_method(robot: DHRobot, method: str = "auto", parameters=()) -> str:
