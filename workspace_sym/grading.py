@@ -57,12 +57,14 @@ from typing import Any
 import sympy as sp
 
 from .answers import ANGLE_UNITS, Notation, plain_sentence, read_answer, read_count, read_unit, read_yes_no, split_unit
-from .errors import ExpressionError, InvalidParameterError, UnknownNameError, WorkspaceError
+from .errors import ExpressionError, InvalidParameterError, SymbolicBudgetError, UnknownNameError, WorkspaceError
 from .expressions import parse_expr, read_symbol
 from .files import read_json, read_text, write_files
 from .kinematics import DHRobot
 from .numbers import fmt_bracket
 from .planar import PlanarChain
+from .symbolic import RETRY_SECONDS as RETRY_SECONDS  # re-exported: the retry of the budget below
+from .symbolic import _Expired, symbolic_budget
 from .verify import Verdict, cannot_read, check_expression, check_factors
 
 __all__ = ["KIND_NAMES", "Question", "AnswerKey", "GradedAnswer", "grade_answers", "read_answers_csv",
@@ -356,42 +358,24 @@ def read_answers_csv(path) -> list[tuple[str, str, str]]:
     return rows
 
 
-RETRY_SECONDS = 0.02      # a budget's exception swallowed on its way out is raised again this much later
-
-
-class _OverBudget(BaseException):
-    """Raised inside a check by the timer of :func:`_time_budget` (a BaseException: no ``except Exception`` of
-    the checking code swallows it)."""
+# The budget's interruption, as it lands inside a check: symbolic_budget's timer (a BaseException, so no
+# ``except Exception`` of the checking code swallows it); a SymbolicBudgetError leaving the budget is turned into it.
+_OverBudget = _Expired
 
 
 @contextmanager
 def _time_budget(seconds: float):
-    """Interrupt the block after ``seconds`` with :class:`_OverBudget`; yields whether it can (a real-time
-    timer needs the main thread of a POSIX process: elsewhere the block runs to its end and the caller
-    compares the time it took)."""
-    if not (hasattr(signal, "setitimer") and threading.current_thread() is threading.main_thread()):
-        yield False
-        return
-
-    done = [False]
-
-    def expire(signum, frame):
-        if done[0]:
-            return
-        # The exception lands wherever the interpreter is: in a gc callback or a __del__ it is only printed and
-        # the check runs on (seen in a test run: 3 s for a 0.05 s budget), so the timer fires again until the
-        # block has ended.
-        signal.setitimer(signal.ITIMER_REAL, RETRY_SECONDS)
-        raise _OverBudget
-
-    previous = signal.signal(signal.SIGALRM, expire)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
+    """Interrupt the block after ``seconds`` with :data:`_OverBudget`, through
+    :func:`~workspace_sym.symbolic.symbolic_budget` (whose timer fires again if its interruption is swallowed on
+    the way, and which nested derivations cannot extend); yields whether a timer can interrupt SymPy's own calls
+    (the main thread of a POSIX process: elsewhere only the deadline checks of our loops stop the block, and the
+    caller compares the time it took)."""
+    interruptible = hasattr(signal, "setitimer") and threading.current_thread() is threading.main_thread()
     try:
-        yield True
-    finally:
-        done[0] = True
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, previous)
+        with symbolic_budget(seconds, "checking this answer"):
+            yield interruptible
+    except SymbolicBudgetError:
+        raise _OverBudget from None
 
 
 def _check_budget(value, name: str) -> float:

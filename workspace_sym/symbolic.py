@@ -115,6 +115,9 @@ def symbolic_budget(seconds: float | None = None, what: str = "symbolic computat
         _disarm_alarm(alarm)
 
 
+RETRY_SECONDS = 0.02      # a budget's interruption swallowed on its way out is raised again this much later
+
+
 class _Expired(BaseException):
     """Raised by the timer of :func:`symbolic_budget` inside SymPy's own code; a BaseException, so that no
     ``except Exception`` on the way swallows it (the budget's block turns it into SymbolicBudgetError)."""
@@ -135,7 +138,7 @@ def _arm_alarm(deadline: float):
         if now >= deadline - 1e-3:
             # raised again shortly if it is swallowed on the way (a gc callback or __del__ only prints it);
             # the budget's block disarms the timer when it ends
-            signal.setitimer(signal.ITIMER_REAL, 0.05)
+            signal.setitimer(signal.ITIMER_REAL, RETRY_SECONDS)
             raise _Expired
         if now >= previous_deadline - 1e-3 and callable(previous):   # the enclosing timer's turn
             previous(signum, frame)
