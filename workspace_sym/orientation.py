@@ -836,16 +836,6 @@ def reach_pose(robot: DHRobot, *, delta: float, approach=None, cone=None, every:
                   units=robot.units, method="pairs" if plan.revolved is None else "section")
 
 
-def _check_root(root, delta, size, robot):
-    if not np.isfinite(root).all():
-        raise InvalidParameterError("robot: the position has no finite enclosure over the joint limits",
-                                    parameter="robot")
-    extent = box_sizes(root[None], size)[0]
-    if delta > extent:
-        raise InvalidParameterError(f"delta must be at most the size of the workspace's enclosing box "
-                                    f"({extent:.6g} {robot.units}); got {delta!r}", parameter="delta")
-
-
 def _pave_pairs(model: PoseModel, root, delta, size, run, *, max_pairs, inner_depth, chunk_pairs):
     """The pairs paving of ``model``'s task space from the task box ``root``: ``(inner, boundary, outer,
     pending or None, evaluated, reason)``, lists of box arrays."""
@@ -893,8 +883,10 @@ def _pave_pairs(model: PoseModel, root, delta, size, run, *, max_pairs, inner_de
 
 def _pave_direct(model, robot, delta, size, run, options):
     """The pairs paving over ``(x, y, z)``."""
+    from .serial_workspace import check_root
+
     root = model.position.enclose(model.position.limits[None])[0]
-    _check_root(root, delta, size, robot)
+    check_root(root, delta, size, robot)
     box = Box(_TASK, tuple(root[:, 0]), tuple(root[:, 1]))
     run.total = box.measure
     return (box, *_pave_pairs(model, root, delta, size, run, **options))
@@ -933,12 +925,12 @@ def _section_classes(model, width: float, run, options):
 def _pave_revolved(plan: _Plan, robot, parameters, delta, size, run, options, ratio=None):
     """The section paving turned by the first joint (``serial_workspace``'s section test, with the section
     of the admissible configurations)."""
-    from .serial_workspace import SECTION_RATIO, _cell_width, _SectionTest, classify_task_boxes
+    from .serial_workspace import SECTION_RATIO, _cell_width, _SectionTest, check_root, classify_task_boxes
     from .serial_workspace import _model as reach_model
 
     position = reach_model(robot, parameters)
     root = position.enclose(position.limits[None])[0]
-    _check_root(root, delta, size, robot)
+    check_root(root, delta, size, robot)
     box = Box(_TASK, tuple(root[:, 0]), tuple(root[:, 1]))
     run.total = box.measure
     ratio = SECTION_RATIO if ratio is None else ratio

@@ -686,6 +686,18 @@ def classify_task_boxes(test, T, inner: list, boundary: list, outer: list, delta
     return T, evaluated, reason
 
 
+def check_root(root, delta: float, size: str, robot: DHRobot) -> None:
+    """Refuse a task box ``root`` (the enclosure of the position over the limits) that is not finite, or a
+    ``delta`` larger than it."""
+    if not np.isfinite(root).all():
+        raise InvalidParameterError("robot: the position has no finite enclosure over the joint limits",
+                                    parameter="robot")
+    extent = box_sizes(root[None], size)[0]
+    if delta > extent:
+        raise InvalidParameterError(f"delta must be at most the size of the workspace's enclosing box "
+                                    f"({extent:.6g} {robot.units}); got {delta!r}", parameter="delta")
+
+
 def resolve_method(robot: DHRobot, method: str = "auto", parameters=()) -> str:
     """The method :func:`reach` uses for ``robot``: ``"critical"`` or ``"pairs"``."""
     if method not in METHODS:
@@ -800,12 +812,7 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         with _prepared_within(robot, time_limit, run.seconds):
             model = _model(robot, parameters)
             root = model.enclose(model.limits[None])[0]
-        if not np.isfinite(root).all():
-            raise InvalidParameterError("robot: the position has no finite enclosure over the joint limits")
-        extent = box_sizes(root[None], size)[0]
-        if delta > extent:
-            raise InvalidParameterError(f"delta must be at most the size of the workspace's enclosing box "
-                                        f"({extent:.6g} {robot.units}); got {delta!r}", parameter="delta")
+        check_root(root, delta, size, robot)
         with _prepared_within(robot, time_limit, run.seconds):
             kind = resolve_method(robot, method, parameters)
         result = None
