@@ -52,9 +52,9 @@ import sympy as sp
 
 from ..errors import CoverTooLarge
 from . import arith
+from .boxes import halves
 from .compiler import compile_expr
 from .graph import numpy_constant
-from .paving import halves
 
 __all__ = ["ImageMap", "critical_paving", "CellGrid", "CoverTooLarge", "OUTER", "INNER", "UNDECIDED"]
 
