@@ -1,8 +1,9 @@
-"""One paving driver over a runner seam, with its options as objects (issue 26 items 1 and 2).
+"""One paving driver over a runner seam, with its options as objects (issue 26 items 1 to 3).
 
 References: the layer order stated in ``workspace_sym/interval/__init__.py`` (read from the source
-by ``ast``, not by importing), the area ``pi`` of the unit disc, and the run of the same paving in
-line for the other runners (same boxes as sets).
+by ``ast``, not by importing), the area ``pi`` of the unit disc, the annulus ``1/2 <= r <= 3/2``
+reached by the 2R arm (l = 1, 1/2) for the cell classes, and the run of the same paving in line
+for the other runners (same boxes as sets).
 """
 
 import ast
@@ -11,6 +12,7 @@ import math
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
+import numpy as np
 import pytest
 import sympy as sp
 
@@ -18,6 +20,7 @@ import workspace_sym
 from workspace_sym import Pose, RunOn, StopAt, pave, reach
 from workspace_sym.errors import InvalidParameterError
 from workspace_sym.interval import driver
+from workspace_sym.interval.verdict import CODE, INSIDE, OUTSIDE, VERDICTS
 from workspace_sym.kinematics import DHJoint, DHRobot
 from workspace_sym.orthoglide import Orthoglide
 from workspace_sym.orthoglide.certificate import dextrous
@@ -127,3 +130,25 @@ def test_exact_measure_is_attached_without_copying_the_boxes():
     q = p.with_exact_measure(sp.pi)
     assert q.exact_measure == sp.pi and p.exact_measure is None and q.inner is p.inner
     assert q.to_dict()["exact_measure"] == pytest.approx(math.pi, abs=1e-15)
+
+
+def test_image_cells_carry_the_verdict_codes():
+    """Issue 26 item 3: the cell classes of critical_paving are the int8 codes of verdict.py; every cell
+    proved inside lies in the annulus 1/2 <= r <= 3/2 of the 2R arm, every cell proved outside misses it."""
+    from workspace_sym.interval import image
+    from workspace_sym.serial_workspace import ReachModel
+
+    arm = DHRobot([DHJoint.revolute(1, a=1), DHJoint.revolute(2, a=sp.Rational(1, 2))])
+    grid, classes, _, reason = image.critical_paving(ReachModel(arm), 0.1)
+    assert reason == "" and classes.dtype == CODE and np.isin(classes, VERDICTS).all()
+    assert not any(hasattr(image, name) for name in ("INNER", "OUTER"))
+    inner, outer = grid.boxes(classes, INSIDE), grid.boxes(classes, OUTSIDE)
+    assert len(inner) and len(outer)
+    def near(b):                   # distance from the origin to each box, and to its farthest point (a corner)
+        return np.hypot(np.clip(0.0, b[:, 0, 0], b[:, 0, 1]), np.clip(0.0, b[:, 1, 0], b[:, 1, 1]))
+
+    def far(b):
+        return np.max([np.hypot(b[:, 0, i], b[:, 1, j]) for i in (0, 1) for j in (0, 1)], axis=0)
+
+    assert ((near(inner) >= 0.5) & (far(inner) <= 1.5)).all()
+    assert ((near(outer) > 1.5) | (far(outer) < 0.5)).all()

@@ -88,7 +88,10 @@ from .interval.boxes import Box, Paving, box_measure, box_sizes, check_delta, ha
 from .interval.compiler import compile_expr
 from .interval.driver import RunBudget, StopAt
 from .interval.graph import numpy_constant
-from .interval.image import INNER, OUTER, UNDECIDED, CellGrid, ImageMap, _dot, meets
+from .interval.image import CellGrid, ImageMap, _dot, meets
+from .interval.verdict import INSIDE as INNER
+from .interval.verdict import OUTSIDE as OUTER
+from .interval.verdict import UNDECIDED
 from .kinematics import DHRobot
 from .snap import snap_angle
 

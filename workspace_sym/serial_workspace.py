@@ -87,17 +87,9 @@ from .interval.boxes import Box, Paving, bisect, box_measure, box_sizes, check_d
 from .interval.driver import RunBudget, RunOn, StopAt
 from .interval.executor import MIN_CHUNK, runner_for
 from .interval.graph import numpy_constant
-from .interval.image import (
-    INNER,
-    OUTER,
-    UNDECIDED,
-    CoverTooLarge,
-    ImageMap,
-    critical_cover,
-    critical_paving,
-    distribute,
-)
+from .interval.image import CoverTooLarge, ImageMap, critical_cover, critical_paving, distribute
 from .interval.search import split_every_axis
+from .interval.verdict import INSIDE, OUTSIDE, UNDECIDED
 from .kinematics import DHRobot
 from .reach_section import RadialMap, Turned, TurnedTest, first_joint_turn, section_paving, turned
 from .symbolic import symbolic_budget
@@ -410,8 +402,8 @@ class _SectionTest:
 
     def __init__(self, revolved: _Revolved, grid, classes):
         self.r, self.grid = revolved, grid
-        self.inside = grid.prefix(classes, INNER)
-        self.outside = grid.prefix(classes, OUTER)
+        self.inside = grid.prefix(classes, INSIDE)
+        self.outside = grid.prefix(classes, OUTSIDE)
 
     def _in(self, table, u, z, outside_counts):
         return self.grid.all_in_class(table, np.stack([np.stack(u, axis=1), z], axis=1), outside_counts=outside_counts)
@@ -458,8 +450,8 @@ class _ProductTest:
     def __init__(self, product: _Product, grid, classes):
         self.p, self.grid = product, grid
         if product.section is not None:
-            self.inside = grid.prefix(classes, INNER)
-            self.outside = grid.prefix(classes, OUTER)
+            self.inside = grid.prefix(classes, INSIDE)
+            self.outside = grid.prefix(classes, OUTSIDE)
 
     def __call__(self, X: np.ndarray):
         inner = np.ones(len(X), dtype=bool)
@@ -642,7 +634,7 @@ def _planar(robot, parameters, delta, size, run, *, executor):
     undecided = grid.boxes(classes, UNDECIDED, merge=bool(reason))
     pending = undecided if reason else None
     boundary = [] if reason else [undecided]
-    return box, [grid.boxes(classes, INNER)], boundary, [grid.boxes(classes, OUTER)], pending, evaluated, reason
+    return box, [grid.boxes(classes, INSIDE)], boundary, [grid.boxes(classes, OUTSIDE)], pending, evaluated, reason
 
 
 def _spatial(robot, parameters, delta, size, run, *, executor):
