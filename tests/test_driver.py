@@ -152,3 +152,32 @@ def test_image_cells_carry_the_verdict_codes():
 
     assert ((near(inner) >= 0.5) & (far(inner) <= 1.5)).all()
     assert ((near(outer) > 1.5) | (far(outer) < 0.5)).all()
+
+
+def test_a_run_without_checkpoint_does_not_describe_itself(monkeypatch, tmp_path):
+    """The checkpoint's fingerprint prints every constraint with SymPy (a third of a small paving's time):
+    only a run with ``resume`` makes one."""
+    def refuse(*args):
+        raise AssertionError("fingerprint made without a checkpoint")
+
+    monkeypatch.setattr(driver, "_fingerprint", refuse)
+    assert pave(*DISC, delta=0.2).complete
+    with pytest.raises(AssertionError, match="fingerprint"):
+        pave(*DISC, delta=0.2, run=RunOn(resume=tmp_path / "run.npz"))
+
+
+def test_a_store_in_memory_sums_its_boxes_as_one_on_disk_does(tmp_path):
+    """Reference: the exact sums do not depend on the order of the boxes nor on when they are summed."""
+    from workspace_sym.interval.store import BoxStore
+
+    p = pave(*DISC, delta=0.05)
+    memory, disk = BoxStore(2), BoxStore(2, tmp_path / "boxes")
+    for kind in ("inner", "boundary", "outer"):
+        boxes = getattr(p, kind)
+        memory.add(kind, boxes[::-1])
+        for part in np.array_split(boxes, 3):
+            disk.add(kind, part)
+    for sums in ("sums", "sums_down", "sums_up"):
+        assert {k: str(s) for k, s in getattr(memory, sums).items()} == \
+               {k: str(s) for k, s in getattr(disk, sums).items()}
+    assert memory.sums["inner"].value == p.measures["inner"]

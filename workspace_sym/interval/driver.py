@@ -383,8 +383,8 @@ def subdivide(decide: Decider, box: Box, *, delta: float, size: str = "diameter"
     check_choice("size", size, SIZES)
     step = Step(decide, separate, float(delta), size)
     n = len(box.variables)
-    fingerprint = _fingerprint(step, box, constraints, backend)
     path = None if run.resume is None else Path(run.resume)
+    fingerprint = {} if path is None else _fingerprint(step, box, constraints, backend)
     evaluated, seconds_before = 0, 0.0
     if path is not None and path.exists():
         meta, arrays = _read_checkpoint(path, fingerprint)
