@@ -510,9 +510,9 @@ def cmd_cube(args) -> int:
     model = robots.build(args.robot)
     if not isinstance(model, Orthoglide):
         raise WorkspaceError(f"robot {args.robot!r}: the largest cube is implemented for the orthoglide")
-    with _distributed(args, ()) as spread:
+    with _distributed(args, ()) as run:         # the cube's certificates take the executor alone
         result = model.largest_cube(alpha=args.alpha, sigma=_parse_sigma(args.sigma), progress=args.progress,
-                                    **spread)
+                                    executor=run.executor)
     if args.json:
         _emit_json(result.to_dict())
     else:
