@@ -396,7 +396,9 @@ def subdivide(decide: Decider, box: Box, *, delta: float, size: str = "diameter"
         keeper, budget = _store_for(n, run)
         stack = deque([initial_boxes(box, delta, size, presplit)])
     clock = RunBudget(stop, label)
-    runner: Runner = Inline(step) if run.here else runner_for(run.executor, step)
+    # in line the step's results stay in this process: expand itself, without the copies for a worker's reply
+    runner: Runner = (Inline(partial(expand, decide=decide, separate=separate, delta=float(delta), size=size))
+                      if run.here else runner_for(run.executor, step))
     smallest = 1 if run.here else MIN_CHUNK
     chunk = _CHUNK if run.chunk is None else run.chunk
     largest = chunk if budget is None else max(MIN_CHUNK, min(chunk, budget // (2 * runner.slots * _BYTES_PER_BOX)))
