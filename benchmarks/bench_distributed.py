@@ -34,6 +34,7 @@ def peak_mb() -> float:
 
 def run(mode: str, eps: float) -> dict:
     """One configuration in this process; returns its figures."""
+    from workspace_sym import RunOn
     from workspace_sym.interval import executor
     from workspace_sym.orthoglide import Orthoglide
 
@@ -47,7 +48,7 @@ def run(mode: str, eps: float) -> dict:
         executor.tune_malloc()
         store = Path(tempfile.mkdtemp(prefix="bench-distributed-"))
         try:
-            d = o.dextrous(eps=eps, max_memory="2GB", store=store / "boxes")
+            d = o.dextrous(eps=eps, run=RunOn(max_memory="2GB", store=store / "boxes"))
             out["disk_mb"] = sum(f.stat().st_size for f in store.rglob("*.npy")) / 2**20
         finally:
             shutil.rmtree(store)
@@ -56,7 +57,7 @@ def run(mode: str, eps: float) -> dict:
 
         workers = int(mode.split(":")[1])
         waited = [0.0]
-        wait = executor._Dask.wait
+        wait = executor.Dask.wait
 
         def timed_wait(self, futures, timeout):
             t = time.perf_counter()
@@ -65,13 +66,13 @@ def run(mode: str, eps: float) -> dict:
             finally:
                 waited[0] += time.perf_counter() - t
 
-        executor._Dask.wait = timed_wait
+        executor.Dask.wait = timed_wait
         t = time.perf_counter()
         with executor.connect(f"local:{workers}") as client:
             client.run(lambda: __import__("workspace_sym.orthoglide"))      # warm workers: imports not timed
             out["cluster_start_s"] = time.perf_counter() - t
             with get_task_stream(client) as stream:
-                d = o.dextrous(eps=eps, executor=client)
+                d = o.dextrous(eps=eps, run=RunOn(executor=client))
             tasks = [s["stop"] - s["start"] for event in stream.data if "call_in_worker" in str(event["key"])
                      for s in event["startstops"] if s["action"] == "compute"]
             out["chunks"] = len(tasks)

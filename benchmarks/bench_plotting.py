@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from _common import best_of, machine
-from workspace_sym import robots
+from workspace_sym import StopAt, robots
 from workspace_sym.interval import pave
 from workspace_sym.plotting import plot_paving, plot_paving_slices, save_figure, slice_heights
 
@@ -44,8 +44,9 @@ def main():
     print(f"machine: {machine()}; {datetime.date.today()}")
     cases = [(f"shell, delta {d}", pave(["x**2 + y**2 + z**2 <= 1", "x**2 + y**2 + z**2 >= 0.25"],
                                         {"x": (-1.1, 1.1), "y": (-1.1, 1.1), "z": (-1.1, 1.1)}, delta=d,
-                                        progress=False)) for d in (0.15, 0.1, 0.07)]
-    cases.append(("SCARA reach, delta 0.04", robots.build("scara").reach(delta=0.04, progress=False)))
+                                        stop=StopAt(progress=False)))
+             for d in (0.15, 0.1, 0.07)]
+    cases.append(("SCARA reach, delta 0.04", robots.build("scara").reach(delta=0.04, stop=StopAt(progress=False))))
     print("| paving | inner + boundary boxes | 3D picture | previous 3D picture | three slices | PNG sizes |")
     print("|---|---|---|---|---|---|")
     with tempfile.TemporaryDirectory() as tmp:

@@ -29,7 +29,7 @@ import sympy as sp
 
 import workspace_sym as ws
 from _common import machine
-from workspace_sym import robots
+from workspace_sym import StopAt, robots
 from workspace_sym.interval.image import critical_paving
 from workspace_sym.kinematics import DHJoint, DHRobot
 from workspace_sym.serial_workspace import SECTION_RATIO, ReachModel, _cell_width, _section, reach, resolve_method
@@ -84,7 +84,7 @@ def main():
         reach(robot, delta=deltas[0])                     # compile once, as a notebook session would
         for delta in deltas:
             start = time.perf_counter()
-            p = reach(robot, delta=delta, time_limit=600)
+            p = reach(robot, delta=delta, stop=StopAt(time_limit=600))
             seconds = time.perf_counter() - start
             lo, hi = p.measure_bounds
             split = ""

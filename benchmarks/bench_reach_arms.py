@@ -54,7 +54,7 @@ def pappus(robot, plan, n=1_000_000, h=0.005):
 
 def one(name, delta, limit):
     """One arm in this process: a line of the table."""
-    from workspace_sym import reach_section, serial_workspace
+    from workspace_sym import StopAt, reach_section, serial_workspace
 
     phases = {"section paving": 0.0}
 
@@ -71,7 +71,7 @@ def one(name, delta, limit):
     serial_workspace.critical_paving = timed(serial_workspace.critical_paving)
     robot = load(name)
     t = time.perf_counter()
-    paving = serial_workspace.reach(robot, delta=delta, time_limit=limit)
+    paving = serial_workspace.reach(robot, delta=delta, stop=StopAt(time_limit=limit))
     total = time.perf_counter() - t
     plan = serial_workspace._section(robot, ())
     t = time.perf_counter()

@@ -21,7 +21,7 @@ import time
 import sympy as sp
 
 from _common import machine
-from workspace_sym import symbolic
+from workspace_sym import StopAt, symbolic
 from workspace_sym.errors import SymbolicError
 from workspace_sym.kinematics import DHRobot
 
@@ -97,7 +97,7 @@ def main():
     path = Path(__file__).resolve().parent.parent / "tests" / "data" / "dh" / "ur5.json"
     start = time.perf_counter()
     try:
-        paving = reach(DHRobot.from_file(path), delta=0.05, time_limit=4.0, progress=False)
+        paving = reach(DHRobot.from_file(path), delta=0.05, stop=StopAt(time_limit=4.0, progress=False))
         outcome = f"paving, complete={paving.complete}, {len(paving.pending)} pending"
     except SymbolicError as exc:
         outcome = f"SymbolicBudgetError: {str(exc)[:80]}"

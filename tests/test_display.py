@@ -15,6 +15,7 @@ from hypothesis import strategies as st
 from matplotlib.figure import Figure
 
 import workspace_sym as ws
+from workspace_sym import StopAt
 from workspace_sym.display import plain, textbook_form
 from workspace_sym.numbers import clean, clean_json, fmt, fmt_bound
 from workspace_sym.progress import progress_bar
@@ -198,7 +199,7 @@ def test_progress_bars_follow_the_progress_option(capsys, monkeypatch):
     with progress_bar(None, total=2, desc="kernel") as bar:         # in Jupyter: shown (after DELAY seconds)
         shown = not bar.disable
     assert shown
-    ws.pave(["x**2 + y**2 <= 1"], {"x": (-1, 1), "y": (-1, 1)}, delta=0.05, progress=True)
+    ws.pave(["x**2 + y**2 <= 1"], {"x": (-1, 1), "y": (-1, 1)}, delta=0.05, stop=StopAt(progress=True))
     err = capsys.readouterr().err
     assert "paving: 100.0% of the box decided" in err and "boxes" in err
 
@@ -252,7 +253,7 @@ def test_a_jupyter_kernel_gets_a_progress_widget_and_rich_outputs():
     nb = nbformat.v4.new_notebook()
     nb.cells = [nbformat.v4.new_code_cell("import workspace_sym as ws\n"
                                           "p = ws.pave(['x**2 + y**2 <= 1'], {'x': (-1, 1), 'y': (-1, 1)}, "
-                                          "delta=0.01, progress=True)\np"),
+                                          "delta=0.01, stop=ws.StopAt(progress=True))\np"),
                 nbformat.v4.new_code_cell("r = ws.robots.build('glass-handling')\nr.textbook(r.position)"),
                 nbformat.v4.new_code_cell("r")]
     NotebookClient(nb, timeout=300, kernel_name="python3").execute()

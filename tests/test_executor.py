@@ -1,10 +1,10 @@
 """Pavings through the executor seam: other processes, a Dask cluster, boxes on disk, checkpoints.
 
 The reference of every comparison is the local run of the same paving by
-the in-process loop of :func:`workspace_sym.interval.paving.subdivide`, a
-driver independent of :func:`workspace_sym.interval.executor.run_paving`:
-a distributed, streamed or resumed run must give exactly its boxes (as
-sets), counts and measures.
+the driver :func:`workspace_sym.interval.driver.subdivide` with its in-line
+runner (one chunk at a time in this thread, the boxes in memory, no
+checkpoint): a distributed, streamed or resumed run must give exactly its
+boxes (as sets), counts and measures.
 """
 
 import json
@@ -18,11 +18,12 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from workspace_sym import robots
+from workspace_sym import RunOn, StopAt, robots
 from workspace_sym.cli import main
 from workspace_sym.errors import InvalidParameterError, WorkspaceError
 from workspace_sym.interval import pave
-from workspace_sym.interval.executor import MissingExtraError, StoredPaving, connect
+from workspace_sym.interval.boxes import StoredPaving
+from workspace_sym.interval.executor import MissingExtraError, connect
 from workspace_sym.interval.paving import _decider, _setup
 from workspace_sym.interval.store import ExactSum, parse_memory
 from workspace_sym.orthoglide import Orthoglide, cube
@@ -85,19 +86,19 @@ def test_parse_memory_rejects_what_is_not_a_size():
 # ------------------------------------------------------------------ same answer everywhere
 def test_rybak_on_dask_equals_local(client, rpr2):
     local = pave(*rpr2, delta=0.08)
-    spread = pave(*rpr2, delta=0.08, executor=client)
+    spread = pave(*rpr2, delta=0.08, run=RunOn(executor=client))
     assert_same(local, spread)
 
 
 def test_contraction_on_dask_equals_local(client, rpr2):
     local = pave(*rpr2, delta=0.08, contract=True)
-    spread = pave(*rpr2, delta=0.08, contract=True, executor=client)
+    spread = pave(*rpr2, delta=0.08, contract=True, run=RunOn(executor=client))
     assert_same(local, spread)
 
 
 def test_unit_ball_on_dask_equals_local_and_brackets_its_volume(client):
     local = pave(*BALL, delta=0.15)
-    spread = pave(*BALL, delta=0.15, executor=client)
+    spread = pave(*BALL, delta=0.15, run=RunOn(executor=client))
     assert_same(local, spread)
     lo, hi = spread.measure_bounds
     assert lo <= 4 / 3 * np.pi <= hi                   # exact volume of the unit ball
@@ -105,7 +106,7 @@ def test_unit_ball_on_dask_equals_local_and_brackets_its_volume(client):
 
 def test_orthoglide_on_dask_equals_local(client):
     o = Orthoglide()
-    local, spread = o.dextrous(eps=0.1), o.dextrous(eps=0.1, executor=client)
+    local, spread = o.dextrous(eps=0.1), o.dextrous(eps=0.1, run=RunOn(executor=client))
     assert_same(local.paving, spread.paving)
     assert local.to_dict()["volume_inner"] == spread.to_dict()["volume_inner"] > 0
 
@@ -128,7 +129,7 @@ def test_reach_of_the_2r_arm_on_dask_equals_local(client):
 
     arm = robots.build("planar-2r")
     local = reach(arm, delta=0.2)
-    spread = reach(arm, delta=0.2, executor=client, chunk_pairs=300)
+    spread = reach(arm, delta=0.2, run=RunOn(executor=client, chunk=300))
     assert_same(local, spread)
     assert local.counts["inner"] > 0 and local.counts["outer"] > 0
 
@@ -145,7 +146,7 @@ def test_cli_reach_on_a_scheduler_equals_local(client, capsys):
 
 def test_process_pool_equals_local(rpr2):
     with ProcessPoolExecutor(2) as pool:
-        spread = pave(*rpr2, delta=0.08, executor=pool)
+        spread = pave(*rpr2, delta=0.08, run=RunOn(executor=pool))
     assert_same(pave(*rpr2, delta=0.08), spread)
 
 
@@ -182,13 +183,13 @@ class KillOnce:
 
 
 def test_a_killed_worker_does_not_change_the_result(client, rpr2, tmp_path):
-    from workspace_sym.interval.paving import subdivide
+    from workspace_sym.interval.driver import RunOn, subdivide
 
     cons, box = _setup(*rpr2, None)
     decide = _decider(cons, box.variables, "numpy", 30)
     flag = tmp_path / "killed"
     local = subdivide(decide, box, delta=0.08, constraints=cons)
-    spread = subdivide(KillOnce(decide, str(flag)), box, delta=0.08, constraints=cons, executor=client)
+    spread = subdivide(KillOnce(decide, str(flag)), box, delta=0.08, constraints=cons, run=RunOn(executor=client))
     assert flag.exists()                                  # a worker did die during the run
     assert_same(local, spread)
 
@@ -198,13 +199,13 @@ def test_the_step_outlives_every_worker_that_held_it(client, rpr2):
     die, the next chunk still runs (a scattered step would be lost: 'lost dependencies')."""
     import time
 
-    from workspace_sym.interval.executor import _Dask
-    from workspace_sym.interval.paving import initial_boxes
+    from workspace_sym.interval.driver import initial_boxes
+    from workspace_sym.interval.executor import Dask
 
     cons, box = _setup(*rpr2, None)
     decide = _decider(cons, box.variables, "numpy", 30)
     boxes = initial_boxes(box, 0.08, "diameter", 64)
-    runner = _Dask(client, decide)
+    runner = Dask(client, decide)
     try:
         assert np.array_equal(runner.submit(boxes).result(timeout=300), decide(boxes))
         holders = set(client.who_has([runner.fn])[runner.fn.key])
@@ -238,42 +239,43 @@ class InterruptOnce:
 def test_a_stopped_run_resumes_to_the_uninterrupted_result(rpr2, tmp_path, stream):
     options = {"store": tmp_path / "boxes"} if stream else {}
     checkpoint = tmp_path / "run.npz"
-    first = pave(*rpr2, delta=0.08, max_boxes=700, resume=checkpoint, **options)
+    first = pave(*rpr2, delta=0.08, stop=StopAt(max_boxes=700), run=RunOn(resume=checkpoint, **options))
     assert not first.complete and first.counts["pending"] > 0 and checkpoint.exists()
     # every box is accounted for: decided or pending
     m = first.measures
     assert abs(sum(m.values()) - first.box.measure) <= 1e-12 * first.box.measure
-    second = pave(*rpr2, delta=0.08, resume=checkpoint, **options)
+    second = pave(*rpr2, delta=0.08, run=RunOn(resume=checkpoint, **options))
     assert_same(pave(*rpr2, delta=0.08), second)
     assert second.evaluated == pave(*rpr2, delta=0.08).evaluated
-    again = pave(*rpr2, delta=0.08, resume=checkpoint, **options)      # a finished checkpoint: nothing to do
+    again = pave(*rpr2, delta=0.08, run=RunOn(resume=checkpoint, **options))      # a finished checkpoint: nothing to do
     assert again.counts == second.counts and again.evaluated == second.evaluated
 
 
 def test_ctrl_c_keeps_every_undecided_box_pending_and_resumes(rpr2, tmp_path):
-    from workspace_sym.interval.paving import subdivide
+    from workspace_sym.interval.driver import RunOn, subdivide
 
     cons, box = _setup(*rpr2, None)
     decide = _decider(cons, box.variables, "numpy", 30)
     checkpoint = tmp_path / "run.npz"
-    stopped = subdivide(InterruptOnce(decide), box, delta=0.08, constraints=cons, resume=checkpoint, chunk=2048)
+    stopped = subdivide(InterruptOnce(decide), box, delta=0.08, constraints=cons,
+                         run=RunOn(resume=checkpoint, chunk=2048))
     assert stopped.stop_reason == "interrupted" and stopped.counts["pending"] > 0
     m = stopped.measures
     assert abs(sum(m.values()) - box.measure) <= 1e-12 * box.measure
-    resumed = subdivide(decide, box, delta=0.08, constraints=cons, resume=checkpoint)
+    resumed = subdivide(decide, box, delta=0.08, constraints=cons, run=RunOn(resume=checkpoint))
     assert_same(subdivide(decide, box, delta=0.08, constraints=cons), resumed)
 
 
 def test_a_checkpoint_of_another_run_is_refused(rpr2, tmp_path):
     checkpoint = tmp_path / "run.npz"
-    pave(*rpr2, delta=0.08, max_boxes=100, resume=checkpoint)
+    pave(*rpr2, delta=0.08, stop=StopAt(max_boxes=100), run=RunOn(resume=checkpoint))
     with pytest.raises(InvalidParameterError, match="delta"):
-        pave(*rpr2, delta=0.05, resume=checkpoint)
+        pave(*rpr2, delta=0.05, run=RunOn(resume=checkpoint))
 
 
 # ------------------------------------------------------------------ bounded memory
 def test_streamed_boxes_on_disk_equal_the_local_run(rpr2, tmp_path):
-    stored = pave(*rpr2, delta=0.08, max_memory="64MB", store=tmp_path / "boxes")
+    stored = pave(*rpr2, delta=0.08, run=RunOn(max_memory="64MB", store=tmp_path / "boxes"))
     assert isinstance(stored, StoredPaving)
     assert stored._loaded == {}                           # nothing read back into memory while paving
     local = pave(*rpr2, delta=0.08)
@@ -289,13 +291,13 @@ def test_streamed_boxes_on_disk_equal_the_local_run(rpr2, tmp_path):
     assert data["store"] == str(tmp_path / "boxes")
     assert all(os.path.exists(f) for k in ("inner", "boundary", "outer") for f in data[k]["files"])
     with pytest.raises(InvalidParameterError, match="already holds boxes"):
-        pave(*rpr2, delta=0.08, store=tmp_path / "boxes")
+        pave(*rpr2, delta=0.08, run=RunOn(store=tmp_path / "boxes"))
 
 
 def test_orthoglide_streamed_on_dask_equals_local(client, tmp_path):
     o = Orthoglide()
     local = o.dextrous(eps=0.1)
-    spread = o.dextrous(eps=0.1, executor=client, max_memory="256MB", store=tmp_path / "boxes")
+    spread = o.dextrous(eps=0.1, run=RunOn(executor=client, max_memory="256MB", store=tmp_path / "boxes"))
     assert_same(local.paving, spread.paving)
     assert spread.to_dict()["files"]["inner"]
 

@@ -15,7 +15,7 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from conftest import fk_numpy
-from workspace_sym import symbolic
+from workspace_sym import StopAt, symbolic
 from workspace_sym.cli import main
 from workspace_sym.errors import SymbolicBudgetError, SymbolicError
 from workspace_sym.kinematics import DHJoint, DHRobot, eigenvalues_from_charpoly, maximal_minor_factors
@@ -357,7 +357,7 @@ def test_reach_time_limit_bounds_the_symbolic_model(tmp_path, capsys):
     path = Path(__file__).parent / "data" / "dh" / "ur5.json"
     with pytest.raises(SymbolicBudgetError, match=r"time_limit: the symbolic model of UR5 .* not ready within the "
                                                   r"time limit of 0\.001 s") as info:
-        reach(DHRobot.from_file(path), delta=0.1, time_limit=0.001)
+        reach(DHRobot.from_file(path), delta=0.1, stop=StopAt(time_limit=0.001))
     assert info.value.parameter == "time_limit"
     assert main(["reach", "--dh", str(path), "--delta", "0.1", "--time-limit", "0.001", "--json"]) == 2
     out, err = capsys.readouterr()

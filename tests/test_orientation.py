@@ -12,7 +12,7 @@ import pytest
 import sympy as sp
 
 import workspace_sym as ws
-from workspace_sym import robots
+from workspace_sym import Pose, StopAt, robots
 from workspace_sym.cli import main
 from workspace_sym.errors import InvalidParameterError, WorkspaceError
 from workspace_sym.orientation import _plan, constraint_from, orientation_constraint, reach_pose
@@ -37,7 +37,7 @@ from workspace_sym.serial_workspace import reach
 ])
 def test_bad_constraints_name_the_parameter_value_and_expectation(options, parameter, fragment):
     with pytest.raises(InvalidParameterError) as caught:
-        reach(robots.build("scara"), delta=0.05, **options)
+        reach(robots.build("scara"), delta=0.05, pose=Pose(**options))
     assert caught.value.parameter == parameter
     assert fragment in str(caught.value)
 
@@ -69,7 +69,7 @@ def _overlap(A, B, pad=1e-9):
 
 @pytest.fixture(scope="module")
 def scara_tool_down():
-    return reach(robots.build("scara"), delta=0.05, rpy=(180, 0, 0))
+    return reach(robots.build("scara"), delta=0.05, pose=Pose(rpy=(180, 0, 0)))
 
 
 def test_scara_tool_down_is_its_position_workspace(scara_tool_down):
@@ -89,14 +89,14 @@ def test_scara_tool_down_is_its_position_workspace(scara_tool_down):
 
 def test_an_unreachable_direction_is_proved_outer_everywhere():
     # Reference: the SCARA's approach axis is (0, 0, -1) for every configuration: 90 degrees from x.
-    p = reach(robots.build("scara"), delta=0.05, approach=(1, 0, 0), cone=30)
+    p = reach(robots.build("scara"), delta=0.05, pose=Pose(approach=(1, 0, 0), cone=30))
     assert p.counts["inner"] == 0 and p.complete
     assert p.measures["outer"] == pytest.approx(p.box.measure)
 
 
 @pytest.fixture(scope="module")
 def puma_cone():
-    return reach(robots.build("puma560"), delta=0.3, approach=(0, 0, -1), cone=20)
+    return reach(robots.build("puma560"), delta=0.3, pose=Pose(approach=(0, 0, -1), cone=20))
 
 
 def _fk(robot):
@@ -227,7 +227,7 @@ def test_spherical_wrist_tool_down_is_the_wrist_centre_workspace():
     # -d6 R z = 0: checked both ways (no inner box of one meets an outer box of the other), and its bracket
     # meets the position's.
     robot = _full_wrist_puma()
-    oriented = reach(robot, delta=0.4, rpy=(180, 0, 0))
+    oriented = reach(robot, delta=0.4, pose=Pose(rpy=(180, 0, 0)))
     position = reach(robot, delta=0.4)
     assert oriented.method == "section" and position.counts["inner"] > 0 and oriented.counts["outer"] > 0
     assert not _overlap(position.inner, oriented.outer).any()
@@ -239,7 +239,7 @@ def test_spherical_wrist_tool_down_is_the_wrist_centre_workspace():
 
 def test_a_section_cut_by_the_budget_keeps_a_sound_bracket(puma_cone):
     # Reference: the complete run (fixture); a run stopped early proves less, never something else.
-    cut = reach(robots.build("puma560"), delta=0.3, approach=(0, 0, -1), cone=20, max_boxes=40)
+    cut = reach(robots.build("puma560"), delta=0.3, stop=StopAt(max_boxes=40), pose=Pose(approach=(0, 0, -1), cone=20))
     assert not cut.complete and "budget" in cut.stop_reason
     assert not _overlap(cut.outer, puma_cone.inner).any() and not _overlap(cut.inner, puma_cone.outer).any()
     lo, hi = cut.measure_bounds

@@ -18,7 +18,7 @@ from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 import workspace_sym as ws
-from workspace_sym import cli
+from workspace_sym import RunOn, cli
 from workspace_sym.numbers import fmt_bound, fmt_bracket
 from workspace_sym.orthoglide.certificate import DextrousResult
 from workspace_sym.orthoglide.cube import CubeResult
@@ -83,7 +83,7 @@ def test_paving_repr_html_and_plot_title(disk):
 
 
 def test_stored_paving_repr(tmp_path):
-    paving = ws.pave(*DISK, delta=0.1, store=tmp_path / "boxes")
+    paving = ws.pave(*DISK, delta=0.1, run=RunOn(store=tmp_path / "boxes"))
     lo, hi = paving.measure_bounds
     assert type(paving).__name__ == "StoredPaving"
     assert_holds(repr(paving), lo, hi)

@@ -10,7 +10,7 @@ import sympy as sp
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-from workspace_sym import robots
+from workspace_sym import RunOn, StopAt, robots
 from workspace_sym.errors import BoxError, ConstraintError, InvalidParameterError
 from workspace_sym.interval import Box, Certificate, certify_box, hausdorff, parse_constraints, pave
 from workspace_sym.parallel import lens_area, rpr2
@@ -208,7 +208,7 @@ def test_hausdorff_of_known_boxes():
 
 # -------------------------------------------------------------------------- budgets and bad input
 def test_budget_leaves_pending_boxes_unclassified(rybak):
-    p = rybak.pave(delta=0.07, max_boxes=50)
+    p = rybak.pave(delta=0.07, stop=StopAt(max_boxes=50))
     assert not p.complete and "budget" in p.stop_reason
     assert len(p.pending) > 0 and p.evaluated == 50
     full = rybak.pave(delta=0.07)
@@ -295,7 +295,7 @@ _EDGES = st.floats(-1e3, 1e3, allow_nan=False, allow_subnormal=True)
 def test_measure_bounds_hold_the_exact_measure(edges, split):
     """Reference: the exact rational measure of the boxes (Fractions).  The bracket was the float sum of float
     products before (a few ulps either side of the exact one); now inner is summed rounded down, the rest up."""
-    from workspace_sym.interval.paving import Paving
+    from workspace_sym.interval.boxes import Paving
 
     boxes = np.array([[sorted(e[:2]), sorted(e[2:])] for e in edges], dtype=float).reshape(-1, 2, 2)
     inner, boundary = boxes[:split], boxes[split:]
@@ -326,7 +326,7 @@ def test_measures_of_rounds_each_box_outward(edges):
 def test_stored_paving_has_the_same_outward_bracket(tmp_path):
     constraints, box = ["x**2 + y**2 <= 1"], {"x": (-1.1, 1.1), "y": (-1.1, 1.1)}
     local = pave(constraints, box, delta=0.1)
-    stored = pave(constraints, box, delta=0.1, store=tmp_path / "boxes")
+    stored = pave(constraints, box, delta=0.1, run=RunOn(store=tmp_path / "boxes"))
     assert stored.measure_bounds == local.measure_bounds
     lo, hi = local.measure_bounds
     assert Fraction(lo) <= _exact_measure(local.inner)

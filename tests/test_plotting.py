@@ -5,9 +5,10 @@ import pytest
 import sympy as sp
 
 import workspace_sym as ws
+from workspace_sym import StopAt
 from workspace_sym.errors import InvalidParameterError, UnknownNameError
 from workspace_sym.interval import pave
-from workspace_sym.interval.paving import Box, Paving, box_measure
+from workspace_sym.interval.boxes import Box, Paving, box_measure
 from workspace_sym.plotting import paving_voxels, plot_paving, plot_paving_slices, plot_reach, slice_heights
 
 X, Y, Z = sp.symbols("x y z")
@@ -76,7 +77,7 @@ def test_3d_paving_of_nothing():
 def shell():
     """A spherical shell 1/2 <= r <= 1 paved at delta 0.3 (a few thousand boxes of a bisection tree)."""
     return pave(["x**2 + y**2 + z**2 <= 1", "x**2 + y**2 + z**2 >= 0.25"],
-                {"x": (-1.1, 1.1), "y": (-1.1, 1.1), "z": (-1.1, 1.1)}, delta=0.3, progress=False)
+                {"x": (-1.1, 1.1), "y": (-1.1, 1.1), "z": (-1.1, 1.1)}, delta=0.3, stop=StopAt(progress=False))
 
 
 def test_voxels_hold_the_boxes_exactly(shell):

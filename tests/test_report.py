@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from system_tools import assert_compiles, require_tool
 
-from workspace_sym import robots
+from workspace_sym import StopAt, robots
 from workspace_sym.interval import pave
 from workspace_sym.planar import PlanarChain
 from workspace_sym.report import dh_robot_report, number, paving_report, planar_report, tex_escape
@@ -204,7 +204,7 @@ def test_reach_section_of_a_planar_robot(reach2d):
     """planar-2r: the section's numbers are those of the Paving reach returned; the annulus 1/2 <= r <= 3/2 of
     area 2 pi (exact, the arm's full joint range) lies in the printed bracket; the picture shows inner boxes."""
     md_path, _, paving, kwargs = reach2d
-    assert kwargs == {"delta": 0.2, "time_limit": 60.0, "progress": False}
+    assert kwargs == {"delta": 0.2, "stop": StopAt(time_limit=60.0, progress=False)}
     lo, hi = _assert_reach_section(md_path.read_text(), paving, "area", "m²")
     assert paving.complete and lo <= 2 * np.pi <= hi and paving.counts["inner"] > 0
     folder = md_path.parent
@@ -217,7 +217,7 @@ def test_reach_section_of_a_planar_robot(reach2d):
 def test_reach_section_of_a_spatial_robot(reach3d):
     """SCARA: volume in m³, the 3D picture and three slices spread over the z range of the boxes."""
     md_path, _, paving, kwargs = reach3d
-    assert kwargs == {"delta": 0.1, "time_limit": 30, "progress": False}
+    assert kwargs == {"delta": 0.1, "stop": StopAt(time_limit=30, progress=False)}
     md = md_path.read_text()
     _assert_reach_section(md, paving, "volume", "m³")
     assert paving.counts["inner"] > 0 and len(paving.variables) == 3
@@ -332,7 +332,7 @@ def test_latex_report_compiles(planar, dh, reach2d, reach3d):
 
 def test_paving_report(tmp_path):
     model = robots.build("rpr2")
-    paving = pave(model.constraints, model.box, delta=0.25, exact_measure=model.exact_measure)
+    paving = pave(model.constraints, model.box, delta=0.25).with_exact_measure(model.exact_measure)
     md = paving_report(paving, tmp_path / "p").read_text()
     assert "| inner |" in md and "Exact measure 35.053350" in md
     check_html((tmp_path / "p" / "report.html").read_text(), figures=1)

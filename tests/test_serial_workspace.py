@@ -21,6 +21,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import workspace_sym as ws
+from workspace_sym import RunOn, StopAt
 from workspace_sym.errors import InvalidParameterError, JointLimitError
 from workspace_sym.kinematics import DHJoint, DHRobot
 from workspace_sym.reach_section import Turned
@@ -73,7 +74,7 @@ def test_planar_verdicts_agree_with_the_alignment_boundary(lengths, limits):
     chain = ws.PlanarChain(lengths, lower, upper)
     robot = planar_robot([sp.nsimplify(l) for l in lengths], [np.radians(v) for v in lower],
                          [np.radians(v) for v in upper])
-    paving = reach(robot, delta=0.1 * sum(lengths), max_boxes=20_000)
+    paving = reach(robot, delta=0.1 * sum(lengths), stop=StopAt(max_boxes=20_000))
     boundary = chain.boundary()
     lo, hi = paving.measure_bounds
     assert lo - 1e-9 <= boundary.area <= hi + 1e-9
@@ -132,7 +133,7 @@ def test_only_position_joints_are_subdivided():
 
 def test_budget_and_time_limit_leave_pending_boxes():
     robot = planar_robot([sp.Integer(1), sp.Integer(1)])
-    p = reach(robot, delta=0.01, max_boxes=50)
+    p = reach(robot, delta=0.01, stop=StopAt(max_boxes=50))
     assert not p.complete and len(p.pending) > 0 and "budget" in p.stop_reason
     total = sum(p.measures.values())
     assert total == pytest.approx(p.box.measure, rel=1e-12)       # the classes tile the initial box
@@ -397,7 +398,7 @@ def test_a_time_limit_stops_the_pair_method_between_chunks():
     """The time limit is looked at after every chunk of a generation: the chunks not run come back pending,
     and the classes still tile the initial box."""
     robot = planar_robot([sp.Integer(1), sp.Rational(1, 2), sp.Rational(1, 4)])
-    p = reach(robot, delta=0.005, method="pairs", time_limit=0.5, chunk_pairs=200)
+    p = reach(robot, delta=0.005, method="pairs", stop=StopAt(time_limit=0.5), run=RunOn(chunk=200))
     assert not p.complete and "time limit" in p.stop_reason and len(p.pending) > 0
     assert sum(p.measures.values()) == pytest.approx(p.box.measure, rel=1e-12)
 
@@ -411,10 +412,10 @@ def test_a_time_limit_bounds_the_whole_run_and_leaves_the_rest_pending():
 
     robot = DHRobot.from_file(DATA / "dh" / "ur5.json")
     start = time.perf_counter()
-    cold = reach(robot, delta=0.05, method="pairs", max_boxes=1)
+    cold = reach(robot, delta=0.05, method="pairs", stop=StopAt(max_boxes=1))
     assert cold.seconds >= 0.9 * (time.perf_counter() - start)          # the model is built inside the run
     start = time.perf_counter()
-    p = reach(robot, delta=0.05, method="pairs", time_limit=4)
+    p = reach(robot, delta=0.05, method="pairs", stop=StopAt(time_limit=4))
     wall = time.perf_counter() - start
     assert wall <= 4 + 3 and p.seconds <= wall
     assert not p.complete and "time limit" in p.stop_reason and len(p.pending) > 0

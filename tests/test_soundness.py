@@ -25,6 +25,7 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 import workspace_sym as ws
+from workspace_sym import StopAt
 from workspace_sym.interval import Certificate
 
 X, Y, Z = sp.symbols("x y z")
@@ -158,7 +159,7 @@ def test_issue_19_reproduction_has_no_false_inner_box():
 def test_paving_never_certifies_a_false_box(case, contract, delta):
     constraints, box = case
     variables = tuple(sp.Symbol(v) for v in box)
-    p = ws.pave(constraints, box, delta=delta, contract=contract, max_boxes=3000)
+    p = ws.pave(constraints, box, delta=delta, contract=contract, stop=StopAt(max_boxes=3000))
     check_sound(p.inner, p.outer, constraints, variables)
 
 

@@ -11,6 +11,7 @@ import concurrent.futures
 import numpy as np
 import pytest
 
+from workspace_sym import RunOn
 from workspace_sym.errors import WorkerResultError, WorkspaceError
 from workspace_sym.interval import pave
 from workspace_sym.interval.executor import map_codes
@@ -62,7 +63,7 @@ FORGERIES = {
 def test_an_honest_executor_gives_the_local_paving():
     """The checks refuse nothing a real step produces (reference: the local run, box for box)."""
     local = pave(*DISK, delta=0.1)
-    spread = pave(*DISK, delta=0.1, executor=Forging(lambda result, chunk: result))
+    spread = pave(*DISK, delta=0.1, run=RunOn(executor=Forging(lambda result, chunk: result)))
     assert spread.counts == local.counts and spread.measures == local.measures
     for kind in ("inner", "boundary", "outer"):
         assert {b.tobytes() for b in getattr(spread, kind)} == {b.tobytes() for b in getattr(local, kind)}
@@ -72,7 +73,7 @@ def test_an_honest_executor_gives_the_local_paving():
 def test_a_forged_step_result_is_refused(name):
     forge, message = FORGERIES[name]
     with pytest.raises(WorkerResultError, match=message) as caught:
-        pave(*DISK, delta=0.1, executor=Forging(forge))
+        pave(*DISK, delta=0.1, run=RunOn(executor=Forging(forge)))
     assert isinstance(caught.value, WorkspaceError)          # the command line prints one line, exit 2
     assert caught.value.parameter == "executor"
     assert str(caught.value).startswith("executor: a worker returned ")

@@ -23,7 +23,7 @@ from .errors import (
     WorkspaceError,
 )
 from .exact import exact_arcs, exact_area
-from .interval import Box, Certificate, Paving, certify_box, hausdorff, pave
+from .interval import Box, Certificate, Paving, RunOn, StopAt, certify_box, hausdorff, pave
 from .kinematics import (
     AnalyticJacobian,
     DHJoint,
@@ -38,7 +38,7 @@ from .orthoglide import Orthoglide
 from .parallel import ConstraintModel, rpr2
 from .planar import Arc, PlanarChain
 from .sampling import extent, reach_points, sample_joint_box, sweep_joints
-from .serial_workspace import reach
+from .serial_workspace import Pose, reach
 from .symbolic import factor_trig, shorthand, textbook
 
 __version__ = "0.1.0"
@@ -74,12 +74,15 @@ __all__ = [
     "certify_box",
     "hausdorff",
     "pave",
+    "StopAt",
+    "RunOn",
     "Orthoglide",
     "ConstraintModel",
     "rpr2",
     "Arc",
     "PlanarChain",
     "reach",
+    "Pose",
     "verify",
     "answers",
     "grading",

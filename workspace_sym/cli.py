@@ -324,10 +324,9 @@ def cmd_pave(args) -> int:
         box = dict(pairs)
         constraints, exact = args.constraint, None
     _check_plot_in_memory(args)
-    with _distributed(args) as spread:
-        paving = pave(constraints, box, delta=args.delta, backend=args.backend, size=args.size,
-                      max_boxes=args.max_boxes, time_limit=args.time_limit, progress=args.progress,
-                      digits=args.digits, exact_measure=exact, contract=args.contract, **spread)
+    with _distributed(args) as run:
+        paving = pave(constraints, box, delta=args.delta, backend=args.backend, size=args.size, digits=args.digits,
+                      contract=args.contract, stop=_stop_at(args), run=run).with_exact_measure(exact)
     if args.plot:
         from .plotting import plot_paving, save_figure
 
@@ -336,18 +335,27 @@ def cmd_pave(args) -> int:
     return 0
 
 
+def _stop_at(args):
+    """What a run stops at, from --max-boxes, --time-limit and --progress."""
+    from .interval.driver import StopAt
+
+    return StopAt(max_boxes=getattr(args, "max_boxes", None), time_limit=args.time_limit, progress=args.progress)
+
+
 @contextmanager
 def _distributed(args, options=("max_memory", "store", "resume")):
-    """Keyword arguments for --scheduler, --max-memory, --store and --resume (a local Dask cluster lives
-    as long as the block)."""
+    """Where a run goes (a ``RunOn``), from --scheduler, --max-memory, --store and --resume (a local Dask
+    cluster lives as long as the block)."""
+    from .interval.driver import RunOn
+
     spread = {k: getattr(args, k) for k in options if getattr(args, k, None) is not None}
     if args.scheduler is None:
-        yield spread
+        yield RunOn(**spread)
         return
     from .interval.executor import connect
 
     with connect(args.scheduler) as client:
-        yield {**spread, "executor": client}
+        yield RunOn(**spread, executor=client)
 
 
 def _check_plot_in_memory(args) -> None:
@@ -377,7 +385,7 @@ def _show_paving(paving, as_json: bool, extra: dict | None = None) -> None:
 
 
 def cmd_reach(args) -> int:
-    from .serial_workspace import ReachModel, reach
+    from .serial_workspace import Pose, ReachModel, reach
 
     robot = _robot_from_args(args)
     constraint = _pose_options(args)
@@ -385,13 +393,11 @@ def cmd_reach(args) -> int:
         from .orientation import constraint_from
 
         described = constraint_from(**constraint)
-        paving = reach(robot, delta=args.delta, size=args.size, max_boxes=args.max_boxes, time_limit=args.time_limit,
-                       progress=args.progress, **constraint)
+        paving = reach(robot, delta=args.delta, size=args.size, stop=_stop_at(args), pose=Pose(**constraint))
     else:
-        with _distributed(args, ()) as spread:
-            paving = reach(robot, delta=args.delta, size=args.size, max_boxes=args.max_boxes,
-                           time_limit=args.time_limit, progress=args.progress, inner_depth=args.inner_depth,
-                           method=args.method, **spread)
+        with _distributed(args, ()) as run:
+            paving = reach(robot, delta=args.delta, size=args.size, inner_depth=args.inner_depth,
+                           method=args.method, stop=_stop_at(args), run=run)
     if args.plot:
         from .plotting import plot_paving, save_figure
 
@@ -428,7 +434,7 @@ def _pose_options(args) -> dict:
         if text.lower().startswith("rpy:"):
             return {"rpy": _numbers(text[4:], "rpy", 3, "three angles in degrees such as rpy:0,180,0")}
         values = _numbers(text, "orientation", 9, "rpy:R,P,Y (degrees) or nine numbers, the rotation matrix by rows")
-        out = {"orientation": [values[0:3], values[3:6], values[6:9]]}
+        out: dict[str, object] = {"orientation": [values[0:3], values[3:6], values[6:9]]}
     else:
         out = {}
     if args.approach is not None:
@@ -471,9 +477,9 @@ def cmd_dextrous(args) -> int:
     if not isinstance(model, Orthoglide):
         raise WorkspaceError(f"robot {args.robot!r}: the dextrous workspace is implemented for the orthoglide")
     _check_plot_in_memory(args)
-    with _distributed(args) as spread:
+    with _distributed(args) as run:
         result = model.dextrous(eps=args.eps, sigma=_parse_sigma(args.sigma), shave=_parse_shave(args.shave),
-                                progress=args.progress, time_limit=args.time_limit, **spread)
+                                stop=_stop_at(args), run=run)
     if args.plot or args.slices:
         from .plotting import plot_paving, plot_paving_slices, save_figure
 
@@ -504,9 +510,9 @@ def cmd_cube(args) -> int:
     model = robots.build(args.robot)
     if not isinstance(model, Orthoglide):
         raise WorkspaceError(f"robot {args.robot!r}: the largest cube is implemented for the orthoglide")
-    with _distributed(args, ()) as spread:
+    with _distributed(args, ()) as run:         # the cube's certificates take the executor alone
         result = model.largest_cube(alpha=args.alpha, sigma=_parse_sigma(args.sigma), progress=args.progress,
-                                    **spread)
+                                    executor=run.executor)
     if args.json:
         _emit_json(result.to_dict())
     else:
@@ -580,7 +586,6 @@ def cmd_boundary(args) -> int:
 
 
 def cmd_demo(args) -> int:
-    from .interval import pave
     from .planar import PlanarChain
     from .report import planar_report
 
@@ -588,7 +593,7 @@ def cmd_demo(args) -> int:
     # Bastien (2018), Table 1, case iii: the human arm (arm, forearm, hand)
     chain = PlanarChain(["0.186", "0.146", "0.108"], [-60, 0, -10], [120, 130, 25])
     model = robots.build("rpr2")
-    paving = pave(model.constraints, model.box, delta=0.07, exact_measure=model.exact_measure)
+    paving = model.pave(delta=0.07)
     path = planar_report(chain, args.out, command=" ".join(["workspace-sym"] + sys.argv[1:]),
                          title="Human arm of Bastien (2018), Table 1 case iii: exact workspace boundary",
                          paving=paving, paving_title="Certified paving of Rybak's 2-RPR robot (delta 0.07)")
@@ -651,10 +656,9 @@ def cmd_report(args) -> int:
             path = dh_robot_report(model, args.out, command=command, **reach)
         elif isinstance(model, ConstraintModel):
             no_reach()
-            from .interval import pave
             from .report import paving_report
 
-            paving = pave(model.constraints, model.box, delta=args.delta, exact_measure=model.exact_measure)
+            paving = model.pave(delta=args.delta)
             path = paving_report(paving, args.out, title=f"Certified paving of {args.what}", command=command)
         elif isinstance(model, Orthoglide):
             no_reach()

@@ -84,10 +84,14 @@ import sympy as sp
 from .errors import InvalidParameterError
 from .expressions import parse_angle
 from .interval import arith
+from .interval.boxes import Box, Paving, box_measure, box_sizes, check_delta, halves
 from .interval.compiler import compile_expr
+from .interval.driver import RunBudget, StopAt
 from .interval.graph import numpy_constant
-from .interval.image import INNER, OUTER, UNDECIDED, CellGrid, ImageMap, _dot, meets
-from .interval.paving import Box, Paving, RunBudget, box_measure, box_sizes, check_delta, halves
+from .interval.image import CellGrid, ImageMap, _dot, meets
+from .interval.verdict import INSIDE as INNER
+from .interval.verdict import OUTSIDE as OUTER
+from .interval.verdict import UNDECIDED
 from .kinematics import DHRobot
 from .snap import snap_angle
 
@@ -809,7 +813,7 @@ def reach_pose(robot: DHRobot, *, delta: float, approach=None, cone=None, every:
             raise InvalidParameterError(f"{name} must be a whole number, {least} or more; got {value!r}",
                                         parameter=name)
     parameters = tuple(sorted((parameters or {}).items(), key=lambda item: str(item[0])))
-    run = RunBudget(max_boxes=max_boxes, time_limit=time_limit, progress=progress, total=0.0, label="reach")
+    run = RunBudget(StopAt(max_boxes=max_boxes, time_limit=time_limit, progress=progress), "reach")
     if section_ratio is not None and not (isinstance(section_ratio, int | float) and 0 < section_ratio <= 4):
         raise InvalidParameterError(f"section_ratio must be a number in (0, 4]; got {section_ratio!r}",
                                     parameter="section_ratio")
@@ -877,7 +881,7 @@ def _pave_pairs(model: PoseModel, root, delta, size, run, *, max_pairs, inner_de
         if left:
             return inner, boundary, outer, np.concatenate([T, *left]), evaluated, reason
         if run.showing and root.shape[0] == 3:
-            run.show(decided, evaluated)
+            run.show(decided / float(np.prod(root[:, 1] - root[:, 0])), evaluated)
     return inner, boundary, outer, None, evaluated, ""
 
 
@@ -888,7 +892,6 @@ def _pave_direct(model, robot, delta, size, run, options):
     root = model.position.enclose(model.position.limits[None])[0]
     check_root(root, delta, size, robot)
     box = Box(_TASK, tuple(root[:, 0]), tuple(root[:, 1]))
-    run.total = box.measure
     return (box, *_pave_pairs(model, root, delta, size, run, **options))
 
 
@@ -932,7 +935,6 @@ def _pave_revolved(plan: _Plan, robot, parameters, delta, size, run, options, ra
     root = position.enclose(position.limits[None])[0]
     check_root(root, delta, size, robot)
     box = Box(_TASK, tuple(root[:, 0]), tuple(root[:, 1]))
-    run.total = box.measure
     ratio = SECTION_RATIO if ratio is None else ratio
     grid, classes, evaluated, reason = _section_classes(plan.model, ratio * _cell_width(delta, size, 3), run,
                                                         options)

@@ -34,7 +34,7 @@ class ConstraintModel:
         """:func:`workspace_sym.interval.pave` on this model (exact measure attached)."""
         from .interval import pave
 
-        return pave(self.constraints, self.box, delta=delta, exact_measure=self.exact_measure, **options)
+        return pave(self.constraints, self.box, delta=delta, **options).with_exact_measure(self.exact_measure)
 
 
 def lens_area(r, R, d) -> sp.Expr:

@@ -95,7 +95,7 @@ def plot_reach(points, *, ax=None, units="m"):
     :func:`~workspace_sym.serial_workspace.reach` instead, draws its boxes
     (:func:`plot_paving`).  Returns the figure.
     """
-    from .interval.paving import Paving
+    from .interval.boxes import Paving
 
     if isinstance(points, Paving):
         return plot_paving(points, ax=ax, units=points.units or units)

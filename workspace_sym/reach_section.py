@@ -51,7 +51,10 @@ import sympy as sp
 
 from .interval import arith
 from .interval.graph import numpy_constant
-from .interval.image import INNER, OUTER, UNDECIDED, CellGrid, ImageMap, distribute
+from .interval.image import CellGrid, ImageMap, distribute
+from .interval.verdict import INSIDE as INNER
+from .interval.verdict import OUTSIDE as OUTER
+from .interval.verdict import UNDECIDED
 from .kinematics import _rx, _translate
 
 __all__ = ["RadialMap", "Turned", "turned", "TurnedTest"]

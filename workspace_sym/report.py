@@ -556,11 +556,12 @@ def dh_robot_report(robot, out, *, samples: int = 20000, command: str | None = N
     and siblings).  Returns the path of the Markdown file.
 
     With ``reach_delta`` a section "Certified workspace (proved boxes)" adds
-    ``robot.reach(delta=reach_delta, time_limit=reach_time_limit)``: box counts
+    ``robot.reach(delta=reach_delta, stop=StopAt(time_limit=reach_time_limit))``: box counts
     and measures, the certified bracket of the area (planar robot) or volume,
     whether the run completed, the boxes (3D: also three slices in z).
     """
-    from .interval.paving import check_delta
+    from .interval.boxes import check_delta
+    from .interval.driver import StopAt
     from .plotting import save_figure, scatter_workspace_3d
     from .sampling import reach_points, sample_joint_box
 
@@ -609,7 +610,7 @@ def dh_robot_report(robot, out, *, samples: int = 20000, command: str | None = N
         doc.figure(tmp / "workspace.png", f"{samples} random configurations")
         if reach_delta is not None:
             try:
-                paving = robot.reach(delta=reach_delta, time_limit=reach_time_limit, progress=False)
+                paving = robot.reach(delta=reach_delta, stop=StopAt(time_limit=reach_time_limit, progress=False))
             except SymbolicBudgetError as error:
                 if error.parameter != "time_limit":
                     raise

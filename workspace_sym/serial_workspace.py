@@ -76,31 +76,25 @@ import time
 from contextlib import contextmanager
 from dataclasses import dataclass
 from functools import lru_cache
+from typing import Any
 
 import numpy as np
 import sympy as sp
 
 from .errors import InvalidParameterError, JointLimitError, SymbolicBudgetError
 from .interval import arith
-from .interval.executor import _MIN_CHUNK, _runner
+from .interval.boxes import Box, Paving, bisect, box_measure, box_sizes, check_delta, halves
+from .interval.driver import RunBudget, RunOn, StopAt
+from .interval.executor import MIN_CHUNK, runner_for
 from .interval.graph import numpy_constant
-from .interval.image import (
-    INNER,
-    OUTER,
-    UNDECIDED,
-    CoverTooLarge,
-    ImageMap,
-    critical_cover,
-    critical_paving,
-    distribute,
-)
-from .interval.paving import Box, Paving, RunBudget, bisect, box_measure, box_sizes, check_delta, halves
+from .interval.image import CoverTooLarge, ImageMap, critical_cover, critical_paving, distribute
 from .interval.search import split_every_axis
+from .interval.verdict import INSIDE, OUTSIDE, UNDECIDED
 from .kinematics import DHRobot
-from .reach_section import Turned, TurnedTest, first_joint_turn, section_paving, turned
+from .reach_section import RadialMap, Turned, TurnedTest, first_joint_turn, section_paving, turned
 from .symbolic import symbolic_budget
 
-__all__ = ["reach", "resolve_method", "ReachModel", "METHODS"]
+__all__ = ["reach", "Pose", "resolve_method", "ReachModel", "METHODS", "CHUNK_PAIRS"]
 
 _TASK = (sp.Symbol("x"), sp.Symbol("y"), sp.Symbol("z"))
 _MIN_PAIRS = 64                  # pairs a task box may always hold, however small its share of the root box
@@ -108,8 +102,29 @@ METHODS = ("auto", "critical", "pairs")
 SECTION_RATIO = 0.25             # cell width of the section against the width of the task boxes
 SECTION_SHARE = 0.8              # share of the time limit a section paved by blocks may take
 ANGLE_PAD = 1e-9                 # widening of float angles (rad)
+CHUNK_PAIRS = 100_000            # (joint box, task box) pairs in one chunk of the pairs method
 _MARGIN = 1e-12                  # of angle comparisons after reduction modulo 2 pi
 _TWO_PI = 2 * math.pi
+
+
+@dataclass(frozen=True, slots=True)
+class Pose:
+    """A constraint on the tool frame for :func:`reach` (read by :func:`workspace_sym.orientation.reach_pose`):
+    the approach axis (z of the tool frame) within ``cone`` degrees of ``approach`` (``every``: every
+    direction of the cone), or the frame exactly ``orientation`` (a rotation matrix) or ``rpy`` (roll, pitch,
+    yaw in degrees).
+
+    Examples
+    --------
+    >>> Pose(approach=(0, 0, -1), cone=20)
+    Pose(approach=(0, 0, -1), cone=20, every=False, orientation=None, rpy=None)
+    """
+
+    approach: Any = None
+    cone: Any = None
+    every: bool = False
+    orientation: Any = None
+    rpy: Any = None
 
 
 def _exact(value) -> sp.Expr:
@@ -310,7 +325,7 @@ def _section(robot: DHRobot, parameters: tuple) -> _Revolved | _Product | Turned
     return _product(model) or _revolved(model) or turned(model)
 
 
-def _plane_map(robot: DHRobot, parameters: tuple, which: str) -> ImageMap:
+def _plane_map(robot: DHRobot, parameters: tuple, which: str) -> ImageMap | RadialMap:
     if which == "planar":
         return _model(robot, parameters)
     section = _section(robot, parameters)
@@ -340,7 +355,7 @@ def _cover_with(executor, robot, parameters, which):
         return None
 
     def cover(faces, target, clip):
-        spread = _runner(executor, _CoverStep(robot, parameters, which, float(target), tuple(map(tuple, clip))))
+        spread = runner_for(executor, _CoverStep(robot, parameters, which, float(target), tuple(map(tuple, clip))))
         try:
             groups = [faces[i::spread.slots] for i in range(min(spread.slots, len(faces)))]
             return [f.result() for f in [spread.submit(group) for group in groups]]
@@ -387,8 +402,8 @@ class _SectionTest:
 
     def __init__(self, revolved: _Revolved, grid, classes):
         self.r, self.grid = revolved, grid
-        self.inside = grid.prefix(classes, INNER)
-        self.outside = grid.prefix(classes, OUTER)
+        self.inside = grid.prefix(classes, INSIDE)
+        self.outside = grid.prefix(classes, OUTSIDE)
 
     def _in(self, table, u, z, outside_counts):
         return self.grid.all_in_class(table, np.stack([np.stack(u, axis=1), z], axis=1), outside_counts=outside_counts)
@@ -435,8 +450,8 @@ class _ProductTest:
     def __init__(self, product: _Product, grid, classes):
         self.p, self.grid = product, grid
         if product.section is not None:
-            self.inside = grid.prefix(classes, INNER)
-            self.outside = grid.prefix(classes, OUTER)
+            self.inside = grid.prefix(classes, INSIDE)
+            self.outside = grid.prefix(classes, OUTSIDE)
 
     def __call__(self, X: np.ndarray):
         inner = np.ones(len(X), dtype=bool)
@@ -552,15 +567,14 @@ def _pairs(robot, parameters, delta, size, run, *, max_pairs, inner_depth, execu
     owner = np.zeros(1, dtype=int)
     inner, boundary, outer = [], [], []
     evaluated, reason = 0, ""
-    run.total = box.measure
     step = _ReachStep(robot, parameters, float(delta), size, inner_depth, int(max_pairs), float(_volumes(T)[0]))
-    spread = None if executor is None else _runner(executor, step)
+    spread = None if executor is None else runner_for(executor, step)
     rate = 0.0                                  # seconds per (task box, pair) of the last wave of chunks
     try:
         while len(T):
             pieces = max(1, math.ceil(len(Q) / chunk_pairs))
             if spread is not None:
-                pieces = max(pieces, min(spread.slots, math.ceil(len(T) / _MIN_CHUNK)))
+                pieces = max(pieces, min(spread.slots, math.ceil(len(T) / MIN_CHUNK)))
             parts = list(_parts(T, Q, owner, pieces))
             # Waves of one chunk (here) or one per slot (executor); the budget is looked at before each wave,
             # and a wave expected to end past the time limit is not started: its task boxes stay pending.
@@ -595,7 +609,7 @@ def _pairs(robot, parameters, delta, size, run, *, max_pairs, inner_depth, execu
                 T = np.concatenate([T, *left])
                 break
             if run.showing:
-                run.show(box.measure - box_measure(T), evaluated)
+                run.show(1.0 - box_measure(T) / box.measure, evaluated)
     except KeyboardInterrupt:
         reason = "interrupted"
     finally:
@@ -612,7 +626,6 @@ def _cell_width(delta: float, size: str, m: int) -> float:
 def _planar(robot, parameters, delta, size, run, *, executor):
     """The ``"critical"`` method for a planar robot."""
     model = _model(robot, parameters)
-    run.total = 1.0
     grid, classes, evaluated, reason = critical_paving(model, _cell_width(delta, size, 2), budget=run.stop_reason,
                                                        cover=_cover_with(executor, robot, parameters, "planar"),
                                                        show=run.show)
@@ -621,7 +634,7 @@ def _planar(robot, parameters, delta, size, run, *, executor):
     undecided = grid.boxes(classes, UNDECIDED, merge=bool(reason))
     pending = undecided if reason else None
     boundary = [] if reason else [undecided]
-    return box, [grid.boxes(classes, INNER)], boundary, [grid.boxes(classes, OUTER)], pending, evaluated, reason
+    return box, [grid.boxes(classes, INSIDE)], boundary, [grid.boxes(classes, OUTSIDE)], pending, evaluated, reason
 
 
 def _spatial(robot, parameters, delta, size, run, *, executor):
@@ -631,7 +644,6 @@ def _spatial(robot, parameters, delta, size, run, *, executor):
     plan = _section(robot, parameters)
     root = model.enclose(model.limits[None])[0]
     box = Box(model.task_variables, tuple(root[:, 0]), tuple(root[:, 1]))
-    run.total = box.measure
     width = _cell_width(delta, size, 3)
     grid, classes, evaluated, reason = None, None, 0, ""
     if isinstance(plan, Turned) and plan.section.k > 2:
@@ -682,7 +694,7 @@ def classify_task_boxes(test, T, inner: list, boundary: list, outer: list, delta
         T, thin = bisect(T[und & ~small])
         boundary.append(thin)
         if total is not None and run.showing:
-            run.show(total - box_measure(T), evaluated)
+            run.show(1.0 - box_measure(T) / total, evaluated)
     return T, evaluated, reason
 
 
@@ -734,10 +746,8 @@ def _prepared_within(robot: DHRobot, time_limit: float | None, spent: float = 0.
 
 @arith.nearest_rounding
 def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: dict | None = None,
-          method: str = "auto", max_boxes: int | None = None, time_limit: float | None = None,
-          progress: bool | None = None, max_pairs: int = 200_000, inner_depth: int = 2, executor=None,
-          chunk_pairs: int = 100_000, approach=None, cone=None, every: bool = False, orientation=None,
-          rpy=None) -> Paving:
+          method: str = "auto", max_pairs: int = 200_000, inner_depth: int = 2, stop: StopAt = StopAt(),
+          run: RunOn = RunOn(), pose: Pose | None = None) -> Paving:
     """Pave the position workspace of a serial robot within its joint limits (module docstring).
 
     Parameters
@@ -752,28 +762,31 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         coordinates are moved by disjoint sets of joints, and a spatial robot
         turned by a revolute first joint (a rigid base transform allowed);
         ``"pairs"`` otherwise.
-    max_boxes, time_limit : budget; what is left undecided is returned as ``pending``.  A symbolic model not
-        ready within ``time_limit`` raises :class:`~workspace_sym.errors.SymbolicBudgetError`.
-    progress : progress bar (:mod:`workspace_sym.progress`; default: on an
-        interactive output once the run has lasted a second).
-    inner_depth, max_pairs, chunk_pairs : of the ``"pairs"`` method: a box about
+    inner_depth, max_pairs : of the ``"pairs"`` method: a box about
         to become a boundary box is also proved inner piece by piece, halving it
         along every edge up to ``inner_depth`` times; a task box stops refining its
         joint boxes once it would hold more than ``max_pairs`` times its share of
-        the root box's measure (64 pairs at least); about ``chunk_pairs``
-        (joint box, task box) pairs go in one chunk of work.
-    approach, cone, every, orientation, rpy : a constraint on the tool frame
-        (:func:`workspace_sym.orientation.reach_pose`): the approach axis (z of
-        the tool frame) within ``cone`` degrees of ``approach``, or the frame
-        exactly ``orientation`` (a rotation matrix; ``rpy`` roll, pitch, yaw in
-        degrees).  Then inner boxes are proved reached by configurations within
-        the limits satisfying the constraint exactly, outer boxes proved reached
-        by none (docs/methods.md section 8); ``method``, ``executor`` do not apply.
-    executor : None (this process), a :class:`concurrent.futures.Executor`
+        the root box's measure (64 pairs at least).
+    stop : :class:`~workspace_sym.interval.driver.StopAt`
+        A budget (``max_boxes``, ``time_limit``): what is left undecided is returned as ``pending``.  A
+        symbolic model not ready within ``time_limit`` raises
+        :class:`~workspace_sym.errors.SymbolicBudgetError`.  ``progress``: a progress bar
+        (:mod:`workspace_sym.progress`; default: on an interactive output once the run has lasted a second).
+    run : :class:`~workspace_sym.interval.driver.RunOn`
+        ``executor``: None (this process), a :class:`concurrent.futures.Executor`
         or a ``dask.distributed.Client``
         (:func:`workspace_sym.interval.executor.connect`): the critical covers
         (one task per face) or the generations of task boxes (``"pairs"``) run
-        there; the result has the same boxes, counts and measures.
+        there; the result has the same boxes, counts and measures.  ``chunk``:
+        about this many (joint box, task box) pairs go in one chunk of work of the
+        ``"pairs"`` method (default ``CHUNK_PAIRS``).  The boxes stay in memory:
+        ``max_memory``, ``store`` and ``resume`` are refused.
+    pose : :class:`Pose`, optional
+        A constraint on the tool frame (:func:`workspace_sym.orientation.reach_pose`).
+        Then inner boxes are proved reached by configurations within the limits
+        satisfying the constraint exactly, outer boxes proved reached by none
+        (docs/methods.md section 8); ``method``, ``max_pairs``, ``inner_depth`` and
+        ``run`` do not apply.
 
     Returns
     -------
@@ -790,35 +803,44 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     >>> bool(lo <= 2 * np.pi <= hi)
     True
     """
-    if approach is not None or cone is not None or every or orientation is not None or rpy is not None:
+    if pose is not None:
+        if not isinstance(pose, Pose):
+            raise InvalidParameterError(f"pose must be a serial_workspace.Pose; got {type(pose).__name__}",
+                                        parameter="pose")
         from .orientation import reach_pose  # one way: orientation builds on this module
 
-        return reach_pose(robot, delta=delta, approach=approach, cone=cone, every=every, orientation=orientation,
-                          rpy=rpy, size=size, parameters=parameters, max_boxes=max_boxes, time_limit=time_limit,
-                          progress=progress)
+        return reach_pose(robot, delta=delta, approach=pose.approach, cone=pose.cone, every=pose.every,
+                          orientation=pose.orientation, rpy=pose.rpy, size=size, parameters=parameters,
+                          max_boxes=stop.max_boxes, time_limit=stop.time_limit, progress=stop.progress)
+    if run.max_memory is not None or run.store is not None or run.resume is not None:
+        raise InvalidParameterError("run: reach keeps its boxes in memory; max_memory, store and resume do not "
+                                    f"apply; got {run!r}", parameter="run")
+    chunk_pairs = CHUNK_PAIRS if run.chunk is None else run.chunk
+    executor = run.executor
     check_delta(delta)
     if size not in ("diameter", "width"):
         raise InvalidParameterError(f"size must be one of 'diameter', 'width'; got {size!r}", parameter="size")
-    for name, value, least in (("inner_depth", inner_depth, 0), ("chunk_pairs", chunk_pairs, 1)):
+    for name, value, least in (("inner_depth", inner_depth, 0),):
         if not isinstance(value, int) or isinstance(value, bool) or value < least:
             raise InvalidParameterError(f"{name} must be a whole number, {least} or more; got {value!r}",
                                         parameter=name)
-    parameters = tuple(sorted((parameters or {}).items(), key=lambda item: str(item[0])))
+    values = tuple(sorted((parameters or {}).items(), key=lambda item: str(item[0])))  # hashable
     # The time limit bounds the whole call: the clock starts before the symbolic preparation of the model.
-    run = RunBudget(max_boxes=max_boxes, time_limit=time_limit, progress=progress, total=0.0, label="reach")
+    time_limit = stop.time_limit
+    budget = RunBudget(stop, "reach")
     model = root = None
     kind = method
     try:
-        with _prepared_within(robot, time_limit, run.seconds):
-            model = _model(robot, parameters)
+        with _prepared_within(robot, time_limit, budget.seconds):
+            model = _model(robot, values)
             root = model.enclose(model.limits[None])[0]
         check_root(root, delta, size, robot)
-        with _prepared_within(robot, time_limit, run.seconds):
-            kind = resolve_method(robot, method, parameters)
+        with _prepared_within(robot, time_limit, budget.seconds):
+            kind = resolve_method(robot, method, values)
         result = None
         if kind == "critical":
             try:
-                result = (_planar if model.m == 2 else _spatial)(robot, parameters, delta, size, run,
+                result = (_planar if model.m == 2 else _spatial)(robot, values, delta, size, budget,
                                                                  executor=executor)
             except CoverTooLarge as error:
                 if method == "critical":
@@ -826,7 +848,7 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
                                                 "method='pairs'", parameter="method") from None
         if result is None:
             kind = "pairs"                      # also when the critical cover was too large (auto)
-            result = _pairs(robot, parameters, delta, size, run, max_pairs=max_pairs, inner_depth=inner_depth,
+            result = _pairs(robot, values, delta, size, budget, max_pairs=max_pairs, inner_depth=inner_depth,
                             executor=executor, chunk_pairs=chunk_pairs)
     except KeyboardInterrupt:
         if model is None or root is None:
@@ -834,7 +856,7 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         whole = Box(model.task_variables, tuple(root[:, 0]), tuple(root[:, 1]))
         result = whole, [], [], [], root[None], 0, "interrupted"
     finally:
-        run.close()
+        budget.close()
     assert model is not None                    # set before anything that returns a result
     box, inner, boundary, outer, pending, evaluated, reason = result
     if pending is None or not len(pending):
@@ -846,6 +868,7 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         parts = [p for p in parts if len(p)]
         return np.concatenate(parts) if parts else empty
 
-    return Paving(model.task_variables, box, (), float(delta), "numpy", size, stack(inner), stack(boundary),
-                  stack(outer), empty if pending is None else pending, run.seconds, not reason, evaluated, reason,
-                  units=robot.units, method=kind)
+    return Paving(variables=model.task_variables, box=box, constraints=(), delta=float(delta), backend="numpy",
+                  size=size, inner=stack(inner), boundary=stack(boundary), outer=stack(outer),
+                  pending=empty if pending is None else pending, seconds=budget.seconds, complete=not reason,
+                  evaluated=evaluated, stop_reason=reason, units=robot.units, method=kind)

@@ -52,13 +52,12 @@ import sympy as sp
 
 from ..errors import CoverTooLarge
 from . import arith
+from .boxes import halves
 from .compiler import compile_expr
 from .graph import numpy_constant
-from .paving import halves
+from .verdict import CODE, INSIDE, OUTSIDE, UNDECIDED
 
-__all__ = ["ImageMap", "critical_paving", "CellGrid", "CoverTooLarge", "OUTER", "INNER", "UNDECIDED"]
-
-OUTER, INNER, UNDECIDED = 0, 1, 2
+__all__ = ["ImageMap", "critical_paving", "CellGrid", "CoverTooLarge"]
 OUTSIDE_PAIRS = 20_000            # joint boxes a component's cell may hold while proved outside
 MAX_COVER_BOXES = 4_000_000      # joint boxes of one face's cover in flight: more means a critical set of full
                                  # dimension (parallel joint axes, say); CoverTooLarge is raised
@@ -528,7 +527,7 @@ def critical_paving(image: ImageMap, width: float, *, rng=None, budget=None, cov
     """Classify the cells of a grid of the given width over the image of a map into the plane.
 
     Returns ``(grid, classes, evaluated, stopped)``: ``classes`` holds
-    :data:`OUTER`, :data:`INNER` or :data:`UNDECIDED` per cell (see the module
+    the verdict code (:mod:`.verdict`) OUTSIDE, INSIDE or UNDECIDED per cell (see the module
     docstring for the proofs); ``stopped`` is the reason a budget stopped the
     run (then every cell not yet decided is :data:`UNDECIDED`, and nothing
     rests on an unfinished step).  ``budget`` is a callable of the number of
@@ -546,7 +545,7 @@ def critical_paving(image: ImageMap, width: float, *, rng=None, budget=None, cov
     show = show or (lambda share, evaluated: None)
     root = image.enclose(image.limits[None])[0]
     grid = CellGrid(root, width)
-    classes = np.full(grid.shape, UNDECIDED, dtype=np.int8)
+    classes = np.full(grid.shape, UNDECIDED, dtype=CODE)
     target = cover_ratio * width
     if cover is None:
         covers = [critical_cover(image, faces(image), target, root)]
@@ -561,8 +560,8 @@ def critical_paving(image: ImageMap, width: float, *, rng=None, budget=None, cov
     labels, count = ndimage.label(~marked)
     ring = np.ones(grid.shape, dtype=bool)
     ring[1:-1, 1:-1] = False
-    verdict = np.full(count + 1, UNDECIDED, dtype=np.int8)
-    verdict[np.unique(labels[ring & ~marked])] = OUTER
+    verdict = np.full(count + 1, UNDECIDED, dtype=CODE)
+    verdict[np.unique(labels[ring & ~marked])] = OUTSIDE
     # Every other component: prove one of its cells, the deepest first, then a few others.
     depth = ndimage.distance_transform_cdt(~marked, metric="taxicab")
     todo = [c for c in range(1, count + 1) if verdict[c] == UNDECIDED]
@@ -583,7 +582,7 @@ def critical_paving(image: ImageMap, width: float, *, rng=None, budget=None, cov
             ids = np.array(todo)[open_]
             evaluated += len(boxes)
             inside, reached = image.prove_inside_multistart(boxes, rng, reached=True)
-            verdict[ids[inside]] = INNER
+            verdict[ids[inside]] = INSIDE
             # Outside proofs where Newton's method reached no centre, for components of at least
             # OUTSIDE_MIN_CELLS cells (a few pinched cells between marks are left undecided: their measure is
             # small and joint boxes near the boundary are many).
@@ -591,7 +590,7 @@ def critical_paving(image: ImageMap, width: float, *, rng=None, budget=None, cov
             if rest.any():
                 evaluated += int(rest.sum())
                 outside = image.prove_outside(boxes[rest], max_pairs=OUTSIDE_PAIRS)
-                verdict[ids[rest][outside]] = OUTER
+                verdict[ids[rest][outside]] = OUTSIDE
             stopped = budget(evaluated)
             if stopped:
                 break
@@ -604,7 +603,7 @@ def critical_paving(image: ImageMap, width: float, *, rng=None, budget=None, cov
     boxes = grid.cells(index)
     evaluated += len(boxes)
     inside = image.prove_inside_multistart(boxes, rng, starts=4)
-    classes[tuple(index[inside].T)] = INNER
+    classes[tuple(index[inside].T)] = INSIDE
     show(float(np.mean(classes != UNDECIDED)), evaluated)
     return grid, classes, evaluated, budget(evaluated)
 

@@ -13,32 +13,29 @@ backend evaluates one box at a time at any precision and serves as reference.
 from __future__ import annotations
 
 import enum
-import html
 import math
-import time
-from dataclasses import dataclass, field
-from functools import cache, cached_property, lru_cache
+from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 import sympy as sp
 
 from ..errors import BoxError, ConstraintError, ExpressionError, InvalidParameterError, check_choice
 from ..expressions import parse_expr
-from ..numbers import fmt, fmt_bracket, measure_text
-from ..progress import progress_bar
 from . import arith, verdict
 from . import mp as mpi
+from .boxes import SIZES, Box, Paving, bisect, box_measure, box_sizes, check_delta, halves
 from .compiler import BACKENDS, best_form, compile_expr
 from .contractor import Program
-from .store import ExactSum, measures_of
-from .verdict import CODE, INSIDE, OUTSIDE, UNDECIDED, Decider, codes_from_masks
+from .driver import RunBudget, RunOn, StopAt, expand, initial_boxes, subdivide
+from .executor import thread_pool
+from .verdict import CODE, INSIDE, OUTSIDE, Decider, codes_from_masks
 
-__all__ = ["Certificate", "Box", "Constraint", "parse_constraints", "certify_box", "pave", "subdivide", "threaded",
-           "bisect", "box_sizes", "check_delta", "check_digits", "expand", "RunBudget",
-           "Paving", "hausdorff", "box_measure", "SIZES"]
-
-SIZES = ("diameter", "width")
-
+__all__ = ["Certificate", "Constraint", "parse_constraints", "certify_box", "pave", "threaded", "check_digits",
+           "hausdorff",
+           # the engine's lower layers, re-exported for the code that reads them from here
+           "Box", "Paving", "SIZES", "bisect", "box_measure", "box_sizes", "check_delta", "halves", "RunBudget",
+           "RunOn", "StopAt", "expand", "initial_boxes", "subdivide", "Decider"]
 
 class Certificate(enum.Enum):
     """Outcome of a box test; only IN and OUT are proved statements (the codes of :mod:`.verdict`)."""
@@ -49,86 +46,6 @@ class Certificate(enum.Enum):
 
     def __bool__(self):
         raise TypeError("a Certificate is not a boolean; compare with Certificate.IN / OUT / UNDECIDED")
-
-
-@dataclass(frozen=True, slots=True)
-class Box:
-    """An axis-aligned box ``[lower_k, upper_k]`` over named variables.
-
-    Examples
-    --------
-    >>> Box.from_bounds({"x": (0, 1), "y": (-1, 2)})
-    Box(x in [0.0, 1.0], y in [-1.0, 2.0])
-    >>> Box.from_bounds({"x": (1, 0)})
-    Traceback (most recent call last):
-    ...
-    workspace_sym.errors.BoxError: box: lower bound of x (1) must not exceed its upper bound (0)
-    """
-
-    variables: tuple
-    lower: tuple
-    upper: tuple
-
-    @classmethod
-    def from_bounds(cls, bounds, variables=None) -> Box:
-        """From ``{var: (lo, hi)}`` or a sequence of pairs with ``variables``.
-
-        Bounds are numbers or text read by :func:`~workspace_sym.expressions.parse_expr`
-        (``"-pi/2"``), rounded to the nearest float.
-        """
-        if isinstance(bounds, Box):
-            return bounds
-        if isinstance(bounds, dict):
-            variables = tuple(sp.Symbol(v) if isinstance(v, str) else v for v in bounds)
-            pairs = list(bounds.values())
-        else:
-            pairs = list(bounds)
-            if variables is None:
-                raise BoxError("box: a list of bounds needs variables=...; or pass {variable: (lo, hi)}")
-            variables = tuple(sp.Symbol(v) if isinstance(v, str) else v for v in variables)
-            if len(variables) != len(pairs):
-                raise BoxError(f"box: {len(pairs)} bounds for {len(variables)} variables")
-        if not pairs:
-            raise BoxError("box: at least one variable is needed; got an empty box")
-        repeated = sorted({str(v) for v in variables if list(map(str, variables)).count(str(v)) > 1})
-        if repeated:
-            raise BoxError(f"box: each variable needs one range; {', '.join(repeated)} is given more than once")
-        lower, upper = [], []
-        for v, pair in zip(variables, pairs):
-            try:
-                lo, hi = pair
-                lo_f, hi_f = (float(parse_expr(b, f"box: {side} bound of {v}", new_symbols=False))
-                              if isinstance(b, str) else float(b) for side, b in (("lower", lo), ("upper", hi)))
-            except ExpressionError:
-                raise
-            except (TypeError, ValueError):
-                raise BoxError(f"box: bounds of {v} must be two numbers; got {pair!r}") from None
-            if not (math.isfinite(lo_f) and math.isfinite(hi_f)):
-                raise BoxError(f"box: bounds of {v} must be finite; got [{lo}, {hi}]")
-            if lo_f > hi_f:
-                raise BoxError(f"box: lower bound of {v} ({lo}) must not exceed its upper bound ({hi})")
-            if not math.isfinite(hi_f - lo_f):
-                raise BoxError(f"box: bounds of {v} must be finite with a finite width; got [{lo}, {hi}], whose "
-                               "width overflows double precision")
-            lower.append(lo_f)
-            upper.append(hi_f)
-        if not math.isfinite(math.prod(h - lo_ for lo_, h in zip(lower, upper))):
-            raise BoxError(f"box: the measure of the box overflows double precision; got "
-                           f"{', '.join(f'{v} in [{a:g}, {b:g}]' for v, a, b in zip(variables, lower, upper))}")
-        return cls(variables, tuple(lower), tuple(upper))
-
-    @property
-    def array(self) -> np.ndarray:
-        """``(n, 2)`` array of bounds."""
-        return np.array([self.lower, self.upper]).T
-
-    @property
-    def measure(self) -> float:
-        return float(np.prod(np.subtract(self.upper, self.lower)))
-
-    def __repr__(self):
-        parts = ", ".join(f"{v} in [{lo!r}, {hi!r}]" for v, lo, hi in zip(self.variables, self.lower, self.upper))
-        return f"Box({parts})"
 
 
 @dataclass(frozen=True, slots=True)
@@ -362,216 +279,8 @@ def certify_box(box, constraints, *, variables=None, backend: str = "numpy", dig
 
 
 # ----------------------------------------------------------------------------- paving
-def box_measure(boxes: np.ndarray) -> float:
-    """Total measure (area, volume) of an ``(N, n, 2)`` array of boxes.
-
-    The measures of the boxes (products of float edge widths) are summed
-    exactly and rounded once (:class:`~workspace_sym.interval.store.ExactSum`):
-    the total does not depend on the order of the boxes, so a distributed or
-    resumed run gives the same figure as a local one.
-    """
-    if len(boxes) == 0:
-        return 0.0
-    return ExactSum.of(measures_of(np.asarray(boxes))).value
-
-
-MAX_3D_BOXES_SHOWN = 20_000     # a notebook draws a 3D paving up to this many boxes (matplotlib 3D is slow)
-
-
-@dataclass(frozen=True, eq=False)
-class Paving:
-    """Result of :func:`pave`: inner, boundary, outer and pending boxes, each an ``(N, n, 2)`` array.
-
-    ``pending`` boxes are those a stopped run (budget, time limit, Ctrl-C)
-    did not examine: they are neither proved nor classified.  ``units`` is the
-    length unit of the variables when they are lengths (a robot's workspace
-    from ``reach``), for the axes of its pictures.
-    """
-
-    variables: tuple
-    box: Box
-    constraints: tuple
-    delta: float
-    backend: str
-    size: str
-    inner: np.ndarray
-    boundary: np.ndarray
-    outer: np.ndarray
-    pending: np.ndarray
-    seconds: float
-    complete: bool
-    evaluated: int
-    stop_reason: str = ""
-    exact_measure: object = field(default=None)
-    contract: bool = False
-    units: str | None = None
-    method: str = ""                # how the boxes were decided, when a caller chose among ways (reach)
-
-    @property
-    def counts(self) -> dict:
-        """Number of boxes of each class."""
-        return {k: len(getattr(self, k)) for k in ("inner", "boundary", "outer", "pending")}
-
-    @cached_property
-    def measures(self) -> dict:
-        """Measure of each class (exact sums, computed once)."""
-        return {k: box_measure(getattr(self, k)) for k in ("inner", "boundary", "outer", "pending")}
-
-    @cached_property
-    def measure_bounds(self) -> tuple[float, float]:
-        """The certified bracket ``(measure(inner), measure(inner) + measure(boundary) + measure(pending))``,
-        rounded outward: every box's measure and the sums are rounded down for the lower bound, up for the upper
-        one (the figures of :attr:`measures` are rounded to nearest)."""
-        low = ExactSum.of(measures_of(self.inner, "down"))
-        high = ExactSum()
-        for kind in ("inner", "boundary", "pending"):
-            high.add(measures_of(getattr(self, kind), "up"))
-        return low.value_down, high.value_up
-
-    def to_dict(self) -> dict:
-        m, c = self.measures, self.counts
-        out = {
-            "inner": {"boxes": c["inner"], "measure": m["inner"]},
-            "boundary": {"boxes": c["boundary"], "measure": m["boundary"]},
-            "outer": {"boxes": c["outer"], "measure": m["outer"]},
-            "pending": {"boxes": c["pending"], "measure": m["pending"]},
-            "measure_bounds": list(self.measure_bounds),
-            "delta": self.delta,
-            "size": self.size,
-            "backend": self.backend,
-            "contract": self.contract,
-            "complete": self.complete,
-            "boxes_evaluated": self.evaluated,
-            "seconds": self.seconds,
-        }
-        if self.stop_reason:
-            out["stop_reason"] = self.stop_reason
-        if self.units:
-            out["units"] = self.units
-        if self.method:
-            out["method"] = self.method
-        if self.exact_measure is not None:
-            out["exact_measure"] = float(sp.N(self.exact_measure, 17))
-            out["exact_measure_expr"] = sp.sstr(self.exact_measure)
-        return out
-
-    def __repr__(self):
-        lo, hi = self.measure_bounds
-        c = self.counts
-        return (f"Paving({c['inner']} inner, {c['boundary']} boundary, {c['outer']} outer, "
-                f"{c['pending']} pending; measure in {fmt_bracket(lo, hi, 6, 'g')}, "
-                f"delta={self.delta})")
-
-    def _repr_html_(self) -> str:
-        """Summary (boxes and measure of each class, the certified bracket) and the picture (Jupyter)."""
-        from ..display import figure_html, html_table
-        from ..plotting import plot_paving
-
-        m, c = self.measures, self.counts
-        rows = [(kind, c[kind], measure_text(kind, m[kind], 6, "g"))
-                for kind in ("inner", "boundary", "outer", "pending")]
-        lo, hi = self.measure_bounds
-        how = ", with contraction" if self.contract else ""
-        lines = [f"over ({', '.join(map(str, self.variables))}), δ = {self.delta} ({self.size}), backend "
-                 f"{self.backend}{how}: {self.evaluated} boxes evaluated in {self.seconds:.2f} s",
-                 f"certified measure in {fmt_bracket(lo, hi, 6)}"]
-        if self.exact_measure is not None:
-            lines.append(f"exact measure {fmt(float(sp.N(self.exact_measure)), 6)} = {sp.sstr(self.exact_measure)}")
-        if not self.complete:
-            lines.append(f"stopped early: {self.stop_reason}; pending boxes are unclassified")
-        drawn, n = len(self.inner) + len(self.boundary), len(self.variables)
-        picture = ""
-        if n == 2 or (n == 3 and drawn <= MAX_3D_BOXES_SHOWN):
-            picture = figure_html(plot_paving(self), alt="paving")
-        elif n == 3:
-            picture = f"<p>(no picture of {drawn} boxes in 3D here: see plotting.plot_paving_slices)</p>"
-        return ("<p>" + "<br/>".join(html.escape(t) for t in lines) + "</p>"
-                + html_table(("boxes", "number", "measure"), rows) + picture)
-
-
-class RunBudget:
-    """Stopping rules and progress bar of a branch-and-bisect run (:func:`subdivide`, ``reach``).
-
-    ``stop_reason(evaluated)`` is empty while the run may go on, else why it
-    stops (the time limit or the box budget).  The bar shows the share of
-    ``total`` (the initial measure) already decided; ``progress`` follows
-    :mod:`workspace_sym.progress` (None: on an interactive output, after a second).
-    """
-
-    def __init__(self, *, max_boxes: int | None, time_limit: float | None, progress: bool | None,
-                 total: float, label: str):
-        if max_boxes is not None and max_boxes < 1:
-            raise InvalidParameterError(f"max_boxes must be at least 1; got {max_boxes!r}", parameter="max_boxes")
-        if time_limit is not None and not (isinstance(time_limit, int | float) and not isinstance(time_limit, bool)
-                                           and math.isfinite(time_limit) and time_limit > 0):
-            raise InvalidParameterError(f"time_limit must be a positive number of seconds; got {time_limit!r}",
-                                        parameter="time_limit")
-        self.max_boxes, self.time_limit = max_boxes, time_limit
-        self.start = time.perf_counter()
-        self.total = total
-        self.bar = progress_bar(progress, total=100.0, desc=label, unit="%",
-                                bar_format="{desc}: {percentage:5.1f}% of the box decided{postfix} |{bar}| "
-                                           "[{elapsed}]")
-
-    @property
-    def seconds(self) -> float:
-        return time.perf_counter() - self.start
-
-    @property
-    def showing(self) -> bool:
-        """Whether the bar draws (callers skip computing what it would show otherwise)."""
-        return not self.bar.disable
-
-    def stop_reason(self, evaluated: int, *, ahead: float = 0.0) -> str:
-        """``ahead``: seconds the next step is expected to take; the run stops before a step that would end
-        past the time limit."""
-        elapsed = self.seconds
-        if self.time_limit is not None and elapsed + ahead > self.time_limit:
-            return f"time limit of {self.time_limit} s reached"
-        if self.max_boxes is not None and evaluated >= self.max_boxes:
-            return f"budget of {self.max_boxes} boxes reached"
-        return ""
-
-    def show(self, decided: float, evaluated: int) -> None:
-        if not self.showing:
-            return
-        share = min(1.0, decided / self.total) if self.total > 0 else 1.0
-        self.bar.set_postfix_str(f"{evaluated} boxes", refresh=False)
-        self.bar.update(100.0 * share - self.bar.n)
-
-    def close(self) -> None:
-        self.bar.close()
-
-
-def box_sizes(boxes: np.ndarray, size: str) -> np.ndarray:
-    w = boxes[:, :, 1] - boxes[:, :, 0]
-    return np.sqrt(np.sum(w * w, axis=1)) if size == "diameter" else np.max(w, axis=1)
-
-
-def halves(boxes: np.ndarray, axis: np.ndarray | None = None):
-    """Both halves of every box along ``axis`` (default: its longest edge), in order (``2i``, ``2i + 1``),
-    and the mask of boxes that could be split (a box one float wide cannot; its two "halves" are itself)."""
-    rows = np.arange(len(boxes))
-    k = np.argmax(boxes[:, :, 1] - boxes[:, :, 0], axis=1) if axis is None else axis
-    lo, hi = boxes[rows, k, 0], boxes[rows, k, 1]
-    mid = 0.5 * lo + 0.5 * hi
-    ok = (mid > lo) & (mid < hi)
-    children = np.repeat(boxes, 2, axis=0)
-    children[2 * rows[ok], k[ok], 1] = mid[ok]
-    children[2 * rows[ok] + 1, k[ok], 0] = mid[ok]
-    return children, ok
-
-
-def bisect(boxes: np.ndarray):
-    """Split every box along its longest edge; also returns boxes too thin to split."""
-    children, ok = halves(boxes)
-    return children.reshape(-1, 2, *boxes.shape[1:])[ok].reshape(-1, *boxes.shape[1:]), boxes[~ok]
-
-
 def pave(constraints, box, *, delta: float, variables=None, backend: str = "numpy", size: str = "diameter",
-         max_boxes: int | None = None, time_limit: float | None = None, progress: bool | None = None,
-         digits: int = 30, chunk: int = 200_000, exact_measure=None, contract: bool = False,
-         executor=None, max_memory=None, store=None, resume=None) -> Paving:
+         digits: int = 30, contract: bool = False, stop: StopAt = StopAt(), run: RunOn = RunOn()) -> Paving:
     """Non-uniform covering of ``{x in box : every constraint}`` (docs/methods.md section 2).
 
     Parameters
@@ -584,11 +293,6 @@ def pave(constraints, box, *, delta: float, variables=None, backend: str = "nump
     size : {"diameter", "width"}
         How a box is measured against ``delta``: its diameter (the paper's
         ``d(P)``, default) or its largest edge (codac's convention).
-    max_boxes, time_limit : optional budget; when exhausted, the remaining
-        boxes are returned as ``pending`` (never classified).
-    progress : progress bar (``tqdm.auto``: a widget in Jupyter, a bar on a
-        terminal); default: on an interactive output once the run has lasted
-        a second; False: never.
     digits : precision of the mpmath backend.
     contract : bool
         Also cut inner and outer slices off every undecided box by
@@ -598,12 +302,18 @@ def pave(constraints, box, *, delta: float, variables=None, backend: str = "nump
         same forward evaluation that decides every box proves it.  Fewer,
         tighter boundary boxes at the same ``delta``; the boxes are no
         longer those of a plain bisection tree.
-    executor, max_memory, store, resume : run on other processes or
-        machines (a :class:`concurrent.futures.Executor` or a
-        ``dask.distributed.Client``), stream the decided boxes to disk, and
-        checkpoint the run to a file it can be resumed from
-        (:func:`~workspace_sym.interval.executor.run_paving`).  The verdicts,
-        box counts and measures are those of the local run.
+    stop : :class:`~workspace_sym.interval.driver.StopAt`
+        A budget of boxes (``max_boxes``) or seconds (``time_limit``): when
+        exhausted, the remaining boxes are returned as ``pending`` (never
+        classified); ``progress``: a progress bar (``tqdm.auto``: a widget in
+        Jupyter, a bar on a terminal; default: on an interactive output once
+        the run has lasted a second; False: never).
+    run : :class:`~workspace_sym.interval.driver.RunOn`
+        Run on other processes or machines (``executor``: a
+        :class:`concurrent.futures.Executor` or a ``dask.distributed.Client``),
+        stream the decided boxes to disk (``max_memory``, ``store``), and
+        checkpoint the run to a file it can be resumed from (``resume``).  The
+        verdicts, box counts and measures are those of the local run.
 
     Returns
     -------
@@ -615,6 +325,8 @@ def pave(constraints, box, *, delta: float, variables=None, backend: str = "nump
     >>> lo, hi = p.measure_bounds
     >>> bool(lo <= 3.141592653589793 <= hi)
     True
+    >>> pave(["x**2 + y**2 <= 1"], {"x": (-1, 1), "y": (-1, 1)}, delta=0.01, stop=StopAt(max_boxes=100)).complete
+    False
     """
     check_choice("backend", backend, BACKENDS)
     cons, b = _setup(constraints, box, variables)  # delta and size are checked by subdivide
@@ -622,24 +334,8 @@ def pave(constraints, box, *, delta: float, variables=None, backend: str = "nump
         raise InvalidParameterError(f"contract=True needs the numpy backend; got backend={backend!r}")
     decide = _decider(cons, b.variables, backend, digits)
     separate = _Separate(cons, b.variables) if contract else None
-    return subdivide(decide, b, delta=delta, size=size, max_boxes=max_boxes, time_limit=time_limit,
-                     progress=progress, chunk=chunk, constraints=cons, backend=backend,
-                     exact_measure=exact_measure, separate=separate,
-                     presplit=0 if contract else 512,  # contraction changes the tree: start from the box
-                     executor=executor, max_memory=max_memory, store=store, resume=resume)
-
-
-def check_delta(delta, name="delta"):
-    if not isinstance(delta, (int, float)) or isinstance(delta, bool) or not math.isfinite(delta) or delta <= 0:
-        raise InvalidParameterError(f"{name} must be a positive finite number; got {delta!r}", parameter=name)
-
-
-@cache
-def _thread_pool(workers: int):
-    """One pool per worker count for the whole process (its threads end with the interpreter)."""
-    from concurrent.futures import ThreadPoolExecutor
-
-    return ThreadPoolExecutor(workers, thread_name_prefix="workspace_sym")
+    return subdivide(decide, b, delta=delta, size=size, stop=stop, run=run, constraints=cons, backend=backend,
+                     separate=separate, presplit=0 if contract else 512)  # contraction: start from the box
 
 
 def threaded(decide, workers: int | None = None, *, min_batch: int = 8192):
@@ -654,7 +350,7 @@ def threaded(decide, workers: int | None = None, *, min_batch: int = 8192):
     workers = workers or min(os.cpu_count() or 1, 4)
     if workers < 2:
         return decide
-    pool = _thread_pool(workers)
+    pool = thread_pool(workers)
 
     guarded = arith.nearest_rounding(decide)       # a worker thread keeps the mode it was created with
 
@@ -664,119 +360,6 @@ def threaded(decide, workers: int | None = None, *, min_batch: int = 8192):
         return np.concatenate(list(pool.map(guarded, np.array_split(boxes, workers))))
 
     return run
-
-
-def initial_boxes(box: Box, delta: float, size: str, presplit: int) -> np.ndarray:
-    """The box bisected, unevaluated, into about ``presplit`` boxes larger than ``delta`` (see :func:`subdivide`)."""
-    work = box.array[None, :, :].astype(float)
-    while len(work) < presplit and (box_sizes(work, size) > delta).all():
-        work, thin = bisect(work)
-        if len(thin):
-            return np.concatenate([work, thin])
-    return work
-
-
-def expand(batch: np.ndarray, decide: Decider, separate, delta: float, size: str):
-    """One step of the branch and bisect on a batch: ``(inner, boundary, outer, children)`` arrays.
-
-    Each box is decided on its own, so the union of the results does not
-    depend on how the boxes are batched: this is the unit of work that
-    :mod:`~workspace_sym.interval.executor` sends to other processes.
-    """
-    codes = decide(batch)
-    und = batch[codes == UNDECIDED]
-    inner, outer = [batch[codes == INSIDE]], [batch[codes == OUTSIDE]]
-    if separate is not None:
-        cut = separate(und)
-        # The contraction proposes slices; each is declared only when the forward evaluation
-        # that decides every other box proves it too.  The rest stays undecided.
-        proved_in, proved_out = decide(cut.inner) == INSIDE, decide(cut.outer) == OUTSIDE
-        inner.append(cut.inner[proved_in])
-        outer.append(cut.outer[proved_out])
-        und = np.concatenate([cut.kept, cut.inner[~proved_in], cut.outer[~proved_out]])
-    small = box_sizes(und, size) <= delta
-    children, thin = bisect(und[~small])
-    return np.concatenate(inner), np.concatenate([und[small], thin]), np.concatenate(outer), children
-
-
-@arith.nearest_rounding
-def subdivide(decide: Decider, box: Box, *, delta: float, size: str = "diameter", max_boxes: int | None = None,
-              time_limit: float | None = None, progress: bool | None = None, chunk: int = 200_000,
-              constraints=(), backend: str = "numpy", exact_measure=None, label: str = "paving",
-              presplit: int = 512, separate=None, executor=None, max_memory=None, store=None,
-              resume=None) -> Paving:
-    """Branch and bisect with any box classifier: the loop behind :func:`pave`.
-
-    ``decide(boxes)`` takes an ``(N, n, 2)`` array and returns codes: 1 for a
-    box proved inside, -1 proved outside, 0 undecided.  Undecided boxes larger
-    than ``delta`` are bisected along their longest edge; the others become
-    boundary boxes.  A budget, time limit or Ctrl-C returns the unexamined
-    boxes as pending.
-
-    The first generations are bisected without being evaluated until there are
-    ``presplit`` boxes (none smaller than ``delta``): one numpy call costs about
-    the same for one box or five hundred, and a box decided at a coarse level
-    has its children decided too, so only the number of boxes changes (the
-    measures of the Rybak benchmark are identical with and without; 1.3x to
-    1.8x faster).  ``presplit=0`` evaluates from the initial box.
-
-    ``separate(boxes)``, optional, runs on the undecided boxes and returns a
-    :class:`~workspace_sym.interval.contractor.Separation`: inner and outer
-    slices and the undecided remainder.  A slice is declared inner (outer)
-    only when ``decide`` also proves it so; the remainder and the slices
-    ``decide`` does not confirm go on to the size test and the bisection.
-    So every verdict of the paving comes from ``decide`` (on Rybak's robot
-    it confirms 98 % to 100 % of the slices).
-
-    With ``executor``, ``max_memory``, ``store`` or ``resume`` the boxes are processed
-    by :func:`~workspace_sym.interval.executor.run_paving` (chunks on other
-    processes, decided boxes on disk, checkpoints): same boxes, in another
-    order.
-    """
-    check_delta(delta)
-    check_choice("size", size, SIZES)
-    if executor is not None or max_memory is not None or store is not None or resume is not None:
-        from .executor import run_paving
-
-        return run_paving(decide, box, delta=delta, size=size, max_boxes=max_boxes, time_limit=time_limit,
-                          progress=progress, chunk=chunk, constraints=constraints, backend=backend,
-                          exact_measure=exact_measure, label=label, presplit=presplit, separate=separate,
-                          executor=executor, max_memory=max_memory, store=store, resume=resume)
-    run = RunBudget(max_boxes=max_boxes, time_limit=time_limit, progress=progress, total=box.measure, label=label)
-    inner, boundary, outer = [], [], []
-    work = initial_boxes(box, delta, size, presplit)
-    evaluated, reason = 0, ""
-    try:
-        while len(work):
-            reason = run.stop_reason(evaluated)
-            if reason:
-                break
-            take = len(work) if max_boxes is None else min(len(work), max_boxes - evaluated)
-            take = min(take, chunk)
-            batch = work[:take]
-            # an interrupt in expand leaves the batch in work: pending
-            step_inner, step_boundary, step_outer, children = expand(batch, decide, separate, delta, size)
-            work = work[take:]
-            evaluated += len(batch)
-            inner.append(step_inner)
-            outer.append(step_outer)
-            boundary.append(step_boundary)
-            work = np.concatenate([work, children]) if len(work) else children
-            if run.showing:                  # everything not in work is decided
-                run.show(box.measure - box_measure(work), evaluated)
-    except KeyboardInterrupt:
-        reason = "interrupted"
-    finally:
-        run.close()
-    n = len(box.variables)
-    empty = np.empty((0, n, 2))
-
-    def stack(parts):
-        return np.concatenate(parts) if parts else empty
-
-    return Paving(box.variables, box, tuple(constraints), float(delta), backend, size, stack(inner),
-                  stack(boundary), stack(outer), work if len(work) else empty, run.seconds,
-                  not reason, evaluated, reason, exact_measure, separate is not None)
 
 
 # ----------------------------------------------------------------------------- Hausdorff

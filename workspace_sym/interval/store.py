@@ -40,6 +40,7 @@ KINDS = ("inner", "boundary", "outer")
 _SHIFT = 1074 + 53          # the sum is kept in units of 2^-(1074 + 53): every float64 is a whole number of them
 _HALF = 26                  # mantissas are split in two halves below 2^27 so that float64 sums of 2^25 are exact
 _BLOCK = 2**25
+_ROUNDINGS = ("nearest", "down", "up")
 
 
 class ExactSum:
@@ -230,6 +231,9 @@ class BoxStore:
 
     ``directory=None`` keeps the arrays in memory; otherwise each class is
     buffered up to ``flush_bytes`` and written to ``directory/<class>/part-NNNNNN.npy``.
+    The exact sums of a store on disk are kept as the boxes arrive (its boxes leave memory); those of a
+    store in memory are summed from its arrays when asked for (a paving run here asks only for a
+    checkpoint), to the same bits since the sums are exact.
     """
 
     def __init__(self, n: int, directory=None, *, flush_bytes: int = 64 * 2**20):
@@ -237,9 +241,8 @@ class BoxStore:
         self.directory = None if directory is None else Path(directory)
         self.flush_bytes = flush_bytes
         self.counts = dict.fromkeys(KINDS, 0)
-        self.sums = {k: ExactSum() for k in KINDS}
-        self.sums_down = {k: ExactSum() for k in KINDS}      # per-box measures rounded down, for proved bounds
-        self.sums_up = {k: ExactSum() for k in KINDS}        # ... and up
+        # per rounding ("nearest"; "down" and "up": per-box measures rounded outward, for proved bounds)
+        self._sums = {r: {k: ExactSum() for k in KINDS} for r in _ROUNDINGS}
         self.parts = dict.fromkeys(KINDS, 0)
         self._buffer: dict[str, list[np.ndarray]] = {k: [] for k in KINDS}
         self._buffered = dict.fromkeys(KINDS, 0)
@@ -251,13 +254,34 @@ class BoxStore:
         if not len(boxes):
             return
         self.counts[kind] += len(boxes)
-        self.sums[kind].add(measures_of(boxes))
-        self.sums_down[kind].add(measures_of(boxes, "down"))
-        self.sums_up[kind].add(measures_of(boxes, "up"))
+        if self.directory is not None:
+            for r in _ROUNDINGS:
+                self._sums[r][kind].add(measures_of(boxes, r))
         self._buffer[kind].append(boxes)
         self._buffered[kind] += boxes.nbytes
         if self.directory is not None and self._buffered[kind] >= self.flush_bytes:
             self._flush(kind)
+
+    def _sums_of(self, rounding: str) -> dict[str, ExactSum]:
+        if self.directory is not None:
+            return self._sums[rounding]
+        return {k: ExactSum.of(measures_of(self.arrays(k), rounding)) if self.counts[k] else ExactSum()
+                for k in KINDS}
+
+    @property
+    def sums(self) -> dict[str, ExactSum]:
+        """Exact sums of the measures of each class's boxes."""
+        return self._sums_of("nearest")
+
+    @property
+    def sums_down(self) -> dict[str, ExactSum]:
+        """Exact sums of the measures of each class's boxes, each rounded down."""
+        return self._sums_of("down")
+
+    @property
+    def sums_up(self) -> dict[str, ExactSum]:
+        """Exact sums of the measures of each class's boxes, each rounded up."""
+        return self._sums_of("up")
 
     def _part(self, kind: str, number: int) -> Path:
         assert self.directory is not None, "parts exist only for a store on disk"
@@ -302,12 +326,11 @@ class BoxStore:
         """The store a checkpoint describes; parts written after it (a crash) are removed."""
         store = cls(n, state["directory"])
         store.counts = {k: int(v) for k, v in state["counts"].items()}
-        store.sums = {k: ExactSum.parse(v) for k, v in state["sums"].items()}
         if "sums_down" not in state:
             raise InvalidParameterError("this checkpoint was written by an older workspace_sym without the outward "
                                         "measure sums; start the run again", parameter="resume")
-        store.sums_down = {k: ExactSum.parse(v) for k, v in state["sums_down"].items()}
-        store.sums_up = {k: ExactSum.parse(v) for k, v in state["sums_up"].items()}
+        store._sums = {r: {k: ExactSum.parse(v) for k, v in state[name].items()}
+                       for r, name in zip(_ROUNDINGS, ("sums", "sums_down", "sums_up"))}
         store.parts = {k: int(v) for k, v in state["parts"].items()}
         if store.directory is None:
             for k in KINDS:

@@ -50,7 +50,7 @@ grows with all of them, where the rotated matrix separates them.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import partial
 
 import numpy as np
@@ -58,9 +58,10 @@ import numpy as np
 from ..errors import InvalidParameterError
 from ..interval import arith, symmetric
 from ..interval.arith import Interval
+from ..interval.boxes import Box, Paving, StoredPaving
 from ..interval.contractor import Separation
-from ..interval.executor import StoredPaving
-from ..interval.paving import Box, Paving, subdivide, threaded
+from ..interval.driver import RunOn, StopAt, subdivide
+from ..interval.paving import threaded
 from ..interval.verdict import CODE, INSIDE, OUTSIDE, UNDECIDED, codes_from_masks
 from ..numbers import fmt_bound
 
@@ -222,6 +223,7 @@ def witnessed_module(boxes: np.ndarray, sigma) -> np.ndarray:
 
 
 SHAVE = (0.5,)
+CHUNK = 50_000                  # boxes in one chunk of the dextrous paving (RunOn.chunk by default)
 """Default slab fractions of :func:`dextrous`'s shaving: half of each edge, tried from every face
 (BENCHMARKS.md: at eps = 0.05, inside 1.4125 -> 1.4961 and E 0.497 -> 0.298 for 2.7 times the box tests)."""
 
@@ -264,9 +266,8 @@ def shave_boxes(boxes: np.ndarray, *, sigma, delta: float, fractions=SHAVE, deci
     return Separation(np.concatenate(inner), np.concatenate(outer), kept)
 
 
-def dextrous(variables, *, eps: float = 0.05, sigma=(0.25, 4.0), box=None, shave=SHAVE, progress=None,
-             time_limit=None, max_boxes=None, executor=None, max_memory=None, store=None,
-             resume=None) -> DextrousResult:
+def dextrous(variables, *, eps: float = 0.05, sigma=(0.25, 4.0), box=None, shave=SHAVE, stop: StopAt = StopAt(),
+             run: RunOn = RunOn()) -> DextrousResult:
     """Certified dextrous workspace in ``[-1, 1]^3`` (paper section 4.2), ``variables`` naming x, y, z.
 
     Boxes are bisected while their largest edge exceeds ``eps``; smaller
@@ -281,11 +282,13 @@ def dextrous(variables, *, eps: float = 0.05, sigma=(0.25, 4.0), box=None, shave
     to its faces, are cut off when proved inside or outside
     (:func:`shave_boxes`); ``()`` keeps the paper's plain bisection.
 
-    ``executor`` (a ``concurrent.futures.Executor`` or a
-    ``dask.distributed.Client``), ``max_memory``, ``store`` and ``resume``
-    spread the chunks, stream the boxes to disk and checkpoint the run
-    (:func:`~workspace_sym.interval.executor.run_paving`); the result is
-    the same.
+    ``stop`` (:class:`~workspace_sym.interval.driver.StopAt`) bounds the
+    boxes and seconds and shows progress; ``run``
+    (:class:`~workspace_sym.interval.driver.RunOn`: an ``executor``, a
+    ``concurrent.futures.Executor`` or a ``dask.distributed.Client``,
+    ``max_memory``, ``store``, ``resume``; chunks of ``CHUNK`` boxes by default)
+    spreads the chunks, streams the boxes to disk and checkpoints the run;
+    the result is the same.
     """
     if not isinstance(eps, (int, float)) or not math.isfinite(eps) or eps <= 0:
         raise InvalidParameterError(f"eps must be a positive number; got {eps!r}", parameter="eps")
@@ -293,14 +296,14 @@ def dextrous(variables, *, eps: float = 0.05, sigma=(0.25, 4.0), box=None, shave
     fractions = _check_shave(shave)
     b = Box.from_bounds(box or {v: (-1, 1) for v in variables})
     decide = partial(witnessed_module, sigma=sigma)          # picklable: it travels to other processes
-    local = executor is None and max_memory is None and store is None and resume is None
+    if run.chunk is None:
+        run = replace(run, chunk=CHUNK)
+    local = run.here
     if local:
         decide = threaded(decide)
     separate = partial(shave_boxes, sigma=sigma, delta=float(eps), fractions=fractions,
                        decide=decide if local else None) if fractions else None
-    paving = subdivide(decide, b, delta=eps, size="width", progress=progress, time_limit=time_limit,
-                       max_boxes=max_boxes, label="dextrous", chunk=50_000, separate=separate, executor=executor,
-                       max_memory=max_memory, store=store, resume=resume)
+    paving = subdivide(decide, b, delta=eps, size="width", stop=stop, run=run, label="dextrous", separate=separate)
     return DextrousResult(paving, sigma, float(eps), fractions)
 
 

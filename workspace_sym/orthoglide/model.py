@@ -21,6 +21,7 @@ from functools import cached_property
 import numpy as np
 import sympy as sp
 
+from ..interval.driver import RunOn, StopAt
 from . import certificate, cube
 
 __all__ = ["Orthoglide"]
@@ -128,16 +129,15 @@ class Orthoglide:
         """Whether points are dextrous, in floats (:func:`.certificate.numeric_dextrous`; never a certificate)."""
         return certificate.numeric_dextrous(pts, sigma)
 
-    def dextrous(self, *, eps: float = 0.05, sigma=(0.25, 4.0), box=None, shave=certificate.SHAVE, progress=None,
-                 time_limit=None, max_boxes=None, **distributed) -> certificate.DextrousResult:
+    def dextrous(self, *, eps: float = 0.05, sigma=(0.25, 4.0), box=None, shave=certificate.SHAVE,
+                 stop: StopAt = StopAt(), run: RunOn = RunOn()) -> certificate.DextrousResult:
         """Certified dextrous workspace in ``[-1, 1]^3`` (:func:`.certificate.dextrous`, paper section 4.2).
 
         ``shave`` contracts the boxes that would count in E (:func:`.certificate.shave_boxes`; ``()``
-        for the paper's plain bisection).  ``executor``, ``max_memory``, ``store`` and ``resume`` are passed on
-        (:func:`~workspace_sym.interval.executor.run_paving`).
+        for the paper's plain bisection).  ``stop`` and ``run`` say what to stop at and where to run
+        (:class:`~workspace_sym.interval.driver.StopAt`, :class:`~workspace_sym.interval.driver.RunOn`).
         """
-        return certificate.dextrous(self.variables, eps=eps, sigma=sigma, box=box, shave=shave, progress=progress,
-                                    time_limit=time_limit, max_boxes=max_boxes, **distributed)
+        return certificate.dextrous(self.variables, eps=eps, sigma=sigma, box=box, shave=shave, stop=stop, run=run)
 
     def cube_inside(self, center, half: float, *, sigma=(0.25, 4.0), min_width: float = 1e-3,
                     max_boxes: int = 200_000):

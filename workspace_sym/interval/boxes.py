@@ -1,0 +1,348 @@
+"""Boxes and what a paving returns: :class:`Box`, arrays of boxes (sizes, halves, measures), :class:`Paving` and
+:class:`StoredPaving` (the same, its decided boxes on disk).
+
+Every layer of the engine above the deciders works on ``(N, n, 2)`` float arrays of boxes; this module holds
+what they share about them and the result objects, below the driver (:mod:`~workspace_sym.interval.driver`),
+which builds them, and the constraint pavings (:mod:`~workspace_sym.interval.paving`), which return them.
+"""
+
+from __future__ import annotations
+
+import copy
+import html
+import math
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+import sympy as sp
+
+from ..errors import BoxError, ExpressionError, InvalidParameterError
+from ..expressions import parse_expr
+from ..numbers import fmt, fmt_bracket, measure_text
+from .store import KINDS, ExactSum, measures_of
+
+__all__ = ["Box", "SIZES", "check_delta", "box_sizes", "halves", "bisect", "box_measure", "Paving", "StoredPaving",
+           "MAX_3D_BOXES_SHOWN"]
+
+SIZES = ("diameter", "width")
+
+
+@dataclass(frozen=True, slots=True)
+class Box:
+    """An axis-aligned box ``[lower_k, upper_k]`` over named variables.
+
+    Examples
+    --------
+    >>> Box.from_bounds({"x": (0, 1), "y": (-1, 2)})
+    Box(x in [0.0, 1.0], y in [-1.0, 2.0])
+    >>> Box.from_bounds({"x": (1, 0)})
+    Traceback (most recent call last):
+    ...
+    workspace_sym.errors.BoxError: box: lower bound of x (1) must not exceed its upper bound (0)
+    """
+
+    variables: tuple
+    lower: tuple
+    upper: tuple
+
+    @classmethod
+    def from_bounds(cls, bounds, variables=None) -> Box:
+        """From ``{var: (lo, hi)}`` or a sequence of pairs with ``variables``.
+
+        Bounds are numbers or text read by :func:`~workspace_sym.expressions.parse_expr`
+        (``"-pi/2"``), rounded to the nearest float.
+        """
+        if isinstance(bounds, Box):
+            return bounds
+        if isinstance(bounds, dict):
+            variables = tuple(sp.Symbol(v) if isinstance(v, str) else v for v in bounds)
+            pairs = list(bounds.values())
+        else:
+            pairs = list(bounds)
+            if variables is None:
+                raise BoxError("box: a list of bounds needs variables=...; or pass {variable: (lo, hi)}")
+            variables = tuple(sp.Symbol(v) if isinstance(v, str) else v for v in variables)
+            if len(variables) != len(pairs):
+                raise BoxError(f"box: {len(pairs)} bounds for {len(variables)} variables")
+        if not pairs:
+            raise BoxError("box: at least one variable is needed; got an empty box")
+        repeated = sorted({str(v) for v in variables if list(map(str, variables)).count(str(v)) > 1})
+        if repeated:
+            raise BoxError(f"box: each variable needs one range; {', '.join(repeated)} is given more than once")
+        lower, upper = [], []
+        for v, pair in zip(variables, pairs):
+            try:
+                lo, hi = pair
+                lo_f, hi_f = (float(parse_expr(b, f"box: {side} bound of {v}", new_symbols=False))
+                              if isinstance(b, str) else float(b) for side, b in (("lower", lo), ("upper", hi)))
+            except ExpressionError:
+                raise
+            except (TypeError, ValueError):
+                raise BoxError(f"box: bounds of {v} must be two numbers; got {pair!r}") from None
+            if not (math.isfinite(lo_f) and math.isfinite(hi_f)):
+                raise BoxError(f"box: bounds of {v} must be finite; got [{lo}, {hi}]")
+            if lo_f > hi_f:
+                raise BoxError(f"box: lower bound of {v} ({lo}) must not exceed its upper bound ({hi})")
+            if not math.isfinite(hi_f - lo_f):
+                raise BoxError(f"box: bounds of {v} must be finite with a finite width; got [{lo}, {hi}], whose "
+                               "width overflows double precision")
+            lower.append(lo_f)
+            upper.append(hi_f)
+        if not math.isfinite(math.prod(h - lo_ for lo_, h in zip(lower, upper))):
+            raise BoxError(f"box: the measure of the box overflows double precision; got "
+                           f"{', '.join(f'{v} in [{a:g}, {b:g}]' for v, a, b in zip(variables, lower, upper))}")
+        return cls(variables, tuple(lower), tuple(upper))
+
+    @property
+    def array(self) -> np.ndarray:
+        """``(n, 2)`` array of bounds."""
+        return np.array([self.lower, self.upper]).T
+
+    @property
+    def measure(self) -> float:
+        return float(np.prod(np.subtract(self.upper, self.lower)))
+
+    def __repr__(self):
+        parts = ", ".join(f"{v} in [{lo!r}, {hi!r}]" for v, lo, hi in zip(self.variables, self.lower, self.upper))
+        return f"Box({parts})"
+
+
+
+def box_measure(boxes: np.ndarray) -> float:
+    """Total measure (area, volume) of an ``(N, n, 2)`` array of boxes.
+
+    The measures of the boxes (products of float edge widths) are summed
+    exactly and rounded once (:class:`~workspace_sym.interval.store.ExactSum`):
+    the total does not depend on the order of the boxes, so a distributed or
+    resumed run gives the same figure as a local one.
+    """
+    if len(boxes) == 0:
+        return 0.0
+    return ExactSum.of(measures_of(np.asarray(boxes))).value
+
+
+MAX_3D_BOXES_SHOWN = 20_000     # a notebook draws a 3D paving up to this many boxes (matplotlib 3D is slow)
+
+
+@dataclass(frozen=True, eq=False)
+class Paving:
+    """Result of :func:`pave`: inner, boundary, outer and pending boxes, each an ``(N, n, 2)`` array.
+
+    ``pending`` boxes are those a stopped run (budget, time limit, Ctrl-C)
+    did not examine: they are neither proved nor classified.  ``units`` is the
+    length unit of the variables when they are lengths (a robot's workspace
+    from ``reach``), for the axes of its pictures.
+    """
+
+    variables: tuple
+    box: Box
+    constraints: tuple
+    delta: float
+    backend: str
+    size: str
+    inner: np.ndarray
+    boundary: np.ndarray
+    outer: np.ndarray
+    pending: np.ndarray
+    seconds: float
+    complete: bool
+    evaluated: int
+    stop_reason: str = ""
+    exact_measure: object = field(default=None)
+    contract: bool = False
+    units: str | None = None
+    method: str = ""                # how the boxes were decided, when a caller chose among ways (reach)
+
+    @property
+    def counts(self) -> dict:
+        """Number of boxes of each class."""
+        return {k: len(getattr(self, k)) for k in ("inner", "boundary", "outer", "pending")}
+
+    @cached_property
+    def measures(self) -> dict:
+        """Measure of each class (exact sums, computed once)."""
+        return {k: box_measure(getattr(self, k)) for k in ("inner", "boundary", "outer", "pending")}
+
+    @cached_property
+    def measure_bounds(self) -> tuple[float, float]:
+        """The certified bracket ``(measure(inner), measure(inner) + measure(boundary) + measure(pending))``,
+        rounded outward: every box's measure and the sums are rounded down for the lower bound, up for the upper
+        one (the figures of :attr:`measures` are rounded to nearest)."""
+        low = ExactSum.of(measures_of(self.inner, "down"))
+        high = ExactSum()
+        for kind in ("inner", "boundary", "pending"):
+            high.add(measures_of(getattr(self, kind), "up"))
+        return low.value_down, high.value_up
+
+    def with_exact_measure(self, value) -> Paving:
+        """This paving with the exact measure of the set it covers attached (shown beside the bracket by
+        :meth:`to_dict`, the display and reports); the boxes are shared, not copied."""
+        twin = copy.copy(self)
+        object.__setattr__(twin, "exact_measure", value)
+        return twin
+
+    def to_dict(self) -> dict:
+        m, c = self.measures, self.counts
+        out = {
+            "inner": {"boxes": c["inner"], "measure": m["inner"]},
+            "boundary": {"boxes": c["boundary"], "measure": m["boundary"]},
+            "outer": {"boxes": c["outer"], "measure": m["outer"]},
+            "pending": {"boxes": c["pending"], "measure": m["pending"]},
+            "measure_bounds": list(self.measure_bounds),
+            "delta": self.delta,
+            "size": self.size,
+            "backend": self.backend,
+            "contract": self.contract,
+            "complete": self.complete,
+            "boxes_evaluated": self.evaluated,
+            "seconds": self.seconds,
+        }
+        if self.stop_reason:
+            out["stop_reason"] = self.stop_reason
+        if self.units:
+            out["units"] = self.units
+        if self.method:
+            out["method"] = self.method
+        if self.exact_measure is not None:
+            out["exact_measure"] = float(sp.N(self.exact_measure, 17))
+            out["exact_measure_expr"] = sp.sstr(self.exact_measure)
+        return out
+
+    def __repr__(self):
+        lo, hi = self.measure_bounds
+        c = self.counts
+        return (f"Paving({c['inner']} inner, {c['boundary']} boundary, {c['outer']} outer, "
+                f"{c['pending']} pending; measure in {fmt_bracket(lo, hi, 6, 'g')}, "
+                f"delta={self.delta})")
+
+    def _repr_html_(self) -> str:
+        """Summary (boxes and measure of each class, the certified bracket) and the picture (Jupyter)."""
+        from ..display import figure_html, html_table
+        from ..plotting import plot_paving
+
+        m, c = self.measures, self.counts
+        rows = [(kind, c[kind], measure_text(kind, m[kind], 6, "g"))
+                for kind in ("inner", "boundary", "outer", "pending")]
+        lo, hi = self.measure_bounds
+        how = ", with contraction" if self.contract else ""
+        lines = [f"over ({', '.join(map(str, self.variables))}), δ = {self.delta} ({self.size}), backend "
+                 f"{self.backend}{how}: {self.evaluated} boxes evaluated in {self.seconds:.2f} s",
+                 f"certified measure in {fmt_bracket(lo, hi, 6)}"]
+        if self.exact_measure is not None:
+            lines.append(f"exact measure {fmt(float(sp.N(self.exact_measure)), 6)} = {sp.sstr(self.exact_measure)}")
+        if not self.complete:
+            lines.append(f"stopped early: {self.stop_reason}; pending boxes are unclassified")
+        drawn, n = len(self.inner) + len(self.boundary), len(self.variables)
+        picture = ""
+        if n == 2 or (n == 3 and drawn <= MAX_3D_BOXES_SHOWN):
+            picture = figure_html(plot_paving(self), alt="paving")
+        elif n == 3:
+            picture = f"<p>(no picture of {drawn} boxes in 3D here: see plotting.plot_paving_slices)</p>"
+        return ("<p>" + "<br/>".join(html.escape(t) for t in lines) + "</p>"
+                + html_table(("boxes", "number", "measure"), rows) + picture)
+
+
+
+
+def box_sizes(boxes: np.ndarray, size: str) -> np.ndarray:
+    w = boxes[:, :, 1] - boxes[:, :, 0]
+    return np.sqrt(np.sum(w * w, axis=1)) if size == "diameter" else np.max(w, axis=1)
+
+
+def halves(boxes: np.ndarray, axis: np.ndarray | None = None):
+    """Both halves of every box along ``axis`` (default: its longest edge), in order (``2i``, ``2i + 1``),
+    and the mask of boxes that could be split (a box one float wide cannot; its two "halves" are itself)."""
+    rows = np.arange(len(boxes))
+    k = np.argmax(boxes[:, :, 1] - boxes[:, :, 0], axis=1) if axis is None else axis
+    lo, hi = boxes[rows, k, 0], boxes[rows, k, 1]
+    mid = 0.5 * lo + 0.5 * hi
+    ok = (mid > lo) & (mid < hi)
+    children = np.repeat(boxes, 2, axis=0)
+    children[2 * rows[ok], k[ok], 1] = mid[ok]
+    children[2 * rows[ok] + 1, k[ok], 0] = mid[ok]
+    return children, ok
+
+
+def bisect(boxes: np.ndarray):
+    """Split every box along its longest edge; also returns boxes too thin to split."""
+    children, ok = halves(boxes)
+    return children.reshape(-1, 2, *boxes.shape[1:])[ok].reshape(-1, *boxes.shape[1:]), boxes[~ok]
+
+
+
+def check_delta(delta, name="delta"):
+    if not isinstance(delta, (int, float)) or isinstance(delta, bool) or not math.isfinite(delta) or delta <= 0:
+        raise InvalidParameterError(f"{name} must be a positive finite number; got {delta!r}", parameter=name)
+
+
+
+@dataclass(frozen=True, eq=False)
+class StoredPaving(Paving):
+    """A :class:`~workspace_sym.interval.paving.Paving` whose decided boxes are on disk.
+
+    The boxes are in the ``.npy`` parts listed in ``files``: :meth:`parts`
+    streams a class part by part, while ``inner``, ``boundary`` and ``outer``
+    (and :meth:`load`) read the whole class into memory the first time they
+    are asked for, so that everything that takes a Paving (pictures, the
+    notebook display, reports) sees the same boxes as with an in-memory run.
+    The counts and measures are those accumulated while the boxes were
+    written (exact sums), without reading them back.
+    """
+
+    store: str = ""
+    stored_counts: dict = field(default_factory=dict)
+    stored_sums: dict = field(default_factory=dict)
+    stored_bounds: dict = field(default_factory=dict)        # {"down": sums, "up": sums}: outward measure sums
+    files: dict = field(default_factory=dict)
+    _loaded: dict = field(default_factory=dict, repr=False)
+
+    def __getattribute__(self, name):
+        # The decided classes are fields of Paving, empty in a stored one: read them from disk on demand.
+        if name in KINDS:
+            loaded = object.__getattribute__(self, "_loaded")
+            if name not in loaded:
+                loaded[name] = object.__getattribute__(self, "load")(name)
+            return loaded[name]
+        return object.__getattribute__(self, name)
+
+    @property
+    def counts(self) -> dict:
+        return {**self.stored_counts, "pending": len(self.pending)}
+
+    @property
+    def measures(self) -> dict:
+        return {**{k: ExactSum.parse(v).value for k, v in self.stored_sums.items()},
+                "pending": box_measure(self.pending)}
+
+    @cached_property
+    def measure_bounds(self) -> tuple[float, float]:
+        """The certified bracket from the outward sums kept while the boxes were written (see Paving)."""
+        down, up = ({k: ExactSum.parse(v) for k, v in self.stored_bounds[d].items()} for d in ("down", "up"))
+        high = ExactSum.of(measures_of(self.pending, "up"))
+        high.merge(up["inner"])
+        high.merge(up["boundary"])
+        return down["inner"].value_down, high.value_up
+
+    def parts(self, kind: str):
+        """The boxes of a class, part by part (memory-mapped ``(N, n, 2)`` arrays)."""
+        for path in self.files[kind]:
+            yield np.load(path, mmap_mode="r")
+
+    def load(self, kind: str) -> np.ndarray:
+        """All the boxes of a class as one array (when they fit in memory)."""
+        parts = list(self.parts(kind))
+        return np.concatenate(parts) if parts else np.empty((0, len(self.variables), 2))
+
+    def to_dict(self) -> dict:
+        out = super().to_dict()
+        for k in KINDS:
+            out[k]["files"] = [str(p) for p in self.files[k]]
+        out["store"] = self.store
+        return out
+
+    def __repr__(self):
+        lo, hi = self.measure_bounds
+        c = self.counts
+        return (f"StoredPaving({c['inner']} inner, {c['boundary']} boundary, {c['outer']} outer, {c['pending']} "
+                f"pending in {self.store}; measure in {fmt_bracket(lo, hi, 6, 'g')}, delta={self.delta})")
