@@ -97,7 +97,16 @@ from .interval.image import (
 from .interval.paving import Box, Paving, RunBudget, bisect, box_measure, box_sizes, check_delta, halves
 from .interval.search import split_every_axis
 from .kinematics import DHRobot
-from .reach_section import Turned, TurnedTest, first_joint_turn, section_paving, turned
+from .reach_section import (
+    SECTION_DEPTH,
+    Turned,
+    TurnedTest,
+    first_joint_turn,
+    section_bar,
+    section_paving,
+    turned,
+    turned_volume,
+)
 from .symbolic import symbolic_budget
 
 __all__ = ["reach", "resolve_method", "ReachModel", "METHODS"]
@@ -106,7 +115,7 @@ _TASK = (sp.Symbol("x"), sp.Symbol("y"), sp.Symbol("z"))
 _MIN_PAIRS = 64                  # pairs a task box may always hold, however small its share of the root box
 METHODS = ("auto", "critical", "pairs")
 SECTION_RATIO = 0.25             # cell width of the section against the width of the task boxes
-SECTION_SHARE = 0.8              # share of the time limit a section paved by blocks may take
+SECTION_RESERVE = 1.5            # the (x, y, z) boxes of a turned section: this times their rehearsal's time
 ANGLE_PAD = 1e-9                 # widening of float angles (rad)
 _MARGIN = 1e-12                  # of angle comparisons after reduction modulo 2 pi
 _TWO_PI = 2 * math.pi
@@ -634,30 +643,44 @@ def _spatial(robot, parameters, delta, size, run, *, executor):
     run.total = box.measure
     width = _cell_width(delta, size, 3)
     grid, classes, evaluated, reason = None, None, 0, ""
+    volume = None
     if isinstance(plan, Turned) and plan.section.k > 2:
-        # Blocks of the section keep what they proved when stopped: past SECTION_SHARE of the time limit the
-        # rest of the section stays undecided and the (x, y, z) boxes are classified with what is proved.
+        # The section refines while its next step would end before the time limit less the time the (x, y, z)
+        # boxes take, measured once on the first proved cells (a rehearsal: more cells decided, fewer boxes).
+        reserve = [0.0]
+
+        def rehearse(grid, classes):
+            start = time.perf_counter()
+            classify_task_boxes(TurnedTest(plan, grid, classes), root[None].copy(), [], [], [], delta, size, run,
+                                0, stop=False)
+            reserve[0] = SECTION_RESERVE * (time.perf_counter() - start)
+
         def section_budget(count, ahead=0.0):
-            late = run.time_limit is not None and run.seconds + ahead > SECTION_SHARE * run.time_limit
+            late = run.time_limit is not None and run.seconds + ahead + reserve[0] > run.time_limit
             return run.stop_reason(count) or ("section share" if late else "")
 
-        grid, classes, evaluated, reason = section_paving(plan.section, SECTION_RATIO * width,
-                                                          budget=section_budget)
+        with section_bar(run.showing) as show:
+            grid, classes, evaluated, reason = section_paving(plan.section, SECTION_RATIO * width,
+                                                              budget=section_budget, show=show,
+                                                              rehearse=rehearse if run.time_limit else None,
+                                                              depth=SECTION_DEPTH if run.time_limit else 1)
         reason = "" if reason == "section share" else reason
     elif plan.section is not None:
         grid, classes, evaluated, reason = critical_paving(plan.section, SECTION_RATIO * width,
                                                            budget=run.stop_reason,
                                                            cover=_cover_with(executor, robot, parameters, "section"))
+    if isinstance(plan, Turned) and plan.full:
+        volume = turned_volume(grid, classes)      # the solid of revolution of the section (Pappus)
     run.show(0.0, evaluated)
     T = root[None].copy()
     inner, boundary, outer = [], [], []
     if reason:
-        return box, inner, boundary, outer, T, evaluated, reason
+        return box, inner, boundary, outer, T, evaluated, reason, volume
     tests = {_Product: _ProductTest, _Revolved: _SectionTest, Turned: TurnedTest}
     test = tests[type(plan)](plan, grid, classes)
     T, evaluated, reason = classify_task_boxes(test, T, inner, boundary, outer, delta, size, run, evaluated,
                                                total=box.measure)
-    return box, inner, boundary, outer, T if len(T) and reason else None, evaluated, reason
+    return box, inner, boundary, outer, T if len(T) and reason else None, evaluated, reason, volume
 
 
 def classify_task_boxes(test, T, inner: list, boundary: list, outer: list, delta: float, size: str, run,
@@ -836,7 +859,7 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     finally:
         run.close()
     assert model is not None                    # set before anything that returns a result
-    box, inner, boundary, outer, pending, evaluated, reason = result
+    box, inner, boundary, outer, pending, evaluated, reason, *volume = result
     if pending is None or not len(pending):
         reason = ""                             # a budget that ran out after the last box: nothing is pending
     m = len(model.task_variables)
@@ -848,4 +871,4 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
 
     return Paving(model.task_variables, box, (), float(delta), "numpy", size, stack(inner), stack(boundary),
                   stack(outer), empty if pending is None else pending, run.seconds, not reason, evaluated, reason,
-                  units=robot.units, method=kind)
+                  units=robot.units, method=kind, volume_bounds=volume[0] if volume else None)
