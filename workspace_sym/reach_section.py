@@ -309,6 +309,7 @@ class TurnedTest:
 SECTION_PAIRS = 60_000           # (cell block, joint box) pairs of one generation of section_paving at most
 SECTION_SAMPLES = 400_000        # sampled configurations whose cells are proved inside first
 SECTION_CHUNK = 2_000            # cells proved in one step of section_paving (the budget is asked between steps)
+BLOCKS_SHARE = 0.5               # share of the section's time left after the first proofs that blocks may take
 SECTION_DEPTH = 3                # with a time limit, a sampled cell is tried in pieces halved this often at most
 
 
@@ -341,27 +342,26 @@ def section_bar(progress: bool | None):
 
 
 def section_paving(image: RadialMap, width: float, *, budget=None, show=None, max_pairs: int = SECTION_PAIRS,
-                   rehearse=None, depth: int = 1):
+                   rehearse=None, depth: int = 1, seconds_left=None):
     """Classify the cells of a grid of the given width over the section, for sections moved by three joints
-    or more (whose critical sets are too costly to cover), in two stages, each proof standing alone:
+    or more (whose critical sets are too costly to cover), in three stages, each proof standing alone:
 
-    1. the cells hit by sampled configurations are each proved inside from their sample (Krawczyk), and
-       those that fail are proved in four pieces (halved along both axes, every piece proved from the cell's
-       sample): the Krawczyk test of a whole cell fails where the Jacobian varies too much over the joint
-       box it needs (half the cell, half the joint box, half the variation);
+    1. the cells hit by sampled configurations are each proved inside from their sample (Krawczyk);
     2. blocks of cells, from the whole grid down to single cells (halved along their longer side), carry the
        joint boxes whose enclosures meet them (:func:`~workspace_sym.interval.image.distribute`); a block
        left without joint boxes is outside the section, a block proved by the Krawczyk test from its first
-       joint box's centre is inside.
-
-    Then the sampled cells still undecided are tried in smaller pieces (``4^level`` for ``level`` from 2 to
-    ``depth``: a run with a time limit goes on while time is left).
+       joint box's centre is inside (with ``seconds_left``, a callable giving the seconds the section has
+       left, this stage takes ``BLOCKS_SHARE`` of them at most);
+    3. the sampled cells still undecided are proved in ``4^level`` pieces (halved along both axes ``level``
+       times, every piece proved from the cell's sample) for ``level`` from 1 to ``depth``: the Krawczyk test
+       of a whole cell fails where the Jacobian varies too much over the joint box it needs (half the cell,
+       half the joint box, half the variation).
 
     Returns ``(grid, classes, evaluated, stopped)`` as :func:`~workspace_sym.interval.image.critical_paving`,
     except that the cells classified when a budget stops the run keep their (proved) class.
     ``budget(evaluated, ahead=seconds)`` is asked before each step with the time the step is expected to
     take; ``show(share decided, evaluated)`` after each; ``rehearse(grid, classes)`` is called once after
-    the first proofs of stage 1 (the caller measures there what it must keep time for)."""
+    stage 1 (the caller measures there what it must keep time for)."""
     budget = budget or (lambda evaluated, ahead=0.0: "")
     show = show or (lambda share, evaluated: None)
     root = image.enclose(image.limits[None])[0]
@@ -397,17 +397,26 @@ def section_paving(image: RadialMap, width: float, *, budget=None, show=None, ma
         return grid, classes, count[0], stopped
     if rehearse is not None:
         rehearse(grid, classes)
-    stopped = _in_chunks(undecided(), SECTION_CHUNK // 4, ask, lambda part: prove(part, 1))
-    if stopped:
-        return grid, classes, count[0], stopped
-    # Stage 2: blocks of cells.
-    evaluated, stopped = _blocks(image, grid, classes, budget, show, max_pairs, count[0])
-    count[0] = evaluated
-    # Then, while time is left, the sampled cells still undecided in smaller pieces.
-    for level in range(2, depth + 1):
+    # Stage 2: blocks of cells, with a share of the time left (their last generations cost the most and decide
+    # the least: the cells near the section's boundary, whose joint boxes are many).
+    blocks_budget = budget
+    if seconds_left is not None:
+        end = time.perf_counter() + BLOCKS_SHARE * seconds_left()
+
+        def blocks_budget(evaluated, ahead=0.0):
+            late = time.perf_counter() + ahead > end
+            return budget(evaluated, ahead=ahead) or ("blocks share" if late else "")
+
+    hit = np.zeros(grid.shape, dtype=np.int8)
+    hit[tuple(index.T)] = 1
+    count[0], stopped = _blocks(image, grid, classes, grid.prefix(hit, 1), blocks_budget, show, max_pairs,
+                                count[0])
+    stopped = "" if stopped == "blocks share" else stopped
+    # Then the sampled cells still undecided, in pieces.
+    for level in range(1, depth + 1):
         if stopped:
             break
-        stopped = _in_chunks(undecided(), SECTION_CHUNK // 4 ** level, ask,
+        stopped = _in_chunks(undecided(), max(1, SECTION_CHUNK // 4 ** level), ask,
                              lambda part, level=level: prove(part, level))
     return grid, classes, count[0], stopped
 
@@ -422,8 +431,9 @@ def _prove_cells(image, cells: np.ndarray, seeds: np.ndarray, level: int) -> np.
     return np.bincount(owner[~proved], minlength=len(cells)) == 0
 
 
-def _blocks(image, grid, classes, budget, show, max_pairs, evaluated):
-    """Stage 2 of :func:`section_paving`: ``(evaluated, stopped)``; ``classes`` is updated in place."""
+def _blocks(image, grid, classes, reached, budget, show, max_pairs, evaluated):
+    """Stage 2 of :func:`section_paving`: ``(evaluated, stopped)``; ``classes`` is updated in place;
+    ``reached`` is the summed-area table of the cells holding the position of a sampled configuration."""
     proved = grid.prefix(classes, INNER)
     blocks = np.array([[0, grid.shape[0], 0, grid.shape[1]]])
     Q = image.limits[None].copy()
@@ -448,11 +458,18 @@ def _blocks(image, grid, classes, budget, show, max_pairs, evaluated):
             blocks, T, Q, owner = blocks[~done], T[~done], Q[keep], new_index[owner[keep]]
             if not len(blocks):
                 break
-        cap = np.full(len(T), max(64, max_pairs // max(1, len(T))))
-        Q, owner = distribute(image, T, Q, owner, cap)
+        # A block holding the position of a sampled configuration is not outside: its joint boxes go to its
+        # halves unrefined (refining them cannot prove anything there and costs the most).
+        i0, i1, j0, j1 = blocks.T
+        test = reached[i1, j1] - reached[i0, j1] - reached[i1, j0] + reached[i0, j0] == 0
+        mine = test[owner]
+        index = np.cumsum(test) - 1
+        cap = np.full(int(test.sum()), max(64, max_pairs // max(1, int(test.sum()))))
+        Qt, ot = distribute(image, T[test], Q[mine], index[owner[mine]], cap)
+        Q, owner = np.concatenate([Q[~mine], Qt]), np.concatenate([owner[~mine], np.nonzero(test)[0][ot]])
         count = np.bincount(owner, minlength=len(T))
         verdict = np.full(len(T), UNDECIDED, dtype=np.int8)
-        verdict[count == 0] = OUTER
+        verdict[test & (count == 0)] = OUTER
         live, first = np.unique(owner, return_index=True)
         if len(live):
             inside = image.prove_inside(T[live], Q[first].mean(axis=2))

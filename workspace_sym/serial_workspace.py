@@ -655,6 +655,9 @@ def _spatial(robot, parameters, delta, size, run, *, executor):
                                 0, stop=False)
             reserve[0] = SECTION_RESERVE * (time.perf_counter() - start)
 
+        def seconds_left():
+            return run.time_limit - run.seconds - reserve[0]
+
         def section_budget(count, ahead=0.0):
             late = run.time_limit is not None and run.seconds + ahead + reserve[0] > run.time_limit
             return run.stop_reason(count) or ("section share" if late else "")
@@ -663,7 +666,8 @@ def _spatial(robot, parameters, delta, size, run, *, executor):
             grid, classes, evaluated, reason = section_paving(plan.section, SECTION_RATIO * width,
                                                               budget=section_budget, show=show,
                                                               rehearse=rehearse if run.time_limit else None,
-                                                              depth=SECTION_DEPTH if run.time_limit else 1)
+                                                              depth=SECTION_DEPTH if run.time_limit else 1,
+                                                              seconds_left=seconds_left if run.time_limit else None)
         reason = "" if reason == "section share" else reason
     elif plan.section is not None:
         grid, classes, evaluated, reason = critical_paving(plan.section, SECTION_RATIO * width,
