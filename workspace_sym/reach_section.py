@@ -313,17 +313,18 @@ BLOCKS_SHARE = 0.5               # share of the section's time left after the fi
 SECTION_DEPTH = 3                # with a time limit, a sampled cell is tried in pieces halved this often at most
 
 
-def _in_chunks(items: np.ndarray, size: int, budget, work) -> str:
+def _in_chunks(items: np.ndarray, size: int, budget, work, pace: list, weight: int = 1) -> str:
     """``work(chunk)`` on ``items`` in chunks of about ``size``; before each chunk ``budget(ahead)`` is asked
-    with the seconds it is expected to take (at the rate of the chunks before it).  Returns why it stopped."""
-    rate = 0.0
+    with the seconds it is expected to take: ``weight`` (tests per item) times the chunk's length times
+    ``pace[0]``, the seconds per test of the last chunk (shared by every call of one run, so that a first
+    chunk is expected to take its time too).  Returns why it stopped."""
     for part in np.array_split(items, max(1, math.ceil(len(items) / size))):
-        stopped = budget(rate * len(part))
+        stopped = budget(pace[0] * weight * len(part))
         if stopped:
             return stopped
         start = time.perf_counter()
         work(part)
-        rate = (time.perf_counter() - start) / max(1, len(part))
+        pace[0] = (time.perf_counter() - start) / max(1, weight * len(part))
     return ""
 
 
@@ -392,7 +393,8 @@ def section_paving(image: RadialMap, width: float, *, budget=None, show=None, ma
     def undecided():
         return np.nonzero(classes[tuple(index.T)] == UNDECIDED)[0]
 
-    stopped = _in_chunks(np.arange(len(index)), SECTION_CHUNK, ask, prove)
+    pace = [0.0]                # seconds per Krawczyk test of the last chunk
+    stopped = _in_chunks(np.arange(len(index)), SECTION_CHUNK, ask, prove, pace)
     if stopped:
         return grid, classes, count[0], stopped
     if rehearse is not None:
@@ -417,7 +419,7 @@ def section_paving(image: RadialMap, width: float, *, budget=None, show=None, ma
         if stopped:
             break
         stopped = _in_chunks(undecided(), max(1, SECTION_CHUNK // 4 ** level), ask,
-                             lambda part, level=level: prove(part, level))
+                             lambda part, level=level: prove(part, level), pace, 4 ** level)
     return grid, classes, count[0], stopped
 
 

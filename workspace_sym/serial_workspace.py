@@ -115,7 +115,7 @@ _TASK = (sp.Symbol("x"), sp.Symbol("y"), sp.Symbol("z"))
 _MIN_PAIRS = 64                  # pairs a task box may always hold, however small its share of the root box
 METHODS = ("auto", "critical", "pairs")
 SECTION_RATIO = 0.25             # cell width of the section against the width of the task boxes
-SECTION_RESERVE = 1.5            # the (x, y, z) boxes of a turned section: this times their rehearsal's time
+SECTION_RESERVE = 1.5            # margin on the expected time of a step of a turned section and on its (x, y, z) boxes
 ANGLE_PAD = 1e-9                 # widening of float angles (rad)
 _MARGIN = 1e-12                  # of angle comparisons after reduction modulo 2 pi
 _TWO_PI = 2 * math.pi
@@ -659,7 +659,7 @@ def _spatial(robot, parameters, delta, size, run, *, executor):
             return run.time_limit - run.seconds - reserve[0]
 
         def section_budget(count, ahead=0.0):
-            late = run.time_limit is not None and run.seconds + ahead + reserve[0] > run.time_limit
+            late = run.time_limit is not None and run.seconds + SECTION_RESERVE * ahead + reserve[0] > run.time_limit
             return run.stop_reason(count) or ("section share" if late else "")
 
         with section_bar(run.showing) as show:
