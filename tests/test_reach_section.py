@@ -181,8 +181,10 @@ def test_turned_volume_holds_the_exact_spherical_shell():
     plan = _section(shell_arm(), ())
     assert isinstance(plan, Turned) and plan.full and plan.section.k == 3
     shares = []
-    grid, classes, _, stopped = section_paving(plan.section, 0.05, max_pairs=4000,
-                                               budget=lambda count, ahead=0.0: "enough" if count > 1530 else "",
+    # Cells in up to 16 pieces, blocks within a share of the time left (as reach runs with a time limit).
+    grid, classes, _, stopped = section_paving(plan.section, 0.05, max_pairs=4000, depth=2,
+                                               seconds_left=lambda: 20.0,
+                                               budget=lambda count, ahead=0.0: "enough" if count > 6000 else "",
                                                show=lambda share, count: shares.append(share))
     assert stopped in ("", "enough") and shares == sorted(shares) and shares[-1] > 0
     lo, hi = turned_volume(grid, classes)
