@@ -2,8 +2,9 @@
 
 For each arm, delta and time limit (one cold process per arm: nothing cached): the method, the seconds, where
 they go (symbolic preparation of the model and of the section, the paving of the section, the classification of
-the (x, y, z) boxes), the proved bracket, its width as a share of its upper bound, and a reference volume the
-bracket must hold: Pappus's theorem on the section sampled at 10^6 configurations (cells of (rho, z) of side
+the (x, y, z) boxes), the proved brackets (the boxes', the section cells' by Pappus when the first joint turns a
+full circle, and their intersection, the reach's), its width as a share of its upper bound, and a reference volume
+the bracket must hold: Pappus's theorem on the section sampled at 10^6 configurations (cells of (rho, z) of side
 h hit by a sample, each turned through a full circle; an estimate, no bound).
 
 Arms: UR5 (``tests/data/dh/ur5.json``), KUKA KR16 (rtb-data's ``kr16_2.urdf``, limits from the file), the
@@ -85,9 +86,12 @@ def one(name, delta, limit):
     holds = "" if ref is None else ("holds" if lo <= ref <= hi else "MISSES")
     rest = total - prep - phases["section paving"]
     ref_text = "-" if ref is None else f"{ref:.4f} ({holds})"
+    blo, bhi = paving.box_measure_bounds
+    pappus_text = "-" if paving.volume_bounds is None else "[{:.4f}, {:.4f}]".format(*paving.volume_bounds)
     print(f"| {name} | {paving.method} | {delta} | {limit} | {total:.1f} (prep {prep:.1f} + section "
           f"{phases['section paving']:.1f} + boxes {rest:.1f}) | {c['inner']} / {c['boundary']} / {c['outer']} "
-          f"/ {c['pending']} | [{lo:.4f}, {hi:.4f}] | {100 * (hi - lo) / hi:.1f}% | {ref_text} |", flush=True)
+          f"/ {c['pending']} | [{blo:.4f}, {bhi:.4f}] | {pappus_text} | [{lo:.4f}, {hi:.4f}] "
+          f"| {100 * (hi - lo) / hi:.1f}% | {ref_text} |", flush=True)
 
 
 def main():
@@ -100,9 +104,9 @@ def main():
     with open("/proc/loadavg") as f:
         load_avg = f.read().split()[0]
     print(f"{datetime.date.today()}, {machine()}, load average {load_avg} at the start")
-    print("| arm | method | delta | time limit | seconds (where) | inner / boundary / outer / pending | bracket "
-          "| width / upper | Pappus reference |")
-    print("|---|---|---|---|---|---|---|---|---|")
+    print("| arm | method | delta | time limit | seconds (where) | inner / boundary / outer / pending | boxes' bracket "
+          "| section's bracket (Pappus on proved cells) | bracket | width / upper | Pappus reference (sampled) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     names = args or list(ARMS)
     for name in names:
         for delta, limit in ARMS[name][:1] if "--quick" in sys.argv else ARMS[name]:

@@ -21,8 +21,12 @@ from hypothesis import strategies as st
 from test_serial_workspace import _in_boxes, _solve_50_digits
 
 from workspace_sym.errors import JointLimitError
+from workspace_sym.interval.image import CellGrid
+from workspace_sym.interval.verdict import INSIDE as INNER
+from workspace_sym.interval.verdict import OUTSIDE as OUTER
+from workspace_sym.interval.verdict import UNDECIDED
 from workspace_sym.kinematics import DHJoint, DHRobot, _rx, _translate
-from workspace_sym.reach_section import Turned, to_first_frame
+from workspace_sym.reach_section import Turned, section_bar, section_paving, to_first_frame, turned_volume
 from workspace_sym.serial_workspace import ReachModel, _section, reach
 
 R = sp.Rational
@@ -96,6 +100,14 @@ def test_offset_arm_bracket_holds_pappus_and_sampled_points(base):
     assert paving.method == "critical" and paving.complete
     assert lo <= volume <= hi, (lo, volume, hi)
     assert (hi - lo) / hi < 0.6
+    # Two proved brackets, each holding the reference: the boxes' and the section's by Pappus (a key added to
+    # the JSON, measure_bounds their intersection).
+    (blo, bhi), (vlo, vhi) = paving.box_measure_bounds, paving.volume_bounds
+    assert blo <= volume <= bhi and vlo <= volume <= vhi
+    assert (lo, hi) == (max(blo, vlo), min(bhi, vhi)) and vhi - vlo < bhi - blo
+    out = paving.to_dict()
+    assert out["volume_bounds"] == [vlo, vhi] and out["box_measure_bounds"] == [blo, bhi]
+    assert out["measure_bounds"] == [lo, hi]
     model = ReachModel(robot)
     rng = np.random.default_rng(3)
     q = model.random_configurations(30_000, rng)
@@ -143,7 +155,7 @@ def test_edges_never_give_a_wrong_box(first, a3):
     pos = model.position_float(q)
     assert not _in_boxes(pos, paving.outer).any()
     if isinstance(plan, Turned) and not plan.full:
-        assert not len(paving.inner)
+        assert not len(paving.inner) and paving.volume_bounds is None     # no solid of revolution to bound
     for box in paving.inner[rng.integers(len(paving.inner), size=2)] if len(paving.inner) else []:
         assert _reached_at_50_digits(model, rng.uniform(box[:, 0], box[:, 1]), q, pos), box
 
@@ -153,3 +165,75 @@ def test_unbounded_prismatic_joint_is_refused_by_name():
     robot = DHRobot([DHJoint.revolute(1, d=R(3, 10), alpha=sp.pi / 2), DHJoint.prismatic(2, alpha=sp.pi / 2)])
     with pytest.raises(JointLimitError, match=r"joint 2 \(d2\) is prismatic"):
         reach(robot, delta=0.1)
+
+
+def shell_arm():
+    """A first joint turning three parallel revolute joints in a vertical plane, behind a shifted base (the
+    turned-section path): the section is the planar arm's annulus folded onto rho >= 0, so the workspace is
+    the spherical shell of radii ``2 max a_i - sum a_i = 3/10`` and ``sum a_i = 7/10`` about the shoulder."""
+    lengths = (R(1, 2), R(1, 10), R(1, 10))
+    joints = [DHJoint.revolute(1, alpha=sp.pi / 2)] + [DHJoint.revolute(i + 2, a=a) for i, a in enumerate(lengths)]
+    return DHRobot(joints, name="shell arm", base=_translate(R(1, 10), R(-1, 5), R(3, 10)))
+
+
+def test_turned_volume_holds_the_exact_spherical_shell():
+    """Exact closed form: the section's Pappus bracket holds 4/3 pi (R^3 - r^3) of the shell arm (decided
+    exactly by SymPy), and every cell agrees with the annulus in exact rationals: an inner cell lies in it
+    (its nearest point to the shoulder at least r, its farthest corner at most R), an outer cell misses it.
+    The section's progress (share of cells decided) only grows."""
+    plan = _section(shell_arm(), ())
+    assert isinstance(plan, Turned) and plan.full and plan.section.k == 3
+    shares = []
+    # Cells in up to 16 pieces, blocks within a share of the time left (as reach runs with a time limit).
+    grid, classes, _, stopped = section_paving(plan.section, 0.05, max_pairs=4000, depth=2,
+                                               seconds_left=lambda: 20.0,
+                                               budget=lambda count, ahead=0.0: "enough" if count > 6000 else "",
+                                               show=lambda share, count: shares.append(share))
+    assert stopped in ("", "enough") and shares == sorted(shares) and shares[-1] > 0
+    lo, hi = turned_volume(grid, classes)
+    r, big = R(3, 10), R(7, 10)
+    assert sp.Rational(lo) <= 4 * sp.pi / 3 * (big ** 3 - r ** 3) <= sp.Rational(hi)
+    assert (classes == INNER).any() and (classes == OUTER).any()
+    e0, e1 = ([sp.Rational(float(v)) for v in e] for e in grid.edges)
+    for (i, j), kind in np.ndenumerate(classes):
+        if kind == UNDECIDED:
+            continue
+        r0, r1, z0, z1 = e0[i], e0[i + 1], e1[j], e1[j + 1]
+        near = max(r0, 0) ** 2 + (0 if z0 <= 0 <= z1 else min(abs(z0), abs(z1))) ** 2
+        far = max(r0 ** 2, r1 ** 2) + max(z0 ** 2, z1 ** 2)
+        if kind == INNER:
+            assert r0 >= 0 and near >= r ** 2 and far <= big ** 2, (r0, r1, z0, z1)
+        else:
+            assert r1 < 0 or near > big ** 2 or far < r ** 2, (r0, r1, z0, z1)
+
+
+@settings(max_examples=30, deadline=None, derandomize=True)
+@given(st.lists(st.tuples(st.integers(0, 3), st.integers(0, 3), st.sampled_from([INNER, OUTER, UNDECIDED])),
+                max_size=12),
+       st.sampled_from([1.0, 0.1, 1e-3, 3.0]), st.sampled_from([0.0, -0.05, 0.3, 1e6]))
+def test_turned_volume_brackets_the_exact_solid(cells, width, shift):
+    """Exact rationals: the bracket holds pi times the exact sum of (r1^2 - r0^2)(z1 - z0) over the inner
+    cells (lower) and over the inner and undecided cells (upper), rho clipped at 0 (edges: cells across the
+    axis, widths that are no binary fractions, far from the origin)."""
+    grid = CellGrid(np.array([[shift, shift + 2 * width], [shift, shift + 2 * width]]), width)
+    classes = np.full(grid.shape, OUTER, dtype=np.int8)
+    for i, j, kind in cells:
+        classes[i, j] = kind
+    lo, hi = turned_volume(grid, classes)
+    e0, e1 = ([sp.Rational(float(v)) for v in e] for e in grid.edges)
+
+    def exact(kinds):
+        return sp.pi * sum(((max(e0[i + 1], 0) ** 2 - max(e0[i], 0) ** 2) * (e1[j + 1] - e1[j])
+                            for (i, j), k in np.ndenumerate(classes) if k in kinds), sp.Integer(0))
+
+    assert sp.Rational(lo) <= exact({INNER}) and exact({INNER, UNDECIDED}) <= sp.Rational(hi)
+    assert hi - lo <= float(exact({UNDECIDED})) * (1 + 1e-12) + 1e-9 * (1 + abs(hi))
+
+
+def test_section_bar_draws_the_share_of_cells(capsys):
+    """The section's progress bar (tqdm through workspace_sym.progress) shows the share of cells decided."""
+    with section_bar(True) as show:
+        show(0.25, 10)
+        show(0.75, 30)
+    err = capsys.readouterr().err
+    assert "of the cells decided" in err and "75.0%" in err

@@ -371,3 +371,21 @@ def test_orthoglide_report(tmp_path):
     assert latex_is_balanced((tmp_path / "o" / "report.tex").read_text())
     if shutil.which("pdflatex"):                   # compiled here too when TeX is present (required: see above)
         assert_compiles(tmp_path / "o" / "report.tex")
+
+
+def test_paving_section_names_a_pappus_bracket(tmp_path):
+    """A paving with a second proved bracket (a turned section's, by Pappus): the printed bracket is the
+    intersection (the one measure_bounds gives) and the text gives the boxes' own bracket and says why."""
+    import dataclasses
+
+    from workspace_sym.report import Document, _paving_section
+
+    ball = pave(["x**2 + y**2 + z**2 - 1 <= 0"], {"x": (-1.5, 1.5), "y": (-1.5, 1.5), "z": (-1.5, 1.5)}, delta=0.8)
+    b_lo, b_hi = ball.measure_bounds
+    paving = dataclasses.replace(ball, volume_bounds=(b_lo + 0.5, b_hi - 0.5))
+    doc = Document("t")
+    _paving_section(doc, paving, tmp_path, units="m")
+    text = " ".join(b[1] for b in doc.blocks if b[0] == "p")
+    lo, hi = map(float, re.search(r"the volume lies in \[([-\d.]+), ([-\d.]+)\] m³ ", text).groups())
+    assert lo <= b_lo + 0.5 < lo + 1e-6 and hi - 1e-6 < b_hi - 0.5 <= hi
+    assert "solid of revolution" in text and "the boxes' alone" in text

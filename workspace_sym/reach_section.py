@@ -38,12 +38,17 @@ when it lies in cells proved outside (no point of the box is on the solid of
 revolution, which holds the workspace whatever the limits of ``q_1``).  With
 ``q_1`` limited to less than a period the outer verdicts still hold and no box
 is declared inner (the polar angle's interval is not modelled: left to the
-``"pairs"`` method when asked for).
+``"pairs"`` method when asked for).  With a whole turn, the cells also bound
+the workspace's volume by Pappus's theorem (:func:`turned_volume`): the solid
+of revolution of the inner cells lies in it, and it lies in the solid of the
+cells not proved outside.
 """
 
 from __future__ import annotations
 
+import math
 import time
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import numpy as np
@@ -52,12 +57,15 @@ import sympy as sp
 from .interval import arith
 from .interval.graph import numpy_constant
 from .interval.image import CellGrid, ImageMap, distribute
+from .interval.search import split_every_axis
+from .interval.store import ExactSum
 from .interval.verdict import INSIDE as INNER
 from .interval.verdict import OUTSIDE as OUTER
 from .interval.verdict import UNDECIDED
 from .kinematics import _rx, _translate
+from .progress import progress_bar
 
-__all__ = ["RadialMap", "Turned", "turned", "TurnedTest"]
+__all__ = ["RadialMap", "Turned", "turned", "TurnedTest", "section_bar", "section_paving", "turned_volume"]
 
 
 def _square_boxes(T: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -306,40 +314,135 @@ class TurnedTest:
 
 SECTION_PAIRS = 60_000           # (cell block, joint box) pairs of one generation of section_paving at most
 SECTION_SAMPLES = 400_000        # sampled configurations whose cells are proved inside first
+SECTION_CHUNK = 2_000            # cells proved in one step of section_paving (the budget is asked between steps)
+BLOCKS_SHARE = 0.5               # share of the section's time left after the first proofs that blocks may take
+SECTION_DEPTH = 3                # with a time limit, a sampled cell is tried in pieces halved this often at most
 
 
-def section_paving(image: RadialMap, width: float, *, budget=None, show=None, max_pairs: int = SECTION_PAIRS):
+def _in_chunks(items: np.ndarray, size: int, budget, work, pace: list, weight: int = 1) -> str:
+    """``work(chunk)`` on ``items`` in chunks of about ``size``; before each chunk ``budget(ahead)`` is asked
+    with the seconds it is expected to take: ``weight`` (tests per item) times the chunk's length times
+    ``pace[0]``, the seconds per test of the last chunk (shared by every call of one run, so that a first
+    chunk is expected to take its time too).  Returns why it stopped."""
+    for part in np.array_split(items, max(1, math.ceil(len(items) / size))):
+        stopped = budget(pace[0] * weight * len(part))
+        if stopped:
+            return stopped
+        start = time.perf_counter()
+        work(part)
+        pace[0] = (time.perf_counter() - start) / max(1, weight * len(part))
+    return ""
+
+
+@contextmanager
+def section_bar(progress: bool | None):
+    """``show(share decided, evaluated)`` for :func:`section_paving` on a progress bar of its own
+    (:mod:`workspace_sym.progress`): the share of the section's cells decided."""
+    with progress_bar(progress, total=100.0, desc="reach: section", unit="%",
+                      bar_format="{desc}: {percentage:5.1f}% of the cells decided{postfix} |{bar}| "
+                                 "[{elapsed}]") as bar:
+        def show(share, evaluated):
+            bar.set_postfix_str(f"{evaluated} boxes", refresh=False)
+            bar.update(100.0 * share - bar.n)
+
+        yield show
+
+
+def section_paving(image: RadialMap, width: float, *, budget=None, show=None, max_pairs: int = SECTION_PAIRS,
+                   rehearse=None, depth: int = 1, seconds_left=None):
     """Classify the cells of a grid of the given width over the section, for sections moved by three joints
-    or more (whose critical sets are too costly to cover): blocks of cells, from the whole grid down to
-    single cells (halved along their longer side), after the cells hit by sampled configurations have each
-    been proved inside from their sample (Krawczyk), carry the joint boxes whose enclosures meet them
-    (:func:`~workspace_sym.interval.image.distribute`); a block left without joint boxes is outside the
-    section, a block proved by the Krawczyk test from its first joint box's centre is inside.  Returns
-    ``(grid, classes, evaluated, stopped)`` as :func:`~workspace_sym.interval.image.critical_paving`, except
-    that the cells classified when a budget stops the run keep their (proved) class.  ``budget(evaluated,
-    ahead=seconds)`` is asked before each generation with twice the last one's time."""
+    or more (whose critical sets are too costly to cover), in three stages, each proof standing alone:
+
+    1. the cells hit by sampled configurations are each proved inside from their sample (Krawczyk);
+    2. blocks of cells, from the whole grid down to single cells (halved along their longer side), carry the
+       joint boxes whose enclosures meet them (:func:`~workspace_sym.interval.image.distribute`); a block
+       left without joint boxes is outside the section, a block proved by the Krawczyk test from its first
+       joint box's centre is inside (with ``seconds_left``, a callable giving the seconds the section has
+       left, this stage takes ``BLOCKS_SHARE`` of them at most);
+    3. the sampled cells still undecided are proved in ``4^level`` pieces (halved along both axes ``level``
+       times, every piece proved from the cell's sample) for ``level`` from 1 to ``depth``: the Krawczyk test
+       of a whole cell fails where the Jacobian varies too much over the joint box it needs (half the cell,
+       half the joint box, half the variation).
+
+    Returns ``(grid, classes, evaluated, stopped)`` as :func:`~workspace_sym.interval.image.critical_paving`,
+    except that the cells classified when a budget stops the run keep their (proved) class.
+    ``budget(evaluated, ahead=seconds)`` is asked before each step with the time the step is expected to
+    take; ``show(share decided, evaluated)`` after each; ``rehearse(grid, classes)`` is called once after
+    stage 1 (the caller measures there what it must keep time for)."""
     budget = budget or (lambda evaluated, ahead=0.0: "")
     show = show or (lambda share, evaluated: None)
     root = image.enclose(image.limits[None])[0]
     grid = CellGrid(root, width)
     classes = np.full(grid.shape, UNDECIDED, dtype=np.int8)
-    evaluated = 0
-    # Cells hit by sampled configurations: each is proved inside from its sample (Krawczyk).
+    count = [0]                 # boxes evaluated
+
+    def ask(ahead):
+        return budget(count[0], ahead=ahead)
+
+    def decided():
+        return float(np.mean(classes != UNDECIDED))
+
+    # Stage 1: cells hit by sampled configurations, each proved inside from its sample (Krawczyk).
     rng = np.random.default_rng(0)
     q = image.random_configurations(min(SECTION_SAMPLES, 20 * classes.size), rng)
     p = image.position_float(q)
     first, _ = grid.span(np.repeat(p[:, :, None], 2, axis=2))
     index, row = np.unique(first, axis=0, return_index=True)
-    for part in np.array_split(np.arange(len(index)), max(1, len(index) // 20_000)):
-        stopped = budget(evaluated)
-        if stopped:
-            return grid, classes, evaluated, stopped
-        evaluated += len(part)
-        inside = image.prove_inside(grid.cells(index[part]), q[row[part]])
+    seeds = q[row]
+
+    def prove(part, level=0):
+        count[0] += len(part) * 4 ** level
+        inside = _prove_cells(image, grid.cells(index[part]), seeds[part], level)
         classes[tuple(index[part][inside].T)] = INNER
-    show(float(np.mean(classes != UNDECIDED)), evaluated)
+        show(decided(), count[0])
+
+    def undecided():
+        return np.nonzero(classes[tuple(index.T)] == UNDECIDED)[0]
+
+    pace = [0.0]                # seconds per Krawczyk test of the last chunk
+    stopped = _in_chunks(np.arange(len(index)), SECTION_CHUNK, ask, prove, pace)
+    if stopped:
+        return grid, classes, count[0], stopped
+    if rehearse is not None:
+        rehearse(grid, classes)
+    # Stage 2: blocks of cells, with a share of the time left (their last generations cost the most and decide
+    # the least: the cells near the section's boundary, whose joint boxes are many).
+    blocks_budget = budget
+    if seconds_left is not None:
+        end = time.perf_counter() + BLOCKS_SHARE * seconds_left()
+
+        def blocks_budget(evaluated, ahead=0.0):
+            late = time.perf_counter() + ahead > end
+            return budget(evaluated, ahead=ahead) or ("blocks share" if late else "")
+
+    hit = np.zeros(grid.shape, dtype=np.int8)
+    hit[tuple(index.T)] = 1
+    count[0], stopped = _blocks(image, grid, classes, grid.prefix(hit, 1), blocks_budget, show, max_pairs,
+                                count[0])
+    stopped = "" if stopped == "blocks share" else stopped
+    # Then the sampled cells still undecided, in pieces.
+    for level in range(1, depth + 1):
+        if stopped:
+            break
+        stopped = _in_chunks(undecided(), max(1, SECTION_CHUNK // 4 ** level), ask,
+                             lambda part, level=level: prove(part, level), pace, 4 ** level)
+    return grid, classes, count[0], stopped
+
+
+def _prove_cells(image, cells: np.ndarray, seeds: np.ndarray, level: int) -> np.ndarray:
+    """Mask of the cells proved inside the image, each cut into ``4^level`` pieces (halved along both axes
+    ``level`` times), every one of which is proved by the Krawczyk test from the cell's seed."""
+    pieces, owner = cells, np.arange(len(cells))
+    for _ in range(level):
+        pieces, owner = split_every_axis(pieces), np.tile(owner, 4)
+    proved = image.prove_inside(pieces, seeds[owner])
+    return np.bincount(owner[~proved], minlength=len(cells)) == 0
+
+
+def _blocks(image, grid, classes, reached, budget, show, max_pairs, evaluated):
+    """Stage 2 of :func:`section_paving`: ``(evaluated, stopped)``; ``classes`` is updated in place;
+    ``reached`` is the summed-area table of the cells holding the position of a sampled configuration."""
     proved = grid.prefix(classes, INNER)
-    # Blocks as index ranges [i0, i1) x [j0, j1) of cells.
     blocks = np.array([[0, grid.shape[0], 0, grid.shape[1]]])
     Q = image.limits[None].copy()
     owner = np.zeros(1, dtype=int)
@@ -363,11 +466,18 @@ def section_paving(image: RadialMap, width: float, *, budget=None, show=None, ma
             blocks, T, Q, owner = blocks[~done], T[~done], Q[keep], new_index[owner[keep]]
             if not len(blocks):
                 break
-        cap = np.full(len(T), max(64, max_pairs // max(1, len(T))))
-        Q, owner = distribute(image, T, Q, owner, cap)
+        # A block holding the position of a sampled configuration is not outside: its joint boxes go to its
+        # halves unrefined (refining them cannot prove anything there and costs the most).
+        i0, i1, j0, j1 = blocks.T
+        test = reached[i1, j1] - reached[i0, j1] - reached[i1, j0] + reached[i0, j0] == 0
+        mine = test[owner]
+        index = np.cumsum(test) - 1
+        cap = np.full(int(test.sum()), max(64, max_pairs // max(1, int(test.sum()))))
+        Qt, ot = distribute(image, T[test], Q[mine], index[owner[mine]], cap)
+        Q, owner = np.concatenate([Q[~mine], Qt]), np.concatenate([owner[~mine], np.nonzero(test)[0][ot]])
         count = np.bincount(owner, minlength=len(T))
         verdict = np.full(len(T), UNDECIDED, dtype=np.int8)
-        verdict[count == 0] = OUTER
+        verdict[test & (count == 0)] = OUTER
         live, first = np.unique(owner, return_index=True)
         if len(live):
             inside = image.prove_inside(T[live], Q[first].mean(axis=2))
@@ -393,4 +503,39 @@ def section_paving(image: RadialMap, width: float, *, budget=None, show=None, ma
         Q, owner = np.concatenate([Q, Q]), np.concatenate([2 * base, 2 * base + 1])
         show(float(np.mean(classes != UNDECIDED)), evaluated)
         last = time.perf_counter() - start
-    return grid, classes, evaluated, stopped
+    return evaluated, stopped
+
+
+def turned_volume(grid: CellGrid, classes: np.ndarray) -> tuple[float, float]:
+    """A proved bracket of the volume of the solid of revolution of the section ``S`` from its paving
+    (Pappus): the cell ``[r0, r1] x [z0, z1]`` (``rho`` clipped at 0) turns into ``pi (r1^2 - r0^2)
+    (z1 - z0)``, enclosed in outward-rounded interval arithmetic; the solid of the cells proved inside
+    lies in it (lower bound: their volumes rounded down, summed exactly, rounded down once), and it lies
+    in the solid of the cells not proved outside (upper bound: rounded up), since the cells cover the
+    enclosure of ``S`` and overlap on edges only.
+
+    Example: one cell ``[0, 1] x [0, 1]`` proved inside, one ``[1, 2] x [0, 1]`` undecided: ``[pi, 4 pi]``.
+
+    >>> g = CellGrid(np.array([[0.5, 1.5], [0.5, 1.5]]), 1.0)          # cell edges -1, 0, 1, 2, 3
+    >>> c = np.full(g.shape, OUTER, dtype=np.int8)
+    >>> c[1, 1], c[2, 1] = INNER, UNDECIDED                   # cells [0, 1] and [1, 2] of rho, [0, 1] of z
+    >>> lo, hi = turned_volume(g, c)
+    >>> bool(lo <= np.pi <= lo + 1e-14), bool(4 * np.pi <= hi <= 4 * np.pi + 1e-13)
+    (True, True)
+    """
+    pi = numpy_constant(sp.pi)
+    e0, e1 = grid.edges
+
+    def volumes(value):
+        at = np.argwhere(classes == value)
+        r0, r1 = np.maximum(e0[at[:, 0]], 0.0), np.maximum(e0[at[:, 0] + 1], 0.0)
+        z0, z1 = e1[at[:, 1]], e1[at[:, 1] + 1]
+        with np.errstate(all="ignore"):
+            ring = arith.sub(arith.sqr((r1, r1)), arith.sqr((r0, r0)))
+            return arith.mul(arith.mul(pi, ring), arith.sub((z1, z1), (z0, z0)))
+
+    inner, undecided = volumes(INNER), volumes(UNDECIDED)
+    low = ExactSum.of(inner[0])
+    high = ExactSum.of(inner[1])
+    high.add(undecided[1])
+    return low.value_down, high.value_up

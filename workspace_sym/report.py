@@ -492,6 +492,11 @@ def _paving_section(doc: Document, paving, tmp: Path, *, units: str | None = Non
     text = (f"delta {d['delta']}, backend {d['backend']}, {number(d['seconds'], '.3f')} s: the {name} lies in "
             f"{fmt_bracket(lo, hi, 6)}{unit_text} (inner boxes are proved inside, outer boxes proved "
             "outside, with outward-rounded interval arithmetic; the bracket is rounded outward).")
+    if d.get("volume_bounds") is not None:
+        b_lo, b_hi = d["box_measure_bounds"]
+        text += (f" The first joint turns a full circle, so the workspace is the solid of revolution of its section: "
+                 f"the section's cells turned about the axis (Pappus) bound the volume too, and the bracket is the "
+                 f"intersection of theirs and the boxes' alone, {fmt_bracket(b_lo, b_hi, 6)}{unit_text}.")
     if d.get("exact_measure") is not None:
         text += f" Exact measure {number(float(d['exact_measure']))}."  # to_dict stores it as a float
     doc.para(text)

@@ -91,7 +91,17 @@ from .interval.image import CoverTooLarge, ImageMap, critical_cover, critical_pa
 from .interval.search import split_every_axis
 from .interval.verdict import INSIDE, OUTSIDE, UNDECIDED
 from .kinematics import DHRobot
-from .reach_section import RadialMap, Turned, TurnedTest, first_joint_turn, section_paving, turned
+from .reach_section import (
+    SECTION_DEPTH,
+    RadialMap,
+    Turned,
+    TurnedTest,
+    first_joint_turn,
+    section_bar,
+    section_paving,
+    turned,
+    turned_volume,
+)
 from .symbolic import symbolic_budget
 
 __all__ = ["reach", "Pose", "resolve_method", "ReachModel", "METHODS", "CHUNK_PAIRS"]
@@ -100,7 +110,7 @@ _TASK = (sp.Symbol("x"), sp.Symbol("y"), sp.Symbol("z"))
 _MIN_PAIRS = 64                  # pairs a task box may always hold, however small its share of the root box
 METHODS = ("auto", "critical", "pairs")
 SECTION_RATIO = 0.25             # cell width of the section against the width of the task boxes
-SECTION_SHARE = 0.8              # share of the time limit a section paved by blocks may take
+SECTION_RESERVE = 1.5            # margin on the expected time of a step of a turned section and on its (x, y, z) boxes
 ANGLE_PAD = 1e-9                 # widening of float angles (rad)
 CHUNK_PAIRS = 100_000            # (joint box, task box) pairs in one chunk of the pairs method
 _MARGIN = 1e-12                  # of angle comparisons after reduction modulo 2 pi
@@ -646,30 +656,48 @@ def _spatial(robot, parameters, delta, size, run, *, executor):
     box = Box(model.task_variables, tuple(root[:, 0]), tuple(root[:, 1]))
     width = _cell_width(delta, size, 3)
     grid, classes, evaluated, reason = None, None, 0, ""
+    volume = None
     if isinstance(plan, Turned) and plan.section.k > 2:
-        # Blocks of the section keep what they proved when stopped: past SECTION_SHARE of the time limit the
-        # rest of the section stays undecided and the (x, y, z) boxes are classified with what is proved.
+        # The section refines while its next step would end before the time limit less the time the (x, y, z)
+        # boxes take, measured once on the first proved cells (a rehearsal: more cells decided, fewer boxes).
+        reserve = [0.0]
+
+        def rehearse(grid, classes):
+            start = time.perf_counter()
+            classify_task_boxes(TurnedTest(plan, grid, classes), root[None].copy(), [], [], [], delta, size, run,
+                                0, stop=False)
+            reserve[0] = SECTION_RESERVE * (time.perf_counter() - start)
+
+        def seconds_left():
+            return run.time_limit - run.seconds - reserve[0]
+
         def section_budget(count, ahead=0.0):
-            late = run.time_limit is not None and run.seconds + ahead > SECTION_SHARE * run.time_limit
+            late = run.time_limit is not None and run.seconds + SECTION_RESERVE * ahead + reserve[0] > run.time_limit
             return run.stop_reason(count) or ("section share" if late else "")
 
-        grid, classes, evaluated, reason = section_paving(plan.section, SECTION_RATIO * width,
-                                                          budget=section_budget)
+        with section_bar(run.showing) as show:
+            grid, classes, evaluated, reason = section_paving(plan.section, SECTION_RATIO * width,
+                                                              budget=section_budget, show=show,
+                                                              rehearse=rehearse if run.time_limit else None,
+                                                              depth=SECTION_DEPTH if run.time_limit else 1,
+                                                              seconds_left=seconds_left if run.time_limit else None)
         reason = "" if reason == "section share" else reason
     elif plan.section is not None:
         grid, classes, evaluated, reason = critical_paving(plan.section, SECTION_RATIO * width,
                                                            budget=run.stop_reason,
                                                            cover=_cover_with(executor, robot, parameters, "section"))
+    if isinstance(plan, Turned) and plan.full:
+        volume = turned_volume(grid, classes)      # the solid of revolution of the section (Pappus)
     run.show(0.0, evaluated)
     T = root[None].copy()
     inner, boundary, outer = [], [], []
     if reason:
-        return box, inner, boundary, outer, T, evaluated, reason
+        return box, inner, boundary, outer, T, evaluated, reason, volume
     tests = {_Product: _ProductTest, _Revolved: _SectionTest, Turned: TurnedTest}
     test = tests[type(plan)](plan, grid, classes)
     T, evaluated, reason = classify_task_boxes(test, T, inner, boundary, outer, delta, size, run, evaluated,
                                                total=box.measure)
-    return box, inner, boundary, outer, T if len(T) and reason else None, evaluated, reason
+    return box, inner, boundary, outer, T if len(T) and reason else None, evaluated, reason, volume
 
 
 def classify_task_boxes(test, T, inner: list, boundary: list, outer: list, delta: float, size: str, run,
@@ -858,7 +886,7 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     finally:
         budget.close()
     assert model is not None                    # set before anything that returns a result
-    box, inner, boundary, outer, pending, evaluated, reason = result
+    box, inner, boundary, outer, pending, evaluated, reason, *volume = result
     if pending is None or not len(pending):
         reason = ""                             # a budget that ran out after the last box: nothing is pending
     m = len(model.task_variables)
@@ -871,4 +899,5 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     return Paving(variables=model.task_variables, box=box, constraints=(), delta=float(delta), backend="numpy",
                   size=size, inner=stack(inner), boundary=stack(boundary), outer=stack(outer),
                   pending=empty if pending is None else pending, seconds=budget.seconds, complete=not reason,
-                  evaluated=evaluated, stop_reason=reason, units=robot.units, method=kind)
+                  evaluated=evaluated, stop_reason=reason, units=robot.units, method=kind,
+                  volume_bounds=volume[0] if volume else None)

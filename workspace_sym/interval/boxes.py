@@ -153,6 +153,7 @@ class Paving:
     contract: bool = False
     units: str | None = None
     method: str = ""                # how the boxes were decided, when a caller chose among ways (reach)
+    volume_bounds: tuple | None = None  # a bracket of the measure proved another way (reach: a turned section)
 
     @property
     def counts(self) -> dict:
@@ -168,7 +169,17 @@ class Paving:
     def measure_bounds(self) -> tuple[float, float]:
         """The certified bracket ``(measure(inner), measure(inner) + measure(boundary) + measure(pending))``,
         rounded outward: every box's measure and the sums are rounded down for the lower bound, up for the upper
-        one (the figures of :attr:`measures` are rounded to nearest)."""
+        one (the figures of :attr:`measures` are rounded to nearest); intersected with :attr:`volume_bounds`
+        when a run proved one (both hold the measure, so their intersection does)."""
+        lo, hi = self.box_measure_bounds
+        if self.volume_bounds is not None:        # two proved brackets of one measure: their intersection
+            lo, hi = max(lo, self.volume_bounds[0]), min(hi, self.volume_bounds[1])
+        return lo, hi
+
+    @cached_property
+    def box_measure_bounds(self) -> tuple[float, float]:
+        """The bracket of the boxes alone: ``(measure(inner), measure(inner) + measure(boundary) +
+        measure(pending))``, rounded outward (:attr:`measure_bounds` also uses :attr:`volume_bounds`)."""
         low = ExactSum.of(measures_of(self.inner, "down"))
         high = ExactSum()
         for kind in ("inner", "boundary", "pending"):
@@ -204,6 +215,9 @@ class Paving:
             out["units"] = self.units
         if self.method:
             out["method"] = self.method
+        if self.volume_bounds is not None:
+            out["box_measure_bounds"] = list(self.box_measure_bounds)
+            out["volume_bounds"] = list(self.volume_bounds)
         if self.exact_measure is not None:
             out["exact_measure"] = float(sp.N(self.exact_measure, 17))
             out["exact_measure_expr"] = sp.sstr(self.exact_measure)
