@@ -18,7 +18,8 @@ This is the separator of Jaulin's set inversion (``codac.SepInverse``) on the
 program of the constraints (:class:`~workspace_sym.interval.graph.Graph`).
 :func:`~workspace_sym.interval.paving.pave` takes the slices as proposals
 only: it declares a slice inner or outer when its forward evaluation, the
-test of every other box, proves it too, so that a slip in an inverse
+test of every other box, proves it too, whole or piece by piece
+(:func:`confirm`), so that a slip in an inverse
 operation or in a rewriting cannot become a false certificate.  A box is contracted only where its whole
 forward sweep is finite: there every function in it is defined and
 continuous, so a point cut off really satisfies, or violates, the
@@ -34,12 +35,14 @@ import numpy as np
 
 from . import arith
 from .graph import Graph
+from .verdict import UNDECIDED
 
-__all__ = ["Program", "Separation"]
+__all__ = ["Program", "Separation", "confirm", "CONFIRM_DEPTH"]
 
 _INF = np.inf
 _ONE = (1.0, 1.0)
 _ROOT_REL = 1e-12   # covers pow(x, 1/n) with 1/n rounded: |ln x| 2^-53 / n < 1e-13 for finite x
+CONFIRM_DEPTH = 6   # a proposed slice is checked in at most 2^6 pieces
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -99,6 +102,41 @@ def _peel(outer_box, inner_box):
             slabs.append(s)
         current[:, k, :] = inner_box[:, k, :]
     return np.concatenate(slabs) if slabs else outer_box[:0]
+
+
+def confirm(decide, boxes: np.ndarray, verdict: int, *, depth: int = CONFIRM_DEPTH) -> np.ndarray:
+    """Mask of the ``boxes`` that ``decide`` proves to be ``verdict`` (inner or outer), whole or piece by piece.
+
+    A proposed slice that the forward evaluation leaves undecided may still
+    be outer (inner) everywhere with no single constraint proving it: near
+    a corner of Rybak's workspace one part of a slice violates
+    ``x1^2 + x2^2 <= 144`` and the rest ``(x1 - 5)^2 + x2^2 >= 64``.  Such a
+    box is bisected, up to ``depth`` times, and counts when ``decide`` proves
+    every piece (the pieces tile it: closed halves sharing their middle face).
+    A piece proved the other way, or too thin to split and unproved, fails
+    its box.  Only ``decide`` proves, so a slip in an inverse operation of the
+    contraction cannot become a verdict.
+    """
+    from .paving import halves  # paving builds programs: import at call time
+
+    codes = decide(boxes)
+    tried = codes == UNDECIDED
+    owner = np.nonzero(tried)[0]
+    pieces, failed = boxes[owner], np.zeros(len(boxes), dtype=bool)
+    shape = boxes.shape[1:]
+    for _ in range(depth):
+        if not len(pieces):
+            break
+        children, split = halves(pieces)
+        failed[owner[~split]] = True
+        children = children.reshape(-1, 2, *shape)[split].reshape(-1, *shape)
+        owner = np.repeat(owner[split], 2)
+        piece_codes = decide(children)
+        failed[owner[(piece_codes != verdict) & (piece_codes != UNDECIDED)]] = True
+        still = (piece_codes == UNDECIDED) & ~failed[owner]
+        pieces, owner = children[still], owner[still]
+    failed[owner] = True                     # pieces still undecided after the last split
+    return (codes == verdict) | (tried & ~failed)
 
 
 class Program:

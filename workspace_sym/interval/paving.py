@@ -29,7 +29,7 @@ from ..progress import progress_bar
 from . import arith, verdict
 from . import mp as mpi
 from .compiler import BACKENDS, best_form, compile_expr
-from .contractor import Program
+from .contractor import Program, confirm
 from .graph import Graph
 from .store import ExactSum, measures_of
 from .verdict import CODE, INSIDE, OUTSIDE, UNDECIDED, Decider, codes_from_masks
@@ -637,7 +637,8 @@ def pave(constraints, box, *, delta: float, variables=None, backend: str = "nump
         forward-backward contraction of the constraints (numpy backend;
         :mod:`~workspace_sym.interval.contractor`).  The contraction only
         proposes where to cut: a slice is declared inner or outer when the
-        same forward evaluation that decides every box proves it.  Fewer,
+        same forward evaluation that decides every box proves it (on the
+        whole slice or on each of its pieces).  Fewer,
         tighter boundary boxes at the same ``delta``; the boxes are no
         longer those of a plain bisection tree.
     executor, max_memory, store, resume : run on other processes or
@@ -740,8 +741,8 @@ def expand(batch: np.ndarray, decide: Decider, separate, delta: float, size: str
     if separate is not None:
         cut = separate(und)
         # The contraction proposes slices; each is declared only when the forward evaluation
-        # that decides every other box proves it too.  The rest stays undecided.
-        proved_in, proved_out = decide(cut.inner) == INSIDE, decide(cut.outer) == OUTSIDE
+        # that decides every other box proves it too, whole or piece by piece.  The rest stays undecided.
+        proved_in, proved_out = confirm(decide, cut.inner, INSIDE), confirm(decide, cut.outer, OUTSIDE)
         inner.append(cut.inner[proved_in])
         outer.append(cut.outer[proved_out])
         und = np.concatenate([cut.kept, cut.inner[~proved_in], cut.outer[~proved_out]])
@@ -774,10 +775,12 @@ def subdivide(decide: Decider, box: Box, *, delta: float, size: str = "diameter"
     ``separate(boxes)``, optional, runs on the undecided boxes and returns a
     :class:`~workspace_sym.interval.contractor.Separation`: inner and outer
     slices and the undecided remainder.  A slice is declared inner (outer)
-    only when ``decide`` also proves it so; the remainder and the slices
-    ``decide`` does not confirm go on to the size test and the bisection.
-    So every verdict of the paving comes from ``decide`` (on Rybak's robot
-    it confirms 98 % to 100 % of the slices).
+    only when ``decide`` also proves it so, on the whole slice or on each of
+    its pieces (:func:`~workspace_sym.interval.contractor.confirm`: near a
+    corner of the set, different constraints fail on different parts of a
+    slice); the remainder and the slices ``decide`` does not confirm go on
+    to the size test and the bisection.  So every verdict of the paving
+    comes from ``decide``.
 
     With ``executor``, ``max_memory``, ``store`` or ``resume`` the boxes are processed
     by :func:`~workspace_sym.interval.executor.run_paving` (chunks on other
