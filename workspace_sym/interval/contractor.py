@@ -35,7 +35,7 @@ import numpy as np
 
 from . import arith
 from .graph import Graph
-from .verdict import UNDECIDED
+from .verdict import CODE, INSIDE, OUTSIDE, UNDECIDED
 
 __all__ = ["Program", "Separation", "confirm", "CONFIRM_DEPTH"]
 
@@ -43,6 +43,7 @@ _INF = np.inf
 _ONE = (1.0, 1.0)
 _ROOT_REL = 1e-12   # covers pow(x, 1/n) with 1/n rounded: |ln x| 2^-53 / n < 1e-13 for finite x
 CONFIRM_DEPTH = 6   # a proposed slice is checked in at most 2^6 pieces
+_CONFIRM_STEP = 3   # ... decided after every third bisection (numpy's cost per call dominates on a few boxes)
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -104,8 +105,8 @@ def _peel(outer_box, inner_box):
     return np.concatenate(slabs) if slabs else outer_box[:0]
 
 
-def confirm(decide, boxes: np.ndarray, verdict: int, *, depth: int = CONFIRM_DEPTH) -> np.ndarray:
-    """Mask of the ``boxes`` that ``decide`` proves to be ``verdict`` (inner or outer), whole or piece by piece.
+def confirm(decide, inner: np.ndarray, outer: np.ndarray, *, depth: int = CONFIRM_DEPTH):
+    """Masks of the proposed ``inner`` and ``outer`` slices that ``decide`` proves so, whole or piece by piece.
 
     A proposed slice that the forward evaluation leaves undecided may still
     be outer (inner) everywhere with no single constraint proving it: near
@@ -115,28 +116,33 @@ def confirm(decide, boxes: np.ndarray, verdict: int, *, depth: int = CONFIRM_DEP
     every piece (the pieces tile it: closed halves sharing their middle face).
     A piece proved the other way, or too thin to split and unproved, fails
     its box.  Only ``decide`` proves, so a slip in an inverse operation of the
-    contraction cannot become a verdict.
+    contraction cannot become a verdict.  Both kinds share each call of
+    ``decide``, made after every third bisection of the undecided pieces.
     """
     from .paving import halves  # paving builds programs: import at call time
 
+    boxes = np.concatenate([inner, outer])
+    want = np.repeat(np.array([INSIDE, OUTSIDE], dtype=CODE), [len(inner), len(outer)])
     codes = decide(boxes)
     tried = codes == UNDECIDED
     owner = np.nonzero(tried)[0]
     pieces, failed = boxes[owner], np.zeros(len(boxes), dtype=bool)
     shape = boxes.shape[1:]
-    for _ in range(depth):
+    for level in range(0, depth, _CONFIRM_STEP):
         if not len(pieces):
             break
-        children, split = halves(pieces)
-        failed[owner[~split]] = True
-        children = children.reshape(-1, 2, *shape)[split].reshape(-1, *shape)
-        owner = np.repeat(owner[split], 2)
-        piece_codes = decide(children)
-        failed[owner[(piece_codes != verdict) & (piece_codes != UNDECIDED)]] = True
+        for _ in range(min(_CONFIRM_STEP, depth - level)):      # bisected a few times between two decisions
+            children, split = halves(pieces)
+            failed[owner[~split]] = True
+            pieces = children.reshape(-1, 2, *shape)[split].reshape(-1, *shape)
+            owner = np.repeat(owner[split], 2)
+        piece_codes = decide(pieces)
+        failed[owner[(piece_codes != want[owner]) & (piece_codes != UNDECIDED)]] = True
         still = (piece_codes == UNDECIDED) & ~failed[owner]
-        pieces, owner = children[still], owner[still]
+        pieces, owner = pieces[still], owner[still]
     failed[owner] = True                     # pieces still undecided after the last split
-    return (codes == verdict) | (tried & ~failed)
+    proved = (codes == want) | (tried & ~failed)
+    return proved[:len(inner)], proved[len(inner):]
 
 
 class Program:

@@ -742,7 +742,7 @@ def expand(batch: np.ndarray, decide: Decider, separate, delta: float, size: str
         cut = separate(und)
         # The contraction proposes slices; each is declared only when the forward evaluation
         # that decides every other box proves it too, whole or piece by piece.  The rest stays undecided.
-        proved_in, proved_out = confirm(decide, cut.inner, INSIDE), confirm(decide, cut.outer, OUTSIDE)
+        proved_in, proved_out = confirm(decide, cut.inner, cut.outer)
         inner.append(cut.inner[proved_in])
         outer.append(cut.outer[proved_out])
         und = np.concatenate([cut.kept, cut.inner[~proved_in], cut.outer[~proved_out]])
