@@ -43,8 +43,12 @@ def codac_runs(delta):
 
 
 OURS_COLD = """
+import time
 from workspace_sym import robots
-print(robots.build("rpr2").pave(delta={delta}, size="width").seconds)
+model = robots.build("rpr2")
+t0 = time.perf_counter()
+p = model.pave(delta={delta}, size="width")
+print(p.seconds, time.perf_counter() - t0)
 """
 
 CODAC_COLD = """
@@ -58,25 +62,47 @@ print(time.perf_counter() - t0)
 """
 
 
-def cold(script: str, delta: float, repeat: int = 10) -> float:
-    """Best of ``repeat`` fresh processes: the time the process itself reports for its first paving (ours: the
-    paving's ``seconds``; codac: building the function plus ``sivia``), imports excluded on both sides."""
+def cold(script: str, delta: float, repeat: int = 10) -> list[float]:
+    """Best of ``repeat`` fresh processes for each figure the script prints: the time the process itself reports
+    for its first paving (ours: the paving's ``seconds``, then the whole ``pave`` call with the parsing and
+    compiling of the constraints; codac: building the function plus ``sivia``), imports excluded on both
+    sides."""
     runs = [subprocess.run([sys.executable, "-c", script.format(delta=delta)], capture_output=True, text=True,
                            check=True) for _ in range(repeat)]
-    return min(float(r.stdout.split()[-1]) for r in runs)
+    return [min(column) for column in zip(*(map(float, r.stdout.split()) for r in runs))]
 
 
 def cold_rows():
-    """Issue 28 item 3: the first paving in a process, ours against codac.sivia's, at delta 0.07 and 0.01."""
+    """Issue 28 item 3: the first paving in a process, ours against codac.sivia's, at delta 0.07 and 0.01:
+    ``{delta: (ours seconds, ours whole call, codac)}``."""
     try:
         import codac  # noqa: F401
     except ImportError:
         print("  (codac not installed: no cold comparison)")
-        return
+        return {}
     print("cold start (fresh process, best of 10), width:")
+    out = {}
     for delta in (0.07, 0.01):
-        ours, theirs = cold(OURS_COLD, delta), cold(CODAC_COLD, delta)
-        print(f"{delta:>6} workspace_sym {ours:.4f} s   codac.sivia {theirs:.4f} s   {theirs / ours:.1f}x faster")
+        (ours, call), (theirs,) = cold(OURS_COLD, delta), cold(CODAC_COLD, delta)
+        out[delta] = (ours, call, theirs)
+        print(f"{delta:>6} workspace_sym {ours:.4f} s (whole pave call {call:.4f} s)   codac.sivia {theirs:.4f} s   "
+              f"{theirs / ours:.1f}x faster ({theirs / call:.1f}x by the whole call)")
+    return out
+
+
+def summary(warm: dict, cold_: dict):
+    """One table of what issue 28 item 3 asks, from this run: warm and cold against codac.sivia, and the
+    contracted boundary against codac.pave(SepInverse) at every delta."""
+    print()
+    print("| delta | ours warm (width) | codac.sivia warm | ratio | ours cold | codac.sivia cold | ratio "
+          "| boundary: ours contract vs codac.pave(SepInverse) |")
+    print("|---|---|---|---|---|---|---|---|")
+    for delta, (ours, sivia, bd, bd_sep) in warm.items():
+        c = cold_.get(delta)
+        cold_cells = (f"{c[0]:.4f} | {c[2]:.4f} | {c[2] / c[0]:.1f}x" if c else " | | ")
+        verdict = "smaller" if bd < bd_sep else "codac smaller"
+        print(f"| {delta} | {ours:.4f} | {sivia:.4f} | {sivia / ours:.1f}x | {cold_cells} | {bd:.4f} vs {bd_sep:.4f} "
+              f"({verdict}) |")
 
 
 def main():
@@ -87,6 +113,7 @@ def main():
     model.pave(delta=0.5)  # compile once
     header = f"{'delta':>6} {'method':<34} {'seconds':>9} {'inner area':>11} {'boundary area':>14} {'boxes in/bd':>14}"
     print(header)
+    warm = {}
     for delta in (0.5, 0.25, 0.07, 0.01):
         rows = []
         for size, contract in (("diameter", False), ("width", False), ("width", True)):
@@ -112,7 +139,10 @@ def main():
                   f"{plain[3]:.4f} vs {sivia[2]:.4f}")
             print(f"{'':>6} contract vs codac.pave(SepInverse): {sep[0] / cut[1]:.1f}x faster, boundary "
                   f"{cut[3]:.4f} vs {sep[2]:.4f}")
-    cold_rows()
+            warm[delta] = (plain[1], sivia[0], cut[3], sep[2])
+    cold_ = cold_rows()
+    if warm:
+        summary(warm, cold_)
 
 
 if __name__ == "__main__":

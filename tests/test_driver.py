@@ -30,8 +30,9 @@ DISC = (["x**2 + y**2 <= 1"], {"x": (-1.1, 1.1), "y": (-1.1, 1.1)})
 # Each module of interval/ and the modules of interval/ it may import (the layers, lowest first).
 LAYERS = {
     "arith": set(), "mp": {"arith"}, "graph": {"arith", "mp"}, "compiler": {"arith", "mp", "graph"},
+    "contractor": {"arith", "boxes", "graph", "verdict"},
     "verdict": set(), "store": set(), "boxes": {"store"}, "executor": {"arith", "verdict"},
-    "driver": {"arith", "boxes", "executor", "store", "verdict"},
+    "driver": {"arith", "boxes", "contractor", "executor", "store", "verdict"},
 }
 
 

@@ -293,3 +293,48 @@ def test_expansion_bound_bounds_sympys_expansion(terms, power, shift):
     count, degree = expansion_bound(e)
     assert count >= len(sp.Add.make_args(expanded))
     assert expanded == 0 or degree >= sp.Poly(expanded, x, y).total_degree()
+
+
+_SQUARE_EDGES = [0.0, 2.0**-1074, 2.0**-1073, 2.0**-537, 2.0**-1022, 1.0, 1.0 + 2.0**-52, 1.5, 2.0**511,
+                 1.3407807929942596e154, 1.3407807929942597e154, 1e300, float(np.finfo(float).max)]
+
+
+@settings(derandomize=True, max_examples=400, deadline=None)
+@given(st.floats(allow_nan=False, allow_infinity=False), st.floats(allow_nan=False, allow_infinity=False),
+       st.sampled_from([1, 300]))
+@example(2.0**-1074, 2.0**-1073, 300)        # squares underflow: the lower bound is 0, the upper a subnormal step
+@example(-(2.0**-537), 2.0**-537, 300)       # straddles zero
+@example(1.0, 1.0 + 2.0**-52, 300)           # a square rounded up to a power of two's neighbour
+@example(1.3407807929942596e154, 1.3407807929942597e154, 300)   # the squares around the overflow
+@example(-1e300, -1e-300, 300)
+def test_square_encloses_the_exact_squares(a, b, size):
+    """Reference: exact rational squares (Fractions) of the interval's extremes.  Below 256 boxes the square is
+    rounded with numpy.nextafter, from 256 on by one multiplication by 1 -+ 2^-52 (both bounds >= 0)."""
+    from fractions import Fraction
+
+    a, b = min(a, b), max(a, b)
+    with np.errstate(over="ignore"):
+        lo, hi = arith.sqr((np.full(size, a), np.full(size, b)))
+    lo, hi = float(lo[0]), float(hi[0])
+    exact_small = Fraction(0) if a <= 0 <= b else min(Fraction(a) ** 2, Fraction(b) ** 2)
+    exact_large = max(Fraction(a) ** 2, Fraction(b) ** 2)
+    assert 0 <= lo and Fraction(lo) <= exact_small
+    assert hi == np.inf or Fraction(hi) >= exact_large
+    if exact_large < Fraction(float(np.finfo(float).max)) / 2:      # and no wider than a few spacings
+        assert hi <= float(exact_large) + 4 * np.spacing(float(exact_large)) + 2.0**-1072
+    if Fraction(2.0**-1000) < exact_small < Fraction(float(np.finfo(float).max)) / 2:
+        assert lo >= float(exact_small) - 4 * np.spacing(float(exact_small))
+
+
+@pytest.mark.parametrize("v", _SQUARE_EDGES)
+def test_square_bounds_at_the_edges_of_the_float_range(v):
+    """Both branches at powers of two, subnormals and the overflow: the same proof as the general test."""
+    from fractions import Fraction
+
+    for size in (1, 300):
+        with np.errstate(over="ignore"):
+            lo, hi = arith.sqr((np.full(size, v), np.full(size, v)))
+        assert 0 <= lo[0] and Fraction(float(lo[0])) <= Fraction(v) ** 2
+        assert hi[0] == np.inf or Fraction(float(hi[0])) >= Fraction(v) ** 2
+        if v > 0 and np.isfinite(v * v) and v * v > 2.0**-1022:
+            assert lo[0] < v * v < hi[0]

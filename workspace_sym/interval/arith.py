@@ -37,6 +37,7 @@ _REL = 2.0**-52          # |x| * 2^-52 is between one and two spacings of the fl
 _TINY = 2.0**-1074       # the smallest subnormal: covers an underflowed result
 _MAX = np.finfo(float).max
 _SMALL = 256             # below this size numpy.nextafter is the cheaper way out
+_BELOW, _ABOVE = 1.0 - _REL, 1.0 + _REL     # both exact floats
 
 
 # ----------------------------------------------------------------------------- rounding mode
@@ -201,13 +202,40 @@ def div(a, b):
     return np.where(bad, np.nan, lo), np.where(bad, np.nan, hi)
 
 
+def _down_nonnegative(x):
+    """:func:`down` of an array ``x >= 0`` (NaN stays) in four operations instead of six.
+
+    For a normal ``x`` in ``[2^e, 2^(e+1))``, ``x 2^-52`` is at least its
+    spacing, so the exact ``x (1 - 2^-52)`` is at most ``x - spacing``, a
+    float below the float before ``x``, and rounding keeps it there; a
+    subnormal ``x`` is unchanged by the product and ``- 2^-1074`` is then
+    the exact step to the float before it.  ``+inf`` (an overflow) becomes
+    the largest float, and the floor is 0 (a square is never negative).
+    """
+    r = np.minimum(x, _MAX)
+    r *= _BELOW
+    r -= _TINY
+    return np.maximum(r, 0.0, out=r)
+
+
+def _up_nonnegative(x):
+    """:func:`up` of an array ``x >= 0`` (NaN and ``+inf`` stay) in two operations: ``x (1 + 2^-52)`` is at least
+    the float after a normal ``x`` (as in :func:`_down_nonnegative`); ``+ 2^-1074`` is the step after a
+    subnormal one."""
+    r = x * _ABOVE
+    r += _TINY
+    return r
+
+
 def sqr(a):
     """Tight square: ``[-1, 2]**2 = [0, 4]``, not ``[-2, 4]`` as ``x*x`` would give."""
     lo, hi = a
     # Smallest |x| on [lo, hi] is max(lo, -hi, 0), largest is max(-lo, hi).
     small = np.maximum(np.maximum(lo, -hi), 0.0)
     large = np.maximum(-lo, hi)
-    return np.maximum(down(small * small), 0.0), up(large * large)
+    if np.size(small) < _SMALL:
+        return np.maximum(down(small * small), 0.0), up(large * large)
+    return _down_nonnegative(small * small), _up_nonnegative(large * large)
 
 
 def ipow(a, n: int):

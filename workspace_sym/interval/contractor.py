@@ -18,7 +18,8 @@ This is the separator of Jaulin's set inversion (``codac.SepInverse``) on the
 program of the constraints (:class:`~workspace_sym.interval.graph.Graph`).
 :func:`~workspace_sym.interval.paving.pave` takes the slices as proposals
 only: it declares a slice inner or outer when its forward evaluation, the
-test of every other box, proves it too, so that a slip in an inverse
+test of every other box, proves it too, whole or piece by piece
+(:func:`confirm`), so that a slip in an inverse
 operation or in a rewriting cannot become a false certificate.  A box is contracted only where its whole
 forward sweep is finite: there every function in it is defined and
 continuous, so a point cut off really satisfies, or violates, the
@@ -33,13 +34,17 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import arith
+from .boxes import halves
 from .graph import Graph
+from .verdict import CODE, INSIDE, OUTSIDE, UNDECIDED
 
-__all__ = ["Program", "Separation"]
+__all__ = ["Program", "Separation", "confirm", "CONFIRM_DEPTH"]
 
 _INF = np.inf
 _ONE = (1.0, 1.0)
 _ROOT_REL = 1e-12   # covers pow(x, 1/n) with 1/n rounded: |ln x| 2^-53 / n < 1e-13 for finite x
+CONFIRM_DEPTH = 6   # a proposed slice is checked in at most 2^6 pieces
+_CONFIRM_STEP = 3   # ... decided after every third bisection (numpy's cost per call dominates on a few boxes)
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -99,6 +104,45 @@ def _peel(outer_box, inner_box):
             slabs.append(s)
         current[:, k, :] = inner_box[:, k, :]
     return np.concatenate(slabs) if slabs else outer_box[:0]
+
+
+def confirm(decide, inner: np.ndarray, outer: np.ndarray, *, depth: int = CONFIRM_DEPTH):
+    """Masks of the proposed ``inner`` and ``outer`` slices that ``decide`` proves so, whole or piece by piece.
+
+    A proposed slice that the forward evaluation leaves undecided may still
+    be outer (inner) everywhere with no single constraint proving it: near
+    a corner of Rybak's workspace one part of a slice violates
+    ``x1^2 + x2^2 <= 144`` and the rest ``(x1 - 5)^2 + x2^2 >= 64``.  Such a
+    box is bisected, up to ``depth`` times, and counts when ``decide`` proves
+    every piece (the pieces tile it: closed halves sharing their middle face).
+    A piece proved the other way, or too thin to split and unproved, fails
+    its box.  Only ``decide`` proves, so a slip in an inverse operation of the
+    contraction cannot become a verdict.  Both kinds share each call of
+    ``decide``, made after every third bisection of the undecided pieces.
+    """
+
+    boxes = np.concatenate([inner, outer])
+    want = np.repeat(np.array([INSIDE, OUTSIDE], dtype=CODE), [len(inner), len(outer)])
+    codes = decide(boxes)
+    tried = codes == UNDECIDED
+    owner = np.nonzero(tried)[0]
+    pieces, failed = boxes[owner], np.zeros(len(boxes), dtype=bool)
+    shape = boxes.shape[1:]
+    for level in range(0, depth, _CONFIRM_STEP):
+        if not len(pieces):
+            break
+        for _ in range(min(_CONFIRM_STEP, depth - level)):      # bisected a few times between two decisions
+            children, split = halves(pieces)
+            failed[owner[~split]] = True
+            pieces = children.reshape(-1, 2, *shape)[split].reshape(-1, *shape)
+            owner = np.repeat(owner[split], 2)
+        piece_codes = decide(pieces)
+        failed[owner[(piece_codes != want[owner]) & (piece_codes != UNDECIDED)]] = True
+        still = (piece_codes == UNDECIDED) & ~failed[owner]
+        pieces, owner = pieces[still], owner[still]
+    failed[owner] = True                     # pieces still undecided after the last split
+    proved = (codes == want) | (tried & ~failed)
+    return proved[:len(inner)], proved[len(inner):]
 
 
 class Program:

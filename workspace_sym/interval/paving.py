@@ -16,6 +16,7 @@ import enum
 import math
 from dataclasses import dataclass
 from functools import lru_cache
+from typing import Any
 
 import numpy as np
 import sympy as sp
@@ -29,6 +30,7 @@ from .compiler import BACKENDS, best_form, compile_expr
 from .contractor import Program
 from .driver import RunBudget, RunOn, StopAt, expand, initial_boxes, subdivide
 from .executor import thread_pool
+from .graph import Graph
 from .verdict import CODE, INSIDE, OUTSIDE, Decider, codes_from_masks
 
 __all__ = ["Certificate", "Constraint", "parse_constraints", "certify_box", "pave", "threaded", "check_digits",
@@ -126,32 +128,44 @@ def _split_constant(g: sp.Expr):
     return e, sign, c
 
 
-def _decide_numpy(shared, parts, constraints, boxes: np.ndarray):
+# A proof of ``g <= 0`` (or ``g > 0``) on a box, for ``g = sign * e + c`` with ``e`` enclosed in ``[lo, hi]`` and the
+# constant ``c`` in ``[cl, ch]``, is one exact comparison of floats: ``e + c <= 0`` on the box when
+# ``hi <= -ch`` (negating a float is exact), so the sum is never rounded.  Per sign and strictness: (end of e's
+# enclosure, comparison, which end of c, negated) for "inside", then the same for "outside".
+_TESTS = {
+    (1, False): ((1, np.less_equal, 1, True), (0, np.greater, 0, True)),
+    (1, True): ((1, np.less, 1, True), (0, np.greater_equal, 0, True)),
+    (-1, False): ((0, np.greater_equal, 1, False), (1, np.less, 0, False)),
+    (-1, True): ((0, np.greater, 1, False), (1, np.less_equal, 0, False)),
+}
+
+
+def _decide_numpy(decider, boxes: np.ndarray):
     """Codes per box: 1 inner, -1 outer, 0 undecided (numpy backend, vectorised).
 
-    ``shared`` evaluators are the distinct non-constant parts of the
-    constraints (``64 <= x^2 + y^2 <= 144`` evaluates ``x^2 + y^2`` once);
-    ``parts`` says, per constraint, which one, with its sign and its constant
-    (an enclosing interval).
+    One forward sweep of ``decider.graph`` encloses the distinct non-constant
+    parts of the constraints, sharing their common subexpressions
+    (``64 <= x^2 + y^2 <= 144`` evaluates ``x^2 + y^2`` once, and
+    ``(x - 5)^2 + y^2`` shares its ``y^2``); a part with a centred form is
+    enclosed by its own evaluator.  Each constraint is then two exact
+    comparisons against its constant (:data:`_TESTS`).
     """
     X = [(boxes[:, k, 0], boxes[:, k, 1]) for k in range(boxes.shape[1])]
-    all_in = np.ones(len(boxes), dtype=bool)
-    some_out = np.zeros(len(boxes), dtype=bool)
+    inside: Any = None
+    outside: Any = None
     with np.errstate(all="ignore"):
-        values = [f(X) for f in shared]
-        for (k, sign, const), c in zip(parts, constraints):
-            v = values[k] if sign > 0 else arith.neg(values[k])
-            lo, hi = v if const is None else arith.add(v, const)
-            if np.ndim(lo) == 0 or np.ndim(hi) == 0:  # a constant constraint
-                lo, hi = np.broadcast_to(lo, (len(boxes),)), np.broadcast_to(hi, (len(boxes),))
-            # NaN compares False both ways: undecided for this constraint.
-            if c.strict:
-                all_in &= hi < 0
-                some_out |= lo >= 0
-            else:
-                all_in &= hi <= 0
-                some_out |= lo > 0
-    return codes_from_masks(all_in, some_out)
+        vals = decider.graph.forward(X)
+        values = [vals[r] if f is None else f(X) for r, f in decider.sources]
+        # NaN compares False both ways: undecided for this constraint.
+        for k, (end, test, bound), (end_out, test_out, bound_out) in decider.tests:
+            v = values[k]
+            i, o = test(v[end], bound), test_out(v[end_out], bound_out)
+            inside = i if inside is None else inside & i
+            outside = o if outside is None else outside | o
+    if np.ndim(inside) == 0 or np.ndim(outside) == 0:       # only constant constraints
+        shape = (len(boxes),)
+        inside, outside = np.broadcast_to(inside, shape), np.broadcast_to(outside, shape)
+    return codes_from_masks(inside, outside)
 
 
 def _decide_mpmath(compiled, constraints, boxes: np.ndarray, digits: int):
@@ -186,13 +200,25 @@ class _Decider:
         if backend == "mpmath":
             self.compiled = [compile_expr(c.g, variables, backend=backend) for c in constraints]
             return
-        exprs, self.parts = [], []
+        exprs, parts = [], []
         for c in constraints:
             e, sign, const = _split_constant(c.g)
             if e not in exprs:
                 exprs.append(e)
-            self.parts.append((exprs.index(e), sign, compile_expr(const, ())([]) if const else None))
-        self.shared = [compile_expr(e, variables) for e in exprs]
+            parts.append((exprs.index(e), sign, compile_expr(const, ())([]) if const else (0.0, 0.0), c.strict))
+        shared = [compile_expr(e, variables) for e in exprs]
+        # The parts enclosed by their chosen form alone are the roots of one graph; a centred one keeps its
+        # evaluator (the intersection with its mean-value form).
+        plain = [f for f in shared if not f.centred]
+        self.graph = Graph([f.expr for f in plain], variables)
+        self.sources = [(self.graph.roots[plain.index(f)], None) if not f.centred else (None, f) for f in shared]
+        self.tests = []
+        for k, sign, const, strict in parts:
+            tests = []
+            for end, test, which, negated in _TESTS[sign, strict]:
+                bound = float(const[which])
+                tests.append((end, test, -bound if negated else bound))
+            self.tests.append((k, *tests))
 
     def __reduce__(self):
         # Another process rebuilds the decider from the SymPy constraints (compiled once there, then cached)
@@ -201,7 +227,7 @@ class _Decider:
 
     def __call__(self, boxes):
         if self.backend == "numpy":
-            return _decide_numpy(self.shared, self.parts, self.constraints, boxes)
+            return _decide_numpy(self, boxes)
         return _decide_mpmath(self.compiled, self.constraints, boxes, self.digits)
 
 
@@ -299,7 +325,8 @@ def pave(constraints, box, *, delta: float, variables=None, backend: str = "nump
         forward-backward contraction of the constraints (numpy backend;
         :mod:`~workspace_sym.interval.contractor`).  The contraction only
         proposes where to cut: a slice is declared inner or outer when the
-        same forward evaluation that decides every box proves it.  Fewer,
+        same forward evaluation that decides every box proves it (on the
+        whole slice or on each of its pieces).  Fewer,
         tighter boundary boxes at the same ``delta``; the boxes are no
         longer those of a plain bisection tree.
     stop : :class:`~workspace_sym.interval.driver.StopAt`

@@ -43,7 +43,8 @@ def codes_from_masks(inside, outside) -> np.ndarray:
     array([ 1, -1,  0,  0], dtype=int8)
     """
     inside, outside = np.asarray(inside, dtype=bool), np.asarray(outside, dtype=bool)
-    codes = np.zeros(np.broadcast_shapes(inside.shape, outside.shape), dtype=CODE)
-    codes[inside & ~outside] = INSIDE
-    codes[outside & ~inside] = OUTSIDE
+    if inside.shape != outside.shape:
+        inside, outside = np.broadcast_arrays(inside, outside)
+    codes = inside.astype(CODE)       # 1 inside, then minus 1 outside: both is 0
+    codes -= outside
     return codes
