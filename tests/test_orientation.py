@@ -15,7 +15,8 @@ import workspace_sym as ws
 from workspace_sym import robots
 from workspace_sym.cli import main
 from workspace_sym.errors import InvalidParameterError, WorkspaceError
-from workspace_sym.orientation import _plan, constraint_from, orientation_constraint, reach_pose
+from workspace_sym.interval.paving import Paving
+from workspace_sym.orientation import SectionPaving, _plan, constraint_from, orientation_constraint, reach_pose
 from workspace_sym.serial_workspace import reach
 
 
@@ -245,3 +246,16 @@ def test_a_section_cut_by_the_budget_keeps_a_sound_bracket(puma_cone):
     lo, hi = cut.measure_bounds
     full_lo, full_hi = puma_cone.measure_bounds
     assert lo <= full_hi and full_lo <= hi and hi - lo >= full_hi - full_lo - 1e-9
+
+
+def test_puma_cone_section_bracket_meets_the_box_bracket(puma_cone):
+    # Reference: the bracket of the three-dimensional boxes of the same run (a second certified answer from the
+    # same section, classified box by box): the two must meet, and the section's is the tighter one here.
+    p = puma_cone
+    assert isinstance(p, SectionPaving) and p.complete
+    box_lo, box_hi = Paving.measure_bounds.func(p)        # the boxes' own bracket
+    lo, hi = p.section_bracket
+    assert lo <= box_hi and box_lo <= hi
+    assert hi - lo < box_hi - box_lo
+    assert p.measure_bounds == (max(lo, box_lo), min(hi, box_hi))
+    assert p.to_dict()["section_bracket"] == [lo, hi]

@@ -36,7 +36,9 @@ A constant orientation is reduced to the exact direction ``R z`` when the
 last joint spins the tool about its approach axis through a full turn (the
 Puma, the UR5, a SCARA); a cone about the vertical on a robot turned by its
 first joint (``reach``'s section structure) is paved on the section
-``(u, v)`` and turned by the first joint: ``method`` is then ``"section"``.
+``(u, v)`` and turned by the first joint: ``method`` is then ``"section"``,
+and the volume bracket is also proved from the section's cells by Pappus's
+theorem (:func:`section_volume_bracket`, :class:`SectionPaving`).
 
 Inner proofs: the Krawczyk test of
 :class:`~workspace_sym.interval.image.ImageMap` on a square system around a
@@ -76,7 +78,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cached_property, lru_cache
 
 import numpy as np
 import sympy as sp
@@ -88,11 +90,12 @@ from .interval.compiler import compile_expr
 from .interval.graph import numpy_constant
 from .interval.image import INNER, OUTER, UNDECIDED, CellGrid, ImageMap, _dot, meets
 from .interval.paving import Box, Paving, RunBudget, box_measure, box_sizes, check_delta, halves
+from .interval.store import ExactSum
 from .kinematics import DHRobot
 from .snap import snap_angle
 
 __all__ = ["PoseConstraint", "approach_constraint", "orientation_constraint", "reach_pose", "PoseModel",
-           "ORTHOGONAL_TOL"]
+           "SectionPaving", "section_volume_bracket", "ORTHOGONAL_TOL"]
 
 ORTHOGONAL_TOL = 1e-9            # a matrix farther than this from a rotation (entrywise) is refused
 _TASK = (sp.Symbol("x"), sp.Symbol("y"), sp.Symbol("z"))
@@ -822,7 +825,7 @@ def reach_pose(robot: DHRobot, *, delta: float, approach=None, cone=None, every:
             result = _pave_revolved(plan, robot, parameters, delta, size, run, options, section_ratio)
     finally:
         run.close()
-    box, inner, boundary, outer, pending, evaluated, reason = result
+    box, inner, boundary, outer, pending, evaluated, reason, bracket = result
     if pending is None:
         reason = ""
     empty = np.empty((0, 3, 2))
@@ -831,9 +834,11 @@ def reach_pose(robot: DHRobot, *, delta: float, approach=None, cone=None, every:
         parts = [p for p in parts if len(p)]
         return np.concatenate(parts) if parts else empty
 
-    return Paving(_TASK, box, (), float(delta), "numpy", size, stack(inner), stack(boundary), stack(outer),
-                  empty if pending is None else pending, run.seconds, not reason, evaluated, reason,
-                  units=robot.units, method="pairs" if plan.revolved is None else "section")
+    fields = (_TASK, box, (), float(delta), "numpy", size, stack(inner), stack(boundary), stack(outer),
+              empty if pending is None else pending, run.seconds, not reason, evaluated, reason)
+    if bracket is None:
+        return Paving(*fields, units=robot.units, method="pairs")
+    return SectionPaving(*fields, units=robot.units, method="section", section_bracket=bracket)
 
 
 def _pave_pairs(model: PoseModel, root, delta, size, run, *, max_pairs, inner_depth, chunk_pairs):
@@ -889,7 +894,7 @@ def _pave_direct(model, robot, delta, size, run, options):
     check_root(root, delta, size, robot)
     box = Box(_TASK, tuple(root[:, 0]), tuple(root[:, 1]))
     run.total = box.measure
-    return (box, *_pave_pairs(model, root, delta, size, run, **options))
+    return (box, *_pave_pairs(model, root, delta, size, run, **options), None)
 
 
 def _section_classes(model, width: float, run, options):
@@ -898,7 +903,11 @@ def _section_classes(model, width: float, run, options):
     midpoint is a float exactly); ``(grid, classes, evaluated, reason)``."""
     w = 2.0 ** round(math.log2(width))
     root = model.position.enclose(model.position.limits[None])[0]
-    grid = CellGrid(np.stack([np.floor(root[:, 0] / w) * w, root[:, 1]], axis=1), w)
+    # The u range is made symmetric about 0 (edges at odd multiples of w / 2 both ways) so that each cell's
+    # mirror, the other branch of the turn, is a cell (section_volume_bracket).
+    reach_u = math.ceil(max(-root[0, 0], root[0, 1]) / w) * w
+    corner = np.array([[-reach_u, reach_u], [math.floor(root[1, 0] / w) * w, root[1, 1]]])
+    grid = CellGrid(corner, w)
     lo = np.array([e[0] for e in grid.edges])
     side = w * 2 ** math.ceil(math.log2(max(len(e) - 1 for e in grid.edges)))
     square = np.stack([lo, lo + side], axis=1)
@@ -922,6 +931,93 @@ def _section_classes(model, width: float, run, options):
     return grid, classes, evaluated, reason
 
 
+def section_volume_bracket(grid: CellGrid, classes: np.ndarray, revolved) -> tuple[float, float]:
+    """Certified bracket of the volume of the solid ``{Rz(theta) (u, c, v)}``, ``theta`` over the first joint's
+    range and ``(u, v)`` over a section set ``S`` whose cells ``classes`` classify (Pappus), rounded outward.
+
+    In cylindrical coordinates the point ``(u, c, v)`` turned by ``theta`` has height ``v``, ``r^2 = s^2 + c^2``
+    with ``s = |u|`` (so ``r dr = s ds``) and polar angle ``theta + alpha`` (``u >= 0``) or
+    ``theta + pi - alpha`` (``u < 0``), ``alpha = atan(c / s)``.  The volume is the integral over ``(s, v)`` of
+    ``A(s, v) s ds dv`` where ``A`` is the measure of the angles reached: ``L`` (the range's length) when one of
+    ``(s, v)`` and ``(-s, v)`` is in ``S``, the union of the two arcs, ``min(2 pi, L + min(d, L))`` with
+    ``d = pi - 2 |alpha|`` their offset, when both are (``2 pi`` for a whole turn).  A folded cell
+    ``[s0, s1] x [v0, v1]`` adds ``A (s1^2 - s0^2) (v1 - v0) / 2``: to the lower bound with ``A`` of its proved
+    inner cells (``u`` and its mirror ``-u``), to the upper bound with ``A`` of those not proved outer.  The grid's
+    first axis must be symmetric about ``u = 0``; ``revolved`` is ``serial_workspace``'s section structure
+    (``c``, ``inner_range``, ``outer_range``, ``full``).
+
+    Examples
+    --------
+    >>> grid = CellGrid(np.array([[-1.0, 1.0], [0.0, 1.0]]), 0.5)     # edges -1.75, -1.25, ..., 1.75 along u
+    >>> classes = np.full(grid.shape, OUTER, dtype=np.int8)
+    >>> classes[2:5, 2:4] = INNER                                        # |u| <= 0.75, 0.25 <= v <= 1.25
+    >>> from types import SimpleNamespace
+    >>> turn = SimpleNamespace(c=(0.0, 0.0), inner_range=(-np.pi, np.pi), outer_range=(-np.pi, np.pi), full=True)
+    >>> lo, hi = section_volume_bracket(grid, classes, turn)
+    >>> lo <= math.pi * 0.75 ** 2 * 1.0 <= hi and hi - lo < 1e-12      # a cylinder of radius 0.75, height 1
+    True
+    """
+    e0, e1 = grid.edges
+    n = len(e0) - 1
+    if not np.array_equal(e0, -e0[::-1]):
+        raise ValueError("section_volume_bracket needs a grid symmetric about u = 0")
+    half = np.arange(n // 2, n)                 # the cells with u > 0 somewhere, and their mirrors
+    s0, s1 = np.maximum(e0[half], 0.0), e0[half + 1]
+    plus, minus = classes[half], classes[n - 1 - half]
+    ring = arith.mul(arith.sub(arith.sqr((s1, s1)), arith.sqr((s0, s0))), (0.5, 0.5))
+    ring = arith.mul((ring[0][:, None], ring[1][:, None]), arith.sub((e1[None, 1:], e1[None, 1:]),
+                                                                   (e1[None, :-1], e1[None, :-1])))
+    pi_lo, pi_hi = numpy_constant(sp.pi)
+    shape = plus.shape
+    if revolved.full:
+        one = both = (np.full(shape, 2 * pi_lo), np.full(shape, 2 * pi_hi))
+        length = (2 * pi_lo, 2 * pi_hi)
+    else:
+        (a_in, b_in), (a_out, b_out) = revolved.inner_range, revolved.outer_range
+        length = (max(float(arith.down(np.float64(b_in - a_in))), 0.0), float(arith.up(np.float64(b_out - a_out))))
+        # The offset d = pi - 2 atan(|c| / s) of the two arcs grows with s: its least over the cell at s0, its
+        # greatest at s1 (ANGLE_PAD covers atan's rounding).
+        from .serial_workspace import ANGLE_PAD
+
+        c_lo, c_hi = revolved.c
+        c_small = 0.0 if c_lo <= 0 <= c_hi else min(abs(c_lo), abs(c_hi))
+        c_large = max(abs(c_lo), abs(c_hi))
+        with np.errstate(divide="ignore", invalid="ignore"):      # s0 = 0: c / 0 is inf (0 / 0 is c = 0)
+            near = np.arctan(arith.up(c_large / s0)) + ANGLE_PAD
+            far = np.arctan(arith.down(c_small / s1)) - ANGLE_PAD
+        d_lo = np.where(c_large == 0.0, pi_lo, np.maximum(arith.down(pi_lo - 2 * near), 0.0))
+        d_hi = np.minimum(arith.up(pi_hi - 2 * np.maximum(far, 0.0)), pi_hi)
+        union_lo = np.minimum(arith.down(length[0] + np.minimum(d_lo, length[0])), 2 * pi_lo)
+        union_hi = np.minimum(arith.up(length[1] + np.minimum(d_hi, length[1])), 2 * pi_hi)
+        one = (np.full(shape, length[0]), np.full(shape, min(length[1], 2 * pi_hi)))
+        both = (np.repeat(union_lo[:, None], shape[1], axis=1), np.repeat(union_hi[:, None], shape[1], axis=1))
+    low = np.where((plus == INNER) & (minus == INNER), both[0], np.where((plus == INNER) | (minus == INNER),
+                                                                           one[0], 0.0))
+    high = np.where((plus != OUTER) & (minus != OUTER), both[1], np.where((plus != OUTER) | (minus != OUTER),
+                                                                            one[1], 0.0))
+    lower = arith.mul((low, low), ring)[0]
+    upper = arith.mul((high, high), ring)[1]
+    return ExactSum.of(lower[low > 0]).value_down, ExactSum.of(upper[high > 0]).value_up
+
+
+@dataclass(frozen=True, eq=False)
+class SectionPaving(Paving):
+    """A paving of a solid turned by the first joint whose volume bracket is also proved from its section's cells
+    (:func:`section_volume_bracket`): :attr:`measure_bounds` is the tighter of the two brackets, both certified."""
+
+    section_bracket: tuple = (0.0, math.inf)
+
+    @cached_property
+    def measure_bounds(self) -> tuple[float, float]:
+        lo, hi = Paving.measure_bounds.func(self)
+        return max(lo, self.section_bracket[0]), min(hi, self.section_bracket[1])
+
+    def to_dict(self) -> dict:
+        out = super().to_dict()
+        out["section_bracket"] = list(self.section_bracket)
+        return out
+
+
 def _pave_revolved(plan: _Plan, robot, parameters, delta, size, run, options, ratio=None):
     """The section paving turned by the first joint (``serial_workspace``'s section test, with the section
     of the admissible configurations)."""
@@ -943,6 +1039,7 @@ def _pave_revolved(plan: _Plan, robot, parameters, delta, size, run, options, ra
     cut = reason
     T, evaluated, reason = classify_task_boxes(_SectionTest(plan.revolved, grid, classes), T, inner, boundary,
                                                outer, delta, size, run, evaluated, stop=not cut)
+    bracket = section_volume_bracket(grid, classes, plan.revolved)
     if cut:
-        return box, inner, boundary, outer, T, evaluated, cut
-    return box, inner, boundary, outer, T if len(T) and reason else None, evaluated, reason
+        return box, inner, boundary, outer, T, evaluated, cut, bracket
+    return box, inner, boundary, outer, T if len(T) and reason else None, evaluated, reason, bracket
