@@ -15,7 +15,6 @@ import workspace_sym as ws
 from workspace_sym import robots
 from workspace_sym.cli import main
 from workspace_sym.errors import InvalidParameterError, WorkspaceError
-from workspace_sym.interval.paving import Paving
 from workspace_sym.orientation import SectionPaving, _plan, constraint_from, orientation_constraint, reach_pose
 from workspace_sym.serial_workspace import reach
 
@@ -253,7 +252,7 @@ def test_puma_cone_section_bracket_meets_the_box_bracket(puma_cone):
     # same section, classified box by box): the two must meet, and the section's is the tighter one here.
     p = puma_cone
     assert isinstance(p, SectionPaving) and p.complete
-    box_lo, box_hi = Paving.measure_bounds.func(p)        # the boxes' own bracket
+    box_lo, box_hi = p.box_bounds
     lo, hi = p.section_bracket
     assert lo <= box_hi and box_lo <= hi
     assert hi - lo < box_hi - box_lo

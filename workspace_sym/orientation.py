@@ -79,6 +79,7 @@ import math
 import time
 from dataclasses import dataclass
 from functools import cached_property, lru_cache
+from typing import TYPE_CHECKING
 
 import numpy as np
 import sympy as sp
@@ -93,6 +94,9 @@ from .interval.paving import Box, Paving, RunBudget, box_measure, box_sizes, che
 from .interval.store import ExactSum
 from .kinematics import DHRobot
 from .snap import snap_angle
+
+if TYPE_CHECKING:
+    from .serial_workspace import _Revolved
 
 __all__ = ["PoseConstraint", "approach_constraint", "orientation_constraint", "reach_pose", "PoseModel",
            "SectionPaving", "section_volume_bracket", "ORTHOGONAL_TOL"]
@@ -148,9 +152,16 @@ class PoseConstraint:
         """The constraint for a JSON answer (floats; the exact values as text)."""
         if self.kind == "cone":
             return {"approach": [float(c) for c in self.direction], "cone_deg": self.degrees, "every": self.every}
-        return {"orientation": [[float(self.rotation[i, j]) for j in range(3)] for i in range(3)],
+        return {"orientation": [[float(self.matrix[i, j]) for j in range(3)] for i in range(3)],
                 "rpy_deg": [float(a * 180 / sp.pi) for a in self.rpy],
                 "rpy_exact": [sp.sstr(a) for a in self.rpy]}
+
+    @property
+    def matrix(self) -> sp.Matrix:
+        """The exact rotation of an orientation constraint."""
+        if self.rotation is None:
+            raise ValueError(f"{self} has no rotation matrix")
+        return self.rotation
 
     def __str__(self) -> str:
         if self.kind == "cone":
@@ -255,12 +266,12 @@ def orientation_constraint(orientation=None, rpy=None) -> PoseConstraint:
         roll, yaw = math.atan2(M[2, 1], M[2, 2]), math.atan2(M[1, 0], M[0, 0])
     else:                                   # gimbal lock: yaw = 0
         roll, yaw = math.atan2(-M[1, 2], M[1, 1]), 0.0
-    angles = tuple(snap_angle(a, ORTHOGONAL_TOL) or sp.Rational(a) for a in (roll, pitch, yaw))
-    R = _rotation(*angles)
+    snapped = tuple(snap_angle(a, ORTHOGONAL_TOL) or sp.Rational(a) for a in (roll, pitch, yaw))
+    R = _rotation(*snapped)
     if np.abs(np.array(R.evalf(20).tolist(), dtype=float) - M).max() > ORTHOGONAL_TOL:
         raise InvalidParameterError(f"orientation must be {expected}; got {M.tolist()} (no roll, pitch, yaw "
                                     "reproduces it)", parameter="orientation")
-    return PoseConstraint("orientation", rotation=R, rpy=angles)
+    return PoseConstraint("orientation", rotation=R, rpy=snapped)
 
 
 def _orthonormal_pair(d):
@@ -459,8 +470,8 @@ class PoseModel:
                 self.proof = _ConstrainedMap(position, [], approach.dot(d), self.bound[1], True, variables, limits,
                                              periodic, aim=aim)
         else:
-            self.entries = np.array([numpy_constant(e) for e in constraint.rotation], dtype=float)   # (9, 2)
-            M = constraint.rotation.T * rotation
+            self.entries = np.array([numpy_constant(e) for e in constraint.matrix], dtype=np.float64)   # (9, 2)
+            M = constraint.matrix.T * rotation
             skew = [M[2, 1] - M[1, 2], M[0, 2] - M[2, 0], M[1, 0] - M[0, 1]]
             self.proof = _ConstrainedMap(position, skew, M.trace(), -1.0, False, variables, limits, periodic)
         root = self.position.enclose(self.position.limits[None])[0]
@@ -646,7 +657,7 @@ def _spin_reduction(robot: DHRobot, params, constraint: PoseConstraint, T) -> Po
         return constraint
     if not _joint_range(robot, k, params)[1]:
         return constraint
-    return PoseConstraint("cone", tuple(constraint.rotation[:, 2]), sp.S.Zero, 0.0, False)
+    return PoseConstraint("cone", tuple(constraint.matrix[:, 2]), sp.S.Zero, 0.0, False)
 
 
 def _joints_of(robot, expressions, params):
@@ -665,7 +676,7 @@ class _Plan:
     invariant under that turn (a cone about the vertical)."""
 
     model: PoseModel
-    revolved: object = None
+    revolved: _Revolved | None = None
 
 
 def _section_plan(robot: DHRobot, parameters: tuple, constraint: PoseConstraint, T) -> _Plan | None:
@@ -811,18 +822,18 @@ def reach_pose(robot: DHRobot, *, delta: float, approach=None, cone=None, every:
         if not isinstance(value, int) or isinstance(value, bool) or value < least:
             raise InvalidParameterError(f"{name} must be a whole number, {least} or more; got {value!r}",
                                         parameter=name)
-    parameters = tuple(sorted((parameters or {}).items(), key=lambda item: str(item[0])))
+    values = tuple(sorted((parameters or {}).items(), key=lambda item: str(item[0])))
     run = RunBudget(max_boxes=max_boxes, time_limit=time_limit, progress=progress, total=0.0, label="reach")
     if section_ratio is not None and not (isinstance(section_ratio, int | float) and 0 < section_ratio <= 4):
         raise InvalidParameterError(f"section_ratio must be a number in (0, 4]; got {section_ratio!r}",
                                     parameter="section_ratio")
     options = dict(max_pairs=max_pairs, inner_depth=inner_depth, chunk_pairs=chunk_pairs)
     try:
-        plan = _plan(robot, parameters, constraint)
+        plan = _plan(robot, values, constraint)
         if plan.revolved is None:
             result = _pave_direct(plan.model, robot, delta, size, run, options)
         else:
-            result = _pave_revolved(plan, robot, parameters, delta, size, run, options, section_ratio)
+            result = _pave_revolved(plan, plan.revolved, robot, values, delta, size, run, options, section_ratio)
     finally:
         run.close()
     box, inner, boundary, outer, pending, evaluated, reason, bracket = result
@@ -855,7 +866,10 @@ def _pave_pairs(model: PoseModel, root, delta, size, run, *, max_pairs, inner_de
     decided = 0.0
     while len(T):
         parts = list(_parts(T, Q, owner, max(1, math.ceil(len(Q) / chunk_pairs))))
-        children, pairs, owners, left = [], [], [], []
+        children: list[np.ndarray] = []
+        pairs: list[np.ndarray] = []
+        owners: list[np.ndarray] = []
+        left: list[np.ndarray] = []
         for n, (t, q, o) in enumerate(parts):
             reason = run.stop_reason(evaluated, ahead=rate * (len(t) + len(q)))
             if not reason:
@@ -872,7 +886,7 @@ def _pave_pairs(model: PoseModel, root, delta, size, run, *, max_pairs, inner_de
             inner.append(i)
             boundary.append(b)
             outer.append(out)
-            owners.append(co + sum(map(len, children)))
+            owners.append(co + sum(len(c) for c in children))
             children.append(c)
             pairs.append(cq)
             decided += box_measure(i) + box_measure(b) + box_measure(out)
@@ -1009,8 +1023,13 @@ class SectionPaving(Paving):
 
     @cached_property
     def measure_bounds(self) -> tuple[float, float]:
-        lo, hi = Paving.measure_bounds.func(self)
+        lo, hi = self.box_bounds
         return max(lo, self.section_bracket[0]), min(hi, self.section_bracket[1])
+
+    @property
+    def box_bounds(self) -> tuple[float, float]:
+        """The bracket of the boxes alone (:attr:`Paving.measure_bounds`)."""
+        return Paving.__dict__["measure_bounds"].func(self)
 
     def to_dict(self) -> dict:
         out = super().to_dict()
@@ -1018,7 +1037,7 @@ class SectionPaving(Paving):
         return out
 
 
-def _pave_revolved(plan: _Plan, robot, parameters, delta, size, run, options, ratio=None):
+def _pave_revolved(plan: _Plan, revolved: _Revolved, robot, parameters, delta, size, run, options, ratio=None):
     """The section paving turned by the first joint (``serial_workspace``'s section test, with the section
     of the admissible configurations)."""
     from .serial_workspace import SECTION_RATIO, _cell_width, _SectionTest, check_root, classify_task_boxes
@@ -1033,13 +1052,15 @@ def _pave_revolved(plan: _Plan, robot, parameters, delta, size, run, options, ra
     grid, classes, evaluated, reason = _section_classes(plan.model, ratio * _cell_width(delta, size, 3), run,
                                                         options)
     T = root[None].copy()
-    inner, boundary, outer = [], [], []
+    inner: list[np.ndarray] = []
+    boundary: list[np.ndarray] = []
+    outer: list[np.ndarray] = []
     # A section cut short by the budget still classifies (its undecided cells leave boundary boxes, so the
     # bracket holds); the run is then reported incomplete, with the reason.
     cut = reason
-    T, evaluated, reason = classify_task_boxes(_SectionTest(plan.revolved, grid, classes), T, inner, boundary,
+    T, evaluated, reason = classify_task_boxes(_SectionTest(revolved, grid, classes), T, inner, boundary,
                                                outer, delta, size, run, evaluated, stop=not cut)
-    bracket = section_volume_bracket(grid, classes, plan.revolved)
+    bracket = section_volume_bracket(grid, classes, revolved)
     if cut:
         return box, inner, boundary, outer, T, evaluated, cut, bracket
     return box, inner, boundary, outer, T if len(T) and reason else None, evaluated, reason, bracket
