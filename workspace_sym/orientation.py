@@ -59,9 +59,16 @@ Krawczyk box ``U`` (:meth:`ImageMap.admissible`):
 So an inner box is proved with the constraint *exactly* (no tolerance):
 the solution the Krawczyk operator proves lies in ``U``, inside the limits.
 
+A cone on an arm with a roll-pitch wrist (two joints moving the approach
+and not the position, the first turning fully, ``a . z = cos(q_k + phi)``
+about its axis ``z``) is paved as a cone on ``z`` over the arm joints alone
+(:func:`_wrist_reduction`, docs/methods.md section 8).
+
 ``every=True`` (positions from which every direction of the cone is
-reachable, the dextrous workspace of Kumar and Waldron) is not implemented
-for ``c > 0`` and raises; for ``c = 0`` it is the same as ``every=False``.
+reachable, the dextrous workspace of Kumar and Waldron) is proved with a
+roll-pitch wrist (inner: one arm configuration whose wrist reaches the whole
+cone; outer: ``d`` itself unreachable) and raises otherwise for ``c > 0``; for
+``c = 0`` it is the same as ``every=False``.
 
 The target rotation is made exact: ``rpy`` angles are read like the angles
 of a DH file (numbers are degrees, ``pi`` makes radians); a matrix must be a
@@ -203,10 +210,6 @@ def approach_constraint(approach, cone, every: bool = False) -> PoseConstraint:
                                     parameter="cone")
     if not isinstance(every, bool):
         raise InvalidParameterError(f"every must be True or False; got {every!r}", parameter="every")
-    if every and degrees > 0:
-        raise InvalidParameterError(f"every=True (every direction of a {degrees:g} degree cone, the dextrous "
-                                    "workspace) is not implemented: no certified answer is given; use every=False "
-                                    "(some direction of the cone) or cone=0", parameter="every")
     direction = tuple(_exact(v) for v in numbers)
     return PoseConstraint("cone", direction, _exact(degrees) * sp.pi / 180, degrees, every)
 
@@ -431,7 +434,7 @@ class PoseModel:
     """
 
     def __init__(self, position, approach, rotation, constraint: PoseConstraint, variables, limits, periodic,
-                 task_variables):
+                 task_variables, *, proof_cone: sp.Expr | None = None):
         self.constraint = constraint
         variables, limits, periodic = list(variables), list(limits), list(periodic)
         position = [sp.sympify(e) for e in position]
@@ -466,8 +469,12 @@ class PoseModel:
                     self.solver = _WristSolver([approach.dot(e1), approach.dot(e2)], approach.dot(d), self.variables,
                                                self.ka)
             else:
-                aim = ImageMap(position + [approach.dot(e1), approach.dot(e2)], variables, limits, periodic)
-                self.proof = _ConstrainedMap(position, [], approach.dot(d), self.bound[1], True, variables, limits,
+                # The inner proof may need a narrower cone than the one whose violation drops a box (every=True
+                # after the wrist reduction); Newton first aims the axis at d when that leaves a square system.
+                proof_bound = self.bound if proof_cone is None else numpy_constant(norm * sp.cos(proof_cone))
+                aim = (ImageMap(position + [approach.dot(e1), approach.dot(e2)], variables, limits, periodic)
+                       if len(variables) >= len(position) + 2 else None)
+                self.proof = _ConstrainedMap(position, [], approach.dot(d), proof_bound[1], True, variables, limits,
                                              periodic, aim=aim)
         else:
             self.entries = np.array([numpy_constant(e) for e in constraint.matrix], dtype=np.float64)   # (9, 2)
@@ -660,6 +667,65 @@ def _spin_reduction(robot: DHRobot, params, constraint: PoseConstraint, T) -> Po
     return PoseConstraint("cone", tuple(constraint.matrix[:, 2]), sp.S.Zero, 0.0, False)
 
 
+def _wrist_reduction(robot: DHRobot, params, constraint: PoseConstraint, T):
+    """A cone on the approach axis as a cone on the roll axis of a roll-pitch wrist, or None.
+
+    The wrist is the two joints ``j < k`` that move the approach ``a`` and not the position (standard DH, both
+    revolute).  When ``q_j`` enters only ``theta_j`` and its range spans a period, ``a = Rot(z, theta_j) b`` with
+    ``z`` the axis of joint ``j`` (``z_{j-1}``, free of the wrist), so a full turn of ``q_j`` sweeps every direction
+    at the angle of ``b`` from ``z``.  When moreover ``a . z = cos(q_k + phi)`` (checked symbolically) and ``q_k``'s
+    range holds an angle ``t`` with ``t + phi = 0 (mod 2 pi)``, the directions the wrist reaches from an arm
+    configuration are exactly the cap ``angle(a, z) <= psi`` with ``psi = min(pi, largest |q_k + phi|)``.  Then
+    (theorem) some direction within ``c`` of ``d`` is reached iff ``angle(z, d) <= psi + c``; every direction of the
+    cone (one arm configuration) iff ``angle(z, d) <= psi - c``; ``d`` itself iff ``angle(z, d) <= psi``.
+
+    Returns ``(z, constraint on z, proof_cone)``: the cone ``psi + c`` (``psi`` with ``every``, whose drops are
+    then proved for the axis ``d`` alone, a direction of the cone) and the cone the inner proof must show
+    (``psi - c`` with ``every``, else None).  The wrist joints then leave the model: its inner proof no longer
+    meets the wrist's singularity (``q_k + phi = 0``, where ``q_j`` is undetermined), nor its violation proofs a
+    cover of wrist boxes.
+    """
+    from .serial_workspace import _joint_range
+
+    if constraint.kind != "cone" or robot.convention != "standard":
+        return None
+    approach, position = list(T[:3, 2]), list(T[:3, 3])
+    in_position = set().union(*(sp.sympify(e).free_symbols for e in position))
+    in_approach = set().union(*(sp.sympify(e).free_symbols for e in approach))
+    wrist = [i for i, q in enumerate(robot.q) if q in in_approach and q not in in_position]
+    if len(wrist) != 2 or any(robot.joints[i].kind != "R" for i in wrist):
+        return None
+    j, k = wrist
+    roll, pitch = robot.q[j], robot.q[k]
+    others = [e for i, joint in enumerate(robot.joints) for e in (joint.d, joint.a, joint.alpha)
+              + (() if i == j else (joint.theta,))]
+    others += [e for M in (robot.base, robot.tool) if M is not None for e in M]
+    if not _free_of(others, roll) or not _joint_range(robot, j, params)[1]:
+        return None
+    axis = list(robot.substitute(robot.fk(j), params)[:3, 2])
+    if not _free_of(axis, roll) or not _free_of(axis, pitch):
+        return None
+    cosine = sp.simplify(sp.Matrix(approach).dot(sp.Matrix(axis)))
+    if cosine.free_symbols != {pitch}:
+        return None
+    phi = sp.atan2(-sp.diff(cosine, pitch).subs(pitch, 0), cosine.subs(pitch, 0))
+    if sp.simplify(sp.expand_trig(cosine - sp.cos(pitch + phi))) != 0:
+        return None
+    (lo, hi), _ = _joint_range(robot, k, params)
+    turns = sp.ceiling((lo + phi) / (2 * sp.pi))
+    if not bool(2 * sp.pi * turns <= hi + phi):
+        return None                         # the cap's centre is not reached: an annulus, not a cap
+    psi = sp.Min(sp.pi, sp.Max(2 * sp.pi * turns - lo - phi, hi + phi - 2 * sp.pi * turns))
+    c = constraint.cone
+    if constraint.every and c != 0:
+        if not bool(psi - c >= 0):
+            return None
+        reduced = PoseConstraint("cone", constraint.direction, psi, float(psi * 180 / sp.pi), True)
+        return axis, reduced, psi - c
+    angle = sp.Min(sp.pi, psi + c)
+    return axis, PoseConstraint("cone", constraint.direction, angle, float(angle * 180 / sp.pi)), None
+
+
 def _joints_of(robot, expressions, params):
     from .serial_workspace import _joint_range
 
@@ -679,7 +745,7 @@ class _Plan:
     revolved: _Revolved | None = None
 
 
-def _section_plan(robot: DHRobot, parameters: tuple, constraint: PoseConstraint, T) -> _Plan | None:
+def _section_plan(robot: DHRobot, parameters: tuple, constraint: PoseConstraint, axis, proof_cone) -> _Plan | None:
     """The section plan (``_Plan``) when the robot is turned by its first joint (``serial_workspace``'s
     section structure: standard DH, no base, ``q_1`` only in ``theta_1``) and the cone's axis is vertical:
     then ``p = Rz(theta_1) p'`` and ``a = Rz(theta_1) a'`` with ``p', a'`` the pose at ``theta_1 = 0``, and
@@ -695,13 +761,14 @@ def _section_plan(robot: DHRobot, parameters: tuple, constraint: PoseConstraint,
     q1 = robot.q[0]
     theta = robot.substitute(robot.joints[0].theta, params)
     zero = {q1: -theta.subs(q1, 0) / sp.diff(theta, q1)}
-    approach = [e.subs(zero) for e in T[:3, 2]]
+    approach = [e.subs(zero) for e in axis]
     position = list(revolved.section.expressions)
     variables, limits, periodic = _joints_of(robot, position + approach, params)
     if q1 in variables:
         return None
     model = PoseModel(position, approach, None, constraint, variables, limits, periodic, (sp.Symbol("u"),
-                                                                                         sp.Symbol("v")))
+                                                                                         sp.Symbol("v")),
+                      proof_cone=proof_cone)
     return _Plan(model, revolved)
 
 
@@ -722,13 +789,25 @@ def _plan(robot: DHRobot, parameters: tuple, constraint: PoseConstraint) -> _Pla
                                     f"three position coordinates move; {robot.name}'s position is {position}",
                                     parameter="robot")
     reduced = _spin_reduction(robot, params, constraint, T)
-    plan = _section_plan(robot, parameters, reduced, T)
+    axis, proof_cone = list(T[:3, 2]), None
+    wrist = _wrist_reduction(robot, params, reduced, T)
+    if wrist is not None:
+        axis, reduced, proof_cone = wrist
+    elif reduced.every and reduced.cone != 0:
+        raise InvalidParameterError(f"every=True (every direction of a {reduced.degrees:g} degree cone, the "
+                                    "dextrous workspace) is not implemented here: it is proved only for arms whose "
+                                    "two last joints that move the approach form a roll-pitch wrist "
+                                    f"(docs/methods.md section 8), and {robot.name}'s do not; no certified answer "
+                                    "is given: use every=False (some direction of the cone) or cone=0",
+                                    parameter="every")
+    plan = _section_plan(robot, parameters, reduced, axis, proof_cone)
     if plan is not None:
         return plan
     rotation = T[:3, :3]
-    quantities = list(T[:3, 2]) if reduced.kind == "cone" else list(rotation)
+    quantities = axis if reduced.kind == "cone" else list(rotation)
     variables, limits, periodic = _joints_of(robot, position + quantities, params)
-    return _Plan(PoseModel(position, T[:3, 2], rotation, reduced, variables, limits, periodic, _TASK))
+    return _Plan(PoseModel(position, axis, rotation, reduced, variables, limits, periodic, _TASK,
+                           proof_cone=proof_cone))
 
 
 def _volumes(T: np.ndarray) -> np.ndarray:
@@ -788,8 +867,8 @@ def reach_pose(robot: DHRobot, *, delta: float, approach=None, cone=None, every:
         Undecided task boxes whose size is at most ``delta`` become boundary boxes.
     approach, cone : the axis ``(ax, ay, az)`` (any non-zero length) and the half-angle in degrees,
         ``0 <= cone <= 180``: the tool's approach axis (z of the tool frame) within ``cone`` of ``approach``.
-    every : positions from which every direction of the cone is reached: not implemented for ``cone > 0``
-        (raises); with ``cone = 0`` the same as False.
+    every : positions from which every direction of the cone is reached (proved for arms with a roll-pitch
+        wrist, raises for others when ``cone > 0``); with ``cone = 0`` the same as False.
     orientation, rpy : the tool frame exactly ``orientation`` (3 x 3 rotation matrix) or
         ``Rz(yaw) Ry(pitch) Rx(roll)`` with ``rpy = (roll, pitch, yaw)`` in degrees.
     size, parameters, max_boxes, time_limit, progress, inner_depth : as for ``reach``.
@@ -1055,12 +1134,10 @@ def _pave_revolved(plan: _Plan, revolved: _Revolved, robot, parameters, delta, s
     inner: list[np.ndarray] = []
     boundary: list[np.ndarray] = []
     outer: list[np.ndarray] = []
-    # A section cut short by the budget still classifies (its undecided cells leave boundary boxes, so the
-    # bracket holds); the run is then reported incomplete, with the reason.
-    cut = reason
-    T, evaluated, reason = classify_task_boxes(_SectionTest(revolved, grid, classes), T, inner, boundary,
-                                               outer, delta, size, run, evaluated, stop=not cut)
+    # The section holds the work: its cells classify every (x, y, z) box, also when the budget ran out while
+    # it was paved (its undecided cells leave boundary boxes, so the bracket holds; the run is then reported
+    # incomplete, with the reason) or just after.
+    T, evaluated, _ = classify_task_boxes(_SectionTest(revolved, grid, classes), T, inner, boundary, outer, delta,
+                                          size, run, evaluated, stop=False)
     bracket = section_volume_bracket(grid, classes, revolved)
-    if cut:
-        return box, inner, boundary, outer, T, evaluated, cut, bracket
-    return box, inner, boundary, outer, T if len(T) and reason else None, evaluated, reason, bracket
+    return box, inner, boundary, outer, T if reason else None, evaluated, reason, bracket
