@@ -84,7 +84,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property, lru_cache
 from typing import TYPE_CHECKING
 
@@ -726,6 +726,43 @@ def _wrist_reduction(robot: DHRobot, params, constraint: PoseConstraint, T):
     return axis, PoseConstraint("cone", constraint.direction, angle, float(angle * 180 / sp.pi)), None
 
 
+def _tool_offset(robot: DHRobot, params, constraint: PoseConstraint, T):
+    """For a constant orientation ``R``: ``(k, o_k + R t)`` with ``k`` the first frame whose origin ``o_k`` holds
+    the tool point at a constant offset in the tool frame, ``t = R(q)^T (p(q) - o_k(q))`` free of the joints (a
+    spherical wrist: ``k`` its centre's frame, ``t = (0, 0, d6)`` for the Puma), or None.
+
+    On the configurations with ``R(q) = R`` the tool point is ``o_k(q) + R t`` (theorem), so the workspace is paved
+    with that position, which the wrist joints do not move; its configurations are those of the constraint, so
+    inner and outer proofs hold for the real tool point.  After the spin reduction (a configuration with
+    ``a(q) = R z``, spun by the last joint to ``R(q) = R``) the tool point is still ``o_k + R t``: ``o_k`` does not
+    depend on the last joint."""
+    if constraint.kind != "orientation":
+        return None
+    # R(q)^T (p - o_k) = (R_k^n)^T p_k^n: the offset from the tail of the chain alone (frames k..n, tool).
+    tails = [sp.eye(4) if robot.tool is None else sp.Matrix(robot.tool)]
+    for i in range(robot.n, 0, -1):
+        tails.append(robot.substitute(robot.row_matrix(i), params) * tails[-1])
+    tails = tails[::-1]                     # tails[k] = T_k^n (tool included)
+    probes = np.random.default_rng(0).uniform(-3, 3, size=(robot.n, 4))
+    found = None
+    for k in range(robot.n - 1, 0, -1):     # the shortest tail first; a float probe rejects before SymPy
+        offset = tails[k][:3, :3].T * tails[k][:3, 3]
+        with np.errstate(all="ignore"):
+            values = np.array([np.broadcast_to(np.asarray(v, dtype=float), (4,))
+                               for v in sp.lambdify([robot.q], list(offset), modules="numpy")(probes)])
+        if not np.isfinite(values).all() or np.ptp(values, axis=1).max() > 1e-9:
+            break
+        t = sp.simplify(offset)
+        if t.free_symbols & set(robot.q):
+            break
+        found = k, t
+    if found is None:
+        return None
+    k, t = found
+    origin = robot.substitute(robot.fk(k), params)[:3, 3]
+    return k, [sp.sympify(e) for e in origin + constraint.matrix * t]
+
+
 def _joints_of(robot, expressions, params):
     from .serial_workspace import _joint_range
 
@@ -745,16 +782,18 @@ class _Plan:
     revolved: _Revolved | None = None
 
 
-def _section_plan(robot: DHRobot, parameters: tuple, constraint: PoseConstraint, axis, proof_cone) -> _Plan | None:
+def _section_plan(robot: DHRobot, parameters: tuple, constraint: PoseConstraint, axis, proof_cone,
+                  section_robot: DHRobot) -> _Plan | None:
     """The section plan (``_Plan``) when the robot is turned by its first joint (``serial_workspace``'s
     section structure: standard DH, no base, ``q_1`` only in ``theta_1``) and the cone's axis is vertical:
     then ``p = Rz(theta_1) p'`` and ``a = Rz(theta_1) a'`` with ``p', a'`` the pose at ``theta_1 = 0``, and
-    ``a . d = a' . d``, so the admissible configurations of the other joints do not depend on ``theta_1``."""
+    ``a . d = a' . d``, so the admissible configurations of the other joints do not depend on ``theta_1``.
+    ``section_robot`` has the position paved (the robot, or the wrist centre's chain shifted by a tool offset)."""
     from . import serial_workspace as sw
 
     if constraint.kind != "cone" or constraint.direction[0] != 0 or constraint.direction[1] != 0:
         return None
-    revolved = sw._revolved(sw._model(robot, parameters))
+    revolved = sw._revolved(sw._model(section_robot, parameters))
     if revolved is None:
         return None
     params = dict(parameters) or None
@@ -788,6 +827,22 @@ def _plan(robot: DHRobot, parameters: tuple, constraint: PoseConstraint) -> _Pla
         raise InvalidParameterError(f"robot: an approach or orientation constraint needs a spatial robot whose "
                                     f"three position coordinates move; {robot.name}'s position is {position}",
                                     parameter="robot")
+    section_robot: DHRobot | None = robot
+    offset = _tool_offset(robot, params, constraint, T)
+    if offset is not None:
+        k, position = offset
+        T = sp.Matrix(T)
+        T[:3, 3] = sp.Matrix(position)
+        # The chain to o_k with the offset's vertical part in d_1 (a translation along z_0, the turn's axis):
+        # its section is that of o_k + R t when R t is vertical, the only case a vertical cone's section needs.
+        lift = sp.Matrix(position) - robot.substitute(robot.fk(k), params)[:3, 3]
+        if lift[0] == 0 and lift[1] == 0 and robot.base is None:
+            joints = list(robot.joints[:k])
+            joints[0] = replace(joints[0], d=joints[0].d + lift[2])
+            section_robot = DHRobot(joints, convention=robot.convention, name=f"{robot.name} (wrist centre)",
+                                    parameters=robot.parameters, units=robot.units)
+        else:
+            section_robot = None
     reduced = _spin_reduction(robot, params, constraint, T)
     axis, proof_cone = list(T[:3, 2]), None
     wrist = _wrist_reduction(robot, params, reduced, T)
@@ -800,7 +855,8 @@ def _plan(robot: DHRobot, parameters: tuple, constraint: PoseConstraint) -> _Pla
                                     f"(docs/methods.md section 8), and {robot.name}'s do not; no certified answer "
                                     "is given: use every=False (some direction of the cone) or cone=0",
                                     parameter="every")
-    plan = _section_plan(robot, parameters, reduced, axis, proof_cone)
+    plan = None if section_robot is None else _section_plan(robot, parameters, reduced, axis, proof_cone,
+                                                              section_robot)
     if plan is not None:
         return plan
     rotation = T[:3, :3]
