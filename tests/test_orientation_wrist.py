@@ -121,12 +121,11 @@ def test_points_of_tool_down_inner_boxes_are_reached_with_the_frame_at_50_digits
         assert _pose_50_digits(rng, y, R) is not None, f"tool down not reached at {y} of {box.tolist()}"
 
 
-def test_tool_down_outer_boxes_hold_no_configuration_reaching_tool_down(tool_down):
-    # Reference: sampled arm configurations and a float inverse kinematics of the wrist for the direction
-    # (0, 0, -1) (Newton on a_x = a_y = 0 in q4, q5, vectorised; q6 then turns the frame to R about it): a
-    # configuration that reaches tool down puts the tool point (the wrist centre, d6 = 0) outside every outer box.
-    rng = np.random.default_rng(RNG_SEED + 1)
-    q = rng.uniform(LIMITS[:, 0], LIMITS[:, 1], size=(2000, 6))
+def _points_reaching_down(seed, count=2000):
+    """Tool points of sampled arm configurations whose wrist reaches the approach (0, 0, -1) within the limits
+    (float Newton on a_x = a_y = 0 in q4, q5, vectorised; a_z = -1 checked)."""
+    rng = np.random.default_rng(seed)
+    q = rng.uniform(LIMITS[:, 0], LIMITS[:, 1], size=(count, 6))
     g = sp.lambdify([PUMA.q], [T[0, 2], T[1, 2]], modules="numpy")
     J = sp.lambdify([PUMA.q], sp.Matrix([T[0, 2], T[1, 2]]).jacobian(PUMA.q[3:5]).tolist(), modules="numpy")
     for _ in range(30):
@@ -139,10 +138,83 @@ def test_tool_down_outer_boxes_hold_no_configuration_reaching_tool_down(tool_dow
     a_z = np.asarray(sp.lambdify([PUMA.q], T[2, 2], modules="numpy")(q.T), dtype=float)
     within = np.all((q[:, 3:5] >= LIMITS[3:5, 0]) & (q[:, 3:5] <= LIMITS[3:5, 1]), axis=1)
     reached = within & (a_z < -1 + 1e-12)
-    points = np.stack([np.asarray(v, dtype=float) for v in sp.lambdify([PUMA.q], list(T[:3, 3]),
-                                                                       modules="numpy")(q[reached].T)], axis=1)
+    return np.stack([np.asarray(v, dtype=float) for v in sp.lambdify([PUMA.q], list(T[:3, 3]),
+                                                                      modules="numpy")(q[reached].T)], axis=1)
+
+
+def _in_some(points, boxes):
+    return np.all((points[:, None, :] > boxes[None, :, :, 0] + 1e-9)
+                  & (points[:, None, :] < boxes[None, :, :, 1] - 1e-9), axis=2).any(axis=1)
+
+
+def test_tool_down_outer_boxes_hold_no_configuration_reaching_tool_down(tool_down):
+    # Reference: sampled configurations reaching the approach (0, 0, -1) (q6 then turns the frame to R about it):
+    # their tool point (the wrist centre, d6 = 0) lies in no outer box.
+    points = _points_reaching_down(RNG_SEED + 1)
     assert len(points) > 200
-    outer = tool_down.outer
-    inside = np.all((points[:, None, :] > outer[None, :, :, 0] + 1e-9)
-                    & (points[:, None, :] < outer[None, :, :, 1] - 1e-9), axis=2)
-    assert not inside.any()
+    assert not _in_some(points, tool_down.outer).any()
+
+
+@pytest.fixture(scope="module")
+def every_cone():
+    return reach(PUMA, delta=0.25, approach=(0, 0, -1), cone=20, every=True)
+
+
+def test_every_direction_drops_only_where_the_axis_is_unreachable(every_cone):
+    # Reference: as above; the axis (0, 0, -1) is a direction of the cone, so a position reaching it with some
+    # configuration may not be outer.
+    points = _points_reaching_down(RNG_SEED + 2)
+    assert every_cone.counts["outer"] > 0 and not _in_some(points, every_cone.outer).any()
+
+
+def test_points_of_every_direction_inner_boxes_reach_the_whole_cone_at_50_digits(every_cone):
+    # Reference: for a point of each of two inner boxes and five directions of the cone (its axis and four on
+    # its rim, 20 deg from it), an inverse kinematics at 50 digits: position and the approach's two smallest
+    # components exact (residual below 1e-40; the third's sign then fixes the unit vector), within the limits.
+    assert every_cone.counts["inner"] > 0
+    rng = np.random.default_rng(RNG_SEED + 3)
+    tilt = math.radians(20 - 1e-6)        # on the rim, inside by more than the rounding of the floats
+    directions = [np.array([0.0, 0.0, -1.0])] + [np.array([math.sin(tilt) * math.cos(s), math.sin(tilt) * math.sin(s),
+                                                           -math.cos(tilt)]) for s in np.arange(4) * math.pi / 2]
+    q5 = PUMA.q[:5]
+    arm = ImageMap(list(T[:3, 3]), PUMA.q[:3], [tuple(r) for r in LIMITS[:3]], [False] * 3)
+    for box in every_cone.inner[rng.choice(len(every_cone.inner), size=2, replace=False)]:
+        y = rng.uniform(box[:, 0], box[:, 1])
+        q, ok = arm.newton(np.repeat(y[None], 200, axis=0), rng.uniform(LIMITS[:3, 0], LIMITS[:3, 1], (200, 3)),
+                           steps=40)
+        arms = np.unique(np.round(q[ok & np.all((q >= LIMITS[:3, 0]) & (q <= LIMITS[:3, 1]), axis=1)], 9), axis=0)
+        for d in directions:
+            keep = [i for i in range(3) if i != int(np.argmax(np.abs(d)))]
+            equations = list(T[:3, 3]) + [T[i, 2] for i in keep]
+            f = sp.lambdify(q5, [e.subs(PUMA.q[5], 0) for e in equations], modules="mpmath")
+            a_of = sp.lambdify(q5, list(T[:3, 2].subs(PUMA.q[5], 0)), modules="mpmath")
+            goal = list(y) + [d[i] for i in keep]
+            found = False
+            for solution in arms:
+                fixed = {PUMA.q[i]: sp.Float(solution[i], 17) for i in range(3)}
+                wrist = ImageMap([T[i, 2].subs(fixed) for i in keep], PUMA.q[3:5], [tuple(r) for r in LIMITS[3:5]],
+                                 [False, False])
+                w, good = wrist.newton(np.repeat(d[keep][None], 40, axis=0),
+                                       rng.uniform(LIMITS[3:5, 0], LIMITS[3:5, 1], (40, 2)), steps=40)
+                good &= np.all((w >= LIMITS[3:5, 0]) & (w <= LIMITS[3:5, 1]), axis=1)
+                a_float = sp.lambdify([PUMA.q[3:5]], [T[i, 2].subs(fixed) for i in range(3)], modules="numpy")
+                # not the mirror solution (the third component's sign)
+                good &= np.array([np.abs(np.array(a_float(v), dtype=float) - d).max() < 1e-8 for v in w])
+                for start in w[good][:2]:
+                    with mpmath.workdps(50):
+                        target = [mpmath.mpf(float(v)) for v in goal]
+                        root = mpmath.findroot(lambda *x, f=f, target=target: [e - g for e, g in zip(f(*x), target)],
+                                               [mpmath.mpf(v) for v in np.concatenate([solution, start])])
+                        x = [root[i] for i in range(5)]
+                        a = a_of(*x)
+                        # the kept components exact, the third of d's sign (a is a unit vector)
+                        largest = int(np.argmax(np.abs(d)))
+                        error = max(abs(e - g) for e, g in zip(f(*x), target))
+                        error += 0 if a[largest] * d[largest] > 0 else 1
+                        inside = all(mpmath.mpf(LIMITS[i, 0]) <= x[i] <= mpmath.mpf(LIMITS[i, 1]) for i in range(5))
+                        if error < mpmath.mpf(10) ** -40 and inside:
+                            found = True
+                            break
+                if found:
+                    break
+            assert found, f"direction {d} not reached at {y} of inner box {box.tolist()}"
