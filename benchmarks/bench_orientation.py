@@ -44,7 +44,7 @@ def cases(quick: bool):
     down = dict(approach=(0, 0, -1), cone=20)
     tool_down = dict(rpy=(180, 0, 0))
     return [("Puma 560", puma, down, (0.05,) if quick else (0.03, 0.02)),
-            ("Puma 560", puma, tool_down, (0.1,) if quick else (0.1, 0.07)),
+            ("Puma 560", puma, tool_down, (0.1,) if quick else (0.07, 0.03)),
             ("UR5", ur5, down, (0.2,)), ("UR5", ur5, tool_down, (0.2,))]
 
 

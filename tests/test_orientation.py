@@ -212,10 +212,11 @@ def test_errors_are_workspace_errors():
         reach_pose(robots.build("planar-2r"), delta=0.1, approach=(0, 0, 1), cone=10)
 
 
-def _full_wrist_puma():
-    """The Puma 560 with its wrist joints over a full turn: the wrist then reaches every orientation."""
+def _full_wrist_puma(d6=0):
+    """The Puma 560 with its wrist joints over a full turn (the wrist then reaches every orientation) and a tool
+    length d6 along the last axis."""
     base = robots.build("puma560")
-    wrist = [ws.DHJoint.revolute(k + 4, d=j.d, a=j.a, alpha=j.alpha, limits=(-sp.pi, sp.pi))
+    wrist = [ws.DHJoint.revolute(k + 4, d=d6 if k == 2 else j.d, a=j.a, alpha=j.alpha, limits=(-sp.pi, sp.pi))
              for k, j in enumerate(base.joints[3:])]
     return ws.DHRobot(list(base.joints[:3]) + wrist, name="puma-full-wrist", parameters=base.parameters, units="m")
 
@@ -237,6 +238,25 @@ def test_spherical_wrist_tool_down_is_the_wrist_centre_workspace():
     assert lo <= p_hi and p_lo <= hi
 
 
+def test_spherical_wrist_with_a_tool_length_is_the_shifted_wrist_centre_workspace():
+    # Reference: with a tool length d6 = 1/8 along the last axis, the tool point of a spherical wrist is
+    # p = w + d6 R z, so with the frame fixed to R = Rx(pi) (tool down, R z = (0, 0, -1)) the constant-orientation
+    # workspace is the wrist centre's position workspace (the d6 = 0 arm's, by reach's critical section, an
+    # independent method) moved by d6 R z = (0, 0, -1/8) (exact in floats): checked both ways, no inner box of one
+    # meets an outer box of the other moved, with proved boxes of each kind on both sides.
+    oriented = reach(_full_wrist_puma(sp.Rational(1, 8)), delta=0.3, pose=Pose(rpy=(180, 0, 0)))
+    centre = reach(_full_wrist_puma(), delta=0.3)
+    moved = {kind: getattr(centre, kind) + np.array([0.0, 0.0, -0.125])[None, :, None] for kind in ("inner", "outer")}
+    assert oriented.method == "section"
+    assert min(oriented.counts["inner"], oriented.counts["outer"], len(moved["inner"]), len(moved["outer"])) > 0
+    assert not _overlap(moved["inner"], oriented.outer).any()
+    assert not _overlap(oriented.inner, moved["outer"]).any()
+    # a shift keeps the volume: the two certified brackets meet
+    lo, hi = oriented.measure_bounds
+    c_lo, c_hi = centre.measure_bounds
+    assert lo <= c_hi and c_lo <= hi
+
+
 def test_a_section_cut_by_the_budget_keeps_a_sound_bracket(puma_cone):
     # Reference: the complete run (fixture); a run stopped early proves less, never something else.
     cut = reach(robots.build("puma560"), delta=0.3, stop=StopAt(max_boxes=40), pose=Pose(approach=(0, 0, -1), cone=20))
@@ -245,3 +265,16 @@ def test_a_section_cut_by_the_budget_keeps_a_sound_bracket(puma_cone):
     lo, hi = cut.measure_bounds
     full_lo, full_hi = puma_cone.measure_bounds
     assert lo <= full_hi and full_lo <= hi and hi - lo >= full_hi - full_lo - 1e-9
+
+
+def test_puma_cone_section_bracket_meets_the_box_bracket(puma_cone):
+    # Reference: the bracket of the three-dimensional boxes of the same run (a second certified answer from the
+    # same section, classified box by box): the two must meet, and the section's is the tighter one here.
+    p = puma_cone
+    assert p.volume_bounds is not None and p.complete
+    box_lo, box_hi = p.box_measure_bounds
+    lo, hi = p.volume_bounds
+    assert lo <= box_hi and box_lo <= hi
+    assert hi - lo < box_hi - box_lo
+    assert p.measure_bounds == (max(lo, box_lo), min(hi, box_hi))
+    assert p.to_dict()["volume_bounds"] == [lo, hi]

@@ -429,14 +429,13 @@ def _numbers(text: str, parameter: str, count: int, what: str) -> list:
 
 def _pose_options(args) -> dict:
     """The keywords of reach's tool constraint from --approach/--cone/--every/--orientation."""
+    out: dict[str, object] = {}
     if args.orientation is not None:
         text = args.orientation.strip()
         if text.lower().startswith("rpy:"):
             return {"rpy": _numbers(text[4:], "rpy", 3, "three angles in degrees such as rpy:0,180,0")}
         values = _numbers(text, "orientation", 9, "rpy:R,P,Y (degrees) or nine numbers, the rotation matrix by rows")
-        out: dict[str, object] = {"orientation": [values[0:3], values[3:6], values[6:9]]}
-    else:
-        out = {}
+        out["orientation"] = [values[0:3], values[3:6], values[6:9]]
     if args.approach is not None:
         out["approach"] = _numbers(args.approach, "approach", 3, "three numbers such as 0,0,-1")
     if args.cone is not None:

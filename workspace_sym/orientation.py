@@ -36,7 +36,9 @@ A constant orientation is reduced to the exact direction ``R z`` when the
 last joint spins the tool about its approach axis through a full turn (the
 Puma, the UR5, a SCARA); a cone about the vertical on a robot turned by its
 first joint (``reach``'s section structure) is paved on the section
-``(u, v)`` and turned by the first joint: ``method`` is then ``"section"``.
+``(u, v)`` and turned by the first joint: ``method`` is then ``"section"``,
+and the volume bracket is also proved from the section's cells by Pappus's
+theorem (:func:`section_volume_bracket`, kept as the paving's ``volume_bounds``).
 
 Inner proofs: the Krawczyk test of
 :class:`~workspace_sym.interval.image.ImageMap` on a square system around a
@@ -57,9 +59,16 @@ Krawczyk box ``U`` (:meth:`ImageMap.admissible`):
 So an inner box is proved with the constraint *exactly* (no tolerance):
 the solution the Krawczyk operator proves lies in ``U``, inside the limits.
 
+A cone on an arm with a roll-pitch wrist (two joints moving the approach
+and not the position, the first turning fully, ``a . z = cos(q_k + phi)``
+about its axis ``z``) is paved as a cone on ``z`` over the arm joints alone
+(:func:`_wrist_reduction`, docs/methods.md section 8).
+
 ``every=True`` (positions from which every direction of the cone is
-reachable, the dextrous workspace of Kumar and Waldron) is not implemented
-for ``c > 0`` and raises; for ``c = 0`` it is the same as ``every=False``.
+reachable, the dextrous workspace of Kumar and Waldron) is proved with a
+roll-pitch wrist (inner: one arm configuration whose wrist reaches the whole
+cone; outer: ``d`` itself unreachable) and raises otherwise for ``c > 0``; for
+``c = 0`` it is the same as ``every=False``.
 
 The target rotation is made exact: ``rpy`` angles are read like the angles
 of a DH file (numbers are degrees, ``pi`` makes radians); a matrix must be a
@@ -75,8 +84,9 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import lru_cache
+from typing import TYPE_CHECKING
 
 import numpy as np
 import sympy as sp
@@ -89,14 +99,18 @@ from .interval.compiler import compile_expr
 from .interval.driver import RunBudget, StopAt
 from .interval.graph import numpy_constant
 from .interval.image import CellGrid, ImageMap, _dot, meets
+from .interval.store import ExactSum
 from .interval.verdict import INSIDE as INNER
 from .interval.verdict import OUTSIDE as OUTER
 from .interval.verdict import UNDECIDED
 from .kinematics import DHRobot
 from .snap import snap_angle
 
+if TYPE_CHECKING:
+    from .serial_workspace import _Revolved
+
 __all__ = ["PoseConstraint", "approach_constraint", "orientation_constraint", "reach_pose", "PoseModel",
-           "ORTHOGONAL_TOL"]
+           "section_volume_bracket", "ORTHOGONAL_TOL"]
 
 ORTHOGONAL_TOL = 1e-9            # a matrix farther than this from a rotation (entrywise) is refused
 _TASK = (sp.Symbol("x"), sp.Symbol("y"), sp.Symbol("z"))
@@ -149,9 +163,16 @@ class PoseConstraint:
         """The constraint for a JSON answer (floats; the exact values as text)."""
         if self.kind == "cone":
             return {"approach": [float(c) for c in self.direction], "cone_deg": self.degrees, "every": self.every}
-        return {"orientation": [[float(self.rotation[i, j]) for j in range(3)] for i in range(3)],
+        return {"orientation": [[float(self.matrix[i, j]) for j in range(3)] for i in range(3)],
                 "rpy_deg": [float(a * 180 / sp.pi) for a in self.rpy],
                 "rpy_exact": [sp.sstr(a) for a in self.rpy]}
+
+    @property
+    def matrix(self) -> sp.Matrix:
+        """The exact rotation of an orientation constraint."""
+        if self.rotation is None:
+            raise ValueError(f"{self} has no rotation matrix")
+        return self.rotation
 
     def __str__(self) -> str:
         if self.kind == "cone":
@@ -193,10 +214,6 @@ def approach_constraint(approach, cone, every: bool = False) -> PoseConstraint:
                                     parameter="cone")
     if not isinstance(every, bool):
         raise InvalidParameterError(f"every must be True or False; got {every!r}", parameter="every")
-    if every and degrees > 0:
-        raise InvalidParameterError(f"every=True (every direction of a {degrees:g} degree cone, the dextrous "
-                                    "workspace) is not implemented: no certified answer is given; use every=False "
-                                    "(some direction of the cone) or cone=0", parameter="every")
     direction = tuple(_exact(v) for v in numbers)
     return PoseConstraint("cone", direction, _exact(degrees) * sp.pi / 180, degrees, every)
 
@@ -256,12 +273,12 @@ def orientation_constraint(orientation=None, rpy=None) -> PoseConstraint:
         roll, yaw = math.atan2(M[2, 1], M[2, 2]), math.atan2(M[1, 0], M[0, 0])
     else:                                   # gimbal lock: yaw = 0
         roll, yaw = math.atan2(-M[1, 2], M[1, 1]), 0.0
-    angles = tuple(snap_angle(a, ORTHOGONAL_TOL) or sp.Rational(a) for a in (roll, pitch, yaw))
-    R = _rotation(*angles)
+    snapped = tuple(snap_angle(a, ORTHOGONAL_TOL) or sp.Rational(a) for a in (roll, pitch, yaw))
+    R = _rotation(*snapped)
     if np.abs(np.array(R.evalf(20).tolist(), dtype=float) - M).max() > ORTHOGONAL_TOL:
         raise InvalidParameterError(f"orientation must be {expected}; got {M.tolist()} (no roll, pitch, yaw "
                                     "reproduces it)", parameter="orientation")
-    return PoseConstraint("orientation", rotation=R, rpy=angles)
+    return PoseConstraint("orientation", rotation=R, rpy=snapped)
 
 
 def _orthonormal_pair(d):
@@ -421,7 +438,7 @@ class PoseModel:
     """
 
     def __init__(self, position, approach, rotation, constraint: PoseConstraint, variables, limits, periodic,
-                 task_variables):
+                 task_variables, *, proof_cone: sp.Expr | None = None):
         self.constraint = constraint
         variables, limits, periodic = list(variables), list(limits), list(periodic)
         position = [sp.sympify(e) for e in position]
@@ -456,12 +473,16 @@ class PoseModel:
                     self.solver = _WristSolver([approach.dot(e1), approach.dot(e2)], approach.dot(d), self.variables,
                                                self.ka)
             else:
-                aim = ImageMap(position + [approach.dot(e1), approach.dot(e2)], variables, limits, periodic)
-                self.proof = _ConstrainedMap(position, [], approach.dot(d), self.bound[1], True, variables, limits,
+                # The inner proof may need a narrower cone than the one whose violation drops a box (every=True
+                # after the wrist reduction); Newton first aims the axis at d when that leaves a square system.
+                proof_bound = self.bound if proof_cone is None else numpy_constant(norm * sp.cos(proof_cone))
+                aim = (ImageMap(position + [approach.dot(e1), approach.dot(e2)], variables, limits, periodic)
+                       if len(variables) >= len(position) + 2 else None)
+                self.proof = _ConstrainedMap(position, [], approach.dot(d), proof_bound[1], True, variables, limits,
                                              periodic, aim=aim)
         else:
-            self.entries = np.array([numpy_constant(e) for e in constraint.rotation], dtype=float)   # (9, 2)
-            M = constraint.rotation.T * rotation
+            self.entries = np.array([numpy_constant(e) for e in constraint.matrix], dtype=np.float64)   # (9, 2)
+            M = constraint.matrix.T * rotation
             skew = [M[2, 1] - M[1, 2], M[0, 2] - M[2, 0], M[1, 0] - M[0, 1]]
             self.proof = _ConstrainedMap(position, skew, M.trace(), -1.0, False, variables, limits, periodic)
         root = self.position.enclose(self.position.limits[None])[0]
@@ -647,7 +668,103 @@ def _spin_reduction(robot: DHRobot, params, constraint: PoseConstraint, T) -> Po
         return constraint
     if not _joint_range(robot, k, params)[1]:
         return constraint
-    return PoseConstraint("cone", tuple(constraint.rotation[:, 2]), sp.S.Zero, 0.0, False)
+    return PoseConstraint("cone", tuple(constraint.matrix[:, 2]), sp.S.Zero, 0.0, False)
+
+
+def _wrist_reduction(robot: DHRobot, params, constraint: PoseConstraint, T):
+    """A cone on the approach axis as a cone on the roll axis of a roll-pitch wrist, or None.
+
+    The wrist is the two joints ``j < k`` that move the approach ``a`` and not the position (standard DH, both
+    revolute).  When ``q_j`` enters only ``theta_j`` and its range spans a period, ``a = Rot(z, theta_j) b`` with
+    ``z`` the axis of joint ``j`` (``z_{j-1}``, free of the wrist), so a full turn of ``q_j`` sweeps every direction
+    at the angle of ``b`` from ``z``.  When moreover ``a . z = cos(q_k + phi)`` (checked symbolically) and ``q_k``'s
+    range holds an angle ``t`` with ``t + phi = 0 (mod 2 pi)``, the directions the wrist reaches from an arm
+    configuration are exactly the cap ``angle(a, z) <= psi`` with ``psi = min(pi, largest |q_k + phi|)``.  Then
+    (theorem) some direction within ``c`` of ``d`` is reached iff ``angle(z, d) <= psi + c``; every direction of the
+    cone (one arm configuration) iff ``angle(z, d) <= psi - c``; ``d`` itself iff ``angle(z, d) <= psi``.
+
+    Returns ``(z, constraint on z, proof_cone)``: the cone ``psi + c`` (``psi`` with ``every``, whose drops are
+    then proved for the axis ``d`` alone, a direction of the cone) and the cone the inner proof must show
+    (``psi - c`` with ``every``, else None).  The wrist joints then leave the model: its inner proof no longer
+    meets the wrist's singularity (``q_k + phi = 0``, where ``q_j`` is undetermined), nor its violation proofs a
+    cover of wrist boxes.
+    """
+    from .serial_workspace import _joint_range
+
+    if constraint.kind != "cone" or robot.convention != "standard":
+        return None
+    approach, position = list(T[:3, 2]), list(T[:3, 3])
+    in_position = set().union(*(sp.sympify(e).free_symbols for e in position))
+    in_approach = set().union(*(sp.sympify(e).free_symbols for e in approach))
+    wrist = [i for i, q in enumerate(robot.q) if q in in_approach and q not in in_position]
+    if len(wrist) != 2 or any(robot.joints[i].kind != "R" for i in wrist):
+        return None
+    j, k = wrist
+    roll, pitch = robot.q[j], robot.q[k]
+    others = [e for i, joint in enumerate(robot.joints) for e in (joint.d, joint.a, joint.alpha)
+              + (() if i == j else (joint.theta,))]
+    others += [e for M in (robot.base, robot.tool) if M is not None for e in M]
+    if not _free_of(others, roll) or not _joint_range(robot, j, params)[1]:
+        return None
+    axis = list(robot.substitute(robot.fk(j), params)[:3, 2])
+    if not _free_of(axis, roll) or not _free_of(axis, pitch):
+        return None
+    cosine = sp.simplify(sp.Matrix(approach).dot(sp.Matrix(axis)))
+    if cosine.free_symbols != {pitch}:
+        return None
+    phi = sp.atan2(-sp.diff(cosine, pitch).subs(pitch, 0), cosine.subs(pitch, 0))
+    if sp.simplify(sp.expand_trig(cosine - sp.cos(pitch + phi))) != 0:
+        return None
+    (lo, hi), _ = _joint_range(robot, k, params)
+    turns = sp.ceiling((lo + phi) / (2 * sp.pi))
+    if not bool(2 * sp.pi * turns <= hi + phi):
+        return None                         # the cap's centre is not reached: an annulus, not a cap
+    psi = sp.Min(sp.pi, sp.Max(2 * sp.pi * turns - lo - phi, hi + phi - 2 * sp.pi * turns))
+    c = constraint.cone
+    if constraint.every and c != 0:
+        if not bool(psi - c >= 0):
+            return None
+        reduced = PoseConstraint("cone", constraint.direction, psi, float(psi * 180 / sp.pi), True)
+        return axis, reduced, psi - c
+    angle = sp.Min(sp.pi, psi + c)
+    return axis, PoseConstraint("cone", constraint.direction, angle, float(angle * 180 / sp.pi)), None
+
+
+def _tool_offset(robot: DHRobot, params, constraint: PoseConstraint, T):
+    """For a constant orientation ``R``: ``(k, o_k + R t)`` with ``k`` the first frame whose origin ``o_k`` holds
+    the tool point at a constant offset in the tool frame, ``t = R(q)^T (p(q) - o_k(q))`` free of the joints (a
+    spherical wrist: ``k`` its centre's frame, ``t = (0, 0, d6)`` for the Puma), or None.
+
+    On the configurations with ``R(q) = R`` the tool point is ``o_k(q) + R t`` (theorem), so the workspace is paved
+    with that position, which the wrist joints do not move; its configurations are those of the constraint, so
+    inner and outer proofs hold for the real tool point.  After the spin reduction (a configuration with
+    ``a(q) = R z``, spun by the last joint to ``R(q) = R``) the tool point is still ``o_k + R t``: ``o_k`` does not
+    depend on the last joint."""
+    if constraint.kind != "orientation":
+        return None
+    # R(q)^T (p - o_k) = (R_k^n)^T p_k^n: the offset from the tail of the chain alone (frames k..n, tool).
+    tails = [sp.eye(4) if robot.tool is None else sp.Matrix(robot.tool)]
+    for i in range(robot.n, 0, -1):
+        tails.append(robot.substitute(robot.row_matrix(i), params) * tails[-1])
+    tails = tails[::-1]                     # tails[k] = T_k^n (tool included)
+    probes = np.random.default_rng(0).uniform(-3, 3, size=(robot.n, 4))
+    found = None
+    for k in range(robot.n - 1, 0, -1):     # the shortest tail first; a float probe rejects before SymPy
+        offset = tails[k][:3, :3].T * tails[k][:3, 3]
+        with np.errstate(all="ignore"):
+            values = np.array([np.broadcast_to(np.asarray(v, dtype=float), (4,))
+                               for v in sp.lambdify([robot.q], list(offset), modules="numpy")(probes)])
+        if not np.isfinite(values).all() or np.ptp(values, axis=1).max() > 1e-9:
+            break
+        t = sp.simplify(offset)
+        if t.free_symbols & set(robot.q):
+            break
+        found = k, t
+    if found is None:
+        return None
+    k, t = found
+    origin = robot.substitute(robot.fk(k), params)[:3, 3]
+    return k, [sp.sympify(e) for e in origin + constraint.matrix * t]
 
 
 def _joints_of(robot, expressions, params):
@@ -666,32 +783,35 @@ class _Plan:
     invariant under that turn (a cone about the vertical)."""
 
     model: PoseModel
-    revolved: object = None
+    revolved: _Revolved | None = None
 
 
-def _section_plan(robot: DHRobot, parameters: tuple, constraint: PoseConstraint, T) -> _Plan | None:
+def _section_plan(robot: DHRobot, parameters: tuple, constraint: PoseConstraint, axis, proof_cone,
+                  section_robot: DHRobot) -> _Plan | None:
     """The section plan (``_Plan``) when the robot is turned by its first joint (``serial_workspace``'s
     section structure: standard DH, no base, ``q_1`` only in ``theta_1``) and the cone's axis is vertical:
     then ``p = Rz(theta_1) p'`` and ``a = Rz(theta_1) a'`` with ``p', a'`` the pose at ``theta_1 = 0``, and
-    ``a . d = a' . d``, so the admissible configurations of the other joints do not depend on ``theta_1``."""
+    ``a . d = a' . d``, so the admissible configurations of the other joints do not depend on ``theta_1``.
+    ``section_robot`` has the position paved (the robot, or the wrist centre's chain shifted by a tool offset)."""
     from . import serial_workspace as sw
 
     if constraint.kind != "cone" or constraint.direction[0] != 0 or constraint.direction[1] != 0:
         return None
-    revolved = sw._revolved(sw._model(robot, parameters))
+    revolved = sw._revolved(sw._model(section_robot, parameters))
     if revolved is None:
         return None
     params = dict(parameters) or None
     q1 = robot.q[0]
     theta = robot.substitute(robot.joints[0].theta, params)
     zero = {q1: -theta.subs(q1, 0) / sp.diff(theta, q1)}
-    approach = [e.subs(zero) for e in T[:3, 2]]
+    approach = [e.subs(zero) for e in axis]
     position = list(revolved.section.expressions)
     variables, limits, periodic = _joints_of(robot, position + approach, params)
     if q1 in variables:
         return None
     model = PoseModel(position, approach, None, constraint, variables, limits, periodic, (sp.Symbol("u"),
-                                                                                         sp.Symbol("v")))
+                                                                                         sp.Symbol("v")),
+                      proof_cone=proof_cone)
     return _Plan(model, revolved)
 
 
@@ -711,14 +831,43 @@ def _plan(robot: DHRobot, parameters: tuple, constraint: PoseConstraint) -> _Pla
         raise InvalidParameterError(f"robot: an approach or orientation constraint needs a spatial robot whose "
                                     f"three position coordinates move; {robot.name}'s position is {position}",
                                     parameter="robot")
+    section_robot: DHRobot | None = robot
+    offset = _tool_offset(robot, params, constraint, T)
+    if offset is not None:
+        k, position = offset
+        T = sp.Matrix(T)
+        T[:3, 3] = sp.Matrix(position)
+        # The chain to o_k with the offset's vertical part in d_1 (a translation along z_0, the turn's axis):
+        # its section is that of o_k + R t when R t is vertical, the only case a vertical cone's section needs.
+        lift = sp.Matrix(position) - robot.substitute(robot.fk(k), params)[:3, 3]
+        if lift[0] == 0 and lift[1] == 0 and robot.base is None:
+            joints = list(robot.joints[:k])
+            joints[0] = replace(joints[0], d=joints[0].d + lift[2])
+            section_robot = DHRobot(joints, convention=robot.convention, name=f"{robot.name} (wrist centre)",
+                                    parameters=robot.parameters, units=robot.units)
+        else:
+            section_robot = None
     reduced = _spin_reduction(robot, params, constraint, T)
-    plan = _section_plan(robot, parameters, reduced, T)
+    axis, proof_cone = list(T[:3, 2]), None
+    wrist = _wrist_reduction(robot, params, reduced, T)
+    if wrist is not None:
+        axis, reduced, proof_cone = wrist
+    elif reduced.every and reduced.cone != 0:
+        raise InvalidParameterError(f"every=True (every direction of a {reduced.degrees:g} degree cone, the "
+                                    "dextrous workspace) is not implemented here: it is proved only for arms whose "
+                                    "two last joints that move the approach form a roll-pitch wrist "
+                                    f"(docs/methods.md section 8), and {robot.name}'s do not; no certified answer "
+                                    "is given: use every=False (some direction of the cone) or cone=0",
+                                    parameter="every")
+    plan = None if section_robot is None else _section_plan(robot, parameters, reduced, axis, proof_cone,
+                                                              section_robot)
     if plan is not None:
         return plan
     rotation = T[:3, :3]
-    quantities = list(T[:3, 2]) if reduced.kind == "cone" else list(rotation)
+    quantities = axis if reduced.kind == "cone" else list(rotation)
     variables, limits, periodic = _joints_of(robot, position + quantities, params)
-    return _Plan(PoseModel(position, T[:3, 2], rotation, reduced, variables, limits, periodic, _TASK))
+    return _Plan(PoseModel(position, axis, rotation, reduced, variables, limits, periodic, _TASK,
+                           proof_cone=proof_cone))
 
 
 def _volumes(T: np.ndarray) -> np.ndarray:
@@ -778,8 +927,8 @@ def reach_pose(robot: DHRobot, *, delta: float, approach=None, cone=None, every:
         Undecided task boxes whose size is at most ``delta`` become boundary boxes.
     approach, cone : the axis ``(ax, ay, az)`` (any non-zero length) and the half-angle in degrees,
         ``0 <= cone <= 180``: the tool's approach axis (z of the tool frame) within ``cone`` of ``approach``.
-    every : positions from which every direction of the cone is reached: not implemented for ``cone > 0``
-        (raises); with ``cone = 0`` the same as False.
+    every : positions from which every direction of the cone is reached (proved for arms with a roll-pitch
+        wrist, raises for others when ``cone > 0``); with ``cone = 0`` the same as False.
     orientation, rpy : the tool frame exactly ``orientation`` (3 x 3 rotation matrix) or
         ``Rz(yaw) Ry(pitch) Rx(roll)`` with ``rpy = (roll, pitch, yaw)`` in degrees.
     size, parameters, max_boxes, time_limit, progress, inner_depth : as for ``reach``.
@@ -812,21 +961,21 @@ def reach_pose(robot: DHRobot, *, delta: float, approach=None, cone=None, every:
         if not isinstance(value, int) or isinstance(value, bool) or value < least:
             raise InvalidParameterError(f"{name} must be a whole number, {least} or more; got {value!r}",
                                         parameter=name)
-    parameters = tuple(sorted((parameters or {}).items(), key=lambda item: str(item[0])))
+    values = tuple(sorted((parameters or {}).items(), key=lambda item: str(item[0])))
     run = RunBudget(StopAt(max_boxes=max_boxes, time_limit=time_limit, progress=progress), "reach")
     if section_ratio is not None and not (isinstance(section_ratio, int | float) and 0 < section_ratio <= 4):
         raise InvalidParameterError(f"section_ratio must be a number in (0, 4]; got {section_ratio!r}",
                                     parameter="section_ratio")
     options = dict(max_pairs=max_pairs, inner_depth=inner_depth, chunk_pairs=chunk_pairs)
     try:
-        plan = _plan(robot, parameters, constraint)
+        plan = _plan(robot, values, constraint)
         if plan.revolved is None:
             result = _pave_direct(plan.model, robot, delta, size, run, options)
         else:
-            result = _pave_revolved(plan, robot, parameters, delta, size, run, options, section_ratio)
+            result = _pave_revolved(plan, plan.revolved, robot, values, delta, size, run, options, section_ratio)
     finally:
         run.close()
-    box, inner, boundary, outer, pending, evaluated, reason = result
+    box, inner, boundary, outer, pending, evaluated, reason, bracket = result
     if pending is None:
         reason = ""
     empty = np.empty((0, 3, 2))
@@ -835,9 +984,11 @@ def reach_pose(robot: DHRobot, *, delta: float, approach=None, cone=None, every:
         parts = [p for p in parts if len(p)]
         return np.concatenate(parts) if parts else empty
 
-    return Paving(_TASK, box, (), float(delta), "numpy", size, stack(inner), stack(boundary), stack(outer),
-                  empty if pending is None else pending, run.seconds, not reason, evaluated, reason,
-                  units=robot.units, method="pairs" if plan.revolved is None else "section")
+    fields = (_TASK, box, (), float(delta), "numpy", size, stack(inner), stack(boundary), stack(outer),
+              empty if pending is None else pending, run.seconds, not reason, evaluated, reason)
+    if bracket is None:
+        return Paving(*fields, units=robot.units, method="pairs")
+    return Paving(*fields, units=robot.units, method="section", volume_bounds=bracket)
 
 
 def _pave_pairs(model: PoseModel, root, delta, size, run, *, max_pairs, inner_depth, chunk_pairs):
@@ -854,7 +1005,10 @@ def _pave_pairs(model: PoseModel, root, delta, size, run, *, max_pairs, inner_de
     decided = 0.0
     while len(T):
         parts = list(_parts(T, Q, owner, max(1, math.ceil(len(Q) / chunk_pairs))))
-        children, pairs, owners, left = [], [], [], []
+        children: list[np.ndarray] = []
+        pairs: list[np.ndarray] = []
+        owners: list[np.ndarray] = []
+        left: list[np.ndarray] = []
         for n, (t, q, o) in enumerate(parts):
             reason = run.stop_reason(evaluated, ahead=rate * (len(t) + len(q)))
             if not reason:
@@ -871,7 +1025,7 @@ def _pave_pairs(model: PoseModel, root, delta, size, run, *, max_pairs, inner_de
             inner.append(i)
             boundary.append(b)
             outer.append(out)
-            owners.append(co + sum(map(len, children)))
+            owners.append(co + sum(len(c) for c in children))
             children.append(c)
             pairs.append(cq)
             decided += box_measure(i) + box_measure(b) + box_measure(out)
@@ -892,7 +1046,7 @@ def _pave_direct(model, robot, delta, size, run, options):
     root = model.position.enclose(model.position.limits[None])[0]
     check_root(root, delta, size, robot)
     box = Box(_TASK, tuple(root[:, 0]), tuple(root[:, 1]))
-    return (box, *_pave_pairs(model, root, delta, size, run, **options))
+    return (box, *_pave_pairs(model, root, delta, size, run, **options), None)
 
 
 def _section_classes(model, width: float, run, options):
@@ -901,7 +1055,11 @@ def _section_classes(model, width: float, run, options):
     midpoint is a float exactly); ``(grid, classes, evaluated, reason)``."""
     w = 2.0 ** round(math.log2(width))
     root = model.position.enclose(model.position.limits[None])[0]
-    grid = CellGrid(np.stack([np.floor(root[:, 0] / w) * w, root[:, 1]], axis=1), w)
+    # The u range is made symmetric about 0 (edges at odd multiples of w / 2 both ways) so that each cell's
+    # mirror, the other branch of the turn, is a cell (section_volume_bracket).
+    reach_u = math.ceil(max(-root[0, 0], root[0, 1]) / w) * w
+    corner = np.array([[-reach_u, reach_u], [math.floor(root[1, 0] / w) * w, root[1, 1]]])
+    grid = CellGrid(corner, w)
     lo = np.array([e[0] for e in grid.edges])
     side = w * 2 ** math.ceil(math.log2(max(len(e) - 1 for e in grid.edges)))
     square = np.stack([lo, lo + side], axis=1)
@@ -925,7 +1083,76 @@ def _section_classes(model, width: float, run, options):
     return grid, classes, evaluated, reason
 
 
-def _pave_revolved(plan: _Plan, robot, parameters, delta, size, run, options, ratio=None):
+def section_volume_bracket(grid: CellGrid, classes: np.ndarray, revolved) -> tuple[float, float]:
+    """Certified bracket of the volume of the solid ``{Rz(theta) (u, c, v)}``, ``theta`` over the first joint's
+    range and ``(u, v)`` over a section set ``S`` whose cells ``classes`` classify (Pappus), rounded outward.
+
+    In cylindrical coordinates the point ``(u, c, v)`` turned by ``theta`` has height ``v``, ``r^2 = s^2 + c^2``
+    with ``s = |u|`` (so ``r dr = s ds``) and polar angle ``theta + alpha`` (``u >= 0``) or
+    ``theta + pi - alpha`` (``u < 0``), ``alpha = atan(c / s)``.  The volume is the integral over ``(s, v)`` of
+    ``A(s, v) s ds dv`` where ``A`` is the measure of the angles reached: ``L`` (the range's length) when one of
+    ``(s, v)`` and ``(-s, v)`` is in ``S``, the union of the two arcs, ``min(2 pi, L + min(d, L))`` with
+    ``d = pi - 2 |alpha|`` their offset, when both are (``2 pi`` for a whole turn).  A folded cell
+    ``[s0, s1] x [v0, v1]`` adds ``A (s1^2 - s0^2) (v1 - v0) / 2``: to the lower bound with ``A`` of its proved
+    inner cells (``u`` and its mirror ``-u``), to the upper bound with ``A`` of those not proved outer.  The grid's
+    first axis must be symmetric about ``u = 0``; ``revolved`` is ``serial_workspace``'s section structure
+    (``c``, ``inner_range``, ``outer_range``, ``full``).
+
+    Examples
+    --------
+    >>> grid = CellGrid(np.array([[-1.0, 1.0], [0.0, 1.0]]), 0.5)     # edges -1.75, -1.25, ..., 1.75 along u
+    >>> classes = np.full(grid.shape, OUTER, dtype=np.int8)
+    >>> classes[2:5, 2:4] = INNER                                        # |u| <= 0.75, 0.25 <= v <= 1.25
+    >>> from types import SimpleNamespace
+    >>> turn = SimpleNamespace(c=(0.0, 0.0), inner_range=(-np.pi, np.pi), outer_range=(-np.pi, np.pi), full=True)
+    >>> lo, hi = section_volume_bracket(grid, classes, turn)
+    >>> lo <= math.pi * 0.75 ** 2 * 1.0 <= hi and hi - lo < 1e-12      # a cylinder of radius 0.75, height 1
+    True
+    """
+    e0, e1 = grid.edges
+    n = len(e0) - 1
+    if not np.array_equal(e0, -e0[::-1]):
+        raise ValueError("section_volume_bracket needs a grid symmetric about u = 0")
+    half = np.arange(n // 2, n)                 # the cells with u > 0 somewhere, and their mirrors
+    s0, s1 = np.maximum(e0[half], 0.0), e0[half + 1]
+    plus, minus = classes[half], classes[n - 1 - half]
+    ring = arith.mul(arith.sub(arith.sqr((s1, s1)), arith.sqr((s0, s0))), (0.5, 0.5))
+    ring = arith.mul((ring[0][:, None], ring[1][:, None]), arith.sub((e1[None, 1:], e1[None, 1:]),
+                                                                   (e1[None, :-1], e1[None, :-1])))
+    pi_lo, pi_hi = numpy_constant(sp.pi)
+    shape = plus.shape
+    if revolved.full:
+        one = both = (np.full(shape, 2 * pi_lo), np.full(shape, 2 * pi_hi))
+        length = (2 * pi_lo, 2 * pi_hi)
+    else:
+        (a_in, b_in), (a_out, b_out) = revolved.inner_range, revolved.outer_range
+        length = (max(float(arith.down(np.float64(b_in - a_in))), 0.0), float(arith.up(np.float64(b_out - a_out))))
+        # The offset d = pi - 2 atan(|c| / s) of the two arcs grows with s: its least over the cell at s0, its
+        # greatest at s1 (ANGLE_PAD covers atan's rounding).
+        from .serial_workspace import ANGLE_PAD
+
+        c_lo, c_hi = revolved.c
+        c_small = 0.0 if c_lo <= 0 <= c_hi else min(abs(c_lo), abs(c_hi))
+        c_large = max(abs(c_lo), abs(c_hi))
+        with np.errstate(divide="ignore", invalid="ignore"):      # s0 = 0: c / 0 is inf (0 / 0 is c = 0)
+            near = np.arctan(arith.up(c_large / s0)) + ANGLE_PAD
+            far = np.arctan(arith.down(c_small / s1)) - ANGLE_PAD
+        d_lo = np.where(c_large == 0.0, pi_lo, np.maximum(arith.down(pi_lo - 2 * near), 0.0))
+        d_hi = np.minimum(arith.up(pi_hi - 2 * np.maximum(far, 0.0)), pi_hi)
+        union_lo = np.minimum(arith.down(length[0] + np.minimum(d_lo, length[0])), 2 * pi_lo)
+        union_hi = np.minimum(arith.up(length[1] + np.minimum(d_hi, length[1])), 2 * pi_hi)
+        one = (np.full(shape, length[0]), np.full(shape, min(length[1], 2 * pi_hi)))
+        both = (np.repeat(union_lo[:, None], shape[1], axis=1), np.repeat(union_hi[:, None], shape[1], axis=1))
+    low = np.where((plus == INNER) & (minus == INNER), both[0], np.where((plus == INNER) | (minus == INNER),
+                                                                           one[0], 0.0))
+    high = np.where((plus != OUTER) & (minus != OUTER), both[1], np.where((plus != OUTER) | (minus != OUTER),
+                                                                            one[1], 0.0))
+    lower = arith.mul((low, low), ring)[0]
+    upper = arith.mul((high, high), ring)[1]
+    return ExactSum.of(lower[low > 0]).value_down, ExactSum.of(upper[high > 0]).value_up
+
+
+def _pave_revolved(plan: _Plan, revolved: _Revolved, robot, parameters, delta, size, run, options, ratio=None):
     """The section paving turned by the first joint (``serial_workspace``'s section test, with the section
     of the admissible configurations)."""
     from .serial_workspace import SECTION_RATIO, _cell_width, _SectionTest, check_root, classify_task_boxes
@@ -939,12 +1166,13 @@ def _pave_revolved(plan: _Plan, robot, parameters, delta, size, run, options, ra
     grid, classes, evaluated, reason = _section_classes(plan.model, ratio * _cell_width(delta, size, 3), run,
                                                         options)
     T = root[None].copy()
-    inner, boundary, outer = [], [], []
-    # A section cut short by the budget still classifies (its undecided cells leave boundary boxes, so the
-    # bracket holds); the run is then reported incomplete, with the reason.
-    cut = reason
-    T, evaluated, reason = classify_task_boxes(_SectionTest(plan.revolved, grid, classes), T, inner, boundary,
-                                               outer, delta, size, run, evaluated, stop=not cut)
-    if cut:
-        return box, inner, boundary, outer, T, evaluated, cut
-    return box, inner, boundary, outer, T if len(T) and reason else None, evaluated, reason
+    inner: list[np.ndarray] = []
+    boundary: list[np.ndarray] = []
+    outer: list[np.ndarray] = []
+    # The section holds the work: its cells classify every (x, y, z) box, also when the budget ran out while
+    # it was paved (its undecided cells leave boundary boxes, so the bracket holds; the run is then reported
+    # incomplete, with the reason) or just after.
+    T, evaluated, _ = classify_task_boxes(_SectionTest(revolved, grid, classes), T, inner, boundary, outer, delta,
+                                          size, run, evaluated, stop=False)
+    bracket = section_volume_bracket(grid, classes, revolved)
+    return box, inner, boundary, outer, T if reason else None, evaluated, reason, bracket

@@ -527,6 +527,32 @@ def _reach_section(doc: Document, robot, paving, tmp: Path) -> None:
     _paving_section(doc, paving, tmp, units=robot.units, stem="reach")
 
 
+def _pose_section(doc: Document, robot, paving, constraint, tmp: Path) -> None:
+    """The certified orientation workspace of a DH robot (:func:`workspace_sym.orientation.reach_pose`):
+    ``constraint`` is its :class:`~workspace_sym.orientation.PoseConstraint`."""
+    coords = ", ".join(map(str, paving.variables))
+    doc.heading("Certified orientation workspace (proved boxes)")
+    if constraint.kind == "cone":
+        what = ("the tool's approach axis (z of the tool frame) can reach every direction within "
+                if constraint.every else "the tool's approach axis (z of the tool frame) can lie within ")
+        what += f"{constraint.degrees:g} degrees of ({', '.join(number(float(c), 'g') for c in constraint.direction)})"
+    else:
+        what = ("the tool frame can be exactly the rotation of roll, pitch, yaw ("
+                + ", ".join(number(float(a * 180 / sp.pi), "g") for a in constraint.rpy) + ") degrees")
+    doc.para(f"Constraint: {what}. The tool positions ({coords}) are covered by boxes down to size delta = "
+             f"{paving.delta} ({paving.size}). Inner boxes: every point of the box is the tool point of a "
+             "configuration within the joint limits satisfying the constraint exactly. Outer boxes: no point of the "
+             "box is. Boundary boxes, of size at most delta, are undecided. Every verdict rests on outward-rounded "
+             f"interval arithmetic (method {paving.method}; workspace_sym.orientation and docs/methods.md section 8 "
+             "give the proofs).")
+    if paving.method == "section":
+        lo, hi = paving.volume_bounds
+        doc.para(f"The workspace is turned by the first joint: its volume is also bracketed from the section's "
+                 f"cells by Pappus's theorem, {fmt_bracket(lo, hi, 6)} {robot.units}³; the bracket below is the "
+                 "tighter of that one and the boxes'.")
+    _paving_section(doc, paving, tmp, units=robot.units, stem="reach")
+
+
 def _reach_not_started(doc: Document, time_limit: float) -> None:
     """The certified-workspace section of a run whose time limit passed while the model was being prepared."""
     doc.heading("Certified workspace (proved boxes)")
@@ -555,7 +581,8 @@ def _limits_cell(joint):
 
 
 def dh_robot_report(robot, out, *, samples: int = 20000, command: str | None = None,
-                    reach_delta: float | None = None, reach_time_limit: float = 60.0) -> Path:
+                    reach_delta: float | None = None, reach_time_limit: float = 60.0,
+                    reach_constraint: dict | None = None) -> Path:
     """Report of a DH robot: DH table (angles in degrees), forward kinematics, the 6 x n geometric Jacobian and
     its singular factors in textbook form, a sampled workspace picture (Markdown, HTML, LaTeX; ``out/report.md``
     and siblings).  Returns the path of the Markdown file.
@@ -564,15 +591,24 @@ def dh_robot_report(robot, out, *, samples: int = 20000, command: str | None = N
     ``robot.reach(delta=reach_delta, stop=StopAt(time_limit=reach_time_limit))``: box counts
     and measures, the certified bracket of the area (planar robot) or volume,
     whether the run completed, the boxes (3D: also three slices in z).
+    ``reach_constraint`` (the keywords ``approach``, ``cone``, ``every``,
+    ``orientation``, ``rpy`` of ``reach``) makes it the certified orientation
+    workspace under that constraint, with the constraint stated.
     """
     from .interval.boxes import check_delta
     from .interval.driver import StopAt
     from .plotting import save_figure, scatter_workspace_3d
     from .sampling import reach_points, sample_joint_box
+    from .serial_workspace import Pose
 
+    constraint = None
     if reach_delta is not None:                  # checked before the long symbolic work
         check_delta(reach_delta, "reach_delta")
         check_delta(reach_time_limit, "reach_time_limit")
+        if reach_constraint:
+            from .orientation import constraint_from
+
+            constraint = constraint_from(**reach_constraint)
     out = Path(out)
     start = time.perf_counter()
     T = robot.shorthand(robot.fk())
@@ -615,13 +651,18 @@ def dh_robot_report(robot, out, *, samples: int = 20000, command: str | None = N
         doc.figure(tmp / "workspace.png", f"{samples} random configurations")
         if reach_delta is not None:
             try:
-                paving = robot.reach(delta=reach_delta, stop=StopAt(time_limit=reach_time_limit, progress=False))
+                pose = {"pose": Pose(**reach_constraint)} if reach_constraint else {}
+                paving = robot.reach(delta=reach_delta, stop=StopAt(time_limit=reach_time_limit, progress=False),
+                                     **pose)
             except SymbolicBudgetError as error:
                 if error.parameter != "time_limit":
                     raise
                 _reach_not_started(doc, reach_time_limit)
             else:
-                _reach_section(doc, robot, paving, tmp)
+                if constraint is None:
+                    _reach_section(doc, robot, paving, tmp)
+                else:
+                    _pose_section(doc, robot, paving, constraint, tmp)
         return _publish(doc, tmp, out, command=command, start=start)
 
 
