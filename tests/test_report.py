@@ -11,6 +11,7 @@ from system_tools import assert_compiles, require_tool
 
 from workspace_sym import StopAt, robots
 from workspace_sym.interval import pave
+from workspace_sym.numbers import fmt_bracket
 from workspace_sym.planar import PlanarChain
 from workspace_sym.report import dh_robot_report, number, paving_report, planar_report, tex_escape
 
@@ -143,6 +144,23 @@ def _reach_report(robot, folder, **options):
         path, doc = _report_with_document(lambda f: dh_robot_report(robot, f, samples=500, **options), folder)
     assert len(calls) == 1
     return path, doc, calls[0][1], calls[0][0]
+
+
+def test_scara_tool_down_report_states_the_constraint_and_the_pavings_numbers(tmp_path, scara):
+    """An orientation workspace's section (``reach_constraint``): the constraint stated, the numbers those of
+    the Paving ``reach`` returned under it (reference: that Paving)."""
+    path, _, paving, kwargs = _reach_report(scara, tmp_path / "r", reach_delta=0.1,
+                                            reach_constraint={"rpy": (180, 0, 0)})
+    assert kwargs["pose"].rpy == (180, 0, 0) and kwargs["delta"] == 0.1
+    md = path.read_text()
+    text = md[md.index("## Certified orientation workspace (proved boxes)"):md.index("## Reproducibility")]
+    assert "the tool frame can be exactly the rotation of roll, pitch, yaw (180, 0, 0) degrees" in text
+    assert "satisfying the constraint exactly" in text and f"method {paving.method}" in text
+    for kind in ("inner", "boundary", "outer"):
+        count = re.search(rf"^\| {kind} \| (\d+) \|", text, re.M).group(1)
+        assert int(count) == paving.counts[kind]
+    lo, hi = paving.measure_bounds
+    assert fmt_bracket(lo, hi, 6) in text
 
 
 @pytest.fixture(scope="module")
