@@ -238,11 +238,34 @@ def test_report_with_a_certified_workspace(tmp_path, capsys):
     (["planar-2r", "--reach-delta", "0.2", "--reach-time-limit", "-1"], "--reach-time-limit: reach_time_limit"),
     (["rpr2", "--reach-delta", "0.2"], "--reach-delta: the certified workspace section needs a DH robot"),
     (["chain", "--lengths", "1,1", "--lower=-90,0", "--upper=90,90", "--reach-delta", "0.2"], "'chain' is not one"),
+    (["scara", "--approach", "0,0,-1", "--cone", "20"], "--reach-delta: a tool constraint (approach, cone, every"),
+    (["scara", "--reach-delta", "0.1", "--approach", "0,0,0"], "--approach: approach must be a non-zero vector"),
+    (["scara", "--reach-delta", "0.1", "--approach", "0,0,-1", "--cone", "181"], "--cone: cone must be"),
 ])
 def test_report_reach_options_bad_values(tmp_path, capsys, argv, needle):
     """Bad --reach-* values: exit 2, one line naming the option, nothing written (and no long run first)."""
     code, out, err = run(capsys, "report", *argv, "--out", str(tmp_path / "no"))
     assert code == 2 and out == "" and err.count("\n") == 1 and needle in err and not (tmp_path / "no").exists()
+
+
+def test_report_passes_the_tool_constraint_to_its_certified_section(tmp_path, capsys, monkeypatch):
+    """report --reach-delta D --orientation rpy:... gives dh_robot_report the constraint reach reads (the section
+    itself is tested in test_report.py on the paving it returned)."""
+    import workspace_sym.report as report
+
+    seen = {}
+
+    def fake(robot, out, **kwargs):
+        seen.update(kwargs)
+        Path(out).mkdir(parents=True, exist_ok=True)
+        (Path(out) / "report.md").write_text("# a report\n")
+        return Path(out) / "report.md"
+
+    monkeypatch.setattr(report, "dh_robot_report", fake)
+    code, out, err = run(capsys, "report", "scara", "--reach-delta", "0.1", "--orientation", "rpy:180,0,0",
+                         "--out", str(tmp_path / "r"))
+    assert code == 0, err
+    assert seen["reach_delta"] == 0.1 and seen["reach_constraint"] == {"rpy": [180.0, 0.0, 0.0]}
 
 
 def test_report_reach_delta_not_a_number(tmp_path, capsys):

@@ -620,6 +620,16 @@ def cmd_report(args) -> int:
     start = time.perf_counter()
     command = " ".join(["workspace-sym"] + sys.argv[1:])
     reach = {"reach_delta": args.reach_delta, "reach_time_limit": args.reach_time_limit}
+    constraint = _pose_options(args)
+    if constraint:
+        if args.reach_delta is None:
+            raise InvalidParameterError("a tool constraint (approach, cone, every, orientation) is a constraint on "
+                                        "the certified workspace section: give reach_delta too",
+                                        parameter="reach_delta")
+        from .orientation import constraint_from
+
+        constraint_from(**constraint)     # a bad constraint is refused before any section is written
+        reach["reach_constraint"] = constraint
     files = [f"--{dest} FILE" for dest in _ROBOT_FILES if getattr(args, dest) is not None]
     extra = {}
 
@@ -776,6 +786,22 @@ def _chain_parent(*, required: bool) -> _Parser:
     return p
 
 
+def _pose_parent() -> _Parser:
+    """--approach, --cone, --every, --orientation: a constraint on the tool frame (reach, report)."""
+    p = _Parser(add_help=False)
+    p.add_argument("--approach", metavar="AX,AY,AZ",
+                   help="tool constraint: the approach axis (z of the tool frame) within --cone degrees of this "
+                        "direction")
+    p.add_argument("--cone", type=float, metavar="DEG", help="with --approach: half-angle of the cone (0: exact)")
+    p.add_argument("--every", action="store_true",
+                   help="with --approach: every direction of the cone (proved for arms with a roll-pitch wrist; "
+                        "refused with the reason for other arms)")
+    p.add_argument("--orientation", metavar="rpy:R,P,Y|R11,...,R33",
+                   help="tool constraint: the tool frame exactly this rotation (roll, pitch, yaw in degrees, or "
+                        "the matrix by rows)")
+    return p
+
+
 def build_parser() -> _Parser:
     parser = _Parser(prog="workspace-sym", description="Robot workspaces, exactly or with proofs.",
                      epilog=f"The options, the DH file format and the JSON keys are described in docs/cli.md, "
@@ -833,7 +859,7 @@ def build_parser() -> _Parser:
     p.set_defaults(func=cmd_pave)
 
     p = sub.add_parser("reach", help="certified position workspace of a serial robot (reachable / unreachable boxes)",
-                       parents=[dh_robot, resolution, budget, progress, json_, scheduler])
+                       parents=[dh_robot, resolution, budget, progress, json_, scheduler, _pose_parent()])
     p.add_argument("--method", choices=("auto", "critical", "pairs"), default="auto",
                    help="critical: regions decided from the critical set (planar robots; spatial ones whose "
                         "coordinates are moved by disjoint joints, as a SCARA, or turned by a revolute first joint); "
@@ -842,15 +868,6 @@ def build_parser() -> _Parser:
     p.add_argument("--inner-depth", type=int, default=2,
                    help="pairs method: halvings of a last-level box when proving it reachable piece by piece "
                         "(default 2)")
-    p.add_argument("--approach", metavar="AX,AY,AZ",
-                   help="tool constraint: the approach axis (z of the tool frame) within --cone degrees of this "
-                        "direction")
-    p.add_argument("--cone", type=float, metavar="DEG", help="with --approach: half-angle of the cone (0: exact)")
-    p.add_argument("--every", action="store_true",
-                   help="with --approach: every direction of the cone (not implemented for a cone above 0)")
-    p.add_argument("--orientation", metavar="rpy:R,P,Y|R11,...,R33",
-                   help="tool constraint: the tool frame exactly this rotation (roll, pitch, yaw in degrees, or "
-                        "the matrix by rows)")
     p.add_argument("--plot", metavar="FILE", help="draw the boxes to an image file")
     p.set_defaults(func=cmd_reach)
 
@@ -879,7 +896,7 @@ def build_parser() -> _Parser:
     p.set_defaults(func=cmd_boundary)
 
     p = sub.add_parser("report", help="write a report (Markdown, HTML, LaTeX) for a chain or a catalog robot",
-                       parents=[_chain_parent(required=False), robot_files, json_])
+                       parents=[_chain_parent(required=False), robot_files, json_, _pose_parent()])
     p.add_argument("what", nargs="?",
                    help="'chain' (with --lengths/--lower/--upper), a DH robot, rpr2 or orthoglide; none with "
                         "--dh, --urdf or --mjcf")
