@@ -762,8 +762,11 @@ class DHRobot:
         """``det(lambda I - J J^T)`` of the geometric (6 x n) or position (3 x n) Jacobian.
 
         Coefficients are sums of squared minors of ``J`` in textbook form (see
-        :func:`gram_characteristic_polynomial`), computed on the rows in a middle
-        link's frame; print them with :meth:`to_str` or :meth:`to_latex`.  Kept
+        :func:`~workspace_sym.charpoly.gram_characteristic_polynomial`), computed on
+        the Jacobian derived in a middle link's frame; print them with :meth:`to_str`
+        or :meth:`to_latex`.  A minor not factored within its share of the budget
+        stays the exact, unexpanded determinant of its submatrix
+        (``sympy.Determinant``; :func:`eigenvalues_from_charpoly` evaluates it).  Kept
         after the first call for each ``kind``.
 
         Examples
