@@ -21,7 +21,12 @@ from pathlib import Path
 import numpy as np
 import sympy as sp
 
-from .charpoly import characteristic_polynomial, eigenvalues_from_charpoly, gram_characteristic_polynomial
+from .charpoly import (
+    characteristic_polynomial,
+    eigenvalues_from_charpoly,
+    gram_characteristic_polynomial,
+    laplace_minor,
+)
 from .errors import (
     DHTableError,
     ExpressionError,
@@ -1081,7 +1086,7 @@ def maximal_minor_factors(J: sp.Matrix, *, seed: int = 0, multiplicity: bool = F
         for cc in combinations(range(J.cols), r):
             if abs(np.linalg.det(numeric[np.ix_(rr, cc)])) < 1e-9:
                 continue  # vanishes at a generic point: identically zero, no information
-            det = ring.convert(_laplace_minor(P, rr, cc, memo, ring.domain.zero))
+            det = ring.convert(laplace_minor(P, rr, cc, memo, ring.domain.zero))
             check_budget("the maximal minors' gcd")
             common = det if common is None else common.gcd(det)
             if common.is_ground:
@@ -1091,29 +1096,6 @@ def maximal_minor_factors(J: sp.Matrix, *, seed: int = 0, multiplicity: bool = F
     factors = factor_half_angle(ring.to_expr(common), ring.half, extension=extension, multiplicity=True)
     factors = [(f, m) for f, m in restore_constants(factors, back) if f != 0]
     return factors if multiplicity else [f for f, _ in factors]
-
-
-def _laplace_minor(P: list, rows: tuple, cols: tuple, memo: dict, zero):
-    """The minor ``(rows, cols)`` of a matrix of polynomial-ring elements, by Laplace expansion along its first
-    row, every smaller minor kept in ``memo`` (shared by the maximal minors: they differ in one column) and the
-    budget checked at each.  Products of short entries by minors, no division: Bareiss' exact divisions of
-    long polynomials took 50 s of a 7-joint arm's 6 x 6 minors (and DomainMatrix.det, which cannot be
-    interrupted, 14 minutes on a float AL5D)."""
-    key = (rows, cols)
-    if key in memo:
-        return memo[key]
-    if len(rows) == 1:
-        return P[rows[0]][cols[0]]
-    check_budget("a maximal minor")
-    top, rest = rows[0], rows[1:]
-    total = zero
-    for pos, j in enumerate(cols):
-        if P[top][j]:
-            sub = _laplace_minor(P, rest, cols[:pos] + cols[pos + 1:], memo, zero)
-            if sub:
-                total = total + P[top][j] * sub if pos % 2 == 0 else total - P[top][j] * sub
-    memo[key] = total
-    return total
 
 
 def _quotient(num: sp.Expr, den: sp.Expr) -> sp.Expr:
