@@ -133,10 +133,11 @@ def gram_characteristic_polynomial(J, lam: sp.Symbol | None = None, *, simplify=
 
     Each step has its share of the enclosing :func:`~workspace_sym.symbolic.symbolic_budget`
     (120 s without one): the exact minors :data:`MINORS_SHARE` of it, their factoring and
-    textbook forms until :data:`FACTOR_SHARE` of it is spent (a minor not factored by then
-    stays its expanded polynomial).  When the exact minors themselves do not finish in their
-    share, the coefficients are returned unexpanded, ``c_k = (-1)^k sum det(J_(S,T))^2`` over
-    the ``k x k`` submatrices of ``J`` as :class:`sympy.Determinant` objects: still exact
+    textbook forms, shortest first, until :data:`FACTOR_SHARE` of what is left is spent (a
+    minor not factored by then stays the determinant of its submatrix).  When the exact minors
+    themselves do not finish in their share, the coefficients are returned unexpanded,
+    ``c_k = (-1)^k sum det(J_(S,T))^2`` over the ``k x k`` submatrices of ``J`` as
+    :class:`sympy.Determinant` objects: still exact
     (``.doit()`` expands them; :func:`eigenvalues_from_charpoly` evaluates them), only not
     multiplied out.
 
@@ -191,9 +192,9 @@ def _ring_minors(J: sp.Matrix) -> tuple:
 
 def _squared_minor_sums(J: sp.Matrix, minors: dict, back: dict, simplify, factor_until: float) -> list:
     """``[1, -c_1, c_2, ...]``: ``c_k`` the sum of the squared ``k x k`` minors, equal minors (up to sign) counted
-    once, each factored and simplified in its slice of the time until ``factor_until`` (a ``time.monotonic()``:
-    what is left divided among the minors left, so a quick one gives its time to the next), else kept as the
-    determinant of its submatrix (a 1 x 1 one as the entry)."""
+    once, each factored and simplified, shortest first, while ``factor_until`` (a ``time.monotonic()``) is ahead;
+    those left then are kept as the determinants of their submatrices (a 1 x 1 one as the entry).  (Slicing the
+    time among the minors instead wasted it: a factorisation cut short gives nothing.)"""
     m = J.rows
     by_size: list = [{} for _ in range(m + 1)]   # minors up to sign, with how often they occur
     where: dict = {}                              # one submatrix of each
@@ -202,21 +203,22 @@ def _squared_minor_sums(J: sp.Matrix, minors: dict, back: dict, simplify, factor
             minor = -minor if minor.LC < 0 else minor
             by_size[len(r)][minor] = by_size[len(r)].get(minor, 0) + 1
             where.setdefault(minor, (r, c))
-    pending = sum(len(d) for d in by_size)
-    coeffs = [sp.Integer(1)]
+    forms: dict = {}
     cache: dict = {}                # irreducible factors already simplified (_factored)
+    for minor in sorted(where, key=len):
+        left = factor_until - time.monotonic()
+        done, form = (attempt(lambda p=minor: _factored(p, back, simplify, cache), left, "factoring a minor")
+                      if left > 0 else (False, None))
+        if not done:   # exact all the same, and as short as J
+            check_budget("the determinants")
+            form = _determinant(J, *where[minor])
+        forms[minor] = form
+    coeffs = [sp.Integer(1)]
     for k in range(1, m + 1):
         distinct = by_size[k]
         counts: dict = {}
         for minor, n in distinct.items():
-            share = (factor_until - time.monotonic()) / pending
-            pending -= 1
-            done, form = (attempt(lambda p=minor: _factored(p, back, simplify, cache), share, "factoring a minor")
-                          if share > 0 else (False, None))
-            if not done:   # exact all the same, and as short as J
-                check_budget("the determinants")
-                form = _determinant(J, *where[minor])
-            key = _sign_free(form)
+            key = _sign_free(forms[minor])
             if key != 0:
                 counts[key] = counts.get(key, 0) + n
         squares = sorted(counts.items(), key=lambda kv: (sp.count_ops(kv[0]), sp.default_sort_key(kv[0])))
