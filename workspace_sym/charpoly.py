@@ -154,13 +154,14 @@ def gram_characteristic_polynomial(J, lam: sp.Symbol | None = None, *, simplify=
     J = sp.Matrix(J)
     lam = lam if lam is not None else sp.Symbol("lambda")
     with symbolic_budget(None, f"the characteristic polynomial of J J^T ({J.rows} x {J.cols})"):
-        left = remaining_budget()
-        done, ring_minors = attempt(lambda: _ring_minors(J), MINORS_SHARE * left, "the exact minors")
+        done, ring_minors = attempt(lambda: _ring_minors(J), MINORS_SHARE * (remaining_budget() or 0.0),
+                                    "the exact minors")
         if not done:
             coeffs = _determinant_sums(J)
         else:
-            coeffs = _squared_minor_sums(J, *ring_minors, simplify or (lambda e: e),
-                                         time.monotonic() + FACTOR_SHARE * remaining_budget())
+            minors, back = ring_minors
+            coeffs = _squared_minor_sums(J, minors, back, simplify or (lambda e: e),
+                                         time.monotonic() + FACTOR_SHARE * (remaining_budget() or 0.0))
     return sp.Poly.from_list(coeffs, lam, domain="EX")
 
 

@@ -207,7 +207,7 @@ def cmd_jacobian(args) -> int:
             print(f"  column {j + 1}: " + " | ".join(robot.to_str(J[i, j]) for i in range(J.rows)), flush=True)
     # Singular factors can cost far more than J itself (45 s for a 7-joint arm): --no-singular skips them, and
     # "singular" is then null in the JSON; past the symbolic budget they are null too, and "unfinished" says so.
-    unfinished = {}
+    unfinished: dict[str, str] = {}
     pairs = None if args.no_singular else _within_budget(
         lambda: robot.singular_factors("geometric", multiplicity=True), "singular", unfinished)
     singular = None if pairs is None else [f for f, _ in pairs]
