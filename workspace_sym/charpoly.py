@@ -166,7 +166,8 @@ def gram_characteristic_polynomial(J, lam: sp.Symbol | None = None, *, simplify=
 
 
 MINORS_SHARE = 0.5    # of the budget left: the exact minors in the polynomial ring (else the Determinant sums)
-FACTOR_SHARE = 0.6    # of the budget left after them: factoring the minors and their textbook forms
+FACTOR_SHARE = 0.35   # of the budget left after them: factoring the minors and their textbook forms (a 7-joint
+                      # arm's 6 x 7 then ends in 60 s under the default budget, the 6-joint ones all factored)
 RING_TOTAL_PRODUCTS = 20_000   # a coefficient is also tried multiplied out when its squares cost at most this
 
 
