@@ -218,13 +218,10 @@ def _squared_minor_sums(J: sp.Matrix, minors: dict, back: dict, simplify, factor
     coeffs = [sp.Integer(1)]
     for k in range(1, m + 1):
         distinct = by_size[k]
-        counts: dict = {}
-        for minor, n in distinct.items():
-            key = _sign_free(forms[minor])
-            if key != 0:
-                counts[key] = counts.get(key, 0) + n
-        squares = sorted(counts.items(), key=lambda kv: (sp.count_ops(kv[0]), sp.default_sort_key(kv[0])))
-        total = sp.Add(*(n * f**2 for f, n in squares))
+        # Each form is that of a minor whose sign is already fixed (positive leading coefficient), so equal
+        # minors were counted in the ring; nothing here walks the long forms again (could_extract_minus_sign and
+        # count_ops on them cost seconds past the factoring deadline).
+        total = sp.Add(*(n * forms[minor] ** 2 for minor, n in distinct.items()))
         if distinct and sum(len(p) ** 2 for p in distinct) <= RING_TOTAL_PRODUCTS:
             ring_total = sum((n * minor**2 for minor, n in distinct.items()), next(iter(distinct)).ring.zero)
             if len(ring_total) <= SHORT_SUM_TERMS:   # a^2 c^2 + a^2 s^2 + 1 is a^2 + 1
@@ -273,13 +270,11 @@ def eigenvalues_from_charpoly(poly: sp.Poly, values: dict | None = None) -> np.n
         return np.sort(roots.real)
     return roots[np.argsort(roots.real)]
 
-def _sign_free(f: sp.Expr) -> sp.Expr:
-    """Representative of ``f`` up to sign, so that ``-s3`` and ``s3`` compare equal."""
-    return -f if f.could_extract_minus_sign() else f
-
-
 def _evaluated(c: sp.Expr):
     """A coefficient's value at a point; unexpanded determinants (:func:`_determinant_sums`) are computed."""
+    # sines, cosines and constants at a point as floats first: evalf's adaptive precision on a long exact sum
+    # with cos(97*pi/180) in it took 14 s a point
+    c = c.xreplace({a: sp.Float(sp.N(a, 20)) for a in c.atoms(sp.Function, sp.NumberSymbol) if a.is_number})
     if not c.has(sp.Determinant):
         return c.evalf()
     # the entries first (a float matrix's determinant is quick; an exact one with cos(97*pi/180) is not)
