@@ -6,8 +6,11 @@ Issue 18: per robot (glass arm, Puma 560, UR5, Panda) the cold times of fk + J, 
 factors and the characteristic polynomial of J J^T (3 x n position and 6 x n geometric),
 with the size of T against sympy.simplify of the raw DH product in the same run.
 
+The 6 x n column also gives how many minors stayed unexpanded determinants (not factored within their share of
+the budget; exact all the same) and the largest relative difference of the polynomial's roots from numpy's
+eigenvalues of J J^T at 3 random configurations.
+
 Run: python benchmarks/bench_kinematics.py [--skip-panda-simplify] [--skip-panda-6xn]
-(the Panda's 6 x 7 characteristic polynomial did not finish in 10 minutes: see BENCHMARKS.md)
 """
 
 import datetime
@@ -20,7 +23,7 @@ import sympy as sp
 
 from _common import best_of, machine
 from workspace_sym import robots
-from workspace_sym.kinematics import DHRobot, dh_matrix
+from workspace_sym.kinematics import DHRobot, dh_matrix, eigenvalues_from_charpoly
 
 TABLES = Path(__file__).resolve().parents[1] / "tests" / "data" / "dh"
 
@@ -61,6 +64,20 @@ def _ops(M):
     return sum(sp.count_ops(e) for e in M)
 
 
+def _root_error(robot, poly, points=3):
+    """Largest difference of the roots of ``poly`` from numpy's eigenvalues of J J^T, relative to the largest."""
+    Jf = robot.numeric(robot.geometric_jacobian)
+    rng = np.random.default_rng(1)
+    worst = 0.0
+    for _ in range(points):
+        q = rng.uniform(-np.pi, np.pi, robot.n)
+        J = Jf(q)
+        expected = np.linalg.eigvalsh(J @ J.T)
+        ours = eigenvalues_from_charpoly(poly, {**robot.parameters, **dict(zip(robot.q, q))})
+        worst = max(worst, float(np.max(np.abs(ours - expected)) / max(1.0, expected.max())))
+    return worst
+
+
 def robot_table(skip_panda_simplify: bool = False, skip_panda_6xn: bool = False):
     """One cold robot per row (nothing cached between the columns' first calls)."""
     print("\nrobot | fk + J | singular factors | charpoly 3 x n | charpoly 6 x n | T ops (ours / simplify, time)")
@@ -75,7 +92,9 @@ def robot_table(skip_panda_simplify: bool = False, skip_panda_6xn: bool = False)
             geo = "skipped"
         else:
             t_geo, P = best_of(lambda r=robot: r.characteristic_polynomial("geometric"), repeat=1)
-            geo = f"{t_geo:.2f} s ({_ops(P.all_coeffs())} ops)"
+            dets = len(P.as_expr().atoms(sp.Determinant))
+            geo = (f"{t_geo:.2f} s ({_ops(P.all_coeffs())} ops, {dets} determinants, "
+                   f"{_root_error(robot, P):.1e} from numpy)")
         if skip_panda_simplify and name == "panda":
             simp = "skipped"
         else:

@@ -18,7 +18,7 @@ from pathlib import Path
 import sympy as sp
 
 from . import __version__, robots
-from .errors import InvalidParameterError, WorkspaceError
+from .errors import InvalidParameterError, SymbolicBudgetError, WorkspaceError
 from .expressions import is_finite_value, parse_expr, read_symbol
 from .kinematics import DHRobot
 from .numbers import clean_json, fmt, fmt_bound, fmt_bracket, measure_text
@@ -201,11 +201,18 @@ def cmd_jacobian(args) -> int:
                  "note": aj.note}
     else:
         J = robot.geometric_jacobian
-    # Singular factors can cost far more than J itself (45 s for a 7-joint arm):
-    # --no-singular skips them, and "singular" is then null in the JSON.
-    pairs = None if args.no_singular else robot.singular_factors("geometric", multiplicity=True)
+    if not (args.json or args.latex):   # the Jacobian first: the factors can take far longer than J itself
+        print(f"{robot.name}: {args.kind} Jacobian ({J.rows} x {J.cols})")
+        for j in range(J.cols):
+            print(f"  column {j + 1}: " + " | ".join(robot.to_str(J[i, j]) for i in range(J.rows)), flush=True)
+    # Singular factors can cost far more than J itself (45 s for a 7-joint arm): --no-singular skips them, and
+    # "singular" is then null in the JSON; past the symbolic budget they are null too, and "unfinished" says so.
+    unfinished: dict[str, str] = {}
+    pairs = None if args.no_singular else _within_budget(
+        lambda: robot.singular_factors("geometric", multiplicity=True), "singular", unfinished)
     singular = None if pairs is None else [f for f, _ in pairs]
-    charpoly = robot.characteristic_polynomial(args.charpoly).all_coeffs() if args.charpoly else None
+    charpoly = None if not args.charpoly else _within_budget(
+        lambda: robot.characteristic_polynomial(args.charpoly).all_coeffs(), "charpoly", unfinished)
     seconds = time.perf_counter() - start
     if args.json:
         _emit_json({
@@ -224,6 +231,7 @@ def cmd_jacobian(args) -> int:
                 "coefficients": [sp.sstr(c) for c in charpoly],
                 "textbook": [robot.to_str(c) for c in charpoly],
                 "latex": [robot.to_latex(c) for c in charpoly]},
+            "unfinished": unfinished,
             **extra,
             "seconds": seconds,
         })
@@ -235,19 +243,33 @@ def cmd_jacobian(args) -> int:
                   + ", ".join(robot.to_latex(c) for c in charpoly))
         if pairs is not None:
             print("singular: " + (f"{_product(robot, pairs, latex=True)} = 0" if pairs else NO_SINGULAR_FACTOR))
+        for message in unfinished.values():
+            print(message)
         return 0
-    print(f"{robot.name}: {args.kind} Jacobian ({J.rows} x {J.cols})")
-    for j in range(J.cols):
-        print(f"  column {j + 1}: " + " | ".join(robot.to_str(J[i, j]) for i in range(J.rows)))
     if pairs is not None:
         print(f"  singular where: {_product(robot, pairs)} = 0" if pairs else f"  singular: {NO_SINGULAR_FACTOR}")
+    elif "singular" in unfinished:
+        print(f"  singular: {unfinished['singular']}")
     if charpoly is not None:
         print(f"  det(lambda I - J J^T), {args.charpoly} Jacobian:")
         for k, c in enumerate(charpoly):
             print(f"    lambda^{len(charpoly) - 1 - k}: {robot.to_str(c)}")
+    elif "charpoly" in unfinished:
+        print(f"  det(lambda I - J J^T): {unfinished['charpoly']}")
     if extra:
         print(f"  {extra['note']}")
     return 0
+
+
+def _within_budget(derive, key: str, unfinished: dict):
+    """``derive()``, or None with ``unfinished[key]`` saying it was not found within the symbolic budget: the
+    Jacobian printed before it stands, and the command ends with status 0 (a budget is an answer, not a fault)."""
+    try:
+        return derive()
+    except SymbolicBudgetError as exc:
+        what = "not factored" if key == "singular" else "not found"
+        unfinished[key] = f"{what} within the budget ({exc})"
+        return None
 
 
 def cmd_codegen(args) -> int:

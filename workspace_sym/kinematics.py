@@ -20,6 +20,12 @@ from itertools import combinations
 import numpy as np
 import sympy as sp
 
+from .charpoly import (
+    characteristic_polynomial,
+    eigenvalues_from_charpoly,
+    gram_characteristic_polynomial,
+    laplace_minor,
+)
 from .errors import (
     DHTableError,
     ExpressionError,
@@ -36,7 +42,6 @@ from .symbolic import (
     derivation,
     factor_half_angle,
     generic_constants,
-    opaque_powers,
     restore_constants,
     roots_as_symbols,
     shorthand,
@@ -231,6 +236,12 @@ def _product(A: sp.Matrix, B: sp.Matrix) -> sp.Matrix:
     adds the products one at a time (a quarter of a 6-joint table's fk went into those partial sums)."""
     return sp.Matrix(A.rows, B.cols, lambda i, j: sp.Add(*(A[i, k] * B[k, j] for k in range(A.cols)
                                                            if A[i, k] != 0 and B[k, j] != 0)))
+
+
+def _inverse_transform(A: sp.Matrix) -> sp.Matrix:
+    """The inverse ``[R^T, -R^T p; 0, 1]`` of a homogeneous transform."""
+    Rt = A[:3, :3].T
+    return sp.Matrix.vstack(sp.Matrix.hstack(Rt, -_product(Rt, A[:3, 3])), sp.Matrix([[0, 0, 0, 1]]))
 
 
 MAX_JOINTS = 24
@@ -450,8 +461,9 @@ class DHRobot:
         return self.fk()[:3, :3]
 
     # ------------------------------------------------------------------ Jacobians
-    def _parameter_twists(self, i: int) -> dict:
-        """Unit twists of the four DH parameters of row ``i`` (0-based), in the world frame.
+    def _parameter_twists(self, i: int, frames=None) -> dict:
+        """Unit twists of the four DH parameters of row ``i`` (0-based), in the world frame (or in the frame
+        that ``frames``, the frames 0..n expressed in it, are given in).
 
         ``{"theta": ("R", axis, point), "d": ("P", axis), ...}``: the motion of
         the tool frame per unit increase of that parameter, all others fixed.
@@ -460,7 +472,8 @@ class DHRobot:
         Modified DH, ``T_i = T_(i-1) Rx(alpha) Tx(a) Rz(theta) Tz(d)``: alpha and a act
         along ``x_(i-1)`` through ``o_(i-1)``, theta and d along ``z_i`` through ``o_i``.
         """
-        F0, F1 = self._frames[i], self._frames[i + 1]
+        frames = self._frames if frames is None else frames
+        F0, F1 = frames[i], frames[i + 1]
         x0, z0, o0 = F0[:3, 0], F0[:3, 2], F0[:3, 3]
         x1, z1, o1 = F1[:3, 0], F1[:3, 2], F1[:3, 3]
         if self.convention == "standard":
@@ -596,20 +609,48 @@ class DHRobot:
         """The geometric or position Jacobian with its rows expressed in the frame of a middle link.
 
         Rotating the rows (``J -> diag(R, R) J``, ``R`` orthogonal) changes neither the
-        rank, the maximal minors up to sign, nor the eigenvalues of ``J J^T``, and the
-        entries get much shorter (joint 1 drops out).
+        rank, the maximal minors up to sign, nor the eigenvalues of ``J J^T``.  The reference
+        point stays the tool point; only the axes turn.  The entries are derived in that frame
+        from the start (:meth:`_frames_in`), products of the rows on either side of it, not by
+        turning the world-frame Jacobian: joint 1 and the base drop out and no entry carries
+        the whole chain (turning the world Jacobian of a 6-joint table with twists made its
+        entries three times longer, and its minors cost 40 s).
         """
-        J = self.jacobian(kind)
-        R = self._frames[self.n // 2][:3, :3].T
-        with derivation(f"the {kind} Jacobian of {self.name} in a middle frame"):
-            return textbook_matrix(_product(sp.diag(*([R] * (J.rows // 3))), J))
+        J = self._middle_jacobian
+        return J if kind == "geometric" else J[:3, :]
+
+    @cached_property
+    def _middle_jacobian(self) -> sp.Matrix:
+        middle = self.n // 2
+        with derivation(f"the geometric Jacobian of {self.name} in frame {middle}"):
+            frames, tip = self._frames_in(middle)
+            twists = [self._parameter_twists(i, frames) for i in range(self.n)]
+            return self._jacobian_columns(tip[:3, 3], twists)
+
+    def _frames_in(self, m: int) -> tuple[list, sp.Matrix]:
+        """Frames 0..n of the table and the tool frame, expressed in frame ``m`` (``(T_0^m)^-1 T_0^k``), in
+        textbook form: ``A_(m+1) ... A_k`` outward, ``A_m^-1 ... A_(k+1)^-1`` inward (no base: it drops out)."""
+        frames: list = [None] * (self.n + 1)
+        frames[m] = T = sp.eye(4)
+        for k in range(m + 1, self.n + 1):
+            check_budget(f"frame {k} in frame {m}")
+            T = frames[k] = textbook_matrix(_product(T, self.row_matrix(k)))
+        T = frames[m]
+        for k in range(m, 0, -1):
+            check_budget(f"frame {k - 1} in frame {m}")
+            T = frames[k - 1] = textbook_matrix(_product(T, _inverse_transform(self.row_matrix(k))))
+        tip = frames[self.n] if self.tool is None else textbook_matrix(_product(frames[self.n], self.tool))
+        return frames, tip
 
     def characteristic_polynomial(self, kind: str = "geometric", lam: sp.Symbol | None = None) -> sp.Poly:
         """``det(lambda I - J J^T)`` of the geometric (6 x n) or position (3 x n) Jacobian.
 
         Coefficients are sums of squared minors of ``J`` in textbook form (see
-        :func:`gram_characteristic_polynomial`), computed on the rows in a middle
-        link's frame; print them with :meth:`to_str` or :meth:`to_latex`.  Kept
+        :func:`~workspace_sym.charpoly.gram_characteristic_polynomial`), computed on
+        the Jacobian derived in a middle link's frame; print them with :meth:`to_str`
+        or :meth:`to_latex`.  A minor not factored within its share of the budget
+        stays the exact, unexpanded determinant of its submatrix
+        (``sympy.Determinant``; :func:`eigenvalues_from_charpoly` evaluates it).  Kept
         after the first call for each ``kind``.
 
         Examples
@@ -841,153 +882,6 @@ def numeric_function(expr, variables):
     return evaluate
 
 
-def characteristic_polynomial(M, lam: sp.Symbol | None = None, *, gram: bool = False,
-                              simplify=textbook) -> sp.Poly:
-    """``det(lambda I - M)`` (or of ``M M^T`` when ``gram``) as a polynomial in lambda.
-
-    With ``gram`` the coefficients are sums of squared minors of ``M``
-    (:func:`gram_characteristic_polynomial`), which finishes on 6 x 6
-    Jacobians where the expanded determinant does not.  Coefficients are
-    simplified with ``simplify`` (textbook form by default; pass
-    ``sympy.factor`` for rational functions or ``None`` to keep them raw).
-
-    Examples
-    --------
-    >>> lam = sp.Symbol("lambda")
-    >>> characteristic_polynomial(sp.Matrix([[2, 0], [0, 3]]), lam).as_expr()
-    lambda**2 - 5*lambda + 6
-    """
-    if not isinstance(M, sp.MatrixBase):
-        M = sp.Matrix([[as_sympy(v, "M") for v in row] for row in M])      # text only through the reader
-    if M.rows != M.cols and not gram:
-        raise InvalidParameterError(f"M: the characteristic polynomial needs a square matrix; got {M.shape}",
-                                    parameter="M")
-    lam = lam if lam is not None else sp.Symbol("lambda")
-    if gram:
-        return gram_characteristic_polynomial(M, lam, simplify=simplify)
-    # Matrix.charpoly runs sympy.simplify on every coefficient unless told otherwise:
-    # far too slow on trigonometric entries, and not the form we want anyway.
-    p = M.charpoly(lam, simplify=lambda e: e)
-    if simplify is None:
-        return p
-    coeffs = [simplify(c) for c in p.all_coeffs()]
-    return sp.Poly.from_list(coeffs, lam)
-
-
-SHORT_SUM_TERMS = 24   # Cauchy-Binet coefficients with at most this many monomials are also tried reduced
-
-
-def _all_minors(entries, shape, ring) -> dict:
-    """Every minor of a matrix of ring elements, keyed by ``(rows, cols)``; Laplace along the first row,
-    each minor built once from those one size smaller."""
-    m, n = shape
-    minors: dict[tuple[tuple[int, ...], tuple[int, ...]], object] = {((i,), (j,)): entries[i][j]
-                                                                      for i in range(m) for j in range(n)}
-    for k in range(2, min(m, n) + 1):
-        for rows in combinations(range(m), k):
-            top, rest = rows[0], rows[1:]
-            for cols in combinations(range(n), k):
-                check_budget(f"the {k} x {k} minors")
-                total = ring.zero
-                for pos, j in enumerate(cols):
-                    if entries[top][j]:
-                        sub = minors[(rest, cols[:pos] + cols[pos + 1:])]
-                        if sub:
-                            total = total + entries[top][j] * sub if pos % 2 == 0 else total - entries[top][j] * sub
-                minors[(rows, cols)] = total
-    return minors
-
-
-def _factored(p, back: dict, simplify, cache: dict) -> sp.Expr:
-    """A ring element as its numeric content times its irreducible factors, each simplified once."""
-    check_budget("factoring a minor")
-    content, factors = p.factor_list()
-    out = p.ring.domain.to_sympy(content)
-    for f, m in factors:
-        if f not in cache:
-            cache[f] = simplify(f.as_expr().xreplace(back))
-        out *= cache[f] ** m
-    return out
-
-
-def gram_characteristic_polynomial(J, lam: sp.Symbol | None = None, *, simplify=textbook) -> sp.Poly:
-    """``det(lambda I - J J^T)`` with each coefficient a sum of squared minors of ``J`` (Cauchy-Binet).
-
-    The coefficient of ``lambda^(m-k)`` is ``(-1)^k`` times the sum of the
-    principal ``k x k`` minors of ``J J^T``, which by the Cauchy-Binet formula
-    is the sum of the squares of all ``k x k`` minors of ``J``.  The minors are
-    computed exactly (sines, cosines and constants as generators of a
-    polynomial ring, each minor built once by Laplace expansion from the
-    smaller ones), factored in that ring, each factor brought to textbook
-    form by ``simplify``, and equal minors (up to sign) are
-    counted once: ``c_k = (-1)^k sum_i n_i m_i^2``.  The
-    coefficients keep that structure (the polynomial's domain is ``EX``);
-    ``sympy.expand`` gives the monomial form.
-
-    ``J`` may be rotated first by any orthogonal matrix: ``(Q J)(Q J)^T`` has
-    the same characteristic polynomial, which :meth:`DHRobot.characteristic_polynomial`
-    uses to shorten the entries.
-
-    Examples
-    --------
-    >>> t, a = sp.symbols("t a")
-    >>> gram_characteristic_polynomial(sp.Matrix([[a * sp.cos(t), a * sp.sin(t), 1]]), sp.Symbol("x"))
-    Poly(x - a**2 - 1, x, domain='EX')
-    """
-    J = sp.Matrix(J)
-    lam = lam if lam is not None else sp.Symbol("lambda")
-    (entries, opaque), atoms = opaque_powers([as_sympy(e) for e in J]), set()
-    for e in entries:
-        atoms |= e.atoms(sp.sin, sp.cos) | set(algebraic_constants([e]))
-    # Sines and cosines become generators before the constants become symbols: the other way round,
-    # cos(theta2 + pi/6) turned into cos(theta2 + _k0/6) and that placeholder reached the output.
-    forward = {a: sp.Dummy() for a in sorted(atoms, key=sp.default_sort_key)}
-    entries, back = generic_constants([e.xreplace(forward) for e in entries])
-    back.update({v: k for k, v in forward.items()})
-    back.update(opaque)
-    gens = sorted(set().union(*(e.free_symbols for e in entries)) or {sp.Dummy()}, key=sp.default_sort_key)
-    R, *_ = sp.ring(gens, sp.QQ)
-    rows = [[R.from_expr(entries[i * J.cols + j]) for j in range(J.cols)] for i in range(J.rows)]
-    minors = _all_minors(rows, J.shape, R)
-    simplify = simplify or (lambda e: e)
-    coeffs = [sp.Integer(1)]
-    cache: dict = {}                # irreducible factors already simplified (_factored)
-    for k in range(1, J.rows + 1):
-        distinct: dict = {}   # minors up to sign, with how often they occur
-        for (r, _), minor in minors.items():
-            if len(r) == k and minor:
-                minor = -minor if minor.LC < 0 else minor
-                distinct[minor] = distinct.get(minor, 0) + 1
-        counts: dict = {}
-        for minor, n in distinct.items():
-            key = _sign_free(_factored(minor, back, simplify, cache))
-            if key != 0:
-                counts[key] = counts.get(key, 0) + n
-        squares = sorted(counts.items(), key=lambda kv: (sp.count_ops(kv[0]), sp.default_sort_key(kv[0])))
-        total = sp.Add(*(n * f**2 for f, n in squares))
-        ring_total = sum((n * minor**2 for minor, n in distinct.items()), R.zero)
-        if len(ring_total) <= SHORT_SUM_TERMS:   # a^2 c^2 + a^2 s^2 + 1 is a^2 + 1
-            reduced = simplify(ring_total.as_expr().xreplace(back))
-            total = reduced if sp.count_ops(reduced) < sp.count_ops(total) else total
-        coeffs.append((-1) ** k * total)
-    return sp.Poly.from_list(coeffs, lam, domain="EX")
-
-
-def eigenvalues_from_charpoly(poly: sp.Poly, values: dict | None = None) -> np.ndarray:
-    """Numeric eigenvalues: roots of the characteristic polynomial at ``values``.
-
-    Returns them sorted; the real parts when every imaginary part is below
-    1e-9 relative (as for the symmetric ``J J^T``).
-    """
-    values = values or {}
-    coeffs = [complex(sp.sympify(c).xreplace(values).evalf()) for c in poly.all_coeffs()]
-    roots = np.roots(coeffs)
-    scale = max(1.0, float(np.max(np.abs(roots)))) if roots.size else 1.0
-    if np.all(np.abs(roots.imag) <= 1e-9 * scale):
-        return np.sort(roots.real)
-    return roots[np.argsort(roots.real)]
-
-
 EXTENSION_GCD_COLUMNS = 2   # wider Jacobians with square roots take their minors' gcd with the roots as symbols
 
 
@@ -1059,13 +953,19 @@ def maximal_minor_factors(J: sp.Matrix, *, seed: int = 0, multiplicity: bool = F
         back.update(roots)
         extension = ()
     ring = HalfAngleRing(pairs, set().union(*(e.free_symbols for e in entries)), extension=extension)
-    P = [[ring.element(entries[i * J.cols + j]) for j in range(J.cols)] for i in range(J.rows)]
+    # Sparse, short rows first: Laplace expansion multiplies the first row's entries by the largest minors
+    # (a permutation of rows changes a minor's sign only).
+    order = sorted(range(J.rows), key=lambda i: (sum(J[i, j] != 0 for j in range(J.cols)),
+                                                 sum(sp.count_ops(J[i, j]) for j in range(J.cols))))
+    P = [[ring.element(entries[i * J.cols + j]) for j in range(J.cols)] for i in order]
+    numeric = numeric[order, :]
+    memo: dict = {}
     common = None
     for rr in combinations(range(J.rows), r):
         for cc in combinations(range(J.cols), r):
             if abs(np.linalg.det(numeric[np.ix_(rr, cc)])) < 1e-9:
                 continue  # vanishes at a generic point: identically zero, no information
-            det = ring.convert(_bareiss_det([[P[i][j] for j in cc] for i in rr], ring.domain))
+            det = ring.convert(laplace_minor(P, rr, cc, memo, ring.domain.zero))
             check_budget("the maximal minors' gcd")
             common = det if common is None else common.gcd(det)
             if common.is_ground:
@@ -1075,25 +975,6 @@ def maximal_minor_factors(J: sp.Matrix, *, seed: int = 0, multiplicity: bool = F
     factors = factor_half_angle(ring.to_expr(common), ring.half, extension=extension, multiplicity=True)
     factors = [(f, m) for f, m in restore_constants(factors, back) if f != 0]
     return factors if multiplicity else [f for f, _ in factors]
-
-
-def _bareiss_det(M: list, domain):
-    """Determinant of a square matrix of polynomial-ring elements, fraction-free (Bareiss 1968), the budget
-    checked at every elimination step (DomainMatrix.det cannot be interrupted: 14 minutes on a float AL5D)."""
-    M = [row[:] for row in M]
-    n, sign, prev = len(M), 1, domain.one
-    for k in range(n - 1):
-        if not M[k][k]:
-            swap = next((i for i in range(k + 1, n) if M[i][k]), None)
-            if swap is None:
-                return domain.zero
-            M[k], M[swap], sign = M[swap], M[k], -sign
-        for i in range(k + 1, n):
-            check_budget("a maximal minor")
-            for j in range(k + 1, n):
-                M[i][j] = domain.exquo(M[k][k] * M[i][j] - M[i][k] * M[k][j], prev)
-        prev = M[k][k]
-    return M[n - 1][n - 1] if sign > 0 else -M[n - 1][n - 1]
 
 
 def _quotient(num: sp.Expr, den: sp.Expr) -> sp.Expr:
@@ -1106,7 +987,3 @@ def _quotient(num: sp.Expr, den: sp.Expr) -> sp.Expr:
         return num / den
     return sp.factor_terms(sp.cancel(num / den))
 
-
-def _sign_free(f: sp.Expr) -> sp.Expr:
-    """Representative of ``f`` up to sign, so that ``-s3`` and ``s3`` compare equal."""
-    return -f if f.could_extract_minus_sign() else f

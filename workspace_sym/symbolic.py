@@ -51,6 +51,8 @@ __all__ = [
     "symbolic_budget",
     "derivation",
     "check_budget",
+    "remaining_budget",
+    "attempt",
     "expansion_size",
     "opaque_powers",
     "angle_label",
@@ -191,6 +193,30 @@ def check_budget(step: str) -> None:
     current = _DEADLINE.get()
     if current is not None and time.monotonic() > current[0]:
         raise SymbolicBudgetError(f"{current[2]}: {step} not finished within the budget of {current[1]:g} s")
+
+
+def remaining_budget() -> float | None:
+    """Seconds left in the enclosing :func:`symbolic_budget` (0 once spent), or None outside any."""
+    current = _DEADLINE.get()
+    return None if current is None else max(0.0, current[0] - time.monotonic())
+
+
+def attempt(fn, seconds: float, what: str):
+    """``(True, fn())`` when ``fn`` finishes within ``seconds`` (and the enclosing budget), ``(False, None)`` when
+    those ``seconds`` run out first: the caller then takes a cheaper road.  The enclosing budget spent is its
+    own :class:`~workspace_sym.errors.SymbolicBudgetError`, not a ``(False, None)``.
+
+    Examples
+    --------
+    >>> attempt(lambda: 42, 1.0, "demo"), attempt(lambda: check_budget("a step"), 0.0, "demo")
+    ((True, 42), (False, None))
+    """
+    try:
+        with symbolic_budget(seconds, what):
+            return True, fn()
+    except SymbolicBudgetError:
+        check_budget(what)   # the enclosing deadline passed too: that one is the error
+        return False, None
 
 
 MAX_EXPANDED_POWER = 64
@@ -804,20 +830,32 @@ class HalfAngleRing:
 
     def convert(self, p):
         """Half-angle, homogenised form of a ring element in ``c_u, s_u``."""
+        return self.homogenised(self.half_angle(p))
+
+    def half_angle(self, p):
+        """``p`` with ``c_u = C**2 - S**2`` and ``s_u = 2 S C`` substituted."""
+        return p.compose(self._subs) if self._subs and p else p
+
+    def homogenised(self, p):
+        """A polynomial in the half angles made homogeneous in each ``(S, C)`` by powers of ``S**2 + C**2 = 1``."""
         if not self._subs or not p:
             return p
-        p = p.compose(self._subs)
         terms = p.terms()
         top = [max(m[i] + m[j] for m, _ in terms) for i, j in self._index]
         R = p.ring
-        out = R.zero
+        # Terms gathered by the powers of S**2 + C**2 they lack, each group multiplied once (term by term,
+        # a 7-joint arm's 6 x 6 minors took 30 s here).
+        groups: dict = {}
         for monom, coeff in terms:
-            term = R({monom: coeff})
-            for k, (i, j) in enumerate(self._index):
-                gap = (top[k] - monom[i] - monom[j]) // 2
+            gaps = tuple((top[k] - monom[i] - monom[j]) // 2 for k, (i, j) in enumerate(self._index))
+            groups.setdefault(gaps, {})[monom] = coeff
+        out = R.zero
+        for gaps, group in groups.items():
+            part = R(group)
+            for k, gap in enumerate(gaps):
                 if gap:
-                    term *= self._unit[k] ** gap
-            out += term
+                    part *= self._unit[k] ** gap
+            out += part
         return out
 
     def to_expr(self, p) -> sp.Expr:

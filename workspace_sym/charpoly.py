@@ -1,0 +1,282 @@
+"""The characteristic polynomial of a matrix and of ``J J^T`` (Cauchy-Binet), and numeric eigenvalues from it.
+
+Split out of :mod:`workspace_sym.kinematics` (which keeps thin delegating methods on
+:class:`~workspace_sym.kinematics.DHRobot`): this is generic algebra on SymPy matrices,
+with no knowledge of DH tables.
+"""
+
+from __future__ import annotations
+
+import time
+from itertools import combinations
+
+import numpy as np
+import sympy as sp
+
+from .errors import InvalidParameterError
+from .expressions import as_sympy
+from .symbolic import (
+    algebraic_constants,
+    attempt,
+    check_budget,
+    generic_constants,
+    opaque_powers,
+    remaining_budget,
+    symbolic_budget,
+    textbook,
+)
+
+__all__ = [
+    "characteristic_polynomial",
+    "gram_characteristic_polynomial",
+    "eigenvalues_from_charpoly",
+    "laplace_minor",
+]
+
+
+def characteristic_polynomial(M, lam: sp.Symbol | None = None, *, gram: bool = False,
+                              simplify=textbook) -> sp.Poly:
+    """``det(lambda I - M)`` (or of ``M M^T`` when ``gram``) as a polynomial in lambda.
+
+    With ``gram`` the coefficients are sums of squared minors of ``M``
+    (:func:`gram_characteristic_polynomial`), which finishes on 6 x 6
+    Jacobians where the expanded determinant does not.  Coefficients are
+    simplified with ``simplify`` (textbook form by default; pass
+    ``sympy.factor`` for rational functions or ``None`` to keep them raw).
+
+    Examples
+    --------
+    >>> lam = sp.Symbol("lambda")
+    >>> characteristic_polynomial(sp.Matrix([[2, 0], [0, 3]]), lam).as_expr()
+    lambda**2 - 5*lambda + 6
+    """
+    if not isinstance(M, sp.MatrixBase):
+        M = sp.Matrix([[as_sympy(v, "M") for v in row] for row in M])      # text only through the reader
+    if M.rows != M.cols and not gram:
+        raise InvalidParameterError(f"M: the characteristic polynomial needs a square matrix; got {M.shape}",
+                                    parameter="M")
+    lam = lam if lam is not None else sp.Symbol("lambda")
+    if gram:
+        return gram_characteristic_polynomial(M, lam, simplify=simplify)
+    # Matrix.charpoly runs sympy.simplify on every coefficient unless told otherwise:
+    # far too slow on trigonometric entries, and not the form we want anyway.
+    p = M.charpoly(lam, simplify=lambda e: e)
+    if simplify is None:
+        return p
+    coeffs = [simplify(c) for c in p.all_coeffs()]
+    return sp.Poly.from_list(coeffs, lam)
+
+
+SHORT_SUM_TERMS = 24   # Cauchy-Binet coefficients with at most this many monomials are also tried reduced
+
+
+def _all_minors(entries, shape, ring) -> dict:
+    """Every minor of a matrix of ring elements, keyed by ``(rows, cols)`` (:func:`laplace_minor`, each minor
+    built once from those one size smaller)."""
+    m, n = shape
+    minors: dict = {}
+    for k in range(1, min(m, n) + 1):
+        for rows in combinations(range(m), k):
+            for cols in combinations(range(n), k):
+                minors[(rows, cols)] = laplace_minor(entries, rows, cols, minors, ring.zero)
+    return minors
+
+
+def laplace_minor(P: list, rows: tuple, cols: tuple, memo: dict, zero):
+    """The minor ``(rows, cols)`` of a matrix of polynomial-ring elements, by Laplace expansion along its first
+    row, every smaller minor kept in ``memo`` (shared by the maximal minors: they differ in one column) and the
+    budget checked at each.  Products of short entries by minors, no division: Bareiss' exact divisions of
+    long polynomials took 50 s of a 7-joint arm's 6 x 6 minors (and DomainMatrix.det, which cannot be
+    interrupted, 14 minutes on a float AL5D)."""
+    key = (rows, cols)
+    if key in memo:
+        return memo[key]
+    if len(rows) == 1:
+        return P[rows[0]][cols[0]]
+    check_budget(f"the {len(rows)} x {len(rows)} minors")
+    top, rest = rows[0], rows[1:]
+    total = zero
+    for pos, j in enumerate(cols):
+        if P[top][j]:
+            sub = laplace_minor(P, rest, cols[:pos] + cols[pos + 1:], memo, zero)
+            if sub:
+                total = total + P[top][j] * sub if pos % 2 == 0 else total - P[top][j] * sub
+    memo[key] = total
+    return total
+
+
+def _factored(p, back: dict, simplify, cache: dict) -> sp.Expr:
+    """A ring element as its numeric content times its irreducible factors, each simplified once."""
+    check_budget("factoring a minor")
+    content, factors = p.factor_list()
+    out = p.ring.domain.to_sympy(content)
+    for f, m in factors:
+        if f not in cache:
+            cache[f] = simplify(f.as_expr().xreplace(back))
+        out *= cache[f] ** m
+    return out
+
+
+def gram_characteristic_polynomial(J, lam: sp.Symbol | None = None, *, simplify=textbook) -> sp.Poly:
+    """``det(lambda I - J J^T)`` with each coefficient a sum of squared minors of ``J`` (Cauchy-Binet).
+
+    The coefficient of ``lambda^(m-k)`` is ``(-1)^k`` times the sum of the
+    principal ``k x k`` minors of ``J J^T``, which by the Cauchy-Binet formula
+    is the sum of the squares of all ``k x k`` minors of ``J``.  The minors are
+    computed exactly (sines, cosines and constants as generators of a
+    polynomial ring, each minor built once by Laplace expansion from the
+    smaller ones), factored in that ring, each factor brought to textbook
+    form by ``simplify``, and equal minors (up to sign) are
+    counted once: ``c_k = (-1)^k sum_i n_i m_i^2``.  The
+    coefficients keep that structure (the polynomial's domain is ``EX``);
+    ``sympy.expand`` gives the monomial form.
+
+    Each step has its share of the enclosing :func:`~workspace_sym.symbolic.symbolic_budget`
+    (120 s without one): the exact minors :data:`MINORS_SHARE` of it, their factoring and
+    textbook forms, shortest first, until :data:`FACTOR_SHARE` of what is left is spent (a
+    minor not factored by then stays the determinant of its submatrix).  When the exact minors
+    themselves do not finish in their share, the coefficients are returned unexpanded,
+    ``c_k = (-1)^k sum det(J_(S,T))^2`` over the ``k x k`` submatrices of ``J`` as
+    :class:`sympy.Determinant` objects: still exact
+    (``.doit()`` expands them; :func:`eigenvalues_from_charpoly` evaluates them), only not
+    multiplied out.
+
+    ``J`` may be rotated first by any orthogonal matrix: ``(Q J)(Q J)^T`` has
+    the same characteristic polynomial, which :meth:`DHRobot.characteristic_polynomial`
+    uses to shorten the entries.
+
+    Examples
+    --------
+    >>> t, a = sp.symbols("t a")
+    >>> gram_characteristic_polynomial(sp.Matrix([[a * sp.cos(t), a * sp.sin(t), 1]]), sp.Symbol("x"))
+    Poly(x - a**2 - 1, x, domain='EX')
+    """
+    J = sp.Matrix(J)
+    lam = lam if lam is not None else sp.Symbol("lambda")
+    with symbolic_budget(None, f"the characteristic polynomial of J J^T ({J.rows} x {J.cols})"):
+        done, ring_minors = attempt(lambda: _ring_minors(J), MINORS_SHARE * (remaining_budget() or 0.0),
+                                    "the exact minors")
+        if not done:
+            coeffs = _determinant_sums(J)
+        else:
+            minors, back = ring_minors
+            coeffs = _squared_minor_sums(J, minors, back, simplify or (lambda e: e),
+                                         time.monotonic() + FACTOR_SHARE * (remaining_budget() or 0.0))
+    return sp.Poly.from_list(coeffs, lam, domain="EX")
+
+
+MINORS_SHARE = 0.5    # of the budget left: the exact minors in the polynomial ring (else the Determinant sums)
+FACTOR_SHARE = 0.35   # of the budget left after them: factoring the minors and their textbook forms (a 7-joint
+                      # arm's 6 x 7 then ends in 60 s under the default budget, the 6-joint ones all factored)
+RING_TOTAL_PRODUCTS = 20_000   # a coefficient is also tried multiplied out when its squares cost at most this
+
+
+def _ring_minors(J: sp.Matrix) -> tuple:
+    """Every minor of ``J`` as an element of a polynomial ring over QQ whose generators are the sines, cosines and
+    constants of the entries; returns the minors (:func:`_all_minors`) and the substitution back to SymPy."""
+    (entries, opaque), atoms = opaque_powers([as_sympy(e) for e in J]), set()
+    for e in entries:
+        atoms |= e.atoms(sp.sin, sp.cos) | set(algebraic_constants([e]))
+    # Sines and cosines become generators before the constants become symbols: the other way round,
+    # cos(theta2 + pi/6) turned into cos(theta2 + _k0/6) and that placeholder reached the output.
+    forward = {a: sp.Dummy() for a in sorted(atoms, key=sp.default_sort_key)}
+    entries, back = generic_constants([e.xreplace(forward) for e in entries])
+    back.update({v: k for k, v in forward.items()})
+    back.update(opaque)
+    gens = sorted(set().union(*(e.free_symbols for e in entries)) or {sp.Dummy()}, key=sp.default_sort_key)
+    R, *_ = sp.ring(gens, sp.QQ)
+    rows = []
+    for i in range(J.rows):
+        check_budget("the entries as polynomials")
+        rows.append([R.from_expr(entries[i * J.cols + j]) for j in range(J.cols)])
+    return _all_minors(rows, J.shape, R), back
+
+
+def _squared_minor_sums(J: sp.Matrix, minors: dict, back: dict, simplify, factor_until: float) -> list:
+    """``[1, -c_1, c_2, ...]``: ``c_k`` the sum of the squared ``k x k`` minors, equal minors (up to sign) counted
+    once, each factored and simplified, shortest first, while ``factor_until`` (a ``time.monotonic()``) is ahead;
+    those left then are kept as the determinants of their submatrices (a 1 x 1 one as the entry).  (Slicing the
+    time among the minors instead wasted it: a factorisation cut short gives nothing.)"""
+    m = J.rows
+    by_size: list = [{} for _ in range(m + 1)]   # minors up to sign, with how often they occur
+    where: dict = {}                              # one submatrix of each
+    for (r, c), minor in minors.items():
+        if minor:
+            minor = -minor if minor.LC < 0 else minor
+            by_size[len(r)][minor] = by_size[len(r)].get(minor, 0) + 1
+            where.setdefault(minor, (r, c))
+    forms: dict = {}
+    cache: dict = {}                # irreducible factors already simplified (_factored)
+    for minor in sorted(where, key=len):
+        left = factor_until - time.monotonic()
+        done, form = (attempt(lambda p=minor: _factored(p, back, simplify, cache), left, "factoring a minor")
+                      if left > 0 else (False, None))
+        if not done:   # exact all the same, and as short as J
+            check_budget("the determinants")
+            form = _determinant(J, *where[minor])
+        forms[minor] = form
+    coeffs = [sp.Integer(1)]
+    for k in range(1, m + 1):
+        distinct = by_size[k]
+        # Each form is that of a minor whose sign is already fixed (positive leading coefficient), so equal
+        # minors were counted in the ring; nothing here walks the long forms again (could_extract_minus_sign and
+        # count_ops on them cost seconds past the factoring deadline).
+        total = sp.Add(*(n * forms[minor] ** 2 for minor, n in distinct.items()))
+        if distinct and sum(len(p) ** 2 for p in distinct) <= RING_TOTAL_PRODUCTS:
+            ring_total = sum((n * minor**2 for minor, n in distinct.items()), next(iter(distinct)).ring.zero)
+            if len(ring_total) <= SHORT_SUM_TERMS:   # a^2 c^2 + a^2 s^2 + 1 is a^2 + 1
+                reduced = simplify(ring_total.as_expr().xreplace(back))
+                total = reduced if sp.count_ops(reduced) < sp.count_ops(total) else total
+        coeffs.append((-1) ** k * total)
+    return coeffs
+
+
+def _determinant(J: sp.Matrix, rows, cols) -> sp.Expr:
+    """The unexpanded determinant of a submatrix of ``J`` (a 1 x 1 one is its entry)."""
+    if len(rows) == 1:
+        return J[rows[0], cols[0]]
+    return sp.Determinant(sp.ImmutableMatrix(J.extract(list(rows), list(cols))))
+
+
+def _determinant_sums(J: sp.Matrix) -> list:
+    """``[1, -c_1, c_2, ...]`` with ``c_k`` the sum of ``Determinant(J_(S,T))**2`` over the ``k x k``
+    submatrices without a zero row or column (``c_1`` the sum of the squared entries): exact, not multiplied out."""
+    coeffs = [sp.Integer(1)]
+    for k in range(1, J.rows + 1):
+        terms = []
+        for rows in combinations(range(J.rows), k):
+            for cols in combinations(range(J.cols), k):
+                check_budget(f"the {k} x {k} submatrices")
+                sub = J.extract(list(rows), list(cols))
+                if any(all(e == 0 for e in sub.row(i)) for i in range(k)) or \
+                        any(all(e == 0 for e in sub.col(j)) for j in range(k)):
+                    continue
+                terms.append(_determinant(J, rows, cols) ** 2)
+        coeffs.append((-1) ** k * sp.Add(*terms))
+    return coeffs
+
+
+def eigenvalues_from_charpoly(poly: sp.Poly, values: dict | None = None) -> np.ndarray:
+    """Numeric eigenvalues: roots of the characteristic polynomial at ``values``.
+
+    Returns them sorted; the real parts when every imaginary part is below
+    1e-9 relative (as for the symmetric ``J J^T``).
+    """
+    values = values or {}
+    coeffs = [complex(_evaluated(sp.sympify(c).xreplace(values))) for c in poly.all_coeffs()]
+    roots = np.roots(coeffs)
+    scale = max(1.0, float(np.max(np.abs(roots)))) if roots.size else 1.0
+    if np.all(np.abs(roots.imag) <= 1e-9 * scale):
+        return np.sort(roots.real)
+    return roots[np.argsort(roots.real)]
+
+def _evaluated(c: sp.Expr):
+    """A coefficient's value at a point; unexpanded determinants (:func:`_determinant_sums`) are computed."""
+    # sines, cosines and constants at a point as floats first: evalf's adaptive precision on a long exact sum
+    # with cos(97*pi/180) in it took 14 s a point
+    c = c.xreplace({a: sp.Float(sp.N(a, 20)) for a in c.atoms(sp.Function, sp.NumberSymbol) if a.is_number})
+    if not c.has(sp.Determinant):
+        return c.evalf()
+    # the entries first (a float matrix's determinant is quick; an exact one with cos(97*pi/180) is not)
+    return c.xreplace({d: sp.Determinant(sp.ImmutableMatrix(d.arg.evalf())).doit() for d in c.atoms(sp.Determinant)}
+                      ).evalf()
