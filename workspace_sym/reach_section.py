@@ -50,6 +50,7 @@ import math
 import time
 from contextlib import contextmanager
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 import sympy as sp
@@ -114,7 +115,7 @@ class RadialMap:
         if square.m != 2 or lateral.m != 3:
             raise ValueError("RadialMap needs the maps (u^2 + c^2, v) and (u, c, v)")
         self.square, self.lateral = square, lateral
-        self._last = None
+        self._last: tuple | None = None
 
     def __getattr__(self, name):
         if name in ("square", "lateral", "_last"):   # not set yet (unpickling): no recursion
@@ -191,8 +192,9 @@ class RadialMap:
         return self.square.prove_inside(T2, seeds, **options) & ok
 
     def prove_outside(self, T: np.ndarray, **options) -> np.ndarray:
-        # The outward enclosures of rho: a joint box is dropped only when they miss the box.
-        return ImageMap.prove_outside(self, T, **options)
+        # The outward enclosures of rho: a joint box is dropped only when they miss the box.  ImageMap's
+        # method reads only what this class also provides (limits, enclose, the periodic joints).
+        return ImageMap.prove_outside(cast(ImageMap, self), T, **options)
 
 
 @dataclass(frozen=True)

@@ -734,7 +734,8 @@ def trig_ring_form(exprs) -> tuple[list, list, dict]:
     """
     exprs, back = opaque_powers([as_sympy(e, "exprs") for e in exprs])
     atoms = set().union(*(e.atoms(sp.sin, sp.cos) for e in exprs)) if exprs else set()
-    angles, subs = {}, {}
+    angles: dict[sp.Expr, sp.Dummy] = {}
+    subs: dict[sp.Expr, sp.Expr] = {}
     for a in atoms:
         u = a.args[0]
         const, var = (u, sp.Integer(0)) if u.is_number else u.as_independent(*u.free_symbols, as_Add=True)
