@@ -549,7 +549,7 @@ def _pose_section(doc: Document, robot, paving, constraint, tmp: Path) -> None:
         lo, hi = paving.volume_bounds
         doc.para(f"The workspace is turned by the first joint: its volume is also bracketed from the section's "
                  f"cells by Pappus's theorem, {fmt_bracket(lo, hi, 6)} {robot.units}³; the bracket below is the "
-                 "tighter of that one and the boxes'.")
+                 "intersection of that one and the boxes' (both proved).")
     _paving_section(doc, paving, tmp, units=robot.units, stem="reach")
 
 
