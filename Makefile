@@ -7,7 +7,7 @@ VENV ?= .venv
 BIN := $(VENV)/bin
 OUT ?= demo-report
 
-.PHONY: demo test lint bench clean notebooks
+.PHONY: demo test explore lint bench clean notebooks
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -32,6 +32,11 @@ demo: $(VENV)/.installed
 # module fixtures are built once).  Extra pytest options: make test PYTEST_ARGS="--basetemp=/tmp/x/pytest-0"
 test: $(VENV)/.installed-test lint
 	$(BIN)/python -m pytest --numprocesses=auto --maxprocesses=4 --dist=loadfile $(PYTEST_ARGS)
+
+# Property tests with fresh random examples (the suite's own are the same on every run): a hunt, not a gate.
+explore: $(VENV)/.installed-test
+	HYPOTHESIS_PROFILE=explore $(BIN)/python -m pytest --numprocesses=auto --maxprocesses=4 --dist=loadfile \
+		-m "not slow" $(PYTEST_ARGS) $$(grep -l "@given" tests/*.py)
 
 lint: $(VENV)/.installed-test
 	$(BIN)/ruff check .
