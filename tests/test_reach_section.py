@@ -176,6 +176,14 @@ def shell_arm():
     return DHRobot(joints, name="shell arm", base=_translate(R(1, 10), R(-1, 5), R(3, 10)))
 
 
+def test_blocks_stage_keeps_to_its_share_of_the_time_left():
+    """With no time left for it, the blocks stage (the only one that proves cells outside) is skipped and the
+    section still ends normally: no cell is proved outside, whatever the machine's speed."""
+    plan = _section(shell_arm(), ())
+    grid, classes, _, stopped = section_paving(plan.section, 0.1, depth=1, seconds_left=lambda: 0.0)
+    assert stopped == "" and not (classes == OUTER).any()
+
+
 def test_turned_volume_holds_the_exact_spherical_shell():
     """Exact closed form: the section's Pappus bracket holds 4/3 pi (R^3 - r^3) of the shell arm (decided
     exactly by SymPy), and every cell agrees with the annulus in exact rationals: an inner cell lies in it
@@ -184,9 +192,8 @@ def test_turned_volume_holds_the_exact_spherical_shell():
     plan = _section(shell_arm(), ())
     assert isinstance(plan, Turned) and plan.full and plan.section.k == 3
     shares = []
-    # Cells in up to 16 pieces, blocks within a share of the time left (as reach runs with a time limit).
+    # Cells in up to 16 pieces; a budget of boxes, not of seconds, so every machine classifies the same cells.
     grid, classes, _, stopped = section_paving(plan.section, 0.05, max_pairs=4000, depth=2,
-                                               seconds_left=lambda: 20.0,
                                                budget=lambda count, ahead=0.0: "enough" if count > 6000 else "",
                                                show=lambda share, count: shares.append(share))
     assert stopped in ("", "enough") and shares == sorted(shares) and shares[-1] > 0
