@@ -333,7 +333,7 @@ def pave(constraints, box, *, delta: float, variables=None, backend: str = "nump
         the bisection made, so every boundary box is the contracted part
         of a box at most ``delta`` (``codac.pave`` tests what is left: on
         Rybak's robot, about 1.2 times its boundary boxes for 0.8 times its
-        boundary area at every ``delta``, BENCHMARKS.md).  Tighter boundary
+        boundary area at every ``delta``, benchmarks/bench_paving.py).  Tighter boundary
         boxes at the same ``delta``; the boxes are no longer those of a
         plain bisection tree.
     stop : :class:`~workspace_sym.interval.driver.StopAt`
