@@ -53,12 +53,17 @@ class Separation:
 
     ``inner`` and ``outer`` are ``(M, n, 2)`` arrays of proved slices;
     ``kept`` is ``(N', n, 2)``, the undecided remainder of each box that was
-    not wholly decided.  Together they tile the input boxes.
+    not wholly decided.  Together they tile the input boxes.  ``inner_from``,
+    ``outer_from`` and ``kept_from``, when given, are the indices of the
+    input box each of them was cut from.
     """
 
     inner: np.ndarray
     outer: np.ndarray
     kept: np.ndarray
+    inner_from: np.ndarray | None = None
+    outer_from: np.ndarray | None = None
+    kept_from: np.ndarray | None = None
 
 
 def _root(x, n: int, upward: bool):
@@ -87,9 +92,10 @@ def _columns(boxes):
 
 
 def _peel(outer_box, inner_box):
-    """Boxes tiling ``outer_box \\ inner_box`` (``inner_box`` inside it): at most two slabs a dimension."""
+    """Boxes tiling ``outer_box \\ inner_box`` (``inner_box`` inside it): at most two slabs a dimension; also the
+    index of the box each slab comes from."""
     n = outer_box.shape[1]
-    slabs = []
+    slabs, sources = [outer_box[:0]], [np.empty(0, dtype=np.intp)]
     current = outer_box.copy()
     for k in range(n):
         below = inner_box[:, k, 0] > current[:, k, 0]
@@ -97,13 +103,15 @@ def _peel(outer_box, inner_box):
             s = current[below].copy()
             s[:, k, 1] = inner_box[below, k, 0]
             slabs.append(s)
+            sources.append(np.nonzero(below)[0])
         above = inner_box[:, k, 1] < current[:, k, 1]
         if above.any():
             s = current[above].copy()
             s[:, k, 0] = inner_box[above, k, 1]
             slabs.append(s)
+            sources.append(np.nonzero(above)[0])
         current[:, k, :] = inner_box[:, k, :]
-    return np.concatenate(slabs) if slabs else outer_box[:0]
+    return np.concatenate(slabs), np.concatenate(sources)
 
 
 def confirm(decide, inner: np.ndarray, outer: np.ndarray, *, depth: int = CONFIRM_DEPTH):
@@ -302,7 +310,8 @@ class Program:
         boxes = np.asarray(boxes, dtype=float)
         N, n = boxes.shape[:2]
         if N == 0:
-            return Separation(boxes, boxes, boxes)
+            none = np.empty(0, dtype=np.intp)
+            return Separation(boxes, boxes, boxes, none, none, none)
         m = len(self.roots)
         stacked = np.concatenate([boxes] * (m + 1))
         with np.errstate(all="ignore"):
@@ -327,10 +336,14 @@ class Program:
         in_empty = (empty[1:].all(axis=0) | (c_in[:, :, 0] > c_in[:, :, 1]).any(axis=1)) & defined & ~out_empty
         c_out[~defined] = boxes[~defined]
         c_in[~defined] = boxes[~defined]
-        outer = [boxes[out_empty]]
         live = ~out_empty
-        outer.append(_peel(boxes[live], c_out[live]))
-        inner = [c_out[in_empty]]
+        index = np.nonzero(live)[0]
+        outer_slabs, outer_from = _peel(boxes[live], c_out[live])
         live &= ~in_empty
-        inner.append(_peel(c_out[live], c_in[live]))
-        return Separation(np.concatenate(inner), np.concatenate(outer), c_in[live])
+        kept_from = np.nonzero(live)[0]
+        inner_slabs, inner_from = _peel(c_out[live], c_in[live])
+        return Separation(np.concatenate([c_out[in_empty], inner_slabs]),
+                          np.concatenate([boxes[out_empty], outer_slabs]),
+                          c_in[live], inner_from=np.concatenate([np.nonzero(in_empty)[0], kept_from[inner_from]]),
+                          outer_from=np.concatenate([np.nonzero(out_empty)[0], index[outer_from]]),
+                          kept_from=kept_from)
