@@ -526,14 +526,15 @@ def cmd_dextrous(args) -> int:
 
 
 def cmd_cube(args) -> int:
+    from .interval.driver import StopAt
     from .orthoglide import Orthoglide
 
     model = robots.build(args.robot)
     if not isinstance(model, Orthoglide):
         raise WorkspaceError(f"robot {args.robot!r}: the largest cube is implemented for the orthoglide")
     with _distributed(args, ()) as run:         # the cube's certificates take the executor alone
-        result = model.largest_cube(alpha=args.alpha, sigma=_parse_sigma(args.sigma), progress=args.progress,
-                                    executor=run.executor)
+        result = model.largest_cube(alpha=args.alpha, sigma=_parse_sigma(args.sigma),
+                                    stop=StopAt(progress=args.progress), run=run)
     if args.json:
         _emit_json(result.to_dict())
     else:

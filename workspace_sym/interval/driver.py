@@ -30,11 +30,13 @@ crash can go on where it stopped.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import os
 import tempfile
 import time
+import warnings
 from collections import deque
 from dataclasses import dataclass
 from functools import lru_cache, partial
@@ -53,7 +55,8 @@ from .executor import MIN_CHUNK, Inline, Runner, refuse_result, runner_for
 from .store import KINDS, BoxStore, parse_memory
 from .verdict import INSIDE, OUTSIDE, UNDECIDED, Decider
 
-__all__ = ["StopAt", "RunOn", "RunBudget", "Step", "expand", "initial_boxes", "subdivide", "checked_step"]
+__all__ = ["StopAt", "RunOn", "RunBudget", "Step", "expand", "initial_boxes", "subdivide", "checked_step",
+           "with_legacy_keywords", "refuse_storage"]
 
 _BYTES_PER_BOX = 16 * 1024       # working memory of a box being decided (Orthoglide certificate: 2.7 KB measured)
 _CHECKPOINT_EVERY = 60.0         # seconds between checkpoints of a streamed run
@@ -130,6 +133,44 @@ class RunOn:
     def here(self) -> bool:
         """Whether everything runs in line in this process, the boxes kept in memory, with no checkpoint."""
         return self.executor is None and self.max_memory is None and self.store is None and self.resume is None
+
+
+def with_legacy_keywords(where: str, stop: StopAt, run: RunOn, *, executor=None, progress=None,
+                         stacklevel: int = 3) -> tuple[StopAt, RunOn]:
+    """``stop`` and ``run`` with the keywords that came before the option objects folded in (``executor=``
+    into ``run``, ``progress=`` into ``stop``), each with a :class:`DeprecationWarning` naming its
+    replacement.  For the entry points whose documentation used them (``largest_cube``, ``cube_inside``,
+    ``no_enclosed_cube``, ``prove_all``); None means not given.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     stop, run = with_legacy_keywords("largest_cube", StopAt(), RunOn(), progress=False)
+    >>> stop.progress, str(caught[0].message)
+    (False, 'largest_cube: progress= is deprecated; pass stop=StopAt(progress=...)')
+    """
+    if executor is not None:
+        warnings.warn(f"{where}: executor= is deprecated; pass run=RunOn(executor=...)", DeprecationWarning,
+                      stacklevel=stacklevel)
+        if run.executor is not None and run.executor is not executor:
+            raise InvalidParameterError(f"executor: {where} was given two executors (executor= and "
+                                        "run=RunOn(executor=)); give run= alone", parameter="executor")
+        run = dataclasses.replace(run, executor=executor)
+    if progress is not None:
+        warnings.warn(f"{where}: progress= is deprecated; pass stop=StopAt(progress=...)", DeprecationWarning,
+                      stacklevel=stacklevel)
+        stop = dataclasses.replace(stop, progress=progress)
+    return stop, run
+
+
+def refuse_storage(where: str, run: RunOn) -> None:
+    """Refuse ``max_memory``, ``store`` and ``resume`` for an entry point that keeps no boxes (a search that
+    stops at its first counterexample): its ``run`` carries an executor and a chunk size only."""
+    if run.max_memory is not None or run.store is not None or run.resume is not None:
+        raise InvalidParameterError(f"run: {where} keeps no boxes; max_memory, store and resume do not apply; "
+                                    f"got {run!r}", parameter="run")
 
 
 class RunBudget:
