@@ -415,9 +415,14 @@ def cmd_reach(args) -> int:
         from .orientation import constraint_from
 
         described = constraint_from(**constraint)
-        paving = reach(robot, delta=args.delta, size=args.size, stop=_stop_at(args), pose=Pose(**constraint))
+        from .interval.driver import RunOn
+
+        kept = RunOn(max_memory=args.max_memory, store=args.store, resume=args.resume)   # refused with a pose
+        paving = reach(robot, delta=args.delta, size=args.size, stop=_stop_at(args), pose=Pose(**constraint),
+                       run=kept)
     else:
-        with _distributed(args, ()) as run:
+        _check_plot_in_memory(args)
+        with _distributed(args) as run:
             paving = reach(robot, delta=args.delta, size=args.size, inner_depth=args.inner_depth,
                            method=args.method, stop=_stop_at(args), run=run)
     if args.plot:
@@ -882,7 +887,7 @@ def build_parser() -> _Parser:
     p.set_defaults(func=cmd_pave)
 
     p = sub.add_parser("reach", help="certified position workspace of a serial robot (reachable / unreachable boxes)",
-                       parents=[dh_robot, resolution, budget, progress, json_, scheduler, _pose_parent()])
+                       parents=[dh_robot, resolution, budget, progress, json_, spread, _pose_parent()])
     p.add_argument("--method", choices=("auto", "critical", "pairs"), default="auto",
                    help="critical: regions decided from the critical set (planar robots; spatial ones whose "
                         "coordinates are moved by disjoint joints, as a SCARA, or turned by a revolute first joint); "

@@ -179,11 +179,15 @@ class RunBudget:
     The clock starts when it is made.  ``stop_reason(evaluated)`` is empty
     while the run may go on, else why it stops (the time limit or the box
     budget); ``show(share, evaluated)`` moves the bar to the share of the task
-    box decided so far.
+    box decided so far.  A run of several phases (``reach``: a section paved,
+    then its task boxes classified by :func:`subdivide`) hands one budget to
+    each phase in turn: ``spent`` is the count of boxes the earlier phases
+    evaluated, counted against ``max_boxes`` and shown on the bar.
     """
 
     def __init__(self, stop: StopAt, label: str):
         self.max_boxes, self.time_limit = stop.max_boxes, stop.time_limit
+        self.spent = 0
         self.start = time.perf_counter()
         self.bar = progress_bar(stop.progress, total=100.0, desc=label, unit="%",
                                 bar_format="{desc}: {percentage:5.1f}% of the box decided{postfix} |{bar}| "
@@ -204,7 +208,7 @@ class RunBudget:
         elapsed = self.seconds
         if self.time_limit is not None and elapsed + ahead > self.time_limit:
             return f"time limit of {self.time_limit} s reached"
-        if self.max_boxes is not None and evaluated >= self.max_boxes:
+        if self.max_boxes is not None and self.spent + evaluated >= self.max_boxes:
             return f"budget of {self.max_boxes} boxes reached"
         return ""
 
@@ -212,7 +216,7 @@ class RunBudget:
         """The bar at ``share`` (0 to 1) of the task box decided, after ``evaluated`` boxes."""
         if not self.showing:
             return
-        self.bar.set_postfix_str(f"{evaluated} boxes", refresh=False)
+        self.bar.set_postfix_str(f"{self.spent + evaluated} boxes", refresh=False)
         self.bar.update(100.0 * min(1.0, max(0.0, share)) - self.bar.n)
 
     def close(self) -> None:
@@ -314,7 +318,10 @@ def checked_step(result, chunk: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.
 
 # ----------------------------------------------------------------------------- checkpoints
 def _describe(fn) -> str:
-    """What a decider is, for checking that a checkpoint belongs to this run."""
+    """What a decider is, for checking that a checkpoint belongs to this run (a decider may say it itself:
+    a ``describe()`` method, as ``reach``'s classification of task boxes from a paved section does)."""
+    if callable(getattr(fn, "describe", None)):
+        return str(fn.describe())
     if isinstance(fn, partial):
         keywords = ", ".join(f"{k}={v!r}" for k, v in sorted(fn.keywords.items()))
         return f"{_describe(fn.func)}({keywords})"
@@ -392,7 +399,7 @@ def _store_for(n: int, run: RunOn) -> tuple[BoxStore, int | None]:
 
 
 @arith.nearest_rounding
-def subdivide(decide: Decider, box: Box, *, delta: float, size: str = "diameter", stop: StopAt = StopAt(),
+def subdivide(decide: Decider, box: Box, *, delta: float, size: str = "diameter", stop: StopAt | RunBudget = StopAt(),
               run: RunOn = RunOn(), constraints=(), backend: str = "numpy", label: str = "paving",
               presplit: int = 512, separate=None) -> Paving:
     """Branch and bisect with any box classifier: the loop behind :func:`~workspace_sym.interval.paving.pave`
@@ -422,6 +429,10 @@ def subdivide(decide: Decider, box: Box, *, delta: float, size: str = "diameter"
     the size test and the bisection.  So every verdict of the paving comes
     from ``decide``.
 
+    ``stop`` is a :class:`StopAt`, or the :class:`RunBudget` of a run of
+    several phases that this paving continues (its clock, bar and the boxes
+    its earlier phases ``spent`` count; the caller closes it).
+
     ``run`` says where the chunks go (:class:`RunOn`): by default in line,
     here; ``decide`` and ``separate`` must pickle when the executor is
     another process (the deciders of ``pave`` and of the Orthoglide do).
@@ -448,14 +459,15 @@ def subdivide(decide: Decider, box: Box, *, delta: float, size: str = "diameter"
     else:
         keeper, budget = _store_for(n, run)
         stack = deque([initial_boxes(box, delta, size, presplit)])
-    clock = RunBudget(stop, label)
+    own_clock = isinstance(stop, StopAt)
+    clock = RunBudget(stop, label) if isinstance(stop, StopAt) else stop
     # in line the step's results stay in this process: expand itself, without the copies for a worker's reply
     runner: Runner = (Inline(partial(expand, decide=decide, separate=separate, delta=float(delta), size=size))
                       if run.here else runner_for(run.executor, step))
     smallest = 1 if run.here else MIN_CHUNK
     chunk = _CHUNK if run.chunk is None else run.chunk
     largest = chunk if budget is None else max(MIN_CHUNK, min(chunk, budget // (2 * runner.slots * _BYTES_PER_BOX)))
-    max_boxes = stop.max_boxes
+    max_boxes = None if clock.max_boxes is None else clock.max_boxes - clock.spent
     inflight: dict = {}
     reason, last_checkpoint = "", time.perf_counter()
 
@@ -504,7 +516,8 @@ def subdivide(decide: Decider, box: Box, *, delta: float, size: str = "diameter"
     finally:
         runner.cancel(list(inflight))
         runner.close()
-        clock.close()
+        if own_clock:
+            clock.close()
     left = pending()
     if path is not None:
         checkpoint()
