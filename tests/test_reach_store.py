@@ -1,5 +1,6 @@
 """reach's task boxes through the one driver loop: the same boxes as the breadth-first classification it
-replaced, boxes on disk (max_memory, store) and a checkpoint to go on from (resume), issues 24 item 4 and 26.
+replaced, boxes on disk (max_memory, store) and a checkpoint to go on from (resume) for the section and pairs
+methods, issues 24 item 4 and 26.
 
 References, each named in its test: a second implementation of the classification (the breadth-first loop
 ``serial_workspace`` ran before it used the driver, written here from its description), and the uninterrupted
@@ -134,11 +135,29 @@ def test_a_checkpoint_of_another_reach_is_refused(scara, tmp_path):
     assert caught.value.parameter == "resume"
 
 
-@pytest.mark.parametrize("name, method, why", [("planar-2r", "auto", "planar critical method"),
-                                               ("planar-2r", "pairs", "pairs method")])
-def test_methods_that_keep_their_boxes_in_memory_refuse_storage(name, method, why, tmp_path):
-    with pytest.raises(InvalidParameterError, match=why) as caught:
-        reach(robots.build(name), delta=0.5, method=method, stop=QUIET, run=RunOn(resume=tmp_path / "x.npz"))
+def test_the_pairs_method_stores_and_resumes(tmp_path):
+    """The pairs method (its own loop: task boxes with their joint boxes) takes the same options: stopped by a
+    box budget with a checkpoint (the task boxes left and their joint boxes), then resumed with its boxes on
+    disk, it gives the boxes, counts and measures of the uninterrupted in-memory run."""
+    arm = robots.build("planar-2r")
+    options = dict(delta=0.25, method="pairs")
+    whole = reach(arm, **options, stop=QUIET)
+    checkpoint = tmp_path / "pairs.npz"
+    stopped = reach(arm, **options, stop=StopAt(max_boxes=whole.evaluated // 2, progress=False),
+                    run=RunOn(resume=checkpoint, store=tmp_path / "boxes"))
+    assert not stopped.complete and len(stopped.pending) and checkpoint.exists()
+    resumed = reach(arm, **options, stop=QUIET, run=RunOn(resume=checkpoint))
+    assert isinstance(resumed, StoredPaving) and resumed.method == "pairs"
+    assert_same(whole, resumed)
+    with pytest.raises(InvalidParameterError, match="checkpoint of another run"):
+        reach(arm, delta=0.25, method="pairs", inner_depth=1, stop=QUIET, run=RunOn(resume=checkpoint))
+
+
+def test_the_planar_grid_and_a_pose_refuse_storage(tmp_path):
+    """The planar critical method decides its grid of cells in one pass, reach with a pose keeps its boxes in
+    memory: both refuse max_memory, store and resume, naming run and why."""
+    with pytest.raises(InvalidParameterError, match="planar critical method") as caught:
+        reach(robots.build("planar-2r"), delta=0.5, stop=QUIET, run=RunOn(resume=tmp_path / "x.npz"))
     assert caught.value.parameter == "run"
     with pytest.raises(InvalidParameterError, match="with a pose keeps its boxes in memory"):
         reach(robots.build("puma560"), delta=0.5, pose=Pose(approach=(0, 0, 1), cone=10),

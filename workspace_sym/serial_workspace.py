@@ -78,6 +78,7 @@ import time
 from contextlib import contextmanager
 from dataclasses import dataclass
 from functools import lru_cache
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -86,11 +87,21 @@ import sympy as sp
 from .errors import InvalidParameterError, JointLimitError, SymbolicBudgetError
 from .interval import arith
 from .interval.boxes import Box, Paving, StoredPaving, box_measure, box_sizes, check_delta, halves
-from .interval.driver import RunBudget, RunOn, StopAt, subdivide
+from .interval.driver import (
+    RunBudget,
+    RunOn,
+    StopAt,
+    paving_of,
+    read_checkpoint,
+    store_for,
+    subdivide,
+    write_checkpoint,
+)
 from .interval.executor import MIN_CHUNK, runner_for
 from .interval.graph import numpy_constant
 from .interval.image import CoverTooLarge, ImageMap, critical_cover, critical_paving, distribute
 from .interval.search import split_every_axis
+from .interval.store import BoxStore
 from .interval.verdict import INSIDE, OUTSIDE, UNDECIDED, codes_from_masks
 from .kinematics import DHRobot
 from .reach_section import (
@@ -569,17 +580,28 @@ def _parts(T, Q, owner, pieces: int):
             yield T[a:b], Q[lo:hi], owner[lo:hi] - a
 
 
-def _pairs(robot, parameters, delta, size, run, *, max_pairs, inner_depth, executor, chunk_pairs):
-    """The ``"pairs"`` method: ``(box, inner, boundary, outer, pending, evaluated, reason)``."""
+def _pairs(robot, parameters, delta, size, run, *, max_pairs, inner_depth, executor, chunk_pairs, where):
+    """The ``"pairs"`` method: ``(paving, None)``, its decided boxes in a store (memory or disk, ``where``) and,
+    with ``where.resume``, a checkpoint of the task boxes left with their joint boxes."""
     model = _model(robot, parameters)
     Q = model.limits[None].copy()
     root = model.enclose(Q)[0]
     box = Box(model.task_variables, tuple(root[:, 0]), tuple(root[:, 1]))
     T = root[None].copy()
     owner = np.zeros(1, dtype=int)
-    inner, boundary, outer = [], [], []
-    evaluated, reason = 0, ""
+    evaluated, reason, seconds_before = 0, "", 0.0
     step = _ReachStep(robot, parameters, float(delta), size, inner_depth, int(max_pairs), float(_volumes(T)[0]))
+    path = None if where.resume is None else Path(where.resume)
+    fingerprint = {"reach": f"pairs of {robot.name} {sorted(map(str, parameters))}", "lower": list(box.lower),
+                   "upper": list(box.upper), "delta": float(delta), "size": size, "max_pairs": int(max_pairs),
+                   "inner_depth": int(inner_depth)}
+    if path is not None and path.exists():
+        meta, arrays = read_checkpoint(path, fingerprint)
+        keeper = BoxStore.restore(len(root), meta["store"], arrays)
+        T, Q, owner = arrays["pending"], arrays["joint_boxes"], arrays["owner"].astype(int)
+        evaluated, seconds_before = int(meta["evaluated"]), float(meta["seconds"])
+    else:
+        keeper, _ = store_for(len(root), where)
     spread = None if executor is None else runner_for(executor, step)
     rate = 0.0                                  # seconds per (task box, pair) of the last wave of chunks
     try:
@@ -589,7 +611,8 @@ def _pairs(robot, parameters, delta, size, run, *, max_pairs, inner_depth, execu
                 pieces = max(pieces, min(spread.slots, math.ceil(len(T) / MIN_CHUNK)))
             parts = list(_parts(T, Q, owner, pieces))
             # Waves of one chunk (here) or one per slot (executor); the budget is looked at before each wave,
-            # and a wave expected to end past the time limit is not started: its task boxes stay pending.
+            # and a wave expected to end past the time limit is not started: its task boxes stay pending,
+            # with their joint boxes (a checkpoint goes on from them).
             width = 1 if spread is None else spread.slots
             results, left = [], []
             for w in range(0, len(parts), width):
@@ -597,7 +620,7 @@ def _pairs(robot, parameters, delta, size, run, *, max_pairs, inner_depth, execu
                 work = sum(len(t) + len(q) for t, q, _ in wave)
                 reason = run.stop_reason(evaluated, ahead=rate * work)
                 if reason:
-                    left = [t for t, _, _ in parts[w:]]
+                    left = parts[w:]
                     break
                 start = time.perf_counter()
                 if spread is None:
@@ -605,20 +628,21 @@ def _pairs(robot, parameters, delta, size, run, *, max_pairs, inner_depth, execu
                 else:
                     results += [f.result() for f in [spread.submit(part) for part in wave]]
                 rate = (time.perf_counter() - start) / max(1, work)
-            evaluated += len(T) - sum(map(len, left))
-            children, pairs, owners = [], [], []
-            for i, b, o, c, q, w in results:
-                inner.append(i)
-                boundary.append(b)
-                outer.append(o)
-                owners.append(w + sum(map(len, children)))
+            children, pairs, owners, count = [], [], [], 0
+            for i, b, o, c, q, w in [*results, *((t, None, None, t, q, w) for t, q, w in left)]:
+                if b is not None:
+                    keeper.add("inner", i)
+                    keeper.add("boundary", b)
+                    keeper.add("outer", o)
+                owners.append(w + count)
+                count += len(c)
                 children.append(c)
                 pairs.append(q)
+            evaluated += len(T) - sum(len(t) for t, _, _ in left)
             T = np.concatenate(children) if children else T[:0]
             Q = np.concatenate(pairs) if pairs else Q[:0]
             owner = np.concatenate(owners) if owners else owner[:0]
             if left:
-                T = np.concatenate([T, *left])
                 break
             if run.showing:
                 run.show(1.0 - box_measure(T) / box.measure, evaluated)
@@ -627,7 +651,15 @@ def _pairs(robot, parameters, delta, size, run, *, max_pairs, inner_depth, execu
     finally:
         if spread is not None:
             spread.close()
-    return box, inner, boundary, outer, T if len(T) and reason else None, evaluated, reason
+    if path is not None:
+        write_checkpoint(path, {"fingerprint": fingerprint, "evaluated": evaluated,
+                                "seconds": seconds_before + run.seconds}, T, keeper,
+                         {"joint_boxes": Q, "owner": owner})
+    keeper.flush()
+    done = not len(T)
+    return paving_of(keeper, variables=model.task_variables, box=box, constraints=(), delta=float(delta),
+                     backend="numpy", size=size, pending=T, seconds=seconds_before + run.seconds, complete=done,
+                     evaluated=evaluated, stop_reason="" if done else reason), None
 
 
 def _cell_width(delta: float, size: str, m: int) -> float:
@@ -763,14 +795,12 @@ def resolve_method(robot: DHRobot, method: str = "auto", parameters=()) -> str:
     return method if method != "auto" else ("critical" if fits else "pairs")
 
 
-def _refuse_storage(kind: str, model: ReachModel, run: RunOn) -> None:
-    """``max_memory``, ``store`` and ``resume`` apply where the task boxes go through the driver (spatial
-    arms of the critical method); the planar method's cells and the pairs method's joint boxes stay in memory."""
-    which = "the planar critical method decides a grid of cells in one pass" if kind == "critical" and model.m == 2 \
-        else "the pairs method carries joint boxes with each task box"
-    raise InvalidParameterError(f"run: max_memory, store and resume apply to reach's section and product methods "
-                                f"(spatial arms of method 'critical', whose task boxes go through the driver); "
-                                f"{which} and keeps them in memory; got {run!r}", parameter="run")
+def _refuse_storage(model: ReachModel, run: RunOn) -> None:
+    """``max_memory``, ``store`` and ``resume`` apply where the task boxes are bisected (spatial arms of the
+    critical method, the pairs method); the planar critical method decides a grid of cells in one pass."""
+    raise InvalidParameterError(f"run: max_memory, store and resume do not apply to the planar critical method "
+                                f"(it decides a grid of cells in one pass, in memory; method='pairs' takes them); "
+                                f"got {run!r}", parameter="run")
 
 
 @contextmanager
@@ -832,9 +862,10 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         from) apply to the spatial arms of the ``"critical"`` method, whose task
         boxes go through the driver: the section (or plane factor) is paved
         again on a resumed run and must be the same (the checkpoint names its
-        cells; a time-limited turned section may differ, and is refused).  The
-        planar method and ``"pairs"`` keep their boxes in memory and refuse
-        them.
+        cells; a time-limited turned section may differ, and is refused); and
+        to ``"pairs"``, whose checkpoint holds the task boxes left with their
+        joint boxes (its frontier stays in memory).  The planar critical
+        method refuses them (one grid of cells, in memory).
     pose : :class:`Pose`, optional
         A constraint on the tool frame (:func:`workspace_sym.orientation.reach_pose`).
         Then inner boxes are proved reached by configurations within the limits
@@ -892,8 +923,8 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         check_root(root, delta, size, robot)
         with _prepared_within(robot, time_limit, budget.seconds):
             kind = resolve_method(robot, method, values)
-        if stored and (kind == "pairs" or model.m == 2):
-            _refuse_storage(kind, model, run)
+        if stored and kind == "critical" and model.m == 2:
+            _refuse_storage(model, run)
         result: Any = None                  # the driver's (paving, volume), or a method's tuple of boxes
         if kind == "critical":
             try:
@@ -905,10 +936,8 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
                                                 "method='pairs'", parameter="method") from None
         if result is None:
             kind = "pairs"                      # also when the critical cover was too large (auto)
-            if stored:
-                _refuse_storage(kind, model, run)
             result = _pairs(robot, values, delta, size, budget, max_pairs=max_pairs, inner_depth=inner_depth,
-                            executor=executor, chunk_pairs=chunk_pairs)
+                            executor=executor, chunk_pairs=chunk_pairs, where=run)
     except KeyboardInterrupt:
         if model is None or root is None:
             raise

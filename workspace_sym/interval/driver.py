@@ -56,7 +56,8 @@ from .store import KINDS, BoxStore, parse_memory
 from .verdict import INSIDE, OUTSIDE, UNDECIDED, Decider
 
 __all__ = ["StopAt", "RunOn", "RunBudget", "Step", "expand", "initial_boxes", "subdivide", "checked_step",
-           "with_legacy_keywords", "refuse_storage"]
+           "with_legacy_keywords", "refuse_storage", "store_for", "write_checkpoint", "read_checkpoint",
+           "paving_of"]
 
 _BYTES_PER_BOX = 16 * 1024       # working memory of a box being decided (Orthoglide certificate: 2.7 KB measured)
 _CHECKPOINT_EVERY = 60.0         # seconds between checkpoints of a streamed run
@@ -337,8 +338,11 @@ def _fingerprint(step: Step, box: Box, constraints, backend) -> dict:
             "delta": step.delta, "size": step.size, "backend": backend}
 
 
-def _write_checkpoint(path: Path, meta: dict, pending: np.ndarray, store: BoxStore) -> None:
-    arrays: dict[str, Any] = {"pending": pending}
+def write_checkpoint(path: Path, meta: dict, pending: np.ndarray, store: BoxStore, extra: dict | None = None) -> None:
+    """Write the checkpoint of a run at ``path`` (atomically): ``meta`` (its ``fingerprint``, ``evaluated``,
+    ``seconds``), the ``pending`` boxes, the store's state (its boxes too when in memory) and ``extra`` arrays
+    a loop carries with its pending boxes (``reach``'s pairs: the joint boxes and their owners)."""
+    arrays: dict[str, Any] = {"pending": pending, **(extra or {})}
     if store.directory is None:
         arrays.update({k: store.arrays(k) for k in KINDS})
     else:
@@ -350,7 +354,9 @@ def _write_checkpoint(path: Path, meta: dict, pending: np.ndarray, store: BoxSto
     os.replace(tmp, path)
 
 
-def _read_checkpoint(path: Path, fingerprint: dict):
+def read_checkpoint(path: Path, fingerprint: dict):
+    """``(meta, arrays)`` of the checkpoint at ``path``, refused (``resume``) unless it is one of the run that
+    ``fingerprint`` describes."""
     try:
         with np.load(path, allow_pickle=False) as data:
             meta = json.loads(str(data["meta"]))
@@ -382,7 +388,9 @@ def _take(stack: deque, size: int, depth_first: bool) -> np.ndarray:
     return first
 
 
-def _store_for(n: int, run: RunOn) -> tuple[BoxStore, int | None]:
+def store_for(n: int, run: RunOn) -> tuple[BoxStore, int | None]:
+    """Where the decided boxes of a run of dimension ``n`` go (in memory, or ``.npy`` parts when ``run`` asks
+    for ``max_memory`` or a ``store``), and the memory budget in bytes (None: unbounded)."""
     if run.max_memory is None and run.store is None:
         return BoxStore(n), None
     budget = None if run.max_memory is None else parse_memory(run.max_memory)
@@ -451,13 +459,13 @@ def subdivide(decide: Decider, box: Box, *, delta: float, size: str = "diameter"
     fingerprint = {} if path is None else _fingerprint(step, box, constraints, backend)
     evaluated, seconds_before = 0, 0.0
     if path is not None and path.exists():
-        meta, arrays = _read_checkpoint(path, fingerprint)
+        meta, arrays = read_checkpoint(path, fingerprint)
         keeper = BoxStore.restore(n, meta["store"], arrays)
         budget = None if run.max_memory is None else parse_memory(run.max_memory)
         stack = deque([arrays["pending"]] if len(arrays["pending"]) else [])
         evaluated, seconds_before = int(meta["evaluated"]), float(meta["seconds"])
     else:
-        keeper, budget = _store_for(n, run)
+        keeper, budget = store_for(n, run)
         stack = deque([initial_boxes(box, delta, size, presplit)])
     own_clock = isinstance(stop, StopAt)
     clock = RunBudget(stop, label) if isinstance(stop, StopAt) else stop
@@ -477,7 +485,7 @@ def subdivide(decide: Decider, box: Box, *, delta: float, size: str = "diameter"
 
     def checkpoint():
         assert path is not None
-        _write_checkpoint(path, {"fingerprint": fingerprint, "evaluated": evaluated,
+        write_checkpoint(path, {"fingerprint": fingerprint, "evaluated": evaluated,
                                  "seconds": seconds_before + clock.seconds}, pending(), keeper)
 
     try:
@@ -522,11 +530,16 @@ def subdivide(decide: Decider, box: Box, *, delta: float, size: str = "diameter"
     if path is not None:
         checkpoint()
     keeper.flush()
-    empty = np.empty((0, n, 2))
-    common = dict(variables=box.variables, box=box, constraints=tuple(constraints), delta=float(delta),
-                  backend=backend, size=size, pending=left, seconds=seconds_before + clock.seconds,
-                  complete=not len(left), evaluated=evaluated, stop_reason=reason if len(left) else "",
-                  contract=separate is not None)
+    return paving_of(keeper, variables=box.variables, box=box, constraints=tuple(constraints), delta=float(delta),
+                     backend=backend, size=size, pending=left, seconds=seconds_before + clock.seconds,
+                     complete=not len(left), evaluated=evaluated, stop_reason=reason if len(left) else "",
+                     contract=separate is not None)
+
+
+def paving_of(keeper: BoxStore, **common) -> Paving:
+    """The result of a run whose decided boxes are in ``keeper``: a :class:`Paving`, or a
+    :class:`StoredPaving` when they are on disk; ``common`` are the other fields of a Paving."""
+    empty = np.empty((0, keeper.n, 2))
     if keeper.directory is None:
         return Paving(inner=keeper.arrays("inner"), boundary=keeper.arrays("boundary"),
                       outer=keeper.arrays("outer"), **common)
