@@ -124,3 +124,20 @@ def test_jacobian_command_prints_j_then_the_unfinished_factors(monkeypatch, caps
     data = json.loads(capsys.readouterr().out)
     assert data["singular"] is None and data["singularities"] is None and len(data["J"]) == 6
     assert data["unfinished"]["singular"].startswith("not factored within the budget")
+
+
+def test_singular_factors_live_in_charpoly_without_a_cycle():
+    """Issue 26 item 4: the maximal minors' gcd is charpoly's (kinematics re-exports the same function), and
+    charpoly imports nothing of kinematics (checked in the module's import lines).  Reference: the 2R arm's
+    det J = l1 l2 sin(q2), an exact SymPy identity."""
+    import ast
+    import inspect
+
+    assert kinematics.maximal_minor_factors is charpoly.maximal_minor_factors
+    tree = ast.parse(inspect.getsource(charpoly))
+    imported = {node.module for node in ast.walk(tree) if isinstance(node, ast.ImportFrom)}
+    assert "kinematics" not in imported and "workspace_sym.kinematics" not in imported
+    q1, q2 = sp.symbols("q1 q2")
+    J = sp.Matrix([[-sp.sin(q1) - sp.sin(q1 + q2), -sp.sin(q1 + q2)], [sp.cos(q1) + sp.cos(q1 + q2), sp.cos(q1 + q2)]])
+    assert sp.simplify(J.det() - sp.sin(q2)) == 0
+    assert charpoly.maximal_minor_factors(J) == [sp.sin(q2)]

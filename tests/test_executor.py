@@ -117,10 +117,12 @@ def test_cube_certificates_on_dask_give_the_same_verdicts(client):
     centre = (0.085938,) * 3
     local = cube.cube_inside(centre, 0.25, min_width=0.01)
     assert local[0] is True
-    assert local == cube.cube_inside(centre, 0.25, min_width=0.01, executor=client)
+    assert local == cube.cube_inside(centre, 0.25, min_width=0.01, run=RunOn(executor=client))
     local = cube.no_enclosed_cube(0.4, min_width=0.05)
     assert local[0] is True
-    assert local == cube.no_enclosed_cube(0.4, min_width=0.05, executor=client)
+    assert local == cube.no_enclosed_cube(0.4, min_width=0.05, run=RunOn(executor=client))
+    with pytest.warns(DeprecationWarning, match="no_enclosed_cube: executor= is deprecated"):
+        assert local == cube.no_enclosed_cube(0.4, min_width=0.05, executor=client)
 
 
 def test_reach_of_the_2r_arm_on_dask_equals_local(client):

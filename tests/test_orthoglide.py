@@ -275,3 +275,28 @@ def test_cube_bad_alpha(capsys):
 
     assert main(["cube", "orthoglide", "--alpha", "-1"]) == 2
     assert "--alpha" in capsys.readouterr().err
+
+
+def test_largest_cube_takes_the_option_objects():
+    """Issue 26: largest_cube takes stop= and run= like pave and dextrous; progress= and executor= (README,
+    docs/distributed.md) still work with a DeprecationWarning and give the same certified bracket (reference:
+    the new spelling's result).  A budget of one box a search proves only cubes decided in one box: the bracket
+    widens on both sides and still holds the paper's edge 0.643950 (a budget never makes a wrong claim)."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from workspace_sym import RunOn, StopAt
+
+    ortho = Orthoglide()
+    with ThreadPoolExecutor(2) as pool:
+        new = ortho.largest_cube(alpha=0.02, stop=StopAt(progress=False), run=RunOn(executor=pool))
+        with pytest.warns(DeprecationWarning) as caught:
+            old = ortho.largest_cube(alpha=0.02, progress=False, executor=pool)
+    assert {str(w.message) for w in caught} == {
+        "largest_cube: executor= is deprecated; pass run=RunOn(executor=...)",
+        "largest_cube: progress= is deprecated; pass stop=StopAt(progress=...)"}
+    assert caught[0].filename == __file__                     # the warning points at the caller's line
+    assert (old.edge_lower, old.edge_upper, old.boxes) == (new.edge_lower, new.edge_upper, new.boxes)
+    assert new.edge_lower <= 0.643950 <= new.edge_upper
+    starved = ortho.largest_cube(alpha=0.02, stop=StopAt(max_boxes=1, progress=False))
+    assert starved.edge_lower < new.edge_lower and starved.edge_upper > 1.0
+    assert starved.edge_lower <= 0.643950 <= starved.edge_upper

@@ -47,6 +47,7 @@ from .arrangement import Arrangement, arc_area_term, arc_distance, in_span, pari
 from .errors import BoundaryError
 from .exact import closed_forms, exact_area
 from .interval import arith
+from .interval.driver import StopAt
 from .interval.search import prove_all
 from .numbers import clean, fmt
 from .planar import RESOLUTION, Arc, PlanarChain
@@ -352,7 +353,7 @@ def prove_unreachable(chain, q, *, max_boxes: int = 200_000) -> bool | None:
         return np.where(dist > rad, 1, 0), np.argmax(weights, axis=1)
 
     with np.errstate(all="ignore"):
-        proved, _ = prove_all(boxes, test, max_boxes=max_boxes, split="given")
+        proved, _ = prove_all(boxes, test, split="given", stop=StopAt(max_boxes=max_boxes))
     return proved
 
 

@@ -1,4 +1,5 @@
-"""The characteristic polynomial of a matrix and of ``J J^T`` (Cauchy-Binet), and numeric eigenvalues from it.
+"""The characteristic polynomial of a matrix and of ``J J^T`` (Cauchy-Binet), numeric eigenvalues from it, and
+the singular factors of a Jacobian (:func:`maximal_minor_factors`, the gcd of its maximal minors).
 
 Split out of :mod:`workspace_sym.kinematics` (which keeps thin delegating methods on
 :class:`~workspace_sym.kinematics.DHRobot`): this is generic algebra on SymPy matrices,
@@ -16,14 +17,19 @@ import sympy as sp
 from .errors import InvalidParameterError
 from .expressions import as_sympy
 from .symbolic import (
+    HalfAngleRing,
     algebraic_constants,
     attempt,
     check_budget,
+    factor_half_angle,
     generic_constants,
     opaque_powers,
     remaining_budget,
+    restore_constants,
+    roots_as_symbols,
     symbolic_budget,
     textbook,
+    trig_ring_form,
 )
 
 __all__ = [
@@ -31,6 +37,8 @@ __all__ = [
     "gram_characteristic_polynomial",
     "eigenvalues_from_charpoly",
     "laplace_minor",
+    "maximal_minor_factors",
+    "EXTENSION_GCD_COLUMNS",
 ]
 
 
@@ -280,3 +288,98 @@ def _evaluated(c: sp.Expr):
     # the entries first (a float matrix's determinant is quick; an exact one with cos(97*pi/180) is not)
     return c.xreplace({d: sp.Determinant(sp.ImmutableMatrix(d.arg.evalf())).doit() for d in c.atoms(sp.Determinant)}
                       ).evalf()
+
+
+EXTENSION_GCD_COLUMNS = 2   # wider Jacobians with square roots take their minors' gcd with the roots as symbols
+
+
+def maximal_minor_factors(J: sp.Matrix, *, seed: int = 0, multiplicity: bool = False) -> list:
+    """Factors common to every maximal non-vanishing minor of ``J``.
+
+    The generic rank ``r`` is found numerically at a random point (joint
+    variables and symbolic constants drawn at random); identically zero and
+    repeated columns are dropped first (they change no rank).  The minors are
+    computed exactly as polynomials in the sines and cosines of the joint
+    angles (fraction-free elimination over a polynomial ring), so a square
+    full-rank ``J`` gives the factorisation of ``det J``.  An empty list means
+    that the rank never drops on a hypersurface of the joint space (a redundant
+    chain, for instance).
+
+    Coefficients: square roots from constant angles (``alpha = pi/4``) are
+    adjoined to the rationals; floats and ``pi`` are replaced by symbols for
+    the computation and put back in the factors (see
+    :func:`~workspace_sym.symbolic.generic_constants`), so a float table gives
+    ``0.425*c2 + 0.39225*c23``, not 30-digit integers.  With more than
+    :data:`EXTENSION_GCD_COLUMNS` columns the square roots too are symbols
+    during the gcd (over the algebraic field it can run for many minutes):
+    every factor found still divides every minor, but a factor that appears
+    only through ``sqrt(2)**2 = 2`` may be missed.
+
+    With ``multiplicity`` the result is a list of ``(factor, m)``: ``m`` is the
+    exponent of the factor in the gcd of the minors (in ``det J`` for a square
+    ``J``), e.g. ``[(s2, 1), (s5, 1), (q3, 2)]`` for the Stanford arm.
+
+    Examples
+    --------
+    >>> t = sp.Symbol("t")
+    >>> maximal_minor_factors(sp.Matrix([[sp.sqrt(2) * sp.sin(t), 0], [0, 1]]))
+    [sin(t)]
+    >>> maximal_minor_factors(sp.Matrix([[0, 1], [1, 0]]))
+    []
+    """
+    J = sp.Matrix(J)
+    rng = np.random.default_rng(seed)
+    point = {s: sp.Float(rng.uniform(0.3, 1.7)) for s in J.free_symbols}
+    cols, seen = [], set()
+    for k in range(J.cols):
+        col = tuple(J[:, k])
+        if all(e == 0 for e in col) or col in seen:
+            continue
+        seen.add(col)
+        cols.append(k)
+    rows = [i for i in range(J.rows) if any(J[i, k] != 0 for k in cols)]
+    if not rows:
+        return [(sp.Integer(0), 1)] if multiplicity else [sp.Integer(0)]
+    J = J.extract(rows, cols)
+    values = J.xreplace(point).evalf()
+    # Each column scaled by its largest entry (SymPy floats have no overflow): a length (l1 + 1)**1000 is
+    # 1e431 at the sample point, an infinity in numpy that made the rank 0 (every configuration singular).
+    scales = [max((abs(v) for v in values[:, k]), default=1) or 1 for k in range(values.cols)]
+    numeric = np.array([[values[i, k] / scales[k] for k in range(values.cols)] for i in range(values.rows)],
+                       dtype=float).reshape(values.shape)
+    r = int(np.linalg.matrix_rank(numeric))
+    if r == 0:
+        return [(sp.Integer(0), 1)] if multiplicity else [sp.Integer(0)]
+    entries, pairs, angles = trig_ring_form(list(J))
+    entries, back = generic_constants(entries)
+    back.update(angles)
+    extension = algebraic_constants(entries)
+    if extension and J.cols > EXTENSION_GCD_COLUMNS:
+        # gcds over QQ(sqrt 2, sqrt 3) in many variables run for many minutes (subresultants of
+        # algebraic-number coefficients): the roots become symbols and the gcd is taken over QQ.
+        entries, roots = roots_as_symbols(entries, extension)
+        back.update(roots)
+        extension = ()
+    ring = HalfAngleRing(pairs, set().union(*(e.free_symbols for e in entries)), extension=extension)
+    # Sparse, short rows first: Laplace expansion multiplies the first row's entries by the largest minors
+    # (a permutation of rows changes a minor's sign only).
+    order = sorted(range(J.rows), key=lambda i: (sum(J[i, j] != 0 for j in range(J.cols)),
+                                                 sum(sp.count_ops(J[i, j]) for j in range(J.cols))))
+    P = [[ring.element(entries[i * J.cols + j]) for j in range(J.cols)] for i in order]
+    numeric = numeric[order, :]
+    memo: dict = {}
+    common = None
+    for rr in combinations(range(J.rows), r):
+        for cc in combinations(range(J.cols), r):
+            if abs(np.linalg.det(numeric[np.ix_(rr, cc)])) < 1e-9:
+                continue  # vanishes at a generic point: identically zero, no information
+            det = ring.convert(laplace_minor(P, rr, cc, memo, ring.domain.zero))
+            check_budget("the maximal minors' gcd")
+            common = det if common is None else common.gcd(det)
+            if common.is_ground:
+                return []
+    if common is None:  # every minor tiny at the sample point: no factor can be certified
+        return []
+    factors = factor_half_angle(ring.to_expr(common), ring.half, extension=extension, multiplicity=True)
+    factors = [(f, m) for f, m in restore_constants(factors, back) if f != 0]
+    return factors if multiplicity else [f for f, _ in factors]

@@ -415,9 +415,14 @@ def cmd_reach(args) -> int:
         from .orientation import constraint_from
 
         described = constraint_from(**constraint)
-        paving = reach(robot, delta=args.delta, size=args.size, stop=_stop_at(args), pose=Pose(**constraint))
+        from .interval.driver import RunOn
+
+        kept = RunOn(max_memory=args.max_memory, store=args.store, resume=args.resume)   # refused with a pose
+        paving = reach(robot, delta=args.delta, size=args.size, stop=_stop_at(args), pose=Pose(**constraint),
+                       run=kept)
     else:
-        with _distributed(args, ()) as run:
+        _check_plot_in_memory(args)
+        with _distributed(args) as run:
             paving = reach(robot, delta=args.delta, size=args.size, inner_depth=args.inner_depth,
                            method=args.method, stop=_stop_at(args), run=run)
     if args.plot:
@@ -526,14 +531,15 @@ def cmd_dextrous(args) -> int:
 
 
 def cmd_cube(args) -> int:
+    from .interval.driver import StopAt
     from .orthoglide import Orthoglide
 
     model = robots.build(args.robot)
     if not isinstance(model, Orthoglide):
         raise WorkspaceError(f"robot {args.robot!r}: the largest cube is implemented for the orthoglide")
     with _distributed(args, ()) as run:         # the cube's certificates take the executor alone
-        result = model.largest_cube(alpha=args.alpha, sigma=_parse_sigma(args.sigma), progress=args.progress,
-                                    executor=run.executor)
+        result = model.largest_cube(alpha=args.alpha, sigma=_parse_sigma(args.sigma),
+                                    stop=StopAt(progress=args.progress), run=run)
     if args.json:
         _emit_json(result.to_dict())
     else:
@@ -881,7 +887,7 @@ def build_parser() -> _Parser:
     p.set_defaults(func=cmd_pave)
 
     p = sub.add_parser("reach", help="certified position workspace of a serial robot (reachable / unreachable boxes)",
-                       parents=[dh_robot, resolution, budget, progress, json_, scheduler, _pose_parent()])
+                       parents=[dh_robot, resolution, budget, progress, json_, spread, _pose_parent()])
     p.add_argument("--method", choices=("auto", "critical", "pairs"), default="auto",
                    help="critical: regions decided from the critical set (planar robots; spatial ones whose "
                         "coordinates are moved by disjoint joints, as a SCARA, or turned by a revolute first joint); "

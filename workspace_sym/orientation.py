@@ -1165,14 +1165,10 @@ def _pave_revolved(plan: _Plan, revolved: _Revolved, robot, parameters, delta, s
     ratio = SECTION_RATIO if ratio is None else ratio
     grid, classes, evaluated, reason = _section_classes(plan.model, ratio * _cell_width(delta, size, 3), run,
                                                         options)
-    T = root[None].copy()
-    inner: list[np.ndarray] = []
-    boundary: list[np.ndarray] = []
-    outer: list[np.ndarray] = []
     # The section holds the work: its cells classify every (x, y, z) box, also when the budget ran out while
     # it was paved (its undecided cells leave boundary boxes, so the bracket holds; the run is then reported
     # incomplete, with the reason) or just after.
-    T, evaluated, _ = classify_task_boxes(_SectionTest(revolved, grid, classes), T, inner, boundary, outer, delta,
-                                          size, run, evaluated, stop=False)
+    paving = classify_task_boxes(_SectionTest(revolved, grid, classes), box, delta, size)
     bracket = section_volume_bracket(grid, classes, revolved)
-    return box, inner, boundary, outer, T if reason else None, evaluated, reason, bracket
+    return (box, [paving.inner], [paving.boundary], [paving.outer], paving.pending if reason else None,
+            evaluated + paving.evaluated, reason, bracket)

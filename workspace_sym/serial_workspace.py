@@ -70,12 +70,15 @@ operator, and the box classification.
 
 from __future__ import annotations
 
+import dataclasses
+import hashlib
 import itertools
 import math
 import time
 from contextlib import contextmanager
 from dataclasses import dataclass
 from functools import lru_cache
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -83,13 +86,23 @@ import sympy as sp
 
 from .errors import InvalidParameterError, JointLimitError, SymbolicBudgetError
 from .interval import arith
-from .interval.boxes import Box, Paving, bisect, box_measure, box_sizes, check_delta, halves
-from .interval.driver import RunBudget, RunOn, StopAt
+from .interval.boxes import Box, Paving, StoredPaving, box_measure, box_sizes, check_delta, halves
+from .interval.driver import (
+    RunBudget,
+    RunOn,
+    StopAt,
+    paving_of,
+    read_checkpoint,
+    store_for,
+    subdivide,
+    write_checkpoint,
+)
 from .interval.executor import MIN_CHUNK, runner_for
 from .interval.graph import numpy_constant
 from .interval.image import CoverTooLarge, ImageMap, critical_cover, critical_paving, distribute
 from .interval.search import split_every_axis
-from .interval.verdict import INSIDE, OUTSIDE, UNDECIDED
+from .interval.store import BoxStore
+from .interval.verdict import INSIDE, OUTSIDE, UNDECIDED, codes_from_masks
 from .kinematics import DHRobot
 from .reach_section import (
     SECTION_DEPTH,
@@ -567,17 +580,28 @@ def _parts(T, Q, owner, pieces: int):
             yield T[a:b], Q[lo:hi], owner[lo:hi] - a
 
 
-def _pairs(robot, parameters, delta, size, run, *, max_pairs, inner_depth, executor, chunk_pairs):
-    """The ``"pairs"`` method: ``(box, inner, boundary, outer, pending, evaluated, reason)``."""
+def _pairs(robot, parameters, delta, size, run, *, max_pairs, inner_depth, executor, chunk_pairs, where):
+    """The ``"pairs"`` method: ``(paving, None)``, its decided boxes in a store (memory or disk, ``where``) and,
+    with ``where.resume``, a checkpoint of the task boxes left with their joint boxes."""
     model = _model(robot, parameters)
     Q = model.limits[None].copy()
     root = model.enclose(Q)[0]
     box = Box(model.task_variables, tuple(root[:, 0]), tuple(root[:, 1]))
     T = root[None].copy()
     owner = np.zeros(1, dtype=int)
-    inner, boundary, outer = [], [], []
-    evaluated, reason = 0, ""
+    evaluated, reason, seconds_before = 0, "", 0.0
     step = _ReachStep(robot, parameters, float(delta), size, inner_depth, int(max_pairs), float(_volumes(T)[0]))
+    path = None if where.resume is None else Path(where.resume)
+    fingerprint = {"reach": f"pairs of {robot.name} {sorted(map(str, parameters))}", "lower": list(box.lower),
+                   "upper": list(box.upper), "delta": float(delta), "size": size, "max_pairs": int(max_pairs),
+                   "inner_depth": int(inner_depth)}
+    if path is not None and path.exists():
+        meta, arrays = read_checkpoint(path, fingerprint)
+        keeper = BoxStore.restore(len(root), meta["store"], arrays)
+        T, Q, owner = arrays["pending"], arrays["joint_boxes"], arrays["owner"].astype(int)
+        evaluated, seconds_before = int(meta["evaluated"]), float(meta["seconds"])
+    else:
+        keeper, _ = store_for(len(root), where)
     spread = None if executor is None else runner_for(executor, step)
     rate = 0.0                                  # seconds per (task box, pair) of the last wave of chunks
     try:
@@ -587,7 +611,8 @@ def _pairs(robot, parameters, delta, size, run, *, max_pairs, inner_depth, execu
                 pieces = max(pieces, min(spread.slots, math.ceil(len(T) / MIN_CHUNK)))
             parts = list(_parts(T, Q, owner, pieces))
             # Waves of one chunk (here) or one per slot (executor); the budget is looked at before each wave,
-            # and a wave expected to end past the time limit is not started: its task boxes stay pending.
+            # and a wave expected to end past the time limit is not started: its task boxes stay pending,
+            # with their joint boxes (a checkpoint goes on from them).
             width = 1 if spread is None else spread.slots
             results, left = [], []
             for w in range(0, len(parts), width):
@@ -595,7 +620,7 @@ def _pairs(robot, parameters, delta, size, run, *, max_pairs, inner_depth, execu
                 work = sum(len(t) + len(q) for t, q, _ in wave)
                 reason = run.stop_reason(evaluated, ahead=rate * work)
                 if reason:
-                    left = [t for t, _, _ in parts[w:]]
+                    left = parts[w:]
                     break
                 start = time.perf_counter()
                 if spread is None:
@@ -603,20 +628,21 @@ def _pairs(robot, parameters, delta, size, run, *, max_pairs, inner_depth, execu
                 else:
                     results += [f.result() for f in [spread.submit(part) for part in wave]]
                 rate = (time.perf_counter() - start) / max(1, work)
-            evaluated += len(T) - sum(map(len, left))
-            children, pairs, owners = [], [], []
-            for i, b, o, c, q, w in results:
-                inner.append(i)
-                boundary.append(b)
-                outer.append(o)
-                owners.append(w + sum(map(len, children)))
+            children, pairs, owners, count = [], [], [], 0
+            for i, b, o, c, q, w in [*results, *((t, None, None, t, q, w) for t, q, w in left)]:
+                if b is not None:
+                    keeper.add("inner", i)
+                    keeper.add("boundary", b)
+                    keeper.add("outer", o)
+                owners.append(w + count)
+                count += len(c)
                 children.append(c)
                 pairs.append(q)
+            evaluated += len(T) - sum(len(t) for t, _, _ in left)
             T = np.concatenate(children) if children else T[:0]
             Q = np.concatenate(pairs) if pairs else Q[:0]
             owner = np.concatenate(owners) if owners else owner[:0]
             if left:
-                T = np.concatenate([T, *left])
                 break
             if run.showing:
                 run.show(1.0 - box_measure(T) / box.measure, evaluated)
@@ -625,7 +651,15 @@ def _pairs(robot, parameters, delta, size, run, *, max_pairs, inner_depth, execu
     finally:
         if spread is not None:
             spread.close()
-    return box, inner, boundary, outer, T if len(T) and reason else None, evaluated, reason
+    if path is not None:
+        write_checkpoint(path, {"fingerprint": fingerprint, "evaluated": evaluated,
+                                "seconds": seconds_before + run.seconds}, T, keeper,
+                         {"joint_boxes": Q, "owner": owner})
+    keeper.flush()
+    done = not len(T)
+    return paving_of(keeper, variables=model.task_variables, box=box, constraints=(), delta=float(delta),
+                     backend="numpy", size=size, pending=T, seconds=seconds_before + run.seconds, complete=done,
+                     evaluated=evaluated, stop_reason="" if done else reason), None
 
 
 def _cell_width(delta: float, size: str, m: int) -> float:
@@ -647,9 +681,11 @@ def _planar(robot, parameters, delta, size, run, *, executor):
     return box, [grid.boxes(classes, INSIDE)], boundary, [grid.boxes(classes, OUTSIDE)], pending, evaluated, reason
 
 
-def _spatial(robot, parameters, delta, size, run, *, executor):
+def _spatial(robot, parameters, delta, size, run, *, executor, where):
     """The ``"critical"`` method for a spatial robot whose workspace is a product of images or a section
-    turned by its first joint (module docstring)."""
+    turned by its first joint (module docstring): the section paved, then the task boxes classified from it by
+    the driver (:func:`classify_task_boxes`, its boxes where ``where`` says).  Returns ``(paving, volume)``,
+    or the tuple of a run stopped while the section was paved (every task box pending)."""
     model = _model(robot, parameters)
     plan = _section(robot, parameters)
     root = model.enclose(model.limits[None])[0]
@@ -664,8 +700,7 @@ def _spatial(robot, parameters, delta, size, run, *, executor):
 
         def rehearse(grid, classes):
             start = time.perf_counter()
-            classify_task_boxes(TurnedTest(plan, grid, classes), root[None].copy(), [], [], [], delta, size, run,
-                                0, stop=False)
+            classify_task_boxes(TurnedTest(plan, grid, classes), box, delta, size)
             reserve[0] = SECTION_RESERVE * (time.perf_counter() - start)
 
         def seconds_left():
@@ -689,41 +724,46 @@ def _spatial(robot, parameters, delta, size, run, *, executor):
     if isinstance(plan, Turned) and plan.full:
         volume = turned_volume(grid, classes)      # the solid of revolution of the section (Pappus)
     run.show(0.0, evaluated)
-    T = root[None].copy()
-    inner, boundary, outer = [], [], []
     if reason:
-        return box, inner, boundary, outer, T, evaluated, reason, volume
+        return box, [], [], [], root[None].copy(), evaluated, reason, volume
     tests = {_Product: _ProductTest, _Revolved: _SectionTest, Turned: TurnedTest}
     test = tests[type(plan)](plan, grid, classes)
-    T, evaluated, reason = classify_task_boxes(test, T, inner, boundary, outer, delta, size, run, evaluated,
-                                               total=box.measure)
-    return box, inner, boundary, outer, T if len(T) and reason else None, evaluated, reason, volume
+    # A checkpoint of the classification belongs to this robot, delta and section (a time-limited turned
+    # section may refine differently on another run: its cells are part of what the checkpoint names).
+    cells = "none" if classes is None else hashlib.sha256(np.ascontiguousarray(classes).tobytes()
+                                                          + np.asarray(grid.box, dtype=float).tobytes()).hexdigest()
+    what = f"reach of {robot.name} {dict(parameters)} ({type(plan).__name__}), section cells {cells[:16]}"
+    run.spent = evaluated
+    paving = classify_task_boxes(test, box, delta, size, run, RunOn(max_memory=where.max_memory, store=where.store,
+                                                                   resume=where.resume), describe=what)
+    return paving, volume
 
 
-def classify_task_boxes(test, T, inner: list, boundary: list, outer: list, delta: float, size: str, run,
-                        evaluated: int, *, stop: bool = True, total: float | None = None):
-    """Bisect the task boxes ``T`` breadth first, each generation classified by ``test`` (``(is_in, is_out)``
-    masks from a paved section): proved boxes go to ``inner``/``outer``, undecided ones of size at most
-    ``delta`` to ``boundary``.  With ``stop``, the run's budget is checked before each generation; ``total``
-    (the task box's measure) moves the progress bar.  Returns the boxes left, the count evaluated and the
-    reason the run stopped ("" when it finished)."""
-    reason = ""
-    while len(T):
-        reason = run.stop_reason(evaluated) if stop else ""
-        if reason:
-            break
-        evaluated += len(T)
-        is_in, is_out = test(T)
-        inner.append(T[is_in])
-        outer.append(T[is_out])
-        und = ~is_in & ~is_out
-        small = und & (box_sizes(T, size) <= delta)
-        boundary.append(T[small])
-        T, thin = bisect(T[und & ~small])
-        boundary.append(thin)
-        if total is not None and run.showing:
-            run.show(1.0 - box_measure(T) / total, evaluated)
-    return T, evaluated, reason
+@dataclass(frozen=True)
+class _Classify:
+    """The decider of :func:`classify_task_boxes`: the codes of a test's ``(is_in, is_out)`` masks."""
+
+    test: Any
+    what: str = ""
+
+    def __call__(self, boxes: np.ndarray) -> np.ndarray:
+        return codes_from_masks(*self.test(boxes))
+
+    def describe(self) -> str:
+        return self.what or f"{type(self.test).__module__}.{type(self.test).__qualname__}"
+
+
+def classify_task_boxes(test, box: Box, delta: float, size: str, stop: StopAt | RunBudget = StopAt(progress=False),
+                        run: RunOn = RunOn(), *, describe: str = "") -> Paving:
+    """Pave the task box ``box`` with the driver (:func:`~workspace_sym.interval.driver.subdivide`), each box
+    classified by ``test`` (``(is_in, is_out)`` masks from a paved section): proved boxes are inner/outer,
+    undecided ones of size at most ``delta`` boundary.  No presplit: every box evaluated is a box of the
+    breadth-first bisection from ``box``, so the counts are those of the classification alone.  ``stop``: a
+    :class:`~workspace_sym.interval.driver.StopAt`, or ``reach``'s running budget (its clock, bar and the boxes
+    the section took); ``run``: where the decided boxes go (``max_memory``, ``store``, ``resume``); ``describe``
+    names the run in a checkpoint."""
+    return subdivide(_Classify(test, describe), box, delta=delta, size=size, stop=stop, run=run, label="reach",
+                     presplit=0)
 
 
 def check_root(root, delta: float, size: str, robot: DHRobot) -> None:
@@ -753,6 +793,14 @@ def resolve_method(robot: DHRobot, method: str = "auto", parameters=()) -> str:
                                     f"these: use method='pairs'",
                                     parameter="method")
     return method if method != "auto" else ("critical" if fits else "pairs")
+
+
+def _refuse_storage(model: ReachModel, run: RunOn) -> None:
+    """``max_memory``, ``store`` and ``resume`` apply where the task boxes are bisected (spatial arms of the
+    critical method, the pairs method); the planar critical method decides a grid of cells in one pass."""
+    raise InvalidParameterError(f"run: max_memory, store and resume do not apply to the planar critical method "
+                                f"(it decides a grid of cells in one pass, in memory; method='pairs' takes them); "
+                                f"got {run!r}", parameter="run")
 
 
 @contextmanager
@@ -807,8 +855,17 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         (one task per face) or the generations of task boxes (``"pairs"``) run
         there; the result has the same boxes, counts and measures.  ``chunk``:
         about this many (joint box, task box) pairs go in one chunk of work of the
-        ``"pairs"`` method (default ``CHUNK_PAIRS``).  The boxes stay in memory:
-        ``max_memory``, ``store`` and ``resume`` are refused.
+        ``"pairs"`` method (default ``CHUNK_PAIRS``).  ``max_memory``, ``store``
+        and ``resume`` (as for :func:`~workspace_sym.interval.driver.subdivide`:
+        decided boxes streamed to disk, the result a
+        :class:`~workspace_sym.interval.boxes.StoredPaving`; a checkpoint to go on
+        from) apply to the spatial arms of the ``"critical"`` method, whose task
+        boxes go through the driver: the section (or plane factor) is paved
+        again on a resumed run and must be the same (the checkpoint names its
+        cells; a time-limited turned section may differ, and is refused); and
+        to ``"pairs"``, whose checkpoint holds the task boxes left with their
+        joint boxes (its frontier stays in memory).  The planar critical
+        method refuses them (one grid of cells, in memory).
     pose : :class:`Pose`, optional
         A constraint on the tool frame (:func:`workspace_sym.orientation.reach_pose`).
         Then inner boxes are proved reached by configurations within the limits
@@ -831,7 +888,11 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     >>> bool(lo <= 2 * np.pi <= hi)
     True
     """
+    stored = run.max_memory is not None or run.store is not None or run.resume is not None
     if pose is not None:
+        if stored:
+            raise InvalidParameterError(f"run: reach with a pose keeps its boxes in memory; max_memory, store and "
+                                        f"resume do not apply; got {run!r}", parameter="run")
         if not isinstance(pose, Pose):
             raise InvalidParameterError(f"pose must be a serial_workspace.Pose; got {type(pose).__name__}",
                                         parameter="pose")
@@ -840,9 +901,6 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         return reach_pose(robot, delta=delta, approach=pose.approach, cone=pose.cone, every=pose.every,
                           orientation=pose.orientation, rpy=pose.rpy, size=size, parameters=parameters,
                           max_boxes=stop.max_boxes, time_limit=stop.time_limit, progress=stop.progress)
-    if run.max_memory is not None or run.store is not None or run.resume is not None:
-        raise InvalidParameterError("run: reach keeps its boxes in memory; max_memory, store and resume do not "
-                                    f"apply; got {run!r}", parameter="run")
     chunk_pairs = CHUNK_PAIRS if run.chunk is None else run.chunk
     executor = run.executor
     check_delta(delta)
@@ -865,11 +923,13 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         check_root(root, delta, size, robot)
         with _prepared_within(robot, time_limit, budget.seconds):
             kind = resolve_method(robot, method, values)
-        result = None
+        if stored and kind == "critical" and model.m == 2:
+            _refuse_storage(model, run)
+        result: Any = None                  # the driver's (paving, volume), or a method's tuple of boxes
         if kind == "critical":
             try:
-                result = (_planar if model.m == 2 else _spatial)(robot, values, delta, size, budget,
-                                                                 executor=executor)
+                result = (_planar(robot, values, delta, size, budget, executor=executor) if model.m == 2 else
+                          _spatial(robot, values, delta, size, budget, executor=executor, where=run))
             except CoverTooLarge as error:
                 if method == "critical":
                     raise InvalidParameterError(f"method 'critical': {error} (joints with parallel axes?); use "
@@ -877,7 +937,7 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         if result is None:
             kind = "pairs"                      # also when the critical cover was too large (auto)
             result = _pairs(robot, values, delta, size, budget, max_pairs=max_pairs, inner_depth=inner_depth,
-                            executor=executor, chunk_pairs=chunk_pairs)
+                            executor=executor, chunk_pairs=chunk_pairs, where=run)
     except KeyboardInterrupt:
         if model is None or root is None:
             raise
@@ -886,6 +946,12 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     finally:
         budget.close()
     assert model is not None                    # set before anything that returns a result
+    if isinstance(result[0], Paving):           # the task boxes went through the driver
+        paving, volume = result
+        emptied = {k: np.empty((0, len(model.task_variables), 2)) for k in ("inner", "boundary", "outer")} \
+            if isinstance(paving, StoredPaving) else {}  # (replace() would read the stored boxes back)
+        return dataclasses.replace(paving, **emptied, evaluated=budget.spent + paving.evaluated, units=robot.units,
+                                   method=kind, volume_bounds=volume)
     box, inner, boundary, outer, pending, evaluated, reason, *volume = result
     if pending is None or not len(pending):
         reason = ""                             # a budget that ran out after the last box: nothing is pending

@@ -30,11 +30,13 @@ crash can go on where it stopped.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import os
 import tempfile
 import time
+import warnings
 from collections import deque
 from dataclasses import dataclass
 from functools import lru_cache, partial
@@ -53,7 +55,9 @@ from .executor import MIN_CHUNK, Inline, Runner, refuse_result, runner_for
 from .store import KINDS, BoxStore, parse_memory
 from .verdict import INSIDE, OUTSIDE, UNDECIDED, Decider
 
-__all__ = ["StopAt", "RunOn", "RunBudget", "Step", "expand", "initial_boxes", "subdivide", "checked_step"]
+__all__ = ["StopAt", "RunOn", "RunBudget", "Step", "expand", "initial_boxes", "subdivide", "checked_step",
+           "with_legacy_keywords", "refuse_storage", "store_for", "write_checkpoint", "read_checkpoint",
+           "paving_of"]
 
 _BYTES_PER_BOX = 16 * 1024       # working memory of a box being decided (Orthoglide certificate: 2.7 KB measured)
 _CHECKPOINT_EVERY = 60.0         # seconds between checkpoints of a streamed run
@@ -132,17 +136,59 @@ class RunOn:
         return self.executor is None and self.max_memory is None and self.store is None and self.resume is None
 
 
+def with_legacy_keywords(where: str, stop: StopAt, run: RunOn, *, executor=None, progress=None,
+                         stacklevel: int = 3) -> tuple[StopAt, RunOn]:
+    """``stop`` and ``run`` with the keywords that came before the option objects folded in (``executor=``
+    into ``run``, ``progress=`` into ``stop``), each with a :class:`DeprecationWarning` naming its
+    replacement.  For the entry points whose documentation used them (``largest_cube``, ``cube_inside``,
+    ``no_enclosed_cube``, ``prove_all``); None means not given.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     stop, run = with_legacy_keywords("largest_cube", StopAt(), RunOn(), progress=False)
+    >>> stop.progress, str(caught[0].message)
+    (False, 'largest_cube: progress= is deprecated; pass stop=StopAt(progress=...)')
+    """
+    if executor is not None:
+        warnings.warn(f"{where}: executor= is deprecated; pass run=RunOn(executor=...)", DeprecationWarning,
+                      stacklevel=stacklevel)
+        if run.executor is not None and run.executor is not executor:
+            raise InvalidParameterError(f"executor: {where} was given two executors (executor= and "
+                                        "run=RunOn(executor=)); give run= alone", parameter="executor")
+        run = dataclasses.replace(run, executor=executor)
+    if progress is not None:
+        warnings.warn(f"{where}: progress= is deprecated; pass stop=StopAt(progress=...)", DeprecationWarning,
+                      stacklevel=stacklevel)
+        stop = dataclasses.replace(stop, progress=progress)
+    return stop, run
+
+
+def refuse_storage(where: str, run: RunOn) -> None:
+    """Refuse ``max_memory``, ``store`` and ``resume`` for an entry point that keeps no boxes (a search that
+    stops at its first counterexample): its ``run`` carries an executor and a chunk size only."""
+    if run.max_memory is not None or run.store is not None or run.resume is not None:
+        raise InvalidParameterError(f"run: {where} keeps no boxes; max_memory, store and resume do not apply; "
+                                    f"got {run!r}", parameter="run")
+
+
 class RunBudget:
     """The clock, stopping rules and progress bar of a running branch and bisect (:func:`subdivide`, ``reach``).
 
     The clock starts when it is made.  ``stop_reason(evaluated)`` is empty
     while the run may go on, else why it stops (the time limit or the box
     budget); ``show(share, evaluated)`` moves the bar to the share of the task
-    box decided so far.
+    box decided so far.  A run of several phases (``reach``: a section paved,
+    then its task boxes classified by :func:`subdivide`) hands one budget to
+    each phase in turn: ``spent`` is the count of boxes the earlier phases
+    evaluated, counted against ``max_boxes`` and shown on the bar.
     """
 
     def __init__(self, stop: StopAt, label: str):
         self.max_boxes, self.time_limit = stop.max_boxes, stop.time_limit
+        self.spent = 0
         self.start = time.perf_counter()
         self.bar = progress_bar(stop.progress, total=100.0, desc=label, unit="%",
                                 bar_format="{desc}: {percentage:5.1f}% of the box decided{postfix} |{bar}| "
@@ -163,7 +209,7 @@ class RunBudget:
         elapsed = self.seconds
         if self.time_limit is not None and elapsed + ahead > self.time_limit:
             return f"time limit of {self.time_limit} s reached"
-        if self.max_boxes is not None and evaluated >= self.max_boxes:
+        if self.max_boxes is not None and self.spent + evaluated >= self.max_boxes:
             return f"budget of {self.max_boxes} boxes reached"
         return ""
 
@@ -171,7 +217,7 @@ class RunBudget:
         """The bar at ``share`` (0 to 1) of the task box decided, after ``evaluated`` boxes."""
         if not self.showing:
             return
-        self.bar.set_postfix_str(f"{evaluated} boxes", refresh=False)
+        self.bar.set_postfix_str(f"{self.spent + evaluated} boxes", refresh=False)
         self.bar.update(100.0 * min(1.0, max(0.0, share)) - self.bar.n)
 
     def close(self) -> None:
@@ -284,7 +330,10 @@ def checked_step(result, chunk: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.
 
 # ----------------------------------------------------------------------------- checkpoints
 def _describe(fn) -> str:
-    """What a decider is, for checking that a checkpoint belongs to this run."""
+    """What a decider is, for checking that a checkpoint belongs to this run (a decider may say it itself:
+    a ``describe()`` method, as ``reach``'s classification of task boxes from a paved section does)."""
+    if callable(getattr(fn, "describe", None)):
+        return str(fn.describe())
     if isinstance(fn, partial):
         keywords = ", ".join(f"{k}={v!r}" for k, v in sorted(fn.keywords.items()))
         return f"{_describe(fn.func)}({keywords})"
@@ -301,8 +350,11 @@ def _fingerprint(step: Step, box: Box, constraints, backend) -> dict:
             "delta": step.delta, "size": step.size, "backend": backend}
 
 
-def _write_checkpoint(path: Path, meta: dict, pending: np.ndarray, store: BoxStore) -> None:
-    arrays: dict[str, Any] = {"pending": pending}
+def write_checkpoint(path: Path, meta: dict, pending: np.ndarray, store: BoxStore, extra: dict | None = None) -> None:
+    """Write the checkpoint of a run at ``path`` (atomically): ``meta`` (its ``fingerprint``, ``evaluated``,
+    ``seconds``), the ``pending`` boxes, the store's state (its boxes too when in memory) and ``extra`` arrays
+    a loop carries with its pending boxes (``reach``'s pairs: the joint boxes and their owners)."""
+    arrays: dict[str, Any] = {"pending": pending, **(extra or {})}
     if store.directory is None:
         arrays.update({k: store.arrays(k) for k in KINDS})
     else:
@@ -314,7 +366,9 @@ def _write_checkpoint(path: Path, meta: dict, pending: np.ndarray, store: BoxSto
     os.replace(tmp, path)
 
 
-def _read_checkpoint(path: Path, fingerprint: dict):
+def read_checkpoint(path: Path, fingerprint: dict):
+    """``(meta, arrays)`` of the checkpoint at ``path``, refused (``resume``) unless it is one of the run that
+    ``fingerprint`` describes."""
     try:
         with np.load(path, allow_pickle=False) as data:
             meta = json.loads(str(data["meta"]))
@@ -346,7 +400,9 @@ def _take(stack: deque, size: int, depth_first: bool) -> np.ndarray:
     return first
 
 
-def _store_for(n: int, run: RunOn) -> tuple[BoxStore, int | None]:
+def store_for(n: int, run: RunOn) -> tuple[BoxStore, int | None]:
+    """Where the decided boxes of a run of dimension ``n`` go (in memory, or ``.npy`` parts when ``run`` asks
+    for ``max_memory`` or a ``store``), and the memory budget in bytes (None: unbounded)."""
     if run.max_memory is None and run.store is None:
         return BoxStore(n), None
     budget = None if run.max_memory is None else parse_memory(run.max_memory)
@@ -363,7 +419,7 @@ def _store_for(n: int, run: RunOn) -> tuple[BoxStore, int | None]:
 
 
 @arith.nearest_rounding
-def subdivide(decide: Decider, box: Box, *, delta: float, size: str = "diameter", stop: StopAt = StopAt(),
+def subdivide(decide: Decider, box: Box, *, delta: float, size: str = "diameter", stop: StopAt | RunBudget = StopAt(),
               run: RunOn = RunOn(), constraints=(), backend: str = "numpy", label: str = "paving",
               presplit: int = 512, separate=None, sized_before_cut: bool = False) -> Paving:
     """Branch and bisect with any box classifier: the loop behind :func:`~workspace_sym.interval.paving.pave`
@@ -400,6 +456,10 @@ def subdivide(decide: Decider, box: Box, *, delta: float, size: str = "diameter"
     times its boxes; the Orthoglide's shaving of the last level keeps the
     first).
 
+    ``stop`` is a :class:`StopAt`, or the :class:`RunBudget` of a run of
+    several phases that this paving continues (its clock, bar and the boxes
+    its earlier phases ``spent`` count; the caller closes it).
+
     ``run`` says where the chunks go (:class:`RunOn`): by default in line,
     here; ``decide`` and ``separate`` must pickle when the executor is
     another process (the deciders of ``pave`` and of the Orthoglide do).
@@ -418,15 +478,16 @@ def subdivide(decide: Decider, box: Box, *, delta: float, size: str = "diameter"
     fingerprint = {} if path is None else _fingerprint(step, box, constraints, backend)
     evaluated, seconds_before = 0, 0.0
     if path is not None and path.exists():
-        meta, arrays = _read_checkpoint(path, fingerprint)
+        meta, arrays = read_checkpoint(path, fingerprint)
         keeper = BoxStore.restore(n, meta["store"], arrays)
         budget = None if run.max_memory is None else parse_memory(run.max_memory)
         stack = deque([arrays["pending"]] if len(arrays["pending"]) else [])
         evaluated, seconds_before = int(meta["evaluated"]), float(meta["seconds"])
     else:
-        keeper, budget = _store_for(n, run)
+        keeper, budget = store_for(n, run)
         stack = deque([initial_boxes(box, delta, size, presplit)])
-    clock = RunBudget(stop, label)
+    own_clock = isinstance(stop, StopAt)
+    clock = RunBudget(stop, label) if isinstance(stop, StopAt) else stop
     # in line the step's results stay in this process: expand itself, without the copies for a worker's reply
     runner: Runner = (Inline(partial(expand, decide=decide, separate=separate, delta=float(delta), size=size,
                                      sized_before_cut=bool(sized_before_cut)))
@@ -434,7 +495,7 @@ def subdivide(decide: Decider, box: Box, *, delta: float, size: str = "diameter"
     smallest = 1 if run.here else MIN_CHUNK
     chunk = _CHUNK if run.chunk is None else run.chunk
     largest = chunk if budget is None else max(MIN_CHUNK, min(chunk, budget // (2 * runner.slots * _BYTES_PER_BOX)))
-    max_boxes = stop.max_boxes
+    max_boxes = None if clock.max_boxes is None else clock.max_boxes - clock.spent
     inflight: dict = {}
     reason, last_checkpoint = "", time.perf_counter()
 
@@ -444,7 +505,7 @@ def subdivide(decide: Decider, box: Box, *, delta: float, size: str = "diameter"
 
     def checkpoint():
         assert path is not None
-        _write_checkpoint(path, {"fingerprint": fingerprint, "evaluated": evaluated,
+        write_checkpoint(path, {"fingerprint": fingerprint, "evaluated": evaluated,
                                  "seconds": seconds_before + clock.seconds}, pending(), keeper)
 
     try:
@@ -483,16 +544,22 @@ def subdivide(decide: Decider, box: Box, *, delta: float, size: str = "diameter"
     finally:
         runner.cancel(list(inflight))
         runner.close()
-        clock.close()
+        if own_clock:
+            clock.close()
     left = pending()
     if path is not None:
         checkpoint()
     keeper.flush()
-    empty = np.empty((0, n, 2))
-    common = dict(variables=box.variables, box=box, constraints=tuple(constraints), delta=float(delta),
-                  backend=backend, size=size, pending=left, seconds=seconds_before + clock.seconds,
-                  complete=not len(left), evaluated=evaluated, stop_reason=reason if len(left) else "",
-                  contract=separate is not None)
+    return paving_of(keeper, variables=box.variables, box=box, constraints=tuple(constraints), delta=float(delta),
+                     backend=backend, size=size, pending=left, seconds=seconds_before + clock.seconds,
+                     complete=not len(left), evaluated=evaluated, stop_reason=reason if len(left) else "",
+                     contract=separate is not None)
+
+
+def paving_of(keeper: BoxStore, **common) -> Paving:
+    """The result of a run whose decided boxes are in ``keeper``: a :class:`Paving`, or a
+    :class:`StoredPaving` when they are on disk; ``common`` are the other fields of a Paving."""
+    empty = np.empty((0, keeper.n, 2))
     if keeper.directory is None:
         return Paving(inner=keeper.arrays("inner"), boundary=keeper.arrays("boundary"),
                       outer=keeper.arrays("outer"), **common)

@@ -1,6 +1,6 @@
 """One budgeted box search: prove a statement on every box of a list, bisecting what is undecided.
 
-:func:`workspace_sym.interval.paving.subdivide` keeps every box and measures
+:func:`workspace_sym.interval.driver.subdivide` keeps every box and measures
 the three kinds; a proof that a whole region has a property needs less: stop
 at the first box proved to break it, give up when the budget runs out or the
 undecided boxes get too thin, and otherwise bisect.  The largest-cube
@@ -10,10 +10,14 @@ search with different tests.
 
 from __future__ import annotations
 
+import math
+import time
+
 import numpy as np
 
 from ..errors import InvalidParameterError, check_choice
 from . import arith
+from .driver import RunOn, StopAt, refuse_storage, with_legacy_keywords
 from .executor import map_codes
 from .verdict import OUTSIDE, UNDECIDED
 
@@ -51,7 +55,8 @@ def split_widest(boxes: np.ndarray) -> np.ndarray:
 
 
 @arith.nearest_rounding
-def prove_all(boxes, test, *, max_boxes: int, min_width: float = 0.0, split: str = "widest", executor=None):
+def prove_all(boxes, test, *, min_width: float = 0.0, split: str = "widest", stop: StopAt = StopAt(),
+              run: RunOn = RunOn(), executor=None):
     """Prove ``test`` on every box of ``boxes`` (an ``(N, n, 2)`` array), bisecting the undecided ones.
 
     ``test(boxes)`` returns one code a box: 1 proved, -1 proved false (the
@@ -62,42 +67,57 @@ def prove_all(boxes, test, *, max_boxes: int, min_width: float = 0.0, split: str
 
     Returns ``(verdict, used)``: ``True`` when every box was proved, ``False``
     as soon as one box is proved false, ``None`` when the next generation
-    would take the number of boxes evaluated past ``max_boxes`` or when every
+    would take the number of boxes evaluated past ``stop.max_boxes``, when
+    ``stop.time_limit`` seconds have passed before a generation, or when every
     undecided box is narrower than ``min_width`` on all its edges; ``used`` is
     the number of boxes evaluated.  Only the test proves anything: the search
-    never turns an undecided box into a verdict.
+    never turns an undecided box into a verdict.  A search needs a bound: a
+    box budget, a time limit or ``min_width > 0`` (``stop.progress`` does not
+    apply: the search shows no bar).
 
-    ``executor`` (a ``concurrent.futures.Executor`` or a
-    ``dask.distributed.Client``) evaluates each generation in chunks
-    elsewhere (:func:`~workspace_sym.interval.executor.map_codes`); ``test``
-    must then pickle.  The search and its verdict are unchanged.
+    ``run`` (:class:`~workspace_sym.interval.driver.RunOn`): ``executor`` (a
+    ``concurrent.futures.Executor`` or a ``dask.distributed.Client``)
+    evaluates each generation in chunks of at most ``chunk`` boxes elsewhere
+    (:func:`~workspace_sym.interval.executor.map_codes`); ``test`` must then
+    pickle.  The search and its verdict are unchanged.  The search keeps no
+    boxes: ``max_memory``, ``store`` and ``resume`` are refused.
+    ``executor=`` is the deprecated spelling of ``run=RunOn(executor=...)``.
 
     Examples
     --------
     >>> box = np.array([[[0.0, 1.0], [0.0, 1.0]]])
     >>> below = lambda b: np.where(b[:, :, 1].sum(1) < 1.5, 1, np.where(b[:, :, 0].sum(1) >= 1.5, -1, 0))
-    >>> prove_all(box, below, max_boxes=100)
+    >>> prove_all(box, below, stop=StopAt(max_boxes=100))
     (False, 21)
-    >>> prove_all(box, lambda b: np.where(b[:, :, 1].sum(1) <= 2.0, 1, 0), max_boxes=100)
+    >>> prove_all(box, lambda b: np.where(b[:, :, 1].sum(1) <= 2.0, 1, 0), stop=StopAt(max_boxes=100))
     (True, 1)
-    >>> prove_all(box, lambda b: np.zeros(len(b), int), max_boxes=10)
+    >>> prove_all(box, lambda b: np.zeros(len(b), int), stop=StopAt(max_boxes=10))
     (None, 15)
     """
+    stop, run = with_legacy_keywords("prove_all", stop, run, executor=executor)
+    refuse_storage("prove_all", run)
     check_choice("split", split, SPLITS)
-    if max_boxes < 1:
-        raise InvalidParameterError(f"max_boxes must be at least 1; got {max_boxes!r}", parameter="max_boxes")
     if not min_width >= 0:
-        raise InvalidParameterError(f"min_width must be a non-negative number; got {min_width!r}")
+        raise InvalidParameterError(f"min_width must be a non-negative number; got {min_width!r}",
+                                    parameter="min_width")
+    if stop.max_boxes is None and stop.time_limit is None and min_width == 0:
+        raise InvalidParameterError(f"stop: prove_all needs a bound (StopAt(max_boxes=) or time_limit=, or "
+                                    f"min_width > 0); got {stop!r}", parameter="stop")
+    max_boxes = math.inf if stop.max_boxes is None else stop.max_boxes
+    chunk = {} if run.chunk is None else {"chunk": run.chunk}
+    start = time.perf_counter()
     work = np.asarray(boxes, dtype=float)
     used = 0
     while len(work):
+        if stop.time_limit is not None and time.perf_counter() - start > stop.time_limit:
+            return None, used
         used += len(work)
         if used > max_boxes:
             return None, used
         if split == "given":
             codes, axis = test(work)
         else:
-            codes, axis = map_codes(test, work, executor), None
+            codes, axis = map_codes(test, work, run.executor, **chunk), None
         codes = np.asarray(codes)
         if (codes == OUTSIDE).any():
             return False, used

@@ -22,6 +22,7 @@ import sympy as sp
 
 from ..errors import InvalidParameterError
 from ..interval import arith
+from ..interval.driver import RunOn, StopAt, with_legacy_keywords
 from ..interval.search import prove_all
 from ..numbers import fmt, fmt_bound, fmt_bracket
 from ..progress import stage_bar
@@ -119,24 +120,37 @@ class CubeResult:
         return data
 
 
-def cube_inside(center, half: float, *, sigma=(0.25, 4.0), min_width: float = 1e-3,
-                max_boxes: int = 200_000, executor=None):
+INSIDE_BOXES = 200_000     # the budget of cube_inside when stop gives none
+NO_CUBE_BOXES = 400_000    # the budget of no_enclosed_cube when stop gives none
+
+
+def _budget(stop: StopAt, default: int) -> StopAt:
+    """``stop`` with the certificate's own box budget when it gives none."""
+    return stop if stop.max_boxes is not None else StopAt(default, stop.time_limit, stop.progress)
+
+
+def cube_inside(center, half: float, *, sigma=(0.25, 4.0), min_width: float = 1e-3, stop: StopAt = StopAt(),
+                run: RunOn = RunOn(), executor=None):
     """Prove that the cube of half-edge ``half`` at ``center`` lies in the dextrous workspace.
 
     Returns True (every sub-box proved inside), False (a sub-box proved
     outside) or None (undecided boxes narrower than ``min_width``, or the
-    budget ran out), and the number of boxes evaluated.  ``executor``
-    spreads the evaluation (:func:`~workspace_sym.interval.search.prove_all`).
+    budget ran out), and the number of boxes evaluated.  ``stop``: the box
+    budget (default ``INSIDE_BOXES``) and time limit of the search;
+    ``run=RunOn(executor=...)`` spreads the evaluation
+    (:func:`~workspace_sym.interval.search.prove_all`; ``executor=`` is its
+    deprecated spelling).
     """
+    stop, run = with_legacy_keywords("cube_inside", stop, run, executor=executor)
     sigma = check_sigma(sigma)
     c = np.asarray(center, dtype=float)
     cube = np.stack([arith.down(c - half), arith.up(c + half)], axis=1)[None]     # holds the exact cube
-    return prove_all(cube, partial(box_module, sigma=sigma), max_boxes=max_boxes, min_width=min_width,
-                     split="every", executor=executor)
+    return prove_all(cube, partial(box_module, sigma=sigma), min_width=min_width, split="every",
+                     stop=_budget(stop, INSIDE_BOXES), run=run)
 
 
 def no_enclosed_cube(half: float, *, sigma=(0.25, 4.0), grid: int = 5, min_width: float = 1e-4,
-                     max_boxes: int = 400_000, executor=None):
+                     stop: StopAt = StopAt(), run: RunOn = RunOn(), executor=None):
     """Prove that no cube of half-edge ``half`` lies in the dextrous workspace, wherever its centre.
 
     Centres are boxed in ``[-1, 1]^3`` (the workspace lies in the three
@@ -145,15 +159,17 @@ def no_enclosed_cube(half: float, *, sigma=(0.25, 4.0), grid: int = 5, min_width
     ``B``; when a point of that smaller cube (a grid on its surface and its
     centre) is proved outside by the box module, ``B`` is discarded.
     Returns True, or None when boxes narrower than ``min_width`` remain or
-    the budget ran out, and the number of centre boxes evaluated.
+    the budget ran out, and the number of centre boxes evaluated.  ``stop``
+    and ``run`` as for :func:`cube_inside` (default budget ``NO_CUBE_BOXES``).
     """
+    stop, run = with_legacy_keywords("no_enclosed_cube", stop, run, executor=executor)
     sigma = check_sigma(sigma)
     corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
     shapes = (np.vstack([corners, np.zeros((1, 3))]), np.vstack([surface_points(grid), np.zeros((1, 3))]))
 
     test = partial(_shrunk_cube_outside, half=half, shapes=shapes, sigma=sigma)     # picklable for executors
-    return prove_all(np.array([[[-1.0, 1.0]] * 3]), test, max_boxes=max_boxes, min_width=min_width, split="every",
-                     executor=executor)
+    return prove_all(np.array([[[-1.0, 1.0]] * 3]), test, min_width=min_width, split="every",
+                     stop=_budget(stop, NO_CUBE_BOXES), run=run)
 
 
 def _shrunk_cube_outside(centres, *, half, shapes, sigma):
@@ -172,8 +188,8 @@ def _shrunk_cube_outside(centres, *, half, shapes, sigma):
     return np.where(alive, 0, 1)
 
 
-def largest_cube(model, *, alpha: float = 0.001, sigma=(0.25, 4.0), progress: bool | None = None,
-                 executor=None) -> CubeResult:
+def largest_cube(model, *, alpha: float = 0.001, sigma=(0.25, 4.0), stop: StopAt = StopAt(),
+                 run: RunOn = RunOn(), progress: bool | None = None, executor=None) -> CubeResult:
     """The largest cube enclosed in the dextrous workspace, to ``alpha`` on the half-edge (paper section 5).
 
     1. The centre is searched numerically on the diagonal ``x = y = z`` (the
@@ -187,14 +203,24 @@ def largest_cube(model, *, alpha: float = 0.001, sigma=(0.25, 4.0), progress: bo
        cube of half-edge ``R - alpha/2``, ``no_enclosed_cube`` proves that no
        cube of half-edge ``R + alpha/2`` fits anywhere.
 
-    ``executor`` spreads the certificates' box evaluations (a
-    ``concurrent.futures.Executor`` or a ``dask.distributed.Client``).
+    ``stop`` (:class:`~workspace_sym.interval.driver.StopAt`): ``progress``
+    for the bar of the four stages; ``max_boxes`` and ``time_limit`` bound
+    each certificate search (default: :data:`INSIDE_BOXES` and
+    :data:`NO_CUBE_BOXES` boxes, no time limit); a search that runs out proves
+    nothing, so the bracket widens, never wrongly.  ``run``
+    (:class:`~workspace_sym.interval.driver.RunOn`): ``executor`` spreads the
+    certificates' box evaluations (a ``concurrent.futures.Executor`` or a
+    ``dask.distributed.Client``).  ``progress=`` and ``executor=`` are the
+    deprecated spellings of ``stop=StopAt(progress=...)`` and
+    ``run=RunOn(executor=...)``.
     """
+    stop, run = with_legacy_keywords("largest_cube", stop, run, executor=executor, progress=progress)
     if not isinstance(alpha, (int, float)) or not math.isfinite(alpha) or alpha <= 0:
         raise InvalidParameterError(f"alpha must be a positive number; got {alpha!r}", parameter="alpha")
     sigma = check_sigma(sigma)
     start = time.perf_counter()
-    say = stage_bar(progress, "cube", 4)
+    say = stage_bar(stop.progress, "cube", 4)
+    search = StopAt(stop.max_boxes, stop.time_limit)     # of each certificate; the stage bar is the only bar
     say("numeric search on the diagonal")
     shape = np.vstack([surface_points(9), np.zeros((1, 3))])
     tol = min(alpha / 8, 1e-6)              # the search is cheap; the binding points need it accurate
@@ -239,7 +265,7 @@ def largest_cube(model, *, alpha: float = 0.001, sigma=(0.25, 4.0), progress: bo
     say("certificate: the cube is inside")
     lower = half - alpha / 2
     while lower > 0:
-        ok, used = cube_inside(centre, lower, sigma=sigma, min_width=alpha / 16, executor=executor)
+        ok, used = cube_inside(centre, lower, sigma=sigma, min_width=alpha / 16, stop=search, run=run)
         boxes["inside_proof"] += used
         if ok:
             break
@@ -248,7 +274,7 @@ def largest_cube(model, *, alpha: float = 0.001, sigma=(0.25, 4.0), progress: bo
     say("certificate: no larger cube anywhere")
     upper = lower + alpha
     while upper <= 1.0:
-        ok, used = no_enclosed_cube(upper, sigma=sigma, min_width=alpha / 16, executor=executor)
+        ok, used = no_enclosed_cube(upper, sigma=sigma, min_width=alpha / 16, stop=search, run=run)
         boxes["upper_proof"] += used
         if ok:
             break

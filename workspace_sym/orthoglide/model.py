@@ -21,7 +21,7 @@ from functools import cached_property
 import numpy as np
 import sympy as sp
 
-from ..interval.driver import RunOn, StopAt
+from ..interval.driver import RunOn, StopAt, with_legacy_keywords
 from . import certificate, cube
 
 __all__ = ["Orthoglide"]
@@ -140,20 +140,24 @@ class Orthoglide:
         return certificate.dextrous(self.variables, eps=eps, sigma=sigma, box=box, shave=shave, stop=stop, run=run)
 
     def cube_inside(self, center, half: float, *, sigma=(0.25, 4.0), min_width: float = 1e-3,
-                    max_boxes: int = 200_000):
+                    stop: StopAt = StopAt(), run: RunOn = RunOn(), executor=None):
         """Prove that a cube lies in the dextrous workspace (:func:`.cube.cube_inside`)."""
-        return cube.cube_inside(center, half, sigma=sigma, min_width=min_width, max_boxes=max_boxes)
+        stop, run = with_legacy_keywords("cube_inside", stop, run, executor=executor)
+        return cube.cube_inside(center, half, sigma=sigma, min_width=min_width, stop=stop, run=run)
 
     def no_enclosed_cube(self, half: float, *, sigma=(0.25, 4.0), grid: int = 5, min_width: float = 1e-4,
-                         max_boxes: int = 400_000):
+                         stop: StopAt = StopAt(), run: RunOn = RunOn(), executor=None):
         """Prove that no cube of half-edge ``half`` fits anywhere (:func:`.cube.no_enclosed_cube`)."""
-        return cube.no_enclosed_cube(half, sigma=sigma, grid=grid, min_width=min_width, max_boxes=max_boxes)
+        stop, run = with_legacy_keywords("no_enclosed_cube", stop, run, executor=executor)
+        return cube.no_enclosed_cube(half, sigma=sigma, grid=grid, min_width=min_width, stop=stop, run=run)
 
-    def largest_cube(self, *, alpha: float = 0.001, sigma=(0.25, 4.0), progress: bool | None = None,
-                     executor=None) -> cube.CubeResult:
+    def largest_cube(self, *, alpha: float = 0.001, sigma=(0.25, 4.0), stop: StopAt = StopAt(),
+                     run: RunOn = RunOn(), progress: bool | None = None, executor=None) -> cube.CubeResult:
         """The largest cube enclosed in the dextrous workspace, certified.
 
-        See :func:`.cube.largest_cube` and the paper's section 5; ``executor``
-        spreads the certificates' box evaluations.
+        See :func:`.cube.largest_cube` and the paper's section 5: ``stop`` holds the progress bar and the
+        budget of each certificate search, ``run=RunOn(executor=...)`` spreads their box evaluations
+        (``progress=`` and ``executor=`` are deprecated spellings of these).
         """
-        return cube.largest_cube(self, alpha=alpha, sigma=sigma, progress=progress, executor=executor)
+        stop, run = with_legacy_keywords("largest_cube", stop, run, executor=executor, progress=progress)
+        return cube.largest_cube(self, alpha=alpha, sigma=sigma, stop=stop, run=run)
