@@ -83,7 +83,13 @@ def _square_boxes(T: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 class SquareMap(ImageMap):
     """``q' -> (u^2 + c^2, v)`` whose interval enclosures (values and Jacobian, used by the Krawczyk test)
     come from those of ``(u, c, v)`` and their derivatives: ``sqr(u) + sqr(c)`` and ``2 (u u_j + c c_j)``,
-    tighter than the expanded expression's (kept for the floats of Newton's method)."""
+    tighter than the expanded expression's (kept for the floats of Newton's method).
+
+    Its Krawczyk test is not inflated: on 1500 sampled cells of the UR5's section (width 0.0144), one test per
+    choice of joints, then four pieces for the cells left, proves 72.5 % of them in a quarter of the time that
+    two inflations take to prove 76 %; the time saved goes to the later stages of :func:`section_paving`."""
+
+    INFLATIONS = 0
 
     def __init__(self, rho2, w, variables, limits, periodic):
         super().__init__([rho2, w[2]], variables, limits, periodic)

@@ -89,6 +89,7 @@ class ImageMap:
     """
 
     COMBOS_TRIED = 3       # choices of the m joints of the inner test tried per box, best-conditioned first
+    INFLATIONS = 2         # epsilon-inflations of the Krawczyk box after a failed test (each a new test)
 
     def __init__(self, expressions, variables, limits, periodic):
         expressions = [sp.sympify(e) for e in expressions]
@@ -220,7 +221,7 @@ class ImageMap:
             for c_index, cols in enumerate(combos):
                 rows = np.nonzero(usable & (choice == c_index))[0]
                 if len(rows):
-                    proved[rows] = self._krawczyk(T[rows], q[rows], list(cols), 1.5)
+                    proved[rows] = self._krawczyk(T[rows], q[rows], list(cols), 1.5, inflations=self.INFLATIONS)
         return proved
 
     def prove_inside_multistart(self, T: np.ndarray, rng, *, starts: int = 6, seeds: np.ndarray | None = None,
