@@ -99,15 +99,18 @@ def test_centred_enclosure_holds_the_values_of_its_box(centre, width):
 
 def test_paving_of_industrial_arms_is_sound_and_holds_pappus(arm):
     """A coarse paving of the section stopped after a fixed count of boxes (the same on any machine): every
-    cell beyond the shoulder bound is declared outside; independent numerics: 10^5 configurations never land
-    in an outer cell; second method: the Pappus bracket holds the volume of the sampled section."""
+    cell beyond the shoulder bound is declared outside, none beyond a tighter bound inside; independent
+    numerics: 10^5 configurations never land in an outer cell; second method: the Pappus bracket holds the
+    volume of the sampled section."""
     name, robot, plan = arm
     image = plan.section
     width = 0.05
     grid, classes, evaluated, stopped = section_paving(
-        image, width, budget=lambda count, ahead=0.0: "count" if count > 2_500 else "")
-    far = image.reach.far_cells(grid, image.reach.bound(0.2 * width))
+        image, width, budget=lambda count, ahead=0.0: "count" if count > 5_000 else "")
+    far = image.reach.far_cells(grid, image.reach.bound(1.0))        # the paving's bound (kept: tighter than 1)
     assert far.any() and np.all(classes[far] == OUTER)
+    tight = image.reach.far_cells(grid, image.reach.bound(1e-4))
+    assert not np.any(classes[tight] == INNER)
     assert (classes == INNER).any()
     _, p = _section_points(image, 100_000, 2)
     first, _ = grid.span(np.repeat(p[:, :, None], 2, axis=2))
