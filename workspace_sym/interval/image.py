@@ -89,6 +89,7 @@ class ImageMap:
     """
 
     COMBOS_TRIED = 3       # choices of the m joints of the inner test tried per box, best-conditioned first
+    INFLATIONS = 2         # epsilon-inflations of the Krawczyk box after a failed test (each a new test)
 
     def __init__(self, expressions, variables, limits, periodic):
         expressions = [sp.sympify(e) for e in expressions]
@@ -120,12 +121,15 @@ class ImageMap:
                 out[:, i, 0], out[:, i, 1] = lo, hi
         return np.where(np.isnan(out), np.inf * np.array([-1.0, 1.0]), out)
 
-    def jacobian_enclosure(self, Q: np.ndarray):
-        """``J[i][j] = (lo, hi)`` arrays enclosing ``d f_i / d q_j`` over ``Q``."""
+    def jacobian_enclosure(self, Q: np.ndarray, columns=None):
+        """``J[i][j] = (lo, hi)`` arrays enclosing ``d f_i / d q_j`` over ``Q``; with ``columns``, only those
+        columns are computed (the others are None)."""
         X = [(Q[:, j, 0], Q[:, j, 1]) for j in range(self.k)]
         shape = (len(Q),)
+        wanted = range(self.k) if columns is None else set(int(j) for j in columns)
         with np.errstate(all="ignore"):
-            return [[tuple(np.broadcast_to(v, shape) for v in f(X)) for f in row] for row in self._jacobian]
+            return [[tuple(np.broadcast_to(v, shape) for v in f(X)) if j in wanted else None
+                     for j, f in enumerate(row)] for row in self._jacobian]
 
     @property
     def minors(self) -> dict:
@@ -217,7 +221,7 @@ class ImageMap:
             for c_index, cols in enumerate(combos):
                 rows = np.nonzero(usable & (choice == c_index))[0]
                 if len(rows):
-                    proved[rows] = self._krawczyk(T[rows], q[rows], list(cols), 1.5)
+                    proved[rows] = self._krawczyk(T[rows], q[rows], list(cols), 1.5, inflations=self.INFLATIONS)
         return proved
 
     def prove_inside_multistart(self, T: np.ndarray, rng, *, starts: int = 6, seeds: np.ndarray | None = None,
@@ -290,7 +294,7 @@ class ImageMap:
         K = np.empty((len(T), m, 2))
         with np.errstate(all="ignore"):
             p0 = self.enclose(point)                              # f(q), outward-rounded
-            JU = self.jacobian_enclosure(box)
+            JU = self.jacobian_enclosure(box, columns=sub)          # the columns of the joints that vary
             R = [arith.sub((p0[:, i, 0], p0[:, i, 1]), (T[:, i, 0], T[:, i, 1])) for i in range(m)]
             D = [arith.sub((box[:, j, 0], box[:, j, 1]), (q[:, j], q[:, j])) for j in sub]
             for a in range(m):

@@ -1,0 +1,142 @@
+"""The outer bound of turned sections by the distance from the shoulder, on the UR5 and the KUKA KR16
+(workspace_sym.reach_section.ShoulderReach, issue 24).
+
+References, each named in its test:
+* independent numerics: 10^5 random configurations (vectorised floats) have ``h`` below the proved bound, satisfy
+  the inequality the bound rests on, and never land in a cell declared outside; the bound is within its
+  tolerance of the largest sampled value refined by Newton's method on the gradient;
+* a second method: Pappus's theorem on the section sampled at 3 10^5 configurations (cells of side h of (rho, z)
+  hit by a sample, each turned through a full circle), which the proved bracket of the paving must hold.
+"""
+
+from __future__ import annotations
+
+import functools
+from pathlib import Path
+
+import numpy as np
+import pytest
+import rtbdata
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from workspace_sym.interval.image import CellGrid
+from workspace_sym.interval.verdict import INSIDE as INNER
+from workspace_sym.interval.verdict import OUTSIDE as OUTER
+from workspace_sym.kinematics import DHRobot
+from workspace_sym.reach_section import section_paving, turned_volume
+from workspace_sym.serial_workspace import _section
+
+ROOT = Path(__file__).resolve().parents[1]
+KR16 = Path(rtbdata.__file__).parent / "xacro/kuka_description/kuka_kr16/urdf/kr16_2.urdf"
+
+
+@functools.cache
+def _robot(name):
+    if name == "ur5":
+        return DHRobot.from_file(ROOT / "tests" / "data" / "dh" / "ur5.json")
+    return DHRobot.from_urdf(KR16)
+
+
+@pytest.fixture(scope="module", params=["ur5", "kr16"])
+def arm(request):
+    robot = _robot(request.param)
+    return request.param, robot, _section(robot, ())
+
+
+def _section_points(image, n, seed):
+    q = image.random_configurations(n, np.random.default_rng(seed))
+    return q, image.position_float(q)
+
+
+def _h(reach, image, q):
+    cols = [image.variables.index(v) for v in reach.map.variables]
+    return reach.map.position_float(q[:, cols])[:, 0], cols
+
+
+def test_shoulder_distance_bound_holds_every_sampled_configuration(arm):
+    """The shoulder point lies on the second joint's axis: ``h`` does not depend on that joint (dropped from
+    its variables). Independent numerics: at 10^5 configurations ``h`` is below the bound, above the squared
+    section distance to the centre (the inequality of the outer proof), and the bound is within its tolerance
+    (plus 10^-6) of the largest sampled value refined by gradient steps."""
+    name, robot, plan = arm
+    image, reach = plan.section, plan.section.reach
+    assert reach is not None and image.variables[0] not in reach.map.variables
+    q, p = _section_points(image, 100_000, 1)
+    h, cols = _h(reach, image, q)
+    tolerance = 1e-3
+    bound = reach.bound(tolerance)
+    assert h.max() <= bound
+    (sr, _), (sz, _) = reach.centre
+    assert np.all((p[:, 0] - sr) ** 2 + (p[:, 1] - sz) ** 2 <= h + 1e-12)
+    # Gradient ascent from the 20 best samples, in the joints of h (limits held).
+    best = q[np.argsort(h)[-20:]][:, cols]
+    lo, hi = reach.map.limits[:, 0], reach.map.limits[:, 1]
+    for _ in range(200):
+        grad = reach.map.jacobian_float(best)[:, 0, :]
+        best = np.clip(best + 0.05 * grad, lo, hi)
+    top = reach.map.position_float(best)[:, 0].max()
+    assert top <= bound <= top + tolerance + 1e-6, (top, bound)
+
+
+@settings(max_examples=25, deadline=None, derandomize=True)
+@given(centre=st.lists(st.sampled_from([-np.pi, -1.0, 0.0, 0.3, np.pi / 2, np.pi]), min_size=3, max_size=3),
+       width=st.sampled_from([0.0, 1e-9, 0.05, 0.5, 2 * np.pi]))
+def test_centred_enclosure_holds_the_values_of_its_box(centre, width):
+    """The enclosure of ``h`` (natural form intersected with the centred form) holds its values at the
+    corners, the centre and 200 random points of boxes around edge points (the joint limits, zero, pi/2);
+    independent numerics: float evaluation of the simplified expression."""
+    reach = _section(_robot("ur5"), ()).section.reach
+    k = reach.map.k
+    c = np.resize(np.array(centre), k)
+    Q = np.stack([c - width / 2, c + width / 2], axis=1)[None]
+    lo, hi = reach.enclose(Q)
+    rng = np.random.default_rng(0)
+    points = np.concatenate([rng.uniform(Q[0, :, 0], Q[0, :, 1], size=(200, k)), Q[0].T, c[None]])
+    values = reach.map.position_float(points)[:, 0]
+    assert lo[0] <= values.min() + 1e-12 and values.max() <= hi[0] + 1e-12
+
+
+def test_paving_of_industrial_arms_is_sound_and_holds_pappus(arm):
+    """A coarse paving of the section stopped after a fixed count of boxes (the same on any machine): every
+    cell beyond the shoulder bound is declared outside, none beyond a tighter bound inside; independent
+    numerics: 10^5 configurations never land in an outer cell; second method: the Pappus bracket holds the
+    volume of the sampled section."""
+    name, robot, plan = arm
+    image = plan.section
+    width = 0.05
+    grid, classes, evaluated, stopped = section_paving(
+        image, width, budget=lambda count, ahead=0.0: "count" if count > 5_000 else "")
+    far = image.reach.far_cells(grid, image.reach.bound(1.0))        # the paving's bound (kept: tighter than 1)
+    assert far.any() and np.all(classes[far] == OUTER)
+    tight = image.reach.far_cells(grid, image.reach.bound(1e-4))
+    assert not np.any(classes[tight] == INNER)
+    assert (classes == INNER).any()
+    _, p = _section_points(image, 100_000, 2)
+    first, _ = grid.span(np.repeat(p[:, :, None], 2, axis=2))
+    assert not np.any(classes[first[:, 0], first[:, 1]] == OUTER)
+    lo, hi = turned_volume(grid, classes)
+    q, p = _section_points(image, 300_000, 3)
+    h = 0.012
+    cells = np.unique(np.floor(p / h).astype(np.int64), axis=0)
+    volume = float(np.sum(2 * np.pi * (cells[:, 0] + 0.5) * h ** 3))
+    assert lo <= volume <= hi, (lo, volume, hi)
+
+
+def test_far_cells_are_outside_the_bound_disc():
+    """The far cells of a grid are those whose nearest point to the centre is beyond the square root of the
+    bound (a cell corner exactly on the circle is not far): the cell grid of [0, 2] x [0, 2] with unit-width
+    cells around a centre at (0, 0) and bound 1."""
+    reach = _section(_robot("ur5"), ()).section.reach
+    saved = reach.centre
+    try:
+        reach.centre = ((0.0, 0.0), (0.0, 0.0))
+        grid = CellGrid(np.array([[0.0, 2.0], [0.0, 2.0]]), 1.0)     # edges -1.5, -0.5, 0.5, 1.5, 2.5
+        far = reach.far_cells(grid, 1.0)
+        e0, e1 = grid.edges
+        near = np.hypot(np.maximum(0, np.maximum(e0[:-1], -e0[1:]))[:, None],
+                        np.maximum(0, np.maximum(e1[:-1], -e1[1:]))[None, :])
+        assert np.array_equal(far, near > 1.0)
+        assert far[3, 0] and not far[2, 2] and far[3, 3]
+    finally:
+        reach.centre = saved
