@@ -26,7 +26,7 @@ from workspace_sym.interval.verdict import INSIDE as INNER
 from workspace_sym.interval.verdict import OUTSIDE as OUTER
 from workspace_sym.interval.verdict import UNDECIDED
 from workspace_sym.kinematics import DHJoint, DHRobot, _rx, _translate
-from workspace_sym.reach_section import Turned, section_bar, section_paving, to_first_frame, turned_volume
+from workspace_sym.reach_section import RadialMap, Turned, section_bar, section_paving, to_first_frame, turned_volume
 from workspace_sym.serial_workspace import ReachModel, _section, reach
 
 R = sp.Rational
@@ -177,10 +177,12 @@ def shell_arm():
 
 
 def test_blocks_stage_keeps_to_its_share_of_the_time_left():
-    """With no time left for it, the blocks stage (the only one that proves cells outside) is skipped and the
-    section still ends normally: no cell is proved outside, whatever the machine's speed."""
+    """With no time left for it, the blocks stage is skipped and the section still ends normally: without the
+    shoulder's distance bound (the map rebuilt without it), no cell is proved outside, whatever the machine's
+    speed."""
     plan = _section(shell_arm(), ())
-    grid, classes, _, stopped = section_paving(plan.section, 0.1, depth=1, seconds_left=lambda: 0.0)
+    image = RadialMap(plan.section.square, plan.section.lateral)
+    grid, classes, _, stopped = section_paving(image, 0.1, depth=1, seconds_left=lambda: 0.0)
     assert stopped == "" and not (classes == OUTER).any()
 
 
