@@ -102,6 +102,7 @@ from .reach_section import (
     turned,
     turned_volume,
 )
+from .reach_turn import LimitedTurnTest, limited_turn, limited_volume, pave_limited
 from .symbolic import symbolic_budget
 
 __all__ = ["reach", "Pose", "resolve_method", "ReachModel", "METHODS", "CHUNK_PAIRS"]
@@ -657,7 +658,15 @@ def _spatial(robot, parameters, delta, size, run, *, executor):
     width = _cell_width(delta, size, 3)
     grid, classes, evaluated, reason = None, None, 0, ""
     volume = None
-    if isinstance(plan, Turned) and plan.section.k > 2:
+    limited = limited_turn(plan, model)
+    test = None
+    if limited is not None:
+        # A limited first joint of half a turn or more: cells proved at every polar angle (reach_turn).
+        grid, classes, proved, evaluated, reason = pave_limited(limited, SECTION_RATIO * width, run,
+                                                                depth=SECTION_DEPTH)
+        volume = limited_volume(limited, grid, classes, proved)
+        test = LimitedTurnTest(limited, grid, classes, proved)
+    elif isinstance(plan, Turned) and plan.section.k > 2:
         # The section refines while its next step would end before the time limit less the time the (x, y, z)
         # boxes take, measured once on the first proved cells (a rehearsal: more cells decided, fewer boxes).
         reserve = [0.0]
@@ -694,7 +703,7 @@ def _spatial(robot, parameters, delta, size, run, *, executor):
     if reason:
         return box, inner, boundary, outer, T, evaluated, reason, volume
     tests = {_Product: _ProductTest, _Revolved: _SectionTest, Turned: TurnedTest}
-    test = tests[type(plan)](plan, grid, classes)
+    test = test or tests[type(plan)](plan, grid, classes)
     T, evaluated, reason = classify_task_boxes(test, T, inner, boundary, outer, delta, size, run, evaluated,
                                                total=box.measure)
     return box, inner, boundary, outer, T if len(T) and reason else None, evaluated, reason, volume
