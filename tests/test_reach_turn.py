@@ -21,7 +21,7 @@ from test_serial_workspace import _in_boxes
 
 from workspace_sym.kinematics import DHJoint, DHRobot
 from workspace_sym.reach_section import Turned, to_first_frame
-from workspace_sym.reach_turn import limited_turn
+from workspace_sym.reach_turn import covering_pairs, limited_turn
 from workspace_sym.serial_workspace import ReachModel, _model, _section, reach
 
 R = sp.Rational
@@ -69,17 +69,24 @@ def _arcs_volume(robot, n=400_000, h=0.01, seed=0):
 
 def test_pairs_of_directions_are_decided_exactly():
     """Exact arithmetic: a range of exactly 3 pi / 2 lets any two axis directions cover the circle, a range a
-    hair over pi only opposite ones, less than pi none (then the arm keeps outer boxes only)."""
-    def pairs(first):
-        robot = offset_arm(first=first)
-        return limited_turn(_section(robot, ()), _model(robot, ()))
+    hair over pi only opposite ones, a hair under pi none (then the arm keeps outer boxes only)."""
+    tiny = R(1, 10**12)
+    assert covering_pairs(3 * sp.pi / 2) == ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3))
+    assert covering_pairs(3 * sp.pi / 2 - tiny) == ((0, 2), (1, 3))
+    assert covering_pairs(sp.pi + tiny) == covering_pairs(sp.pi) == ((0, 2), (1, 3))
+    assert covering_pairs(sp.pi - tiny) == ()
+    assert covering_pairs(2 * sp.pi) == covering_pairs(3 * sp.pi / 2)
 
-    assert pairs((-3 * sp.pi / 4, 3 * sp.pi / 4)).pairs == ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3))
-    assert pairs((-sp.pi / 2 - R(1, 10**6), sp.pi / 2 + R(1, 10**6))).pairs == ((0, 2), (1, 3))
-    assert pairs((-sp.pi / 2 + R(1, 10**6), sp.pi / 2)) is None
-    assert pairs(None) is None                                  # a full turn: the solid of revolution
-    turn = pairs(IIWA_LIKE)
-    assert turn.share <= 17 / 18 and 17 / 18 - turn.share < 1e-15
+
+def test_a_limited_first_joint_is_recognised(limited_paving):
+    """The +-170 deg first joint of the swing arm: every pair qualifies, the share of the circle is 17/18
+    rounded down; a full turn and the two-joint section of the offset arm are left to the other paths."""
+    robot, _ = limited_paving
+    turn = limited_turn(_section(robot, ()), _model(robot, ()))
+    assert len(turn.pairs) == 6 and turn.share <= 17 / 18 and 17 / 18 - turn.share < 1e-15
+    assert limited_turn(_section(swing_arm(None), ()), _model(swing_arm(None), ())) is None
+    two = offset_arm(first=IIWA_LIKE)
+    assert limited_turn(_section(two, ()), _model(two, ())) is None
 
 
 @pytest.fixture(scope="module")

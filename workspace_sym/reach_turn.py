@@ -63,8 +63,8 @@ from .reach_section import (
     turned_volume,
 )
 
-__all__ = ["LimitedTurn", "limited_turn", "DirectionMap", "direction_seeds", "prove_directions", "full_turn_cells",
-           "limited_volume", "LimitedTurnTest", "pave_limited"]
+__all__ = ["LimitedTurn", "limited_turn", "covering_pairs", "DirectionMap", "direction_seeds", "prove_directions",
+           "full_turn_cells", "limited_volume", "LimitedTurnTest", "pave_limited"]
 
 DIRECTIONS = 4                   # the axis directions k pi / 2 of the first joint's frame
 DIRECTION_CHUNK = 2_000          # cells proved in one step (the budget is asked between steps)
@@ -87,10 +87,11 @@ class LimitedTurn:
 
 
 def limited_turn(plan, model) -> LimitedTurn | None:
-    """The structure of the module docstring when ``plan`` (of ``model``) is a turned section whose first joint
-    is limited to less than a period but at least a half turn; None otherwise."""
-    if not isinstance(plan, Turned) or plan.full:
-        return None
+    """The structure of the module docstring when ``plan`` (of ``model``) is a turned section moved by three
+    joints or more whose first joint is limited to less than a period but at least a half turn; None
+    otherwise."""
+    if not isinstance(plan, Turned) or plan.full or plan.section.k < 3:
+        return None                     # two joints move w over a surface: no box of w is inside its image
     turn = first_joint_turn(model)
     if turn is None:
         return None
@@ -98,17 +99,28 @@ def limited_turn(plan, model) -> LimitedTurn | None:
     lo, hi = model.exact_limits[0]
     a, b = sorted((theta.subs(q1, lo), theta.subs(q1, hi)), key=lambda e: float(sp.N(e, 30)))
     length = sp.Abs(slope) * (hi - lo)
-    pairs = []
-    for j, k in itertools.combinations(range(DIRECTIONS), 2):
-        d = (k - j) * sp.pi / 2
-        # d in [2 pi - L, L], decided on outward enclosures (exact comparison, never a float guess).
-        if numpy_constant(length - d)[0] >= 0 and numpy_constant(d - 2 * sp.pi + length)[0] >= 0:
-            pairs.append((j, k))
+    pairs = covering_pairs(length)
     if not pairs:
         return None
     a_f, b_f = numpy_constant(a), numpy_constant(b)
     share = arith.div(numpy_constant(length), numpy_constant(2 * sp.pi))[0]
     return LimitedTurn(plan, (float(a_f[1]), float(b_f[0])), tuple(pairs), float(share))
+
+
+def covering_pairs(length) -> tuple:
+    """The pairs ``(j, k)`` of axis directions whose arcs ``j pi / 2 + [a, b]`` and ``k pi / 2 + [a, b]`` cover the
+    circle when ``b - a`` is the exact ``length``: ``d = (k - j) pi / 2`` in ``[2 pi - L, L]``, decided on outward
+    enclosures of the exact differences (never a float guess).
+
+    >>> covering_pairs(sp.pi), covering_pairs(3 * sp.pi / 2)[:3], covering_pairs(sp.pi - sp.Rational(1, 10**9))
+    (((0, 2), (1, 3)), ((0, 1), (0, 2), (0, 3)), ())
+    """
+    pairs = []
+    for j, k in itertools.combinations(range(DIRECTIONS), 2):
+        d = (k - j) * sp.pi / 2
+        if numpy_constant(length - d)[0] >= 0 and numpy_constant(d - 2 * sp.pi + length)[0] >= 0:
+            pairs.append((j, k))
+    return tuple(pairs)
 
 
 class DirectionMap:
@@ -240,20 +252,23 @@ class LimitedTurnTest(TurnedTest):
 def pave_limited(limited: LimitedTurn, width: float, run, *, section_share: float = SECTION_SHARE,
                  depth: int = 1):
     """``(grid, full classes, proved, evaluated, reason)``: the section paved
-    (:func:`~workspace_sym.reach_section.section_paving`, with a time limit until ``section_share`` of it),
-    then its cells not proved outside tried at the four directions until ``DIRECTIONS_SHARE`` of the time limit
-    (the rest is for the world boxes)."""
-    limit = run.time_limit
+    (:func:`~workspace_sym.reach_section.section_paving`, with a time limit until ``section_share`` of the time
+    left when called), then its cells not proved outside tried at the four directions until ``DIRECTIONS_SHARE``
+    of it (the rest is for the world boxes)."""
+    limit, begun = run.time_limit, run.seconds
+
+    def end(share):                 # the shares are of the time left after the symbolic preparation
+        return begun + share * (limit - begun)
 
     def until(share, why):
         def budget(count, ahead=0.0):
-            late = limit is not None and run.seconds + 1.5 * ahead > share * limit
+            late = limit is not None and run.seconds + 1.5 * ahead > end(share)
             return run.stop_reason(count) or (why if late else "")
         return budget
 
     grid, classes, evaluated, reason = section_paving(
         limited.plan.section, width, budget=until(section_share, "share"), depth=depth if limit else 1,
-        seconds_left=(lambda: section_share * limit - run.seconds) if limit else None)
+        seconds_left=(lambda: end(section_share) - run.seconds) if limit else None)
     reason = "" if reason == "share" else reason
     proved = np.zeros((DIRECTIONS,) + grid.shape, dtype=bool)
     if not reason:
