@@ -111,8 +111,8 @@ def one(name, delta, limit):
     from workspace_sym import reach_turn
 
     serial_workspace.section_paving = timed(reach_section.section_paving)
-    reach_turn.section_paving = timed(reach_section.section_paving)
-    reach_turn.prove_directions = timed(reach_turn.prove_directions)
+    reach_turn.pave_limited = timed(reach_turn.pave_limited)
+    serial_workspace.pave_limited = reach_turn.pave_limited
     serial_workspace.critical_paving = timed(serial_workspace.critical_paving)
     robot = load(name)
     t = time.perf_counter()

@@ -25,7 +25,8 @@ on an outward enclosure of ``L``: opposite directions when ``L >= pi``, any two 
 with two qualifying directions proved is **inner** (the solid it turns into lies in the workspace); a cell with
 one direction ``k`` proved holds the sector ``psi in k pi / 2 + [a, b]``.
 
-**Outside.**  A cell proved outside the section (:func:`~workspace_sym.reach_section.section_paving`) is outside
+**Outside.**  A cell proved outside the section (blocks of cells, stage 2 of
+:func:`~workspace_sym.reach_section.section_paving`) is outside
 the workspace at every polar angle, whatever the limits of ``theta_1``.
 
 **Boxes and volume.**  A world box is mapped to the first joint's frame (``B^-1`` in interval arithmetic); it is
@@ -48,17 +49,18 @@ import sympy as sp
 
 from .interval import arith
 from .interval.graph import numpy_constant
-from .interval.image import ImageMap
+from .interval.image import CellGrid, ImageMap
 from .interval.verdict import INSIDE as INNER
 from .interval.verdict import OUTSIDE as OUTER
 from .interval.verdict import UNDECIDED
 from .reach_section import (
+    SECTION_PAIRS,
     Turned,
     TurnedTest,
+    _blocks,
     _in_chunks,
     _prove_cells,
     first_joint_turn,
-    section_paving,
     to_first_frame,
     turned_volume,
 )
@@ -70,8 +72,8 @@ DIRECTIONS = 4                   # the axis directions k pi / 2 of the first joi
 DIRECTION_CHUNK = 2_000          # cells proved in one step (the budget is asked between steps)
 DIRECTION_SAMPLES = 400_000      # sampled configurations giving the seeds of the proofs
 DIRECTION_DEPTH = 2              # a cell failing whole is tried in 4^level pieces, level up to this
-SECTION_SHARE = 0.4              # with a time limit, the section is paved until this share of it
-DIRECTIONS_SHARE = 0.85          # and its cells are tried at the four directions until this share
+DIRECTIONS_SHARE = 0.45         # with a time limit, the cells are tried at the four directions until this share
+BLOCKS_END = 0.85                # of the time left after the symbolic preparation, then outside blocks until this
 
 
 @dataclass(frozen=True)
@@ -166,14 +168,15 @@ def direction_seeds(lateral: ImageMap, grid, n: int = DIRECTION_SAMPLES, seed: i
 
 
 def prove_directions(lateral: ImageMap, grid, candidates: np.ndarray, *, budget=None, depth: int = DIRECTION_DEPTH,
-                     n: int = DIRECTION_SAMPLES, evaluated: int = 0):
+                     sampled=None, evaluated: int = 0):
     """``(proved, evaluated, stopped)``: ``proved[k]`` the mask over ``grid`` of the cells proved at direction
     ``k`` (module docstring), among the ``candidates`` (a mask over ``grid``) that hold a sampled configuration
-    near that direction; the cells failing whole are tried in ``4^level`` pieces up to ``depth``.
-    ``budget(evaluated, ahead=seconds)`` is asked before each chunk."""
+    near that direction (``sampled``: :func:`direction_seeds`, drawn when not given); the cells failing whole are
+    tried in ``4^level`` pieces up to ``depth``.  ``budget(evaluated, ahead=seconds)`` is asked before each
+    chunk."""
     budget = budget or (lambda evaluated, ahead=0.0: "")
     proved = np.zeros((DIRECTIONS,) + grid.shape, dtype=bool)
-    index, seeds = direction_seeds(lateral, grid, n)
+    index, seeds = sampled if sampled is not None else direction_seeds(lateral, grid)
     count = [evaluated]
     pace = [0.0]
 
@@ -249,30 +252,35 @@ class LimitedTurnTest(TurnedTest):
         return inner, outer & ~inner
 
 
-def pave_limited(limited: LimitedTurn, width: float, run, *, section_share: float = SECTION_SHARE,
-                 depth: int = 1):
-    """``(grid, full classes, proved, evaluated, reason)``: the section paved
-    (:func:`~workspace_sym.reach_section.section_paving`, with a time limit until ``section_share`` of the time
-    left when called), then its cells not proved outside tried at the four directions until ``DIRECTIONS_SHARE``
-    of it (the rest is for the world boxes)."""
+def pave_limited(limited: LimitedTurn, width: float, run, *, show=None):
+    """``(grid, full classes, proved, evaluated, reason)`` over a grid of the given width on the section's
+    enclosure: its cells tried at the four directions (:func:`prove_directions`), then blocks of cells proved
+    outside the section (stage 2 of :func:`~workspace_sym.reach_section.section_paving`; a cell holding a
+    sampled position is never tried, a cell inner at every angle is skipped).  With a time limit, the directions
+    take ``DIRECTIONS_SHARE`` of the time left when called, the blocks run until ``BLOCKS_END`` of it, the world
+    boxes take the rest."""
+    section = limited.plan.section
     limit, begun = run.time_limit, run.seconds
-
-    def end(share):                 # the shares are of the time left after the symbolic preparation
-        return begun + share * (limit - begun)
+    show = show or (lambda share, evaluated: None)
 
     def until(share, why):
         def budget(count, ahead=0.0):
-            late = limit is not None and run.seconds + 1.5 * ahead > end(share)
+            late = limit is not None and run.seconds + 1.5 * ahead > begun + share * (limit - begun)
             return run.stop_reason(count) or (why if late else "")
         return budget
 
-    grid, classes, evaluated, reason = section_paving(
-        limited.plan.section, width, budget=until(section_share, "share"), depth=depth if limit else 1,
-        seconds_left=(lambda: end(section_share) - run.seconds) if limit else None)
-    reason = "" if reason == "share" else reason
-    proved = np.zeros((DIRECTIONS,) + grid.shape, dtype=bool)
-    if not reason:
-        proved, evaluated, reason = prove_directions(limited.plan.section.lateral, grid, classes != OUTER,
-                                                     budget=until(DIRECTIONS_SHARE, "share"), evaluated=evaluated)
-        reason = "" if reason == "share" else reason
-    return grid, full_turn_cells(limited, classes, proved), proved, evaluated, reason
+    grid = CellGrid(section.enclose(section.limits[None])[0], width)
+    sampled = direction_seeds(section.lateral, grid)
+    reached = np.zeros(grid.shape, dtype=np.int8)
+    for index in sampled[0]:
+        reached[tuple(index.T)] = 1
+    proved, evaluated, reason = prove_directions(section.lateral, grid, np.ones(grid.shape, dtype=bool),
+                                                 budget=until(DIRECTIONS_SHARE, "share"), sampled=sampled)
+    classes = full_turn_cells(limited, np.full(grid.shape, UNDECIDED, dtype=np.int8), proved)
+    if reason != "share" and reason:
+        return grid, classes, proved, evaluated, reason
+    blocks = classes.copy()
+    evaluated, reason = _blocks(section, grid, blocks, grid.prefix(reached, 1), until(BLOCKS_END, "share"), show,
+                                SECTION_PAIRS, evaluated)
+    classes[blocks == OUTER] = OUTER            # (a block proved inside the section proves nothing here)
+    return grid, classes, proved, evaluated, "" if reason == "share" else reason

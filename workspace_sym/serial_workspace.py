@@ -662,8 +662,8 @@ def _spatial(robot, parameters, delta, size, run, *, executor):
     test = None
     if limited is not None:
         # A limited first joint of half a turn or more: cells proved at every polar angle (reach_turn).
-        grid, classes, proved, evaluated, reason = pave_limited(limited, SECTION_RATIO * width, run,
-                                                                depth=SECTION_DEPTH)
+        with section_bar(run.showing) as show:
+            grid, classes, proved, evaluated, reason = pave_limited(limited, SECTION_RATIO * width, run, show=show)
         volume = limited_volume(limited, grid, classes, proved)
         test = LimitedTurnTest(limited, grid, classes, proved)
     elif isinstance(plan, Turned) and plan.section.k > 2:
