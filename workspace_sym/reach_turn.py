@@ -73,7 +73,7 @@ DIRECTION_CHUNK = 2_000          # cells proved in one step (the budget is asked
 DIRECTION_SAMPLES = 400_000      # sampled configurations giving the seeds of the proofs
 DIRECTION_DEPTH = 2              # a cell failing whole is tried in 4^level pieces, level up to this
 DIRECTIONS_SHARE = 0.45         # with a time limit, the cells are tried at the four directions until this share
-BLOCKS_END = 0.85                # of the time left after the symbolic preparation, then outside blocks until this
+BLOCKS_END = 0.92                # of the time left after the symbolic preparation, then outside blocks until this
 
 
 @dataclass(frozen=True)
