@@ -8,9 +8,11 @@ the bracket must hold: Pappus's theorem on the section sampled at 10^6 configura
 h hit by a sample, each turned through a full circle; an estimate, no bound).
 
 Arms: UR5 (``tests/data/dh/ur5.json``), KUKA KR16 (rtb-data's ``kr16_2.urdf``, limits from the file), the
-glass-handling arm and the Puma 560 of the catalog (the constant-offset section, for the before/after check).
+glass-handling arm and the Puma 560 of the catalog (the constant-offset section, for the before/after check);
+named only: ``iiwa`` (rtb-data's ``lbr_iiwa_14_r820.urdf``) and ``panda`` (``tests/data/dh/panda.json``), whose
+first joint is limited (reach_turn): their reference is the sampled section with the arcs of theta_1 (``arcs``).
 
-Run: python benchmarks/bench_reach_arms.py [--quick] [ARM ...]
+Run: python benchmarks/bench_reach_arms.py [--quick] [ARM ...]   (e.g. ``iiwa panda``)
 """
 
 import datetime
@@ -22,7 +24,9 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
-ARMS = {"ur5": [(0.2, 60), (0.1, 60)], "kr16": [(0.1, 120)], "glass": [(0.0125, 60)], "puma": [(0.02, 60)]}
+ARMS = {"ur5": [(0.2, 60), (0.1, 60)], "kr16": [(0.1, 120)], "glass": [(0.0125, 60)], "puma": [(0.02, 60)],
+        "iiwa": [(0.1, 60), (0.1, 300)], "panda": [(0.1, 60), (0.1, 300)]}
+LIMITED = ("iiwa", "panda")     # first joint limited (340 and 332 deg): run only when named
 
 
 def load(name):
@@ -36,6 +40,13 @@ def load(name):
 
         path = Path(rtbdata.__file__).parent / "xacro/kuka_description/kuka_kr16/urdf/kr16_2.urdf"
         return DHRobot.from_urdf(path)
+    if name == "iiwa":
+        import rtbdata
+
+        path = Path(rtbdata.__file__).parent / "xacro/kuka_description/kuka_lbr_iiwa/urdf/lbr_iiwa_14_r820.urdf"
+        return DHRobot.from_urdf(path)
+    if name == "panda":
+        return DHRobot.from_file(ROOT / "tests" / "data" / "dh" / "panda.json")
     return robots.build({"glass": "glass-handling", "puma": "puma560"}[name])
 
 
@@ -53,6 +64,35 @@ def pappus(robot, plan, n=1_000_000, h=0.005):
     return float(np.sum(2 * np.pi * (cells[:, 0] + 0.5) * h ** 3))
 
 
+def arcs(robot, plan, n=1_000_000, h=0.005):
+    """Volume for a limited first joint: the section sampled (the first joint at 0), each (rho, z) cell of side
+    h hit by a sample turned through the union of the arcs psi0 + [a, b] of its samples (an estimate)."""
+    from workspace_sym.reach_section import to_first_frame
+    from workspace_sym.reach_turn import limited_turn
+    from workspace_sym.serial_workspace import ReachModel
+
+    model = ReachModel(robot)
+    turn = limited_turn(plan, model)
+    if turn is None:
+        return None
+    a, b = turn.inner_range
+    q = model.random_configurations(n, np.random.default_rng(0))
+    q[:, 0] = 0.0
+    p = model.position_float(q)
+    F = to_first_frame(plan.inverse, np.repeat(p[:, :, None], 2, axis=2))[:, :, 0]
+    theta0 = float(robot.substitute(robot.joints[0].theta, {}).subs(model.variables[0], 0))
+    psi = np.remainder(np.arctan2(F[:, 1], F[:, 0]) - theta0, 2 * np.pi)
+    cells = np.stack([np.floor(np.hypot(F[:, 0], F[:, 1]) / h), np.floor(F[:, 2] / h)], axis=1).astype(np.int64)
+    order = np.lexsort((psi, cells[:, 1], cells[:, 0]))
+    cells, psi = cells[order], psi[order]
+    start = np.r_[0, np.nonzero((np.diff(cells, axis=0) != 0).any(axis=1))[0] + 1]
+    total = 0.0
+    for i, j in zip(start, np.r_[start[1:], len(psi)]):
+        gaps = np.diff(np.r_[psi[i:j], psi[i] + 2 * np.pi])
+        total += (cells[i, 0] + 0.5) * h ** 3 * (2 * np.pi - np.maximum(gaps - (b - a), 0.0).sum())
+    return total
+
+
 def one(name, delta, limit):
     """One arm in this process: a line of the table."""
     from workspace_sym import StopAt, reach_section, serial_workspace
@@ -68,7 +108,11 @@ def one(name, delta, limit):
                 phases["section paving"] += time.perf_counter() - t
         return wrapper
 
+    from workspace_sym import reach_turn
+
     serial_workspace.section_paving = timed(reach_section.section_paving)
+    reach_turn.pave_limited = timed(reach_turn.pave_limited)
+    serial_workspace.pave_limited = reach_turn.pave_limited
     serial_workspace.critical_paving = timed(serial_workspace.critical_paving)
     robot = load(name)
     t = time.perf_counter()
@@ -81,7 +125,7 @@ def one(name, delta, limit):
     serial_workspace._section(robot, ())
     prep = time.perf_counter() - t
     lo, hi = paving.measure_bounds
-    ref = pappus(robot, plan)
+    ref = pappus(robot, plan) if name not in LIMITED else arcs(robot, plan)
     c = paving.counts
     holds = "" if ref is None else ("holds" if lo <= ref <= hi else "MISSES")
     rest = total - prep - phases["section paving"]
@@ -107,7 +151,7 @@ def main():
     print("| arm | method | delta | time limit | seconds (where) | inner / boundary / outer / pending | boxes' bracket "
           "| section's bracket (Pappus on proved cells) | bracket | width / upper | Pappus reference (sampled) |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
-    names = args or list(ARMS)
+    names = args or [name for name in ARMS if name not in LIMITED]
     for name in names:
         for delta, limit in ARMS[name][:1] if "--quick" in sys.argv else ARMS[name]:
             subprocess.run([sys.executable, __file__, name, str(delta), str(limit)], check=False,

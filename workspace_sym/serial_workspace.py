@@ -115,6 +115,7 @@ from .reach_section import (
     turned,
     turned_volume,
 )
+from .reach_turn import LimitedTurnTest, limited_turn, limited_volume, pave_limited
 from .symbolic import symbolic_budget
 
 __all__ = ["reach", "Pose", "resolve_method", "ReachModel", "METHODS", "CHUNK_PAIRS"]
@@ -693,7 +694,15 @@ def _spatial(robot, parameters, delta, size, run, *, executor, where):
     width = _cell_width(delta, size, 3)
     grid, classes, evaluated, reason = None, None, 0, ""
     volume = None
-    if isinstance(plan, Turned) and plan.section.k > 2:
+    limited = limited_turn(plan, model)
+    test = None
+    if limited is not None:
+        # A limited first joint of half a turn or more: cells proved at every polar angle (reach_turn).
+        with section_bar(run.showing) as show:
+            grid, classes, proved, evaluated, reason = pave_limited(limited, SECTION_RATIO * width, run, show=show)
+        volume = limited_volume(limited, grid, classes, proved)
+        test = LimitedTurnTest(limited, grid, classes, proved)
+    elif isinstance(plan, Turned) and plan.section.k > 2:
         # The section refines while its next step would end before the time limit less the time the (x, y, z)
         # boxes take, measured once on the first proved cells (a rehearsal: more cells decided, fewer boxes).
         reserve = [0.0]
@@ -727,11 +736,12 @@ def _spatial(robot, parameters, delta, size, run, *, executor, where):
     if reason:
         return box, [], [], [], root[None].copy(), evaluated, reason, volume
     tests = {_Product: _ProductTest, _Revolved: _SectionTest, Turned: TurnedTest}
-    test = tests[type(plan)](plan, grid, classes)
+    test = test or tests[type(plan)](plan, grid, classes)
     # A checkpoint of the classification belongs to this robot, delta and section (a time-limited turned
     # section may refine differently on another run: its cells are part of what the checkpoint names).
-    cells = "none" if classes is None else hashlib.sha256(np.ascontiguousarray(classes).tobytes()
-                                                          + np.asarray(grid.box, dtype=float).tobytes()).hexdigest()
+    cells = "none" if classes is None else hashlib.sha256(
+        np.ascontiguousarray(classes).tobytes() + np.asarray(grid.box, dtype=float).tobytes()
+        + (b"" if limited is None else np.ascontiguousarray(proved).tobytes())).hexdigest()
     what = f"reach of {robot.name} {dict(parameters)} ({type(plan).__name__}), section cells {cells[:16]}"
     run.spent = evaluated
     paving = classify_task_boxes(test, box, delta, size, run, RunOn(max_memory=where.max_memory, store=where.store,

@@ -1,0 +1,135 @@
+"""Arms turned by a LIMITED first joint (workspace_sym.reach_turn, issue 24): cells proved at every polar angle.
+
+References, each named in its test:
+* independent numerics: 10^5 random configurations (vectorised forward kinematics, the first joint within its
+  limits) never land in an outer box; points drawn in inner boxes are reached within every limit by an inverse
+  kinematics refined at 50 digits;
+* a second method: a Monte Carlo volume of the sampled section with its arcs (for each (rho, z) cell hit by
+  sampled configurations of the other joints, the measure of the union of the arcs psi0 + [a, b] of its samples,
+  turned: sum of rho h^2 times that measure), which the proved bracket must hold;
+* exact arithmetic: which pairs of directions cover the circle is decided exactly on the length of the first
+  joint's range.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import sympy as sp
+from test_reach_section import _reached_at_50_digits, offset_arm
+from test_serial_workspace import _in_boxes
+
+from workspace_sym.kinematics import DHJoint, DHRobot
+from workspace_sym.reach_section import Turned, to_first_frame
+from workspace_sym.reach_turn import covering_pairs, limited_turn
+from workspace_sym.serial_workspace import ReachModel, _model, _section, reach
+
+R = sp.Rational
+IIWA_LIKE = (-R(17, 18) * sp.pi, R(17, 18) * sp.pi)          # +-170 deg, the LBR iiwa's first joint
+
+
+def swing_arm(first=IIWA_LIKE):
+    """Three links swinging out of the first joint's plane (each alpha 90 deg, no joint offsets), the first joint
+    limited: its section, moved by three joints, is reached in the plane of the first link (c = 0) except near
+    the shoulder."""
+    return DHRobot([DHJoint.revolute(1, d=R(3, 10), alpha=sp.pi / 2, limits=first),
+                    DHJoint.revolute(2, a=R(1, 2), alpha=sp.pi / 2),
+                    DHJoint.revolute(3, a=R(2, 5), alpha=sp.pi / 2),
+                    DHJoint.revolute(4, a=R(1, 5))], name="swing arm")
+
+
+def _arcs_volume(robot, n=400_000, h=0.01, seed=0):
+    """Monte Carlo volume of the workspace of an arm turned by a limited first joint: sampled configurations of
+    the other joints rasterised in (rho, z) of the first joint's frame; each hit cell turns through the union of
+    the arcs psi0 + [a, b] of its samples (psi0 their polar angles), of measure 2 pi less the gaps between
+    consecutive angles beyond b - a."""
+    plan = _section(robot, ())
+    model = ReachModel(robot)
+    turn = limited_turn(plan, model)
+    a, b = turn.inner_range
+    rng = np.random.default_rng(seed)
+    q = model.random_configurations(n, rng)
+    q[:, 0] = 0.0
+    p = model.position_float(q)
+    F = to_first_frame(plan.inverse, np.repeat(p[:, :, None], 2, axis=2))[:, :, 0]
+    theta0 = float(sp.N(model.robot.substitute(model.robot.joints[0].theta, {}).subs(model.variables[0], 0)))
+    psi = np.remainder(np.arctan2(F[:, 1], F[:, 0]) - theta0, 2 * np.pi)
+    cells = np.stack([np.floor(np.hypot(F[:, 0], F[:, 1]) / h), np.floor(F[:, 2] / h)], axis=1).astype(np.int64)
+    order = np.lexsort((psi, cells[:, 1], cells[:, 0]))
+    cells, psi = cells[order], psi[order]
+    start = np.r_[0, np.nonzero((np.diff(cells, axis=0) != 0).any(axis=1))[0] + 1]
+    total = 0.0
+    for i, j in zip(start, np.r_[start[1:], len(psi)]):
+        angles = psi[i:j]
+        gaps = np.diff(np.r_[angles, angles[0] + 2 * np.pi])
+        arc = 2 * np.pi - np.maximum(gaps - (b - a), 0.0).sum()
+        total += (cells[i, 0] + 0.5) * h * h * h * arc
+    return total
+
+
+def test_pairs_of_directions_are_decided_exactly():
+    """Exact arithmetic: a range of exactly 3 pi / 2 lets any two axis directions cover the circle, a range a
+    hair over pi only opposite ones, a hair under pi none (then the arm keeps outer boxes only)."""
+    tiny = R(1, 10**12)
+    assert covering_pairs(3 * sp.pi / 2) == ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3))
+    assert covering_pairs(3 * sp.pi / 2 - tiny) == ((0, 2), (1, 3))
+    assert covering_pairs(sp.pi + tiny) == covering_pairs(sp.pi) == ((0, 2), (1, 3))
+    assert covering_pairs(sp.pi - tiny) == ()
+    assert covering_pairs(2 * sp.pi) == covering_pairs(3 * sp.pi / 2)
+
+
+def test_a_limited_first_joint_is_recognised(limited_paving):
+    """The +-170 deg first joint of the swing arm: every pair qualifies, the share of the circle is 17/18
+    rounded down; a full turn and the two-joint section of the offset arm are left to the other paths."""
+    robot, _ = limited_paving
+    turn = limited_turn(_section(robot, ()), _model(robot, ()))
+    assert len(turn.pairs) == 6 and turn.share <= 17 / 18 and 17 / 18 - turn.share < 1e-15
+    assert limited_turn(_section(swing_arm(None), ()), _model(swing_arm(None), ())) is None
+    two = offset_arm(first=IIWA_LIKE)
+    assert limited_turn(_section(two, ()), _model(two, ())) is None
+
+
+@pytest.fixture(scope="module")
+def limited_paving():
+    robot = swing_arm()
+    return robot, reach(robot, delta=0.25)
+
+
+def test_limited_first_joint_gets_inner_boxes_and_a_bracket(limited_paving):
+    """Independent numerics: 10^5 sampled configurations (first joint within +-170 deg) never in an outer box;
+    points of inner boxes reached within every limit at 50 digits; second method: the bracket holds the Monte
+    Carlo volume of the sampled section with its arcs."""
+    robot, paving = limited_paving
+    plan = _section(robot, ())
+    assert isinstance(plan, Turned) and not plan.full and plan.section.k == 3
+    assert paving.method == "critical" and paving.complete
+    assert len(paving.inner) and len(paving.outer) and paving.volume_bounds is not None
+    model = ReachModel(robot)
+    rng = np.random.default_rng(11)
+    q = model.random_configurations(100_000, rng)
+    pos = model.position_float(q)
+    for k in range(0, len(paving.outer), 512):
+        assert not _in_boxes(pos, paving.outer[k:k + 512]).any()
+    for box in paving.inner[rng.integers(len(paving.inner), size=4)]:
+        assert _reached_at_50_digits(model, rng.uniform(box[:, 0], box[:, 1]), q, pos), box
+    lo, hi = paving.measure_bounds
+    volume = _arcs_volume(robot)
+    assert lo <= volume <= hi, (lo, volume, hi)
+    vlo, vhi = paving.volume_bounds
+    assert 0 < vlo <= volume <= vhi
+
+
+def test_inner_boxes_lie_where_the_first_joint_cannot_reach_from_one_side(limited_paving):
+    """Inner boxes are not confined to the arc of one direction: some hold points whose polar angle lies in the
+    gap of the +x direction's arc (within 10 deg of the -x axis of the first joint's frame), reached only by a
+    second direction; each such point is reached at 50 digits within the limits."""
+    robot, paving = limited_paving
+    model = ReachModel(robot)
+    centre = 0.5 * (paving.inner[:, :, 0] + paving.inner[:, :, 1])
+    gap = np.abs(np.arctan2(centre[:, 1], -centre[:, 0])) < np.radians(10)
+    assert gap.any()
+    rng = np.random.default_rng(5)
+    q = model.random_configurations(30_000, rng)
+    pos = model.position_float(q)
+    for box in paving.inner[gap][rng.integers(gap.sum(), size=3)]:
+        assert _reached_at_50_digits(model, rng.uniform(box[:, 0], box[:, 1]), q, pos), box

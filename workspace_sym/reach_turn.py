@@ -1,0 +1,286 @@
+"""A spatial arm turned by a LIMITED first joint: section cells proved reached at every polar angle.
+
+The structure is that of :mod:`workspace_sym.reach_section`: ``p = B Rz(theta_1) w(q')`` with ``w = (u, c, v)``
+of the other joints ``q'``, ``theta_1`` now in an interval ``[a, b]`` shorter than a period (LBR iiwa:
+``340 deg``, Panda: ``332 deg``).  In the frame of the first joint a point of cylindrical coordinates
+``(rho, psi, z)`` is reached if and only if some ``q'`` has ``(|w_xy|, w_z) = (rho, z)`` and
+``psi - arg w_xy(q')`` in ``[a, b]`` modulo ``2 pi``.
+
+**Every polar angle.**  Let ``A(rho, z)`` be the polar angles ``arg w_xy`` of the configurations ``q'`` reaching
+``(rho, z)``.  If ``A`` holds two angles ``alpha`` and ``beta`` whose difference ``d`` (modulo ``2 pi``) lies in
+``[2 pi - L, L]`` (``L = b - a``), the arcs ``alpha + [a, b]`` and ``beta + [a, b]`` cover the circle (the gap of
+the first, of length ``2 pi - L``, lies in the second), so the point is reached at every polar angle.  Here
+``alpha`` and ``beta`` are taken among the four axis directions ``k pi / 2`` of the first joint's frame, where
+"``A(rho, z)`` holds ``k pi / 2`` for every ``(rho, z)`` of a cell ``[r0, r1] x [z0, z1]``" is exactly the box
+inclusion
+
+    ``[r0, r1] x {0} x [z0, z1]`` (``k = 0``), ``{0} x [r0, r1] x [z0, z1]`` (``k = 1``),
+    ``[-r1, -r0] x {0} x [z0, z1]`` (``k = 2``), ``{0} x [-r1, -r0] x [z0, z1]`` (``k = 3``)  in  ``w(Q')``
+
+(``r0`` clipped at 0), which the Krawczyk test of :meth:`~workspace_sym.interval.image.ImageMap.prove_inside`
+proves on the map ``w`` itself (three outputs, its joints fixed but three at the Newton solution; the
+degenerate coordinate is an interval of width zero): no polar angle is ever computed for a proof.  Two directions
+``k pi / 2`` apart by ``d`` in ``{pi / 2, pi, 3 pi / 2}`` qualify when ``d`` lies in ``[2 pi - L, L]``, decided
+on an outward enclosure of ``L``: opposite directions when ``L >= pi``, any two when ``L >= 3 pi / 2``.  A cell
+with two qualifying directions proved is **inner** (the solid it turns into lies in the workspace); a cell with
+one direction ``k`` proved holds the sector ``psi in k pi / 2 + [a, b]``.
+
+**Outside.**  A cell proved outside the section (blocks of cells, stage 2 of
+:func:`~workspace_sym.reach_section.section_paving`) is outside
+the workspace at every polar angle, whatever the limits of ``theta_1``.
+
+**Boxes and volume.**  A world box is mapped to the first joint's frame (``B^-1`` in interval arithmetic); it is
+inner when its ``(rho, z)`` rectangle lies in inner cells, or in cells proved at one direction ``k`` while its
+polar angle range (float ``atan2`` of its corners widened, as the constant-offset section does) lies in
+``k pi / 2 + [a, b]``; outer when the rectangle lies in cells outside the section.  The volume is bracketed as
+:func:`~workspace_sym.reach_section.turned_volume` does: the inner cells' solids, plus a share ``L / 2 pi``
+(rounded down) of the solids of the cells with one direction proved, lie in the workspace; the workspace lies in
+the solid of the cells not proved outside.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import sympy as sp
+
+from .interval import arith
+from .interval.graph import numpy_constant
+from .interval.image import CellGrid, ImageMap
+from .interval.verdict import INSIDE as INNER
+from .interval.verdict import OUTSIDE as OUTER
+from .interval.verdict import UNDECIDED
+from .reach_section import (
+    SECTION_PAIRS,
+    Turned,
+    TurnedTest,
+    _blocks,
+    _in_chunks,
+    _prove_cells,
+    first_joint_turn,
+    to_first_frame,
+    turned_volume,
+)
+
+__all__ = ["LimitedTurn", "limited_turn", "covering_pairs", "DirectionMap", "direction_seeds", "prove_directions",
+           "full_turn_cells", "limited_volume", "LimitedTurnTest", "pave_limited"]
+
+DIRECTIONS = 4                   # the axis directions k pi / 2 of the first joint's frame
+DIRECTION_CHUNK = 2_000          # cells proved in one step (the budget is asked between steps)
+DIRECTION_SAMPLES = 400_000      # sampled configurations giving the seeds of the proofs
+DIRECTION_DEPTH = 2              # a cell failing whole is tried in 4^level pieces, level up to this
+DIRECTIONS_SHARE = 0.45         # with a time limit, the cells are tried at the four directions until this share
+BLOCKS_END = 0.92                # of the time left after the symbolic preparation, then outside blocks until this
+
+
+@dataclass(frozen=True)
+class LimitedTurn:
+    """A :class:`~workspace_sym.reach_section.Turned` arm whose first joint turns through ``[a, b]``, less than
+    a period: ``inner_range`` (floats inside ``[a, b]``), ``pairs`` (the pairs of directions whose arcs cover
+    the circle) and ``share`` (a float at most ``(b - a) / 2 pi``)."""
+
+    plan: Turned
+    inner_range: tuple
+    pairs: tuple
+    share: float
+
+
+def limited_turn(plan, model) -> LimitedTurn | None:
+    """The structure of the module docstring when ``plan`` (of ``model``) is a turned section moved by three
+    joints or more whose first joint is limited to less than a period but at least a half turn; None
+    otherwise."""
+    if not isinstance(plan, Turned) or plan.full or plan.section.k < 3:
+        return None                     # two joints move w over a surface: no box of w is inside its image
+    turn = first_joint_turn(model)
+    if turn is None:
+        return None
+    q1, theta, slope = turn
+    lo, hi = model.exact_limits[0]
+    a, b = sorted((theta.subs(q1, lo), theta.subs(q1, hi)), key=lambda e: float(sp.N(e, 30)))
+    length = sp.Abs(slope) * (hi - lo)
+    pairs = covering_pairs(length)
+    if not pairs:
+        return None
+    a_f, b_f = numpy_constant(a), numpy_constant(b)
+    share = arith.div(numpy_constant(length), numpy_constant(2 * sp.pi))[0]
+    return LimitedTurn(plan, (float(a_f[1]), float(b_f[0])), tuple(pairs), float(share))
+
+
+def covering_pairs(length) -> tuple:
+    """The pairs ``(j, k)`` of axis directions whose arcs ``j pi / 2 + [a, b]`` and ``k pi / 2 + [a, b]`` cover the
+    circle when ``b - a`` is the exact ``length``: ``d = (k - j) pi / 2`` in ``[2 pi - L, L]``, decided on outward
+    enclosures of the exact differences (never a float guess).
+
+    >>> covering_pairs(sp.pi), covering_pairs(3 * sp.pi / 2)[:3], covering_pairs(sp.pi - sp.Rational(1, 10**9))
+    (((0, 2), (1, 3)), ((0, 1), (0, 2), (0, 3)), ())
+    """
+    pairs = []
+    for j, k in itertools.combinations(range(DIRECTIONS), 2):
+        d = (k - j) * sp.pi / 2
+        if numpy_constant(length - d)[0] >= 0 and numpy_constant(d - 2 * sp.pi + length)[0] >= 0:
+            pairs.append((j, k))
+    return tuple(pairs)
+
+
+class DirectionMap:
+    """The inner test of ``(rho, z)`` cells at the direction ``k pi / 2``: each ``(N, 2, 2)`` cell becomes the box
+    of ``w = (u, c, v)`` of the module docstring, proved inside ``w(Q')`` by ``lateral``'s Krawczyk test."""
+
+    def __init__(self, lateral: ImageMap, k: int):
+        self.lateral, self.k = lateral, k
+
+    def boxes(self, T: np.ndarray) -> np.ndarray:
+        r0, r1 = np.maximum(T[:, 0, 0], 0.0), T[:, 0, 1]
+        sign = 1.0 if self.k < 2 else -1.0
+        radial = np.stack([r0, r1], axis=1) if sign > 0 else np.stack([-r1, -r0], axis=1)
+        W = np.zeros((len(T), 3, 2))
+        W[:, self.k % 2] = radial
+        W[:, 2] = T[:, 1]
+        return W
+
+    def prove_inside(self, T: np.ndarray, seeds: np.ndarray) -> np.ndarray:
+        return self.lateral.prove_inside(self.boxes(T), seeds) & (T[:, 0, 1] >= 0)
+
+
+def direction_seeds(lateral: ImageMap, grid, n: int = DIRECTION_SAMPLES, seed: int = 0):
+    """``(index, q)``: for each cell of ``grid`` and each direction ``k``, a sampled configuration reaching the
+    cell with its polar angle nearest ``k pi / 2`` (within ``pi / 4``): ``index[k]`` the ``(M, 2)`` cells,
+    ``q[k]`` the ``(M, k')`` configurations (floats: they only choose where a proof starts)."""
+    rng = np.random.default_rng(seed)
+    q = lateral.random_configurations(n, rng)
+    w = lateral.position_float(q)
+    rz = np.stack([np.hypot(w[:, 0], w[:, 1]), w[:, 2]], axis=1)
+    cell, _ = grid.span(np.repeat(rz[:, :, None], 2, axis=2))
+    angle = np.arctan2(w[:, 1], w[:, 0])
+    direction = np.remainder(np.rint(angle / (np.pi / 2)).astype(int), DIRECTIONS)
+    off = np.abs(np.remainder(angle - direction * np.pi / 2 + np.pi, 2 * np.pi) - np.pi)
+    index, seeds = [], []
+    for k in range(DIRECTIONS):
+        mine = np.nonzero(direction == k)[0]
+        mine = mine[np.argsort(off[mine], kind="stable")]        # the nearest angle first: np.unique keeps it
+        cells, first = np.unique(cell[mine], axis=0, return_index=True)
+        index.append(cells)
+        seeds.append(q[mine[first]])
+    return index, seeds
+
+
+def prove_directions(lateral: ImageMap, grid, candidates: np.ndarray, *, budget=None, depth: int = DIRECTION_DEPTH,
+                     sampled=None, evaluated: int = 0):
+    """``(proved, evaluated, stopped)``: ``proved[k]`` the mask over ``grid`` of the cells proved at direction
+    ``k`` (module docstring), among the ``candidates`` (a mask over ``grid``) that hold a sampled configuration
+    near that direction (``sampled``: :func:`direction_seeds`, drawn when not given); the cells failing whole are
+    tried in ``4^level`` pieces up to ``depth``.  ``budget(evaluated, ahead=seconds)`` is asked before each
+    chunk."""
+    budget = budget or (lambda evaluated, ahead=0.0: "")
+    proved = np.zeros((DIRECTIONS,) + grid.shape, dtype=bool)
+    index, seeds = sampled if sampled is not None else direction_seeds(lateral, grid)
+    count = [evaluated]
+    pace = [0.0]
+
+    def ask(ahead):
+        return budget(count[0], ahead=ahead)
+
+    stopped = ""
+    for level in range(depth + 1):
+        for k in range(DIRECTIONS):
+            image = DirectionMap(lateral, k)
+            todo = np.nonzero(candidates[tuple(index[k].T)] & ~proved[k][tuple(index[k].T)])[0]
+
+            def prove(part, k=k, image=image, level=level):
+                count[0] += len(part) * 4 ** level
+                inside = _prove_cells(image, grid.cells(index[k][part]), seeds[k][part], level)
+                proved[k][tuple(index[k][part][inside].T)] = True
+
+            stopped = _in_chunks(todo, max(1, DIRECTION_CHUNK // 4 ** level), ask, prove, pace, 4 ** level)
+            if stopped:
+                return proved, count[0], stopped
+    return proved, count[0], stopped
+
+
+def full_turn_cells(limited: LimitedTurn, classes: np.ndarray, proved: np.ndarray) -> np.ndarray:
+    """Classes of the cells for every polar angle: inner where two directions of a qualifying pair are proved,
+    outer where the section's cell is, undecided elsewhere."""
+    full = np.zeros(classes.shape, dtype=bool)
+    for j, k in limited.pairs:
+        full |= proved[j] & proved[k]
+    out = np.full(classes.shape, UNDECIDED, dtype=np.int8)
+    out[full & (classes != OUTER)] = INNER
+    out[classes == OUTER] = OUTER
+    return out
+
+
+def limited_volume(limited: LimitedTurn, grid, full: np.ndarray, proved: np.ndarray) -> tuple[float, float]:
+    """A proved bracket of the workspace's volume (module docstring) from the full-turn classes ``full`` and the
+    directions ``proved``."""
+    low, high = turned_volume(grid, full)
+    sector = np.where((full == UNDECIDED) & proved.any(axis=0), INNER, OUTER).astype(np.int8)
+    part = turned_volume(grid, sector)[0]
+    with np.errstate(all="ignore"):
+        extra = arith.mul((part, part), (limited.share, limited.share))[0]
+        total = arith.add((low, low), (extra, extra))[0]
+    return float(total), high
+
+
+class LimitedTurnTest(TurnedTest):
+    """Classify world boxes of ``(x, y, z)`` from the full-turn classes and the directions proved (module
+    docstring)."""
+
+    def __init__(self, limited: LimitedTurn, grid, full: np.ndarray, proved: np.ndarray):
+        super().__init__(limited.plan, grid, full)
+        self.limited = limited
+        self.sectors = [grid.prefix(np.where(p, INNER, UNDECIDED).astype(np.int8), INNER) for p in proved]
+
+    def __call__(self, X: np.ndarray):
+        from .serial_workspace import _angles, _arc_within  # one way: serial_workspace dispatches here
+
+        F = self.rectangles(X)
+        finite = np.isfinite(F).all(axis=(1, 2))
+        inner = finite & self.grid.all_in_class(self.inside, F, outside_counts=False)
+        outer = finite & self.grid.all_in_class(self.outside, F, outside_counts=True)
+        rest = np.nonzero(finite & ~inner & ~outer)[0]
+        if len(rest):
+            lo, hi = _angles(to_first_frame(self.plan.inverse, X[rest]))
+            a, b = self.limited.inner_range
+            for k, table in enumerate(self.sectors):
+                turn = k * math.pi / 2
+                within = _arc_within(lo - turn, hi - turn, a, b, False)
+                cells = self.grid.all_in_class(table, F[rest], outside_counts=False)
+                inner[rest[within & cells]] = True
+        return inner, outer & ~inner
+
+
+def pave_limited(limited: LimitedTurn, width: float, run, *, show=None):
+    """``(grid, full classes, proved, evaluated, reason)`` over a grid of the given width on the section's
+    enclosure: its cells tried at the four directions (:func:`prove_directions`), then blocks of cells proved
+    outside the section (stage 2 of :func:`~workspace_sym.reach_section.section_paving`; a cell holding a
+    sampled position is never tried, a cell inner at every angle is skipped).  With a time limit, the directions
+    take ``DIRECTIONS_SHARE`` of the time left when called, the blocks run until ``BLOCKS_END`` of it, the world
+    boxes take the rest."""
+    section = limited.plan.section
+    limit, begun = run.time_limit, run.seconds
+    show = show or (lambda share, evaluated: None)
+
+    def until(share, why):
+        def budget(count, ahead=0.0):
+            late = limit is not None and run.seconds + 1.5 * ahead > begun + share * (limit - begun)
+            return run.stop_reason(count) or (why if late else "")
+        return budget
+
+    grid = CellGrid(section.enclose(section.limits[None])[0], width)
+    sampled = direction_seeds(section.lateral, grid)
+    reached = np.zeros(grid.shape, dtype=np.int8)
+    for index in sampled[0]:
+        reached[tuple(index.T)] = 1
+    proved, evaluated, reason = prove_directions(section.lateral, grid, np.ones(grid.shape, dtype=bool),
+                                                 budget=until(DIRECTIONS_SHARE, "share"), sampled=sampled)
+    classes = full_turn_cells(limited, np.full(grid.shape, UNDECIDED, dtype=np.int8), proved)
+    if reason != "share" and reason:
+        return grid, classes, proved, evaluated, reason
+    blocks = classes.copy()
+    evaluated, reason = _blocks(section, grid, blocks, grid.prefix(reached, 1), until(BLOCKS_END, "share"), show,
+                                SECTION_PAIRS, evaluated)
+    classes[blocks == OUTER] = OUTER            # (a block proved inside the section proves nothing here)
+    return grid, classes, proved, evaluated, "" if reason == "share" else reason
