@@ -238,6 +238,17 @@ def _product(A: sp.Matrix, B: sp.Matrix) -> sp.Matrix:
                                                            if A[i, k] != 0 and B[k, j] != 0)))
 
 
+def _cross(u: sp.Matrix, v: sp.Matrix) -> sp.Matrix:
+    """``u x v`` as SymPy's ``Matrix.cross`` writes it, with the products by a zero component left out: SymPy's
+    ``0 * expr`` asks whether ``expr`` could be infinite (``0 * oo`` is nan), a walk of assumption queries over the
+    whole of ``expr`` that took a quarter of a 6-joint table's fk + Jacobian for ``z_0 = (0, 0, 1)``."""
+    def times(a, b):
+        return sp.S.Zero if a == 0 or b == 0 else a * b
+
+    return sp.Matrix([times(u[1], v[2]) - times(u[2], v[1]), times(u[2], v[0]) - times(u[0], v[2]),
+                      times(u[0], v[1]) - times(u[1], v[0])])
+
+
 def _inverse_transform(A: sp.Matrix) -> sp.Matrix:
     """The inverse ``[R^T, -R^T p; 0, 1]`` of a homogeneous transform."""
     Rt = A[:3, :3].T
@@ -509,7 +520,7 @@ class DHRobot:
                         continue
                     kind, u, *o = tw[name]
                     if kind == "R":
-                        unit = sp.Matrix.vstack(u.cross(p - o[0]), u)
+                        unit = sp.Matrix.vstack(_cross(u, p - o[0]), u)
                     else:
                         unit = sp.Matrix.vstack(u, sp.zeros(3, 1))
                     col += rate * unit
