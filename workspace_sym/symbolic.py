@@ -63,6 +63,7 @@ __all__ = [
     "factor_half_angle",
     "algebraic_constants",
     "numeric_atoms",
+    "op_count",
     "generic_constants",
     "roots_as_symbols",
     "restore_constants",
@@ -525,10 +526,8 @@ def textbook(expr) -> sp.Expr:
         the terms nested by :func:`group_terms` (rules in the module docstring).
         Never longer than ``expr``: when the steps do not shorten it, or its
         expansion would exceed :data:`TEXTBOOK_MAX_TERMS` terms, ``expr`` comes
-        back as it is.  Length is ``count_ops`` up to :data:`EXACT_LENGTH_NODES`
-        nodes and the node count beyond (``count_ops`` costs about 40 ms on an
-        entry of a generic 6-joint table): such a large result has no more nodes
-        than ``expr``, and may have a few percent more ``count_ops``.
+        back as it is.  Length is ``count_ops`` (:func:`op_count`), for every
+        entry however large.
 
     Examples
     --------
@@ -554,27 +553,21 @@ def _textbook_once(expr: sp.Expr) -> sp.Expr:
     (expr,), opaque = opaque_powers([expr])
     if opaque:
         return textbook(expr).xreplace(opaque)
-    length = _length(expr)
+    length = op_count(expr)
     # An expansion many times longer than the input rarely collapses back below it, and costs its size
     # (both in terms and in coefficient digits): (l1 + l2 + 1)**60 is 1891 terms for 4 operations.
-    limit = min(TEXTBOOK_MAX_TERMS, 64 + EXPANSION_RATIO * (length[0] if length[0] is not None else length[1]))
+    nodes = _tree_size(expr)
+    limit = min(TEXTBOOK_MAX_TERMS, 64 + EXPANSION_RATIO * (length if nodes <= EXPANSION_PER_OP_NODES else nodes))
     if expansion_size(expr, limit) > limit:
         return expr
     try:
         out = _textbook(expr)
     except RecursionError:   # a tree too deep for SymPy's own recursive walks
         return expr
-    return out if out == expr or _not_longer(_length(out), length) else expr
+    return out if out == expr or op_count(out) <= length else expr
 
 
-EXACT_LENGTH_NODES = 400   # larger expressions are compared by their number of nodes, not count_ops
-
-
-def _length(expr) -> tuple:
-    """``(count_ops, nodes)`` of ``expr``; ``count_ops`` is None beyond :data:`EXACT_LENGTH_NODES` nodes (it took a
-    third of a 6-joint table's fk; the node count is linear and ranks lengths alike up to a factor 2)."""
-    nodes = _tree_size(expr)
-    return (op_count(expr) if nodes <= EXACT_LENGTH_NODES else None, nodes)
+EXPANSION_PER_OP_NODES = 400   # the expansion of a larger input is limited per node of it, not per operation
 
 
 def _tree_size(expr) -> int:
@@ -672,13 +665,6 @@ def _node_ops(a, count) -> int:
     if not a.is_Symbol:
         ops += sum(count(b) for b in a.args)
     return ops
-
-
-def _not_longer(length: tuple, than: tuple) -> bool:
-    """``length <= than`` in ``count_ops`` when both have it, else in nodes (see :func:`_length`)."""
-    if length[0] is not None and than[0] is not None:
-        return length[0] <= than[0]
-    return length[1] <= than[1]
 
 
 def _textbook(expr: sp.Expr) -> sp.Expr:
