@@ -42,7 +42,7 @@ from .symbolic import (
     derivation,
     factor_half_angle,
     generic_constants,
-    op_count,
+    op_counts,
     restore_constants,
     roots_as_symbols,
     shorthand,
@@ -244,7 +244,8 @@ def _no_longer(T: sp.Matrix, raw: sp.Matrix) -> sp.Matrix:
     replaced by that entry: each product is put in textbook form from the previous one, whose entries may be a
     little longer than the raw product's (issue 29: 3 of 16 entries of a 6-joint table, by up to 7 %)."""
     check_budget("comparing with the raw product")
-    return sp.Matrix(T.rows, T.cols, lambda i, j: T[i, j] if op_count(T[i, j]) <= op_count(raw[i, j]) else raw[i, j])
+    ours, theirs = op_counts(T), op_counts(raw)
+    return sp.Matrix(T.rows, T.cols, [t if a <= b else r for t, r, a, b in zip(T, raw, ours, theirs)])
 
 
 def _cross(u: sp.Matrix, v: sp.Matrix) -> sp.Matrix:

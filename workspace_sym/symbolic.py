@@ -64,6 +64,7 @@ __all__ = [
     "algebraic_constants",
     "numeric_atoms",
     "op_count",
+    "op_counts",
     "generic_constants",
     "roots_as_symbols",
     "restore_constants",
@@ -615,9 +616,12 @@ def op_count(expr) -> int:
     >>> op_count(e) == sp.count_ops(e) == 8
     True
     """
-    expr = sp.sympify(expr)
-    if not isinstance(expr, sp.Expr) or expr.is_Relational:
-        return sp.count_ops(expr)
+    return op_counts([expr])[0]
+
+
+def op_counts(exprs) -> list[int]:
+    """:func:`op_count` of each of ``exprs``, the subexpressions they share counted once (the entries of a
+    product of matrices share most of theirs)."""
     memo: dict = {}
 
     def count(a) -> int:
@@ -626,7 +630,18 @@ def op_count(expr) -> int:
             known = memo[a] = _node_ops(a, count)
         return known
 
-    return count(expr)
+    out = []
+    for expr in exprs:
+        expr = sp.sympify(expr)
+        out.append(sp.count_ops(expr) if not isinstance(expr, sp.Expr) or expr.is_Relational else count(expr))
+    return out
+
+
+def _no_quotient(t) -> bool:
+    """``t``, a factor of a product, is one that ``sympy.fraction`` puts in the numerator as it is."""
+    if t.is_Pow:
+        return t.exp.is_Integer and t.exp > 0
+    return not (isinstance(t, sp.exp) or (t.is_Rational and not t.is_Integer))
 
 
 def _node_ops(a, count) -> int:
@@ -643,7 +658,8 @@ def _node_ops(a, count) -> int:
         if _coeff_isneg(a):
             ops += 1
             a = a.as_two_terms()[1] if a.args[0] is sp.S.NegativeOne else -a
-        n, d = fraction(a)
+        # fraction(a) is (a, 1) for a product of no quotient (most of a kinematic entry): not computed
+        n, d = (a, sp.S.One) if a.is_Mul and all(map(_no_quotient, a.args)) else fraction(a)
         if n.is_Integer:
             return ops + 1 + (n.p < 0) + count(d)
         if d is not sp.S.One:
