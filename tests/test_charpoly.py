@@ -12,22 +12,12 @@ import numpy as np
 import pytest
 import sympy as sp
 from hypothesis import HealthCheck, example, given, settings
-from test_kinematics_anytable import _dummies, _numpy_fk, tables
+from test_kinematics_anytable import GENERIC_6, _dummies, _numpy_fk, tables
 
 from workspace_sym import charpoly, kinematics, symbolic
 from workspace_sym.cli import main
 from workspace_sym.errors import SymbolicBudgetError
 from workspace_sym.kinematics import DHRobot, eigenvalues_from_charpoly
-
-# A generic 6-joint table of the kind: R and P joints, offsets and twists in whole degrees that are
-# multiples of neither 15 nor 18, decimal lengths, a tool turned by whole degrees.
-GENERIC_6 = {"joints": [{"type": "R", "theta": 97, "alpha": -41, "a": 0.3, "d": 0.4},
-                        {"type": "R", "theta": -25, "alpha": 73, "a": 0.25, "d": 0.1},
-                        {"type": "P", "theta": 11, "alpha": -60, "a": 0.425, "d": 0.0},
-                        {"type": "R", "theta": 0, "alpha": 135, "a": 0.1, "d": 0.39225},
-                        {"type": "R", "theta": 33, "alpha": 17, "a": 0.05, "d": 0.2},
-                        {"type": "R", "theta": 0, "alpha": -105, "a": 0.0, "d": 0.0823}],
-             "tool": {"xyz": [0.0, 0.0, 0.1], "rpy": [-31, 7, -78]}}
 
 
 def _eigenvalues_agree(robot, p, kind, points=3, seed=4):

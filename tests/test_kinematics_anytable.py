@@ -23,6 +23,17 @@ from workspace_sym.kinematics import DHJoint, DHRobot, eigenvalues_from_charpoly
 RNG_POINTS = 3
 
 
+# A generic 6-joint table of the issue's kind: R and P joints, offsets and twists in whole degrees that are
+# multiples of neither 15 nor 18, decimal lengths, a tool turned by whole degrees.
+GENERIC_6 = {"joints": [{"type": "R", "theta": 97, "alpha": -41, "a": 0.3, "d": 0.4},
+                        {"type": "R", "theta": -25, "alpha": 73, "a": 0.25, "d": 0.1},
+                        {"type": "P", "theta": 11, "alpha": -60, "a": 0.425, "d": 0.0},
+                        {"type": "R", "theta": 0, "alpha": 135, "a": 0.1, "d": 0.39225},
+                        {"type": "R", "theta": 33, "alpha": 17, "a": 0.05, "d": 0.2},
+                        {"type": "R", "theta": 0, "alpha": -105, "a": 0.0, "d": 0.0823}],
+             "tool": {"xyz": [0.0, 0.0, 0.1], "rpy": [-31, 7, -78]}}
+
+
 def _planar_2r(offset_deg):
     return DHRobot.from_dict({"joints": [{"type": "R", "theta": 0, "d": 0, "a": "1", "alpha": 0},
                                          {"type": "R", "theta": offset_deg, "d": 0, "a": "1", "alpha": 0}]})
@@ -286,6 +297,31 @@ def test_textbook_is_never_longer_than_its_input_and_refuses_huge_expansions():
         assert symbolic.textbook(e) == e
     e = (l1 + 1) ** 1000 * sp.cos(t1) + sp.cos(t1) * sp.cos(t2) - sp.sin(t1) * sp.sin(t2)
     assert symbolic.textbook(e) == (l1 + 1) ** 1000 * sp.cos(t1) + sp.cos(t1 + t2)
+
+
+# benchmarks/bench_symbolic_tables.py, seed 3: three of its 16 fk entries had 1 to 7 % more count_ops than the raw
+# DH product (beyond 400 nodes the textbook form was compared by node count, not count_ops)
+SEED_3 = {"joints": [{"type": "R", "theta": 124, "alpha": 99, "a": 0.13, "d": 0.474},
+                     {"type": "R", "theta": 131, "alpha": -173, "a": 0.91, "d": 0.3},
+                     {"type": "R", "theta": 61, "alpha": 97, "a": 0.84, "d": 0.4},
+                     {"type": "R", "theta": 146, "alpha": -102, "a": 0.868, "d": 0.4},
+                     {"type": "R", "theta": -98, "alpha": 123, "a": 0.0, "d": 0.82},
+                     {"type": "P", "theta": 125, "alpha": 19, "a": 0.71, "d": 0.395}],
+           "tool": {"xyz": [0.1, 0, 0.05], "rpy": [23, -56, 3]}}
+THREE_JOINTS = {"joints": [{"type": "R", "theta": 120, "alpha": -25, "a": 0.425, "d": 0.2},
+                           {"type": "P", "theta": 75, "alpha": 97, "a": 0.1, "d": 0.0},
+                           {"type": "R", "theta": 60, "alpha": 150, "a": 0.25, "d": 0.05}],
+                "tool": {"xyz": [0.1, 0.0, 0.05], "rpy": [-31, 7, -78]}}
+
+
+@pytest.mark.parametrize("data", [THREE_JOINTS, GENERIC_6, pytest.param(SEED_3, marks=pytest.mark.slow)],
+                         ids=["3 joints", "generic 6", "seed 3"])
+def test_textbook_fk_has_no_entry_longer_than_the_raw_product(data):
+    """Issue 29: no entry of fk() has more operations (sympy.count_ops, the reference) than the same entry of the
+    raw DH product, however large the entry."""
+    robot = DHRobot.from_dict(data)
+    for ours, raw in zip(robot.fk(), robot.raw_fk()):
+        assert sp.count_ops(ours) <= sp.count_ops(raw)
 
 
 @pytest.mark.parametrize("length", ["(l1 + 1)**1000", "(l1 + l2 + 1)**60"])

@@ -5,7 +5,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import sympy as sp
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from workspace_sym import robots
@@ -172,3 +172,66 @@ def test_decimal_lengths_print_as_decimals():
              for k, f in (("c", sp.cos), ("s", sp.sin)) for i in ((1,), (2,), (5,), (2, 3), (2, 3, 4))}
     assert sp.expand(parse_expr(text, "x", names=names) - x) == 0
     assert "0.425 c_{2}" in robot.to_latex(x)
+
+
+# ---------------------------------------------------------------------- issue 29: the cheap counters and products
+_x, _y, _z = sp.symbols("x y z")
+_leaves = st.sampled_from([_x, _y, _z, sp.Integer(2), sp.Rational(-1, 3), sp.Integer(-1), sp.pi, sp.sqrt(2)])
+
+
+def _combine(children):
+    pair = st.tuples(children, children)
+    return st.one_of(
+        pair.map(lambda p: p[0] + p[1]), pair.map(lambda p: p[0] - p[1]), pair.map(lambda p: p[0] * p[1]),
+        pair.map(lambda p: p[0] / p[1] if p[1] != 0 else p[0]), children.map(lambda e: -e),
+        children.map(sp.sin), children.map(sp.cos), children.map(sp.exp),
+        st.tuples(children, st.integers(-2, 3)).map(lambda p: p[0] ** p[1] if p[0] != 0 else p[0]))
+
+
+_expressions = st.recursive(_leaves, _combine, max_leaves=12)
+
+
+@settings(derandomize=True, max_examples=300, deadline=None)
+@given(_expressions)
+def test_op_count_is_sympys_count_ops(expr):
+    """Reference: sympy.count_ops itself, on random expressions (signs, quotients, powers, functions, E)."""
+    from workspace_sym.symbolic import op_count
+
+    assert op_count(expr) == sp.count_ops(expr), expr
+
+
+def test_op_count_is_sympys_count_ops_on_a_table_with_twists_and_a_tool():
+    """Reference: sympy.count_ops on the raw product, the textbook fk and the Jacobian of a 3-joint table with
+    offsets and twists in whole degrees and a tool (the entries textbook() compares)."""
+    from workspace_sym.symbolic import op_count
+
+    robot = DHRobot.from_dict({"joints": [{"type": "R", "theta": 120, "alpha": -25, "a": 0.425, "d": 0.2},
+                                          {"type": "P", "theta": 75, "alpha": 97, "a": 0.1, "d": 0.0},
+                                          {"type": "R", "theta": 60, "alpha": 150, "a": 0.25, "d": 0.05}],
+                               "tool": {"xyz": [0.1, 0.0, 0.05], "rpy": [-31, 7, -78]}})
+    for e in list(robot.raw_fk()) + list(robot.fk()) + list(robot.geometric_jacobian):
+        assert op_count(e) == sp.count_ops(e)
+
+
+@settings(derandomize=True, max_examples=200, deadline=None)
+@given(_monomials)
+@example([(-1, []), (-1, [sp.Symbol("c2")]), (2, sp.symbols("c1 c1 c1 c2")), (-3, sp.symbols("c1 c1 c1 c2"))])
+def test_least_flat_ops_is_a_lower_bound(terms):
+    """Reference: count_ops of sympy.factor_terms of the expanded sum, which group_terms no longer builds when the
+    grouping is already within this bound."""
+    from workspace_sym.symbolic import _least_flat_ops, _term_factors
+
+    base = sp.Add(*(c * sp.Mul(*f) for c, f in terms))
+    for expr in (sp.expand(base), sp.expand(base * sp.cos(t1 + sp.pi / 5)), sp.expand(base * sp.sin(2 * t1))):
+        if expr.is_Add:
+            assert _least_flat_ops([_term_factors(t) for t in expr.args]) <= sp.count_ops(sp.factor_terms(expr))
+
+
+@settings(derandomize=True, max_examples=200, deadline=None)
+@given(st.lists(st.one_of(st.just(sp.Integer(0)), _expressions), min_size=6, max_size=6))
+def test_cross_is_sympys_cross(entries):
+    """Reference: sympy's Matrix.cross, entry for entry the same expressions (zero components included)."""
+    from workspace_sym.kinematics import _cross
+
+    u, v = sp.Matrix(entries[:3]), sp.Matrix(entries[3:])
+    assert _cross(u, v) == u.cross(v)

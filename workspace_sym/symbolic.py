@@ -39,6 +39,7 @@ import time
 from contextlib import contextmanager
 from contextvars import ContextVar
 from decimal import Decimal, localcontext
+from functools import lru_cache
 
 import sympy as sp
 
@@ -62,6 +63,8 @@ __all__ = [
     "factor_half_angle",
     "algebraic_constants",
     "numeric_atoms",
+    "op_count",
+    "op_counts",
     "generic_constants",
     "roots_as_symbols",
     "restore_constants",
@@ -282,8 +285,8 @@ def opaque_powers(exprs) -> tuple[list, dict]:
     exprs = [sp.sympify(e) for e in exprs]
     found = set()
     for e in exprs:
-        for p in e.atoms(sp.Pow):
-            if (p.base.is_Add and p.exp.is_Integer and p.exp > 1 and not p.has(sp.sin, sp.cos)
+        for p in _distinct_subexpressions(e):
+            if (p.is_Pow and p.base.is_Add and p.exp.is_Integer and p.exp > 1 and not p.has(sp.sin, sp.cos)
                     and expansion_size(p, OPAQUE_TERMS) > OPAQUE_TERMS):
                 found.add(p)
     if not found:
@@ -491,11 +494,12 @@ def numeric_atoms(exprs, *, sums: bool = False) -> tuple:
     >>> numeric_atoms([sp.sqrt(2) * sp.cos(t + sp.pi / 5) + sp.cos(sp.pi / 7) / 3])
     (sqrt(2), cos(pi/7))
     """
-    out = set()
+    out, seen = set(), set()
 
     def walk(e):
-        if e.is_Rational or e.is_Float:
+        if e.is_Rational or e.is_Float or e in seen:   # a repeated subexpression adds nothing new
             return
+        seen.add(e)
         if e.is_number and not e.is_Mul and (sums or not e.is_Add):
             out.add(e)
         elif e.is_Add or e.is_Mul or e.is_Pow or e.is_number:
@@ -523,10 +527,8 @@ def textbook(expr) -> sp.Expr:
         the terms nested by :func:`group_terms` (rules in the module docstring).
         Never longer than ``expr``: when the steps do not shorten it, or its
         expansion would exceed :data:`TEXTBOOK_MAX_TERMS` terms, ``expr`` comes
-        back as it is.  Length is ``count_ops`` up to :data:`EXACT_LENGTH_NODES`
-        nodes and the node count beyond (``count_ops`` costs about 40 ms on an
-        entry of a generic 6-joint table): such a large result has no more nodes
-        than ``expr``, and may have a few percent more ``count_ops``.
+        back as it is.  Length is ``count_ops`` (:func:`op_count`), for every
+        entry however large.
 
     Examples
     --------
@@ -541,38 +543,144 @@ def textbook(expr) -> sp.Expr:
     >>> textbook((a1 + 1) ** 1000) == (a1 + 1) ** 1000
     True
     """
-    expr = as_sympy(expr)
+    return _textbook_once(as_sympy(expr))
+
+
+@lru_cache(maxsize=1024)
+def _textbook_once(expr: sp.Expr) -> sp.Expr:
+    """:func:`textbook`, each distinct expression simplified once: a Jacobian's angular rows are the fk's z axes
+    again, and entries that stay raw products come back as the position of ``p - o_0`` (a sixth of a 6-joint
+    table's fk + Jacobian went into such repeats)."""
     (expr,), opaque = opaque_powers([expr])
     if opaque:
         return textbook(expr).xreplace(opaque)
-    length = _length(expr)
+    length = op_count(expr)
     # An expansion many times longer than the input rarely collapses back below it, and costs its size
     # (both in terms and in coefficient digits): (l1 + l2 + 1)**60 is 1891 terms for 4 operations.
-    limit = min(TEXTBOOK_MAX_TERMS, 64 + EXPANSION_RATIO * (length[0] if length[0] is not None else length[1]))
+    nodes = _tree_size(expr)
+    limit = min(TEXTBOOK_MAX_TERMS, 64 + EXPANSION_RATIO * (length if nodes <= EXPANSION_PER_OP_NODES else nodes))
     if expansion_size(expr, limit) > limit:
         return expr
     try:
         out = _textbook(expr)
     except RecursionError:   # a tree too deep for SymPy's own recursive walks
         return expr
-    return out if out == expr or _not_longer(_length(out), length) else expr
+    return out if out == expr or op_count(out) <= length else expr
 
 
-EXACT_LENGTH_NODES = 400   # larger expressions are compared by their number of nodes, not count_ops
+EXPANSION_PER_OP_NODES = 400   # the expansion of a larger input is limited per node of it, not per operation
 
 
-def _length(expr) -> tuple:
-    """``(count_ops, nodes)`` of ``expr``; ``count_ops`` is None beyond :data:`EXACT_LENGTH_NODES` nodes (it took a
-    third of a 6-joint table's fk; the node count is linear and ranks lengths alike up to a factor 2)."""
-    nodes = sum(1 for _ in sp.preorder_traversal(expr))
-    return (sp.count_ops(expr) if nodes <= EXACT_LENGTH_NODES else None, nodes)
+def _tree_size(expr) -> int:
+    """``sum(1 for _ in sympy.preorder_traversal(expr))``, each distinct subexpression sized once (a generator
+    step per node took as long as the rest of the textbook form on a 6-joint entry)."""
+    memo: dict = {}
+
+    def size(a) -> int:
+        known = memo.get(a)
+        if known is None:
+            known = memo[a] = 1 + sum(size(b) for b in a.args)
+        return known
+
+    return size(expr)
 
 
-def _not_longer(length: tuple, than: tuple) -> bool:
-    """``length <= than`` in ``count_ops`` when both have it, else in nodes (see :func:`_length`)."""
-    if length[0] is not None and than[0] is not None:
-        return length[0] <= than[0]
-    return length[1] <= than[1]
+def _distinct_subexpressions(expr) -> set:
+    """Every subexpression of ``expr`` (itself included), each distinct one visited once: the candidates of
+    ``expr.atoms(type)`` without walking the repeats (``sin(theta1 + 47*pi/180)`` dozens of times)."""
+    seen = {expr}
+    stack = [expr]
+    while stack:
+        for b in stack.pop().args:
+            if b not in seen:
+                seen.add(b)
+                stack.append(b)
+    return seen
+
+
+def op_count(expr) -> int:
+    """``sympy.count_ops(expr)`` of an expression, the same number at a fraction of the cost.
+
+    The same walk as SymPy's (a negative term is a ``SUB``, ``-x - y`` one ``NEG``
+    more, ``x/5`` a ``DIV``, an n-factor product ``n - 1`` ``MUL``, a function or
+    power one operation), with the operations added as integers instead of a SymPy
+    sum of ``ADD``, ``MUL``... symbols, and each distinct subexpression counted once
+    (``sin(theta1 + 47*pi/180)`` occurs dozens of times in a 6-joint entry):
+    ``count_ops`` took 40 ms on such an entry, most of it building that sum.
+    Relations, booleans and containers go to ``count_ops`` itself.
+
+    Examples
+    --------
+    >>> x, y = sp.symbols("x y")
+    >>> e = -x / 3 - 2 * sp.sin(x + y) ** 2 + sp.exp(y)
+    >>> op_count(e) == sp.count_ops(e) == 8
+    True
+    """
+    return op_counts([expr])[0]
+
+
+def op_counts(exprs) -> list[int]:
+    """:func:`op_count` of each of ``exprs``, the subexpressions they share counted once (the entries of a
+    product of matrices share most of theirs)."""
+    memo: dict = {}
+
+    def count(a) -> int:
+        known = memo.get(a)
+        if known is None:
+            known = memo[a] = _node_ops(a, count)
+        return known
+
+    out = []
+    for expr in exprs:
+        expr = sp.sympify(expr)
+        out.append(sp.count_ops(expr) if not isinstance(expr, sp.Expr) or expr.is_Relational else count(expr))
+    return out
+
+
+def _no_quotient(t) -> bool:
+    """``t``, a factor of a product, is one that ``sympy.fraction`` puts in the numerator as it is."""
+    if t.is_Pow:
+        return t.exp.is_Integer and t.exp > 0
+    return not (isinstance(t, sp.exp) or (t.is_Rational and not t.is_Integer))
+
+
+def _node_ops(a, count) -> int:
+    """The operations of ``a``: those ``count_ops`` records at ``a`` plus ``count`` of the subexpressions it walks
+    into (sympy/core/function.py, ``count_ops``, its loop body for one ``Expr``, step for step)."""
+    from sympy.core.function import _coeff_isneg
+    from sympy.simplify.radsimp import fraction
+
+    if a.is_Rational:
+        if a is not sp.S.One:
+            return (a.p < 0) + (a.q != 1)
+    ops = 0
+    if a.is_Mul:
+        if _coeff_isneg(a):
+            ops += 1
+            a = a.as_two_terms()[1] if a.args[0] is sp.S.NegativeOne else -a
+        # fraction(a) is (a, 1) for a product of no quotient (most of a kinematic entry): not computed
+        n, d = (a, sp.S.One) if a.is_Mul and all(map(_no_quotient, a.args)) else fraction(a)
+        if n.is_Integer:
+            return ops + 1 + (n.p < 0) + count(d)
+        if d is not sp.S.One:
+            return ops + 1 + (0 if d.is_Integer else count(d)) + count(n)
+    elif a.is_Add:
+        negative = [_coeff_isneg(t) for t in a.args]
+        ops = len(a.args) - 1 + (all(negative))
+        return ops + sum(count(-t if neg else t) for t, neg in zip(a.args, negative))
+    if a.is_Pow and a.exp is sp.S.NegativeOne:
+        return ops + 1 + count(a.base)
+    if a == sp.S.Exp1:
+        return ops + 1
+    if a.is_Pow and a.base == sp.S.Exp1:
+        return ops + 1 + count(a.exp)
+    if a.is_Mul or isinstance(a, sp.core.operations.LatticeOp):
+        ops += len(a.args) - 1
+    elif a.args and (a.is_Pow or a.is_Function or isinstance(a, (sp.Derivative, sp.Integral, sp.Sum))):
+        ops += 1
+    if not a.is_Symbol:
+        ops += sum(count(b) for b in a.args)
+    return ops
 
 
 def _textbook(expr: sp.Expr) -> sp.Expr:
@@ -708,11 +816,46 @@ def group_terms(expr: sp.Expr) -> sp.Expr:
         # Pulling a factor out of m >= 2 terms saves m - 1 products, so the nesting is never longer than the
         # flat sum; SymPy's factor_terms and count_ops on a 100-term sum cost a second each (most of a 6-joint fk).
         return _grouped([_term_factors(t) for t in expr.args])
-    flat = sp.factor_terms(expr)
     if not expr.is_Add or len(expr.args) > GROUP_MAX_TERMS:
-        return flat
-    grouped = sp.factor_terms(_grouped([_term_factors(t) for t in expr.args]))
-    return grouped if sp.count_ops(grouped) <= sp.count_ops(flat) else flat
+        return sp.factor_terms(expr)
+    terms = [_term_factors(t) for t in expr.args]
+    grouped = sp.factor_terms(_grouped(terms))
+    length = op_count(grouped)
+    if length <= _least_flat_ops(terms):   # the flat sum cannot be shorter: not built (factor_terms costs 0.1 s)
+        return grouped
+    flat = sp.factor_terms(expr)
+    return grouped if length <= op_count(flat) else flat
+
+
+def _least_flat_ops(terms: list) -> int:
+    """A lower bound of ``count_ops(factor_terms(sum of terms))`` for ``(coefficient, {base: exponent})`` monomials:
+    once the common monomial and numbers are out, the sum of ``n`` terms keeps its ``n - 1`` additions (unless
+    all are negative), a term with ``k`` bases left its ``k - 1`` products, and each base left its own
+    operations (those of the base as ``factor_terms`` writes it, ``sin(theta1 + 47*pi/180)`` four) plus a
+    power's.  0 when two bases would be written alike (their powers would merge) or a base is no symbol or
+    function."""
+    bases = {b for _, p in terms for b in p}
+    if not all(b.is_Symbol or b.is_Function for b in bases):   # a quotient or a root: count_ops reads it otherwise
+        return 0
+    written = {b: _written(b) for b in bases}
+    if len(set(written.values())) < len(bases):
+        return 0
+    own = {b: w[1] for b, w in written.items()}
+    common = set(terms[0][1]).intersection(*(p for _, p in terms[1:]))
+    least = {b: min(p[b] for _, p in terms) for b in common}
+    # -(x + y) counts its NEG but not its additions (count_ops strips the -1 and walks into the sum's terms)
+    ops = 0 if all(c < 0 for c, _ in terms) else len(terms) - 1
+    for _, powers in terms:
+        left = [(b, e - least.get(b, 0)) for b, e in powers.items() if e > least.get(b, 0)]
+        ops += max(len(left) - 1, 0) + sum(own[b] + (e >= 2) for b, e in left)
+    return ops
+
+
+@lru_cache(maxsize=4096)
+def _written(base: sp.Expr) -> tuple:
+    """``(factor_terms(base), its count_ops)`` for a base of a monomial (a symbol, a sine or cosine)."""
+    w = sp.factor_terms(base) if base.args else base
+    return w, op_count(w)
 
 
 def textbook_matrix(M: sp.Matrix) -> sp.Matrix:
