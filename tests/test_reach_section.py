@@ -109,12 +109,18 @@ def test_offset_arm_bracket_holds_pappus_and_sampled_points(base):
     out = paving.to_dict()
     assert out["volume_bounds"] == [vlo, vhi] and out["box_measure_bounds"] == [blo, bhi]
     assert out["measure_bounds"] == [lo, hi]
+    check_sampled_and_reached(robot, paving, samples=30_000, seed=3)
+
+
+def check_sampled_and_reached(robot, paving, *, samples: int, seed: int, chunk: int = 512):
+    """Soundness against sampling and inverse kinematics: ``samples`` configurations within the limits never
+    land in an outer box, and a random point of four random inner boxes is reached at 50 digits."""
     model = ReachModel(robot)
-    rng = np.random.default_rng(3)
-    q = model.random_configurations(30_000, rng)
+    rng = np.random.default_rng(seed)
+    q = model.random_configurations(samples, rng)
     pos = model.position_float(q)
-    for k in range(0, len(paving.outer), 256):
-        assert not _in_boxes(pos, paving.outer[k:k + 256]).any()
+    for k in range(0, len(paving.outer), chunk):
+        assert not _in_boxes(pos, paving.outer[k:k + chunk]).any()
     for box in paving.inner[rng.integers(len(paving.inner), size=4)]:
         assert _reached_at_50_digits(model, rng.uniform(box[:, 0], box[:, 1]), q, pos), box
 

@@ -16,8 +16,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import sympy as sp
-from test_reach_section import _reached_at_50_digits, offset_arm
-from test_serial_workspace import _in_boxes
+from test_reach_section import _reached_at_50_digits, check_sampled_and_reached, offset_arm
 
 from workspace_sym.kinematics import DHJoint, DHRobot
 from workspace_sym.reach_section import Turned, to_first_frame
@@ -104,14 +103,7 @@ def test_limited_first_joint_gets_inner_boxes_and_a_bracket(limited_paving):
     assert isinstance(plan, Turned) and not plan.full and plan.section.k == 3
     assert paving.method == "critical" and paving.complete
     assert len(paving.inner) and len(paving.outer) and paving.volume_bounds is not None
-    model = ReachModel(robot)
-    rng = np.random.default_rng(11)
-    q = model.random_configurations(100_000, rng)
-    pos = model.position_float(q)
-    for k in range(0, len(paving.outer), 512):
-        assert not _in_boxes(pos, paving.outer[k:k + 512]).any()
-    for box in paving.inner[rng.integers(len(paving.inner), size=4)]:
-        assert _reached_at_50_digits(model, rng.uniform(box[:, 0], box[:, 1]), q, pos), box
+    check_sampled_and_reached(robot, paving, samples=100_000, seed=11)
     lo, hi = paving.measure_bounds
     volume = _arcs_volume(robot)
     assert lo <= volume <= hi, (lo, volume, hi)
