@@ -108,6 +108,25 @@ def test_boxes_on_disk_equal_the_run_in_memory(scara, whole, tmp_path):
     assert_same(whole, stored)
 
 
+def test_boxes_on_disk_keep_the_section_bracket(tmp_path):
+    """A turned section proves a second bracket (Pappus, volume_bounds); with the boxes on disk measure_bounds
+    is still its intersection with the boxes' bracket, as in memory (the run in memory is the reference)."""
+    import sympy as sp
+
+    from workspace_sym.kinematics import DHJoint, DHRobot
+
+    half, tenth = sp.Rational(1, 2), sp.Rational(1, 10)
+    arm = DHRobot([DHJoint.revolute(1, d=3 * tenth, alpha=sp.pi / 2), DHJoint.revolute(2, a=half, alpha=sp.pi / 2),
+                   DHJoint.revolute(3, a=4 * tenth, d=tenth)], name="offset arm")
+    memory = reach(arm, delta=0.3, stop=QUIET)
+    stored = reach(arm, delta=0.3, stop=QUIET, run=RunOn(max_memory="64MB", store=tmp_path / "boxes"))
+    assert memory.volume_bounds is not None and stored.volume_bounds == memory.volume_bounds
+    assert memory.measure_bounds != memory.box_measure_bounds       # the section's bracket is the tighter here
+    assert stored.box_measure_bounds == memory.box_measure_bounds
+    assert stored.measure_bounds == memory.measure_bounds
+    assert stored.to_dict()["measure_bounds"] == memory.to_dict()["measure_bounds"]
+
+
 def test_a_stopped_reach_resumed_gives_the_uninterrupted_boxes(scara, whole, tmp_path):
     """A box budget stops the classification part way (pending boxes, a checkpoint written); the same call
     with the checkpoint goes on to exactly the boxes, counts and measures of the run never stopped.  A budget
