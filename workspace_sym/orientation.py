@@ -104,6 +104,7 @@ from .interval.verdict import INSIDE as INNER
 from .interval.verdict import OUTSIDE as OUTER
 from .interval.verdict import UNDECIDED
 from .kinematics import DHRobot
+from .reach_section import section_bar
 from .snap import snap_angle
 
 if TYPE_CHECKING:
@@ -1011,9 +1012,13 @@ def reach_pose(robot: DHRobot, *, delta: float, approach=None, cone=None, every:
     return Paving(*fields, units=robot.units, method="pairs")
 
 
-def _pave_pairs(model: PoseModel, root, delta, size, run, *, max_pairs, inner_depth, chunk_pairs):
+def _pave_pairs(model: PoseModel, root, delta, size, run, *, max_pairs, inner_depth, chunk_pairs, show=None):
     """The pairs paving of ``model``'s task space from the task box ``root``: ``(inner, boundary, outer,
-    pending or None, evaluated, reason)``, lists of box arrays."""
+    pending or None, evaluated, reason)``, lists of box arrays.  ``show(share decided, evaluated)`` after each
+    chunk (default: ``run``'s bar, for a paving of the (x, y, z) box)."""
+    if show is None and run.showing and root.shape[0] == 3:
+        show = run.show
+    whole = float(np.prod(root[:, 1] - root[:, 0]))
     from .serial_workspace import _parts
 
     Q = model.root_pairs()
@@ -1049,13 +1054,13 @@ def _pave_pairs(model: PoseModel, root, delta, size, run, *, max_pairs, inner_de
             children.append(c)
             pairs.append(cq)
             decided += box_measure(i) + box_measure(b) + box_measure(out)
+            if show is not None:
+                show(decided / whole, evaluated)
         T = np.concatenate(children) if children else T[:0]
         Q = np.concatenate(pairs) if pairs else Q[:0]
         owner = np.concatenate(owners) if owners else owner[:0]
         if left:
             return inner, boundary, outer, np.concatenate([T, *left]), evaluated, reason
-        if run.showing and root.shape[0] == 3:
-            run.show(decided / float(np.prod(root[:, 1] - root[:, 0])), evaluated)
     return inner, boundary, outer, None, evaluated, ""
 
 
@@ -1083,7 +1088,9 @@ def _section_classes(model, width: float, run, options):
     lo = np.array([e[0] for e in grid.edges])
     side = w * 2 ** math.ceil(math.log2(max(len(e) - 1 for e in grid.edges)))
     square = np.stack([lo, lo + side], axis=1)
-    inner, boundary, outer, pending, evaluated, reason = _pave_pairs(model, square, w, "width", run, **options)
+    with section_bar(run.showing) as show:      # the section's bar, as for the arms without a constraint
+        inner, boundary, outer, pending, evaluated, reason = _pave_pairs(model, square, w, "width", run,
+                                                                         **options, show=show)
     classes = np.full(grid.shape, UNDECIDED, dtype=np.int8)
     # A run stopped by the budget keeps what it proved: its pending boxes stay undecided.
     for value, parts in ((INNER, inner), (OUTER, outer)):
