@@ -995,7 +995,8 @@ def reach_pose(robot: DHRobot, *, delta: float, approach=None, cone=None, every:
         paving, section, reason, bracket = result
         emptied = {k: np.empty((0, 3, 2)) for k in ("inner", "boundary", "outer")} \
             if isinstance(paving, StoredPaving) else {}  # (replace() would read the stored boxes back)
-        cut = {"complete": False, "stop_reason": reason} if reason else {}  # the section was cut short
+        # the section was cut short: its classification ran on a clock of its own, the run's is the budget's
+        cut = {"complete": False, "stop_reason": reason, "seconds": budget.seconds} if reason else {}
         return replace(paving, **emptied, **cut, evaluated=section + paving.evaluated, units=robot.units,
                        method="section", volume_bounds=bracket)
     box, inner, boundary, outer, pending, evaluated, reason, bracket = result
