@@ -278,3 +278,26 @@ def test_puma_cone_section_bracket_meets_the_box_bracket(puma_cone):
     assert hi - lo < box_hi - box_lo
     assert p.measure_bounds == (max(lo, box_lo), min(hi, box_hi))
     assert p.to_dict()["volume_bounds"] == [lo, hi]
+
+
+def test_the_section_bar_moves_while_the_section_is_paved(monkeypatch, puma_cone):
+    """Issue 24 item 4 (a progress bar that moves during the long phases): the section of a constrained arm,
+    most of the run, reports its share decided chunk by chunk on the section's bar, growing from 0 to below 1,
+    before the task boxes are classified (reference: the boxes the complete run evaluated)."""
+    from contextlib import contextmanager
+
+    from workspace_sym import orientation
+
+    seen = []
+
+    @contextmanager
+    def recorder(progress):
+        yield lambda share, evaluated: seen.append((share, evaluated))
+
+    monkeypatch.setattr(orientation, "section_bar", recorder)
+    p = reach(robots.build("puma560"), delta=0.3, stop=StopAt(progress=False), pose=Pose(approach=(0, 0, -1),
+                                                                                         cone=20))
+    assert p.counts == puma_cone.counts
+    shares, counts = np.array([s for s, _ in seen]), np.array([n for _, n in seen])
+    assert len(seen) >= 5 and np.all(np.diff(shares) >= 0) and np.all(np.diff(counts) > 0)
+    assert 0 <= shares[0] < shares[-1] <= 1 and counts[-1] < p.evaluated

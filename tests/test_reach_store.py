@@ -12,6 +12,7 @@ from __future__ import annotations
 import ast
 import inspect
 import json
+import time
 
 import numpy as np
 import pytest
@@ -108,6 +109,25 @@ def test_boxes_on_disk_equal_the_run_in_memory(scara, whole, tmp_path):
     assert_same(whole, stored)
 
 
+def test_boxes_on_disk_keep_the_section_bracket(tmp_path):
+    """A turned section proves a second bracket (Pappus, volume_bounds); with the boxes on disk measure_bounds
+    is still its intersection with the boxes' bracket, as in memory (the run in memory is the reference)."""
+    import sympy as sp
+
+    from workspace_sym.kinematics import DHJoint, DHRobot
+
+    half, tenth = sp.Rational(1, 2), sp.Rational(1, 10)
+    arm = DHRobot([DHJoint.revolute(1, d=3 * tenth, alpha=sp.pi / 2), DHJoint.revolute(2, a=half, alpha=sp.pi / 2),
+                   DHJoint.revolute(3, a=4 * tenth, d=tenth)], name="offset arm")
+    memory = reach(arm, delta=0.3, stop=QUIET)
+    stored = reach(arm, delta=0.3, stop=QUIET, run=RunOn(max_memory="64MB", store=tmp_path / "boxes"))
+    assert memory.volume_bounds is not None and stored.volume_bounds == memory.volume_bounds
+    assert memory.measure_bounds != memory.box_measure_bounds       # the section's bracket is the tighter here
+    assert stored.box_measure_bounds == memory.box_measure_bounds
+    assert stored.measure_bounds == memory.measure_bounds
+    assert stored.to_dict()["measure_bounds"] == memory.to_dict()["measure_bounds"]
+
+
 def test_a_stopped_reach_resumed_gives_the_uninterrupted_boxes(scara, whole, tmp_path):
     """A box budget stops the classification part way (pending boxes, a checkpoint written); the same call
     with the checkpoint goes on to exactly the boxes, counts and measures of the run never stopped.  A budget
@@ -153,15 +173,74 @@ def test_the_pairs_method_stores_and_resumes(tmp_path):
         reach(arm, delta=0.25, method="pairs", inner_depth=1, stop=QUIET, run=RunOn(resume=checkpoint))
 
 
-def test_the_planar_grid_and_a_pose_refuse_storage(tmp_path):
-    """The planar critical method decides its grid of cells in one pass, reach with a pose keeps its boxes in
-    memory: both refuse max_memory, store and resume, naming run and why."""
+def test_the_planar_grid_and_a_pose_by_pairs_refuse_storage(tmp_path):
+    """The planar critical method decides its grid of cells in one pass, reach with a pose by the pairs method
+    keeps its boxes in memory: both refuse max_memory, store and resume, naming run, the option given with its
+    value, and what takes them."""
     with pytest.raises(InvalidParameterError, match="planar critical method") as caught:
         reach(robots.build("planar-2r"), delta=0.5, stop=QUIET, run=RunOn(resume=tmp_path / "x.npz"))
     assert caught.value.parameter == "run"
-    with pytest.raises(InvalidParameterError, match="with a pose keeps its boxes in memory"):
-        reach(robots.build("puma560"), delta=0.5, pose=Pose(approach=(0, 0, 1), cone=10),
+    assert f"got resume={tmp_path / 'x.npz'!r}; they apply to method='pairs'" in str(caught.value)
+    with pytest.raises(InvalidParameterError, match=r"the pairs method\) keeps its boxes in memory") as caught:
+        reach(robots.build("puma560"), delta=0.5, pose=Pose(approach=(1, 0, 0), cone=10),
               run=RunOn(max_memory="1GB"))
+    assert caught.value.parameter == "run"
+    assert "got max_memory='1GB'; they apply to the section method" in str(caught.value)
+
+
+CONE = Pose(approach=(0, 0, -1), cone=20)
+
+
+@pytest.fixture(scope="module")
+def puma():
+    return robots.build("puma560")
+
+
+@pytest.fixture(scope="module")
+def cone_whole(puma):
+    """The uninterrupted in-memory run of the Puma 560 with its tool within 20 degrees of straight down (the
+    section method): the reference of the stored and resumed runs."""
+    whole = reach(puma, delta=0.3, stop=QUIET, pose=CONE)
+    assert whole.method == "section" and whole.complete and whole.counts["inner"] > 0
+    return whole
+
+
+def test_a_pose_reach_stopped_and_resumed_gives_the_uninterrupted_boxes(puma, cone_whole, tmp_path):
+    """Issue 24 item 4 with a tool constraint: a box budget stops the classification of the task boxes (after
+    the section), a checkpoint is written; a checkpoint of another constraint or delta is refused; the same
+    call with the checkpoint, its boxes on disk, goes on to exactly the boxes, counts, measures and volume
+    bracket of the run never stopped."""
+    checkpoint = tmp_path / "cone.npz"
+    run = RunOn(resume=checkpoint, max_memory="64MB")
+    stopped = reach(puma, delta=0.3, stop=StopAt(max_boxes=cone_whole.evaluated - 300, progress=False),
+                    pose=CONE, run=run)
+    assert not stopped.complete and len(stopped.pending) and checkpoint.exists()
+    assert stopped.evaluated == cone_whole.evaluated - 300 and "budget of" in stopped.stop_reason
+    with pytest.raises(InvalidParameterError, match="checkpoint of another run") as caught:
+        reach(puma, delta=0.3, stop=QUIET, pose=Pose(approach=(0, 0, -1), cone=25), run=run)
+    assert caught.value.parameter == "resume"
+    resumed = reach(puma, delta=0.3, stop=QUIET, pose=CONE, run=run)
+    assert isinstance(resumed, StoredPaving) and resumed.method == "section"
+    # The stored run's bracket is also the intersection of the boxes' and the section's (Pappus) brackets.
+    assert resumed.volume_bounds == cone_whole.volume_bounds
+    assert resumed.box_measure_bounds == cone_whole.box_measure_bounds
+    assert resumed.to_dict()["measure_bounds"] == list(cone_whole.measure_bounds)
+    assert_same(cone_whole, resumed)
+
+
+def test_a_pose_reach_cut_in_its_section_writes_no_checkpoint(puma, cone_whole, tmp_path):
+    """A budget spent in the section: every task box is still classified from its cells (a bracket holding the
+    uninterrupted one, reported incomplete) and no checkpoint is written: a resumed call starts over.  Its
+    seconds are those of the whole call (reference: the wall time around it), not of the classification alone."""
+    early = tmp_path / "early.npz"
+    start = time.perf_counter()
+    cut = reach(puma, delta=0.3, stop=StopAt(max_boxes=40, progress=False), pose=CONE, run=RunOn(resume=early))
+    wall = time.perf_counter() - start
+    assert not cut.complete and "budget" in cut.stop_reason and not early.exists()
+    assert 0.5 * wall <= cut.seconds <= wall
+    lo, hi = cut.measure_bounds
+    full_lo, full_hi = cone_whole.measure_bounds
+    assert lo <= full_lo and full_hi <= hi
 
 
 def test_cli_reach_max_memory_and_resume(whole, tmp_path, capsys):
@@ -182,3 +261,27 @@ def test_cli_reach_max_memory_and_resume(whole, tmp_path, capsys):
     assert main(["reach", "planar-2r", "--delta", "0.5", "--resume", checkpoint]) == 2
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and "planar critical method" in err
+
+
+def test_cli_reach_with_a_tool_constraint_resumes(cone_whole, tmp_path, capsys):
+    """--max-memory and --resume with --approach/--cone (the section method): a checkpoint of another --delta
+    is refused (exit 2, one line naming --resume); the resumed JSON has the counts, measures and bracket of the
+    in-memory run; --plot with --max-memory is refused before any work."""
+    argv = ["reach", "puma560", "--delta", "0.3", "--approach", "0,0,-1", "--cone", "20", "--json",
+            "--no-progress", "--resume", str(tmp_path / "cone.npz"), "--max-memory", "64MB"]
+    assert main([*argv, "--max-boxes", str(cone_whole.evaluated - 200)]) == 0
+    stopped = json.loads(capsys.readouterr().out)
+    assert not stopped["complete"] and stopped["pending"]["boxes"] > 0
+    assert main([*argv[:2], "--delta", "0.5", *argv[4:]]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "--resume:" in err and "checkpoint of another run" in err
+    assert main(argv) == 0
+    resumed = json.loads(capsys.readouterr().out)
+    for kind in ("inner", "boundary", "outer"):
+        assert resumed[kind]["boxes"] == cone_whole.counts[kind]
+        assert resumed[kind]["measure"] == cone_whole.measures[kind] and resumed[kind]["files"]
+    assert resumed["measure_bounds"] == list(cone_whole.measure_bounds) and resumed["method"] == "section"
+    assert resumed["constraint"] == {"approach": [0.0, 0.0, -1.0], "cone_deg": 20.0, "every": False}
+    plot = tmp_path / "cone.png"
+    assert main([*argv, "--plot", str(plot)]) == 2
+    assert "--plot and --slices draw boxes held in memory" in capsys.readouterr().err and not plot.exists()

@@ -411,17 +411,18 @@ def cmd_reach(args) -> int:
 
     robot = _robot_from_args(args)
     constraint = _pose_options(args)
+    _check_plot_in_memory(args)
     if constraint:
         from .orientation import constraint_from
 
         described = constraint_from(**constraint)
         from .interval.driver import RunOn
 
-        kept = RunOn(max_memory=args.max_memory, store=args.store, resume=args.resume)   # refused with a pose
+        # boxes on disk and checkpoints for the section method (the pairs method with a pose refuses them)
+        kept = RunOn(max_memory=args.max_memory, store=args.store, resume=args.resume)
         paving = reach(robot, delta=args.delta, size=args.size, stop=_stop_at(args), pose=Pose(**constraint),
                        run=kept)
     else:
-        _check_plot_in_memory(args)
         with _distributed(args) as run:
             paving = reach(robot, delta=args.delta, size=args.size, inner_depth=args.inner_depth,
                            method=args.method, stop=_stop_at(args), run=run)

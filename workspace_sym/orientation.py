@@ -94,9 +94,9 @@ import sympy as sp
 from .errors import InvalidParameterError
 from .expressions import parse_angle
 from .interval import arith
-from .interval.boxes import Box, Paving, box_measure, box_sizes, check_delta, halves
+from .interval.boxes import Box, Paving, StoredPaving, box_measure, box_sizes, check_delta, halves
 from .interval.compiler import compile_expr
-from .interval.driver import RunBudget, StopAt
+from .interval.driver import RunBudget, RunOn, StopAt, refuse_storage
 from .interval.graph import numpy_constant
 from .interval.image import CellGrid, ImageMap, _dot, meets
 from .interval.store import ExactSum
@@ -104,6 +104,7 @@ from .interval.verdict import INSIDE as INNER
 from .interval.verdict import OUTSIDE as OUTER
 from .interval.verdict import UNDECIDED
 from .kinematics import DHRobot
+from .reach_section import section_bar
 from .snap import snap_angle
 
 if TYPE_CHECKING:
@@ -916,7 +917,8 @@ def constraint_from(approach=None, cone=None, every: bool = False, orientation=N
 def reach_pose(robot: DHRobot, *, delta: float, approach=None, cone=None, every: bool = False, orientation=None,
                rpy=None, size: str = "diameter", parameters: dict | None = None, max_boxes: int | None = None,
                time_limit: float | None = None, progress: bool | None = None, max_pairs: int = 400_000,
-               inner_depth: int = 1, chunk_pairs: int = 200_000, section_ratio: float | None = None) -> Paving:
+               inner_depth: int = 1, chunk_pairs: int = 200_000, section_ratio: float | None = None,
+               run: RunOn = RunOn()) -> Paving:
     """Pave the positions a serial robot's tool reaches under an approach cone or a constant orientation
     (module docstring); reached from :func:`workspace_sym.serial_workspace.reach` with the same keywords.
 
@@ -936,6 +938,15 @@ def reach_pose(robot: DHRobot, *, delta: float, approach=None, cone=None, every:
         measure of joint boxes (64 at least); about ``chunk_pairs`` pairs are handled at once.
     section_ratio : of the section method: its cells are about this times the width of the 3D cells
         (default ``serial_workspace.SECTION_RATIO``; rounded to a power of two).
+    run : :class:`~workspace_sym.interval.driver.RunOn`
+        ``max_memory``, ``store`` and ``resume`` of the section method, as for the spatial arms of ``reach``:
+        the task boxes are classified by the driver (decided boxes streamed to disk, a
+        :class:`~workspace_sym.interval.boxes.StoredPaving`; a checkpoint written when the classification ends or
+        stops, read to go on from it).  A resumed run paves the section again: the checkpoint names the
+        constraint and the section's cells, and one of another section (another delta, constraint, or a
+        section a time limit cut differently) is refused.  A section cut by the budget leaves no checkpoint
+        (the next run starts over).  The pairs method keeps its boxes in memory and refuses them; ``executor``
+        and ``chunk`` do not apply.
 
     Returns
     -------
@@ -962,7 +973,7 @@ def reach_pose(robot: DHRobot, *, delta: float, approach=None, cone=None, every:
             raise InvalidParameterError(f"{name} must be a whole number, {least} or more; got {value!r}",
                                         parameter=name)
     values = tuple(sorted((parameters or {}).items(), key=lambda item: str(item[0])))
-    run = RunBudget(StopAt(max_boxes=max_boxes, time_limit=time_limit, progress=progress), "reach")
+    budget = RunBudget(StopAt(max_boxes=max_boxes, time_limit=time_limit, progress=progress), "reach")
     if section_ratio is not None and not (isinstance(section_ratio, int | float) and 0 < section_ratio <= 4):
         raise InvalidParameterError(f"section_ratio must be a number in (0, 4]; got {section_ratio!r}",
                                     parameter="section_ratio")
@@ -970,11 +981,24 @@ def reach_pose(robot: DHRobot, *, delta: float, approach=None, cone=None, every:
     try:
         plan = _plan(robot, values, constraint)
         if plan.revolved is None:
-            result = _pave_direct(plan.model, robot, delta, size, run, options)
+            refuse_storage(f"reach with {constraint} on {robot.name} (the pairs method)", run,
+                           why="keeps its boxes in memory",
+                           supported="the section method (a constraint whose section the first joint turns, "
+                                     "such as a cone about the vertical on the Puma 560) and reach without a pose")
+            result = _pave_direct(plan.model, robot, delta, size, budget, options)
         else:
-            result = _pave_revolved(plan, plan.revolved, robot, values, delta, size, run, options, section_ratio)
+            result = _pave_revolved(plan, plan.revolved, robot, values, delta, size, budget, options,
+                                    section_ratio, where=run, constraint=constraint)
     finally:
-        run.close()
+        budget.close()
+    if isinstance(result[0], Paving):           # the section method: task boxes classified by the driver
+        paving, section, reason, bracket = result
+        emptied = {k: np.empty((0, 3, 2)) for k in ("inner", "boundary", "outer")} \
+            if isinstance(paving, StoredPaving) else {}  # (replace() would read the stored boxes back)
+        # the section was cut short: its classification ran on a clock of its own, the run's is the budget's
+        cut = {"complete": False, "stop_reason": reason, "seconds": budget.seconds} if reason else {}
+        return replace(paving, **emptied, **cut, evaluated=section + paving.evaluated, units=robot.units,
+                       method="section", volume_bounds=bracket)
     box, inner, boundary, outer, pending, evaluated, reason, bracket = result
     if pending is None:
         reason = ""
@@ -985,15 +1009,17 @@ def reach_pose(robot: DHRobot, *, delta: float, approach=None, cone=None, every:
         return np.concatenate(parts) if parts else empty
 
     fields = (_TASK, box, (), float(delta), "numpy", size, stack(inner), stack(boundary), stack(outer),
-              empty if pending is None else pending, run.seconds, not reason, evaluated, reason)
-    if bracket is None:
-        return Paving(*fields, units=robot.units, method="pairs")
-    return Paving(*fields, units=robot.units, method="section", volume_bounds=bracket)
+              empty if pending is None else pending, budget.seconds, not reason, evaluated, reason)
+    return Paving(*fields, units=robot.units, method="pairs")
 
 
-def _pave_pairs(model: PoseModel, root, delta, size, run, *, max_pairs, inner_depth, chunk_pairs):
+def _pave_pairs(model: PoseModel, root, delta, size, run, *, max_pairs, inner_depth, chunk_pairs, show=None):
     """The pairs paving of ``model``'s task space from the task box ``root``: ``(inner, boundary, outer,
-    pending or None, evaluated, reason)``, lists of box arrays."""
+    pending or None, evaluated, reason)``, lists of box arrays.  ``show(share decided, evaluated)`` after each
+    chunk (default: ``run``'s bar, for a paving of the (x, y, z) box)."""
+    if show is None and run.showing and root.shape[0] == 3:
+        show = run.show
+    whole = float(np.prod(root[:, 1] - root[:, 0]))
     from .serial_workspace import _parts
 
     Q = model.root_pairs()
@@ -1029,13 +1055,13 @@ def _pave_pairs(model: PoseModel, root, delta, size, run, *, max_pairs, inner_de
             children.append(c)
             pairs.append(cq)
             decided += box_measure(i) + box_measure(b) + box_measure(out)
+            if show is not None:
+                show(decided / whole, evaluated)
         T = np.concatenate(children) if children else T[:0]
         Q = np.concatenate(pairs) if pairs else Q[:0]
         owner = np.concatenate(owners) if owners else owner[:0]
         if left:
             return inner, boundary, outer, np.concatenate([T, *left]), evaluated, reason
-        if run.showing and root.shape[0] == 3:
-            run.show(decided / float(np.prod(root[:, 1] - root[:, 0])), evaluated)
     return inner, boundary, outer, None, evaluated, ""
 
 
@@ -1063,7 +1089,9 @@ def _section_classes(model, width: float, run, options):
     lo = np.array([e[0] for e in grid.edges])
     side = w * 2 ** math.ceil(math.log2(max(len(e) - 1 for e in grid.edges)))
     square = np.stack([lo, lo + side], axis=1)
-    inner, boundary, outer, pending, evaluated, reason = _pave_pairs(model, square, w, "width", run, **options)
+    with section_bar(run.showing) as show:      # the section's bar, as for the arms without a constraint
+        inner, boundary, outer, pending, evaluated, reason = _pave_pairs(model, square, w, "width", run,
+                                                                         **options, show=show)
     classes = np.full(grid.shape, UNDECIDED, dtype=np.int8)
     # A run stopped by the budget keeps what it proved: its pending boxes stay undecided.
     for value, parts in ((INNER, inner), (OUTER, outer)):
@@ -1152,10 +1180,19 @@ def section_volume_bracket(grid: CellGrid, classes: np.ndarray, revolved) -> tup
     return ExactSum.of(lower[low > 0]).value_down, ExactSum.of(upper[high > 0]).value_up
 
 
-def _pave_revolved(plan: _Plan, revolved: _Revolved, robot, parameters, delta, size, run, options, ratio=None):
+def _pave_revolved(plan: _Plan, revolved: _Revolved, robot, parameters, delta, size, run, options, ratio=None, *,
+                   where: RunOn = RunOn(), constraint: PoseConstraint | None = None):
     """The section paving turned by the first joint (``serial_workspace``'s section test, with the section
-    of the admissible configurations)."""
-    from .serial_workspace import SECTION_RATIO, _cell_width, _SectionTest, check_root, classify_task_boxes
+    of the admissible configurations): ``(paving, boxes of the section, why the section was cut or "",
+    volume bracket)``, the task boxes classified where ``where`` says (:func:`reach_pose`)."""
+    from .serial_workspace import (
+        SECTION_RATIO,
+        _cell_width,
+        _SectionTest,
+        check_root,
+        classify_task_boxes,
+        section_digest,
+    )
     from .serial_workspace import _model as reach_model
 
     position = reach_model(robot, parameters)
@@ -1165,10 +1202,18 @@ def _pave_revolved(plan: _Plan, revolved: _Revolved, robot, parameters, delta, s
     ratio = SECTION_RATIO if ratio is None else ratio
     grid, classes, evaluated, reason = _section_classes(plan.model, ratio * _cell_width(delta, size, 3), run,
                                                         options)
-    # The section holds the work: its cells classify every (x, y, z) box, also when the budget ran out while
-    # it was paved (its undecided cells leave boundary boxes, so the bracket holds; the run is then reported
-    # incomplete, with the reason) or just after.
-    paving = classify_task_boxes(_SectionTest(revolved, grid, classes), box, delta, size)
+    test = _SectionTest(revolved, grid, classes)
     bracket = section_volume_bracket(grid, classes, revolved)
-    return (box, [paving.inner], [paving.boundary], [paving.outer], paving.pending if reason else None,
-            evaluated + paving.evaluated, reason, bracket)
+    if reason:
+        # The budget ran out while the section was paved: its cells still classify every (x, y, z) box (its
+        # undecided cells leave boundary boxes, so the bracket holds; the run is reported incomplete, with the
+        # reason), and no checkpoint is written (a resumed run paves the section again and starts over).
+        kept = RunOn(max_memory=where.max_memory, store=where.store)
+        return classify_task_boxes(test, box, delta, size, run=kept), evaluated, reason, bracket
+    # Then the task boxes go on within what is left of the budget; a checkpoint names the constraint and the
+    # section's cells (a resumed run paves the section again and must find the same cells).
+    named = (constraint or plan.model.constraint).to_dict()
+    what = f"reach of {robot.name} {dict(parameters)} with {named} (section), section cells " \
+           f"{section_digest(grid, classes)}"
+    run.spent = evaluated
+    return classify_task_boxes(test, box, delta, size, run, where, describe=what), evaluated, "", bracket

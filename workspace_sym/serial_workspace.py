@@ -93,6 +93,7 @@ from .interval.driver import (
     StopAt,
     paving_of,
     read_checkpoint,
+    refuse_storage,
     store_for,
     subdivide,
     write_checkpoint,
@@ -739,14 +740,22 @@ def _spatial(robot, parameters, delta, size, run, *, executor, where):
     test = test or tests[type(plan)](plan, grid, classes)
     # A checkpoint of the classification belongs to this robot, delta and section (a time-limited turned
     # section may refine differently on another run: its cells are part of what the checkpoint names).
-    cells = "none" if classes is None else hashlib.sha256(
-        np.ascontiguousarray(classes).tobytes() + np.asarray(grid.box, dtype=float).tobytes()
-        + (b"" if limited is None else np.ascontiguousarray(proved).tobytes())).hexdigest()
-    what = f"reach of {robot.name} {dict(parameters)} ({type(plan).__name__}), section cells {cells[:16]}"
+    cells = section_digest(grid, classes, None if limited is None else proved)
+    what = f"reach of {robot.name} {dict(parameters)} ({type(plan).__name__}), section cells {cells}"
     run.spent = evaluated
     paving = classify_task_boxes(test, box, delta, size, run, RunOn(max_memory=where.max_memory, store=where.store,
                                                                    resume=where.resume), describe=what)
     return paving, volume
+
+
+def section_digest(grid, classes, proved=None) -> str:
+    """What a checkpoint of the task boxes names of the section they were classified from: a digest of its
+    cells' classes, the grid's box and (limited turns) the cells proved per direction; ``"none"`` without a
+    section."""
+    if classes is None:
+        return "none"
+    data = np.ascontiguousarray(classes).tobytes() + np.asarray(grid.box, dtype=float).tobytes()
+    return hashlib.sha256(data + (b"" if proved is None else np.ascontiguousarray(proved).tobytes())).hexdigest()[:16]
 
 
 @dataclass(frozen=True)
@@ -805,12 +814,12 @@ def resolve_method(robot: DHRobot, method: str = "auto", parameters=()) -> str:
     return method if method != "auto" else ("critical" if fits else "pairs")
 
 
-def _refuse_storage(model: ReachModel, run: RunOn) -> None:
+def _refuse_storage(robot: DHRobot, run: RunOn) -> None:
     """``max_memory``, ``store`` and ``resume`` apply where the task boxes are bisected (spatial arms of the
     critical method, the pairs method); the planar critical method decides a grid of cells in one pass."""
-    raise InvalidParameterError(f"run: max_memory, store and resume do not apply to the planar critical method "
-                                f"(it decides a grid of cells in one pass, in memory; method='pairs' takes them); "
-                                f"got {run!r}", parameter="run")
+    refuse_storage(f"the planar critical method on {robot.name}", run,
+                   why="decides one grid of cells in one pass, in memory",
+                   supported="method='pairs' on a planar arm and every method on a spatial arm")
 
 
 @contextmanager
@@ -875,13 +884,15 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         cells; a time-limited turned section may differ, and is refused); and
         to ``"pairs"``, whose checkpoint holds the task boxes left with their
         joint boxes (its frontier stays in memory).  The planar critical
-        method refuses them (one grid of cells, in memory).
+        method refuses them (one grid of cells, in memory).  With a ``pose``
+        they apply to its ``"section"`` method as to the spatial critical
+        method (:func:`~workspace_sym.orientation.reach_pose`).
     pose : :class:`Pose`, optional
         A constraint on the tool frame (:func:`workspace_sym.orientation.reach_pose`).
         Then inner boxes are proved reached by configurations within the limits
         satisfying the constraint exactly, outer boxes proved reached by none
         (docs/methods.md section 8); ``method``, ``max_pairs``, ``inner_depth`` and
-        ``run`` do not apply.
+        ``run.executor`` / ``run.chunk`` do not apply.
 
     Returns
     -------
@@ -900,9 +911,6 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     """
     stored = run.max_memory is not None or run.store is not None or run.resume is not None
     if pose is not None:
-        if stored:
-            raise InvalidParameterError(f"run: reach with a pose keeps its boxes in memory; max_memory, store and "
-                                        f"resume do not apply; got {run!r}", parameter="run")
         if not isinstance(pose, Pose):
             raise InvalidParameterError(f"pose must be a serial_workspace.Pose; got {type(pose).__name__}",
                                         parameter="pose")
@@ -910,7 +918,8 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
 
         return reach_pose(robot, delta=delta, approach=pose.approach, cone=pose.cone, every=pose.every,
                           orientation=pose.orientation, rpy=pose.rpy, size=size, parameters=parameters,
-                          max_boxes=stop.max_boxes, time_limit=stop.time_limit, progress=stop.progress)
+                          max_boxes=stop.max_boxes, time_limit=stop.time_limit, progress=stop.progress,
+                          run=RunOn(max_memory=run.max_memory, store=run.store, resume=run.resume))
     chunk_pairs = CHUNK_PAIRS if run.chunk is None else run.chunk
     executor = run.executor
     check_delta(delta)
@@ -934,7 +943,7 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         with _prepared_within(robot, time_limit, budget.seconds):
             kind = resolve_method(robot, method, values)
         if stored and kind == "critical" and model.m == 2:
-            _refuse_storage(model, run)
+            _refuse_storage(robot, run)
         result: Any = None                  # the driver's (paving, volume), or a method's tuple of boxes
         if kind == "critical":
             try:

@@ -348,8 +348,9 @@ class StoredPaving(Paving):
                 "pending": box_measure(self.pending)}
 
     @cached_property
-    def measure_bounds(self) -> tuple[float, float]:
-        """The certified bracket from the outward sums kept while the boxes were written (see Paving)."""
+    def box_measure_bounds(self) -> tuple[float, float]:
+        """The certified bracket of the boxes from the outward sums kept while they were written (see Paving;
+        :attr:`measure_bounds` intersects it with :attr:`volume_bounds` as there)."""
         down, up = ({k: ExactSum.parse(v) for k, v in self.stored_bounds[d].items()} for d in ("down", "up"))
         high = ExactSum.of(measures_of(self.pending, "up"))
         high.merge(up["inner"])

@@ -166,12 +166,26 @@ def with_legacy_keywords(where: str, stop: StopAt, run: RunOn, *, executor=None,
     return stop, run
 
 
-def refuse_storage(where: str, run: RunOn) -> None:
+def refuse_storage(where: str, run: RunOn, *, why: str = "keeps no boxes", supported: str = "") -> None:
     """Refuse ``max_memory``, ``store`` and ``resume`` for an entry point that keeps no boxes (a search that
-    stops at its first counterexample): its ``run`` carries an executor and a chunk size only."""
-    if run.max_memory is not None or run.store is not None or run.resume is not None:
-        raise InvalidParameterError(f"run: {where} keeps no boxes; max_memory, store and resume do not apply; "
-                                    f"got {run!r}", parameter="run")
+    stops at its first counterexample) or keeps them in memory (``why``): its ``run`` carries an executor and a
+    chunk size only.  The error names the options given with their values, and what takes them
+    (``supported``).
+
+    Examples
+    --------
+    >>> try:
+    ...     refuse_storage("prove_all", RunOn(resume="run.npz"))
+    ... except InvalidParameterError as error:
+    ...     print(str(error).split("; ")[-1], error.parameter)
+    got resume='run.npz' run
+    """
+    given = [f"{name}={getattr(run, name)!r}" for name in ("max_memory", "store", "resume")
+             if getattr(run, name) is not None]
+    if given:
+        raise InvalidParameterError(f"run: {where} {why}; max_memory, store and resume do not apply; got "
+                                    f"{', '.join(given)}" + (f"; they apply to {supported}" if supported else ""),
+                                    parameter="run")
 
 
 class RunBudget:
