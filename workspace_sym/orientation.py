@@ -104,6 +104,7 @@ from .interval.verdict import INSIDE as INNER
 from .interval.verdict import OUTSIDE as OUTER
 from .interval.verdict import UNDECIDED
 from .kinematics import DHRobot
+from .numbers import fmt
 from .reach_section import section_bar
 from .snap import snap_angle
 
@@ -174,6 +175,20 @@ class PoseConstraint:
         if self.rotation is None:
             raise ValueError(f"{self} has no rotation matrix")
         return self.rotation
+
+    def words(self) -> str:
+        """The constraint in words, as a report or a notebook states it.
+
+        >>> approach_constraint((0, 0, -1), 20, every=True).words()
+        "the tool's approach axis (z of the tool frame) can reach every direction within 20 degrees of (0, 0, -1)"
+        """
+        if self.kind == "cone":
+            what = ("the tool's approach axis (z of the tool frame) can reach every direction within "
+                    if self.every else "the tool's approach axis (z of the tool frame) can lie within ")
+            direction = ", ".join(fmt(float(c), 6, "g") for c in self.direction)
+            return what + f"{fmt(self.degrees, 6, 'g')} degrees of ({direction})"
+        return ("the tool frame can be exactly the rotation of roll, pitch, yaw ("
+                + ", ".join(fmt(float(a * 180 / sp.pi), 6, "g") for a in self.rpy) + ") degrees")
 
     def __str__(self) -> str:
         if self.kind == "cone":
@@ -998,7 +1013,7 @@ def reach_pose(robot: DHRobot, *, delta: float, approach=None, cone=None, every:
         # the section was cut short: its classification ran on a clock of its own, the run's is the budget's
         cut = {"complete": False, "stop_reason": reason, "seconds": budget.seconds} if reason else {}
         return replace(paving, **emptied, **cut, evaluated=section + paving.evaluated, units=robot.units,
-                       method="section", volume_bounds=bracket)
+                       method="section", volume_bounds=bracket, tool_constraint=constraint)
     box, inner, boundary, outer, pending, evaluated, reason, bracket = result
     if pending is None:
         reason = ""
@@ -1010,7 +1025,7 @@ def reach_pose(robot: DHRobot, *, delta: float, approach=None, cone=None, every:
 
     fields = (_TASK, box, (), float(delta), "numpy", size, stack(inner), stack(boundary), stack(outer),
               empty if pending is None else pending, budget.seconds, not reason, evaluated, reason)
-    return Paving(*fields, units=robot.units, method="pairs")
+    return Paving(*fields, units=robot.units, method="pairs", tool_constraint=constraint)
 
 
 def _pave_pairs(model: PoseModel, root, delta, size, run, *, max_pairs, inner_depth, chunk_pairs, show=None):
