@@ -413,6 +413,11 @@ def cmd_reach(args) -> int:
     constraint = _pose_options(args)
     _check_plot_in_memory(args)
     if constraint:
+        if args.scheduler is not None:
+            raise InvalidParameterError(f"scheduler: reach with a tool constraint (approach, cone, every, "
+                                        f"orientation) decides its boxes in this process, so a Dask scheduler does "
+                                        f"not apply; got {args.scheduler!r}; it applies to reach without a tool "
+                                        "constraint", parameter="scheduler")
         from .orientation import constraint_from
 
         described = constraint_from(**constraint)

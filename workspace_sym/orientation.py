@@ -960,8 +960,8 @@ def reach_pose(robot: DHRobot, *, delta: float, approach=None, cone=None, every:
         stops, read to go on from it).  A resumed run paves the section again: the checkpoint names the
         constraint and the section's cells, and one of another section (another delta, constraint, or a
         section a time limit cut differently) is refused.  A section cut by the budget leaves no checkpoint
-        (the next run starts over).  The pairs method keeps its boxes in memory and refuses them; ``executor``
-        and ``chunk`` do not apply.
+        (the next run starts over).  The pairs method keeps its boxes in memory and refuses them.  ``executor``
+        and ``chunk`` are refused (every box is decided in this process).
 
     Returns
     -------
@@ -987,6 +987,12 @@ def reach_pose(robot: DHRobot, *, delta: float, approach=None, cone=None, every:
         if not isinstance(value, int) or isinstance(value, bool) or value < least:
             raise InvalidParameterError(f"{name} must be a whole number, {least} or more; got {value!r}",
                                         parameter=name)
+    if run.executor is not None or run.chunk is not None:
+        given = ", ".join(f"{name}={getattr(run, name)!r}" for name in ("executor", "chunk")
+                          if getattr(run, name) is not None)
+        raise InvalidParameterError(f"run: reach with a tool constraint decides its boxes in this process; executor "
+                                    f"and chunk do not apply; got {given}; they apply to reach without a pose",
+                                    parameter="run")
     values = tuple(sorted((parameters or {}).items(), key=lambda item: str(item[0])))
     budget = RunBudget(StopAt(max_boxes=max_boxes, time_limit=time_limit, progress=progress), "reach")
     if section_ratio is not None and not (isinstance(section_ratio, int | float) and 0 < section_ratio <= 4):
