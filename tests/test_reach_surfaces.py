@@ -7,13 +7,18 @@ from __future__ import annotations
 import html
 import json
 from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
 
+import numpy as np
 import pytest
+import rtbdata
+import sympy as sp
 
 from workspace_sym import robots
 from workspace_sym.cli import main
 from workspace_sym.errors import InvalidParameterError
 from workspace_sym.interval.driver import RunOn
+from workspace_sym.kinematics import DHRobot
 from workspace_sym.orientation import constraint_from
 from workspace_sym.serial_workspace import Pose, reach
 
@@ -75,3 +80,41 @@ def test_an_executor_or_chunk_with_a_pose_is_refused(run, given):
     assert caught.value.parameter == "run" and given in str(caught.value)
     assert "apply to reach without a pose" in str(caught.value)
 
+
+ARMS = {"ur5": lambda: DHRobot.from_file(Path(__file__).parent / "data" / "dh" / "ur5.json"),
+        "kr16": lambda: DHRobot.from_urdf(Path(rtbdata.__file__).parent
+                                          / "xacro/kuka_description/kuka_kr16/urdf/kr16_2.urdf")}
+
+
+@pytest.mark.parametrize("name", sorted(ARMS))
+def test_every_direction_refused_says_which_joints_move_the_tool_point(name):
+    # Reference: finite differences of the tool point and of the approach axis at a random configuration (an
+    # independent numeric check of which joints move what): no joint turns the approach without moving the point,
+    # and the message names those that move both.
+    robot = ARMS[name]()
+    with pytest.raises(InvalidParameterError) as caught:
+        reach(robot, delta=0.1, pose=Pose(approach=(0, 0, -1), cone=20, every=True))
+    message = str(caught.value)
+    T = robot.substitute(robot.fk())
+    pose = sp.lambdify([robot.q], list(T[:3, 3]) + list(T[:3, 2]), modules="numpy")
+    q = np.random.default_rng(5).uniform(-1, 1, robot.n)
+    moved = []
+    for i in range(robot.n):
+        step = np.eye(robot.n)[i] * 1e-6
+        change = np.abs(np.array(pose(q + step), dtype=float) - np.array(pose(q - step), dtype=float))
+        moved.append((change[:3].max() > 1e-9, change[3:].max() > 1e-9))
+    assert not any(a and not p for p, a in moved)
+    both = [f"joint {i + 1} ({robot.q[i]})" for i, (p, a) in enumerate(moved) if p and a]
+    assert len(both) >= 3
+    assert ("the joints that turn the approach axis without moving the tool point are none, not two (the tool "
+            f"point moves with {', '.join(both)}, which also turn the approach axis)") in message
+    assert caught.value.parameter == "every" and robot.name in message
+    assert "roll-pitch wrist" in message and "use every=False" in message
+
+
+def test_every_direction_refused_on_the_scara_says_its_approach_never_turns():
+    # Reference: the SCARA's approach axis is (0, 0, -1) in every configuration (its joints turn about vertical
+    # axes or slide along one), so no joint turns it.
+    with pytest.raises(InvalidParameterError) as caught:
+        reach(robots.build("scara"), delta=0.1, pose=Pose(approach=(0, 0, -1), cone=20, every=True))
+    assert "no joint turns the approach axis (it is the same in every configuration)" in str(caught.value)
