@@ -7,6 +7,7 @@ from __future__ import annotations
 import html
 import json
 from concurrent.futures import ThreadPoolExecutor
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
@@ -118,3 +119,31 @@ def test_every_direction_refused_on_the_scara_says_its_approach_never_turns():
     with pytest.raises(InvalidParameterError) as caught:
         reach(robots.build("scara"), delta=0.1, pose=Pose(approach=(0, 0, -1), cone=20, every=True))
     assert "no joint turns the approach axis (it is the same in every configuration)" in str(caught.value)
+
+
+def test_the_section_bar_of_the_puma_moves_during_its_critical_cover(monkeypatch):
+    # Reference: the calls the bar receives (share decided, boxes evaluated): during the cover nothing is decided
+    # and the count grows generation by generation; then the share grows.  And the same paving of the section with
+    # and without the bar (the bar changes no cell and no count).
+    import workspace_sym.serial_workspace as sw
+    from workspace_sym.interval.image import critical_paving
+
+    calls = []
+
+    @contextmanager
+    def recording(progress):
+        yield lambda share, evaluated: calls.append((share, evaluated))
+
+    monkeypatch.setattr(sw, "section_bar", recording)
+    puma = robots.build("puma560")
+    paving = reach(puma, delta=0.3)
+    assert paving.method == "critical"
+    cover = [evaluated for share, evaluated in calls if share == 0.0]
+    assert len(cover) >= 5 and cover == sorted(cover) and cover[0] < cover[-1]
+    shares = [share for share, _ in calls]
+    assert shares == sorted(shares) and shares[-1] > 0.5
+    section = sw._section(puma, ()).section
+    width = sw.SECTION_RATIO * sw._cell_width(0.3, "diameter", 3)
+    quiet = critical_paving(section, width)
+    shown = critical_paving(section, width, show=lambda share, evaluated: None)
+    assert np.array_equal(quiet[1], shown[1]) and quiet[2:] == shown[2:]

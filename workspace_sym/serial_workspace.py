@@ -728,9 +728,11 @@ def _spatial(robot, parameters, delta, size, run, *, executor, where):
                                                               seconds_left=seconds_left if run.time_limit else None)
         reason = "" if reason == "section share" else reason
     elif plan.section is not None:
-        grid, classes, evaluated, reason = critical_paving(plan.section, SECTION_RATIO * width,
-                                                           budget=run.stop_reason,
-                                                           cover=_cover_with(executor, robot, parameters, "section"))
+        with section_bar(run.showing) as show:  # the section's bar, from the first generation of its cover
+            grid, classes, evaluated, reason = critical_paving(plan.section, SECTION_RATIO * width,
+                                                               budget=run.stop_reason, show=show,
+                                                               cover=_cover_with(executor, robot, parameters,
+                                                                                 "section"))
     if isinstance(plan, Turned) and plan.full:
         volume = turned_volume(grid, classes)      # the solid of revolution of the section (Pappus)
     run.show(0.0, evaluated)
