@@ -439,10 +439,8 @@ def cmd_reach(args) -> int:
     model = ReachModel(robot)
     extra = {"robot": robot.name, "variables": [str(v) for v in paving.variables],
              "joints_subdivided": [str(q) for q in model.variables], "method": paving.method}
-    if constraint:
-        extra["constraint"] = described.to_dict()
-        if not args.json:
-            print(f"{robot.name}: tool {described}")
+    if constraint and not args.json:         # (the JSON's "constraint" is the paving's own, Paving.to_dict)
+        print(f"{robot.name}: tool {described}")
     if not args.json:
         print(f"{robot.name}: position workspace over ({', '.join(extra['variables'])}); joints subdivided: "
               f"{', '.join(extra['joints_subdivided'])}; method {extra['method']}")
