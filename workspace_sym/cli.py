@@ -413,6 +413,11 @@ def cmd_reach(args) -> int:
     constraint = _pose_options(args)
     _check_plot_in_memory(args)
     if constraint:
+        if args.scheduler is not None:
+            raise InvalidParameterError(f"scheduler: reach with a tool constraint (approach, cone, every, "
+                                        f"orientation) decides its boxes in this process, so a Dask scheduler does "
+                                        f"not apply; got {args.scheduler!r}; it applies to reach without a tool "
+                                        "constraint", parameter="scheduler")
         from .orientation import constraint_from
 
         described = constraint_from(**constraint)
@@ -434,10 +439,8 @@ def cmd_reach(args) -> int:
     model = ReachModel(robot)
     extra = {"robot": robot.name, "variables": [str(v) for v in paving.variables],
              "joints_subdivided": [str(q) for q in model.variables], "method": paving.method}
-    if constraint:
-        extra["constraint"] = described.to_dict()
-        if not args.json:
-            print(f"{robot.name}: tool {described}")
+    if constraint and not args.json:         # (the JSON's "constraint" is the paving's own, Paving.to_dict)
+        print(f"{robot.name}: tool {described}")
     if not args.json:
         print(f"{robot.name}: position workspace over ({', '.join(extra['variables'])}); joints subdivided: "
               f"{', '.join(extra['joints_subdivided'])}; method {extra['method']}")

@@ -104,6 +104,7 @@ from .interval.verdict import INSIDE as INNER
 from .interval.verdict import OUTSIDE as OUTER
 from .interval.verdict import UNDECIDED
 from .kinematics import DHRobot
+from .numbers import fmt
 from .reach_section import section_bar
 from .snap import snap_angle
 
@@ -174,6 +175,20 @@ class PoseConstraint:
         if self.rotation is None:
             raise ValueError(f"{self} has no rotation matrix")
         return self.rotation
+
+    def words(self) -> str:
+        """The constraint in words, as a report or a notebook states it.
+
+        >>> approach_constraint((0, 0, -1), 20, every=True).words()
+        "the tool's approach axis (z of the tool frame) can reach every direction within 20 degrees of (0, 0, -1)"
+        """
+        if self.kind == "cone":
+            what = ("the tool's approach axis (z of the tool frame) can reach every direction within "
+                    if self.every else "the tool's approach axis (z of the tool frame) can lie within ")
+            direction = ", ".join(fmt(float(c), 6, "g") for c in self.direction)
+            return what + f"{fmt(self.degrees, 6, 'g')} degrees of ({direction})"
+        return ("the tool frame can be exactly the rotation of roll, pitch, yaw ("
+                + ", ".join(fmt(float(a * 180 / sp.pi), 6, "g") for a in self.rpy) + ") degrees")
 
     def __str__(self) -> str:
         if self.kind == "cone":
@@ -673,7 +688,7 @@ def _spin_reduction(robot: DHRobot, params, constraint: PoseConstraint, T) -> Po
 
 
 def _wrist_reduction(robot: DHRobot, params, constraint: PoseConstraint, T):
-    """A cone on the approach axis as a cone on the roll axis of a roll-pitch wrist, or None.
+    """A cone on the approach axis as a cone on the roll axis of a roll-pitch wrist, or why there is none.
 
     The wrist is the two joints ``j < k`` that move the approach ``a`` and not the position (standard DH, both
     revolute).  When ``q_j`` enters only ``theta_j`` and its range spans a period, ``a = Rot(z, theta_j) b`` with
@@ -688,43 +703,61 @@ def _wrist_reduction(robot: DHRobot, params, constraint: PoseConstraint, T):
     then proved for the axis ``d`` alone, a direction of the cone) and the cone the inner proof must show
     (``psi - c`` with ``every``, else None).  The wrist joints then leave the model: its inner proof no longer
     meets the wrist's singularity (``q_k + phi = 0``, where ``q_j`` is undetermined), nor its violation proofs a
-    cover of wrist boxes.
+    cover of wrist boxes.  Otherwise a string: why the robot has no such wrist, in its joints' terms (the
+    refusal of ``every=True`` quotes it).
     """
     from .serial_workspace import _joint_range
 
-    if constraint.kind != "cone" or robot.convention != "standard":
-        return None
+    if constraint.kind != "cone":
+        return "the constraint is not a cone"
+    if robot.convention != "standard":
+        return f"its table is in {robot.convention} DH (the wrist is recognised in standard DH only)"
     approach, position = list(T[:3, 2]), list(T[:3, 3])
     in_position = set().union(*(sp.sympify(e).free_symbols for e in position))
     in_approach = set().union(*(sp.sympify(e).free_symbols for e in approach))
+
+    def named(indices):
+        return ", ".join(f"joint {i + 1} ({robot.q[i]})" for i in indices) or "none"
+
     wrist = [i for i, q in enumerate(robot.q) if q in in_approach and q not in in_position]
-    if len(wrist) != 2 or any(robot.joints[i].kind != "R" for i in wrist):
-        return None
+    if len(wrist) != 2:
+        moving = [i for i, q in enumerate(robot.q) if q in in_approach and q in in_position]
+        if not wrist and not moving:
+            return "no joint turns the approach axis (it is the same in every configuration)"
+        return (f"the joints that turn the approach axis without moving the tool point are {named(wrist)}, not "
+                f"two" + (f" (the tool point moves with {named(moving)}, which also turn the approach axis)"
+                          if moving else ""))
+    if any(robot.joints[i].kind != "R" for i in wrist):
+        return f"its wrist joints {named(wrist)} are not both revolute"
     j, k = wrist
     roll, pitch = robot.q[j], robot.q[k]
     others = [e for i, joint in enumerate(robot.joints) for e in (joint.d, joint.a, joint.alpha)
               + (() if i == j else (joint.theta,))]
     others += [e for M in (robot.base, robot.tool) if M is not None for e in M]
-    if not _free_of(others, roll) or not _joint_range(robot, j, params)[1]:
-        return None
+    if not _free_of(others, roll):
+        return f"the roll joint {named([j])} enters the table other than through its angle theta"
+    if not _joint_range(robot, j, params)[1]:
+        return f"the roll joint {named([j])} does not turn through a full turn within its limits"
     axis = list(robot.substitute(robot.fk(j), params)[:3, 2])
     if not _free_of(axis, roll) or not _free_of(axis, pitch):
-        return None
+        return f"the axis of the roll joint {named([j])} moves with the wrist"
     cosine = sp.simplify(sp.Matrix(approach).dot(sp.Matrix(axis)))
-    if cosine.free_symbols != {pitch}:
-        return None
     phi = sp.atan2(-sp.diff(cosine, pitch).subs(pitch, 0), cosine.subs(pitch, 0))
-    if sp.simplify(sp.expand_trig(cosine - sp.cos(pitch + phi))) != 0:
-        return None
+    if cosine.free_symbols != {pitch} or sp.simplify(sp.expand_trig(cosine - sp.cos(pitch + phi))) != 0:
+        return (f"the angle of the approach axis from the roll axis of {named([j])} is not set by {named([k])} "
+                "alone as a pitch (cos(angle) = cos(q + phi))")
     (lo, hi), _ = _joint_range(robot, k, params)
     turns = sp.ceiling((lo + phi) / (2 * sp.pi))
     if not bool(2 * sp.pi * turns <= hi + phi):
-        return None                         # the cap's centre is not reached: an annulus, not a cap
+        # the cap's centre is not reached: an annulus, not a cap
+        return (f"the pitch joint {named([k])} cannot bring the approach axis onto the roll axis within its "
+                "limits (the wrist reaches a ring of directions, not a cap)")
     psi = sp.Min(sp.pi, sp.Max(2 * sp.pi * turns - lo - phi, hi + phi - 2 * sp.pi * turns))
     c = constraint.cone
     if constraint.every and c != 0:
         if not bool(psi - c >= 0):
-            return None
+            return (f"its wrist ({named(wrist)}) reaches directions up to {fmt(float(psi * 180 / sp.pi), 6, 'g')} "
+                    f"degrees from its roll axis, less than the cone's {fmt(constraint.degrees, 6, 'g')}")
         reduced = PoseConstraint("cone", constraint.direction, psi, float(psi * 180 / sp.pi), True)
         return axis, reduced, psi - c
     angle = sp.Min(sp.pi, psi + c)
@@ -851,15 +884,16 @@ def _plan(robot: DHRobot, parameters: tuple, constraint: PoseConstraint) -> _Pla
     reduced = _spin_reduction(robot, params, constraint, T)
     axis, proof_cone = list(T[:3, 2]), None
     wrist = _wrist_reduction(robot, params, reduced, T)
-    if wrist is not None:
+    if not isinstance(wrist, str):
         axis, reduced, proof_cone = wrist
     elif reduced.every and reduced.cone != 0:
-        raise InvalidParameterError(f"every=True (every direction of a {reduced.degrees:g} degree cone, the "
-                                    "dextrous workspace) is not implemented here: it is proved only for arms whose "
-                                    "two last joints that move the approach form a roll-pitch wrist "
-                                    f"(docs/methods.md section 8), and {robot.name}'s do not; no certified answer "
-                                    "is given: use every=False (some direction of the cone) or cone=0",
-                                    parameter="every")
+        raise InvalidParameterError(
+            f"every=True (every direction of a {reduced.degrees:g} degree cone, the dextrous workspace) is not "
+            f"implemented for {robot.name}: it is proved only for arms with a roll-pitch wrist, two revolute joints "
+            "that turn the approach axis without moving the tool point, the first (roll) through a full turn, the "
+            "second (pitch) tilting the approach from the roll axis, such as joints 4 and 5 of the Puma 560 "
+            f"(docs/methods.md section 8), and {robot.name} has none: {wrist}; no certified answer is given: use "
+            "every=False (some direction of the cone) or cone=0", parameter="every")
     plan = None if section_robot is None else _section_plan(robot, parameters, reduced, axis, proof_cone,
                                                               section_robot)
     if plan is not None:
@@ -945,8 +979,8 @@ def reach_pose(robot: DHRobot, *, delta: float, approach=None, cone=None, every:
         stops, read to go on from it).  A resumed run paves the section again: the checkpoint names the
         constraint and the section's cells, and one of another section (another delta, constraint, or a
         section a time limit cut differently) is refused.  A section cut by the budget leaves no checkpoint
-        (the next run starts over).  The pairs method keeps its boxes in memory and refuses them; ``executor``
-        and ``chunk`` do not apply.
+        (the next run starts over).  The pairs method keeps its boxes in memory and refuses them.  ``executor``
+        and ``chunk`` are refused (every box is decided in this process).
 
     Returns
     -------
@@ -972,6 +1006,12 @@ def reach_pose(robot: DHRobot, *, delta: float, approach=None, cone=None, every:
         if not isinstance(value, int) or isinstance(value, bool) or value < least:
             raise InvalidParameterError(f"{name} must be a whole number, {least} or more; got {value!r}",
                                         parameter=name)
+    if run.executor is not None or run.chunk is not None:
+        given = ", ".join(f"{name}={getattr(run, name)!r}" for name in ("executor", "chunk")
+                          if getattr(run, name) is not None)
+        raise InvalidParameterError(f"run: reach with a tool constraint decides its boxes in this process; executor "
+                                    f"and chunk do not apply; got {given}; they apply to reach without a pose",
+                                    parameter="run")
     values = tuple(sorted((parameters or {}).items(), key=lambda item: str(item[0])))
     budget = RunBudget(StopAt(max_boxes=max_boxes, time_limit=time_limit, progress=progress), "reach")
     if section_ratio is not None and not (isinstance(section_ratio, int | float) and 0 < section_ratio <= 4):
@@ -998,7 +1038,7 @@ def reach_pose(robot: DHRobot, *, delta: float, approach=None, cone=None, every:
         # the section was cut short: its classification ran on a clock of its own, the run's is the budget's
         cut = {"complete": False, "stop_reason": reason, "seconds": budget.seconds} if reason else {}
         return replace(paving, **emptied, **cut, evaluated=section + paving.evaluated, units=robot.units,
-                       method="section", volume_bounds=bracket)
+                       method="section", volume_bounds=bracket, tool_constraint=constraint)
     box, inner, boundary, outer, pending, evaluated, reason, bracket = result
     if pending is None:
         reason = ""
@@ -1010,7 +1050,7 @@ def reach_pose(robot: DHRobot, *, delta: float, approach=None, cone=None, every:
 
     fields = (_TASK, box, (), float(delta), "numpy", size, stack(inner), stack(boundary), stack(outer),
               empty if pending is None else pending, budget.seconds, not reason, evaluated, reason)
-    return Paving(*fields, units=robot.units, method="pairs")
+    return Paving(*fields, units=robot.units, method="pairs", tool_constraint=constraint)
 
 
 def _pave_pairs(model: PoseModel, root, delta, size, run, *, max_pairs, inner_depth, chunk_pairs, show=None):

@@ -532,13 +532,7 @@ def _pose_section(doc: Document, robot, paving, constraint, tmp: Path) -> None:
     ``constraint`` is its :class:`~workspace_sym.orientation.PoseConstraint`."""
     coords = ", ".join(map(str, paving.variables))
     doc.heading("Certified orientation workspace (proved boxes)")
-    if constraint.kind == "cone":
-        what = ("the tool's approach axis (z of the tool frame) can reach every direction within "
-                if constraint.every else "the tool's approach axis (z of the tool frame) can lie within ")
-        what += f"{constraint.degrees:g} degrees of ({', '.join(number(float(c), 'g') for c in constraint.direction)})"
-    else:
-        what = ("the tool frame can be exactly the rotation of roll, pitch, yaw ("
-                + ", ".join(number(float(a * 180 / sp.pi), "g") for a in constraint.rpy) + ") degrees")
+    what = constraint.words()
     doc.para(f"Constraint: {what}. The tool positions ({coords}) are covered by boxes down to size delta = "
              f"{paving.delta} ({paving.size}). Inner boxes: every point of the box is the tool point of a "
              "configuration within the joint limits satisfying the constraint exactly. Outer boxes: no point of the "

@@ -728,9 +728,11 @@ def _spatial(robot, parameters, delta, size, run, *, executor, where):
                                                               seconds_left=seconds_left if run.time_limit else None)
         reason = "" if reason == "section share" else reason
     elif plan.section is not None:
-        grid, classes, evaluated, reason = critical_paving(plan.section, SECTION_RATIO * width,
-                                                           budget=run.stop_reason,
-                                                           cover=_cover_with(executor, robot, parameters, "section"))
+        with section_bar(run.showing) as show:  # the section's bar, from the first generation of its cover
+            grid, classes, evaluated, reason = critical_paving(plan.section, SECTION_RATIO * width,
+                                                               budget=run.stop_reason, show=show,
+                                                               cover=_cover_with(executor, robot, parameters,
+                                                                                 "section"))
     if isinstance(plan, Turned) and plan.full:
         volume = turned_volume(grid, classes)      # the solid of revolution of the section (Pappus)
     run.show(0.0, evaluated)
@@ -891,8 +893,8 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         A constraint on the tool frame (:func:`workspace_sym.orientation.reach_pose`).
         Then inner boxes are proved reached by configurations within the limits
         satisfying the constraint exactly, outer boxes proved reached by none
-        (docs/methods.md section 8); ``method``, ``max_pairs``, ``inner_depth`` and
-        ``run.executor`` / ``run.chunk`` do not apply.
+        (docs/methods.md section 8); ``method``, ``max_pairs`` and ``inner_depth``
+        do not apply, and ``run.executor`` / ``run.chunk`` are refused.
 
     Returns
     -------
@@ -919,7 +921,7 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         return reach_pose(robot, delta=delta, approach=pose.approach, cone=pose.cone, every=pose.every,
                           orientation=pose.orientation, rpy=pose.rpy, size=size, parameters=parameters,
                           max_boxes=stop.max_boxes, time_limit=stop.time_limit, progress=stop.progress,
-                          run=RunOn(max_memory=run.max_memory, store=run.store, resume=run.resume))
+                          run=run)
     chunk_pairs = CHUNK_PAIRS if run.chunk is None else run.chunk
     executor = run.executor
     check_delta(delta)

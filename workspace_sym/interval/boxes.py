@@ -13,6 +13,7 @@ import html
 import math
 from dataclasses import dataclass, field
 from functools import cached_property
+from typing import Any
 
 import numpy as np
 import sympy as sp
@@ -154,6 +155,7 @@ class Paving:
     units: str | None = None
     method: str = ""                # how the boxes were decided, when a caller chose among ways (reach)
     volume_bounds: tuple | None = None  # a bracket of the measure proved another way (reach: a turned section)
+    tool_constraint: Any = None     # reach with a pose: its constraint (to_dict() and words(), orientation.py)
 
     @property
     def counts(self) -> dict:
@@ -218,6 +220,9 @@ class Paving:
         if self.volume_bounds is not None:
             out["box_measure_bounds"] = list(self.box_measure_bounds)
             out["volume_bounds"] = list(self.volume_bounds)
+        if self.tool_constraint is not None:
+            out["constraint"] = self.tool_constraint.to_dict()
+            out["constraint_words"] = self.tool_constraint.words()
         if self.exact_measure is not None:
             out["exact_measure"] = float(sp.N(self.exact_measure, 17))
             out["exact_measure_expr"] = sp.sstr(self.exact_measure)
@@ -243,6 +248,10 @@ class Paving:
         lines = [f"over ({', '.join(map(str, self.variables))}), δ = {self.delta} ({self.size}), backend "
                  f"{self.backend}{how}: {self.evaluated} boxes evaluated in {self.seconds:.2f} s",
                  f"certified measure in {fmt_bracket(lo, hi, 6)}"]
+        if self.tool_constraint is not None:
+            lines.append(f"tool constraint: {self.tool_constraint.words()}")
+        if self.method:
+            lines.append(f"method {self.method}")
         if self.exact_measure is not None:
             lines.append(f"exact measure {fmt(float(sp.N(self.exact_measure)), 6)} = {sp.sstr(self.exact_measure)}")
         if not self.complete:

@@ -405,11 +405,12 @@ def _regular(image: ImageMap, Q: np.ndarray, free: np.ndarray, inward: np.ndarra
     return regular | (left & right)
 
 
-def critical_cover(image: ImageMap, face_list, target: float, clip: np.ndarray):
+def critical_cover(image: ImageMap, face_list, target: float, clip: np.ndarray, *, show=None):
     """Enclosures ``(N, 2, 2)`` of joint boxes covering the critical sets of the faces ``face_list``, each
     at most ``target`` wide (or a box that cannot be split further), clipped to ``clip`` (an enclosure of
     the whole image), and the number of joint boxes examined.  All faces go through one loop of arrays;
-    what happens to a box depends on it alone, so any grouping of the faces gives the same enclosures."""
+    what happens to a box depends on it alone, so any grouping of the faces gives the same enclosures.
+    ``show(evaluated)``, optional, is called after each generation of joint boxes with the count so far."""
     face_list = list(face_list)
     if not face_list:
         return np.empty((0, image.m, 2)), 0
@@ -443,6 +444,8 @@ def critical_cover(image: ImageMap, face_list, target: float, clip: np.ndarray):
         kept.append(E[~small][~ok])                     # one float wide: kept as it is
         Q = children.reshape(-1, 2, *Q.shape[1:])[ok].reshape(-1, *Q.shape[1:])
         which = np.repeat(which[~small][ok], 2)
+        if show is not None:
+            show(evaluated)
     return np.concatenate(kept), evaluated
 
 
@@ -538,7 +541,8 @@ def critical_paving(image: ImageMap, width: float, *, rng=None, budget=None, cov
     boxes evaluated returning a stop reason or ``""``; ``cover`` computes the
     covers of a list of faces, ``cover(faces, target, clip)``, as a list of
     :func:`critical_cover` results (default: here, all faces in one call).  ``show`` is
-    called as ``show(share decided, boxes evaluated)`` after each step.
+    called as ``show(share decided, boxes evaluated)`` after each step: each generation of the cover here
+    (nothing decided yet), each round of proofs of the components, the marked cells.
     """
     from scipy import ndimage
 
@@ -552,7 +556,7 @@ def critical_paving(image: ImageMap, width: float, *, rng=None, budget=None, cov
     classes = np.full(grid.shape, UNDECIDED, dtype=CODE)
     target = cover_ratio * width
     if cover is None:
-        covers = [critical_cover(image, faces(image), target, root)]
+        covers = [critical_cover(image, faces(image), target, root, show=lambda evaluated: show(0.0, evaluated))]
     else:
         covers = cover(faces(image), target, root)
     evaluated = sum(n for _, n in covers)
@@ -595,6 +599,8 @@ def critical_paving(image: ImageMap, width: float, *, rng=None, budget=None, cov
                 evaluated += int(rest.sum())
                 outside = image.prove_outside(boxes[rest], max_pairs=OUTSIDE_PAIRS)
                 verdict[ids[rest][outside]] = OUTSIDE
+            # the share of the unmarked cells decided so far (the marked ones are label 0, undecided)
+            show(float(np.mean(verdict[labels] != UNDECIDED)), evaluated)
             stopped = budget(evaluated)
             if stopped:
                 break
