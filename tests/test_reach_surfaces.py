@@ -82,6 +82,34 @@ def test_an_executor_or_chunk_with_a_pose_is_refused(run, given):
     assert "apply to reach without a pose" in str(caught.value)
 
 
+def test_a_method_other_than_auto_with_a_pose_is_refused(capsys):
+    # Reference: the contract of bad input; a constrained reach picks its own method (section or pairs), so a
+    # method asked for was dropped without a word before.  API and command line, one line and exit 2.
+    with pytest.raises(InvalidParameterError) as caught:
+        reach(robots.build("scara"), delta=0.05, method="pairs", pose=Pose(**SCARA_CONE))
+    assert caught.value.parameter == "method" and "'pairs'" in str(caught.value)
+    code = main(["reach", "scara", "--delta", "0.05", "--approach", "1,0,0", "--cone", "30", "--method", "critical"])
+    out, err = capsys.readouterr()
+    lines = err.strip().splitlines()
+    assert code == 2 and out == "" and len(lines) == 1 and "'critical'" in lines[0]
+
+
+def test_inner_depth_and_max_pairs_reach_the_constrained_pairs_method(monkeypatch, capsys):
+    # Reference: the keywords the constrained path is called with (they were dropped); unset, reach_pose's own
+    # defaults apply, so a run without them is unchanged.
+    from workspace_sym import orientation
+
+    calls = []
+    monkeypatch.setattr(orientation, "reach_pose", lambda robot, **kw: calls.append(kw) or None)
+    reach(robots.build("scara"), delta=0.05, pose=Pose(**SCARA_CONE), inner_depth=0, max_pairs=500)
+    reach(robots.build("scara"), delta=0.05, pose=Pose(**SCARA_CONE))
+    assert (calls[0]["inner_depth"], calls[0]["max_pairs"]) == (0, 500)
+    assert "inner_depth" not in calls[1] and "max_pairs" not in calls[1]
+    main(["reach", "scara", "--delta", "0.05", "--approach", "1,0,0", "--cone", "30", "--inner-depth", "3"])
+    capsys.readouterr()
+    assert calls[2]["inner_depth"] == 3
+
+
 ARMS = {"ur5": lambda: DHRobot.from_file(Path(__file__).parent / "data" / "dh" / "ur5.json"),
         "kr16": lambda: DHRobot.from_urdf(Path(rtbdata.__file__).parent
                                           / "xacro/kuka_description/kuka_kr16/urdf/kr16_2.urdf")}

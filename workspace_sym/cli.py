@@ -426,7 +426,7 @@ def cmd_reach(args) -> int:
         # boxes on disk and checkpoints for the section method (the pairs method with a pose refuses them)
         kept = RunOn(max_memory=args.max_memory, store=args.store, resume=args.resume)
         paving = reach(robot, delta=args.delta, size=args.size, stop=_stop_at(args), pose=Pose(**constraint),
-                       run=kept)
+                       run=kept, method=args.method, inner_depth=args.inner_depth)
     else:
         with _distributed(args) as run:
             paving = reach(robot, delta=args.delta, size=args.size, inner_depth=args.inner_depth,
@@ -897,9 +897,9 @@ def build_parser() -> _Parser:
                         "coordinates are moved by disjoint joints, as a SCARA, or turned by a revolute first joint); "
                         "pairs: joint boxes carried by task boxes (any robot); auto (default): critical where it "
                         "applies")
-    p.add_argument("--inner-depth", type=int, default=2,
+    p.add_argument("--inner-depth", type=int, default=None,
                    help="pairs method: halvings of a last-level box when proving it reachable piece by piece "
-                        "(default 2)")
+                        "(default 2; with a tool constraint 1)")
     p.add_argument("--plot", metavar="FILE", help="draw the boxes to an image file")
     p.set_defaults(func=cmd_reach)
 

@@ -843,8 +843,8 @@ def _prepared_within(robot: DHRobot, time_limit: float | None, spent: float = 0.
 
 @arith.nearest_rounding
 def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: dict | None = None,
-          method: str = "auto", max_pairs: int = 200_000, inner_depth: int = 2, stop: StopAt = StopAt(),
-          run: RunOn = RunOn(), pose: Pose | None = None) -> Paving:
+          method: str = "auto", max_pairs: int | None = None, inner_depth: int | None = None,
+          stop: StopAt = StopAt(), run: RunOn = RunOn(), pose: Pose | None = None) -> Paving:
     """Pave the position workspace of a serial robot within its joint limits (module docstring).
 
     Parameters
@@ -855,7 +855,8 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     size : {"diameter", "width"}
     parameters : values of the symbolic lengths (default: the robot's own).
     method : {"auto", "critical", "pairs"}
-        ``"auto"``: ``"critical"`` for a planar robot, a spatial robot whose
+        ``"auto"`` (the only choice with a ``pose``, which picks its own
+        method): ``"critical"`` for a planar robot, a spatial robot whose
         coordinates are moved by disjoint sets of joints, and a spatial robot
         turned by a revolute first joint (a rigid base transform allowed);
         ``"pairs"`` otherwise.
@@ -863,7 +864,9 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         to become a boundary box is also proved inner piece by piece, halving it
         along every edge up to ``inner_depth`` times; a task box stops refining its
         joint boxes once it would hold more than ``max_pairs`` times its share of
-        the root box's measure (64 pairs at least).
+        the root box's measure (64 pairs at least).  Default (None): 2 and
+        200,000; with a ``pose``, :func:`~workspace_sym.orientation.reach_pose`'s
+        defaults, and given values are passed on to its pairs method.
     stop : :class:`~workspace_sym.interval.driver.StopAt`
         A budget (``max_boxes``, ``time_limit``): what is left undecided is returned as ``pending``.  A
         symbolic model not ready within ``time_limit`` raises
@@ -893,8 +896,8 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         A constraint on the tool frame (:func:`workspace_sym.orientation.reach_pose`).
         Then inner boxes are proved reached by configurations within the limits
         satisfying the constraint exactly, outer boxes proved reached by none
-        (docs/methods.md section 8); ``method``, ``max_pairs`` and ``inner_depth``
-        do not apply, and ``run.executor`` / ``run.chunk`` are refused.
+        (docs/methods.md section 8); a ``method`` other than ``"auto"``, and
+        ``run.executor`` / ``run.chunk``, are refused.
 
     Returns
     -------
@@ -916,12 +919,20 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         if not isinstance(pose, Pose):
             raise InvalidParameterError(f"pose must be a serial_workspace.Pose; got {type(pose).__name__}",
                                         parameter="pose")
+        if method != "auto":
+            raise InvalidParameterError(f"method: reach with a tool constraint chooses its own method (the "
+                                        f"section where the first joint turns it, pairs otherwise); got "
+                                        f"{method!r}, expected 'auto'", parameter="method")
         from .orientation import reach_pose  # one way: orientation builds on this module
 
+        given = {name: value for name, value in (("max_pairs", max_pairs), ("inner_depth", inner_depth))
+                 if value is not None}
         return reach_pose(robot, delta=delta, approach=pose.approach, cone=pose.cone, every=pose.every,
                           orientation=pose.orientation, rpy=pose.rpy, size=size, parameters=parameters,
                           max_boxes=stop.max_boxes, time_limit=stop.time_limit, progress=stop.progress,
-                          run=run)
+                          run=run, **given)
+    max_pairs = 200_000 if max_pairs is None else max_pairs
+    inner_depth = 2 if inner_depth is None else inner_depth
     chunk_pairs = CHUNK_PAIRS if run.chunk is None else run.chunk
     executor = run.executor
     check_delta(delta)
