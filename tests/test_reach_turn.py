@@ -18,9 +18,10 @@ import pytest
 import sympy as sp
 from test_reach_section import _reached_at_50_digits, check_sampled_and_reached, offset_arm
 
+from workspace_sym.interval.verdict import OUTSIDE as OUTER
 from workspace_sym.kinematics import DHJoint, DHRobot
 from workspace_sym.reach_section import Turned, to_first_frame
-from workspace_sym.reach_turn import covering_pairs, limited_turn
+from workspace_sym.reach_turn import covering_pairs, limited_turn, pave_limited
 from workspace_sym.serial_workspace import ReachModel, _model, _section, reach
 
 R = sp.Rational
@@ -125,3 +126,42 @@ def test_inner_boxes_lie_where_the_first_joint_cannot_reach_from_one_side(limite
     pos = model.position_float(q)
     for box in paving.inner[gap][rng.integers(gap.sum(), size=3)]:
         assert _reached_at_50_digits(model, rng.uniform(box[:, 0], box[:, 1]), q, pos), box
+
+
+class _Stopped:
+    """A run of :func:`pave_limited` stopped before its first proof (no time limit): only the cells decided
+    before the proofs at the four directions are left."""
+
+    time_limit, seconds = None, 0.0
+
+    @staticmethod
+    def stop_reason(count):
+        return "stopped"
+
+
+def test_the_hole_around_the_shoulder_is_outside_at_every_angle():
+    """The swing arm with its elbow (joint 3) within +-90 deg: the tool point stays at least sqrt(0.29) (0.54)
+    from the shoulder ``S = (0, 0, 0.3)`` (h = |r|^2 + 0.25 + cos(q3) (0.4 + 0.2 cos q4) with |r| >= 0.2), so
+    the cells of the section within that distance at every polar angle are outside before any other proof,
+    and so are those beyond 1.1 (0.5 + 0.4 + 0.2).  Exact: the lower bound of ``h`` is within 0.01 below 0.29
+    and the upper within 0.01 above 1.21; independent numerics: 10^5 sampled configurations never land in an
+    outer cell, and the outer cells include the disc of radius 0.5 around (0, 0.3)."""
+    robot = DHRobot([DHJoint.revolute(1, d=R(3, 10), alpha=sp.pi / 2, limits=IIWA_LIKE),
+                     DHJoint.revolute(2, a=R(1, 2), alpha=sp.pi / 2),
+                     DHJoint.revolute(3, a=R(2, 5), alpha=sp.pi / 2, limits=(-sp.pi / 2, sp.pi / 2)),
+                     DHJoint.revolute(4, a=R(1, 5))], name="swing arm, elbow +-90 deg")
+    turn = limited_turn(_section(robot, ()), _model(robot, ()))
+    reach_ = turn.plan.section.reach
+    assert [str(v) for v in reach_.map.variables] == ["theta3", "theta4"]
+    assert 0.28 <= reach_.lowest(1e-3) <= 0.29 and 1.21 <= reach_.bound(1e-3) <= 1.22
+    grid, classes, _, _, reason = pave_limited(turn, 0.02, _Stopped())
+    assert reason == "stopped"
+    outer = classes == OUTER
+    e0, e1 = grid.edges
+    rho, z = np.maximum(e0[1:], 0.0)[:, None], np.maximum(np.abs(e1[:-1] - 0.3), np.abs(e1[1:] - 0.3))[None, :]
+    assert np.all(outer[np.hypot(rho, z) < 0.5])
+    section = turn.plan.section
+    p = section.position_float(section.random_configurations(100_000, np.random.default_rng(3)))
+    cells, _ = grid.span(np.repeat(p[:, :, None], 2, axis=2))
+    assert not outer[cells[:, 0], cells[:, 1]].any()
+    assert (np.hypot(p[:, 0], p[:, 1] - 0.3) >= 0.53).all()          # the hole is there

@@ -25,7 +25,8 @@ on an outward enclosure of ``L``: opposite directions when ``L >= pi``, any two 
 with two qualifying directions proved is **inner** (the solid it turns into lies in the workspace); a cell with
 one direction ``k`` proved holds the sector ``psi in k pi / 2 + [a, b]``.
 
-**Outside.**  A cell proved outside the section (blocks of cells, stage 2 of
+**Outside.**  A cell proved outside the section (beyond the greatest distance from the shoulder or within the
+least, :meth:`~workspace_sym.reach_section.ShoulderReach.outside_cells`; blocks of cells, stage 2 of
 :func:`~workspace_sym.reach_section.section_paving`) is outside
 the workspace at every polar angle, whatever the limits of ``theta_1``.
 
@@ -270,13 +271,15 @@ def pave_limited(limited: LimitedTurn, width: float, run, *, show=None):
         return budget
 
     grid = CellGrid(section.enclose(section.limits[None])[0], width)
+    # The cells beyond the greatest distance from the shoulder, or within the least: outside, in two proofs.
+    outside = np.zeros(grid.shape, dtype=bool) if section.reach is None else section.reach.outside_cells(grid)
     sampled = direction_seeds(section.lateral, grid)
     reached = np.zeros(grid.shape, dtype=np.int8)
     for index in sampled[0]:
         reached[tuple(index.T)] = 1
-    proved, evaluated, reason = prove_directions(section.lateral, grid, np.ones(grid.shape, dtype=bool),
+    proved, evaluated, reason = prove_directions(section.lateral, grid, ~outside,
                                                  budget=until(DIRECTIONS_SHARE, "share"), sampled=sampled)
-    classes = full_turn_cells(limited, np.full(grid.shape, UNDECIDED, dtype=np.int8), proved)
+    classes = full_turn_cells(limited, np.where(outside, OUTER, UNDECIDED).astype(np.int8), proved)
     if reason != "share" and reason:
         return grid, classes, proved, evaluated, reason
     blocks = classes.copy()
