@@ -16,12 +16,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import sympy as sp
-from test_reach_section import _reached_at_50_digits, check_sampled_and_reached, offset_arm
+from test_reach_section import _pappus_volume, _reached_at_50_digits, check_sampled_and_reached, offset_arm
 
 from workspace_sym.interval.verdict import OUTSIDE as OUTER
 from workspace_sym.kinematics import DHJoint, DHRobot
-from workspace_sym.reach_section import Turned, to_first_frame
-from workspace_sym.reach_turn import covering_pairs, limited_turn, pave_limited
+from workspace_sym.reach_section import Turned, to_first_frame, turned_volume
+from workspace_sym.reach_turn import covering_pairs, limited_turn, pave_limited, pieces_upper
 from workspace_sym.serial_workspace import ReachModel, _model, _section, reach
 
 R = sp.Rational
@@ -143,7 +143,8 @@ def test_the_hole_around_the_shoulder_is_outside_at_every_angle():
     """The swing arm with its elbow (joint 3) within +-90 deg: the tool point stays at least sqrt(0.29) (0.54)
     from the shoulder ``S = (0, 0, 0.3)`` (h = |r|^2 + 0.25 + cos(q3) (0.4 + 0.2 cos q4) with |r| >= 0.2), so
     the cells of the section within that distance at every polar angle are outside before any other proof,
-    and so are those beyond 1.1 (0.5 + 0.4 + 0.2).  Exact: the lower bound of ``h`` is within 0.01 below 0.29
+    and so are those beyond 1.1 (0.5 + 0.4 + 0.2); the volume's upper bound on pieces of cells follows that
+    shell to within 1 %.  Exact: the lower bound of ``h`` is within 0.01 below 0.29
     and the upper within 0.01 above 1.21; independent numerics: 10^5 sampled configurations never land in an
     outer cell, and the outer cells include the disc of radius 0.5 around (0, 0.3)."""
     robot = DHRobot([DHJoint.revolute(1, d=R(3, 10), alpha=sp.pi / 2, limits=IIWA_LIKE),
@@ -165,3 +166,11 @@ def test_the_hole_around_the_shoulder_is_outside_at_every_angle():
     cells, _ = grid.span(np.repeat(p[:, :, None], 2, axis=2))
     assert not outer[cells[:, 0], cells[:, 1]].any()
     assert (np.hypot(p[:, 0], p[:, 1] - 0.3) >= 0.53).all()          # the hole is there
+    # The volume's upper bound on pieces of the undecided cells: within 1 % of the shell between the two
+    # distances (closed form), which holds the workspace; never below the Pappus volume of the sampled section
+    # (cells of side 0.005: an estimate, second method); below the coarse cells' bound; one piece: that bound.
+    top = pieces_upper(reach_, grid, classes)
+    shell = 4 / 3 * np.pi * (1.1 ** 3 - 0.29 ** 1.5)
+    coarse = turned_volume(grid, classes)[1]
+    assert _pappus_volume(robot, n=400_000, h=0.005) <= top <= 1.01 * shell < coarse
+    assert pieces_upper(reach_, grid, classes, 1) == pytest.approx(coarse, rel=1e-15)

@@ -281,24 +281,16 @@ class ShoulderReach:
         """Boolean grid of the cells every point of which is farther than ``sqrt(bound)`` from the centre
         (outward-rounded: the distance is bounded below)."""
         e0, e1 = grid.edges
+        return self.far(e0[:-1, None], e0[1:, None], e1[None, :-1], e1[None, 1:], bound)
+
+    def far(self, r0, r1, z0, z1, bound: float) -> np.ndarray:
+        """:meth:`far_cells` of the rectangles ``[r0, r1] x [z0, z1]`` (arrays broadcast together)."""
         (a, b), (c, d) = self.centre
         with np.errstate(all="ignore"):
-            dr = np.maximum(0.0, np.maximum(arith.sub((e0[:-1], e0[:-1]), (b, b))[0],
-                                            arith.sub((a, a), (e0[1:], e0[1:]))[0]))
-            dz = np.maximum(0.0, np.maximum(arith.sub((e1[:-1], e1[:-1]), (d, d))[0],
-                                            arith.sub((c, c), (e1[1:], e1[1:]))[0]))
-            r2 = arith.sqr((dr, dr))[0]
-            z2 = arith.sqr((dz, dz))[0]
-            near = arith.add((r2[:, None], r2[:, None]), (z2[None, :], z2[None, :]))[0]
-        return near > bound
-
-    def outside_cells(self, grid: CellGrid) -> np.ndarray:
-        """Boolean grid of the cells proved outside the section by the distance from ``S``: the far cells
-        (:meth:`far_cells`) and the hole around it (:meth:`near_cells`), both bounds sought within
-        ``REACH_TOLERANCE`` cell widths times twice the greatest distance."""
-        root = self.enclose(self.map.limits[None])[1][0]
-        tolerance = REACH_TOLERANCE * grid.width * math.sqrt(max(root, 0.0))
-        return self.far_cells(grid, self.bound(tolerance)) | self.near_cells(grid, self.lowest(tolerance))
+            dr = np.maximum(0.0, np.maximum(arith.sub((r0, r0), (b, b))[0], arith.sub((a, a), (r1, r1))[0]))
+            dz = np.maximum(0.0, np.maximum(arith.sub((z0, z0), (d, d))[0], arith.sub((c, c), (z1, z1))[0]))
+            r2, z2 = arith.sqr((dr, dr))[0], arith.sqr((dz, dz))[0]
+            return arith.add((r2, r2), (z2, z2))[0] > bound
 
     def near_cells(self, grid: CellGrid, lowest: float) -> np.ndarray:
         """Boolean grid of the cells every point of which, at every polar angle, is nearer than
@@ -306,14 +298,30 @@ class ShoulderReach:
         section coordinates ``(rho, z)`` can be from ``S`` is ``(rho + |s_xy|)^2 + (z - s_z)^2``, bounded above
         over the cell (outward-rounded).  No configuration reaches them: the hole around the shoulder."""
         e0, e1 = grid.edges
+        return self.near(e0[:-1, None], e0[1:, None], e1[None, :-1], e1[None, 1:], lowest)
+
+    def near(self, r0, r1, z0, z1, lowest: float) -> np.ndarray:
+        """:meth:`near_cells` of the rectangles ``[r0, r1] x [z0, z1]`` (arrays broadcast together)."""
         (_, b), (c, d) = self.centre
         with np.errstate(all="ignore"):
-            dr = arith.add((np.maximum(e0[1:], 0.0), np.maximum(e0[1:], 0.0)), (b, b))[1]
-            dz = np.maximum(arith.sub((d, d), (e1[:-1], e1[:-1]))[1], arith.sub((e1[1:], e1[1:]), (c, c))[1])
-            r2 = arith.sqr((dr, dr))[1]
-            z2 = arith.sqr((dz, dz))[1]
-            far = arith.add((r2[:, None], r2[:, None]), (z2[None, :], z2[None, :]))[1]
-        return far < lowest
+            dr = arith.add((np.maximum(r1, 0.0), np.maximum(r1, 0.0)), (b, b))[1]
+            dz = np.maximum(arith.sub((d, d), (z0, z0))[1], arith.sub((z1, z1), (c, c))[1])
+            r2, z2 = arith.sqr((dr, dr))[1], arith.sqr((dz, dz))[1]
+            return arith.add((r2, r2), (z2, z2))[1] < lowest
+
+    def outside(self, r0, r1, z0, z1, width: float) -> np.ndarray:
+        """Mask of the rectangles ``[r0, r1] x [z0, z1]`` (arrays broadcast together) proved outside the section
+        by the distance from ``S``: far (:meth:`far`) or in the hole around it (:meth:`near`), both bounds sought
+        within ``REACH_TOLERANCE`` times ``width`` times twice the greatest distance."""
+        root = self.enclose(self.map.limits[None])[1][0]
+        tolerance = REACH_TOLERANCE * width * math.sqrt(max(root, 0.0))
+        return self.far(r0, r1, z0, z1, self.bound(tolerance)) | self.near(r0, r1, z0, z1, self.lowest(tolerance))
+
+    def outside_cells(self, grid: CellGrid) -> np.ndarray:
+        """Boolean grid of the cells proved outside the section by the distance from ``S`` (:meth:`outside`,
+        the far cells and the hole), the bounds sought within a fifth of a cell."""
+        e0, e1 = grid.edges
+        return self.outside(e0[:-1, None], e0[1:, None], e1[None, :-1], e1[None, 1:], grid.width)
 
 
 @dataclass(frozen=True)
@@ -709,6 +717,16 @@ def _blocks(image, grid, classes, reached, budget, show, max_pairs, evaluated):
     return evaluated, stopped
 
 
+def solid_volumes(r0, r1, z0, z1) -> tuple[np.ndarray, np.ndarray]:
+    """Enclosures ``(lo, hi)`` of the volumes ``pi (r1^2 - r0^2) (z1 - z0)`` of the rectangles ``[r0, r1] x
+    [z0, z1]`` of ``(rho, z)`` turned through a full circle (``rho`` clipped at 0; outward-rounded)."""
+    pi = numpy_constant(sp.pi)
+    r0, r1 = np.maximum(r0, 0.0), np.maximum(r1, 0.0)
+    with np.errstate(all="ignore"):
+        ring = arith.sub(arith.sqr((r1, r1)), arith.sqr((r0, r0)))
+        return arith.mul(arith.mul(pi, ring), arith.sub((z1, z1), (z0, z0)))
+
+
 def turned_volume(grid: CellGrid, classes: np.ndarray) -> tuple[float, float]:
     """A proved bracket of the volume of the solid of revolution of the section ``S`` from its paving
     (Pappus): the cell ``[r0, r1] x [z0, z1]`` (``rho`` clipped at 0) turns into ``pi (r1^2 - r0^2)
@@ -726,16 +744,11 @@ def turned_volume(grid: CellGrid, classes: np.ndarray) -> tuple[float, float]:
     >>> bool(lo <= np.pi <= lo + 1e-14), bool(4 * np.pi <= hi <= 4 * np.pi + 1e-13)
     (True, True)
     """
-    pi = numpy_constant(sp.pi)
     e0, e1 = grid.edges
 
     def volumes(value):
         at = np.argwhere(classes == value)
-        r0, r1 = np.maximum(e0[at[:, 0]], 0.0), np.maximum(e0[at[:, 0] + 1], 0.0)
-        z0, z1 = e1[at[:, 1]], e1[at[:, 1] + 1]
-        with np.errstate(all="ignore"):
-            ring = arith.sub(arith.sqr((r1, r1)), arith.sqr((r0, r0)))
-            return arith.mul(arith.mul(pi, ring), arith.sub((z1, z1), (z0, z0)))
+        return solid_volumes(e0[at[:, 0]], e0[at[:, 0] + 1], e1[at[:, 1]], e1[at[:, 1] + 1])
 
     inner, undecided = volumes(INNER), volumes(UNDECIDED)
     low = ExactSum.of(inner[0])

@@ -51,6 +51,7 @@ import sympy as sp
 from .interval import arith
 from .interval.graph import numpy_constant
 from .interval.image import CellGrid, ImageMap
+from .interval.store import ExactSum
 from .interval.verdict import INSIDE as INNER
 from .interval.verdict import OUTSIDE as OUTER
 from .interval.verdict import UNDECIDED
@@ -62,12 +63,13 @@ from .reach_section import (
     _in_chunks,
     _prove_cells,
     first_joint_turn,
+    solid_volumes,
     to_first_frame,
     turned_volume,
 )
 
 __all__ = ["LimitedTurn", "limited_turn", "covering_pairs", "DirectionMap", "direction_seeds", "prove_directions",
-           "full_turn_cells", "limited_volume", "LimitedTurnTest", "pave_limited"]
+           "full_turn_cells", "limited_volume", "pieces_upper", "LimitedTurnTest", "pave_limited"]
 
 DIRECTIONS = 4                   # the axis directions k pi / 2 of the first joint's frame
 DIRECTION_CHUNK = 2_000          # cells proved in one step (the budget is asked between steps)
@@ -75,6 +77,7 @@ DIRECTION_SAMPLES = 400_000      # sampled configurations giving the seeds of th
 DIRECTION_DEPTH = 2              # a cell failing whole is tried in 4^level pieces, level up to this
 DIRECTIONS_SHARE = 0.45         # with a time limit, the cells are tried at the four directions until this share
 BLOCKS_END = 0.92                # of the time left after the symbolic preparation, then outside blocks until this
+SHOULDER_PIECES = 8              # the undecided cells cut this many times along each axis for the volume's upper bound
 
 
 @dataclass(frozen=True)
@@ -215,14 +218,46 @@ def full_turn_cells(limited: LimitedTurn, classes: np.ndarray, proved: np.ndarra
 
 def limited_volume(limited: LimitedTurn, grid, full: np.ndarray, proved: np.ndarray) -> tuple[float, float]:
     """A proved bracket of the workspace's volume (module docstring) from the full-turn classes ``full`` and the
-    directions ``proved``."""
+    directions ``proved``; the upper bound is also sought on the pieces of the undecided cells
+    (:func:`pieces_upper`), the lesser kept."""
     low, high = turned_volume(grid, full)
+    if limited.plan.section.reach is not None:
+        high = min(high, pieces_upper(limited.plan.section.reach, grid, full))
     sector = np.where((full == UNDECIDED) & proved.any(axis=0), INNER, OUTER).astype(np.int8)
     part = turned_volume(grid, sector)[0]
     with np.errstate(all="ignore"):
         extra = arith.mul((part, part), (limited.share, limited.share))[0]
         total = arith.add((low, low), (extra, extra))[0]
     return float(total), high
+
+
+def pieces_upper(reach, grid, classes: np.ndarray, pieces: int = SHOULDER_PIECES) -> float:
+    """An upper bound of the volume of the solid of revolution of the section from its classes and the distance
+    from the shoulder (:class:`~workspace_sym.reach_section.ShoulderReach`): the solids of the inner cells, plus
+    those of the pieces of the undecided cells (each cut ``pieces`` times along both axes, the cell's own edges
+    kept as the outer edges of its pieces, so that they cover it) not proved outside by that distance, summed
+    rounded up.  The cells cut by the sphere of the greatest distance (or the least) weigh only their part
+    within it, to a piece."""
+    e0, e1 = grid.edges
+    at = np.argwhere(classes == UNDECIDED)
+    t = np.linspace(0.0, 1.0, pieces + 1)
+
+    def cut(e, index):                          # (N, pieces + 1) edges, the ends exactly the cell's
+        lo, hi = e[index][:, None], e[index + 1][:, None]
+        edges = lo + (hi - lo) * t[None, :]
+        edges[:, 0], edges[:, -1] = lo[:, 0], hi[:, 0]
+        return edges
+
+    r, z = cut(e0, at[:, 0]), cut(e1, at[:, 1])
+    r0, r1 = r[:, :-1, None], r[:, 1:, None]
+    z0, z1 = z[:, None, :-1], z[:, None, 1:]
+    kept = ~reach.outside(r0, r1, z0, z1, grid.width / pieces)
+    shape = kept.shape
+    vol = solid_volumes(*(np.broadcast_to(x, shape)[kept] for x in (r0, r1, z0, z1)))[1]
+    inner = turned_volume(grid, np.where(classes == INNER, INNER, OUTER).astype(np.int8))[1]
+    total = ExactSum.of(vol)
+    total.add(np.array([inner]))
+    return float(total.value_up)
 
 
 class LimitedTurnTest(TurnedTest):
