@@ -18,10 +18,18 @@ import pytest
 import sympy as sp
 from test_reach_section import _pappus_volume, _reached_at_50_digits, check_sampled_and_reached, offset_arm
 
+from workspace_sym.interval.verdict import INSIDE as INNER
 from workspace_sym.interval.verdict import OUTSIDE as OUTER
 from workspace_sym.kinematics import DHJoint, DHRobot
 from workspace_sym.reach_section import Turned, to_first_frame, turned_volume
-from workspace_sym.reach_turn import covering_pairs, limited_turn, pave_limited, pieces_upper
+from workspace_sym.reach_turn import (
+    cell_level,
+    covering_pairs,
+    limited_turn,
+    limited_volume,
+    pave_limited,
+    pieces_upper,
+)
 from workspace_sym.serial_workspace import ReachModel, _model, _section, reach
 
 R = sp.Rational
@@ -174,3 +182,44 @@ def test_the_hole_around_the_shoulder_is_outside_at_every_angle():
     coarse = turned_volume(grid, classes)[1]
     assert _pappus_volume(robot, n=400_000, h=0.005) <= top <= 1.01 * shell < coarse
     assert pieces_upper(reach_, grid, classes, 1) == pytest.approx(coarse, rel=1e-15)
+
+
+class _Free:
+    """A run of :func:`pave_limited` without a time limit nor a count: every stage to its end."""
+
+    time_limit, seconds = None, 0.0
+
+    @staticmethod
+    def stop_reason(count):
+        return ""
+
+
+def test_pieces_of_cut_cells_count_for_the_volume_and_are_reached():
+    """The cells of the swing arm's section that fail whole (cut by its boundary) keep the pieces proved at two
+    directions of a covering pair (or one, for the share of the circle): the lower bound of the volume gains on
+    the cells' (all pieces or none), the bracket still holds the Monte Carlo volume of the sampled section with
+    its arcs (second method), and points of such pieces at random polar angles are reached within every limit by
+    an inverse kinematics at 50 digits (independent numerics)."""
+    robot = swing_arm()
+    turn = limited_turn(_section(robot, ()), _model(robot, ()))
+    grid, classes, pieces, _, reason = pave_limited(turn, 0.04, _Free())
+    assert reason == ""
+    lo, hi = limited_volume(turn, grid, classes, pieces)
+    F = pieces.shape[1] // grid.shape[0]
+    whole = np.repeat(np.repeat(cell_level(pieces, grid), F, axis=1), F, axis=2)
+    assert limited_volume(turn, grid, classes, whole)[0] < lo <= _arcs_volume(robot) <= hi
+    both = np.zeros(pieces.shape[1:], dtype=bool)
+    for j, k in turn.pairs:
+        both |= pieces[j] & pieces[k]
+    cut = both & ~np.repeat(np.repeat(classes == INNER, F, axis=0), F, axis=1)
+    assert cut.any()
+    model = ReachModel(robot)
+    rng = np.random.default_rng(8)
+    q = model.random_configurations(30_000, rng)
+    pos = model.position_float(q)
+    e0, e1 = grid.edges
+    for a, b in np.argwhere(cut)[rng.integers(cut.sum(), size=4)]:
+        rho = e0[a // F] + (e0[a // F + 1] - e0[a // F]) * (a % F + rng.uniform()) / F
+        z = e1[b // F] + (e1[b // F + 1] - e1[b // F]) * (b % F + rng.uniform()) / F
+        psi = rng.uniform(-np.pi, np.pi)
+        assert _reached_at_50_digits(model, np.array([rho * np.cos(psi), rho * np.sin(psi), z]), q, pos), (rho, z)

@@ -34,9 +34,11 @@ the workspace at every polar angle, whatever the limits of ``theta_1``.
 inner when its ``(rho, z)`` rectangle lies in inner cells, or in cells proved at one direction ``k`` while its
 polar angle range (float ``atan2`` of its corners widened, as the constant-offset section does) lies in
 ``k pi / 2 + [a, b]``; outer when the rectangle lies in cells outside the section.  The volume is bracketed as
-:func:`~workspace_sym.reach_section.turned_volume` does: the inner cells' solids, plus a share ``L / 2 pi``
-(rounded down) of the solids of the cells with one direction proved, lie in the workspace; the workspace lies in
-the solid of the cells not proved outside.
+:func:`~workspace_sym.reach_section.turned_volume` does, on pieces of cells (a cell failing whole is tried in
+``4^level`` pieces, and those proved count, a cell cut by the section's boundary included): the solids of the
+pieces proved at both directions of a pair, plus a share ``L / 2 pi`` (rounded down) of the solids of the pieces
+with one direction proved, lie in the workspace; the workspace lies in the solid of the cells not proved
+outside, whose pieces beyond the greatest distance from the shoulder (or within the least) are dropped.
 """
 
 from __future__ import annotations
@@ -51,6 +53,7 @@ import sympy as sp
 from .interval import arith
 from .interval.graph import numpy_constant
 from .interval.image import CellGrid, ImageMap
+from .interval.search import split_every_axis
 from .interval.store import ExactSum
 from .interval.verdict import INSIDE as INNER
 from .interval.verdict import OUTSIDE as OUTER
@@ -61,7 +64,6 @@ from .reach_section import (
     TurnedTest,
     _blocks,
     _in_chunks,
-    _prove_cells,
     first_joint_turn,
     solid_volumes,
     to_first_frame,
@@ -69,7 +71,7 @@ from .reach_section import (
 )
 
 __all__ = ["LimitedTurn", "limited_turn", "covering_pairs", "DirectionMap", "direction_seeds", "prove_directions",
-           "full_turn_cells", "limited_volume", "pieces_upper", "LimitedTurnTest", "pave_limited"]
+           "full_turn_cells", "limited_volume", "pieces_upper", "cell_level", "LimitedTurnTest", "pave_limited"]
 
 DIRECTIONS = 4                   # the axis directions k pi / 2 of the first joint's frame
 DIRECTION_CHUNK = 2_000          # cells proved in one step (the budget is asked between steps)
@@ -171,15 +173,37 @@ def direction_seeds(lateral: ImageMap, grid, n: int = DIRECTION_SAMPLES, seed: i
     return index, seeds
 
 
+def _split(cells: np.ndarray, level: int):
+    """``(pieces, owner, offset)``: each ``(rho, z)`` cell halved along both axes ``level`` times
+    (:func:`~workspace_sym.interval.search.split_every_axis`, the same floats as the proofs'), the cell of each
+    piece and its position ``(a, b)`` among the ``2^level x 2^level`` pieces of its cell."""
+    pieces, owner, offset = cells, np.arange(len(cells)), np.zeros((len(cells), 2), dtype=int)
+    for _ in range(level):           # split_every_axis: children grouped by corner, bit k of it the upper half
+        pieces, owner = split_every_axis(pieces), np.tile(owner, 4)
+        offset = np.concatenate([2 * offset + np.array([c & 1, c >> 1 & 1]) for c in range(4)])
+    return pieces, owner, offset
+
+
+def cell_level(pieces: np.ndarray, grid) -> np.ndarray:
+    """The masks over ``grid``'s cells of the cells whose pieces are all proved, from the piece masks of
+    :func:`prove_directions` (``(..., n0 F, n1 F)``)."""
+    F = pieces.shape[-2] // grid.shape[0]
+    return pieces.reshape(pieces.shape[:-2] + (grid.shape[0], F, grid.shape[1], F)).all(axis=(-3, -1))
+
+
 def prove_directions(lateral: ImageMap, grid, candidates: np.ndarray, *, budget=None, depth: int = DIRECTION_DEPTH,
                      sampled=None, evaluated: int = 0):
-    """``(proved, evaluated, stopped)``: ``proved[k]`` the mask over ``grid`` of the cells proved at direction
-    ``k`` (module docstring), among the ``candidates`` (a mask over ``grid``) that hold a sampled configuration
-    near that direction (``sampled``: :func:`direction_seeds`, drawn when not given); the cells failing whole are
-    tried in ``4^level`` pieces up to ``depth``.  ``budget(evaluated, ahead=seconds)`` is asked before each
-    chunk."""
+    """``(pieces, evaluated, stopped)``: ``pieces[k]`` the mask over the ``2^depth x 2^depth`` pieces of each
+    cell of ``grid`` (shape ``(n0 2^depth, n1 2^depth)``) of those proved at direction ``k`` (module
+    docstring), among the ``candidates`` (a mask over ``grid``) that hold a sampled configuration near that
+    direction (``sampled``: :func:`direction_seeds`, drawn when not given); the cells failing whole are tried
+    in ``4^level`` pieces up to ``depth``, each piece proved counting for the volume (a cell cut by the
+    boundary of the section keeps its pieces inside).  ``budget(evaluated, ahead=seconds)`` is asked before
+    each chunk."""
     budget = budget or (lambda evaluated, ahead=0.0: "")
+    F = 2 ** depth
     proved = np.zeros((DIRECTIONS,) + grid.shape, dtype=bool)
+    pieces = np.zeros((DIRECTIONS, grid.shape[0] * F, grid.shape[1] * F), dtype=bool)
     index, seeds = sampled if sampled is not None else direction_seeds(lateral, grid)
     count = [evaluated]
     pace = [0.0]
@@ -195,36 +219,58 @@ def prove_directions(lateral: ImageMap, grid, candidates: np.ndarray, *, budget=
 
             def prove(part, k=k, image=image, level=level):
                 count[0] += len(part) * 4 ** level
-                inside = _prove_cells(image, grid.cells(index[k][part]), seeds[k][part], level)
-                proved[k][tuple(index[k][part][inside].T)] = True
+                cells = index[k][part]
+                boxes, owner, offset = _split(grid.cells(cells), level)
+                inside = image.prove_inside(boxes, seeds[k][part][owner])
+                proved[k][tuple(cells[np.bincount(owner[~inside], minlength=len(cells)) == 0].T)] = True
+                size = F >> level
+                rows = cells[owner[inside], 0] * F + offset[inside, 0] * size
+                cols = cells[owner[inside], 1] * F + offset[inside, 1] * size
+                for a, b in itertools.product(range(size), repeat=2):
+                    pieces[k][rows + a, cols + b] = True
 
             stopped = _in_chunks(todo, max(1, DIRECTION_CHUNK // 4 ** level), ask, prove, pace, 4 ** level)
             if stopped:
-                return proved, count[0], stopped
-    return proved, count[0], stopped
+                return pieces, count[0], stopped
+    return pieces, count[0], stopped
 
 
-def full_turn_cells(limited: LimitedTurn, classes: np.ndarray, proved: np.ndarray) -> np.ndarray:
-    """Classes of the cells for every polar angle: inner where two directions of a qualifying pair are proved,
-    outer where the section's cell is, undecided elsewhere."""
+def full_turn_cells(limited: LimitedTurn, classes: np.ndarray, pieces: np.ndarray) -> np.ndarray:
+    """Classes of the cells for every polar angle: inner where two directions of a qualifying pair are proved
+    (every piece of the cell, ``pieces`` as :func:`prove_directions` gives them), outer where the section's
+    cell is, undecided elsewhere."""
     full = np.zeros(classes.shape, dtype=bool)
+    F = pieces.shape[-2] // classes.shape[0]
     for j, k in limited.pairs:
-        full |= proved[j] & proved[k]
+        full |= (pieces[j] & pieces[k]).reshape(classes.shape[0], F, classes.shape[1], F).all(axis=(1, 3))
     out = np.full(classes.shape, UNDECIDED, dtype=np.int8)
     out[full & (classes != OUTER)] = INNER
     out[classes == OUTER] = OUTER
     return out
 
 
-def limited_volume(limited: LimitedTurn, grid, full: np.ndarray, proved: np.ndarray) -> tuple[float, float]:
+def limited_volume(limited: LimitedTurn, grid, full: np.ndarray, pieces: np.ndarray) -> tuple[float, float]:
     """A proved bracket of the workspace's volume (module docstring) from the full-turn classes ``full`` and the
-    directions ``proved``; the upper bound is also sought on the pieces of the undecided cells
-    (:func:`pieces_upper`), the lesser kept."""
-    low, high = turned_volume(grid, full)
+    pieces proved at each direction (:func:`prove_directions`): a piece proved at both directions of a pair
+    turns into a solid in the workspace, a piece proved at one direction gives a share ``L / 2 pi`` (rounded
+    down) of its solid.  The upper bound is that of the cells not outside, also sought on the pieces of the
+    undecided cells (:func:`pieces_upper`), the lesser kept."""
+    high = turned_volume(grid, full)[1]
     if limited.plan.section.reach is not None:
         high = min(high, pieces_upper(limited.plan.section.reach, grid, full))
-    sector = np.where((full == UNDECIDED) & proved.any(axis=0), INNER, OUTER).astype(np.int8)
-    part = turned_volume(grid, sector)[0]
+    F = pieces.shape[-2] // grid.shape[0]
+    both = np.zeros(pieces.shape[1:], dtype=bool)
+    for j, k in limited.pairs:
+        both |= pieces[j] & pieces[k]
+    outer = np.repeat(np.repeat(full == OUTER, F, axis=0), F, axis=1)
+    both &= ~outer
+    one = pieces.any(axis=0) & ~both & ~outer
+    at = np.argwhere((both | one).reshape(grid.shape[0], F, grid.shape[1], F).any(axis=(1, 3)))
+    boxes, owner, offset = _split(grid.cells(at), F.bit_length() - 1)
+    rows, cols = at[owner, 0] * F + offset[:, 0], at[owner, 1] * F + offset[:, 1]
+    volumes = solid_volumes(boxes[:, 0, 0], boxes[:, 0, 1], boxes[:, 1, 0], boxes[:, 1, 1])[0]
+    low = ExactSum.of(volumes[both[rows, cols]]).value_down
+    part = ExactSum.of(volumes[one[rows, cols]]).value_down
     with np.errstate(all="ignore"):
         extra = arith.mul((part, part), (limited.share, limited.share))[0]
         total = arith.add((low, low), (extra, extra))[0]
@@ -264,10 +310,11 @@ class LimitedTurnTest(TurnedTest):
     """Classify world boxes of ``(x, y, z)`` from the full-turn classes and the directions proved (module
     docstring)."""
 
-    def __init__(self, limited: LimitedTurn, grid, full: np.ndarray, proved: np.ndarray):
+    def __init__(self, limited: LimitedTurn, grid, full: np.ndarray, pieces: np.ndarray):
         super().__init__(limited.plan, grid, full)
         self.limited = limited
-        self.sectors = [grid.prefix(np.where(p, INNER, UNDECIDED).astype(np.int8), INNER) for p in proved]
+        self.sectors = [grid.prefix(np.where(p, INNER, UNDECIDED).astype(np.int8), INNER)
+                        for p in cell_level(pieces, grid)]
 
     def __call__(self, X: np.ndarray):
         from .serial_workspace import _angles, _arc_within  # one way: serial_workspace dispatches here
@@ -289,10 +336,11 @@ class LimitedTurnTest(TurnedTest):
 
 
 def pave_limited(limited: LimitedTurn, width: float, run, *, show=None):
-    """``(grid, full classes, proved, evaluated, reason)`` over a grid of the given width on the section's
-    enclosure: its cells tried at the four directions (:func:`prove_directions`), then blocks of cells proved
-    outside the section (stage 2 of :func:`~workspace_sym.reach_section.section_paving`; a cell holding a
-    sampled position is never tried, a cell inner at every angle is skipped).  With a time limit, the directions
+    """``(grid, full classes, pieces, evaluated, reason)`` over a grid of the given width on the section's
+    enclosure: its cells tried at the four directions (:func:`prove_directions`, whose pieces are returned),
+    then blocks of cells proved outside the section (stage 2 of
+    :func:`~workspace_sym.reach_section.section_paving`; a cell holding a sampled position is never tried, a
+    cell inner at every angle is skipped).  With a time limit, the directions
     take ``DIRECTIONS_SHARE`` of the time left when called, the blocks run until ``BLOCKS_END`` of it, the world
     boxes take the rest."""
     section = limited.plan.section
