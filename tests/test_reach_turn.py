@@ -18,6 +18,7 @@ import pytest
 import sympy as sp
 from test_reach_section import _pappus_volume, _reached_at_50_digits, check_sampled_and_reached, offset_arm
 
+from workspace_sym.interval.image import CellGrid
 from workspace_sym.interval.verdict import INSIDE as INNER
 from workspace_sym.interval.verdict import OUTSIDE as OUTER
 from workspace_sym.kinematics import DHJoint, DHRobot
@@ -25,10 +26,12 @@ from workspace_sym.reach_section import Turned, to_first_frame, turned_volume
 from workspace_sym.reach_turn import (
     cell_level,
     covering_pairs,
+    direction_seeds,
     limited_turn,
     limited_volume,
     pave_limited,
     pieces_upper,
+    prove_directions,
 )
 from workspace_sym.serial_workspace import ReachModel, _model, _section, reach
 
@@ -223,3 +226,24 @@ def test_pieces_of_cut_cells_count_for_the_volume_and_are_reached():
         z = e1[b // F] + (e1[b // F + 1] - e1[b // F]) * (b % F + rng.uniform()) / F
         psi = rng.uniform(-np.pi, np.pi)
         assert _reached_at_50_digits(model, np.array([rho * np.cos(psi), rho * np.sin(psi), z]), q, pos), (rho, z)
+
+
+def test_directions_resume_where_they_stopped():
+    """A run of the proofs at the four directions stopped after a third of its tests and resumed from its state
+    proves the same pieces as one run with the same tests in all (the cells tried at a level are not tried again:
+    the time a stopped stage leaves goes to new cells), on the swing arm's section (cells of width 0.08, one
+    level of pieces)."""
+    robot = swing_arm()
+    section = limited_turn(_section(robot, ()), _model(robot, ())).plan.section
+    grid = CellGrid(section.enclose(section.limits[None])[0], 0.08)
+    sampled = direction_seeds(section.lateral, grid, n=20_000)
+    every = np.ones(grid.shape, dtype=bool)
+    whole, tests, stopped = prove_directions(section.lateral, grid, every, sampled=sampled, depth=1)
+    assert stopped == "" and whole.any()
+    state: dict = {}
+    part, first, stopped = prove_directions(section.lateral, grid, every, sampled=sampled, state=state, depth=1,
+                                            budget=lambda count, ahead=0.0: "stop" if count >= tests // 3 else "")
+    assert stopped == "stop" and part.sum() < whole.sum()
+    again, total, stopped = prove_directions(section.lateral, grid, every, sampled=sampled, state=state,
+                                             evaluated=first, depth=1)
+    assert stopped == "" and np.array_equal(again, whole) and total == tests

@@ -77,7 +77,8 @@ DIRECTIONS = 4                   # the axis directions k pi / 2 of the first joi
 DIRECTION_CHUNK = 2_000          # cells proved in one step (the budget is asked between steps)
 DIRECTION_SAMPLES = 400_000      # sampled configurations giving the seeds of the proofs
 DIRECTION_DEPTH = 2              # a cell failing whole is tried in 4^level pieces, level up to this
-DIRECTIONS_SHARE = 0.45         # with a time limit, the cells are tried at the four directions until this share
+TIMED_DEPTH = 3                  # ... with a time limit (the deepest level takes the time the other stages leave)
+DIRECTIONS_SHARE = 0.75         # with a time limit, the cells are tried at the four directions until this share
 BLOCKS_END = 0.92                # of the time left after the symbolic preparation, then outside blocks until this
 SHOULDER_PIECES = 8              # the undecided cells cut this many times along each axis for the volume's upper bound
 
@@ -192,18 +193,23 @@ def cell_level(pieces: np.ndarray, grid) -> np.ndarray:
 
 
 def prove_directions(lateral: ImageMap, grid, candidates: np.ndarray, *, budget=None, depth: int = DIRECTION_DEPTH,
-                     sampled=None, evaluated: int = 0):
+                     sampled=None, evaluated: int = 0, state: dict | None = None):
     """``(pieces, evaluated, stopped)``: ``pieces[k]`` the mask over the ``2^depth x 2^depth`` pieces of each
     cell of ``grid`` (shape ``(n0 2^depth, n1 2^depth)``) of those proved at direction ``k`` (module
     docstring), among the ``candidates`` (a mask over ``grid``) that hold a sampled configuration near that
     direction (``sampled``: :func:`direction_seeds`, drawn when not given); the cells failing whole are tried
-    in ``4^level`` pieces up to ``depth``, each piece proved counting for the volume (a cell cut by the
-    boundary of the section keeps its pieces inside).  ``budget(evaluated, ahead=seconds)`` is asked before
-    each chunk."""
+    in ``4^level`` pieces up to ``depth`` (the pieces not within one proved already), each piece proved
+    counting for the volume (a cell cut by the boundary of the section keeps its pieces inside).
+    ``budget(evaluated, ahead=seconds)`` is asked before each chunk.  ``state`` (a dict, filled on the first
+    call) lets a later call go on where a stopped one ended: the cells tried at each level are not tried
+    again."""
     budget = budget or (lambda evaluated, ahead=0.0: "")
     F = 2 ** depth
-    proved = np.zeros((DIRECTIONS,) + grid.shape, dtype=bool)
-    pieces = np.zeros((DIRECTIONS, grid.shape[0] * F, grid.shape[1] * F), dtype=bool)
+    if state is None or not state:
+        state = {} if state is None else state
+        state["pieces"] = np.zeros((DIRECTIONS, grid.shape[0] * F, grid.shape[1] * F), dtype=bool)
+        state["tried"] = np.zeros((depth + 1, DIRECTIONS) + grid.shape, dtype=bool)
+    pieces, tried = state["pieces"], state["tried"]
     index, seeds = sampled if sampled is not None else direction_seeds(lateral, grid)
     count = [evaluated]
     pace = [0.0]
@@ -215,19 +221,24 @@ def prove_directions(lateral: ImageMap, grid, candidates: np.ndarray, *, budget=
     for level in range(depth + 1):
         for k in range(DIRECTIONS):
             image = DirectionMap(lateral, k)
-            todo = np.nonzero(candidates[tuple(index[k].T)] & ~proved[k][tuple(index[k].T)])[0]
+            at = tuple(index[k].T)
+            todo = np.nonzero(candidates[at] & ~cell_level(pieces[k], grid)[at] & ~tried[level, k][at])[0]
 
             def prove(part, k=k, image=image, level=level):
-                count[0] += len(part) * 4 ** level
                 cells = index[k][part]
+                tried[level, k][tuple(cells.T)] = True
                 boxes, owner, offset = _split(grid.cells(cells), level)
-                inside = image.prove_inside(boxes, seeds[k][part][owner])
-                proved[k][tuple(cells[np.bincount(owner[~inside], minlength=len(cells)) == 0].T)] = True
                 size = F >> level
-                rows = cells[owner[inside], 0] * F + offset[inside, 0] * size
-                cols = cells[owner[inside], 1] * F + offset[inside, 1] * size
+                rows = cells[owner, 0] * F + offset[:, 0] * size
+                cols = cells[owner, 1] * F + offset[:, 1] * size
+                done = np.ones(len(boxes), dtype=bool)
                 for a, b in itertools.product(range(size), repeat=2):
-                    pieces[k][rows + a, cols + b] = True
+                    done &= pieces[k][rows + a, cols + b]
+                count[0] += int((~done).sum())
+                inside = np.zeros(len(boxes), dtype=bool)
+                inside[~done] = image.prove_inside(boxes[~done], seeds[k][part][owner[~done]])
+                for a, b in itertools.product(range(size), repeat=2):
+                    pieces[k][rows[inside] + a, cols[inside] + b] = True
 
             stopped = _in_chunks(todo, max(1, DIRECTION_CHUNK // 4 ** level), ask, prove, pace, 4 ** level)
             if stopped:
@@ -341,8 +352,8 @@ def pave_limited(limited: LimitedTurn, width: float, run, *, show=None):
     then blocks of cells proved outside the section (stage 2 of
     :func:`~workspace_sym.reach_section.section_paving`; a cell holding a sampled position is never tried, a
     cell inner at every angle is skipped).  With a time limit, the directions
-    take ``DIRECTIONS_SHARE`` of the time left when called, the blocks run until ``BLOCKS_END`` of it, the world
-    boxes take the rest."""
+    take ``DIRECTIONS_SHARE`` of the time left when called, the blocks run until ``BLOCKS_END`` of it (the
+    directions go on where they stopped when the blocks end before), the world boxes take the rest."""
     section = limited.plan.section
     limit, begun = run.time_limit, run.seconds
     show = show or (lambda share, evaluated: None)
@@ -360,8 +371,11 @@ def pave_limited(limited: LimitedTurn, width: float, run, *, show=None):
     reached = np.zeros(grid.shape, dtype=np.int8)
     for index in sampled[0]:
         reached[tuple(index.T)] = 1
+    state: dict = {}
+    depth = DIRECTION_DEPTH if limit is None else TIMED_DEPTH
     proved, evaluated, reason = prove_directions(section.lateral, grid, ~outside,
-                                                 budget=until(DIRECTIONS_SHARE, "share"), sampled=sampled)
+                                                 budget=until(DIRECTIONS_SHARE, "share"), sampled=sampled,
+                                                 state=state, depth=depth)
     classes = full_turn_cells(limited, np.where(outside, OUTER, UNDECIDED).astype(np.int8), proved)
     if reason != "share" and reason:
         return grid, classes, proved, evaluated, reason
@@ -369,4 +383,9 @@ def pave_limited(limited: LimitedTurn, width: float, run, *, show=None):
     evaluated, reason = _blocks(section, grid, blocks, grid.prefix(reached, 1), until(BLOCKS_END, "share"), show,
                                 SECTION_PAIRS, evaluated)
     classes[blocks == OUTER] = OUTER            # (a block proved inside the section proves nothing here)
+    if not reason:              # the blocks ended early: the directions go on with the time left until BLOCKS_END
+        proved, evaluated, reason = prove_directions(section.lateral, grid, classes != OUTER,
+                                                     budget=until(BLOCKS_END, "share"), sampled=sampled,
+                                                     evaluated=evaluated, state=state, depth=depth)
+        classes = full_turn_cells(limited, classes, proved)
     return grid, classes, proved, evaluated, "" if reason == "share" else reason
