@@ -276,7 +276,9 @@ def limited_volume(limited: LimitedTurn, grid, full: np.ndarray, pieces: np.ndar
     outer = np.repeat(np.repeat(full == OUTER, F, axis=0), F, axis=1)
     both &= ~outer
     one = pieces.any(axis=0) & ~both & ~outer
-    at = np.argwhere((both | one).reshape(grid.shape[0], F, grid.shape[1], F).any(axis=(1, 3)))
+    whole = both.reshape(grid.shape[0], F, grid.shape[1], F).all(axis=(1, 3))       # cells inner: whole solids
+    cells = turned_volume(grid, np.where(whole, INNER, OUTER).astype(np.int8))[0]
+    at = np.argwhere((both | one).reshape(grid.shape[0], F, grid.shape[1], F).any(axis=(1, 3)) & ~whole)
     boxes, owner, offset = _split(grid.cells(at), F.bit_length() - 1)
     rows, cols = at[owner, 0] * F + offset[:, 0], at[owner, 1] * F + offset[:, 1]
     volumes = solid_volumes(boxes[:, 0, 0], boxes[:, 0, 1], boxes[:, 1, 0], boxes[:, 1, 1])[0]
@@ -284,7 +286,7 @@ def limited_volume(limited: LimitedTurn, grid, full: np.ndarray, pieces: np.ndar
     part = ExactSum.of(volumes[one[rows, cols]]).value_down
     with np.errstate(all="ignore"):
         extra = arith.mul((part, part), (limited.share, limited.share))[0]
-        total = arith.add((low, low), (extra, extra))[0]
+        total = arith.add(arith.add((cells, cells), (low, low)), (extra, extra))[0]
     return float(total), high
 
 
