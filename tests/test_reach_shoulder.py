@@ -12,11 +12,13 @@ References, each named in its test:
 from __future__ import annotations
 
 import functools
+import itertools
 from pathlib import Path
 
 import numpy as np
 import pytest
 import rtbdata
+import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -24,7 +26,7 @@ from workspace_sym.interval.image import CellGrid
 from workspace_sym.interval.verdict import INSIDE as INNER
 from workspace_sym.interval.verdict import OUTSIDE as OUTER
 from workspace_sym.kinematics import DHRobot
-from workspace_sym.reach_section import section_paving, turned_volume
+from workspace_sym.reach_section import ShoulderReach, section_paving, shoulder_distance, turned_volume
 from workspace_sym.serial_workspace import _section
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -138,5 +140,115 @@ def test_far_cells_are_outside_the_bound_disc():
                         np.maximum(0, np.maximum(e1[:-1], -e1[1:]))[None, :])
         assert np.array_equal(far, near > 1.0)
         assert far[3, 0] and not far[2, 2] and far[3, 3]
+    finally:
+        reach.centre = saved
+
+
+# --- 7-joint arms: the joints turning about the shoulder dropped (shoulder_distance) -----------------------------
+
+IIWA = Path(rtbdata.__file__).parent / "xacro/kuka_description/kuka_lbr_iiwa/urdf/lbr_iiwa_14_r820.urdf"
+PANDA = ROOT / "tests" / "data" / "dh" / "panda.json"
+
+
+@functools.cache
+def _seven(name):
+    """``(robot, h, variables, reach)`` of the LBR iiwa 14 (URDF) or the Panda: the squared distance from the
+    origin of the second joint's frame, and its :class:`ShoulderReach` over the joints' limits."""
+    robot = DHRobot.from_urdf(IIWA) if name == "iiwa" else DHRobot.from_file(PANDA)
+    h, variables = shoulder_distance(robot, None, 1)
+    limits = [robot.joints[robot.q.index(v)].limits for v in variables]
+    return robot, h, variables, ShoulderReach(h, variables, limits, [False] * len(variables), (0, 0))
+
+
+def _float_frames(robot, q):
+    """Frames 0..n and the tool point of the DH table at the configurations ``q`` (``(N, n)``), by a float
+    product of the numeric DH matrices (independent of the symbolic kinematics)."""
+    def entry(e):
+        f = sp.lambdify([robot.q], robot.substitute(e), "numpy")
+        return np.broadcast_to(np.asarray(f(q.T), dtype=float), (len(q),))
+
+    def eye():
+        return np.broadcast_to(np.eye(4), (len(q), 4, 4)).copy()
+
+    def turn(angle, i, j):                  # rotation by angle in the plane of axes i, j
+        M = eye()
+        M[:, i, i], M[:, i, j], M[:, j, i], M[:, j, j] = np.cos(angle), -np.sin(angle), np.sin(angle), np.cos(angle)
+        return M
+
+    T = eye()
+    frames = [T]
+    for j in robot.joints:
+        th, d, a, al = (entry(e) for e in (j.theta, j.d, j.a, j.alpha))
+        Rz, Rx, Tz, Tx = turn(th, 0, 1), turn(al, 1, 2), eye(), eye()
+        Tz[:, 2, 3], Tx[:, 0, 3] = d, a
+        A = Rz @ Tz @ Tx @ Rx if robot.convention == "standard" else Rx @ Tx @ Rz @ Tz
+        T = T @ A
+        frames.append(T)
+    tool = np.array(robot.tool.evalf(), dtype=float) if robot.tool is not None else np.eye(4)
+    return frames, (T @ tool)[:, :3, 3]
+
+
+@pytest.mark.parametrize("name", ["iiwa", "panda"])
+def test_shoulder_distance_of_seven_joint_arms_keeps_the_elbow_and_wrist_only(name):
+    """The origin of the second joint's frame (the shoulder: joints 2 and 3 turn about axes through it) is at a
+    distance from the tool point that only joints 4, 5 and 6 change (joint 7 turns the tool about its own axis):
+    ``h`` has those three variables, where expanding ``|p - S|^2`` of the whole chain kept five (issue 24).
+    Independent numerics: at 2000 random configurations ``h`` equals the squared distance of the tool point to
+    that origin by a float product of the DH matrices, within 1e-12."""
+    robot, h, variables, _ = _seven(name)
+    assert [str(v) for v in variables] == ["theta4", "theta5", "theta6"]
+    q = np.random.default_rng(0).uniform(-np.pi, np.pi, size=(2000, robot.n))
+    frames, p = _float_frames(robot, q)
+    origin = frames[1 if robot.convention == "standard" else 2][:, :3, 3]
+    values = sp.lambdify([variables], h, "numpy")(q[:, 3:6].T)
+    assert np.max(np.abs(values - np.sum((p - origin) ** 2, axis=1))) < 1e-12
+
+
+@settings(max_examples=12, deadline=None, derandomize=True)
+@given(name=st.sampled_from(["iiwa", "panda"]),
+       ends=st.lists(st.tuples(st.sampled_from([0.0, 0.25, 0.5, 0.999, 1.0]),
+                               st.sampled_from([0.0, 1e-9, 0.1, 0.5, 1.0])), min_size=3, max_size=3),
+       tolerance=st.sampled_from([1e-3, 0.05, 1.0]))
+def test_shoulder_bounds_hold_every_sampled_distance(name, ends, tolerance):
+    """Property, aimed at edges (sub-boxes of the joint limits from a whole range down to a point, at the
+    limits; tolerances from tight to loose): the proved upper bound of ``h`` is never below, the proved lower
+    bound never above, its value at 3000 random configurations of the box and at its corners; both are within
+    the tolerance (plus 10^-3 of the range of h, for the box search stopping at its count) of those values when
+    the box is the whole range.  Independent numerics: float evaluation of ``h``."""
+    robot, h, variables, whole = _seven(name)
+    limits = whole.map.limits
+    box = []
+    for (start, span), (lo, hi) in zip(ends, limits):
+        a = min(hi, lo + start * (hi - lo))
+        box.append((a, min(hi, a + span * (hi - lo))))
+    box = np.array(box)
+    reach = ShoulderReach(h, variables, [tuple(sp.Rational(float(x)) for x in row) for row in box],
+                          [False] * 3, (0, 0))
+    rng = np.random.default_rng(1)
+    corners = np.array(list(itertools.product(*box)))
+    points = np.concatenate([rng.uniform(box[:, 0], box[:, 1], size=(3000, 3)), corners])
+    values = reach.map.position_float(points)[:, 0]
+    top, bottom = reach.bound(tolerance), reach.lowest(tolerance)
+    assert bottom <= values.min() and values.max() <= top
+    if np.all(box == limits):
+        slack = tolerance + 1e-3 * (values.max() - values.min())
+        assert top - values.max() <= slack and values.min() - bottom <= slack
+
+
+def test_near_cells_lie_within_the_least_distance_at_every_polar_angle():
+    """The near cells of a grid are those whose farthest point from ``S`` at any polar angle (``rho`` plus the
+    centre's distance from the axis, here 0.5) is within the square root of the lower bound: a cell reaching
+    exactly that distance is not near.  The unit-width grid over [0, 2] x [0, 2], ``S`` at (0.5, 0), bound 6.25
+    (distance 2.5)."""
+    reach = _seven("panda")[3]
+    saved = reach.centre
+    try:
+        reach.centre = ((0.5, 0.5), (0.0, 0.0))
+        grid = CellGrid(np.array([[0.0, 2.0], [0.0, 2.0]]), 1.0)     # edges -1.5, -0.5, 0.5, 1.5, 2.5
+        near = reach.near_cells(grid, 6.25)
+        e0, e1 = grid.edges
+        far = np.hypot(np.maximum(e0[1:], 0.0)[:, None] + 0.5, np.maximum(np.abs(e1[:-1]), np.abs(e1[1:]))[None, :])
+        assert np.array_equal(near, far < 2.5)
+        assert near[0, 1] and near[2, 1] and not near[2, 2] and not near[1, 3]      # [2, 2]: exactly 2.5
     finally:
         reach.centre = saved

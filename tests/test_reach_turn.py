@@ -16,11 +16,23 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import sympy as sp
-from test_reach_section import _reached_at_50_digits, check_sampled_and_reached, offset_arm
+from test_reach_section import _pappus_volume, _reached_at_50_digits, check_sampled_and_reached, offset_arm
 
+from workspace_sym.interval.image import CellGrid
+from workspace_sym.interval.verdict import INSIDE as INNER
+from workspace_sym.interval.verdict import OUTSIDE as OUTER
 from workspace_sym.kinematics import DHJoint, DHRobot
-from workspace_sym.reach_section import Turned, to_first_frame
-from workspace_sym.reach_turn import covering_pairs, limited_turn
+from workspace_sym.reach_section import Turned, to_first_frame, turned_volume
+from workspace_sym.reach_turn import (
+    cell_level,
+    covering_pairs,
+    direction_seeds,
+    limited_turn,
+    limited_volume,
+    pave_limited,
+    pieces_upper,
+    prove_directions,
+)
 from workspace_sym.serial_workspace import ReachModel, _model, _section, reach
 
 R = sp.Rational
@@ -125,3 +137,113 @@ def test_inner_boxes_lie_where_the_first_joint_cannot_reach_from_one_side(limite
     pos = model.position_float(q)
     for box in paving.inner[gap][rng.integers(gap.sum(), size=3)]:
         assert _reached_at_50_digits(model, rng.uniform(box[:, 0], box[:, 1]), q, pos), box
+
+
+class _Stopped:
+    """A run of :func:`pave_limited` stopped before its first proof (no time limit): only the cells decided
+    before the proofs at the four directions are left."""
+
+    time_limit, seconds = None, 0.0
+
+    @staticmethod
+    def stop_reason(count):
+        return "stopped"
+
+
+def test_the_hole_around_the_shoulder_is_outside_at_every_angle():
+    """The swing arm with its elbow (joint 3) within +-90 deg: the tool point stays at least sqrt(0.29) (0.54)
+    from the shoulder ``S = (0, 0, 0.3)`` (h = |r|^2 + 0.25 + cos(q3) (0.4 + 0.2 cos q4) with |r| >= 0.2), so
+    the cells of the section within that distance at every polar angle are outside before any other proof,
+    and so are those beyond 1.1 (0.5 + 0.4 + 0.2); the volume's upper bound on pieces of cells follows that
+    shell to within 1 %.  Exact: the lower bound of ``h`` is within 0.01 below 0.29
+    and the upper within 0.01 above 1.21; independent numerics: 10^5 sampled configurations never land in an
+    outer cell, and the outer cells include the disc of radius 0.5 around (0, 0.3)."""
+    robot = DHRobot([DHJoint.revolute(1, d=R(3, 10), alpha=sp.pi / 2, limits=IIWA_LIKE),
+                     DHJoint.revolute(2, a=R(1, 2), alpha=sp.pi / 2),
+                     DHJoint.revolute(3, a=R(2, 5), alpha=sp.pi / 2, limits=(-sp.pi / 2, sp.pi / 2)),
+                     DHJoint.revolute(4, a=R(1, 5))], name="swing arm, elbow +-90 deg")
+    turn = limited_turn(_section(robot, ()), _model(robot, ()))
+    reach_ = turn.plan.section.reach
+    assert [str(v) for v in reach_.map.variables] == ["theta3", "theta4"]
+    assert 0.28 <= reach_.lowest(1e-3) <= 0.29 and 1.21 <= reach_.bound(1e-3) <= 1.22
+    grid, classes, _, _, reason = pave_limited(turn, 0.02, _Stopped())
+    assert reason == "stopped"
+    outer = classes == OUTER
+    e0, e1 = grid.edges
+    rho, z = np.maximum(e0[1:], 0.0)[:, None], np.maximum(np.abs(e1[:-1] - 0.3), np.abs(e1[1:] - 0.3))[None, :]
+    assert np.all(outer[np.hypot(rho, z) < 0.5])
+    section = turn.plan.section
+    p = section.position_float(section.random_configurations(100_000, np.random.default_rng(3)))
+    cells, _ = grid.span(np.repeat(p[:, :, None], 2, axis=2))
+    assert not outer[cells[:, 0], cells[:, 1]].any()
+    assert (np.hypot(p[:, 0], p[:, 1] - 0.3) >= 0.53).all()          # the hole is there
+    # The volume's upper bound on pieces of the undecided cells: within 1 % of the shell between the two
+    # distances (closed form), which holds the workspace; never below the Pappus volume of the sampled section
+    # (cells of side 0.005: an estimate, second method); below the coarse cells' bound; one piece: that bound.
+    top = pieces_upper(reach_, grid, classes)
+    shell = 4 / 3 * np.pi * (1.1 ** 3 - 0.29 ** 1.5)
+    coarse = turned_volume(grid, classes)[1]
+    assert _pappus_volume(robot, n=400_000, h=0.005) <= top <= 1.01 * shell < coarse
+    assert pieces_upper(reach_, grid, classes, 1) == pytest.approx(coarse, rel=1e-15)
+
+
+class _Free:
+    """A run of :func:`pave_limited` without a time limit nor a count: every stage to its end."""
+
+    time_limit, seconds = None, 0.0
+
+    @staticmethod
+    def stop_reason(count):
+        return ""
+
+
+def test_pieces_of_cut_cells_count_for_the_volume_and_are_reached():
+    """The cells of the swing arm's section that fail whole (cut by its boundary) keep the pieces proved at two
+    directions of a covering pair (or one, for the share of the circle): the lower bound of the volume gains on
+    the cells' (all pieces or none), the bracket still holds the Monte Carlo volume of the sampled section with
+    its arcs (second method), and points of such pieces at random polar angles are reached within every limit by
+    an inverse kinematics at 50 digits (independent numerics)."""
+    robot = swing_arm()
+    turn = limited_turn(_section(robot, ()), _model(robot, ()))
+    grid, classes, pieces, _, reason = pave_limited(turn, 0.04, _Free())
+    assert reason == ""
+    lo, hi = limited_volume(turn, grid, classes, pieces)
+    F = pieces.shape[1] // grid.shape[0]
+    whole = np.repeat(np.repeat(cell_level(pieces, grid), F, axis=1), F, axis=2)
+    assert limited_volume(turn, grid, classes, whole)[0] < lo <= _arcs_volume(robot) <= hi
+    both = np.zeros(pieces.shape[1:], dtype=bool)
+    for j, k in turn.pairs:
+        both |= pieces[j] & pieces[k]
+    cut = both & ~np.repeat(np.repeat(classes == INNER, F, axis=0), F, axis=1)
+    assert cut.any()
+    model = ReachModel(robot)
+    rng = np.random.default_rng(8)
+    q = model.random_configurations(30_000, rng)
+    pos = model.position_float(q)
+    e0, e1 = grid.edges
+    for a, b in np.argwhere(cut)[rng.integers(cut.sum(), size=4)]:
+        rho = e0[a // F] + (e0[a // F + 1] - e0[a // F]) * (a % F + rng.uniform()) / F
+        z = e1[b // F] + (e1[b // F + 1] - e1[b // F]) * (b % F + rng.uniform()) / F
+        psi = rng.uniform(-np.pi, np.pi)
+        assert _reached_at_50_digits(model, np.array([rho * np.cos(psi), rho * np.sin(psi), z]), q, pos), (rho, z)
+
+
+def test_directions_resume_where_they_stopped():
+    """A run of the proofs at the four directions stopped after a third of its tests and resumed from its state
+    proves the same pieces as one run with the same tests in all (the cells tried at a level are not tried again:
+    the time a stopped stage leaves goes to new cells), on the swing arm's section (cells of width 0.08, one
+    level of pieces)."""
+    robot = swing_arm()
+    section = limited_turn(_section(robot, ()), _model(robot, ())).plan.section
+    grid = CellGrid(section.enclose(section.limits[None])[0], 0.08)
+    sampled = direction_seeds(section.lateral, grid, n=20_000)
+    every = np.ones(grid.shape, dtype=bool)
+    whole, tests, stopped = prove_directions(section.lateral, grid, every, sampled=sampled, depth=1)
+    assert stopped == "" and whole.any()
+    state: dict = {}
+    part, first, stopped = prove_directions(section.lateral, grid, every, sampled=sampled, state=state, depth=1,
+                                            budget=lambda count, ahead=0.0: "stop" if count >= tests // 3 else "")
+    assert stopped == "stop" and part.sum() < whole.sum()
+    again, total, stopped = prove_directions(section.lateral, grid, every, sampled=sampled, state=state,
+                                             evaluated=first, depth=1)
+    assert stopped == "" and np.array_equal(again, whole) and total == tests

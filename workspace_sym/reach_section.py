@@ -64,7 +64,7 @@ from .interval.store import ExactSum
 from .interval.verdict import INSIDE as INNER
 from .interval.verdict import OUTSIDE as OUTER
 from .interval.verdict import UNDECIDED
-from .kinematics import _rx, _translate
+from .kinematics import _inverse_transform, _product, _rx, _translate
 from .progress import progress_bar
 
 __all__ = ["RadialMap", "Turned", "turned", "TurnedTest", "section_bar", "section_paving", "turned_volume"]
@@ -214,12 +214,16 @@ class ShoulderReach:
     has section coordinates ``(rho, z)`` has ``h >= (rho - |s_xy|)^2 + (z - s_z)^2`` (``w_xy . s_xy <= rho
     |s_xy|``).  With ``H`` an upper bound of ``h`` over the joint box (:meth:`bound`: branch and bound on
     outward-rounded enclosures), every cell of the section farther than ``sqrt(H)`` from ``(|s_xy|, s_z)``
-    is outside the section (:meth:`far_cells`)."""
+    is outside the section (:meth:`far_cells`); likewise, with ``h <= (rho + |s_xy|)^2 + (z - s_z)^2`` and a
+    lower bound ``L`` (:meth:`lowest`), every cell whose farthest point is nearer than ``sqrt(L)`` (the hole
+    around the shoulder of an arm whose elbow cannot fold flat: :meth:`near_cells`).  ``h`` is written with
+    the joints that change it only (:func:`shoulder_distance`: the LBR iiwa's and the Panda's joints 4 to 6),
+    on which the branch and bound is tight and quick."""
 
     def __init__(self, expression, variables, limits, periodic, centre):
         self.map = ImageMap([expression], variables, limits, periodic)
         self.centre = tuple(numpy_constant(c) for c in centre)          # (|s_xy|, s_z), enclosed
-        self._bound = None
+        self._bounds: dict = {}           # sign -> (tolerance, bound) of the last search
 
     def enclose(self, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(lo, hi)`` of ``h`` over the joint boxes ``Q`` of its variables: the natural enclosure
@@ -238,14 +242,30 @@ class ShoulderReach:
         """An upper bound of ``h`` over the joint box, within about ``tolerance`` of its maximum: boxes whose
         enclosure stays below a value of ``h`` proved attained (the lower end of the enclosure at a box's
         centre) are dropped, the others halved, until the bound is that close or the boxes that many."""
-        if self._bound is not None and self._bound[0] <= tolerance:
-            return self._bound[1]
+        return self._extreme(tolerance, 1.0, max_boxes, rounds)
+
+    def lowest(self, tolerance: float, *, max_boxes: int = 20_000, rounds: int = 60) -> float:
+        """A lower bound of ``h`` over the joint box, within about ``tolerance`` of its minimum (the search of
+        :meth:`bound` on ``-h``, whose enclosures are those of ``h`` negated, exactly)."""
+        return -self._extreme(tolerance, -1.0, max_boxes, rounds)
+
+    def _extreme(self, tolerance: float, sign: float, max_boxes: int, rounds: int) -> float:
+        """An upper bound of ``sign h`` (``sign`` is 1 or -1) by the branch and bound of :meth:`bound`."""
+        cached = self._bounds.get(sign)
+        if cached is not None and cached[0] <= tolerance:
+            return cached[1]
+
+        def enclose(Q):
+            lo, hi = self.enclose(Q)
+            return (lo, hi) if sign > 0 else (-hi, -lo)
+
         Q = self.map.limits[None].copy()
         attained = -np.inf
         for _ in range(rounds):
-            lo, hi = self.enclose(Q)
+            lo, hi = enclose(Q)
             centre = 0.5 * Q[:, :, 0] + 0.5 * Q[:, :, 1]
-            at = self.map.enclose(np.repeat(centre[:, :, None], 2, axis=2))[:, 0, 0]
+            at = self.map.enclose(np.repeat(centre[:, :, None], 2, axis=2))[:, 0]
+            at = at[:, 0] if sign > 0 else -at[:, 1]
             attained = max(attained, float(np.max(at)))
             keep = hi > attained
             Q, hi = Q[keep], hi[keep]
@@ -254,23 +274,54 @@ class ShoulderReach:
             children, ok = halves(Q)
             Q = np.concatenate([Q[~ok], children.reshape(-1, 2, *Q.shape[1:])[ok].reshape(-1, *Q.shape[1:])])
         top = max(attained, float(np.max(hi))) if len(Q) else attained
-        self._bound = (tolerance, top)
+        self._bounds[sign] = (tolerance, top)
         return top
 
     def far_cells(self, grid: CellGrid, bound: float) -> np.ndarray:
         """Boolean grid of the cells every point of which is farther than ``sqrt(bound)`` from the centre
         (outward-rounded: the distance is bounded below)."""
         e0, e1 = grid.edges
+        return self.far(e0[:-1, None], e0[1:, None], e1[None, :-1], e1[None, 1:], bound)
+
+    def far(self, r0, r1, z0, z1, bound: float) -> np.ndarray:
+        """:meth:`far_cells` of the rectangles ``[r0, r1] x [z0, z1]`` (arrays broadcast together)."""
         (a, b), (c, d) = self.centre
         with np.errstate(all="ignore"):
-            dr = np.maximum(0.0, np.maximum(arith.sub((e0[:-1], e0[:-1]), (b, b))[0],
-                                            arith.sub((a, a), (e0[1:], e0[1:]))[0]))
-            dz = np.maximum(0.0, np.maximum(arith.sub((e1[:-1], e1[:-1]), (d, d))[0],
-                                            arith.sub((c, c), (e1[1:], e1[1:]))[0]))
-            r2 = arith.sqr((dr, dr))[0]
-            z2 = arith.sqr((dz, dz))[0]
-            near = arith.add((r2[:, None], r2[:, None]), (z2[None, :], z2[None, :]))[0]
-        return near > bound
+            dr = np.maximum(0.0, np.maximum(arith.sub((r0, r0), (b, b))[0], arith.sub((a, a), (r1, r1))[0]))
+            dz = np.maximum(0.0, np.maximum(arith.sub((z0, z0), (d, d))[0], arith.sub((c, c), (z1, z1))[0]))
+            r2, z2 = arith.sqr((dr, dr))[0], arith.sqr((dz, dz))[0]
+            return arith.add((r2, r2), (z2, z2))[0] > bound
+
+    def near_cells(self, grid: CellGrid, lowest: float) -> np.ndarray:
+        """Boolean grid of the cells every point of which, at every polar angle, is nearer than
+        ``sqrt(lowest)`` to ``S`` (``lowest`` a lower bound of ``h``, :meth:`lowest`): the farthest a point of
+        section coordinates ``(rho, z)`` can be from ``S`` is ``(rho + |s_xy|)^2 + (z - s_z)^2``, bounded above
+        over the cell (outward-rounded).  No configuration reaches them: the hole around the shoulder."""
+        e0, e1 = grid.edges
+        return self.near(e0[:-1, None], e0[1:, None], e1[None, :-1], e1[None, 1:], lowest)
+
+    def near(self, r0, r1, z0, z1, lowest: float) -> np.ndarray:
+        """:meth:`near_cells` of the rectangles ``[r0, r1] x [z0, z1]`` (arrays broadcast together)."""
+        (_, b), (c, d) = self.centre
+        with np.errstate(all="ignore"):
+            dr = arith.add((np.maximum(r1, 0.0), np.maximum(r1, 0.0)), (b, b))[1]
+            dz = np.maximum(arith.sub((d, d), (z0, z0))[1], arith.sub((z1, z1), (c, c))[1])
+            r2, z2 = arith.sqr((dr, dr))[1], arith.sqr((dz, dz))[1]
+            return arith.add((r2, r2), (z2, z2))[1] < lowest
+
+    def outside(self, r0, r1, z0, z1, width: float) -> np.ndarray:
+        """Mask of the rectangles ``[r0, r1] x [z0, z1]`` (arrays broadcast together) proved outside the section
+        by the distance from ``S``: far (:meth:`far`) or in the hole around it (:meth:`near`), both bounds sought
+        within ``REACH_TOLERANCE`` times ``width`` times twice the greatest distance."""
+        root = self.enclose(self.map.limits[None])[1][0]
+        tolerance = REACH_TOLERANCE * width * math.sqrt(max(root, 0.0))
+        return self.far(r0, r1, z0, z1, self.bound(tolerance)) | self.near(r0, r1, z0, z1, self.lowest(tolerance))
+
+    def outside_cells(self, grid: CellGrid) -> np.ndarray:
+        """Boolean grid of the cells proved outside the section by the distance from ``S`` (:meth:`outside`,
+        the far cells and the hole), the bounds sought within a fifth of a cell."""
+        e0, e1 = grid.edges
+        return self.outside(e0[:-1, None], e0[1:, None], e1[None, :-1], e1[None, 1:], grid.width)
 
 
 @dataclass(frozen=True)
@@ -345,31 +396,61 @@ def turned(model) -> Turned | None:
         back = -Rt * t
         inverse = (tuple(tuple(numpy_constant(Rt[i, j]) for j in range(3)) for i in range(3)),
                    tuple(numpy_constant(back[i]) for i in range(3)))
-    reach = _shoulder_reach(model, B, at_zero, w, variables, limits, periodic, model.joints[rows[0]])
+    reach = _shoulder_reach(model, B, at_zero, model.joints[rows[0]])
     return Turned(RadialMap(square, square.lateral, reach), inverse, bool(model.periodic[0]))
 
 
 REACH_SIMPLIFY_OPS = 300         # a larger squared distance is compiled expanded, not simplified
 
 
-def _shoulder_reach(model, B, at_zero, w, variables, limits, periodic, joint: int) -> ShoulderReach | None:
-    """:class:`ShoulderReach` with ``S`` on the axis of ``joint`` (the first that moves the section), in the
-    frame of the first joint at ``theta_1 = 0``; None when that point moves with ``q_1`` there (it cannot for
-    the structure of :func:`turned`, checked all the same) or the distance moves with no joint."""
+def shoulder_distance(robot, parameters, joint: int):
+    """``(h, variables)``: the squared distance ``h`` from the origin ``S`` of the frame whose ``z`` axis is
+    the axis of ``joint`` (0-based; that frame is ``joint`` in standard DH, ``joint + 1`` in modified DH) to the
+    tool point, written with the joints that change that distance only, and its free joint variables.
+
+    The distance is the same in every frame: in frame ``k`` it is ``|r_k - s_k|`` with ``r_k`` the tool point
+    (a product of the rows after ``k`` and the tool) and ``s_k`` the coordinates of ``S``.  While ``s_k`` is a
+    constant point (it is ``0`` in the joint's frame), the next row's inverse maps it to ``s_(k+1)``; when that
+    is a constant too, the row's joint turns about an axis through ``S`` (``|Rz(q) r - s| = |r - s|`` for ``s``
+    on the axis): it is dropped, and so on.  The first row whose joint moves ``s`` ends the walk; ``h`` is
+    ``|r_k - s_k|^2`` there (expanded: the rotations dropped cannot leave a ``cos^2 + sin^2`` behind)."""
+    frame = joint + (robot.convention == "modified")
+    joints = set(robot.q)
+    s = sp.zeros(3, 1)
+    while frame < robot.n:
+        inverse = _inverse_transform(robot.substitute(robot.row_matrix(frame + 1), parameters))
+        moved = (inverse[:3, :3] * s + inverse[:3, 3]).applyfunc(sp.simplify)
+        if any(e.free_symbols & joints for e in moved):
+            break
+        s, frame = moved, frame + 1
+    T = sp.eye(4)
+    for row in range(frame + 1, robot.n + 1):
+        T = _product(T, robot.substitute(robot.row_matrix(row), parameters))
+    if robot.tool is not None:
+        T = _product(T, robot.substitute(robot.tool, parameters))
+    h = sp.expand(sum((T[i, 3] - s[i]) ** 2 for i in range(3)))
+    if sp.count_ops(h) <= REACH_SIMPLIFY_OPS:
+        short = sp.expand(sp.fu(h))                # products of sines and cosines to sums of angles
+        h = short if sp.count_ops(short) < sp.count_ops(h) else h
+    return h, [q for q in robot.q if q in h.free_symbols]
+
+
+def _shoulder_reach(model, B, at_zero, joint: int) -> ShoulderReach | None:
+    """:class:`ShoulderReach` with ``S`` on the axis of ``joint`` (the first that moves the section; its
+    squared distance :func:`shoulder_distance`), ``S`` in the frame of the first joint at ``theta_1 = 0``;
+    None when that point moves with ``q_1`` there (it cannot for the structure of :func:`turned`, checked all
+    the same) or the distance moves with no joint."""
     robot = model.robot
     R, t = B[:3, :3], B[:3, 3]
     origin = robot.substitute(robot._parameter_twists(joint)["theta"][2], model.parameters)
     S = [sp.simplify(e) for e in (R.T * (sp.Matrix(origin) - t)).subs(at_zero)]
     if any(e.free_symbols for e in S):
         return None
-    h = sp.expand(sum((wi - si) ** 2 for wi, si in zip(w, S)))
-    if sp.count_ops(h) <= REACH_SIMPLIFY_OPS:
-        short = sp.expand(sp.fu(h))                # products of sines and cosines to sums of angles
-        h = short if sp.count_ops(short) < sp.count_ops(h) else h
-    keep = [i for i, q in enumerate(variables) if q in h.free_symbols]
-    if not keep:
+    h, variables = shoulder_distance(robot, model.parameters, joint)
+    if not variables or any(q not in model.variables for q in variables):
         return None
-    return ShoulderReach(h, [variables[i] for i in keep], [limits[i] for i in keep], periodic[keep],
+    rows = [model.variables.index(q) for q in variables]
+    return ShoulderReach(h, variables, [model.exact_limits[r] for r in rows], model.periodic[rows],
                          (sp.sqrt(S[0] ** 2 + S[1] ** 2), S[2]))
 
 
@@ -636,6 +717,16 @@ def _blocks(image, grid, classes, reached, budget, show, max_pairs, evaluated):
     return evaluated, stopped
 
 
+def solid_volumes(r0, r1, z0, z1) -> tuple[np.ndarray, np.ndarray]:
+    """Enclosures ``(lo, hi)`` of the volumes ``pi (r1^2 - r0^2) (z1 - z0)`` of the rectangles ``[r0, r1] x
+    [z0, z1]`` of ``(rho, z)`` turned through a full circle (``rho`` clipped at 0; outward-rounded)."""
+    pi = numpy_constant(sp.pi)
+    r0, r1 = np.maximum(r0, 0.0), np.maximum(r1, 0.0)
+    with np.errstate(all="ignore"):
+        ring = arith.sub(arith.sqr((r1, r1)), arith.sqr((r0, r0)))
+        return arith.mul(arith.mul(pi, ring), arith.sub((z1, z1), (z0, z0)))
+
+
 def turned_volume(grid: CellGrid, classes: np.ndarray) -> tuple[float, float]:
     """A proved bracket of the volume of the solid of revolution of the section ``S`` from its paving
     (Pappus): the cell ``[r0, r1] x [z0, z1]`` (``rho`` clipped at 0) turns into ``pi (r1^2 - r0^2)
@@ -653,16 +744,11 @@ def turned_volume(grid: CellGrid, classes: np.ndarray) -> tuple[float, float]:
     >>> bool(lo <= np.pi <= lo + 1e-14), bool(4 * np.pi <= hi <= 4 * np.pi + 1e-13)
     (True, True)
     """
-    pi = numpy_constant(sp.pi)
     e0, e1 = grid.edges
 
     def volumes(value):
         at = np.argwhere(classes == value)
-        r0, r1 = np.maximum(e0[at[:, 0]], 0.0), np.maximum(e0[at[:, 0] + 1], 0.0)
-        z0, z1 = e1[at[:, 1]], e1[at[:, 1] + 1]
-        with np.errstate(all="ignore"):
-            ring = arith.sub(arith.sqr((r1, r1)), arith.sqr((r0, r0)))
-            return arith.mul(arith.mul(pi, ring), arith.sub((z1, z1), (z0, z0)))
+        return solid_volumes(e0[at[:, 0]], e0[at[:, 0] + 1], e1[at[:, 1]], e1[at[:, 1] + 1])
 
     inner, undecided = volumes(INNER), volumes(UNDECIDED)
     low = ExactSum.of(inner[0])

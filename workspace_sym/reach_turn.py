@@ -25,7 +25,8 @@ on an outward enclosure of ``L``: opposite directions when ``L >= pi``, any two 
 with two qualifying directions proved is **inner** (the solid it turns into lies in the workspace); a cell with
 one direction ``k`` proved holds the sector ``psi in k pi / 2 + [a, b]``.
 
-**Outside.**  A cell proved outside the section (blocks of cells, stage 2 of
+**Outside.**  A cell proved outside the section (beyond the greatest distance from the shoulder or within the
+least, :meth:`~workspace_sym.reach_section.ShoulderReach.outside_cells`; blocks of cells, stage 2 of
 :func:`~workspace_sym.reach_section.section_paving`) is outside
 the workspace at every polar angle, whatever the limits of ``theta_1``.
 
@@ -33,9 +34,11 @@ the workspace at every polar angle, whatever the limits of ``theta_1``.
 inner when its ``(rho, z)`` rectangle lies in inner cells, or in cells proved at one direction ``k`` while its
 polar angle range (float ``atan2`` of its corners widened, as the constant-offset section does) lies in
 ``k pi / 2 + [a, b]``; outer when the rectangle lies in cells outside the section.  The volume is bracketed as
-:func:`~workspace_sym.reach_section.turned_volume` does: the inner cells' solids, plus a share ``L / 2 pi``
-(rounded down) of the solids of the cells with one direction proved, lie in the workspace; the workspace lies in
-the solid of the cells not proved outside.
+:func:`~workspace_sym.reach_section.turned_volume` does, on pieces of cells (a cell failing whole is tried in
+``4^level`` pieces, and those proved count, a cell cut by the section's boundary included): the solids of the
+pieces proved at both directions of a pair, plus a share ``L / 2 pi`` (rounded down) of the solids of the pieces
+with one direction proved, lie in the workspace; the workspace lies in the solid of the cells not proved
+outside, whose pieces beyond the greatest distance from the shoulder (or within the least) are dropped.
 """
 
 from __future__ import annotations
@@ -50,6 +53,8 @@ import sympy as sp
 from .interval import arith
 from .interval.graph import numpy_constant
 from .interval.image import CellGrid, ImageMap
+from .interval.search import split_every_axis
+from .interval.store import ExactSum
 from .interval.verdict import INSIDE as INNER
 from .interval.verdict import OUTSIDE as OUTER
 from .interval.verdict import UNDECIDED
@@ -59,21 +64,23 @@ from .reach_section import (
     TurnedTest,
     _blocks,
     _in_chunks,
-    _prove_cells,
     first_joint_turn,
+    solid_volumes,
     to_first_frame,
     turned_volume,
 )
 
 __all__ = ["LimitedTurn", "limited_turn", "covering_pairs", "DirectionMap", "direction_seeds", "prove_directions",
-           "full_turn_cells", "limited_volume", "LimitedTurnTest", "pave_limited"]
+           "full_turn_cells", "limited_volume", "pieces_upper", "cell_level", "LimitedTurnTest", "pave_limited"]
 
 DIRECTIONS = 4                   # the axis directions k pi / 2 of the first joint's frame
 DIRECTION_CHUNK = 2_000          # cells proved in one step (the budget is asked between steps)
 DIRECTION_SAMPLES = 400_000      # sampled configurations giving the seeds of the proofs
 DIRECTION_DEPTH = 2              # a cell failing whole is tried in 4^level pieces, level up to this
-DIRECTIONS_SHARE = 0.45         # with a time limit, the cells are tried at the four directions until this share
+TIMED_DEPTH = 3                  # ... with a time limit (the deepest level takes the time the other stages leave)
+DIRECTIONS_SHARE = 0.75         # with a time limit, the cells are tried at the four directions until this share
 BLOCKS_END = 0.92                # of the time left after the symbolic preparation, then outside blocks until this
+SHOULDER_PIECES = 8              # the undecided cells cut this many times along each axis for the volume's upper bound
 
 
 @dataclass(frozen=True)
@@ -167,15 +174,42 @@ def direction_seeds(lateral: ImageMap, grid, n: int = DIRECTION_SAMPLES, seed: i
     return index, seeds
 
 
+def _split(cells: np.ndarray, level: int):
+    """``(pieces, owner, offset)``: each ``(rho, z)`` cell halved along both axes ``level`` times
+    (:func:`~workspace_sym.interval.search.split_every_axis`, the same floats as the proofs'), the cell of each
+    piece and its position ``(a, b)`` among the ``2^level x 2^level`` pieces of its cell."""
+    pieces, owner, offset = cells, np.arange(len(cells)), np.zeros((len(cells), 2), dtype=int)
+    for _ in range(level):           # split_every_axis: children grouped by corner, bit k of it the upper half
+        pieces, owner = split_every_axis(pieces), np.tile(owner, 4)
+        offset = np.concatenate([2 * offset + np.array([c & 1, c >> 1 & 1]) for c in range(4)])
+    return pieces, owner, offset
+
+
+def cell_level(pieces: np.ndarray, grid) -> np.ndarray:
+    """The masks over ``grid``'s cells of the cells whose pieces are all proved, from the piece masks of
+    :func:`prove_directions` (``(..., n0 F, n1 F)``)."""
+    F = pieces.shape[-2] // grid.shape[0]
+    return pieces.reshape(pieces.shape[:-2] + (grid.shape[0], F, grid.shape[1], F)).all(axis=(-3, -1))
+
+
 def prove_directions(lateral: ImageMap, grid, candidates: np.ndarray, *, budget=None, depth: int = DIRECTION_DEPTH,
-                     sampled=None, evaluated: int = 0):
-    """``(proved, evaluated, stopped)``: ``proved[k]`` the mask over ``grid`` of the cells proved at direction
-    ``k`` (module docstring), among the ``candidates`` (a mask over ``grid``) that hold a sampled configuration
-    near that direction (``sampled``: :func:`direction_seeds`, drawn when not given); the cells failing whole are
-    tried in ``4^level`` pieces up to ``depth``.  ``budget(evaluated, ahead=seconds)`` is asked before each
-    chunk."""
+                     sampled=None, evaluated: int = 0, state: dict | None = None):
+    """``(pieces, evaluated, stopped)``: ``pieces[k]`` the mask over the ``2^depth x 2^depth`` pieces of each
+    cell of ``grid`` (shape ``(n0 2^depth, n1 2^depth)``) of those proved at direction ``k`` (module
+    docstring), among the ``candidates`` (a mask over ``grid``) that hold a sampled configuration near that
+    direction (``sampled``: :func:`direction_seeds`, drawn when not given); the cells failing whole are tried
+    in ``4^level`` pieces up to ``depth`` (the pieces not within one proved already), each piece proved
+    counting for the volume (a cell cut by the boundary of the section keeps its pieces inside).
+    ``budget(evaluated, ahead=seconds)`` is asked before each chunk.  ``state`` (a dict, filled on the first
+    call) lets a later call go on where a stopped one ended: the cells tried at each level are not tried
+    again."""
     budget = budget or (lambda evaluated, ahead=0.0: "")
-    proved = np.zeros((DIRECTIONS,) + grid.shape, dtype=bool)
+    F = 2 ** depth
+    if state is None or not state:
+        state = {} if state is None else state
+        state["pieces"] = np.zeros((DIRECTIONS, grid.shape[0] * F, grid.shape[1] * F), dtype=bool)
+        state["tried"] = np.zeros((depth + 1, DIRECTIONS) + grid.shape, dtype=bool)
+    pieces, tried = state["pieces"], state["tried"]
     index, seeds = sampled if sampled is not None else direction_seeds(lateral, grid)
     count = [evaluated]
     pace = [0.0]
@@ -187,51 +221,113 @@ def prove_directions(lateral: ImageMap, grid, candidates: np.ndarray, *, budget=
     for level in range(depth + 1):
         for k in range(DIRECTIONS):
             image = DirectionMap(lateral, k)
-            todo = np.nonzero(candidates[tuple(index[k].T)] & ~proved[k][tuple(index[k].T)])[0]
+            at = tuple(index[k].T)
+            todo = np.nonzero(candidates[at] & ~cell_level(pieces[k], grid)[at] & ~tried[level, k][at])[0]
 
             def prove(part, k=k, image=image, level=level):
-                count[0] += len(part) * 4 ** level
-                inside = _prove_cells(image, grid.cells(index[k][part]), seeds[k][part], level)
-                proved[k][tuple(index[k][part][inside].T)] = True
+                cells = index[k][part]
+                tried[level, k][tuple(cells.T)] = True
+                boxes, owner, offset = _split(grid.cells(cells), level)
+                size = F >> level
+                rows = cells[owner, 0] * F + offset[:, 0] * size
+                cols = cells[owner, 1] * F + offset[:, 1] * size
+                done = np.ones(len(boxes), dtype=bool)
+                for a, b in itertools.product(range(size), repeat=2):
+                    done &= pieces[k][rows + a, cols + b]
+                count[0] += int((~done).sum())
+                inside = np.zeros(len(boxes), dtype=bool)
+                inside[~done] = image.prove_inside(boxes[~done], seeds[k][part][owner[~done]])
+                for a, b in itertools.product(range(size), repeat=2):
+                    pieces[k][rows[inside] + a, cols[inside] + b] = True
 
             stopped = _in_chunks(todo, max(1, DIRECTION_CHUNK // 4 ** level), ask, prove, pace, 4 ** level)
             if stopped:
-                return proved, count[0], stopped
-    return proved, count[0], stopped
+                return pieces, count[0], stopped
+    return pieces, count[0], stopped
 
 
-def full_turn_cells(limited: LimitedTurn, classes: np.ndarray, proved: np.ndarray) -> np.ndarray:
-    """Classes of the cells for every polar angle: inner where two directions of a qualifying pair are proved,
-    outer where the section's cell is, undecided elsewhere."""
+def full_turn_cells(limited: LimitedTurn, classes: np.ndarray, pieces: np.ndarray) -> np.ndarray:
+    """Classes of the cells for every polar angle: inner where two directions of a qualifying pair are proved
+    (every piece of the cell, ``pieces`` as :func:`prove_directions` gives them), outer where the section's
+    cell is, undecided elsewhere."""
     full = np.zeros(classes.shape, dtype=bool)
+    F = pieces.shape[-2] // classes.shape[0]
     for j, k in limited.pairs:
-        full |= proved[j] & proved[k]
+        full |= (pieces[j] & pieces[k]).reshape(classes.shape[0], F, classes.shape[1], F).all(axis=(1, 3))
     out = np.full(classes.shape, UNDECIDED, dtype=np.int8)
     out[full & (classes != OUTER)] = INNER
     out[classes == OUTER] = OUTER
     return out
 
 
-def limited_volume(limited: LimitedTurn, grid, full: np.ndarray, proved: np.ndarray) -> tuple[float, float]:
+def limited_volume(limited: LimitedTurn, grid, full: np.ndarray, pieces: np.ndarray) -> tuple[float, float]:
     """A proved bracket of the workspace's volume (module docstring) from the full-turn classes ``full`` and the
-    directions ``proved``."""
-    low, high = turned_volume(grid, full)
-    sector = np.where((full == UNDECIDED) & proved.any(axis=0), INNER, OUTER).astype(np.int8)
-    part = turned_volume(grid, sector)[0]
+    pieces proved at each direction (:func:`prove_directions`): a piece proved at both directions of a pair
+    turns into a solid in the workspace, a piece proved at one direction gives a share ``L / 2 pi`` (rounded
+    down) of its solid.  The upper bound is that of the cells not outside, also sought on the pieces of the
+    undecided cells (:func:`pieces_upper`), the lesser kept."""
+    high = turned_volume(grid, full)[1]
+    if limited.plan.section.reach is not None:
+        high = min(high, pieces_upper(limited.plan.section.reach, grid, full))
+    F = pieces.shape[-2] // grid.shape[0]
+    both = np.zeros(pieces.shape[1:], dtype=bool)
+    for j, k in limited.pairs:
+        both |= pieces[j] & pieces[k]
+    outer = np.repeat(np.repeat(full == OUTER, F, axis=0), F, axis=1)
+    both &= ~outer
+    one = pieces.any(axis=0) & ~both & ~outer
+    whole = both.reshape(grid.shape[0], F, grid.shape[1], F).all(axis=(1, 3))       # cells inner: whole solids
+    cells = turned_volume(grid, np.where(whole, INNER, OUTER).astype(np.int8))[0]
+    at = np.argwhere((both | one).reshape(grid.shape[0], F, grid.shape[1], F).any(axis=(1, 3)) & ~whole)
+    boxes, owner, offset = _split(grid.cells(at), F.bit_length() - 1)
+    rows, cols = at[owner, 0] * F + offset[:, 0], at[owner, 1] * F + offset[:, 1]
+    volumes = solid_volumes(boxes[:, 0, 0], boxes[:, 0, 1], boxes[:, 1, 0], boxes[:, 1, 1])[0]
+    low = ExactSum.of(volumes[both[rows, cols]]).value_down
+    part = ExactSum.of(volumes[one[rows, cols]]).value_down
     with np.errstate(all="ignore"):
         extra = arith.mul((part, part), (limited.share, limited.share))[0]
-        total = arith.add((low, low), (extra, extra))[0]
+        total = arith.add(arith.add((cells, cells), (low, low)), (extra, extra))[0]
     return float(total), high
+
+
+def pieces_upper(reach, grid, classes: np.ndarray, pieces: int = SHOULDER_PIECES) -> float:
+    """An upper bound of the volume of the solid of revolution of the section from its classes and the distance
+    from the shoulder (:class:`~workspace_sym.reach_section.ShoulderReach`): the solids of the inner cells, plus
+    those of the pieces of the undecided cells (each cut ``pieces`` times along both axes, the cell's own edges
+    kept as the outer edges of its pieces, so that they cover it) not proved outside by that distance, summed
+    rounded up.  The cells cut by the sphere of the greatest distance (or the least) weigh only their part
+    within it, to a piece."""
+    e0, e1 = grid.edges
+    at = np.argwhere(classes == UNDECIDED)
+    t = np.linspace(0.0, 1.0, pieces + 1)
+
+    def cut(e, index):                          # (N, pieces + 1) edges, the ends exactly the cell's
+        lo, hi = e[index][:, None], e[index + 1][:, None]
+        edges = lo + (hi - lo) * t[None, :]
+        edges[:, 0], edges[:, -1] = lo[:, 0], hi[:, 0]
+        return edges
+
+    r, z = cut(e0, at[:, 0]), cut(e1, at[:, 1])
+    r0, r1 = r[:, :-1, None], r[:, 1:, None]
+    z0, z1 = z[:, None, :-1], z[:, None, 1:]
+    kept = ~reach.outside(r0, r1, z0, z1, grid.width / pieces)
+    shape = kept.shape
+    vol = solid_volumes(*(np.broadcast_to(x, shape)[kept] for x in (r0, r1, z0, z1)))[1]
+    inner = turned_volume(grid, np.where(classes == INNER, INNER, OUTER).astype(np.int8))[1]
+    total = ExactSum.of(vol)
+    total.add(np.array([inner]))
+    return float(total.value_up)
 
 
 class LimitedTurnTest(TurnedTest):
     """Classify world boxes of ``(x, y, z)`` from the full-turn classes and the directions proved (module
     docstring)."""
 
-    def __init__(self, limited: LimitedTurn, grid, full: np.ndarray, proved: np.ndarray):
+    def __init__(self, limited: LimitedTurn, grid, full: np.ndarray, pieces: np.ndarray):
         super().__init__(limited.plan, grid, full)
         self.limited = limited
-        self.sectors = [grid.prefix(np.where(p, INNER, UNDECIDED).astype(np.int8), INNER) for p in proved]
+        self.sectors = [grid.prefix(np.where(p, INNER, UNDECIDED).astype(np.int8), INNER)
+                        for p in cell_level(pieces, grid)]
 
     def __call__(self, X: np.ndarray):
         from .serial_workspace import _angles, _arc_within  # one way: serial_workspace dispatches here
@@ -253,12 +349,13 @@ class LimitedTurnTest(TurnedTest):
 
 
 def pave_limited(limited: LimitedTurn, width: float, run, *, show=None):
-    """``(grid, full classes, proved, evaluated, reason)`` over a grid of the given width on the section's
-    enclosure: its cells tried at the four directions (:func:`prove_directions`), then blocks of cells proved
-    outside the section (stage 2 of :func:`~workspace_sym.reach_section.section_paving`; a cell holding a
-    sampled position is never tried, a cell inner at every angle is skipped).  With a time limit, the directions
-    take ``DIRECTIONS_SHARE`` of the time left when called, the blocks run until ``BLOCKS_END`` of it, the world
-    boxes take the rest."""
+    """``(grid, full classes, pieces, evaluated, reason)`` over a grid of the given width on the section's
+    enclosure: its cells tried at the four directions (:func:`prove_directions`, whose pieces are returned),
+    then blocks of cells proved outside the section (stage 2 of
+    :func:`~workspace_sym.reach_section.section_paving`; a cell holding a sampled position is never tried, a
+    cell inner at every angle is skipped).  With a time limit, the directions
+    take ``DIRECTIONS_SHARE`` of the time left when called, the blocks run until ``BLOCKS_END`` of it (the
+    directions go on where they stopped when the blocks end before), the world boxes take the rest."""
     section = limited.plan.section
     limit, begun = run.time_limit, run.seconds
     show = show or (lambda share, evaluated: None)
@@ -270,17 +367,27 @@ def pave_limited(limited: LimitedTurn, width: float, run, *, show=None):
         return budget
 
     grid = CellGrid(section.enclose(section.limits[None])[0], width)
+    # The cells beyond the greatest distance from the shoulder, or within the least: outside, in two proofs.
+    outside = np.zeros(grid.shape, dtype=bool) if section.reach is None else section.reach.outside_cells(grid)
     sampled = direction_seeds(section.lateral, grid)
     reached = np.zeros(grid.shape, dtype=np.int8)
     for index in sampled[0]:
         reached[tuple(index.T)] = 1
-    proved, evaluated, reason = prove_directions(section.lateral, grid, np.ones(grid.shape, dtype=bool),
-                                                 budget=until(DIRECTIONS_SHARE, "share"), sampled=sampled)
-    classes = full_turn_cells(limited, np.full(grid.shape, UNDECIDED, dtype=np.int8), proved)
+    state: dict = {}
+    depth = DIRECTION_DEPTH if limit is None else TIMED_DEPTH
+    proved, evaluated, reason = prove_directions(section.lateral, grid, ~outside,
+                                                 budget=until(DIRECTIONS_SHARE, "share"), sampled=sampled,
+                                                 state=state, depth=depth)
+    classes = full_turn_cells(limited, np.where(outside, OUTER, UNDECIDED).astype(np.int8), proved)
     if reason != "share" and reason:
         return grid, classes, proved, evaluated, reason
     blocks = classes.copy()
     evaluated, reason = _blocks(section, grid, blocks, grid.prefix(reached, 1), until(BLOCKS_END, "share"), show,
                                 SECTION_PAIRS, evaluated)
     classes[blocks == OUTER] = OUTER            # (a block proved inside the section proves nothing here)
+    if not reason:              # the blocks ended early: the directions go on with the time left until BLOCKS_END
+        proved, evaluated, reason = prove_directions(section.lateral, grid, classes != OUTER,
+                                                     budget=until(BLOCKS_END, "share"), sampled=sampled,
+                                                     evaluated=evaluated, state=state, depth=depth)
+        classes = full_turn_cells(limited, classes, proved)
     return grid, classes, proved, evaluated, "" if reason == "share" else reason
