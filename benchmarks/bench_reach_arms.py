@@ -4,8 +4,9 @@ For each arm, delta and time limit (one cold process per arm: nothing cached): t
 they go (symbolic preparation of the model and of the section, the paving of the section, the classification of
 the (x, y, z) boxes), the proved brackets (the boxes', the section cells' by Pappus when the first joint turns a
 full circle, and their intersection, the reach's), its width as a share of its upper bound, and a reference volume
-the bracket must hold: Pappus's theorem on the section sampled at 10^6 configurations (cells of (rho, z) of side
-h hit by a sample, each turned through a full circle; an estimate, no bound).
+the bracket must hold: Pappus's theorem on the section sampled at 1.6 10^7 configurations (cells of (rho, z) of
+side h hit by a sample, each turned through a full circle, extrapolated to h = 0 from h = 5 mm and 1 cm; an
+estimate, no bound).
 
 Arms: UR5 (``tests/data/dh/ur5.json``), KUKA KR16 (rtb-data's ``kr16_2.urdf``, limits from the file), the
 glass-handling arm and the Puma 560 of the catalog (the constant-offset section, for the before/after check);
@@ -50,18 +51,27 @@ def load(name):
     return robots.build({"glass": "glass-handling", "puma": "puma560"}[name])
 
 
-def pappus(robot, plan, n=1_000_000, h=0.005):
-    """Volume of the sampled section turned through a full circle (the first joint's range ignored)."""
+def pappus(robot, plan, n=16_000_000, h=0.005, chunk=1_000_000):
+    """Volume of the sampled section turned through a full circle (the first joint's range ignored), extrapolated
+    to cells of side zero: ``2 V(h) - V(2 h)`` (Richardson), ``V(h)`` the solids of the cells of side ``h`` hit by
+    one of ``n`` samples (it overestimates by about half a cell along the boundary, and 10^6 samples leave cells of
+    the KR16's section unhit: 19.37 m^3 at 10^6 samples, 19.91 at 1.6 10^7)."""
     from workspace_sym.reach_section import Turned, to_first_frame
     from workspace_sym.serial_workspace import ReachModel
 
     if not isinstance(plan, Turned) or not plan.full:
         return None
     model = ReachModel(robot)
-    p = model.position_float(model.random_configurations(n, np.random.default_rng(0)))
-    F = to_first_frame(plan.inverse, np.repeat(p[:, :, None], 2, axis=2))[:, :, 0]
-    cells = np.unique(np.stack([np.floor(np.hypot(F[:, 0], F[:, 1]) / h), np.floor(F[:, 2] / h)], axis=1), axis=0)
-    return float(np.sum(2 * np.pi * (cells[:, 0] + 0.5) * h ** 3))
+    rng = np.random.default_rng(0)
+    cells = {side: np.empty((0, 2)) for side in (h, 2 * h)}
+    for _ in range(n // chunk):
+        p = model.position_float(model.random_configurations(chunk, rng))
+        F = to_first_frame(plan.inverse, np.repeat(p[:, :, None], 2, axis=2))[:, :, 0]
+        rz = np.stack([np.hypot(F[:, 0], F[:, 1]), F[:, 2]], axis=1)
+        for side in cells:
+            cells[side] = np.unique(np.concatenate([cells[side], np.floor(rz / side)]), axis=0)
+    volume = {side: float(np.sum(2 * np.pi * (c[:, 0] + 0.5) * side ** 3)) for side, c in cells.items()}
+    return 2 * volume[h] - volume[2 * h]
 
 
 def arcs(robot, plan, n=1_000_000, h=0.005):

@@ -190,38 +190,45 @@ def test_blocks_stage_keeps_to_its_share_of_the_time_left():
     speed."""
     plan = _section(shell_arm(), ())
     image = RadialMap(plan.section.square, plan.section.lateral)
-    grid, classes, _, stopped = section_paving(image, 0.1, depth=1, seconds_left=lambda: 0.0)
+    grid, classes, _, stopped, _ = section_paving(image, 0.1, depth=1, seconds_left=lambda: 0.0)
     assert stopped == "" and not (classes == OUTER).any()
+
+
+def _agrees_with_shell(r0, r1, z0, z1, kind):
+    """Exact rationals: a rectangle ``[r0, r1] x [z0, z1]`` of ``(rho, z)`` declared inner lies in the shell
+    arm's annulus (nearest point to the shoulder at least ``r``, farthest corner at most ``R``), one declared
+    outer misses it."""
+    r, big = R(3, 10), R(7, 10)
+    near = max(r0, 0) ** 2 + (0 if z0 <= 0 <= z1 else min(abs(z0), abs(z1))) ** 2
+    far = max(r0 ** 2, r1 ** 2) + max(z0 ** 2, z1 ** 2)
+    if kind == INNER:
+        return r0 >= 0 and near >= r ** 2 and far <= big ** 2
+    return r1 < 0 or near > big ** 2 or far < r ** 2
 
 
 def test_turned_volume_holds_the_exact_spherical_shell():
     """Exact closed form: the section's Pappus bracket holds 4/3 pi (R^3 - r^3) of the shell arm (decided
-    exactly by SymPy), and every cell agrees with the annulus in exact rationals: an inner cell lies in it
-    (its nearest point to the shoulder at least r, its farthest corner at most R), an outer cell misses it.
-    The section's progress (share of cells decided) only grows."""
+    exactly by SymPy), and every cell and every piece of a cell agrees with the annulus in exact rationals
+    (:func:`_agrees_with_shell`).  The section's progress (share of cells decided) only grows."""
     plan = _section(shell_arm(), ())
     assert isinstance(plan, Turned) and plan.full and plan.section.k == 3
     shares = []
     # Cells in up to 16 pieces; a budget of boxes, not of seconds, so every machine classifies the same cells.
-    grid, classes, _, stopped = section_paving(plan.section, 0.05, max_pairs=4000, depth=2,
-                                               budget=lambda count, ahead=0.0: "enough" if count > 6000 else "",
-                                               show=lambda share, count: shares.append(share))
+    grid, classes, _, stopped, pieces = section_paving(plan.section, 0.05, max_pairs=4000, depth=2,
+                                                       budget=lambda count, ahead=0.0: "enough" if count > 6000 else "",
+                                                       show=lambda share, count: shares.append(share))
     assert stopped in ("", "enough") and shares == sorted(shares) and shares[-1] > 0
-    lo, hi = turned_volume(grid, classes)
+    lo, hi = turned_volume(grid, classes, pieces)
     r, big = R(3, 10), R(7, 10)
     assert sp.Rational(lo) <= 4 * sp.pi / 3 * (big ** 3 - r ** 3) <= sp.Rational(hi)
     assert (classes == INNER).any() and (classes == OUTER).any()
     e0, e1 = ([sp.Rational(float(v)) for v in e] for e in grid.edges)
     for (i, j), kind in np.ndenumerate(classes):
-        if kind == UNDECIDED:
-            continue
-        r0, r1, z0, z1 = e0[i], e0[i + 1], e1[j], e1[j + 1]
-        near = max(r0, 0) ** 2 + (0 if z0 <= 0 <= z1 else min(abs(z0), abs(z1))) ** 2
-        far = max(r0 ** 2, r1 ** 2) + max(z0 ** 2, z1 ** 2)
-        if kind == INNER:
-            assert r0 >= 0 and near >= r ** 2 and far <= big ** 2, (r0, r1, z0, z1)
-        else:
-            assert r1 < 0 or near > big ** 2 or far < r ** 2, (r0, r1, z0, z1)
+        if kind != UNDECIDED:
+            assert _agrees_with_shell(e0[i], e0[i + 1], e1[j], e1[j + 1], kind), (i, j, kind)
+    for kind, rects in ((INNER, pieces.inner), (OUTER, pieces.outer)):
+        for (r0, r1), (z0, z1) in rects:
+            assert _agrees_with_shell(*(sp.Rational(float(v)) for v in (r0, r1, z0, z1)), kind), (r0, r1, z0, z1)
 
 
 @settings(max_examples=30, deadline=None, derandomize=True)

@@ -107,7 +107,7 @@ def test_paving_of_industrial_arms_is_sound_and_holds_pappus(arm):
     name, robot, plan = arm
     image = plan.section
     width = 0.05
-    grid, classes, evaluated, stopped = section_paving(
+    grid, classes, evaluated, stopped, pieces = section_paving(
         image, width, budget=lambda count, ahead=0.0: "count" if count > 5_000 else "")
     far = image.reach.far_cells(grid, image.reach.bound(1.0))        # the paving's bound (kept: tighter than 1)
     assert far.any() and np.all(classes[far] == OUTER)
@@ -117,7 +117,7 @@ def test_paving_of_industrial_arms_is_sound_and_holds_pappus(arm):
     _, p = _section_points(image, 100_000, 2)
     first, _ = grid.span(np.repeat(p[:, :, None], 2, axis=2))
     assert not np.any(classes[first[:, 0], first[:, 1]] == OUTER)
-    lo, hi = turned_volume(grid, classes)
+    lo, hi = turned_volume(grid, classes, pieces)
     q, p = _section_points(image, 300_000, 3)
     h = 0.012
     cells = np.unique(np.floor(p / h).astype(np.int64), axis=0)

@@ -54,6 +54,7 @@ from typing import cast
 
 import numpy as np
 import sympy as sp
+from scipy.spatial import cKDTree
 
 from .interval import arith
 from .interval.boxes import halves
@@ -67,7 +68,7 @@ from .interval.verdict import UNDECIDED
 from .kinematics import _inverse_transform, _product, _rx, _translate
 from .progress import progress_bar
 
-__all__ = ["RadialMap", "Turned", "turned", "TurnedTest", "section_bar", "section_paving", "turned_volume"]
+__all__ = ["Pieces", "RadialMap", "Turned", "turned", "TurnedTest", "section_bar", "section_paving", "turned_volume"]
 
 
 def _square_boxes(T: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -323,6 +324,11 @@ class ShoulderReach:
         e0, e1 = grid.edges
         return self.outside(e0[:-1, None], e0[1:, None], e1[None, :-1], e1[None, 1:], grid.width)
 
+    def far_boxes(self, T: np.ndarray, bound: float) -> np.ndarray:
+        """Mask of the ``(rho, z)`` rectangles ``T`` (``(N, 2, 2)``) every point of which is farther than
+        ``sqrt(bound)`` from the centre, as :meth:`far_cells` (the pieces of cells of :func:`section_paving`)."""
+        return self.far(T[:, 0, 0], T[:, 0, 1], T[:, 1, 0], T[:, 1, 1], bound)
+
 
 @dataclass(frozen=True)
 class Turned:
@@ -496,6 +502,20 @@ class TurnedTest:
         return inner, outer & ~inner
 
 
+@dataclass(frozen=True)
+class Pieces:
+    """Pieces of undecided cells of a section's grid proved inside (``inner``) or outside (``outer``) the
+    section: ``(N, 2, 2)`` rectangles of ``(rho, z)``, each a quarter of a cell or of a piece (halved along both
+    axes at float midpoints), so that they overlap on edges only and lie in cells left undecided."""
+
+    inner: np.ndarray
+    outer: np.ndarray
+
+    @classmethod
+    def none(cls) -> Pieces:
+        return cls(np.empty((0, 2, 2)), np.empty((0, 2, 2)))
+
+
 SECTION_PAIRS = 60_000           # (cell block, joint box) pairs of one generation of section_paving at most
 SECTION_SAMPLES = 400_000        # sampled configurations whose cells are proved inside first
 SECTION_CHUNK = 2_000            # cells proved in one step of section_paving (the budget is asked between steps)
@@ -505,7 +525,8 @@ BLOCKS_WEIGHT = 2.0              # ... at most; else this times the share of the
                                  # 27 %, where they decide 0.66 m^3 outside in 28 s)
 REACH_TOLERANCE = 0.2            # the bound of the squared distance from the shoulder is sought within this many
                                  # cell widths times twice the greatest distance (about a fifth of a cell)
-SECTION_DEPTH = 3                # with a time limit, a sampled cell is tried in pieces halved this often at most
+SECTION_DEPTH = 6                # with a time limit, an undecided cell is refined into pieces halved this often
+                                 # at most (the time limit stops it first on the UR5 and the KR16)
 
 
 def _in_chunks(items: np.ndarray, size: int, budget, work, pace: list, weight: int = 1) -> str:
@@ -551,13 +572,18 @@ def section_paving(image: RadialMap, width: float, *, budget=None, show=None, ma
        joint box's centre is inside (with ``seconds_left``, a callable giving the seconds the section has
        left, this stage takes ``BLOCKS_WEIGHT`` times the share of the undecided volume in cells no sample
        reached, the others being never outside, and ``BLOCKS_SHARE`` at most);
-    3. the sampled cells still undecided are proved from a second sample of theirs, then in ``4^level``
-       pieces (halved along both axes ``level`` times, every piece proved from the cell's sample) for ``level``
-       from 1 to ``depth``: the Krawczyk test of a whole cell fails where the Jacobian varies too much over the
-       joint box it needs (half the cell, half the joint box, half the variation).
+    3. the sampled cells still undecided are proved from a second sample of theirs;
+    4. every cell still undecided is refined into pieces (:func:`_refine`): halved along both axes, each piece
+       proved on its own, inside by the Krawczyk test from the cell's sample (the sample nearest the cell's
+       centre for a cell no sample reached) or outside by the shoulder's bound, and only the pieces left
+       undecided halved again, level after level up to ``depth`` (the Krawczyk test of a whole cell fails
+       where the Jacobian varies too much over the joint box it needs: near the section's boundary, a fold
+       of the map, the undecided band is as thin as the pieces there).  A cell all of whose pieces are
+       proved inside (outside) is inner (outer); the proved pieces of the other cells are returned apart.
 
-    Returns ``(grid, classes, evaluated, stopped)`` as :func:`~workspace_sym.interval.image.critical_paving`,
-    except that the cells classified when a budget stops the run keep their (proved) class.
+    Returns ``(grid, classes, evaluated, stopped, pieces)``: the first four as
+    :func:`~workspace_sym.interval.image.critical_paving`, except that the cells classified when a budget stops
+    the run keep their (proved) class; ``pieces`` the :class:`Pieces` of stage 4, for :func:`turned_volume`.
     ``budget(evaluated, ahead=seconds)`` is asked before each step with the time the step is expected to
     take; ``show(share decided, evaluated)`` after each; ``rehearse(grid, classes)`` is called once after
     stage 1 (the caller measures there what it must keep time for)."""
@@ -586,9 +612,9 @@ def section_paving(image: RadialMap, width: float, *, budget=None, show=None, ma
     last = len(first) - 1 - np.unique(first[::-1], axis=0, return_index=True)[1]
     others = q[last]
 
-    def prove(part, level=0, seeds=seeds):
-        count[0] += len(part) * 4 ** level
-        inside = _prove_cells(image, grid.cells(index[part]), seeds[part], level)
+    def prove(part, seeds=seeds):
+        count[0] += len(part)
+        inside = _prove_cells(image, grid.cells(index[part]), seeds[part], 0)
         classes[tuple(index[part][inside].T)] = INNER
         show(decided(), count[0])
 
@@ -598,11 +624,11 @@ def section_paving(image: RadialMap, width: float, *, budget=None, show=None, ma
     pace = [0.0]                # seconds per Krawczyk test of the last chunk
     stopped = _in_chunks(np.arange(len(index))[::-1], SECTION_CHUNK, ask, prove, pace)
     if stopped:
-        return grid, classes, count[0], stopped
+        return grid, classes, count[0], stopped, Pieces.none()
     reach = getattr(image, "reach", None)
     if reach is not None:       # the cells beyond the greatest distance from the shoulder, in one proof
-        root = reach.enclose(reach.map.limits[None])[1][0]
-        far = reach.far_cells(grid, reach.bound(REACH_TOLERANCE * width * math.sqrt(max(root, 0.0))))
+        top = math.sqrt(max(reach.enclose(reach.map.limits[None])[1][0], 0.0))
+        far = reach.far_cells(grid, reach.bound(REACH_TOLERANCE * width * top))
         classes[far & (classes == UNDECIDED)] = OUTER
         show(decided(), count[0])
     if rehearse is not None:
@@ -629,15 +655,69 @@ def section_paving(image: RadialMap, width: float, *, budget=None, show=None, ma
     count[0], stopped = _blocks(image, grid, classes, grid.prefix(hit, 1), blocks_budget, show, max_pairs,
                                 count[0])
     stopped = "" if stopped == "blocks share" else stopped
-    # Then the sampled cells still undecided, from their second seed, then in pieces.
+    # Then the sampled cells still undecided, from their second seed; then every undecided cell in pieces.
     if not stopped:
-        stopped = _in_chunks(undecided(), SECTION_CHUNK, ask, lambda part: prove(part, 0, others), pace)
+        stopped = _in_chunks(undecided(), SECTION_CHUNK, ask, lambda part: prove(part, others), pace)
+    pieces = Pieces.none()
+    if not stopped:
+        # The seed of a piece: its cell's first sample (the cell's own test, in pieces), or for a cell no sample
+        # reached, the sample whose point is nearest the cell's centre.
+        seed_of = q[cKDTree(p).query(grid.cells(np.argwhere(np.ones(grid.shape, dtype=bool))).mean(axis=2))[1]]
+        seed_of = seed_of.reshape(grid.shape + (q.shape[1],))
+        seed_of[tuple(index.T)] = seeds
+        far_pieces = None
+        if reach is not None:
+            def far_pieces(T, level):   # the bound sought within a fifth of a piece, as for the cells
+                return reach.far_boxes(T, reach.bound(REACH_TOLERANCE * width / 2 ** level * top))
+        pieces, stopped = _refine(image, grid, classes, seed_of, far_pieces, depth, ask, pace, count)
+        show(decided(), count[0])
+    return grid, classes, count[0], stopped, pieces
+
+
+def _refine(image, grid, classes, seed_of, far, depth: int, ask, pace, count):
+    """Stage 4 of :func:`section_paving`: ``(pieces, stopped)``.  Every undecided cell is halved along both
+    axes, level after level up to ``depth``; a piece is outside when ``far(pieces, level)`` says so (the
+    shoulder's distance bound), inside when the Krawczyk test from its cell's seed ``seed_of[i, j]`` proves it;
+    only the pieces left undecided are halved again, the farthest from the axis first.  A cell whose pieces are all
+    inside (outside) becomes inner (outer) in ``classes``; the proved pieces of the others are returned
+    (:class:`Pieces`).  ``count[0]`` counts the tests."""
+    cells = np.argwhere(classes == UNDECIDED)
+    P, owner = grid.cells(cells), np.arange(len(cells))
+    share = np.zeros((2, len(cells)))                   # share of each cell's area proved inside, outside
+    found: list[list] = [[], []]                        # pieces proved inside, outside: (rectangles, owners)
+    stopped = ""
     for level in range(1, depth + 1):
-        if stopped:
+        if not len(P) or stopped:
             break
-        stopped = _in_chunks(undecided(), max(1, SECTION_CHUNK // 4 ** level), ask,
-                             lambda part, level=level: prove(part, level), pace, 4 ** level)
-    return grid, classes, count[0], stopped
+        P, owner = split_every_axis(P), np.tile(owner, 4)
+        order = np.argsort(-P[:, 0, 1], kind="stable")
+        P, owner = P[order], owner[order]
+        open_ = np.ones(len(P), dtype=bool)
+
+        def work(part, P=P, owner=owner, open_=open_, level=level):
+            count[0] += len(part)
+            T = P[part]
+            out = far(T, level) if far is not None else np.zeros(len(T), dtype=bool)
+            inside = np.zeros(len(T), dtype=bool)
+            rest = np.nonzero(~out)[0]
+            if len(rest):
+                inside[rest] = image.prove_inside(T[rest], seed_of[tuple(cells[owner[part[rest]]].T)])
+            for k, mask in enumerate((inside, out)):
+                found[k].append((T[mask], owner[part[mask]]))
+                np.add.at(share[k], owner[part[mask]], 0.25 ** level)
+            open_[part[inside | out]] = False
+
+        stopped = _in_chunks(np.arange(len(P)), SECTION_CHUNK, ask, work, pace)
+        P, owner = P[open_], owner[open_]
+    whole = [share[k] == 1.0 for k in range(2)]         # sums of powers of 1/4 below 2^-52 apart: exact
+    classes[tuple(cells[whole[0]].T)] = INNER
+    classes[tuple(cells[whole[1]].T)] = OUTER
+    kept = []
+    for k in range(2):
+        rects = np.concatenate([r for r, _ in found[k]]) if found[k] else np.empty((0, 2, 2))
+        owners = np.concatenate([o for _, o in found[k]]) if found[k] else np.empty(0, dtype=int)
+        kept.append(rects[~(whole[0] | whole[1])[owners]])
+    return Pieces(*kept), stopped
 
 
 def _prove_cells(image, cells: np.ndarray, seeds: np.ndarray, level: int) -> np.ndarray:
@@ -727,15 +807,20 @@ def solid_volumes(r0, r1, z0, z1) -> tuple[np.ndarray, np.ndarray]:
         return arith.mul(arith.mul(pi, ring), arith.sub((z1, z1), (z0, z0)))
 
 
-def turned_volume(grid: CellGrid, classes: np.ndarray) -> tuple[float, float]:
+def turned_volume(grid: CellGrid, classes: np.ndarray, pieces: Pieces | None = None) -> tuple[float, float]:
     """A proved bracket of the volume of the solid of revolution of the section ``S`` from its paving
     (Pappus): the cell ``[r0, r1] x [z0, z1]`` (``rho`` clipped at 0) turns into ``pi (r1^2 - r0^2)
     (z1 - z0)``, enclosed in outward-rounded interval arithmetic; the solid of the cells proved inside
     lies in it (lower bound: their volumes rounded down, summed exactly, rounded down once), and it lies
     in the solid of the cells not proved outside (upper bound: rounded up), since the cells cover the
-    enclosure of ``S`` and overlap on edges only.
+    enclosure of ``S`` and overlap on edges only.  With ``pieces`` (:class:`Pieces` of undecided cells), the
+    solids of the inner pieces add to the lower bound (rounded down) and those of the outer pieces are taken
+    from the upper bound (rounded down, so the difference is rounded up): the volume is additive over
+    rectangles overlapping on edges only.
 
-    Example: one cell ``[0, 1] x [0, 1]`` proved inside, one ``[1, 2] x [0, 1]`` undecided: ``[pi, 4 pi]``.
+    Example: one cell ``[0, 1] x [0, 1]`` proved inside, one ``[1, 2] x [0, 1]`` undecided: ``[pi, 4 pi]``;
+    with the piece ``[1, 1.5] x [0, 0.5]`` of the second proved inside and ``[1.5, 2] x [0.5, 1]`` outside:
+    ``[pi + 5 pi / 8, 4 pi - 7 pi / 8]``.
 
     >>> g = CellGrid(np.array([[0.5, 1.5], [0.5, 1.5]]), 1.0)          # cell edges -1, 0, 1, 2, 3
     >>> c = np.full(g.shape, OUTER, dtype=np.int8)
@@ -743,15 +828,27 @@ def turned_volume(grid: CellGrid, classes: np.ndarray) -> tuple[float, float]:
     >>> lo, hi = turned_volume(g, c)
     >>> bool(lo <= np.pi <= lo + 1e-14), bool(4 * np.pi <= hi <= 4 * np.pi + 1e-13)
     (True, True)
+    >>> lo, hi = turned_volume(g, c, Pieces(np.array([[[1, 1.5], [0, 0.5]]]), np.array([[[1.5, 2], [0.5, 1]]])))
+    >>> bool(lo <= 13 * np.pi / 8 <= lo + 1e-14), bool(25 * np.pi / 8 <= hi <= 25 * np.pi / 8 + 1e-13)
+    (True, True)
     """
     e0, e1 = grid.edges
 
-    def volumes(value):
+    def cells(value):
         at = np.argwhere(classes == value)
-        return solid_volumes(e0[at[:, 0]], e0[at[:, 0] + 1], e1[at[:, 1]], e1[at[:, 1] + 1])
+        return np.stack([np.stack([e0[at[:, 0]], e0[at[:, 0] + 1]], axis=1),
+                         np.stack([e1[at[:, 1]], e1[at[:, 1] + 1]], axis=1)], axis=1)
 
-    inner, undecided = volumes(INNER), volumes(UNDECIDED)
+    pieces = pieces or Pieces.none()
+    inner, undecided = _ring_volumes(cells(INNER)), _ring_volumes(cells(UNDECIDED))
     low = ExactSum.of(inner[0])
+    low.add(_ring_volumes(pieces.inner)[0])
     high = ExactSum.of(inner[1])
     high.add(undecided[1])
+    high.add(-_ring_volumes(pieces.outer)[0])
     return low.value_down, high.value_up
+
+
+def _ring_volumes(T: np.ndarray):
+    """:func:`solid_volumes` of the rectangles ``T`` of ``(rho, z)`` (``(N, 2, 2)``)."""
+    return solid_volumes(T[:, 0, 0], T[:, 0, 1], T[:, 1, 0], T[:, 1, 1])

@@ -694,7 +694,7 @@ def _spatial(robot, parameters, delta, size, run, *, executor, where):
     box = Box(model.task_variables, tuple(root[:, 0]), tuple(root[:, 1]))
     width = _cell_width(delta, size, 3)
     grid, classes, evaluated, reason = None, None, 0, ""
-    volume = None
+    volume, pieces = None, None
     limited = limited_turn(plan, model)
     test = None
     if limited is not None:
@@ -721,11 +721,10 @@ def _spatial(robot, parameters, delta, size, run, *, executor, where):
             return run.stop_reason(count) or ("section share" if late else "")
 
         with section_bar(run.showing) as show:
-            grid, classes, evaluated, reason = section_paving(plan.section, SECTION_RATIO * width,
-                                                              budget=section_budget, show=show,
-                                                              rehearse=rehearse if run.time_limit else None,
-                                                              depth=SECTION_DEPTH if run.time_limit else 1,
-                                                              seconds_left=seconds_left if run.time_limit else None)
+            grid, classes, evaluated, reason, pieces = section_paving(
+                plan.section, SECTION_RATIO * width, budget=section_budget, show=show,
+                rehearse=rehearse if run.time_limit else None, depth=SECTION_DEPTH if run.time_limit else 1,
+                seconds_left=seconds_left if run.time_limit else None)
         reason = "" if reason == "section share" else reason
     elif plan.section is not None:
         with section_bar(run.showing) as show:  # the section's bar, from the first generation of its cover
@@ -734,7 +733,7 @@ def _spatial(robot, parameters, delta, size, run, *, executor, where):
                                                                cover=_cover_with(executor, robot, parameters,
                                                                                  "section"))
     if isinstance(plan, Turned) and plan.full:
-        volume = turned_volume(grid, classes)      # the solid of revolution of the section (Pappus)
+        volume = turned_volume(grid, classes, pieces)      # the solid of revolution of the section (Pappus)
     run.show(0.0, evaluated)
     if reason:
         return box, [], [], [], root[None].copy(), evaluated, reason, volume
