@@ -146,6 +146,37 @@ def test_a_stopped_reach_resumed_gives_the_uninterrupted_boxes(scara, whole, tmp
     assert_same(whole, reach(scara, delta=DELTA, stop=QUIET, run=RunOn(resume=early)))
 
 
+def test_a_resumed_reach_takes_the_section_kept_beside_its_checkpoint(tmp_path, monkeypatch):
+    """A time limit lets a turned section refine as far as the time allows, so paving it again on resuming
+    could give other cells and a checkpoint refused.  The section is kept beside the checkpoint
+    (``.section.npz``) and taken on resuming: the section is not paved again (its paving fails if called), and
+    the result is the uninterrupted run's (the reference).  A kept section of another delta is not taken."""
+    import sympy as sp
+
+    from workspace_sym.kinematics import DHJoint, DHRobot
+
+    half, tenth = sp.Rational(1, 2), sp.Rational(1, 10)
+    arm = DHRobot([DHJoint.revolute(1, d=3 * tenth, alpha=sp.pi / 2), DHJoint.revolute(2, a=half, alpha=sp.pi / 2),
+                   DHJoint.revolute(3, a=4 * tenth, d=tenth)], name="offset arm")
+    whole_arm = reach(arm, delta=DELTA, stop=QUIET)
+    checkpoint = tmp_path / "arm.npz"
+    kept = tmp_path / "arm.npz.section.npz"
+    stopped = reach(arm, delta=DELTA, stop=StopAt(max_boxes=_section_count(arm) + 200, progress=False),
+                    run=RunOn(resume=checkpoint))
+    assert not stopped.complete and checkpoint.exists() and kept.exists()
+    assert not list(tmp_path.glob("*.part"))
+
+    def paved_again(*args, **kwargs):
+        raise AssertionError("the section was paved again")
+
+    with monkeypatch.context() as patch:
+        patch.setattr(serial_workspace, "critical_paving", paved_again)
+        resumed = reach(arm, delta=DELTA, stop=QUIET, run=RunOn(resume=checkpoint))
+    assert_same(whole_arm, resumed)
+    assert resumed.volume_bounds == whole_arm.volume_bounds
+    assert serial_workspace._saved_section(RunOn(resume=checkpoint), "another delta") is None
+
+
 def test_a_checkpoint_of_another_reach_is_refused(scara, tmp_path):
     checkpoint = tmp_path / "reach.npz"
     section = _section_count(scara)

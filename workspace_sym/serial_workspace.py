@@ -74,6 +74,7 @@ import dataclasses
 import hashlib
 import itertools
 import math
+import os
 import time
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -100,13 +101,14 @@ from .interval.driver import (
 )
 from .interval.executor import MIN_CHUNK, runner_for
 from .interval.graph import numpy_constant
-from .interval.image import CoverTooLarge, ImageMap, critical_cover, critical_paving, distribute
+from .interval.image import CellGrid, CoverTooLarge, ImageMap, critical_cover, critical_paving, distribute
 from .interval.search import split_every_axis
 from .interval.store import BoxStore
 from .interval.verdict import INSIDE, OUTSIDE, UNDECIDED, codes_from_masks
 from .kinematics import DHRobot
 from .reach_section import (
     SECTION_DEPTH,
+    Pieces,
     RadialMap,
     Turned,
     TurnedTest,
@@ -694,15 +696,21 @@ def _spatial(robot, parameters, delta, size, run, *, executor, where):
     box = Box(model.task_variables, tuple(root[:, 0]), tuple(root[:, 1]))
     width = _cell_width(delta, size, 3)
     grid, classes, evaluated, reason = None, None, 0, ""
-    volume, pieces = None, None
+    volume, pieces, proved = None, None, None
     limited = limited_turn(plan, model)
     test = None
-    if limited is not None:
+    # A resumed run takes the section its checkpoint was classified from (a time limit may refine it differently).
+    table = hashlib.sha256(repr((robot.joints, robot.base, robot.tool)).encode()).hexdigest()[:16]
+    named = (f"{robot.name} {table} {sorted((str(k), str(v)) for k, v in dict(parameters).items())} "
+             f"{type(plan).__name__} delta={float(delta)!r} size={size} cell={SECTION_RATIO * width!r} "
+             f"limits={model.limits.tolist()}")
+    saved = _saved_section(where, named)
+    if saved is not None:
+        grid, classes, proved, pieces, evaluated = saved
+    elif limited is not None:
         # A limited first joint of half a turn or more: cells proved at every polar angle (reach_turn).
         with section_bar(run.showing) as show:
             grid, classes, proved, evaluated, reason = pave_limited(limited, SECTION_RATIO * width, run, show=show)
-        volume = limited_volume(limited, grid, classes, proved)
-        test = LimitedTurnTest(limited, grid, classes, proved)
     elif isinstance(plan, Turned) and plan.section.k > 2:
         # The section refines while its next step would end before the time limit less the time the (x, y, z)
         # boxes take, measured once on the first proved cells (a rehearsal: more cells decided, fewer boxes).
@@ -732,6 +740,11 @@ def _spatial(robot, parameters, delta, size, run, *, executor, where):
                                                                budget=run.stop_reason, show=show,
                                                                cover=_cover_with(executor, robot, parameters,
                                                                                  "section"))
+    if limited is not None:
+        volume = limited_volume(limited, grid, classes, proved)
+        test = LimitedTurnTest(limited, grid, classes, proved)
+    if not reason and saved is None:
+        _save_section(where, named, grid, classes, proved, pieces, evaluated)
     if isinstance(plan, Turned) and plan.full:
         volume = turned_volume(grid, classes, pieces)      # the solid of revolution of the section (Pappus)
     run.show(0.0, evaluated)
@@ -747,6 +760,46 @@ def _spatial(robot, parameters, delta, size, run, *, executor, where):
     paving = classify_task_boxes(test, box, delta, size, run, RunOn(max_memory=where.max_memory, store=where.store,
                                                                    resume=where.resume), describe=what)
     return paving, volume
+
+
+def _section_file(where: RunOn) -> Path | None:
+    """The file beside a checkpoint ``where.resume`` keeping the section its task boxes are classified from."""
+    return None if where.resume is None else Path(f"{where.resume}.section.npz")
+
+
+def _save_section(where: RunOn, named: str, grid, classes, proved, pieces, evaluated: int) -> None:
+    """Keep a paved section beside the checkpoint (written whole, then renamed: never half-written)."""
+    path = _section_file(where)
+    if path is None or classes is None:
+        return
+    pieces = pieces or Pieces.none()
+    part = path.with_name(path.name + ".part")
+    with open(part, "wb") as out:
+        np.savez(out, named=np.array(named), box=grid.box, width=np.array(grid.width), classes=classes,
+                 proved=np.zeros(0, dtype=bool) if proved is None else proved, inner=pieces.inner,
+                 outer=pieces.outer, evaluated=np.array(evaluated))
+    os.replace(part, path)
+
+
+def _saved_section(where: RunOn, named: str):
+    """``(grid, classes, proved, pieces, evaluated)`` of the section kept beside the checkpoint for this robot,
+    delta and section method, or None (no checkpoint, no file, or one of another run: the section is paved)."""
+    path = _section_file(where)
+    if path is None or not path.is_file():
+        return None
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            if str(data["named"]) != named:
+                return None
+            grid = CellGrid(data["box"], float(data["width"]))
+            classes, proved = data["classes"], data["proved"]
+            if classes.shape != grid.shape:
+                return None
+            return (grid, classes, proved if proved.size else None, Pieces(data["inner"], data["outer"]),
+                    int(data["evaluated"]))
+    except (OSError, ValueError, KeyError) as exc:
+        raise InvalidParameterError(f"resume: {str(path)!r} beside the checkpoint is not a section kept by "
+                                    f"reach ({exc})", parameter="resume") from exc
 
 
 def section_digest(grid, classes, proved=None) -> str:
