@@ -18,19 +18,15 @@ References, each named in its test:
 from __future__ import annotations
 
 import functools
-from pathlib import Path
 
 import numpy as np
 import pytest
-import rtbdata
 from test_reach_section import _reached_at_50_digits
+from test_reach_shoulder import _robot
 
 from workspace_sym import StopAt
-from workspace_sym.kinematics import DHRobot
 from workspace_sym.serial_workspace import ReachModel, reach
 
-ROOT = Path(__file__).resolve().parents[1]
-KR16 = Path(rtbdata.__file__).parent / "xacro/kuka_description/kuka_kr16/urdf/kr16_2.urdf"
 # Coarse deltas and a budget of boxes (never of seconds): the same boxes on every machine.
 ARMS = {"ur5": 0.2, "kr16": 0.3}
 SAMPLES, CHUNK = 1_000_000, 100_000
@@ -39,8 +35,7 @@ SECTION_CELL = 0.01            # side h of the (rho, z) cells of the Pappus refe
 
 @functools.cache
 def _arm(name):
-    robot = DHRobot.from_file(ROOT / "tests" / "data" / "dh" / "ur5.json") if name == "ur5" \
-        else DHRobot.from_urdf(KR16)
+    robot = _robot(name)            # the robots of test_reach_shoulder: their symbolic section is prepared once
     return robot, reach(robot, delta=ARMS[name], stop=StopAt(max_boxes=50_000, progress=False))
 
 
@@ -118,16 +113,18 @@ def test_million_configurations_never_in_an_outer_box_and_pappus_in_the_bracket(
     across = [np.linalg.norm(m - a[:, None] * axis, axis=1) for m, a in zip(moved, along)]
     assert np.allclose(along[0], along[1], atol=1e-12) and np.allclose(across[0], across[1], atol=1e-12)
     h = SECTION_CELL
-    cells = set()
+    keys = []
     checked = 0
     for p in _sampled_points(robot, seed=1):
         assert not _in_outer_boxes(p, paving.outer).any(), name
         checked += len(p)
         z = (p - centre) @ axis
         rho = np.linalg.norm(p - centre - z[:, None] * axis, axis=1)
-        cells.update(map(tuple, np.unique(np.floor(np.stack([rho / h, z / h], axis=1)).astype(np.int64), axis=0)))
+        keys.append(np.unique(np.floor(rho / h).astype(np.int64) * 2**32 + np.floor(z / h).astype(np.int64)))
     assert checked == SAMPLES
-    hit = np.array(sorted(cells))
+    key = np.unique(np.concatenate(keys))
+    hit = np.stack([(key + 2**31) // 2**32, (key + 2**31) % 2**32 - 2**31], axis=1)     # (rho, z) cell indices
+    cells = set(map(tuple, hit.tolist()))
 
     def volume(c):
         return float(np.sum(2 * np.pi * (c[:, 0] + 0.5) * h ** 3))
