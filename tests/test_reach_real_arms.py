@@ -21,8 +21,7 @@ import functools
 
 import numpy as np
 import pytest
-from test_reach_section import _reached_at_50_digits
-from test_reach_shoulder import _robot
+from reach_checks import industrial_arm, reached_at_50_digits
 
 from workspace_sym import StopAt
 from workspace_sym.serial_workspace import ReachModel, reach
@@ -35,7 +34,7 @@ SECTION_CELL = 0.01            # side h of the (rho, z) cells of the Pappus refe
 
 @functools.cache
 def _arm(name):
-    robot = _robot(name)            # the robots of test_reach_shoulder: their symbolic section is prepared once
+    robot = industrial_arm(name)            # shared with test_reach_shoulder: one symbolic preparation
     return robot, reach(robot, delta=ARMS[name], stop=StopAt(max_boxes=50_000, progress=False))
 
 
@@ -139,7 +138,7 @@ def test_million_configurations_never_in_an_outer_box_and_pappus_in_the_bracket(
     assert lo <= reference <= hi, (name, lo, reference, hi, volume(interior), volume(grown))
 
 
-def test_inner_box_points_reached_at_50_digits(arm):
+def test_inner_box_points_are_reached_at_50_digits(arm):
     """Inverse kinematics at 50 digits: the centre and a corner of 5 random inner boxes (seeded) are reached
     within the joint limits by float Newton from the nearest of 20,000 sampled configurations, refined by mpmath
     ``findroot`` at 50 digits on the best-conditioned joints (the others fixed), residual below 1e-40."""
@@ -152,4 +151,4 @@ def test_inner_box_points_reached_at_50_digits(arm):
     for box in paving.inner[rng.integers(len(paving.inner), size=5)]:
         corner = box[np.arange(3), rng.integers(2, size=3)]
         for target in (box.mean(axis=1), corner):
-            assert _reached_at_50_digits(model, target, q, pos), (name, box, target)
+            assert reached_at_50_digits(model, target, q, pos), (name, box, target)

@@ -16,7 +16,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import sympy as sp
-from test_reach_section import _reached_at_50_digits, check_sampled_and_reached, offset_arm
+from reach_checks import reached_at_50_digits
+from test_reach_section import check_sampled_and_reached, offset_arm
 
 from workspace_sym.kinematics import DHJoint, DHRobot
 from workspace_sym.reach_section import Turned, to_first_frame
@@ -124,4 +125,4 @@ def test_inner_boxes_lie_where_the_first_joint_cannot_reach_from_one_side(limite
     q = model.random_configurations(30_000, rng)
     pos = model.position_float(q)
     for box in paving.inner[gap][rng.integers(gap.sum(), size=3)]:
-        assert _reached_at_50_digits(model, rng.uniform(box[:, 0], box[:, 1]), q, pos), box
+        assert reached_at_50_digits(model, rng.uniform(box[:, 0], box[:, 1]), q, pos), box
