@@ -21,7 +21,8 @@ import numpy as np
 import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from test_reach_section import _agrees_with_shell, _reached_at_50_digits, shell_arm
+from reach_checks import reached_at_50_digits
+from test_reach_section import _agrees_with_shell, shell_arm
 from test_reach_shoulder import _robot
 from test_serial_workspace import _in_boxes
 
@@ -102,7 +103,7 @@ def test_pieces_of_the_ur5_are_sound():
     pos = model.position_float(q)
     for (r0, r1), (z0, z1) in pieces.inner[rng.choice(len(pieces.inner), size=6, replace=False)]:
         rho, z, psi = rng.uniform(r0, r1), rng.uniform(z0, z1), rng.uniform(-np.pi, np.pi)
-        assert _reached_at_50_digits(model, np.array([rho * np.cos(psi), rho * np.sin(psi), z]), q, pos)
+        assert reached_at_50_digits(model, np.array([rho * np.cos(psi), rho * np.sin(psi), z]), q, pos)
     h = 0.008
     sampled = image.position_float(image.random_configurations(1_000_000, np.random.default_rng(3)))
     cells = np.unique(np.floor(sampled / h).astype(np.int64), axis=0)

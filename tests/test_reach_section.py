@@ -11,14 +11,13 @@ References, each named in its test:
 
 from __future__ import annotations
 
-import itertools
-
 import numpy as np
 import pytest
 import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from test_serial_workspace import _in_boxes, _solve_50_digits
+from reach_checks import reached_at_50_digits
+from test_serial_workspace import _in_boxes
 
 from workspace_sym.errors import JointLimitError
 from workspace_sym.interval.image import CellGrid
@@ -57,25 +56,6 @@ def _pappus_volume(robot, n=1_000_000, h=0.004, seed=0):
     rho, z = np.hypot(F[:, 0], F[:, 1]), F[:, 2]
     cells = np.unique(np.stack([np.floor(rho / h), np.floor(z / h)], axis=1).astype(np.int64), axis=0)
     return float(np.sum(2 * np.pi * (cells[:, 0] + 0.5) * h * h * h))
-
-
-def _reached_at_50_digits(model, target, q, pos, tries=6):
-    """A configuration within the limits reaching ``target`` at 50 digits (mpmath ``findroot``), from float
-    Newton started at the sampled configurations ``q`` (positions ``pos``) nearest to it; False if none."""
-    near = np.argsort(np.linalg.norm(pos - target, axis=1))[:tries]
-    for seed in q[near]:
-        sol, ok = model.newton(np.array([target]), seed[None], steps=30)
-        if not ok[0]:
-            continue
-        J = model.jacobian_float(sol)[0]
-        cols = max(itertools.combinations(range(model.k), model.m),
-                   key=lambda c: abs(np.linalg.det(J[:, list(c)])))
-        exact = _solve_50_digits(model, target, sol[0], list(cols))
-        lo, hi = model.limits[:, 0], model.limits[:, 1]
-        if exact is not None and all(model.periodic[j] or lo[j] <= float(exact[j]) <= hi[j]
-                                     for j in range(model.k)):
-            return True
-    return False
 
 
 def test_offset_arm_takes_the_cylindrical_section():
@@ -122,7 +102,7 @@ def check_sampled_and_reached(robot, paving, *, samples: int, seed: int, chunk: 
     for k in range(0, len(paving.outer), chunk):
         assert not _in_boxes(pos, paving.outer[k:k + chunk]).any()
     for box in paving.inner[rng.integers(len(paving.inner), size=4)]:
-        assert _reached_at_50_digits(model, rng.uniform(box[:, 0], box[:, 1]), q, pos), box
+        assert reached_at_50_digits(model, rng.uniform(box[:, 0], box[:, 1]), q, pos), box
 
 
 def test_three_joint_section_is_paved_by_blocks():
@@ -143,7 +123,7 @@ def test_three_joint_section_is_paved_by_blocks():
     pos = model.position_float(q)
     assert not _in_boxes(pos, paving.outer).any()
     for box in paving.inner[rng.integers(len(paving.inner), size=3)]:
-        assert _reached_at_50_digits(model, rng.uniform(box[:, 0], box[:, 1]), q, pos), box
+        assert reached_at_50_digits(model, rng.uniform(box[:, 0], box[:, 1]), q, pos), box
 
 
 @settings(max_examples=8, deadline=None, derandomize=True)
@@ -165,7 +145,7 @@ def test_edges_never_give_a_wrong_box(first, a3):
     if isinstance(plan, Turned) and not plan.full and limited_turn(plan, model) is None:
         assert not len(paving.inner) and paving.volume_bounds is None     # less than a half turn: outer only
     for box in paving.inner[rng.integers(len(paving.inner), size=2)] if len(paving.inner) else []:
-        assert _reached_at_50_digits(model, rng.uniform(box[:, 0], box[:, 1]), q, pos), box
+        assert reached_at_50_digits(model, rng.uniform(box[:, 0], box[:, 1]), q, pos), box
 
 
 def test_unbounded_prismatic_joint_is_refused_by_name():

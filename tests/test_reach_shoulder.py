@@ -21,6 +21,7 @@ import rtbdata
 import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from reach_checks import ROOT, industrial_arm
 
 from workspace_sym.interval.image import CellGrid
 from workspace_sym.interval.verdict import INSIDE as INNER
@@ -29,20 +30,10 @@ from workspace_sym.kinematics import DHRobot
 from workspace_sym.reach_section import ShoulderReach, section_paving, shoulder_distance, turned_volume
 from workspace_sym.serial_workspace import _section
 
-ROOT = Path(__file__).resolve().parents[1]
-KR16 = Path(rtbdata.__file__).parent / "xacro/kuka_description/kuka_kr16/urdf/kr16_2.urdf"
-
-
-@functools.cache
-def _robot(name):
-    if name == "ur5":
-        return DHRobot.from_file(ROOT / "tests" / "data" / "dh" / "ur5.json")
-    return DHRobot.from_urdf(KR16)
-
 
 @pytest.fixture(scope="module", params=["ur5", "kr16"])
 def arm(request):
-    robot = _robot(request.param)
+    robot = industrial_arm(request.param)
     return request.param, robot, _section(robot, ())
 
 
@@ -88,7 +79,7 @@ def test_centred_enclosure_holds_the_values_of_its_box(centre, width):
     """The enclosure of ``h`` (natural form intersected with the centred form) holds its values at the
     corners, the centre and 200 random points of boxes around edge points (the joint limits, zero, pi/2);
     independent numerics: float evaluation of the simplified expression."""
-    reach = _section(_robot("ur5"), ()).section.reach
+    reach = _section(industrial_arm("ur5"), ()).section.reach
     k = reach.map.k
     c = np.resize(np.array(centre), k)
     Q = np.stack([c - width / 2, c + width / 2], axis=1)[None]
@@ -129,7 +120,7 @@ def test_far_cells_are_outside_the_bound_disc():
     """The far cells of a grid are those whose nearest point to the centre is beyond the square root of the
     bound (a cell corner exactly on the circle is not far): the cell grid of [0, 2] x [0, 2] with unit-width
     cells around a centre at (0, 0) and bound 1."""
-    reach = _section(_robot("ur5"), ()).section.reach
+    reach = _section(industrial_arm("ur5"), ()).section.reach
     saved = reach.centre
     try:
         reach.centre = ((0.0, 0.0), (0.0, 0.0))

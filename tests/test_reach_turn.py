@@ -16,7 +16,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import sympy as sp
-from test_reach_section import _pappus_volume, _reached_at_50_digits, check_sampled_and_reached, offset_arm
+from reach_checks import reached_at_50_digits
+from test_reach_section import _pappus_volume, check_sampled_and_reached, offset_arm
 
 from workspace_sym.interval.image import CellGrid
 from workspace_sym.interval.verdict import INSIDE as INNER
@@ -136,7 +137,7 @@ def test_inner_boxes_lie_where_the_first_joint_cannot_reach_from_one_side(limite
     q = model.random_configurations(30_000, rng)
     pos = model.position_float(q)
     for box in paving.inner[gap][rng.integers(gap.sum(), size=3)]:
-        assert _reached_at_50_digits(model, rng.uniform(box[:, 0], box[:, 1]), q, pos), box
+        assert reached_at_50_digits(model, rng.uniform(box[:, 0], box[:, 1]), q, pos), box
 
 
 class _Stopped:
@@ -225,7 +226,7 @@ def test_pieces_of_cut_cells_count_for_the_volume_and_are_reached():
         rho = e0[a // F] + (e0[a // F + 1] - e0[a // F]) * (a % F + rng.uniform()) / F
         z = e1[b // F] + (e1[b // F + 1] - e1[b // F]) * (b % F + rng.uniform()) / F
         psi = rng.uniform(-np.pi, np.pi)
-        assert _reached_at_50_digits(model, np.array([rho * np.cos(psi), rho * np.sin(psi), z]), q, pos), (rho, z)
+        assert reached_at_50_digits(model, np.array([rho * np.cos(psi), rho * np.sin(psi), z]), q, pos), (rho, z)
 
 
 def test_directions_resume_where_they_stopped():
