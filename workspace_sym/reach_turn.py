@@ -189,7 +189,7 @@ def cell_level(pieces: np.ndarray, grid) -> np.ndarray:
     """The masks over ``grid``'s cells of the cells whose pieces are all proved, from the piece masks of
     :func:`prove_directions` (``(..., n0 F, n1 F)``)."""
     F = pieces.shape[-2] // grid.shape[0]
-    return pieces.reshape(pieces.shape[:-2] + (grid.shape[0], F, grid.shape[1], F)).all(axis=(-3, -1))
+    return np.asarray(pieces.reshape(pieces.shape[:-2] + (grid.shape[0], F, grid.shape[1], F)).all(axis=(-3, -1)))
 
 
 def prove_directions(lateral: ImageMap, grid, candidates: np.ndarray, *, budget=None, depth: int = DIRECTION_DEPTH,
