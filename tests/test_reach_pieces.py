@@ -21,9 +21,8 @@ import numpy as np
 import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from reach_checks import reached_at_50_digits
+from reach_checks import industrial_arm, reached_at_50_digits
 from test_reach_section import _agrees_with_shell, shell_arm
-from test_reach_shoulder import _robot
 from test_serial_workspace import _in_boxes
 
 from workspace_sym.interval.image import CellGrid
@@ -87,7 +86,7 @@ def test_pieces_of_the_ur5_are_sound():
     configurations never land in an outer piece (nor an outer cell), random points of six inner pieces (a random
     polar angle) are reached at 50 digits; second method: the bracket, narrower with the pieces, holds Pappus's
     volume of the section sampled at 10^6 configurations (cells of side 0.008)."""
-    robot = _robot("ur5")
+    robot = industrial_arm("ur5")
     image = _section(robot, ()).section
     # No blocks of cells (no time left for them): the cells and pieces proved from samples and the shoulder bound.
     grid, classes, _, stopped, pieces = section_paving(image, 0.08, depth=2, seconds_left=lambda: 0.0)
