@@ -451,3 +451,34 @@ def test_a_symbolic_budget_swallowed_once_still_stops_the_step():
                     swallowed += 1
     assert swallowed == 1 and time.perf_counter() - began < 1.0
     time.sleep(0.15)                        # disarmed with the block: nothing fires after it
+
+
+def test_a_budget_interrupted_while_it_cleans_up_leaves_no_timer_behind(monkeypatch):
+    """The expired budget's timer raises again every ``RETRY_SECONDS`` until its block disarms it; when that
+    retry lands inside the block's own cleanup (a slow unwinding), the cleanup must still finish: no handler
+    and no timer of the block may outlive it, else every later budget of the process fails at once (the
+    benchmark saw 0.00 s "not finished within the budget" for every derivation after one timeout).  Reference:
+    the process's signal state before and after, and a later budget that runs to its end."""
+    import signal
+    import time
+
+    original = symbolic._disarm_alarm
+    slow = [True]
+
+    def slow_cleanup(alarm):
+        if slow.pop() if slow else False:
+            time.sleep(10 * symbolic.RETRY_SECONDS)     # the retry fires in here
+        original(alarm)
+
+    before = signal.getsignal(signal.SIGALRM)
+    monkeypatch.setattr(symbolic, "_disarm_alarm", slow_cleanup)
+    with pytest.raises(SymbolicBudgetError):
+        with symbolic.symbolic_budget(0.05, "expansion"):
+            time.sleep(2.0)
+    monkeypatch.undo()
+    assert signal.getsignal(signal.SIGALRM) is before and signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0)
+    assert symbolic._DEADLINE.get() is None
+    time.sleep(5 * symbolic.RETRY_SECONDS)
+    with symbolic.symbolic_budget(5.0, "later"):
+        time.sleep(0.2)
+        symbolic.check_budget("a later step")

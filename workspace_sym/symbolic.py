@@ -117,7 +117,14 @@ def symbolic_budget(seconds: float | None = None, what: str = "symbolic computat
         raise SymbolicBudgetError(f"{current[2]}: not finished within the budget of {current[1]:g} s") from None
     finally:
         _DEADLINE.reset(token)
-        _disarm_alarm(alarm)
+        # The expired timer raises again every RETRY_SECONDS until it is disarmed, also inside this cleanup
+        # (a slow unwinding): the cleanup is done again until it ends, so no handler or timer outlives the block.
+        while True:
+            try:
+                _disarm_alarm(alarm)
+                break
+            except _Expired:
+                continue
 
 
 RETRY_SECONDS = 0.02      # a budget's interruption swallowed on its way out is raised again this much later
