@@ -11,6 +11,7 @@ References, each named in its test:
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import itertools
 from pathlib import Path
@@ -121,16 +122,25 @@ def test_far_cells_are_outside_the_bound_disc():
     bound (a cell corner exactly on the circle is not far): the cell grid of [0, 2] x [0, 2] with unit-width
     cells around a centre at (0, 0) and bound 1."""
     reach = _section(industrial_arm("ur5"), ()).section.reach
+    with _centred(reach, ((0.0, 0.0), (0.0, 0.0))):
+        far = reach.far_cells(UNIT_GRID, 1.0)
+    e0, e1 = UNIT_GRID.edges
+    near = np.hypot(np.maximum(0, np.maximum(e0[:-1], -e0[1:]))[:, None],
+                    np.maximum(0, np.maximum(e1[:-1], -e1[1:]))[None, :])
+    assert np.array_equal(far, near > 1.0)
+    assert far[3, 0] and not far[2, 2] and far[3, 3]
+
+
+UNIT_GRID = CellGrid(np.array([[0.0, 2.0], [0.0, 2.0]]), 1.0)     # edges -1.5, -0.5, 0.5, 1.5, 2.5
+
+
+@contextlib.contextmanager
+def _centred(reach, centre):
+    """``reach`` with its centre ``(|s_xy|, s_z)`` (each an enclosure) moved to ``centre`` inside the block."""
     saved = reach.centre
+    reach.centre = centre
     try:
-        reach.centre = ((0.0, 0.0), (0.0, 0.0))
-        grid = CellGrid(np.array([[0.0, 2.0], [0.0, 2.0]]), 1.0)     # edges -1.5, -0.5, 0.5, 1.5, 2.5
-        far = reach.far_cells(grid, 1.0)
-        e0, e1 = grid.edges
-        near = np.hypot(np.maximum(0, np.maximum(e0[:-1], -e0[1:]))[:, None],
-                        np.maximum(0, np.maximum(e1[:-1], -e1[1:]))[None, :])
-        assert np.array_equal(far, near > 1.0)
-        assert far[3, 0] and not far[2, 2] and far[3, 3]
+        yield
     finally:
         reach.centre = saved
 
@@ -232,14 +242,9 @@ def test_near_cells_lie_within_the_least_distance_at_every_polar_angle():
     exactly that distance is not near.  The unit-width grid over [0, 2] x [0, 2], ``S`` at (0.5, 0), bound 6.25
     (distance 2.5)."""
     reach = _seven("panda")[3]
-    saved = reach.centre
-    try:
-        reach.centre = ((0.5, 0.5), (0.0, 0.0))
-        grid = CellGrid(np.array([[0.0, 2.0], [0.0, 2.0]]), 1.0)     # edges -1.5, -0.5, 0.5, 1.5, 2.5
-        near = reach.near_cells(grid, 6.25)
-        e0, e1 = grid.edges
-        far = np.hypot(np.maximum(e0[1:], 0.0)[:, None] + 0.5, np.maximum(np.abs(e1[:-1]), np.abs(e1[1:]))[None, :])
-        assert np.array_equal(near, far < 2.5)
-        assert near[0, 1] and near[2, 1] and not near[2, 2] and not near[1, 3]      # [2, 2]: exactly 2.5
-    finally:
-        reach.centre = saved
+    with _centred(reach, ((0.5, 0.5), (0.0, 0.0))):
+        near = reach.near_cells(UNIT_GRID, 6.25)
+    e0, e1 = UNIT_GRID.edges
+    far = np.hypot(np.maximum(e0[1:], 0.0)[:, None] + 0.5, np.maximum(np.abs(e1[:-1]), np.abs(e1[1:]))[None, :])
+    assert np.array_equal(near, far < 2.5)
+    assert near[0, 1] and near[2, 1] and not near[2, 2] and not near[1, 3]      # [2, 2]: exactly 2.5
