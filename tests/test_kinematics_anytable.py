@@ -482,3 +482,59 @@ def test_a_budget_interrupted_while_it_cleans_up_leaves_no_timer_behind(monkeypa
     with symbolic.symbolic_budget(5.0, "later"):
         time.sleep(0.2)
         symbolic.check_budget("a later step")
+
+
+def test_a_budget_closed_late_changes_nothing_that_is_no_longer_its_own():
+    """A budget entered in a generator that is left suspended is closed only when the generator is finalised,
+    after the blocks around it have ended.  Closing it then restored its enclosing block's deadline and timer
+    (the CI run of session 12: every budget after one test was spent at once, named after that test's block).
+    Reference: the process's state before (no deadline, the default handler, no timer), and a later budget
+    that runs to its end."""
+    import gc
+    import signal
+    import time
+
+    before = signal.getsignal(signal.SIGALRM)
+
+    def suspended():
+        with symbolic.symbolic_budget(5.0, "inner"):
+            yield
+
+    with symbolic.symbolic_budget(0.3, "outer"):
+        left = suspended()
+        next(left)                    # the inner block is entered, and its generator left suspended
+    assert symbolic._DEADLINE.get() is None and signal.getsignal(signal.SIGALRM) is before
+    del left
+    gc.collect()                      # the inner block is closed now, after the outer one
+    assert symbolic._DEADLINE.get() is None
+    assert signal.getsignal(signal.SIGALRM) is before and signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0)
+    time.sleep(0.4)                   # past the outer block's deadline: nothing fires
+    with symbolic.symbolic_budget(5.0, "later"):
+        time.sleep(0.1)
+        symbolic.check_budget("a later step")
+
+
+def test_the_budget_timer_does_not_interrupt_a_context_managers_exit():
+    """The expired budget's retries must not land inside the exit of a ``contextlib`` context manager entered
+    in the block: raised there, before the manager's generator is resumed, they leave that generator suspended
+    with whatever it holds (a budget of its own: see the test above).  Reference: the manager's cleanup runs to
+    its end, the block still ends with the one SymbolicBudgetError, and no timer outlives it."""
+    import signal
+    import time
+    from contextlib import contextmanager
+
+    done = []
+
+    @contextmanager
+    def slow_exit():
+        try:
+            yield
+        finally:
+            time.sleep(10 * symbolic.RETRY_SECONDS)    # several retries are due in here
+            done.append(True)
+
+    with pytest.raises(SymbolicBudgetError, match="demo: not finished within the budget of 0.05 s"):
+        with symbolic.symbolic_budget(0.05, "demo"), slow_exit():
+            time.sleep(2.0)
+    assert done == [True]
+    assert symbolic._DEADLINE.get() is None and signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0)

@@ -32,6 +32,7 @@ for the joint variables of a robot.
 
 from __future__ import annotations
 
+import contextlib
 import math
 import signal
 import threading
@@ -81,11 +82,30 @@ __all__ = [
 
 # ---------------------------------------------------------------------- budgets
 DEFAULT_SECONDS = 120.0   # one derivation (fk, a Jacobian, singular factors, a characteristic polynomial)
-_DEADLINE: ContextVar = ContextVar("workspace_sym_symbolic_deadline", default=None)
 
 
-@contextmanager
-def symbolic_budget(seconds: float | None = None, what: str = "symbolic computation"):
+class _Deadline:
+    """One budget block's entry in :data:`_DEADLINE`: when it ends, its length and its name (an enclosing earlier
+    deadline is copied into a new entry, so that each block knows its own), and the entry it replaced."""
+
+    __slots__ = ("at", "seconds", "what", "outer")
+
+    def __init__(self, at: float, seconds: float, what: str, outer: _Deadline | None):
+        self.at, self.seconds, self.what, self.outer = at, seconds, what, outer
+
+    def encloses(self, other: _Deadline | None) -> bool:
+        """Whether ``other`` is this entry or was entered inside it."""
+        while other is not None:
+            if other is self:
+                return True
+            other = other.outer
+        return False
+
+
+_DEADLINE: ContextVar[_Deadline | None] = ContextVar("workspace_sym_symbolic_deadline", default=None)
+
+
+class symbolic_budget:
     """Give the symbolic steps run inside the block ``seconds`` of wall time in all.
 
     The steps check the deadline inside their loops (:func:`check_budget`) and
@@ -95,6 +115,13 @@ def symbolic_budget(seconds: float | None = None, what: str = "symbolic computat
     timer (``SIGALRM``) also interrupts the SymPy calls that have no loop of ours
     inside (a multivariate factorisation's Hensel lifting ran for minutes).
 
+    The timer never interrupts the entry or the exit of a budget block, nor the
+    exit of a ``contextlib`` context manager (it raises there again shortly
+    after): an exception raised inside those would leave a block half closed, its
+    deadline and its timer alive after it, and every later budget of the process
+    spent at once.  A block closed late (a generator finalised after the blocks
+    around it) changes nothing that is no longer its own.
+
     Examples
     --------
     >>> with symbolic_budget(0.0, "demo"):
@@ -103,28 +130,37 @@ def symbolic_budget(seconds: float | None = None, what: str = "symbolic computat
     ...
     workspace_sym.errors.SymbolicBudgetError: demo: a step not finished within the budget of 0 s
     """
-    seconds = DEFAULT_SECONDS if seconds is None else seconds
-    if not (isinstance(seconds, (int, float)) and math.isfinite(seconds) and seconds >= 0):
-        raise SymbolicBudgetError(f"seconds must be a finite number >= 0; got {seconds!r}", parameter="seconds")
-    outer = _DEADLINE.get()
-    mine = (time.monotonic() + seconds, seconds, what)
-    current = mine if outer is None or mine[0] < outer[0] else outer
-    token = _DEADLINE.set(current)
-    alarm = _arm_alarm(current[0])
-    try:
-        yield
-    except _Expired:
-        raise SymbolicBudgetError(f"{current[2]}: not finished within the budget of {current[1]:g} s") from None
-    finally:
-        _DEADLINE.reset(token)
-        # The expired timer raises again every RETRY_SECONDS until it is disarmed, also inside this cleanup
-        # (a slow unwinding): the cleanup is done again until it ends, so no handler or timer outlives the block.
-        while True:
-            try:
-                _disarm_alarm(alarm)
-                break
-            except _Expired:
-                continue
+
+    def __init__(self, seconds: float | None = None, what: str = "symbolic computation"):
+        seconds = DEFAULT_SECONDS if seconds is None else seconds
+        if isinstance(seconds, bool) or not (isinstance(seconds, (int, float)) and math.isfinite(seconds)
+                                             and seconds >= 0):
+            raise SymbolicBudgetError(f"seconds must be a finite number >= 0; got {seconds!r}", parameter="seconds")
+        self.seconds, self.what = seconds, what
+        self._entry: _Deadline | None = None
+        self._alarm = None
+
+    def __enter__(self) -> symbolic_budget:
+        if self._entry is not None:
+            raise RuntimeError("a symbolic_budget block cannot be entered twice")
+        outer = _DEADLINE.get()
+        at = time.monotonic() + self.seconds
+        if outer is None or at < outer.at:
+            self._entry = _Deadline(at, self.seconds, self.what, outer)
+        else:   # the enclosing deadline comes first: it is this block's too, under the enclosing name
+            self._entry = _Deadline(outer.at, outer.seconds, outer.what, outer)
+        _DEADLINE.set(self._entry)
+        self._alarm = _arm_alarm(self._entry.at)
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        entry = self._entry
+        assert entry is not None, "exit without entry"
+        if entry.encloses(_DEADLINE.get()):   # else closed late: the state is no longer its own
+            _DEADLINE.set(entry.outer)
+        _disarm_alarm(self._alarm)
+        if exc_type is not None and issubclass(exc_type, _Expired):
+            raise SymbolicBudgetError(f"{entry.what}: not finished within the budget of {entry.seconds:g} s") from None
 
 
 RETRY_SECONDS = 0.02      # a budget's interruption swallowed on its way out is raised again this much later
@@ -133,6 +169,16 @@ RETRY_SECONDS = 0.02      # a budget's interruption swallowed on its way out is 
 class _Expired(BaseException):
     """Raised by the timer of :func:`symbolic_budget` inside SymPy's own code; a BaseException, so that no
     ``except Exception`` on the way swallows it (the budget's block turns it into SymbolicBudgetError)."""
+
+
+def _closing(frame) -> bool:
+    """Whether ``frame`` runs inside the entry or exit of a budget block or the exit of a ``contextlib`` context
+    manager (there the timer does not raise: see :class:`symbolic_budget`)."""
+    while frame is not None:
+        if frame.f_code in _CLOSING_CODES:
+            return True
+        frame = frame.f_back
+    return False
 
 
 def _arm_alarm(deadline: float):
@@ -148,23 +194,33 @@ def _arm_alarm(deadline: float):
     def expired(signum, frame):
         now = time.monotonic()
         if now >= deadline - 1e-3:
-            # raised again shortly if it is swallowed on the way (a gc callback or __del__ only prints it);
-            # the budget's block disarms the timer when it ends
+            # raised again shortly if it is swallowed on the way (a gc callback or __del__ only prints it) or
+            # held back in a block's cleanup; the budget's block disarms the timer when it ends
             signal.setitimer(signal.ITIMER_REAL, RETRY_SECONDS)
+            if _closing(frame):
+                return
             raise _Expired
         if now >= previous_deadline - 1e-3 and callable(previous):   # the enclosing timer's turn
             previous(signum, frame)
         signal.setitimer(signal.ITIMER_REAL, max(deadline - time.monotonic(), 1e-3))
 
     previous = signal.signal(signal.SIGALRM, expired)
+    expired.budget_previous = previous   # type: ignore[attr-defined]
     signal.setitimer(signal.ITIMER_REAL, max(min(deadline, previous_deadline) - now, 1e-3))
-    return previous, previous_deadline
+    return expired, previous, previous_deadline
 
 
 def _disarm_alarm(alarm) -> None:
+    """Restore the handler and timer that ran before ``alarm`` was armed, if ``alarm``'s handler (or that of a
+    budget entered inside it and never closed) is the one installed; a block closed late leaves them alone."""
     if alarm is None:
         return
-    previous, previous_deadline = alarm
+    mine, previous, previous_deadline = alarm
+    installed = signal.getsignal(signal.SIGALRM)
+    while installed is not mine:
+        installed = getattr(installed, "budget_previous", None)
+        if installed is None:
+            return
     signal.setitimer(signal.ITIMER_REAL, 0)
     signal.signal(signal.SIGALRM, previous)
     left = previous_deadline - time.monotonic()
@@ -172,6 +228,11 @@ def _disarm_alarm(alarm) -> None:
     # would raise a second time while the first SymbolicBudgetError is on its way out.
     if math.isfinite(left) and left > 1e-3:
         signal.setitimer(signal.ITIMER_REAL, left)
+
+
+_CLOSING_CODES = frozenset({symbolic_budget.__enter__.__code__, symbolic_budget.__exit__.__code__,
+                            _disarm_alarm.__code__, _arm_alarm.__code__,
+                            contextlib._GeneratorContextManager.__exit__.__code__})
 
 
 @contextmanager
@@ -201,14 +262,14 @@ def derivation(what: str, seconds: float | None = None):
 def check_budget(step: str) -> None:
     """Raise :class:`~workspace_sym.errors.SymbolicBudgetError` when the enclosing :func:`symbolic_budget` is spent."""
     current = _DEADLINE.get()
-    if current is not None and time.monotonic() > current[0]:
-        raise SymbolicBudgetError(f"{current[2]}: {step} not finished within the budget of {current[1]:g} s")
+    if current is not None and time.monotonic() > current.at:
+        raise SymbolicBudgetError(f"{current.what}: {step} not finished within the budget of {current.seconds:g} s")
 
 
 def remaining_budget() -> float | None:
     """Seconds left in the enclosing :func:`symbolic_budget` (0 once spent), or None outside any."""
     current = _DEADLINE.get()
-    return None if current is None else max(0.0, current[0] - time.monotonic())
+    return None if current is None else max(0.0, current.at - time.monotonic())
 
 
 def attempt(fn, seconds: float, what: str):
