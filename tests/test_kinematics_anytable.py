@@ -533,7 +533,7 @@ def test_the_budget_timer_does_not_interrupt_a_context_managers_exit():
             time.sleep(10 * symbolic.RETRY_SECONDS)    # several retries are due in here
             done.append(True)
 
-    with pytest.raises(SymbolicBudgetError, match="demo: not finished within the budget of 0.05 s"):
+    with pytest.raises(SymbolicBudgetError, match=r"demo: not finished within the budget of 0\.05 s"):
         with symbolic.symbolic_budget(0.05, "demo"), slow_exit():
             time.sleep(2.0)
     assert done == [True]

@@ -19,6 +19,7 @@ import pytest
 import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from reach_checks import reached_at_50_digits
 
 import workspace_sym as ws
 from workspace_sym import RunOn, StopAt
@@ -195,54 +196,6 @@ def _in_boxes(points, boxes, pad=0.0):
     return ((points[:, None, :] >= lo) & (points[:, None, :] <= hi)).all(axis=2).any(axis=1)
 
 
-def _solve_50_digits(model, target, q0, cols):
-    """Newton at 50 digits on the joints ``cols`` (the others fixed at q0): a configuration reaching
-    ``target`` exactly to 1e-40, or None."""
-    import mpmath
-
-    with mpmath.workdps(50):
-        fixed = {v: mpmath.mpf(float(x)) for v, x in zip(model.variables, q0)}
-        exprs = [sp.lambdify(model.variables, e - t, "mpmath") for e, t in zip(model.expressions, target)]
-
-        def f(*u):
-            vals = dict(fixed)
-            for c, x in zip(cols, u):
-                vals[model.variables[c]] = x
-            args = [vals[v] for v in model.variables]
-            return [g(*args) for g in exprs]
-        try:
-            u = mpmath.findroot(f, [fixed[model.variables[c]] for c in cols], tol=mpmath.mpf(10) ** -45)
-        except (ValueError, ZeroDivisionError):
-            return None
-        u = [u] if model.m == 1 else list(u)
-        q = [fixed[v] for v in model.variables]
-        for c, x in zip(cols, u):
-            q[c] = x
-        if max(abs(r) for r in f(*u)) > mpmath.mpf(10) ** -40:
-            return None
-        return q
-
-
-def _reached_at_50_digits(model, target, rng, tries=30):
-    """A configuration within the limits reaching ``target`` (checked at 50 digits), found by float Newton
-    from random starts then refined by mpmath; False if none is found."""
-    import itertools as it
-
-    for _ in range(tries):
-        q, ok = model.newton(np.array([target]), model.random_configurations(1, rng), steps=30)
-        if not ok[0]:
-            continue
-        J = model.jacobian_float(q)[0]
-        cols = max(it.combinations(range(model.k), model.m), key=lambda c: abs(np.linalg.det(J[:, list(c)])))
-        sol = _solve_50_digits(model, target, q[0], list(cols))
-        if sol is None:
-            continue
-        lo, hi = model.limits[:, 0], model.limits[:, 1]
-        if all(model.periodic[j] or lo[j] <= float(sol[j]) <= hi[j] for j in range(model.k)):
-            return True
-    return False
-
-
 @settings(max_examples=12, deadline=None, derandomize=True)
 @given(lengths=st.lists(st.sampled_from([0.2, 0.3, 0.5, 0.75, 1.0]), min_size=2, max_size=3),
        limits=st.lists(st.tuples(st.integers(-170, 0), st.integers(10, 170)), min_size=3, max_size=3),
@@ -258,12 +211,13 @@ def test_no_false_certificate_on_random_planar_chains(lengths, limits, seed):
     paving = reach(robot, delta=0.05 * sum(lengths))
     model = ReachModel(robot)
     rng = np.random.default_rng(seed)
+    q = model.random_configurations(100_000, rng)
+    pos = model.position_float(q)
     if len(paving.inner):
         for box in paving.inner[rng.integers(len(paving.inner), size=3)]:
             target = rng.uniform(box[:, 0], box[:, 1])
-            assert _reached_at_50_digits(model, target, rng), (box, target)
+            assert reached_at_50_digits(model, target, q, pos), (box, target)
     if len(paving.outer):
-        pos = model.position_float(model.random_configurations(100_000, rng))
         out = paving.outer
         assert not _in_boxes(pos, out, pad=1e-9).any()
         boxes = out[rng.integers(len(out), size=3)]
@@ -316,13 +270,14 @@ def test_glass_arm_outer_boxes_meet_no_configuration():
     paving = reach(robot, delta=0.1)
     model = ReachModel(robot)
     rng = np.random.default_rng(5)
-    pos = model.position_float(model.random_configurations(50_000, rng))
+    q = model.random_configurations(50_000, rng)
+    pos = model.position_float(q)
     out = paving.outer
     for k in range(0, len(out), 512):
         assert not _in_boxes(pos, out[k:k + 512]).any()
     for box in paving.inner[rng.integers(len(paving.inner), size=8)]:
         target = rng.uniform(box[:, 0], box[:, 1])
-        assert _reached_at_50_digits(model, target, rng), (box, target)
+        assert reached_at_50_digits(model, target, q, pos), (box, target)
 
 
 def test_the_method_follows_the_structure():
