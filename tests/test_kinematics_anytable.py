@@ -538,3 +538,88 @@ def test_the_budget_timer_does_not_interrupt_a_context_managers_exit():
             time.sleep(2.0)
     assert done == [True]
     assert symbolic._DEADLINE.get() is None and signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0)
+
+
+def test_an_enclosing_budget_already_due_is_armed_again_when_an_inner_one_ends():
+    """An inner budget's block ended when the enclosing one's deadline was due or nearly (its timer fires up
+    to 1 ms early): the enclosing timer was not armed again, and its block ran on with no timer at all (a
+    storm of nested budgets hung within 300 blocks).  Reference: the timer left armed after the inner
+    block, and the enclosing block interrupted."""
+    import signal
+    import time
+
+    with pytest.raises(SymbolicBudgetError, match="outer"):
+        with symbolic.symbolic_budget(0.2, "outer"):
+            inner = symbolic._arm_alarm(time.monotonic() + 5.0)
+            mine, previous, _ = inner
+            symbolic._disarm_alarm((mine, previous, time.monotonic() - 1e-4))   # the enclosing one due already
+            assert signal.getitimer(signal.ITIMER_REAL)[0] > 0
+            time.sleep(2.0)
+    assert signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0)
+
+
+def test_attempt_sharing_the_enclosing_deadline_reports_that_budget_spent():
+    """``attempt`` whose block took the enclosing deadline (the shorter one) reports that budget spent, even
+    when the timer fired a little before the deadline (the clock then said it was not due, and the caller went
+    on to a cheaper road with no time left).  Reference: the enclosing block's SymbolicBudgetError."""
+    import time
+
+    def until_interrupted():
+        while True:
+            time.sleep(0.001)
+
+    with pytest.raises(SymbolicBudgetError, match=r"outer: not finished within the budget of 0\.1 s"):
+        with symbolic.symbolic_budget(0.1, "outer"):
+            symbolic.attempt(until_interrupted, 30.0, "a long road")
+            pytest.fail("attempt returned although the enclosing budget was spent")
+
+
+def test_a_storm_of_nested_budgets_always_ends_and_leaves_no_state(tmp_path):
+    """Nested budgets (a plain one, one held by a contextlib generator, a derivation, an attempt) with random
+    deadlines of 0 to 50 ms around SymPy calls that swallow every Exception: every block ends with at most a
+    SymbolicBudgetError, and after each the process has no deadline, the default handler and no timer.  Run
+    in a child process with a time limit, since the failure it guards against is a hang.  Reference: the
+    process's state before."""
+    import subprocess
+    import sys
+    import textwrap
+
+    script = tmp_path / "storm.py"
+    script.write_text(textwrap.dedent('''
+        import random, signal, sys
+        from contextlib import contextmanager
+        import sympy as sp
+        from workspace_sym import symbolic
+        from workspace_sym.errors import SymbolicBudgetError
+
+        x, y = sp.symbols("x y")
+
+        @contextmanager
+        def held(seconds):
+            with symbolic.symbolic_budget(seconds, "held"):
+                yield
+
+        def work():
+            for k in range(10**6):
+                try:
+                    sp.factor(sp.expand((x + y + k) ** 4) - 1)
+                except Exception:
+                    pass
+
+        rng = random.Random(1)
+        for i in range(400):
+            try:
+                with symbolic.symbolic_budget(rng.uniform(0, 0.05), "outer"), held(rng.uniform(0, 0.05)):
+                    with symbolic.derivation("derived", rng.uniform(0, 0.05)):
+                        symbolic.attempt(work, rng.uniform(0, 0.05), "attempted")
+                        work()
+            except SymbolicBudgetError:
+                pass
+            clean = (symbolic._DEADLINE.get() is None and signal.getsignal(signal.SIGALRM) is signal.SIG_DFL
+                     and signal.getitimer(signal.ITIMER_REAL) == (0.0, 0.0))
+            if not clean:
+                sys.exit(f"state left behind after block {i}")
+        print("ended")
+    '''))
+    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=240)
+    assert done.returncode == 0 and done.stdout.strip() == "ended", done.stderr[-2000:]

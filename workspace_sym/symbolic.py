@@ -221,13 +221,29 @@ def _disarm_alarm(alarm) -> None:
         installed = getattr(installed, "budget_previous", None)
         if installed is None:
             return
-    signal.setitimer(signal.ITIMER_REAL, 0)
-    signal.signal(signal.SIGALRM, previous)
-    left = previous_deadline - time.monotonic()
-    # The enclosing timer runs on; one already due has fired through ours (chained), and re-arming it
-    # would raise a second time while the first SymbolicBudgetError is on its way out.
-    if math.isfinite(left) and left > 1e-3:
-        signal.setitimer(signal.ITIMER_REAL, left)
+    # SIGALRM is blocked while the timer and handler change: a signal of our timer already due would otherwise
+    # run our handler after the timer stopped (which, holding back here, arms its retry again) or, once the
+    # previous handler is back, the default action (which ends the process).
+    mask = hasattr(signal, "pthread_sigmask")
+    if mask:
+        signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGALRM})
+    try:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        due = mask and signal.SIGALRM in signal.sigpending()
+        if due:
+            signal.sigwait({signal.SIGALRM})      # taken: it was ours, or the previous timer's (armed below)
+        signal.signal(signal.SIGALRM, previous)
+        left = previous_deadline - time.monotonic()
+        # The enclosing timer runs on.  An enclosing budget's timer is armed again even when it is due (its
+        # handler raises in its block's body, holds back in cleanups); a foreign timer already due has fired
+        # through ours (chained), and arming it again would raise a second time, unless its signal was taken.
+        # Set last, whatever it is: our handler run after the timer stopped (a signal it took before the mask)
+        # armed its retry, and only now is it no longer the handler.
+        again = math.isfinite(left) and (left > 1e-3 or due or hasattr(previous, "budget_previous"))
+        signal.setitimer(signal.ITIMER_REAL, max(left, 1e-3) if again else 0)
+    finally:
+        if mask:
+            signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGALRM})
 
 
 _CLOSING_CODES = frozenset({symbolic_budget.__enter__.__code__, symbolic_budget.__exit__.__code__,
@@ -282,11 +298,14 @@ def attempt(fn, seconds: float, what: str):
     >>> attempt(lambda: 42, 1.0, "demo"), attempt(lambda: check_budget("a step"), 0.0, "demo")
     ((True, 42), (False, None))
     """
+    block = symbolic_budget(seconds, what)
     try:
-        with symbolic_budget(seconds, what):
+        with block:
             return True, fn()
     except SymbolicBudgetError:
-        check_budget(what)   # the enclosing deadline passed too: that one is the error
+        entry = block._entry
+        if entry is not None and entry.outer is not None and entry.at >= entry.outer.at:
+            raise   # the block's deadline was the enclosing one's: that budget is spent
         return False, None
 
 
