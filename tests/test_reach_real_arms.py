@@ -7,7 +7,7 @@ every machine decides the same boxes:
 * a section turned by a limited first joint (``reach_turn``): the LBR iiwa 14 (rtb-data's
   ``lbr_iiwa_14_r820.urdf``, 340 deg, its section moved by five joints once the last is dropped) and the Panda
   (``tests/data/dh/panda.json``, 332 deg), at delta 0.1 with a budget of 3000 boxes for the section
-  (``section_boxes``).  A coarser delta proves nothing inside: the Krawczyk test on their sections fails on
+  (``StopAt(section_boxes=3000)``).  A coarser delta proves nothing inside: the Krawczyk test on their sections fails on
   the wider cells it gives (none of the iiwa's cells of 58 mm, at delta 0.4, is proved at any direction, and
   the paving takes a minute), while at delta 0.1 about two thirds of its cells of 14 mm are.  The budget, of
   boxes and never of seconds, ends the proofs at the four directions within the cells of the first direction
@@ -49,7 +49,7 @@ SECTION_CELL = 0.01            # side h of the (rho, z) cells of the reference v
 def _arm(name):
     robot = industrial_arm(name)            # shared with test_reach_shoulder: one symbolic preparation
     delta, boxes, section = ARMS[name]
-    return robot, reach(robot, delta=delta, stop=StopAt(max_boxes=boxes, progress=False), section_boxes=section)
+    return robot, reach(robot, delta=delta, stop=StopAt(max_boxes=boxes, progress=False, section_boxes=section))
 
 
 def _strictly_in_boxes(points, boxes, shrink=1e-9, g=0.25):

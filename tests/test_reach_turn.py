@@ -21,6 +21,7 @@ import sympy as sp
 from reach_checks import arcs_volume, reached_at_50_digits, sampled_arcs_volume, sampled_positions
 from test_reach_section import _pappus_volume, check_sampled_and_reached, offset_arm
 
+from workspace_sym import StopAt
 from workspace_sym.interval.image import CellGrid
 from workspace_sym.interval.verdict import INSIDE as INNER
 from workspace_sym.interval.verdict import OUTSIDE as OUTER
@@ -117,19 +118,20 @@ def test_limited_first_joint_gets_inner_boxes_and_a_bracket(limited_paving):
 
 
 def test_a_budget_of_boxes_stops_the_limited_section_at_its_shares(limited_paving):
-    """``section_boxes`` on the swing arm: the section's stages stop at the shares of the budget that they take
-    of a time limit (the proofs at the four directions at ``DIRECTIONS_SHARE``, the blocks at ``BLOCKS_END``,
-    the step under way ending first), on the same cells every run (two runs of reach stopped at 300 give the
-    same boxes: the first chunk of proofs runs whole); fewer cells
-    are proved than without the budget and what is proved is still sound: sampled configurations never in an
-    outer box, inner points reached at 50 digits, the bracket holds the Monte Carlo volume with arcs."""
+    """``StopAt(section_boxes=...)`` on the swing arm: the section's stages stop at the shares of the budget
+    that they take of a time limit (the proofs at the four directions at ``DIRECTIONS_SHARE``, the blocks at
+    ``BLOCKS_END``, the step under way ending first: ``pave_limited`` with 3000 boxes evaluates between 92 %
+    of them and one chunk more), on the same cells every run (two runs of reach stopped at 300 give the same
+    boxes: the first chunk of proofs runs whole); fewer cells are proved than without the budget and what is
+    proved is still sound: sampled configurations never in an outer box, inner points reached at 50 digits,
+    the bracket holds the Monte Carlo volume with arcs (second method)."""
     robot, free = limited_paving
     turn = limited_turn(_section(robot, ()), _model(robot, ()))
     budget = 3000                       # of the 70,425 the stages take to their ends on these cells
     width = SECTION_RATIO * _cell_width(0.25, "diameter", 3)
     _, _, pieces, evaluated, reason = pave_limited(turn, width, _Free(), boxes=budget)
     assert reason == "" and BLOCKS_END * budget <= evaluated < budget + DIRECTION_CHUNK
-    runs = [reach(robot, delta=0.25, section_boxes=300) for _ in range(2)]
+    runs = [reach(robot, delta=0.25, stop=StopAt(section_boxes=300)) for _ in range(2)]
     for kind in ("inner", "boundary", "outer"):
         assert np.array_equal(getattr(runs[0], kind), getattr(runs[1], kind)), kind
     cut = runs[0]

@@ -685,7 +685,7 @@ def _planar(robot, parameters, delta, size, run, *, executor):
     return box, [grid.boxes(classes, INSIDE)], boundary, [grid.boxes(classes, OUTSIDE)], pending, evaluated, reason
 
 
-def _spatial(robot, parameters, delta, size, run, *, executor, where, section_boxes=None):
+def _spatial(robot, parameters, delta, size, run, *, executor, where):
     """The ``"critical"`` method for a spatial robot whose workspace is a product of images or a section
     turned by its first joint (module docstring): the section paved, then the task boxes classified from it by
     the driver (:func:`classify_task_boxes`, its boxes where ``where`` says).  Returns ``(paving, volume)``,
@@ -703,7 +703,7 @@ def _spatial(robot, parameters, delta, size, run, *, executor, where, section_bo
     table = hashlib.sha256(repr((robot.joints, robot.base, robot.tool)).encode()).hexdigest()[:16]
     named = (f"{robot.name} {table} {sorted((str(k), str(v)) for k, v in dict(parameters).items())} "
              f"{type(plan).__name__} delta={float(delta)!r} size={size} cell={SECTION_RATIO * width!r} "
-             f"limits={model.limits.tolist()}" + ("" if section_boxes is None else f" boxes={section_boxes}"))
+             f"limits={model.limits.tolist()}" + ("" if run.section_boxes is None else f" boxes={run.section_boxes}"))
     saved = _saved_section(where, named)
     if saved is not None:
         grid, classes, proved, pieces, evaluated = saved
@@ -711,7 +711,7 @@ def _spatial(robot, parameters, delta, size, run, *, executor, where, section_bo
         # A limited first joint of half a turn or more: cells proved at every polar angle (reach_turn).
         with section_bar(run.showing) as show:
             grid, classes, proved, evaluated, reason = pave_limited(limited, SECTION_RATIO * width, run, show=show,
-                                                                    boxes=section_boxes)
+                                                                    boxes=run.section_boxes)
     elif isinstance(plan, Turned) and plan.section.k > 2:
         # The section refines while its next step would end before the time limit less the time the (x, y, z)
         # boxes take, measured once on the first proved cells (a rehearsal: more cells decided, fewer boxes).
@@ -727,7 +727,7 @@ def _spatial(robot, parameters, delta, size, run, *, executor, where, section_bo
 
         def section_budget(count, ahead=0.0):
             late = run.time_limit is not None and run.seconds + SECTION_RESERVE * ahead + reserve[0] > run.time_limit
-            spent = section_boxes is not None and count >= section_boxes
+            spent = run.section_boxes is not None and count >= run.section_boxes
             return run.stop_reason(count) or ("section share" if late or spent else "")
 
         with section_bar(run.showing) as show:
@@ -898,8 +898,7 @@ def _prepared_within(robot: DHRobot, time_limit: float | None, spent: float = 0.
 @arith.nearest_rounding
 def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: dict | None = None,
           method: str = "auto", max_pairs: int | None = None, inner_depth: int | None = None,
-          stop: StopAt = StopAt(), run: RunOn = RunOn(), pose: Pose | None = None,
-          section_boxes: int | None = None) -> Paving:
+          stop: StopAt = StopAt(), run: RunOn = RunOn(), pose: Pose | None = None) -> Paving:
     """Pave the position workspace of a serial robot within its joint limits (module docstring).
 
     Parameters
@@ -925,8 +924,16 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     stop : :class:`~workspace_sym.interval.driver.StopAt`
         A budget (``max_boxes``, ``time_limit``): what is left undecided is returned as ``pending``.  A
         symbolic model not ready within ``time_limit`` raises
-        :class:`~workspace_sym.errors.SymbolicBudgetError`.  ``progress``: a progress bar
-        (:mod:`workspace_sym.progress`; default: on an interactive output once the run has lasted a second).
+        :class:`~workspace_sym.errors.SymbolicBudgetError`.  ``section_boxes``: a budget of boxes (cells,
+        pieces of cells and blocks evaluated) for the section of an arm turned by its first joint and moved by
+        three joints or more (:func:`~workspace_sym.reach_section.section_paving`,
+        :func:`~workspace_sym.reach_turn.pave_limited`), the same cells on every machine where a time limit
+        is not: its stages stop where they stop at their shares of a time limit (a full turn: every stage
+        once the budget is spent, the cells decided kept; a limited first joint: at the shares of
+        ``pave_limited``), then the task boxes are classified from the cells decided (within ``max_boxes``).
+        Other sections (one cover of their critical set) have no stages and ignore it.  ``progress``: a
+        progress bar (:mod:`workspace_sym.progress`; default: on an interactive output once the run has lasted
+        a second).
     run : :class:`~workspace_sym.interval.driver.RunOn`
         ``executor``: None (this process), a :class:`concurrent.futures.Executor`
         or a ``dask.distributed.Client``
@@ -947,14 +954,6 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         method refuses them (one grid of cells, in memory).  With a ``pose``
         they apply to its ``"section"`` method as to the spatial critical
         method (:func:`~workspace_sym.orientation.reach_pose`).
-    section_boxes : int, optional
-        A budget of boxes (cells, pieces of cells and blocks evaluated) for the section of an arm turned by its
-        first joint and moved by three joints or more (:func:`~workspace_sym.reach_section.section_paving`,
-        :func:`~workspace_sym.reach_turn.pave_limited`): the same cells on every machine, where a time limit is
-        not.  Its stages stop where they stop at their shares of a time limit (a full turn: every stage once
-        the budget is spent, the cells decided kept; a limited first joint: at the shares of ``pave_limited``),
-        then the task boxes are classified from the cells decided (within ``stop``).  Other sections (one
-        cover of their critical set) have no stages and ignore it.  Default: none.
     pose : :class:`Pose`, optional
         A constraint on the tool frame (:func:`workspace_sym.orientation.reach_pose`).
         Then inner boxes are proved reached by configurations within the limits
@@ -986,9 +985,9 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
             raise InvalidParameterError(f"method: reach with a tool constraint chooses its own method (the "
                                         f"section where the first joint turns it, pairs otherwise); got "
                                         f"{method!r}, expected 'auto'", parameter="method")
-        if section_boxes is not None:
+        if stop.section_boxes is not None:
             raise InvalidParameterError(f"section_boxes: reach with a tool constraint paves its own section (no "
-                                        f"budget of boxes for it); got {section_boxes!r}, expected None",
+                                        f"budget of boxes for it); got {stop.section_boxes!r}, expected None",
                                         parameter="section_boxes")
         from .orientation import reach_pose  # one way: orientation builds on this module
 
@@ -1005,8 +1004,7 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     check_delta(delta)
     if size not in ("diameter", "width"):
         raise InvalidParameterError(f"size must be one of 'diameter', 'width'; got {size!r}", parameter="size")
-    counts = [("inner_depth", inner_depth, 0), ("section_boxes", section_boxes, 1)]
-    for name, value, least in counts[:1 if section_boxes is None else 2]:
+    for name, value, least in (("inner_depth", inner_depth, 0),):
         if not isinstance(value, int) or isinstance(value, bool) or value < least:
             raise InvalidParameterError(f"{name} must be a whole number, {least} or more; got {value!r}",
                                         parameter=name)
@@ -1029,8 +1027,7 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         if kind == "critical":
             try:
                 result = (_planar(robot, values, delta, size, budget, executor=executor) if model.m == 2 else
-                          _spatial(robot, values, delta, size, budget, executor=executor, where=run,
-                                   section_boxes=section_boxes))
+                          _spatial(robot, values, delta, size, budget, executor=executor, where=run))
             except CoverTooLarge as error:
                 if method == "critical":
                     raise InvalidParameterError(f"method 'critical': {error} (joints with parallel axes?); use "
