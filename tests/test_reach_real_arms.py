@@ -8,8 +8,8 @@ every machine decides the same boxes:
   ``lbr_iiwa_14_r820.urdf``, 340 deg, its section moved by five joints once the last is dropped) and the Panda
   (``tests/data/dh/panda.json``, 332 deg), at delta 0.1 with a budget of 3000 boxes for the section
   (``StopAt(section_boxes=3000)``).  A coarser delta proves nothing inside: the Krawczyk test on their sections fails on
-  the wider cells it gives (none of the iiwa's cells of 58 mm, at delta 0.4, is proved at any direction, and
-  the paving takes a minute), while at delta 0.1 about two thirds of its cells of 14 mm are.  The budget, of
+  the wider cells it gives (none of the iiwa's cells of 58 mm, at delta 0.4, is proved at any direction, after
+  tens of seconds of failed proofs), while at delta 0.1 about two thirds of its cells of 14 mm are.  The budget, of
   boxes and never of seconds, ends the proofs at the four directions within the cells of the first direction
   (two chunks of proofs; the blocks of cells outside do not start), so that the paving takes seconds, not
   minutes; the outer boxes come from the distance from the shoulder.
