@@ -25,6 +25,9 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "tests"))
+from reach_checks import industrial_arm, sampled_arcs_volume  # noqa: E402  (the tests' arms and reference)
+
 ARMS = {"ur5": [(0.2, 60), (0.1, 60)], "kr16": [(0.1, 120)], "glass": [(0.0125, 60)], "puma": [(0.02, 60)],
         "iiwa": [(0.1, 60), (0.1, 300)], "panda": [(0.1, 60), (0.1, 300)]}
 LIMITED = ("iiwa", "panda")     # first joint limited (340 and 332 deg): run only when named
@@ -32,22 +35,9 @@ LIMITED = ("iiwa", "panda")     # first joint limited (340 and 332 deg): run onl
 
 def load(name):
     from workspace_sym import robots
-    from workspace_sym.kinematics import DHRobot
 
-    if name == "ur5":
-        return DHRobot.from_file(ROOT / "tests" / "data" / "dh" / "ur5.json")
-    if name == "kr16":
-        import rtbdata
-
-        path = Path(rtbdata.__file__).parent / "xacro/kuka_description/kuka_kr16/urdf/kr16_2.urdf"
-        return DHRobot.from_urdf(path)
-    if name == "iiwa":
-        import rtbdata
-
-        path = Path(rtbdata.__file__).parent / "xacro/kuka_description/kuka_lbr_iiwa/urdf/lbr_iiwa_14_r820.urdf"
-        return DHRobot.from_urdf(path)
-    if name == "panda":
-        return DHRobot.from_file(ROOT / "tests" / "data" / "dh" / "panda.json")
+    if name in ("ur5", "kr16", "iiwa", "panda"):
+        return industrial_arm(name)
     return robots.build({"glass": "glass-handling", "puma": "puma560"}[name])
 
 
@@ -74,33 +64,11 @@ def pappus(robot, plan, n=16_000_000, h=0.005, chunk=1_000_000):
     return 2 * volume[h] - volume[2 * h]
 
 
-def arcs(robot, plan, n=1_000_000, h=0.005):
-    """Volume for a limited first joint: the section sampled (the first joint at 0), each (rho, z) cell of side
-    h hit by a sample turned through the union of the arcs psi0 + [a, b] of its samples (an estimate)."""
-    from workspace_sym.reach_section import to_first_frame
-    from workspace_sym.reach_turn import limited_turn
-    from workspace_sym.serial_workspace import ReachModel
-
-    model = ReachModel(robot)
-    turn = limited_turn(plan, model)
-    if turn is None:
-        return None
-    a, b = turn.inner_range
-    q = model.random_configurations(n, np.random.default_rng(0))
-    q[:, 0] = 0.0
-    p = model.position_float(q)
-    F = to_first_frame(plan.inverse, np.repeat(p[:, :, None], 2, axis=2))[:, :, 0]
-    theta0 = float(robot.substitute(robot.joints[0].theta, {}).subs(model.variables[0], 0))
-    psi = np.remainder(np.arctan2(F[:, 1], F[:, 0]) - theta0, 2 * np.pi)
-    cells = np.stack([np.floor(np.hypot(F[:, 0], F[:, 1]) / h), np.floor(F[:, 2] / h)], axis=1).astype(np.int64)
-    order = np.lexsort((psi, cells[:, 1], cells[:, 0]))
-    cells, psi = cells[order], psi[order]
-    start = np.r_[0, np.nonzero((np.diff(cells, axis=0) != 0).any(axis=1))[0] + 1]
-    total = 0.0
-    for i, j in zip(start, np.r_[start[1:], len(psi)]):
-        gaps = np.diff(np.r_[psi[i:j], psi[i] + 2 * np.pi])
-        total += (cells[i, 0] + 0.5) * h ** 3 * (2 * np.pi - np.maximum(gaps - (b - a), 0.0).sum())
-    return total
+def arcs(robot, n=1_000_000, h=0.005):
+    """Volume for a limited first joint: the section sampled, each (rho, z) cell of side h hit by a sample turned
+    through the union of the arcs of its samples (``reach_checks.sampled_arcs_volume``, the tests' reference;
+    an estimate)."""
+    return sampled_arcs_volume(robot, n, h)
 
 
 def one(name, delta, limit):
@@ -135,7 +103,7 @@ def one(name, delta, limit):
     serial_workspace._section(robot, ())
     prep = time.perf_counter() - t
     lo, hi = paving.measure_bounds
-    ref = pappus(robot, plan) if name not in LIMITED else arcs(robot, plan)
+    ref = pappus(robot, plan) if name not in LIMITED else arcs(robot)
     c = paving.counts
     holds = "" if ref is None else ("holds" if lo <= ref <= hi else "MISSES")
     rest = total - prep - phases["section paving"]

@@ -1,6 +1,8 @@
 """Checks shared by the soundness tests of ``reach`` (test_serial_workspace.py, test_reach_section.py,
-test_reach_turn.py, test_reach_shoulder.py, test_reach_real_arms.py): inverse kinematics at 50 digits from
-sampled seeds, the industrial arms of issue 24."""
+test_reach_turn.py, test_reach_shoulder.py, test_reach_real_arms.py) and benchmarks/bench_reach_arms.py: inverse
+kinematics at 50 digits from sampled seeds, the industrial arms of issue 24, configurations sampled within the
+limits and placed by the robot's own position, and the reference volume of an arm turned by its first joint from
+them (the sampled section with its arcs)."""
 
 from __future__ import annotations
 
@@ -17,16 +19,81 @@ from scipy.optimize import least_squares
 from workspace_sym.kinematics import DHRobot
 
 ROOT = Path(__file__).resolve().parents[1]
-KR16 = Path(rtbdata.__file__).parent / "xacro/kuka_description/kuka_kr16/urdf/kr16_2.urdf"
+XACRO = Path(rtbdata.__file__).parent / "xacro"
+KR16 = XACRO / "kuka_description/kuka_kr16/urdf/kr16_2.urdf"
+IIWA = XACRO / "kuka_description/kuka_lbr_iiwa/urdf/lbr_iiwa_14_r820.urdf"
 
 
 @functools.cache
 def industrial_arm(name):
-    """The UR5 (``tests/data/dh/ur5.json``) or the KUKA KR16 (rtb-data's URDF, limits from the file), one object
-    per process so that the symbolic section is prepared once."""
-    if name == "ur5":
-        return DHRobot.from_file(ROOT / "tests" / "data" / "dh" / "ur5.json")
-    return DHRobot.from_urdf(KR16)
+    """The UR5 (``tests/data/dh/ur5.json``), the KUKA KR16 or the LBR iiwa 14 (rtb-data's URDFs, limits from the
+    files) or the Panda (``tests/data/dh/panda.json``), one object per process so that the symbolic section is
+    prepared once."""
+    if name in ("ur5", "panda"):
+        return DHRobot.from_file(ROOT / "tests" / "data" / "dh" / f"{name}.json")
+    return DHRobot.from_urdf({"kr16": KR16, "iiwa": IIWA}[name])
+
+
+def sampled_positions(robot, n, seed, chunk=100_000):
+    """Chunks ``(q, p)`` of ``n`` configurations uniform within the joint limits (``joint_limits``: the file's,
+    or a full turn for a joint without limits) and their positions by the robot's own numeric position
+    (``DHRobot.numeric(robot.position)``, not the reach model, which drops joints)."""
+    rng = np.random.default_rng(seed)
+    limits = robot.joint_limits()
+    position = robot.numeric(robot.position)
+    for start in range(0, n, chunk):
+        q = rng.uniform(limits[:, 0], limits[:, 1], size=(min(chunk, n - start), robot.n))
+        yield q, position(q)[:, :, 0]
+
+
+def first_axis(robot, rng):
+    """The first joint's axis (a point and a unit direction), found from the points alone: the points of one
+    configuration with the first joint turned by 0, 120 and 240 degrees lie on a circle about the axis (their
+    centroid its centre, the normal of their plane its direction, oriented so that the first joint turns them
+    counterclockwise about it)."""
+    q = rng.uniform(-1, 1, size=(1, robot.n)).repeat(3, axis=0)
+    q[:, 0] += np.array([0, 2, 4]) * np.pi / 3
+    p = robot.fk_numeric(q)[:, :3, 3]
+    a = np.cross(p[1] - p[0], p[2] - p[0])
+    return p.mean(axis=0), a / np.linalg.norm(a)
+
+
+def arcs_volume(robot, q1, points, h):
+    """Monte Carlo volume of the workspace of an arm turned by its revolute first joint, from the positions
+    ``points`` of sampled configurations whose first joint is at ``q1``: in cylindrical coordinates
+    ``(rho, z, psi)`` about the first joint's axis (:func:`first_axis`: from the points, not from the reach
+    model), each cell of side ``h`` of ``(rho, z)`` hit by a sample turns through the union of the arcs
+    ``psi - q1 + [lo, hi]`` of its samples (``[lo, hi]`` the first joint's limits), of measure ``2 pi`` less
+    the gaps between consecutive angles beyond ``hi - lo``: the sum of ``(rho_cell + h / 2) h^2`` times that
+    measure.  A first joint turning a full circle or more: Pappus's theorem on the sampled section.  An
+    estimate, no bound (the hit cells overlap the section's boundary by about half a cell; too few samples
+    leave cells, or arcs, unhit)."""
+    centre, axis = first_axis(robot, np.random.default_rng(0))
+    d = points - centre
+    z = d @ axis
+    radial = d - z[:, None] * axis
+    e1 = np.cross(axis, np.eye(3)[np.argmin(np.abs(axis))])
+    e1 /= np.linalg.norm(e1)
+    psi = np.remainder(np.arctan2(radial @ np.cross(axis, e1), radial @ e1) - q1, 2 * np.pi)
+    rho = np.floor(np.linalg.norm(radial, axis=1) / h).astype(np.int64)
+    row = np.floor(z / h).astype(np.int64)
+    order = np.lexsort((psi, row, rho))
+    rho, row, psi = rho[order], row[order], psi[order]
+    new = np.r_[True, (np.diff(rho) != 0) | (np.diff(row) != 0)]
+    start = np.flatnonzero(new)
+    group = np.cumsum(new) - 1
+    gap = np.r_[psi[1:], 0.0] - psi                     # to the next angle of the cell, the last round to the first
+    last = np.r_[start[1:], len(psi)] - 1
+    gap[last] = psi[start] + 2 * np.pi - psi[last]
+    lo, hi = robot.joint_limits()[0]
+    lost = np.bincount(group, weights=np.maximum(gap - (hi - lo), 0.0), minlength=len(start))
+    return float(np.sum((rho[start] + 0.5) * h ** 3 * (2 * np.pi - lost)))
+
+
+def sampled_arcs_volume(robot, n, h, seed=0):
+    """:func:`arcs_volume` of ``n`` configurations sampled by :func:`sampled_positions`."""
+    q, p = map(np.concatenate, zip(*sampled_positions(robot, n, seed)))
+    return arcs_volume(robot, q[:, 0], p, h)
 
 
 def reached_at_50_digits(model, target, q, pos, tries=6):

@@ -80,6 +80,7 @@ def test_the_clock_is_made_from_the_options_alone():
 @pytest.mark.parametrize("make, parameter", [
     (lambda: StopAt(max_boxes=0), "max_boxes"),
     (lambda: StopAt(max_boxes=True), "max_boxes"),
+    (lambda: StopAt(section_boxes=0), "section_boxes"),
     (lambda: StopAt(time_limit=-1), "time_limit"),
     (lambda: StopAt(time_limit=math.inf), "time_limit"),
     (lambda: RunOn(chunk=0), "chunk"),

@@ -42,6 +42,14 @@ def test_bad_constraints_name_the_parameter_value_and_expectation(options, param
     assert fragment in str(caught.value)
 
 
+def test_a_budget_of_section_boxes_is_refused_with_a_pose():
+    """A tool constraint paves its own section, without a budget of boxes: ``StopAt(section_boxes=...)`` is
+    refused by name, never ignored."""
+    with pytest.raises(InvalidParameterError) as caught:
+        reach(robots.build("scara"), delta=0.05, pose=Pose(rpy=(180, 0, 0)), stop=StopAt(section_boxes=10))
+    assert caught.value.parameter == "section_boxes" and "got 10, expected None" in str(caught.value)
+
+
 def test_rotation_is_made_exact_and_keeps_the_matrix_given():
     # Reference: the exact rotation by pi about x (tool down), given as floats off by a rounding error.
     c = orientation_constraint([[1, 0, 0], [0, -1, 1e-17], [0, -1e-17, -1]])

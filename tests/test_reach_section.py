@@ -19,7 +19,8 @@ from hypothesis import strategies as st
 from reach_checks import reached_at_50_digits
 from test_serial_workspace import _in_boxes
 
-from workspace_sym.errors import JointLimitError
+from workspace_sym import StopAt
+from workspace_sym.errors import InvalidParameterError, JointLimitError
 from workspace_sym.interval.image import CellGrid
 from workspace_sym.interval.verdict import INSIDE as INNER
 from workspace_sym.interval.verdict import OUTSIDE as OUTER
@@ -105,14 +106,20 @@ def check_sampled_and_reached(robot, paving, *, samples: int, seed: int, chunk: 
         assert reached_at_50_digits(model, rng.uniform(box[:, 0], box[:, 1]), q, pos), box
 
 
-def test_three_joint_section_is_paved_by_blocks():
+@pytest.fixture(scope="module")
+def wrist_paving():
+    """The offset arm with a wrist paved at delta 0.25, every stage of its section to its end."""
+    robot = offset_arm(wrist=True)
+    return robot, reach(robot, delta=0.25)
+
+
+def test_three_joint_section_is_paved_by_blocks(wrist_paving):
     """A section moved by three joints (the offset arm with a wrist) is paved by blocks of cells carrying
     joint boxes: sampled configurations never land in an outer box; inner points reached at 50 digits;
     the bracket holds Pappus's volume."""
-    robot = offset_arm(wrist=True)
+    robot, paving = wrist_paving
     plan = _section(robot, ())
     assert isinstance(plan, Turned) and plan.section.k == 3
-    paving = reach(robot, delta=0.25)
     lo, hi = paving.measure_bounds
     volume = _pappus_volume(robot, n=400_000, h=0.01)
     assert lo <= volume <= hi, (lo, volume, hi)
@@ -124,6 +131,27 @@ def test_three_joint_section_is_paved_by_blocks():
     assert not _in_boxes(pos, paving.outer).any()
     for box in paving.inner[rng.integers(len(paving.inner), size=3)]:
         assert reached_at_50_digits(model, rng.uniform(box[:, 0], box[:, 1]), q, pos), box
+
+
+def test_a_budget_of_boxes_stops_the_section_at_the_same_cells_on_every_run(wrist_paving):
+    """``StopAt(section_boxes=5000)``: the section of the offset arm with a wrist stops once 5000 of its boxes
+    are evaluated (the stage under way ends its chunk), on the same cells every run (no clock: two runs give the
+    same boxes), fewer than the 9220 of its stages run to their ends; what it decided is still sound: sampled
+    configurations never in an outer box, inner points reached at 50 digits (independent numerics), the bracket
+    holds Pappus's volume of the sampled section (second method).  A budget that is not a whole number of at
+    least 1 is refused by name."""
+    robot, free = wrist_paving
+    runs = [reach(robot, delta=0.25, stop=StopAt(section_boxes=5000)) for _ in range(2)]
+    for kind in ("inner", "boundary", "outer"):
+        assert np.array_equal(getattr(runs[0], kind), getattr(runs[1], kind)), kind
+    cut = runs[0]
+    assert cut.complete and 0 < len(cut.inner) < len(free.inner) and len(cut.outer)
+    lo, hi = cut.measure_bounds
+    assert lo < free.measure_bounds[0] and lo <= _pappus_volume(robot, n=400_000, h=0.01) <= hi
+    check_sampled_and_reached(robot, cut, samples=30_000, seed=12)
+    for bad in (0, 2.5, True):
+        with pytest.raises(InvalidParameterError, match="section_boxes"):
+            StopAt(section_boxes=bad)
 
 
 @settings(max_examples=8, deadline=None, derandomize=True)

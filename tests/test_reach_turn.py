@@ -4,9 +4,11 @@ References, each named in its test:
 * independent numerics: 10^5 random configurations (vectorised forward kinematics, the first joint within its
   limits) never land in an outer box; points drawn in inner boxes are reached within every limit by an inverse
   kinematics refined at 50 digits;
-* a second method: a Monte Carlo volume of the sampled section with its arcs (for each (rho, z) cell hit by
-  sampled configurations of the other joints, the measure of the union of the arcs psi0 + [a, b] of its samples,
-  turned: sum of rho h^2 times that measure), which the proved bracket must hold;
+* a second method: a Monte Carlo volume of the sampled section with its arcs (``reach_checks.arcs_volume``:
+  configurations sampled within the limits, placed by the robot's own numeric position, in cylindrical
+  coordinates about the first joint's axis found from the points; each (rho, z) cell hit by a sample turns
+  through the union of the arcs psi - q1 + [a, b] of its samples: sum of rho h^2 times that measure), which the
+  proved bracket must hold;
 * exact arithmetic: which pairs of directions cover the circle is decided exactly on the length of the first
   joint's range.
 """
@@ -16,15 +18,18 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import sympy as sp
-from reach_checks import reached_at_50_digits
+from reach_checks import arcs_volume, reached_at_50_digits, sampled_arcs_volume, sampled_positions
 from test_reach_section import _pappus_volume, check_sampled_and_reached, offset_arm
 
+from workspace_sym import StopAt
 from workspace_sym.interval.image import CellGrid
 from workspace_sym.interval.verdict import INSIDE as INNER
 from workspace_sym.interval.verdict import OUTSIDE as OUTER
 from workspace_sym.kinematics import DHJoint, DHRobot
-from workspace_sym.reach_section import Turned, to_first_frame, turned_volume
+from workspace_sym.reach_section import Turned, turned_volume
 from workspace_sym.reach_turn import (
+    BLOCKS_END,
+    DIRECTION_CHUNK,
     cell_level,
     covering_pairs,
     direction_seeds,
@@ -34,7 +39,7 @@ from workspace_sym.reach_turn import (
     pieces_upper,
     prove_directions,
 )
-from workspace_sym.serial_workspace import ReachModel, _model, _section, reach
+from workspace_sym.serial_workspace import SECTION_RATIO, ReachModel, _cell_width, _model, _section, reach
 
 R = sp.Rational
 IIWA_LIKE = (-R(17, 18) * sp.pi, R(17, 18) * sp.pi)          # +-170 deg, the LBR iiwa's first joint
@@ -50,33 +55,21 @@ def swing_arm(first=IIWA_LIKE):
                     DHJoint.revolute(4, a=R(1, 5))], name="swing arm")
 
 
-def _arcs_volume(robot, n=400_000, h=0.01, seed=0):
-    """Monte Carlo volume of the workspace of an arm turned by a limited first joint: sampled configurations of
-    the other joints rasterised in (rho, z) of the first joint's frame; each hit cell turns through the union of
-    the arcs psi0 + [a, b] of its samples (psi0 their polar angles), of measure 2 pi less the gaps between
-    consecutive angles beyond b - a."""
-    plan = _section(robot, ())
-    model = ReachModel(robot)
-    turn = limited_turn(plan, model)
-    a, b = turn.inner_range
-    rng = np.random.default_rng(seed)
-    q = model.random_configurations(n, rng)
-    q[:, 0] = 0.0
-    p = model.position_float(q)
-    F = to_first_frame(plan.inverse, np.repeat(p[:, :, None], 2, axis=2))[:, :, 0]
-    theta0 = float(sp.N(model.robot.substitute(model.robot.joints[0].theta, {}).subs(model.variables[0], 0)))
-    psi = np.remainder(np.arctan2(F[:, 1], F[:, 0]) - theta0, 2 * np.pi)
-    cells = np.stack([np.floor(np.hypot(F[:, 0], F[:, 1]) / h), np.floor(F[:, 2] / h)], axis=1).astype(np.int64)
-    order = np.lexsort((psi, cells[:, 1], cells[:, 0]))
-    cells, psi = cells[order], psi[order]
-    start = np.r_[0, np.nonzero((np.diff(cells, axis=0) != 0).any(axis=1))[0] + 1]
-    total = 0.0
-    for i, j in zip(start, np.r_[start[1:], len(psi)]):
-        angles = psi[i:j]
-        gaps = np.diff(np.r_[angles, angles[0] + 2 * np.pi])
-        arc = 2 * np.pi - np.maximum(gaps - (b - a), 0.0).sum()
-        total += (cells[i, 0] + 0.5) * h * h * h * arc
-    return total
+def test_the_arcs_of_a_section_of_one_angle_turn_through_the_first_joint_s_range():
+    """The reference of the bracket: an arm whose second link swings in the plane of the first (alpha 90 deg,
+    a1 > a2) reaches each (rho, z) at one polar angle, so its arcs' volume (``arcs_volume``) is the first
+    joint's range over 2 pi times Pappus's volume of the same hit cells (the full turn: the same samples with
+    q1 at 0 and the limits widened to a full turn), to rounding; counted against the turn the wrong way, the
+    arcs spread over the circle and the ratio is not kept."""
+    def arm(first):
+        return DHRobot([DHJoint.revolute(1, a=1, alpha=sp.pi / 2, limits=first),
+                        DHJoint.revolute(2, a=R(1, 2))], name="vertical 2R")
+
+    robot = arm((-sp.pi / 6, sp.pi / 3))
+    q, p = map(np.concatenate, zip(*sampled_positions(robot, 100_000, seed=3)))
+    full = arcs_volume(arm(None), q[:, 0], p, 0.01)
+    assert arcs_volume(robot, q[:, 0], p, 0.01) == pytest.approx(full / 4, rel=1e-12)
+    assert arcs_volume(robot, -q[:, 0], p, 0.01) > 1.5 * full / 4
 
 
 def test_pairs_of_directions_are_decided_exactly():
@@ -118,10 +111,34 @@ def test_limited_first_joint_gets_inner_boxes_and_a_bracket(limited_paving):
     assert len(paving.inner) and len(paving.outer) and paving.volume_bounds is not None
     check_sampled_and_reached(robot, paving, samples=100_000, seed=11)
     lo, hi = paving.measure_bounds
-    volume = _arcs_volume(robot)
+    volume = sampled_arcs_volume(robot, 400_000, 0.01)
     assert lo <= volume <= hi, (lo, volume, hi)
     vlo, vhi = paving.volume_bounds
     assert 0 < vlo <= volume <= vhi
+
+
+def test_a_budget_of_boxes_stops_the_limited_section_at_its_shares(limited_paving):
+    """``StopAt(section_boxes=...)`` on the swing arm: the section's stages stop at the shares of the budget
+    that they take of a time limit (the proofs at the four directions at ``DIRECTIONS_SHARE``, the blocks at
+    ``BLOCKS_END``, the step under way ending first: ``pave_limited`` with 3000 boxes evaluates between 92 %
+    of them and one chunk more), on the same cells every run (two runs of reach stopped at 300 give the same
+    boxes: the first chunk of proofs runs whole); fewer cells are proved than without the budget and what is
+    proved is still sound: sampled configurations never in an outer box, inner points reached at 50 digits,
+    the bracket holds the Monte Carlo volume with arcs (second method)."""
+    robot, free = limited_paving
+    turn = limited_turn(_section(robot, ()), _model(robot, ()))
+    budget = 3000                       # of the 70,425 the stages take to their ends on these cells
+    width = SECTION_RATIO * _cell_width(0.25, "diameter", 3)
+    _, _, pieces, evaluated, reason = pave_limited(turn, width, _Free(), boxes=budget)
+    assert reason == "" and BLOCKS_END * budget <= evaluated < budget + DIRECTION_CHUNK
+    runs = [reach(robot, delta=0.25, stop=StopAt(section_boxes=300)) for _ in range(2)]
+    for kind in ("inner", "boundary", "outer"):
+        assert np.array_equal(getattr(runs[0], kind), getattr(runs[1], kind)), kind
+    cut = runs[0]
+    assert cut.complete and 0 < len(cut.inner) < len(free.inner) and len(cut.outer)
+    lo, hi = cut.measure_bounds
+    assert lo < free.measure_bounds[0] and lo <= sampled_arcs_volume(robot, 400_000, 0.01) <= hi
+    check_sampled_and_reached(robot, cut, samples=30_000, seed=13)
 
 
 def test_inner_boxes_lie_where_the_first_joint_cannot_reach_from_one_side(limited_paving):
@@ -211,7 +228,7 @@ def test_pieces_of_cut_cells_count_for_the_volume_and_are_reached():
     lo, hi = limited_volume(turn, grid, classes, pieces)
     F = pieces.shape[1] // grid.shape[0]
     whole = np.repeat(np.repeat(cell_level(pieces, grid), F, axis=1), F, axis=2)
-    assert limited_volume(turn, grid, classes, whole)[0] < lo <= _arcs_volume(robot) <= hi
+    assert limited_volume(turn, grid, classes, whole)[0] < lo <= sampled_arcs_volume(robot, 400_000, 0.01) <= hi
     both = np.zeros(pieces.shape[1:], dtype=bool)
     for j, k in turn.pairs:
         both |= pieces[j] & pieces[k]

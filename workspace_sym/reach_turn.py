@@ -348,14 +348,16 @@ class LimitedTurnTest(TurnedTest):
         return inner, outer & ~inner
 
 
-def pave_limited(limited: LimitedTurn, width: float, run, *, show=None):
+def pave_limited(limited: LimitedTurn, width: float, run, *, show=None, boxes: int | None = None):
     """``(grid, full classes, pieces, evaluated, reason)`` over a grid of the given width on the section's
     enclosure: its cells tried at the four directions (:func:`prove_directions`, whose pieces are returned),
     then blocks of cells proved outside the section (stage 2 of
     :func:`~workspace_sym.reach_section.section_paving`; a cell holding a sampled position is never tried, a
     cell inner at every angle is skipped).  With a time limit, the directions
     take ``DIRECTIONS_SHARE`` of the time left when called, the blocks run until ``BLOCKS_END`` of it (the
-    directions go on where they stopped when the blocks end before), the world boxes take the rest."""
+    directions go on where they stopped when the blocks end before), the world boxes take the rest.  With a
+    budget of ``boxes`` (evaluated here; the same cells on every machine), the stages stop at the same shares
+    of it, the step under way ending first."""
     section = limited.plan.section
     limit, begun = run.time_limit, run.seconds
     show = show or (lambda share, evaluated: None)
@@ -363,7 +365,8 @@ def pave_limited(limited: LimitedTurn, width: float, run, *, show=None):
     def until(share, why):
         def budget(count, ahead=0.0):
             late = limit is not None and run.seconds + 1.5 * ahead > begun + share * (limit - begun)
-            return run.stop_reason(count) or (why if late else "")
+            spent = boxes is not None and count >= share * boxes
+            return run.stop_reason(count) or (why if late or spent else "")
         return budget
 
     grid = CellGrid(section.enclose(section.limits[None])[0], width)

@@ -703,14 +703,15 @@ def _spatial(robot, parameters, delta, size, run, *, executor, where):
     table = hashlib.sha256(repr((robot.joints, robot.base, robot.tool)).encode()).hexdigest()[:16]
     named = (f"{robot.name} {table} {sorted((str(k), str(v)) for k, v in dict(parameters).items())} "
              f"{type(plan).__name__} delta={float(delta)!r} size={size} cell={SECTION_RATIO * width!r} "
-             f"limits={model.limits.tolist()}")
+             f"limits={model.limits.tolist()}" + ("" if run.section_boxes is None else f" boxes={run.section_boxes}"))
     saved = _saved_section(where, named)
     if saved is not None:
         grid, classes, proved, pieces, evaluated = saved
     elif limited is not None:
         # A limited first joint of half a turn or more: cells proved at every polar angle (reach_turn).
         with section_bar(run.showing) as show:
-            grid, classes, proved, evaluated, reason = pave_limited(limited, SECTION_RATIO * width, run, show=show)
+            grid, classes, proved, evaluated, reason = pave_limited(limited, SECTION_RATIO * width, run, show=show,
+                                                                    boxes=run.section_boxes)
     elif isinstance(plan, Turned) and plan.section.k > 2:
         # The section refines while its next step would end before the time limit less the time the (x, y, z)
         # boxes take, measured once on the first proved cells (a rehearsal: more cells decided, fewer boxes).
@@ -726,7 +727,8 @@ def _spatial(robot, parameters, delta, size, run, *, executor, where):
 
         def section_budget(count, ahead=0.0):
             late = run.time_limit is not None and run.seconds + SECTION_RESERVE * ahead + reserve[0] > run.time_limit
-            return run.stop_reason(count) or ("section share" if late else "")
+            spent = run.section_boxes is not None and count >= run.section_boxes
+            return run.stop_reason(count) or ("section share" if late or spent else "")
 
         with section_bar(run.showing) as show:
             grid, classes, evaluated, reason, pieces = section_paving(
@@ -922,8 +924,16 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     stop : :class:`~workspace_sym.interval.driver.StopAt`
         A budget (``max_boxes``, ``time_limit``): what is left undecided is returned as ``pending``.  A
         symbolic model not ready within ``time_limit`` raises
-        :class:`~workspace_sym.errors.SymbolicBudgetError`.  ``progress``: a progress bar
-        (:mod:`workspace_sym.progress`; default: on an interactive output once the run has lasted a second).
+        :class:`~workspace_sym.errors.SymbolicBudgetError`.  ``section_boxes``: a budget of boxes (cells,
+        pieces of cells and blocks evaluated) for the section of an arm turned by its first joint and moved by
+        three joints or more (:func:`~workspace_sym.reach_section.section_paving`,
+        :func:`~workspace_sym.reach_turn.pave_limited`), the same cells on every machine where a time limit
+        is not: its stages stop where they stop at their shares of a time limit (a full turn: every stage
+        once the budget is spent, the cells decided kept; a limited first joint: at the shares of
+        ``pave_limited``), then the task boxes are classified from the cells decided (within ``max_boxes``).
+        Other sections (one cover of their critical set) have no stages and ignore it.  ``progress``: a
+        progress bar (:mod:`workspace_sym.progress`; default: on an interactive output once the run has lasted
+        a second).
     run : :class:`~workspace_sym.interval.driver.RunOn`
         ``executor``: None (this process), a :class:`concurrent.futures.Executor`
         or a ``dask.distributed.Client``
@@ -975,6 +985,10 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
             raise InvalidParameterError(f"method: reach with a tool constraint chooses its own method (the "
                                         f"section where the first joint turns it, pairs otherwise); got "
                                         f"{method!r}, expected 'auto'", parameter="method")
+        if stop.section_boxes is not None:
+            raise InvalidParameterError(f"section_boxes: reach with a tool constraint paves its own section (no "
+                                        f"budget of boxes for it); got {stop.section_boxes!r}, expected None",
+                                        parameter="section_boxes")
         from .orientation import reach_pose  # one way: orientation builds on this module
 
         given = {name: value for name, value in (("max_pairs", max_pairs), ("inner_depth", inner_depth))

@@ -70,11 +70,14 @@ class StopAt:
     """What a run stops at: ``max_boxes`` boxes evaluated, ``time_limit`` seconds, and whether it shows a
     progress bar on the way (``progress``: None, on an interactive output once the run has lasted a second;
     True, always; False, never; :mod:`workspace_sym.progress`).  What is left when it stops is pending.
+    ``section_boxes``, of :func:`~workspace_sym.serial_workspace.reach` only: a budget of boxes for the stages
+    of the section of an arm turned by its first joint, the same cells on every machine where a time limit
+    is not.
 
     Examples
     --------
     >>> StopAt(time_limit=5)
-    StopAt(max_boxes=None, time_limit=5, progress=None)
+    StopAt(max_boxes=None, time_limit=5, progress=None, section_boxes=None)
     >>> StopAt(max_boxes=0)
     Traceback (most recent call last):
     ...
@@ -84,12 +87,12 @@ class StopAt:
     max_boxes: int | None = None
     time_limit: float | None = None
     progress: bool | None = None
+    section_boxes: int | None = None
 
     def __post_init__(self):
-        if self.max_boxes is not None and not (isinstance(self.max_boxes, int)
-                                               and not isinstance(self.max_boxes, bool) and self.max_boxes >= 1):
-            raise InvalidParameterError(f"max_boxes must be at least 1; got {self.max_boxes!r}",
-                                        parameter="max_boxes")
+        for name, count in (("max_boxes", self.max_boxes), ("section_boxes", self.section_boxes)):
+            if count is not None and not (isinstance(count, int) and not isinstance(count, bool) and count >= 1):
+                raise InvalidParameterError(f"{name} must be at least 1; got {count!r}", parameter=name)
         t = self.time_limit
         if t is not None and not (isinstance(t, int | float) and not isinstance(t, bool) and math.isfinite(t)
                                   and t > 0):
@@ -201,7 +204,7 @@ class RunBudget:
     """
 
     def __init__(self, stop: StopAt, label: str):
-        self.max_boxes, self.time_limit = stop.max_boxes, stop.time_limit
+        self.max_boxes, self.time_limit, self.section_boxes = stop.max_boxes, stop.time_limit, stop.section_boxes
         self.spent = 0
         self.start = time.perf_counter()
         self.bar = progress_bar(stop.progress, total=100.0, desc=label, unit="%",
