@@ -52,7 +52,7 @@ def run(name, robot, delta, *, forced=False, time_limit=None, exact=None):
     try:
         for p in patches:
             p.start()
-        serial._model(robot, ()).minors
+        _ = serial._model(robot, ()).minors
         prepared = time.perf_counter() - start
         paving = serial.reach(robot, delta=delta, method="critical" if forced else "auto",
                               stop=StopAt(time_limit=time_limit, progress=False))
