@@ -113,15 +113,15 @@ def test_sampled_configurations_of_the_rail_miss_every_outer_box(rail):
 
 
 def test_inner_boxes_of_the_rail_are_reached_at_50_digits(rail):
-    """Inverse kinematics at 50 digits: the corners and the centre of 12 inner boxes (spread over the list) are
+    """Inverse kinematics at 50 digits: the corners and the centre of 8 inner boxes (spread over the list) are
     reached within the limits, the residual below 1e-40."""
     model = _model(RAIL, ())
     rng = np.random.default_rng(5)
     q = model.random_configurations(40_000, rng)
     pos = model.position_float(q)
     inner = rail.inner
-    assert len(inner) >= 12
-    for box in inner[np.linspace(0, len(inner) - 1, 12).astype(int)]:
+    assert len(inner) >= 8
+    for box in inner[np.linspace(0, len(inner) - 1, 8).astype(int)]:
         for point in [*itertools.product(*box), box.mean(axis=1)]:
             assert reached_at_50_digits(model, np.array(point), q, pos), (box.tolist(), point)
 
@@ -167,12 +167,12 @@ def test_inner_boxes_of_the_oblique_prism_lie_in_its_exact_set(oblique):
 
 def test_outer_boxes_of_the_oblique_prism_miss_its_exact_set(oblique):
     """Exact reference on dense samples: the 27 points of each outer box at the fractions 0, 1/2, 1 of its edges
-    (corners, centres of faces and edges, centre) and 5 random rational points are outside the set."""
+    (corners, centres of faces and edges, centre) and 2 random rational points are outside the set."""
     rng = np.random.default_rng(2)
     assert len(oblique.outer) > 20
     for box in oblique.outer:
         ts = [*itertools.product((0, Fraction(1, 2), 1), repeat=3),
-              *(tuple(Fraction(int(v), 997) for v in rng.integers(0, 998, 3)) for _ in range(5))]
+              *(tuple(Fraction(int(v), 997) for v in rng.integers(0, 998, 3)) for _ in range(2))]
         for t in ts:
             point = [Fraction(lo) + ti * (Fraction(hi) - Fraction(lo)) for (lo, hi), ti in zip(box, t)]
             assert not _in_oblique(*point), (box.tolist(), point)
@@ -220,7 +220,7 @@ def test_a_cover_too_large_falls_back_to_the_pair_method(monkeypatch):
     """As on a planar arm: past MAX_COVER_BOXES joint boxes in flight, 'auto' runs the pair method (the same
     boxes as method='pairs' with the same budget) and method='critical' is a clear error naming the method."""
     monkeypatch.setattr(image, "MAX_COVER_BOXES", 200)
-    stop = StopAt(max_boxes=3000, progress=False)
+    stop = StopAt(max_boxes=800, progress=False)
     auto = reach(OBLIQUE, delta=0.25, stop=stop)
     pairs = reach(OBLIQUE, delta=0.25, method="pairs", stop=stop)
     assert auto.method == "pairs" and auto.counts == pairs.counts and auto.measure_bounds == pairs.measure_bounds
@@ -273,3 +273,34 @@ def test_random_prismatic_first_arms_keep_samples_out_of_outer_boxes(twist, rows
     pos = _positions(robot, _samples(robot, 20_000, seed=1))
     assert paving.complete
     assert not _in_any_box(pos, paving.outer).any()
+
+
+def test_a_joint_that_does_not_move_the_point_is_dropped_before_the_cover():
+    """A last joint turning the tool about its own axis through the point (a = d = 0) leaves the position as it
+    is: the reach model (the map whose critical set is covered) holds the four joints of the rail only, with the
+    same position map (exact SymPy identity)."""
+    wrist = DHRobot([*RAIL.joints, DHJoint.revolute(5, limits=(-1, 1))], name="rail with a wrist")
+    model, bare = _model(wrist, ()), _model(RAIL, ())
+    assert model.joints == [0, 1, 2, 3] and model.variables == bare.variables and model.k == 4
+    assert all(sp.simplify(a - b) == 0 for a, b in zip(model.expressions, bare.expressions))
+    assert resolve_method(wrist) == "critical" and _section(wrist, ()) is None
+
+
+def test_the_cover_looks_at_the_budget_after_every_generation():
+    """The cover in space can take minutes: a budget is asked after each generation of joint boxes (with the
+    seconds expected of the next one when it takes ``ahead``), and a stop there decides no cell (nothing rests
+    on an unfinished cover).  Reference: the counts handed to the budget are those of a complete cover's
+    generations (1, 3, 7, ... joint boxes examined from the 3 faces), the stop the one it returned."""
+    model = _model(OBLIQUE, ())
+    asked = []
+
+    def budget(evaluated, ahead=0.0):
+        asked.append((evaluated, ahead))
+        return "enough" if len(asked) == 4 else ""
+
+    grid, classes, evaluated, reason = image.critical_paving(model, 0.1, budget=budget)
+    assert reason == "enough" and evaluated == asked[-1][0] and len(asked) == 4
+    assert (classes == image.UNDECIDED).all()
+    counts = [n for n, _ in asked]
+    assert counts[0] == 3 and all(b > a for a, b in itertools.pairwise(counts))
+    assert all(ahead >= 0 for _, ahead in asked)

@@ -46,8 +46,10 @@ tried one by one with the Krawczyk test.
 
 from __future__ import annotations
 
+import inspect
 import itertools
 import math
+import time
 
 import numpy as np
 import sympy as sp
@@ -579,8 +581,10 @@ def critical_paving(image: ImageMap, width: float, *, rng=None, budget=None, cov
     docstring for the proofs); ``stopped`` is the reason a budget stopped the
     run (then every cell not yet decided is :data:`UNDECIDED`, and nothing
     rests on an unfinished step).  ``budget`` is a callable of the number of
-    boxes evaluated returning a stop reason or ``""``, looked at after each generation of the cover here,
-    each round of proofs of the components and each chunk of marked cells; ``cover`` computes the
+    boxes evaluated returning a stop reason or ``""``, looked at after each generation of the cover here
+    (with ``ahead=`` twice the seconds of the last generation when it takes that keyword, as
+    :meth:`~workspace_sym.interval.driver.RunBudget.stop_reason` does: the next generation holds at most
+    twice its boxes), each round of proofs of the components and each chunk of marked cells; ``cover`` computes the
     covers of a list of faces, ``cover(faces, target, clip)``, as a list of
     :func:`critical_cover` results (default: here, all faces in one call).  ``show`` is
     called as ``show(share decided, boxes evaluated)`` after each step: each generation of the cover here
@@ -600,9 +604,16 @@ def critical_paving(image: ImageMap, width: float, *, rng=None, budget=None, cov
     classes = np.full(grid.shape, UNDECIDED, dtype=CODE)
     target = cover_ratio * width
 
+    # The next generation of the cover holds at most twice the boxes of the last one: with a budget that takes
+    # the seconds ``ahead`` of a step, a generation expected to end past its time limit is not started.
+    foresees = "ahead" in inspect.signature(budget).parameters
+    clock = [time.perf_counter()]
+
     def generation(evaluated):
         show(0.0, evaluated)
-        reason = budget(evaluated)
+        now = time.perf_counter()
+        reason = budget(evaluated, ahead=2.0 * (now - clock[0])) if foresees else budget(evaluated)
+        clock[0] = now
         if reason:
             raise _CoverStopped(evaluated, reason)
 
