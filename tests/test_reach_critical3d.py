@@ -41,8 +41,7 @@ HALF = sp.Rational(1, 2)
 # A robot on a rail: P along z0, then alpha = 90 deg and two limited revolute joints, and one full turn.
 RAIL = DHRobot([DHJoint.prismatic(1, alpha=sp.pi / 2, limits=(0, HALF)),
                 DHJoint.revolute(2, a=sp.Rational(2, 5), alpha=sp.pi / 2, limits=(-sp.pi / 2, sp.pi / 2)),
-                DHJoint.revolute(3, d=sp.Rational(1, 10), a=sp.Rational(3, 10),
-                                 limits=(-2 * sp.pi / 3, 2 * sp.pi / 3)),
+                DHJoint.revolute(3, d=sp.Rational(1, 10), a=sp.Rational(3, 10), limits=(-sp.pi / 2, sp.pi / 2)),
                 DHJoint.revolute(4, a=sp.Rational(1, 5))], name="rail")
 
 # P along z0, then a 2R chain (1, 1/2) of full turns in the plane of normal z1 = (0, -3/5, 4/5).
