@@ -66,7 +66,7 @@ def run(name, robot, delta, *, forced=False, time_limit=None, exact=None):
     lo, hi = paving.measure_bounds
     cover = f"cover {counts[0][0]} joint boxes ({counts[0][1]} kept)" if counts else "cover not finished"
     c = paving.counts
-    line = (f"{name:28s} delta {delta:<5g} {seconds:7.1f} s (minors {prepared:.1f} s), {cover}, "
+    line = (f"{name:28s} delta {delta:<5g} {seconds:7.1f} s (model and minors {prepared:.1f} s), {cover}, "
             f"{paving.evaluated} evaluated; inner {c['inner']}, boundary {c['boundary']}, outer {c['outer']}, "
             f"pending {c['pending']}; volume in [{lo:.5g}, {hi:.5g}], width {100 * (hi - lo) / hi:.1f} %")
     if exact is not None:
