@@ -287,9 +287,9 @@ def test_a_joint_that_does_not_move_the_point_is_dropped_before_the_cover():
 
 def test_the_cover_looks_at_the_budget_after_every_generation():
     """The cover in space can take minutes: a budget is asked after each generation of joint boxes (with the
-    seconds expected of the next one when it takes ``ahead``), and a stop there decides no cell (nothing rests
-    on an unfinished cover).  Reference: the counts handed to the budget are those of a complete cover's
-    generations (1, 3, 7, ... joint boxes examined from the 3 faces), the stop the one it returned."""
+    seconds expected of the next one when it takes ``ahead``), the progress bar shown the count each time, and a
+    stop there decides no cell (nothing rests on an unfinished cover).  Reference: the counts handed to the
+    budget grow from the 3 faces of the first generation, and the run stops with the reason it returned."""
     model = _model(OBLIQUE, ())
     asked = []
 
@@ -297,8 +297,11 @@ def test_the_cover_looks_at_the_budget_after_every_generation():
         asked.append((evaluated, ahead))
         return "enough" if len(asked) == 4 else ""
 
-    grid, classes, evaluated, reason = image.critical_paving(model, 0.1, budget=budget)
+    shown = []
+    grid, classes, evaluated, reason = image.critical_paving(model, 0.1, budget=budget,
+                                                             show=lambda share, count: shown.append((share, count)))
     assert reason == "enough" and evaluated == asked[-1][0] and len(asked) == 4
+    assert shown == [(0.0, n) for n, _ in asked]          # the bar moves with every generation of the cover
     assert (classes == image.UNDECIDED).all()
     counts = [n for n, _ in asked]
     assert counts[0] == 3 and all(b > a for a, b in itertools.pairwise(counts))
