@@ -306,3 +306,18 @@ def test_the_cover_looks_at_the_budget_after_every_generation():
     counts = [n for n, _ in asked]
     assert counts[0] == 3 and all(b > a for a, b in itertools.pairwise(counts))
     assert all(ahead >= 0 for _, ahead in asked)
+
+
+def test_the_3d_cover_spread_over_an_executor_gives_the_same_paving(oblique):
+    """The faces' covers go to an executor one group of faces per task (as for a planar arm): a box's fate depends
+    on it alone, so the paving is the local one, box for box (a second run of the same method, split)."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from workspace_sym import RunOn
+
+    with ThreadPoolExecutor(2) as pool:
+        spread = reach(OBLIQUE, delta=0.25, stop=QUIET, run=RunOn(executor=pool))
+    assert spread.method == "critical" and spread.counts == oblique.counts
+    for kind in ("inner", "boundary", "outer"):
+        assert np.array_equal(getattr(spread, kind), getattr(oblique, kind)), kind
+    assert spread.measure_bounds == oblique.measure_bounds
