@@ -283,7 +283,7 @@ def test_glass_arm_outer_boxes_meet_no_configuration():
 def test_the_method_follows_the_structure():
     """glass arm and Puma: p = Rz(theta1) (u, c, v); the SCARA is a product (x, y) x z; the UR5's wrist
     offsets make c vary: its section is in cylindrical coordinates; a coupled first joint fits nothing, so
-    'critical' on it is a clear error."""
+    'critical' on it is the critical method in space (issue 24 item 1: tests/test_reach_critical3d.py)."""
     glass = _section(ws.robots.build("glass-handling"), ())
     assert [str(v) for v in glass.section.variables] == ["theta2", "theta3", "theta4"] and glass.c == (0.0, 0.0)
     puma = _section(ws.robots.build("puma560"), ())
@@ -296,8 +296,7 @@ def test_the_method_follows_the_structure():
                        DHJoint("R", q2 - q1, 0, sp.Rational(1, 2), 0, q2, (-1, 1)),
                        DHJoint.revolute(3, a=sp.Rational(1, 4), limits=(-1, 1))])
     assert _section(coupled, ()) is None
-    with pytest.raises(InvalidParameterError, match="method 'critical' needs"):
-        reach(coupled, delta=0.1, method="critical")
+    assert resolve_method(coupled, "critical") == resolve_method(coupled) == "critical"
     # The UR5's lateral offset varies with its wrist joints: a section in cylindrical coordinates (issue 24).
     ur5 = _section(DHRobot.from_file(DATA / "dh" / "ur5.json"), ())
     assert isinstance(ur5, Turned) and ur5.full and ur5.inverse is None
@@ -522,7 +521,7 @@ EXACT_ARMS = {
     "joint 1 shifts along its axis": (SHIFTING_ARM, _reached(SHIFTING_ARM, _shifting_ik), ("auto",)),
 }
 _PAVED = [(name, method) for name, (_, _, methods) in sorted(EXACT_ARMS.items()) for method in methods]
-_OPTIONS = {"joint 1 shifts along its axis": {"delta": 0.3, "max_pairs": 4000},     # pair method in 3D: 10 s
+_OPTIONS = {"joint 1 shifts along its axis": {"delta": 0.3, "max_pairs": 4000},     # the critical method in 3D
             "coupled full turn": {"delta": 0.05}}          # where the false boxes of issue 23 appeared
 
 
@@ -543,7 +542,8 @@ def test_the_exact_arms_take_the_intended_way():
     assert kinds == {"shell sector": _Revolved, "scaled shell sector": _Revolved, "offset shell": _Revolved,
                      "half-angle offset shell": _Revolved, "annulus x stroke": _Product,
                      "joint 1 shifts along its axis": type(None)}
-    assert _section(ISSUE_30_ARM, ()) is None and resolve_method(ISSUE_30_ARM) == "pairs"
+    # no structure: the critical method in space (issue 24 item 1; it was the pair method before)
+    assert _section(ISSUE_30_ARM, ()) is None and resolve_method(ISSUE_30_ARM) == "critical"
     assert abs(_section(EXACT_ARMS["offset shell"][0], ()).c[0]) == 0.25
     assert _section(EXACT_ARMS["half-angle offset shell"][0], ()).full
     assert not _section(EXACT_ARMS["scaled shell sector"][0], ()).full

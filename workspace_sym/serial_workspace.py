@@ -38,7 +38,14 @@ widened by ``ANGLE_PAD`` (10^6 times their rounding error).  When ``c``
 varies with the other joints, or a rigid base transform comes first (any
 URDF robot), the section is ``(rho, z)`` in the first joint's frame
 (:mod:`workspace_sym.reach_section`: inner boxes need ``q_1`` to turn a
-full circle; outer boxes hold whatever its limits).
+full circle; outer boxes hold whatever its limits).  Any other spatial
+robot (a prismatic first joint, a first joint whose variable enters later
+rows, ...) is the map ``q -> (x, y, z)`` of the same
+:func:`~workspace_sym.interval.image.critical_paving` in space: the critical
+set of every face (the position Jacobian's rank below 3, or the tangent cone
+of the joint box not mapped onto ``R^3``) is covered, its enclosures mark a
+3-D grid of cells of size ``delta``, and every 6-connected region of unmarked
+cells is decided by one proof; a cover too large falls back to ``"pairs"``.
 
 ``"pairs"`` (any robot).  Each task box carries joint boxes covering every
 configuration whose position may lie in it; the root task box is the
@@ -353,7 +360,9 @@ def _section(robot: DHRobot, parameters: tuple) -> _Revolved | _Product | Turned
 
 
 def _plane_map(robot: DHRobot, parameters: tuple, which: str) -> ImageMap | RadialMap:
-    if which == "planar":
+    """The map whose critical set a cover step covers: the reach model itself (``"model"``: a planar arm, or a
+    spatial one paved on cells in space) or the section of a spatial arm (``"section"``)."""
+    if which == "model":
         return _model(robot, parameters)
     section = _section(robot, parameters)
     assert section is not None and section.section is not None     # asked only of a robot with a plane map
@@ -671,12 +680,18 @@ def _cell_width(delta: float, size: str, m: int) -> float:
     return (delta / math.sqrt(m) if size == "diameter" else delta) * (1 - 1e-9)
 
 
-def _planar(robot, parameters, delta, size, run, *, executor):
-    """The ``"critical"`` method for a planar robot."""
+CELL_CHUNK = 2_000                 # marked cells of the 3-D critical method proved between two looks at the budget
+
+
+def _cells(robot, parameters, delta, size, run, *, executor):
+    """The ``"critical"`` method on one grid of task cells (:func:`critical_paving`): a planar robot, or a
+    spatial robot without a product or turned-section structure (cells in space).  Undecided cells are
+    boundary boxes, or pending when a budget stopped the run."""
     model = _model(robot, parameters)
-    grid, classes, evaluated, reason = critical_paving(model, _cell_width(delta, size, 2), budget=run.stop_reason,
-                                                       cover=_cover_with(executor, robot, parameters, "planar"),
-                                                       show=run.show)
+    grid, classes, evaluated, reason = critical_paving(model, _cell_width(delta, size, model.m),
+                                                       budget=run.stop_reason,
+                                                       cover=_cover_with(executor, robot, parameters, "model"),
+                                                       show=run.show, chunk=None if model.m == 2 else CELL_CHUNK)
     extent = grid.extent
     box = Box(model.task_variables, tuple(extent[:, 0]), tuple(extent[:, 1]))
     undecided = grid.boxes(classes, UNDECIDED, merge=bool(reason))
@@ -854,28 +869,42 @@ def check_root(root, delta: float, size: str, robot: DHRobot) -> None:
 
 
 def resolve_method(robot: DHRobot, method: str = "auto", parameters=()) -> str:
-    """The method :func:`reach` uses for ``robot``: ``"critical"`` or ``"pairs"``."""
+    """The method :func:`reach` uses for ``robot``: ``"critical"`` or ``"pairs"``.
+
+    ``"auto"`` is ``"critical"`` for every robot whose position moves in two or three coordinates: planar
+    arms, products and sections turned by a revolute first joint first (:func:`_section`), the critical
+    method in space (:func:`_cells`) for any other map into ``R^3``; ``"pairs"`` for a position moving
+    along one coordinate only."""
     if method not in METHODS:
         raise InvalidParameterError(f"method must be one of {', '.join(map(repr, METHODS))}; got {method!r}",
                                     parameter="method")
     parameters = tuple(parameters.items()) if isinstance(parameters, dict) else tuple(parameters)
     parameters = tuple(sorted(parameters, key=lambda item: str(item[0])))
-    fits = _model(robot, parameters).m == 2 or _section(robot, parameters) is not None
+    m = _model(robot, parameters).m
+    fits = m in (2, 3)
     if method == "critical" and not fits:
-        raise InvalidParameterError(f"method 'critical' needs a planar robot, coordinates moved by disjoint sets "
-                                    f"of joints, or a first revolute joint turning the rest (its variable in its "
-                                    f"angle theta_1 = k q_1 + offset alone, a rigid base); {robot.name} has none of "
-                                    f"these: use method='pairs'",
+        raise InvalidParameterError(f"method 'critical' needs a position moving in two or three coordinates (a "
+                                    f"map into the plane or into space, whose critical set it covers); the "
+                                    f"position of {robot.name} moves in {m}: use method='pairs'",
                                     parameter="method")
     return method if method != "auto" else ("critical" if fits else "pairs")
 
 
-def _refuse_storage(robot: DHRobot, run: RunOn) -> None:
-    """``max_memory``, ``store`` and ``resume`` apply where the task boxes are bisected (spatial arms of the
-    critical method, the pairs method); the planar critical method decides a grid of cells in one pass."""
-    refuse_storage(f"the planar critical method on {robot.name}", run,
+def _on_cells(robot: DHRobot, parameters: tuple) -> bool:
+    """The critical method decides ``robot`` on one grid of task cells (:func:`_cells`): a planar arm, or a
+    spatial one without a product or turned-section structure."""
+    return _model(robot, parameters).m == 2 or _section(robot, parameters) is None
+
+
+def _refuse_storage(robot: DHRobot, run: RunOn, m: int) -> None:
+    """``max_memory``, ``store`` and ``resume`` apply where the task boxes are bisected (spatial arms with a
+    section or a product, the pairs method); the critical method on one grid of cells (planar arms, spatial
+    arms without structure) decides its cells in one pass."""
+    space = "planar" if m == 2 else "3-D"
+    refuse_storage(f"the {space} critical method on {robot.name}", run,
                    why="decides one grid of cells in one pass, in memory",
-                   supported="method='pairs' on a planar arm and every method on a spatial arm")
+                   supported="method='pairs' on any arm, and the critical method on a spatial arm with a product "
+                             "or a section turned by its first joint")
 
 
 @contextmanager
@@ -910,10 +939,14 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     parameters : values of the symbolic lengths (default: the robot's own).
     method : {"auto", "critical", "pairs"}
         ``"auto"`` (the only choice with a ``pose``, which picks its own
-        method): ``"critical"`` for a planar robot, a spatial robot whose
-        coordinates are moved by disjoint sets of joints, and a spatial robot
-        turned by a revolute first joint (a rigid base transform allowed);
-        ``"pairs"`` otherwise.
+        method): ``"critical"`` for every robot whose position moves in two
+        or three coordinates, with the structure it has first: a planar
+        robot, a spatial robot whose coordinates are moved by disjoint sets
+        of joints, a spatial robot turned by a revolute first joint (a rigid
+        base transform allowed), and otherwise the critical set of the whole
+        map into space on a 3-D grid of cells (falling back to ``"pairs"``
+        when its cover is too large); ``"pairs"`` for a position moving
+        along one coordinate.
     inner_depth, max_pairs : of the ``"pairs"`` method: a box about
         to become a boundary box is also proved inner piece by piece, halving it
         along every edge up to ``inner_depth`` times; a task box stops refining its
@@ -950,8 +983,9 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         again on a resumed run and must be the same (the checkpoint names its
         cells; a time-limited turned section may differ, and is refused); and
         to ``"pairs"``, whose checkpoint holds the task boxes left with their
-        joint boxes (its frontier stays in memory).  The planar critical
-        method refuses them (one grid of cells, in memory).  With a ``pose``
+        joint boxes (its frontier stays in memory).  The critical method on
+        one grid of cells (planar robots, spatial robots without structure)
+        refuses them (one grid of cells, in memory).  With a ``pose``
         they apply to its ``"section"`` method as to the spatial critical
         method (:func:`~workspace_sym.orientation.reach_pose`).
     pose : :class:`Pose`, optional
@@ -1021,12 +1055,15 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         check_root(root, delta, size, robot)
         with _prepared_within(robot, time_limit, budget.seconds):
             kind = resolve_method(robot, method, values)
-        if stored and kind == "critical" and model.m == 2:
-            _refuse_storage(robot, run)
+            cells = kind == "critical" and _on_cells(robot, values)
+            if cells and model.m == 3:
+                _ = model.minors           # the 3 x 3 minors of the cover: symbolic, within the time limit
+        if stored and cells:
+            _refuse_storage(robot, run, model.m)
         result: Any = None                  # the driver's (paving, volume), or a method's tuple of boxes
         if kind == "critical":
             try:
-                result = (_planar(robot, values, delta, size, budget, executor=executor) if model.m == 2 else
+                result = (_cells(robot, values, delta, size, budget, executor=executor) if cells else
                           _spatial(robot, values, delta, size, budget, executor=executor, where=run))
             except CoverTooLarge as error:
                 if method == "critical":

@@ -18,13 +18,12 @@
   operator of ``f(u) - y`` maps ``U`` into its interior, so ``f(u) = y`` has
   a solution in ``U``: ``T`` is reached.
 
-For a map into the plane (``m = 2``), :func:`critical_paving` decides whole
+For a map into the plane or into space (``m = 2`` or ``3``), :func:`critical_paving` decides whole
 regions at once from one theorem:
 
     If ``y`` is on the boundary of ``f(Q)``, every configuration ``q`` with
     ``f(q) = y`` lies in the critical set ``Sigma``: on the face ``F`` of
-    ``Q`` whose relative interior holds ``q``, the Jacobian of ``f``
-    restricted to ``F`` has rank below ``m``, and the derivative does not map
+    ``Q`` whose relative interior holds ``q``, the derivative does not map
     the tangent cone of ``Q`` at ``q`` onto ``R^m``.
 
 (Where the derivative maps the tangent cone onto ``R^m``, ``f`` maps a
@@ -32,20 +31,25 @@ neighbourhood of ``q`` in ``Q`` onto a neighbourhood of ``y``.)  So a
 connected set ``K`` of task space that misses ``f(Sigma)`` misses the
 boundary of ``f(Q)`` and lies either inside ``f(Q)`` or outside it: one proof
 for one point of ``K`` decides all of ``K``.  ``Sigma`` is covered by joint
-boxes of each face (a box is dropped when a 2 x 2 minor of its face is proved
-non-zero on it, or, on an edge, when the two limited joints are proved to
-push to opposite sides); their enclosures are marked on a grid of task
-cells; the unmarked cells are split into 4-connected components; a component
-touching the grid's margin (outside the enclosure of ``f(Q)``) is outside,
-any other is decided by proving one of its cells inside (Krawczyk) or
-outside (joint boxes).  Marked cells are then tried one by one with the
-Krawczyk test.
+boxes of each face: a box is dropped when an ``m x m`` minor of its face's
+free columns is proved non-zero on it (the face has ``m`` free joints or
+more), or, on a face with ``m - 1`` free joints (an edge in the plane, a
+2-face in space), when two limited joints are proved to push to opposite
+sides of the hyperplane the free columns span; every other box is kept.
+Their enclosures are marked on a grid of task cells; the unmarked cells are
+split into components connected through the cells' faces (4-connected in the
+plane, 6-connected in space); a component touching the grid's margin (outside
+the enclosure of ``f(Q)``) is outside, any other is decided by proving one of
+its cells inside (Krawczyk) or outside (joint boxes).  Marked cells are then
+tried one by one with the Krawczyk test.
 """
 
 from __future__ import annotations
 
+import inspect
 import itertools
 import math
+import time
 
 import numpy as np
 import sympy as sp
@@ -133,28 +137,30 @@ class ImageMap:
 
     @property
     def minors(self) -> dict:
-        """The ``2 x 2`` minors ``det [J_i, J_j]`` (``i < j``) of a map into the plane, compiled."""
+        """The ``m x m`` minors ``det [J_c1, ..., J_cm]`` (columns ascending) of the Jacobian, compiled: for a
+        map into the plane the ``2 x 2`` minors ``det [J_i, J_j]``, into space the ``3 x 3`` ones."""
         if self._minors is None:
-            if self.m != 2:
-                raise ValueError("minors are defined here for maps into the plane")
             J = self._jac_symbolic
             out = {}
-            for i, j in itertools.combinations(range(self.k), 2):
-                det = sp.expand(J[0][i] * J[1][j] - J[0][j] * J[1][i])
+            for cols in itertools.combinations(range(self.k), self.m):
+                # Division-free expansion of the determinant (a d - b c for m = 2).
+                det = sp.expand(sp.Matrix([[J[r][c] for c in cols] for r in range(self.m)]).det(method="berkowitz"))
                 if sp.count_ops(det) <= MINOR_SIMPLIFY_OPS:
                     short = sp.expand(sp.fu(det))          # products of sines and cosines to sums of angles
                     det = short if sp.count_ops(short) < sp.count_ops(det) else det
-                out[i, j] = compile_expr(det, self.variables)
+                out[cols] = compile_expr(det, self.variables)
             self._minors = out
         return self._minors
 
-    def minor_enclosure(self, Q: np.ndarray, i: int, j: int):
-        """Enclosure of ``det [J_i, J_j]`` over ``Q`` (any order of ``i, j``)."""
+    def minor_enclosure(self, Q: np.ndarray, *columns: int):
+        """Enclosure of ``det [J_c1, ..., J_cm]`` over ``Q`` for ``m`` distinct columns in any order (the sign
+        of the permutation that sorts them is applied)."""
         X = [(Q[:, v, 0], Q[:, v, 1]) for v in range(self.k)]
-        f = self.minors[min(i, j), max(i, j)]
+        order = tuple(sorted(columns))
+        f = self.minors[order]
         with np.errstate(all="ignore"):
             lo, hi = (np.broadcast_to(v, (len(Q),)) for v in f(X))
-        return (lo, hi) if i < j else (-hi, -lo)
+        return (lo, hi) if _parity(columns) == 0 else (-hi, -lo)
 
     # -------------------------------------------------------------- floats
     def position_float(self, q: np.ndarray) -> np.ndarray:
@@ -380,33 +386,50 @@ def _certain_sign(lo, hi):
     return np.where(lo > 0, 1, np.where(hi < 0, -1, 0))
 
 
+def _parity(columns) -> int:
+    """``0`` when sorting ``columns`` is an even permutation, ``1`` when odd."""
+    columns = list(columns)
+    return sum(a > b for i, a in enumerate(columns) for b in columns[i + 1:]) % 2
+
+
 def _regular(image: ImageMap, Q: np.ndarray, free: np.ndarray, inward: np.ndarray) -> np.ndarray:
     """Mask of the joint boxes ``Q`` proved to hold no critical point of their face (module docstring).
 
     ``free[n, j]`` says joint ``j`` is free on the face of box ``n``; ``inward[n, j]`` is ``+1`` at a
-    lower limit, ``-1`` at an upper one.  On a face with two free joints or more, a ``2 x 2`` minor of free
-    columns proved non-zero makes the face's Jacobian regular.  On an edge (one free joint ``a``), the
-    tangent cone is the line ``J_a`` and the rays ``inward_c J_c`` of the limited joints; two rays proved on
-    opposite sides of the line make it the plane.
+    lower limit, ``-1`` at an upper one.  On a face with ``m`` free joints or more, an ``m x m`` minor of free
+    columns proved non-zero makes the face's Jacobian onto ``R^m``.  On a face with ``m - 1`` free joints
+    (an edge of a map into the plane, a 2-face of a map into space), the tangent cone is the span ``H`` of
+    the free columns and the rays ``inward_c J_c`` of the limited joints; ``det [J_free, inward_c J_c]``
+    proved non-zero says ``H`` is a hyperplane and on which side of it the ray lies: two rays proved on
+    opposite sides make the cone ``R^m``.  Any other box (fewer free joints, nothing proved) is critical.
     """
+    m = image.m
     count = free.sum(axis=1)
     regular = np.zeros(len(Q), dtype=bool)
-    edge = (count == 1) & (count < image.k)
+    short = (count == m - 1) & (count < image.k)          # one free joint short of m: the rays decide
     left, right = np.zeros(len(Q), dtype=bool), np.zeros(len(Q), dtype=bool)
-    for i, j in itertools.combinations(range(image.k), 2):
-        lo, hi = image.minor_enclosure(Q, i, j)
-        regular |= (count >= 2) & free[:, i] & free[:, j] & ((lo > 0) | (hi < 0))
-        if edge.any():
-            sign = _certain_sign(lo, hi)                        # of det [J_i, J_j]
-            for a, c, s in ((i, j, sign), (j, i, -sign)):       # free a, limited c: det [J_a, J_c]
-                side = np.where(edge & free[:, a] & ~free[:, c], s * inward[:, c], 0)
-                left |= side > 0
-                right |= side < 0
+    for cols in itertools.combinations(range(image.k), m):
+        # In space, a minor is evaluated only on the boxes it may still prove (the radial section map of a
+        # plane caches its rows per array of boxes: every minor there sees all of them).
+        rows = slice(None) if m == 2 else np.nonzero(~regular & ~(left & right) & (count >= m - 1))[0]
+        lo, hi = image.minor_enclosure(Q[rows], *cols)
+        at_rows = (count >= m)[rows] & free[rows][:, cols].all(axis=1) & ((lo > 0) | (hi < 0))
+        regular[rows] |= at_rows
+        if short.any():
+            sign = _certain_sign(lo, hi)                        # of det [J_cols]
+            for at, c in enumerate(cols):
+                # the free columns, then the limited c: det [J_others, J_c] = (-1)^(m - 1 - at) det [J_cols]
+                others = [j for j in cols if j != c]
+                s = sign if (m - 1 - at) % 2 == 0 else -sign
+                side = np.where(short[rows] & free[rows][:, others].all(axis=1) & ~free[rows][:, c],
+                                s * inward[rows][:, c], 0)
+                left[rows] |= side > 0
+                right[rows] |= side < 0
     return regular | (left & right)
 
 
 def critical_cover(image: ImageMap, face_list, target: float, clip: np.ndarray, *, show=None):
-    """Enclosures ``(N, 2, 2)`` of joint boxes covering the critical sets of the faces ``face_list``, each
+    """Enclosures ``(N, m, 2)`` of joint boxes covering the critical sets of the faces ``face_list``, each
     at most ``target`` wide (or a box that cannot be split further), clipped to ``clip`` (an enclosure of
     the whole image), and the number of joint boxes examined.  All faces go through one loop of arrays;
     what happens to a box depends on it alone, so any grouping of the faces gives the same enclosures.
@@ -478,18 +501,30 @@ class CellGrid:
         top = np.array(self.shape) - 1
         return np.clip(first, 0, top), np.clip(last, 0, top)
 
+    def _corners(self, first: np.ndarray, last: np.ndarray):
+        """``(index, sign)`` per corner of the blocks of cells ``first..last`` (inclusive, ``(N, m)``) in a table
+        one longer along each axis: ``index`` a tuple of ``N`` positions (``first`` or ``last + 1`` per axis),
+        ``sign`` ``(-1)^j``, ``j`` the number of axes at ``last + 1`` (the difference array of the block; a
+        sum over the block from a summed-area table takes ``(-1)^m sign``)."""
+        m = len(self.shape)
+        for corner in itertools.product((0, 1), repeat=m):
+            yield (tuple(last[:, a] + 1 if c else first[:, a] for a, c in enumerate(corner)),
+                   -1 if sum(corner) % 2 else 1)
+
+    def _summed(self, counts: np.ndarray) -> np.ndarray:
+        for axis in range(counts.ndim):
+            counts = np.cumsum(counts, axis=axis)
+        return counts
+
     def mark(self, E: np.ndarray) -> np.ndarray:
-        """Boolean grid of the cells meeting at least one box of ``E`` (2D grids)."""
-        counts = np.zeros((self.shape[0] + 1, self.shape[1] + 1), dtype=np.int64)
+        """Boolean grid of the cells meeting at least one box of ``E`` (a difference array: ``+-1`` at the
+        corners of each block of cells, summed along every axis)."""
+        counts = np.zeros(tuple(n + 1 for n in self.shape), dtype=np.int64)
         if len(E):
             first, last = self.span(E)
-            i0, j0 = first[:, 0], first[:, 1]
-            i1, j1 = last[:, 0] + 1, last[:, 1] + 1
-            np.add.at(counts, (i0, j0), 1)
-            np.add.at(counts, (i0, j1), -1)
-            np.add.at(counts, (i1, j0), -1)
-            np.add.at(counts, (i1, j1), 1)
-        return np.cumsum(np.cumsum(counts, axis=0), axis=1)[:-1, :-1] > 0
+            for index, sign in self._corners(first, last):
+                np.add.at(counts, index, sign)
+        return self._summed(counts)[tuple(slice(None, -1) for _ in self.shape)] > 0
 
     def cells(self, index: np.ndarray) -> np.ndarray:
         """``(N, m, 2)`` boxes of the cells at integer positions ``index`` (``(N, m)``)."""
@@ -497,57 +532,70 @@ class CellGrid:
                         axis=1)
 
     def boxes(self, classes: np.ndarray, value: int, *, merge: bool = True) -> np.ndarray:
-        """The cells of one class as ``(N, 2, 2)`` boxes, runs along the last axis merged into one box."""
+        """The cells of one class as ``(N, m, 2)`` boxes, runs along the last axis merged into one box."""
         hit = classes == value
         if not merge:
             return self.cells(np.argwhere(hit))
-        padded = np.pad(hit, ((0, 0), (1, 1)))
-        step = np.diff(padded.astype(np.int8), axis=1)
+        padded = np.pad(hit, [(0, 0)] * (hit.ndim - 1) + [(1, 1)])
+        step = np.diff(padded.astype(np.int8), axis=-1)
         starts = np.argwhere(step == 1)
         ends = np.argwhere(step == -1)          # same rows, in the same order
-        e0, e1 = self.edges
-        return np.stack([np.stack([e0[starts[:, 0]], e0[starts[:, 0] + 1]], axis=1),
-                         np.stack([e1[starts[:, 1]], e1[ends[:, 1]]], axis=1)], axis=1)
+        out = self.cells(starts)
+        out[:, -1, 1] = self.edges[-1][ends[:, -1]]
+        return out
 
     def prefix(self, classes: np.ndarray, value: int) -> np.ndarray:
         """Summed-area table of the cells of one class, for :meth:`all_in_class`."""
-        table = np.zeros((self.shape[0] + 1, self.shape[1] + 1), dtype=np.int64)
-        table[1:, 1:] = np.cumsum(np.cumsum(classes == value, axis=0), axis=1)
+        table = np.zeros(tuple(n + 1 for n in self.shape), dtype=np.int64)
+        table[tuple(slice(1, None) for _ in self.shape)] = self._summed((classes == value).astype(np.int64))
         return table
 
     def all_in_class(self, table: np.ndarray, E: np.ndarray, *, outside_counts: bool) -> np.ndarray:
-        """Mask of the closed boxes ``E`` (``(N, 2, 2)``) whose every point lies in cells of the class of
+        """Mask of the closed boxes ``E`` (``(N, m, 2)``) whose every point lies in cells of the class of
         ``table``; a part of ``E`` beyond the grid counts as in the class when ``outside_counts``."""
         first, last = self.span(E)
         ext = self.extent
         beyond = ((E[:, :, 0] < ext[:, 0]) | (E[:, :, 1] > ext[:, 1])).any(axis=1)
-        i0, j0 = first[:, 0], first[:, 1]
-        i1, j1 = last[:, 0] + 1, last[:, 1] + 1
-        total = table[i1, j1] - table[i0, j1] - table[i1, j0] + table[i0, j0]
-        full = total == (i1 - i0) * (j1 - j0)
+        flip = -1 if len(self.shape) % 2 else 1
+        total = sum(flip * sign * table[index] for index, sign in self._corners(first, last))
+        full = total == np.prod(last + 1 - first, axis=1)
         return full & (outside_counts | ~beyond)
 
 
 # ---------------------------------------------------------------------------------------------- the paving
+class _CoverStopped(Exception):
+    """A budget ran out between two generations of the critical cover (nothing is decided from it)."""
+
+    def __init__(self, evaluated: int, reason: str):
+        super().__init__(reason)
+        self.evaluated, self.reason = evaluated, reason
+
+
 def critical_paving(image: ImageMap, width: float, *, rng=None, budget=None, cover_ratio: float = 0.7,
-                    cover=None, show=None):
-    """Classify the cells of a grid of the given width over the image of a map into the plane.
+                    cover=None, show=None, chunk: int | None = None):
+    """Classify the cells of a grid of the given width over the image of a map into the plane or into space
+    (``m = 2`` or ``3``).
 
     Returns ``(grid, classes, evaluated, stopped)``: ``classes`` holds
     the verdict code (:mod:`.verdict`) OUTSIDE, INSIDE or UNDECIDED per cell (see the module
     docstring for the proofs); ``stopped`` is the reason a budget stopped the
     run (then every cell not yet decided is :data:`UNDECIDED`, and nothing
     rests on an unfinished step).  ``budget`` is a callable of the number of
-    boxes evaluated returning a stop reason or ``""``; ``cover`` computes the
+    boxes evaluated returning a stop reason or ``""``, looked at after each generation of the cover here
+    (with ``ahead=`` twice the seconds of the last generation when it takes that keyword, as
+    :meth:`~workspace_sym.interval.driver.RunBudget.stop_reason` does: the next generation holds at most
+    twice its boxes), each round of proofs of the components and each chunk of marked cells; ``cover`` computes the
     covers of a list of faces, ``cover(faces, target, clip)``, as a list of
     :func:`critical_cover` results (default: here, all faces in one call).  ``show`` is
     called as ``show(share decided, boxes evaluated)`` after each step: each generation of the cover here
-    (nothing decided yet), each round of proofs of the components, the marked cells.
+    (nothing decided yet), each round of proofs of the components, the marked cells (``chunk`` of them at a
+    time; default: all at once).  Unmarked cells are connected through their faces (4-connected in the plane,
+    6-connected in space).
     """
     from scipy import ndimage
 
-    if image.m != 2:
-        raise ValueError("critical_paving needs a map into the plane")
+    if image.m not in (2, 3):
+        raise ValueError("critical_paving needs a map into the plane or into space")
     rng = np.random.default_rng(0) if rng is None else rng
     budget = budget or (lambda evaluated: "")
     show = show or (lambda share, evaluated: None)
@@ -555,10 +603,27 @@ def critical_paving(image: ImageMap, width: float, *, rng=None, budget=None, cov
     grid = CellGrid(root, width)
     classes = np.full(grid.shape, UNDECIDED, dtype=CODE)
     target = cover_ratio * width
-    if cover is None:
-        covers = [critical_cover(image, faces(image), target, root, show=lambda evaluated: show(0.0, evaluated))]
-    else:
-        covers = cover(faces(image), target, root)
+
+    # The next generation of the cover holds at most twice the boxes of the last one: with a budget that takes
+    # the seconds ``ahead`` of a step, a generation expected to end past its time limit is not started.
+    foresees = "ahead" in inspect.signature(budget).parameters
+    clock = [time.perf_counter()]
+
+    def generation(evaluated):
+        show(0.0, evaluated)
+        now = time.perf_counter()
+        reason = budget(evaluated, ahead=2.0 * (now - clock[0])) if foresees else budget(evaluated)
+        clock[0] = now
+        if reason:
+            raise _CoverStopped(evaluated, reason)
+
+    try:
+        if cover is None:
+            covers = [critical_cover(image, faces(image), target, root, show=generation)]
+        else:
+            covers = cover(faces(image), target, root)
+    except _CoverStopped as stop:
+        return grid, classes, stop.evaluated, stop.reason
     evaluated = sum(n for _, n in covers)
     stopped = budget(evaluated)
     if stopped:
@@ -567,7 +632,7 @@ def critical_paving(image: ImageMap, width: float, *, rng=None, budget=None, cov
     show(0.0, evaluated)
     labels, count = ndimage.label(~marked)
     ring = np.ones(grid.shape, dtype=bool)
-    ring[1:-1, 1:-1] = False
+    ring[tuple(slice(1, -1) for _ in grid.shape)] = False
     verdict = np.full(count + 1, UNDECIDED, dtype=CODE)
     verdict[np.unique(labels[ring & ~marked])] = OUTSIDE
     # Every other component: prove one of its cells, the deepest first, then a few others.
@@ -608,18 +673,24 @@ def critical_paving(image: ImageMap, width: float, *, rng=None, budget=None, cov
     show(float(np.mean(classes != UNDECIDED)), evaluated)
     if stopped:
         return grid, classes, evaluated, stopped
-    # Marked cells, one by one.
+    # Marked cells, one by one (in chunks, the budget looked at between them).
     index = np.argwhere(marked)
-    boxes = grid.cells(index)
-    evaluated += len(boxes)
-    inside = image.prove_inside_multistart(boxes, rng, starts=4)
-    classes[tuple(index[inside].T)] = INSIDE
-    show(float(np.mean(classes != UNDECIDED)), evaluated)
-    return grid, classes, evaluated, budget(evaluated)
+    step = len(index) if chunk is None else chunk
+    for start in range(0, len(index), max(step, 1)):
+        part = index[start:start + step]
+        boxes = grid.cells(part)
+        evaluated += len(boxes)
+        inside = image.prove_inside_multistart(boxes, rng, starts=4)
+        classes[tuple(part[inside].T)] = INSIDE
+        show(float(np.mean(classes != UNDECIDED)), evaluated)
+        stopped = budget(evaluated)
+        if stopped:
+            break
+    return grid, classes, evaluated, stopped or budget(evaluated)
 
 
 def _random_cells(labels, components, rng):
-    """One random cell of each component (``components`` ascending), as ``(N, 2)`` indices."""
+    """One random cell of each component (``components`` ascending), as ``(N, m)`` indices."""
     flat = np.flatnonzero(np.isin(labels, components))
     flat = flat[rng.permutation(len(flat))]
     _, first = np.unique(labels.flat[flat], return_index=True)
