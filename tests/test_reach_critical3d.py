@@ -229,12 +229,16 @@ def test_a_cover_too_large_falls_back_to_the_pair_method(monkeypatch):
 
 
 def test_the_3d_method_refuses_storage_and_a_line_is_refused_clearly():
-    """Bad input: the 3-D grid is decided in memory (max_memory refused, naming the option and its value), and
+    """Bad input: the 3-D grid is decided in memory (max_memory refused with method='critical', naming the option
+    and its value; under 'auto' the pairs method, which takes it, paves the arm), and
     'critical' on a position moving along one coordinate names the method and what it needs."""
     from workspace_sym import RunOn
 
     with pytest.raises(InvalidParameterError, match=r"3-D critical method on oblique prism.*max_memory='2GB'"):
-        reach(OBLIQUE, delta=0.25, stop=QUIET, run=RunOn(max_memory="2GB"))
+        reach(OBLIQUE, delta=0.25, method="critical", stop=QUIET, run=RunOn(max_memory="2GB"))
+    # under "auto" the arm goes to the pairs method, which stores its boxes (as before the 3-D method existed)
+    stored = reach(OBLIQUE, delta=0.25, stop=StopAt(max_boxes=3000, progress=False), run=RunOn(max_memory="2GB"))
+    assert stored.method == "pairs"
     line = DHRobot([DHJoint.prismatic(1, limits=(0, 1))], name="line")
     with pytest.raises(InvalidParameterError, match="method 'critical' needs a position moving in two or three"):
         reach(line, delta=0.25, method="critical", stop=QUIET)

@@ -984,8 +984,10 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         cells; a time-limited turned section may differ, and is refused); and
         to ``"pairs"``, whose checkpoint holds the task boxes left with their
         joint boxes (its frontier stays in memory).  The critical method on
-        one grid of cells (planar robots, spatial robots without structure)
-        refuses them (one grid of cells, in memory).  With a ``pose``
+        one grid of cells refuses them (one grid of cells, in memory): for a
+        planar robot, and for a spatial robot without structure asked for
+        ``method="critical"`` (under ``"auto"`` such a robot is then paved by
+        ``"pairs"``).  With a ``pose``
         they apply to its ``"section"`` method as to the spatial critical
         method (:func:`~workspace_sym.orientation.reach_pose`).
     pose : :class:`Pose`, optional
@@ -1056,6 +1058,8 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         with _prepared_within(robot, time_limit, budget.seconds):
             kind = resolve_method(robot, method, values)
             cells = kind == "critical" and _on_cells(robot, values)
+            if cells and model.m == 3 and stored and method == "auto":
+                kind, cells = "pairs", False   # the 3-D grid is decided in memory; the pairs method stores its boxes
             if cells and model.m == 3:
                 _ = model.minors           # the 3 x 3 minors of the cover: symbolic, within the time limit
         if stored and cells:
