@@ -137,6 +137,7 @@ SECTION_RATIO = 0.25             # cell width of the section against the width o
 SECTION_RESERVE = 1.5            # margin on the expected time of a step of a turned section and on its (x, y, z) boxes
 ANGLE_PAD = 1e-9                 # widening of float angles (rad)
 CHUNK_PAIRS = 100_000            # (joint box, task box) pairs in one chunk of the pairs method
+CELLS_MAX_JOINTS = 4             # a turned section proving no inner box gives way to the 3-D cells up to this many
 _MARGIN = 1e-12                  # of angle comparisons after reduction modulo 2 pi
 _TWO_PI = 2 * math.pi
 
@@ -890,10 +891,24 @@ def resolve_method(robot: DHRobot, method: str = "auto", parameters=()) -> str:
     return method if method != "auto" else ("critical" if fits else "pairs")
 
 
-def _on_cells(robot: DHRobot, parameters: tuple) -> bool:
-    """The critical method decides ``robot`` on one grid of task cells (:func:`_cells`): a planar arm, or a
-    spatial one without a product or turned-section structure."""
-    return _model(robot, parameters).m == 2 or _section(robot, parameters) is None
+def _turn_without_inner(robot: DHRobot, parameters: tuple) -> bool:
+    """``robot`` is a section turned by a first joint limited to less than a period (:class:`Turned`, not full)
+    that proves no inner box: a section moved by two joints (``w`` sweeps a surface, no box of ``w`` lies in
+    it) or a turn shorter than half a turn (no pair of directions covers the circle:
+    :func:`~workspace_sym.reach_turn.limited_turn` is None)."""
+    plan = _section(robot, parameters)
+    return isinstance(plan, Turned) and not plan.full and limited_turn(plan, _model(robot, parameters)) is None
+
+
+def _on_cells(robot: DHRobot, parameters: tuple, stored: bool = False) -> bool:
+    """The critical method decides ``robot`` on one grid of task cells (:func:`_cells`): a planar arm, a
+    spatial one without a product or turned-section structure, or one whose turned section proves no inner
+    box (:func:`_turn_without_inner`) moved by at most ``CELLS_MAX_JOINTS`` joints, unless its boxes are to be
+    stored (``stored``: the section path, which stores them, is kept)."""
+    model = _model(robot, parameters)
+    if model.m == 2 or _section(robot, parameters) is None:
+        return True
+    return not stored and model.k <= CELLS_MAX_JOINTS and _turn_without_inner(robot, parameters)
 
 
 def _refuse_storage(robot: DHRobot, run: RunOn, m: int) -> None:
@@ -1057,7 +1072,7 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         check_root(root, delta, size, robot)
         with _prepared_within(robot, time_limit, budget.seconds):
             kind = resolve_method(robot, method, values)
-            cells = kind == "critical" and _on_cells(robot, values)
+            cells = kind == "critical" and _on_cells(robot, values, stored)
             if cells and model.m == 3 and stored and method == "auto":
                 kind, cells = "pairs", False   # the 3-D grid is decided in memory; the pairs method stores its boxes
             if cells and model.m == 3:
@@ -1070,7 +1085,10 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
                 result = (_cells(robot, values, delta, size, budget, executor=executor) if cells else
                           _spatial(robot, values, delta, size, budget, executor=executor, where=run))
             except CoverTooLarge as error:
-                if method == "critical":
+                if cells and model.m == 3 and _section(robot, values) is not None:
+                    # a turned section proving no inner box: its own path (outer boxes), as before the 3-D cells
+                    cells, result = False, _spatial(robot, values, delta, size, budget, executor=executor, where=run)
+                elif method == "critical":
                     raise InvalidParameterError(f"method 'critical': {error} (joints with parallel axes?); use "
                                                 "method='pairs'", parameter="method") from None
         if result is None:
