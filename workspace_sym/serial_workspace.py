@@ -38,7 +38,12 @@ widened by ``ANGLE_PAD`` (10^6 times their rounding error).  When ``c``
 varies with the other joints, or a rigid base transform comes first (any
 URDF robot), the section is ``(rho, z)`` in the first joint's frame
 (:mod:`workspace_sym.reach_section`: inner boxes need ``q_1`` to turn a
-full circle; outer boxes hold whatever its limits).  Any other spatial
+full circle, or :mod:`workspace_sym.reach_turn` half a circle with a section
+moved by three joints or more; outer boxes hold whatever its limits).  Such
+an arm whose section proves no inner box (a two-joint section, or a turn
+below half a circle) is paved on 3-D cells as below when at most
+``CELLS_MAX_JOINTS`` joints move the position (the section path when its
+boxes are stored, or when the 3-D cover is too large).  Any other spatial
 robot (a prismatic first joint, a first joint whose variable enters later
 rows, ...) is the map ``q -> (x, y, z)`` of the same
 :func:`~workspace_sym.interval.image.critical_paving` in space: the critical
@@ -137,7 +142,8 @@ SECTION_RATIO = 0.25             # cell width of the section against the width o
 SECTION_RESERVE = 1.5            # margin on the expected time of a step of a turned section and on its (x, y, z) boxes
 ANGLE_PAD = 1e-9                 # widening of float angles (rad)
 CHUNK_PAIRS = 100_000            # (joint box, task box) pairs in one chunk of the pairs method
-CELLS_MAX_JOINTS = 4             # a turned section proving no inner box gives way to the 3-D cells up to this many
+CELLS_MAX_JOINTS = 3             # a turned section proving no inner box gives way to the 3-D cells up to this many
+                                 # moving joints (a square map: docs/methods.md section 5 has the measured costs)
 _MARGIN = 1e-12                  # of angle comparisons after reduction modulo 2 pi
 _TWO_PI = 2 * math.pi
 
@@ -874,8 +880,9 @@ def resolve_method(robot: DHRobot, method: str = "auto", parameters=()) -> str:
 
     ``"auto"`` is ``"critical"`` for every robot whose position moves in two or three coordinates: planar
     arms, products and sections turned by a revolute first joint first (:func:`_section`), the critical
-    method in space (:func:`_cells`) for any other map into ``R^3``; ``"pairs"`` for a position moving
-    along one coordinate only."""
+    method in space (:func:`_cells`) for any other map into ``R^3`` and for a turned section that proves no
+    inner box moved by at most ``CELLS_MAX_JOINTS`` joints (:func:`_on_cells` tells which); ``"pairs"`` for a
+    position moving along one coordinate only."""
     if method not in METHODS:
         raise InvalidParameterError(f"method must be one of {', '.join(map(repr, METHODS))}; got {method!r}",
                                     parameter="method")
@@ -961,7 +968,14 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         base transform allowed), and otherwise the critical set of the whole
         map into space on a 3-D grid of cells (falling back to ``"pairs"``
         when its cover is too large); ``"pairs"`` for a position moving
-        along one coordinate.
+        along one coordinate.  A first joint limited to less than a period
+        whose section in cylindrical coordinates proves no inner box (a
+        section moved by two joints, or a turn below half a circle: base
+        transforms, modified DH, varying lateral offsets) gives way to the
+        3-D cells when at most ``CELLS_MAX_JOINTS`` (3) joints move the
+        position, under ``"auto"`` and ``"critical"`` alike; with
+        ``max_memory``, ``store`` or ``resume``, or a 3-D cover too large,
+        such an arm keeps the section path (outer boxes only).
     inner_depth, max_pairs : of the ``"pairs"`` method: a box about
         to become a boundary box is also proved inner piece by piece, halving it
         along every edge up to ``inner_depth`` times; a task box stops refining its
