@@ -1099,11 +1099,16 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
                 result = (_cells(robot, values, delta, size, budget, executor=executor) if cells else
                           _spatial(robot, values, delta, size, budget, executor=executor, where=run))
             except CoverTooLarge as error:
+                too_large: CoverTooLarge | None = error
                 if cells and model.m == 3 and _section(robot, values) is not None:
                     # a turned section proving no inner box: its own path (outer boxes), as before the 3-D cells
-                    cells, result = False, _spatial(robot, values, delta, size, budget, executor=executor, where=run)
-                elif method == "critical":
-                    raise InvalidParameterError(f"method 'critical': {error} (joints with parallel axes?); use "
+                    try:
+                        cells, too_large = False, None
+                        result = _spatial(robot, values, delta, size, budget, executor=executor, where=run)
+                    except CoverTooLarge as again:
+                        too_large = again
+                if too_large is not None and method == "critical":
+                    raise InvalidParameterError(f"method 'critical': {too_large} (joints with parallel axes?); use "
                                                 "method='pairs'", parameter="method") from None
         if result is None:
             kind = "pairs"                      # also when the critical cover was too large (auto)
