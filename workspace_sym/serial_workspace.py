@@ -910,12 +910,13 @@ def _turn_without_inner(robot: DHRobot, parameters: tuple) -> bool:
 def _on_cells(robot: DHRobot, parameters: tuple, stored: bool = False) -> bool:
     """The critical method decides ``robot`` on one grid of task cells (:func:`_cells`): a planar arm, a
     spatial one without a product or turned-section structure, or one whose turned section proves no inner
-    box (:func:`_turn_without_inner`) moved by at most ``CELLS_MAX_JOINTS`` joints, unless its boxes are to be
-    stored (``stored``: the section path, which stores them, is kept)."""
+    box (:func:`_turn_without_inner`) moved by at most ``CELLS_MAX_JOINTS`` joints (and by three at least: the
+    image of fewer is a surface, with no inner box either way), unless its boxes are to be stored (``stored``: the
+    section path, which stores them, is kept)."""
     model = _model(robot, parameters)
     if model.m == 2 or _section(robot, parameters) is None:
         return True
-    return not stored and model.k <= CELLS_MAX_JOINTS and _turn_without_inner(robot, parameters)
+    return not stored and model.m <= model.k <= CELLS_MAX_JOINTS and _turn_without_inner(robot, parameters)
 
 
 def _refuse_storage(robot: DHRobot, run: RunOn, m: int) -> None:
