@@ -35,7 +35,9 @@ import pytest
 from reach_checks import arcs_volume, first_axis, industrial_arm, reached_at_50_digits, sampled_positions
 
 from workspace_sym import StopAt
-from workspace_sym.serial_workspace import ReachModel, reach
+from workspace_sym.reach_section import Turned
+from workspace_sym.reach_turn import limited_turn
+from workspace_sym.serial_workspace import ReachModel, _model, _on_cells, _section, reach, resolve_method
 
 # Deltas and budgets of boxes (never of seconds): the same boxes on every machine.  (delta, the run's budget, the
 # section's budget: None for the full turns, whose sections end on their own at these deltas.)
@@ -136,3 +138,21 @@ def test_inner_box_points_are_reached_at_50_digits(arm):
         corner = box[np.arange(3), rng.integers(2, size=3)]
         for target in (box.mean(axis=1), corner):
             assert reached_at_50_digits(model, target, q, pos), (name, box, target)
+
+
+# (the first joint turns a full circle, a limited turn proving inner boxes at every polar angle: reach_turn)
+SECTION_PATHS = {"ur5": (True, False), "kr16": (True, False), "iiwa": (False, True), "panda": (False, True)}
+
+
+def test_the_industrial_arms_keep_their_section_path(arm):
+    """The 3-D cells take only the arms whose turned section proves no inner box (tests/test_reach_turn3d.py): these
+    four keep the section path as before, the UR5 and the KR16 turned a full circle, the iiwa and the Panda by a
+    limited first joint of more than half a turn whose section moves with five joints (reach_turn).  Reference:
+    their structure, read from the section (its sections prepared once, by the paving above), and the paving
+    itself, whose volume bracket comes from the section's cells (the 3-D cells give none)."""
+    name, robot, paving = arm
+    plan, model = _section(robot, ()), _model(robot, ())
+    full, limited = SECTION_PATHS[name]
+    assert isinstance(plan, Turned) and plan.full is full and (limited_turn(plan, model) is not None) is limited
+    assert resolve_method(robot) == "critical" and not _on_cells(robot, ()) and model.k >= 5
+    assert paving.volume_bounds is not None

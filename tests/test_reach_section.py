@@ -28,7 +28,7 @@ from workspace_sym.interval.verdict import UNDECIDED
 from workspace_sym.kinematics import DHJoint, DHRobot, _rx, _translate
 from workspace_sym.reach_section import RadialMap, Turned, section_bar, section_paving, to_first_frame, turned_volume
 from workspace_sym.reach_turn import limited_turn
-from workspace_sym.serial_workspace import ReachModel, _section, reach
+from workspace_sym.serial_workspace import ReachModel, _on_cells, _section, reach
 
 R = sp.Rational
 THIRD = R(2, 5)
@@ -158,10 +158,11 @@ def test_a_budget_of_boxes_stops_the_section_at_the_same_cells_on_every_run(wris
 @given(first=st.sampled_from([None, (-sp.pi, sp.pi), (-R(314, 100), R(314, 100)), (-1, 2)]),
        a3=st.sampled_from([R(0), R(1, 100), R(2, 5), R(1, 2)]))
 def test_edges_never_give_a_wrong_box(first, a3):
-    """Edges: a first joint turning a full turn, a hair short of it (then reach_turn proves cells at every polar
-    angle), or far less (less than half a turn: no box is inner, the polar angle is not modelled); a zero or tiny
-    third link (joints 2 and 3 coaxial in effect, the point on joint 3's axis).  Property: sampled configurations
-    never land in an outer box, inner points are reached."""
+    """Edges: a first joint turning a full turn, a hair short of it, or far less (a two-joint section turned less
+    than a full turn proves no inner box: the arm, moved by three joints, is paved on 3-D cells instead, and by the
+    section with outer boxes only where the point is on joint 3's axis); a zero or tiny third link (joints 2 and 3
+    coaxial in effect, the point on joint 3's axis).  Property: sampled configurations never land in an outer box,
+    inner points are reached."""
     robot = offset_arm(first=first, a3=a3)
     paving = reach(robot, delta=0.2)
     plan = _section(robot, ())
@@ -171,7 +172,9 @@ def test_edges_never_give_a_wrong_box(first, a3):
     pos = model.position_float(q)
     assert not _in_boxes(pos, paving.outer).any()
     if isinstance(plan, Turned) and not plan.full and limited_turn(plan, model) is None:
-        assert not len(paving.inner) and paving.volume_bounds is None     # less than a half turn: outer only
+        assert _on_cells(robot, ()) is (model.k == 3) and paving.volume_bounds is None
+        if model.k < 3:
+            assert not len(paving.inner)                # the section proves outer boxes only
     for box in paving.inner[rng.integers(len(paving.inner), size=2)] if len(paving.inner) else []:
         assert reached_at_50_digits(model, rng.uniform(box[:, 0], box[:, 1]), q, pos), box
 

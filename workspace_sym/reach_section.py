@@ -37,8 +37,10 @@ inside ``S`` (every point is reached: any ``theta_1`` is allowed), **outer**
 when it lies in cells proved outside (no point of the box is on the solid of
 revolution, which holds the workspace whatever the limits of ``q_1``).  With
 ``q_1`` limited to less than a period the outer verdicts still hold and no box
-is declared inner (the polar angle's interval is not modelled: left to the
-``"pairs"`` method when asked for).  With a whole turn, the cells also bound
+is declared inner here (the polar angle's interval is not modelled):
+:mod:`workspace_sym.reach_turn` proves inner boxes for a turn of half a circle
+or more and a section moved by three joints or more, and ``reach`` paves the
+other such arms moved by three joints on 3-D cells instead.  With a whole turn, the cells also bound
 the workspace's volume by Pappus's theorem (:func:`turned_volume`): the solid
 of revolution of the inner cells lies in it, and it lies in the solid of the
 cells not proved outside.

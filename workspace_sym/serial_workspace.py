@@ -38,7 +38,12 @@ widened by ``ANGLE_PAD`` (10^6 times their rounding error).  When ``c``
 varies with the other joints, or a rigid base transform comes first (any
 URDF robot), the section is ``(rho, z)`` in the first joint's frame
 (:mod:`workspace_sym.reach_section`: inner boxes need ``q_1`` to turn a
-full circle; outer boxes hold whatever its limits).  Any other spatial
+full circle, or :mod:`workspace_sym.reach_turn` half a circle with a section
+moved by three joints or more; outer boxes hold whatever its limits).  Such
+an arm whose section proves no inner box (a two-joint section, or a turn
+below half a circle) is paved on 3-D cells as below when at most
+``CELLS_MAX_JOINTS`` joints move the position (the section path when its
+boxes are stored, or when the 3-D cover is too large).  Any other spatial
 robot (a prismatic first joint, a first joint whose variable enters later
 rows, ...) is the map ``q -> (x, y, z)`` of the same
 :func:`~workspace_sym.interval.image.critical_paving` in space: the critical
@@ -137,6 +142,8 @@ SECTION_RATIO = 0.25             # cell width of the section against the width o
 SECTION_RESERVE = 1.5            # margin on the expected time of a step of a turned section and on its (x, y, z) boxes
 ANGLE_PAD = 1e-9                 # widening of float angles (rad)
 CHUNK_PAIRS = 100_000            # (joint box, task box) pairs in one chunk of the pairs method
+CELLS_MAX_JOINTS = 3             # a turned section proving no inner box gives way to the 3-D cells up to this many
+                                 # moving joints (a square map: docs/methods.md section 5 has the measured costs)
 _MARGIN = 1e-12                  # of angle comparisons after reduction modulo 2 pi
 _TWO_PI = 2 * math.pi
 
@@ -873,8 +880,9 @@ def resolve_method(robot: DHRobot, method: str = "auto", parameters=()) -> str:
 
     ``"auto"`` is ``"critical"`` for every robot whose position moves in two or three coordinates: planar
     arms, products and sections turned by a revolute first joint first (:func:`_section`), the critical
-    method in space (:func:`_cells`) for any other map into ``R^3``; ``"pairs"`` for a position moving
-    along one coordinate only."""
+    method in space (:func:`_cells`) for any other map into ``R^3`` and for a turned section that proves no
+    inner box moved by at most ``CELLS_MAX_JOINTS`` joints (:func:`_on_cells` tells which); ``"pairs"`` for a
+    position moving along one coordinate only."""
     if method not in METHODS:
         raise InvalidParameterError(f"method must be one of {', '.join(map(repr, METHODS))}; got {method!r}",
                                     parameter="method")
@@ -890,10 +898,25 @@ def resolve_method(robot: DHRobot, method: str = "auto", parameters=()) -> str:
     return method if method != "auto" else ("critical" if fits else "pairs")
 
 
-def _on_cells(robot: DHRobot, parameters: tuple) -> bool:
-    """The critical method decides ``robot`` on one grid of task cells (:func:`_cells`): a planar arm, or a
-    spatial one without a product or turned-section structure."""
-    return _model(robot, parameters).m == 2 or _section(robot, parameters) is None
+def _turn_without_inner(robot: DHRobot, parameters: tuple) -> bool:
+    """``robot`` is a section turned by a first joint limited to less than a period (:class:`Turned`, not full)
+    that proves no inner box: a section moved by two joints (``w`` sweeps a surface, no box of ``w`` lies in
+    it) or a turn shorter than half a turn (no pair of directions covers the circle:
+    :func:`~workspace_sym.reach_turn.limited_turn` is None)."""
+    plan = _section(robot, parameters)
+    return isinstance(plan, Turned) and not plan.full and limited_turn(plan, _model(robot, parameters)) is None
+
+
+def _on_cells(robot: DHRobot, parameters: tuple, stored: bool = False) -> bool:
+    """The critical method decides ``robot`` on one grid of task cells (:func:`_cells`): a planar arm, a
+    spatial one without a product or turned-section structure, or one whose turned section proves no inner
+    box (:func:`_turn_without_inner`) moved by at most ``CELLS_MAX_JOINTS`` joints (and by three at least: the
+    image of fewer is a surface, with no inner box either way), unless its boxes are to be stored (``stored``: the
+    section path, which stores them, is kept)."""
+    model = _model(robot, parameters)
+    if model.m == 2 or _section(robot, parameters) is None:
+        return True
+    return not stored and model.m <= model.k <= CELLS_MAX_JOINTS and _turn_without_inner(robot, parameters)
 
 
 def _refuse_storage(robot: DHRobot, run: RunOn, m: int) -> None:
@@ -946,7 +969,14 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         base transform allowed), and otherwise the critical set of the whole
         map into space on a 3-D grid of cells (falling back to ``"pairs"``
         when its cover is too large); ``"pairs"`` for a position moving
-        along one coordinate.
+        along one coordinate.  A first joint limited to less than a period
+        whose section in cylindrical coordinates proves no inner box (a
+        section moved by two joints, or a turn below half a circle: base
+        transforms, modified DH, varying lateral offsets) gives way to the
+        3-D cells when at most ``CELLS_MAX_JOINTS`` (3) joints move the
+        position, under ``"auto"`` and ``"critical"`` alike; with
+        ``max_memory``, ``store`` or ``resume``, or a 3-D cover too large,
+        such an arm keeps the section path (outer boxes only).
     inner_depth, max_pairs : of the ``"pairs"`` method: a box about
         to become a boundary box is also proved inner piece by piece, halving it
         along every edge up to ``inner_depth`` times; a task box stops refining its
@@ -1057,7 +1087,7 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         check_root(root, delta, size, robot)
         with _prepared_within(robot, time_limit, budget.seconds):
             kind = resolve_method(robot, method, values)
-            cells = kind == "critical" and _on_cells(robot, values)
+            cells = kind == "critical" and _on_cells(robot, values, stored)
             if cells and model.m == 3 and stored and method == "auto":
                 kind, cells = "pairs", False   # the 3-D grid is decided in memory; the pairs method stores its boxes
             if cells and model.m == 3:
@@ -1070,8 +1100,16 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
                 result = (_cells(robot, values, delta, size, budget, executor=executor) if cells else
                           _spatial(robot, values, delta, size, budget, executor=executor, where=run))
             except CoverTooLarge as error:
-                if method == "critical":
-                    raise InvalidParameterError(f"method 'critical': {error} (joints with parallel axes?); use "
+                too_large: CoverTooLarge | None = error
+                if cells and model.m == 3 and _section(robot, values) is not None:
+                    # a turned section proving no inner box: its own path (outer boxes), as before the 3-D cells
+                    try:
+                        cells, too_large = False, None
+                        result = _spatial(robot, values, delta, size, budget, executor=executor, where=run)
+                    except CoverTooLarge as again:
+                        too_large = again
+                if too_large is not None and method == "critical":
+                    raise InvalidParameterError(f"method 'critical': {too_large} (joints with parallel axes?); use "
                                                 "method='pairs'", parameter="method") from None
         if result is None:
             kind = "pairs"                      # also when the critical cover was too large (auto)
