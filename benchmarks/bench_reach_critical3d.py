@@ -6,6 +6,9 @@ proved inner / boundary / outer boxes, the volume bracket and its width in % of 
 * the robot on a rail of ``tests/test_reach_critical3d.py`` (prismatic first joint, then two limited revolute
   joints and a full turn: no structure, so ``reach``'s own choice) at two deltas;
 * the oblique prism of the same file, whose exact volume is ``4 pi / 5``, at two deltas;
+* the three arms of ``tests/test_reach_turn3d.py`` turned by a limited first joint whose section proves no inner
+  box (an elbow on a pedestal, a skew elbow, a turn of +-60 deg), on the section path they took before (outer
+  boxes only) and on the 3-D cells ``reach`` now gives them, at two deltas;
 * the UR5 (``tests/data/dh/ur5.json``, every joint a full turn) forced through the 3-D method (its section
   hidden) at delta 0.2 with a time limit of 120 s: the cover's count of joint boxes, or ``CoverTooLarge``.
 
@@ -29,6 +32,7 @@ from workspace_sym.kinematics import DHRobot
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
 from test_reach_critical3d import OBLIQUE, OBLIQUE_VOLUME, RAIL  # noqa: E402
+from test_reach_turn3d import ARMS as TURNED  # noqa: E402
 
 
 def _cover_counter():
@@ -43,11 +47,15 @@ def _cover_counter():
     return counts, counted
 
 
-def run(name, robot, delta, *, forced=False, time_limit=None, exact=None):
+def run(name, robot, delta, *, forced=False, section=False, time_limit=None, exact=None):
+    """One paving: ``forced`` through the 3-D cells (the section hidden), ``section`` on the section path (the 3-D
+    cells refused), else ``reach``'s own choice."""
     counts, counted = _cover_counter()
     patches = [mock.patch.object(image, "critical_cover", counted)]
     if forced:
         patches.append(mock.patch.object(serial, "_section", lambda robot, parameters: None))
+    if section:
+        patches.append(mock.patch.object(serial, "_on_cells", lambda robot, parameters, stored=False: False))
     start = time.perf_counter()
     try:
         for p in patches:
@@ -82,6 +90,10 @@ def main(quick: bool):
         run("rail (P, R, R, full R)", RAIL, delta)
     for delta in (0.25, 0.1):
         run("oblique prism (exact 4pi/5)", OBLIQUE, delta, exact=OBLIQUE_VOLUME)
+    for name, robot in TURNED.items():
+        for delta in (0.25, 0.125):
+            run(f"{name}, section path", robot, delta, section=True)
+            run(f"{name}, 3-D cells", robot, delta)
     if not quick:
         ur5 = DHRobot.from_file(ROOT / "tests" / "data" / "dh" / "ur5.json")
         run("UR5 forced 3-D", ur5, 0.2, forced=True, time_limit=120)
