@@ -96,6 +96,20 @@ def sampled_arcs_volume(robot, n, h, seed=0):
     return arcs_volume(robot, q[:, 0], p, h)
 
 
+def in_any_box(points, boxes, pad=0.0):
+    """Mask of the points lying in some closed box widened by ``pad`` (narrowed if negative), for many points and
+    boxes: the points sorted along x, each box looks only at those within its x range."""
+    order = np.argsort(points[:, 0])
+    xs = points[order, 0]
+    hit = np.zeros(len(points), dtype=bool)
+    for box in boxes:
+        lo, hi = box[:, 0] - pad, box[:, 1] + pad
+        a, b = np.searchsorted(xs, [lo[0], hi[0]])
+        rows = order[a:b]
+        hit[rows] |= ((points[rows] >= lo) & (points[rows] <= hi)).all(axis=1)
+    return hit
+
+
 def reached_at_50_digits(model, target, q, pos, tries=6):
     """A configuration within the limits reaching ``target`` at 50 digits (:func:`solve_50_digits`), False if
     none is found.  Started at the sampled configurations ``q`` (positions ``pos``) nearest to ``target``:

@@ -27,7 +27,7 @@ import pytest
 import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from reach_checks import reached_at_50_digits
+from reach_checks import in_any_box, reached_at_50_digits
 
 import workspace_sym.interval.image as image
 from workspace_sym import StopAt
@@ -69,19 +69,6 @@ def _samples(robot, n, seed):
     return rng.uniform(limits[:, 0], limits[:, 1], size=(n, robot.n))
 
 
-def _in_any_box(points, boxes, pad=0.0):
-    """Mask of the points lying in some box (each box looks only at the points within its x range)."""
-    order = np.argsort(points[:, 0])
-    xs = points[order, 0]
-    hit = np.zeros(len(points), dtype=bool)
-    for box in boxes:
-        lo, hi = box[:, 0] - pad, box[:, 1] + pad
-        a, b = np.searchsorted(xs, [lo[0], hi[0]])
-        rows = order[a:b]
-        hit[rows] |= ((points[rows] >= lo) & (points[rows] <= hi)).all(axis=1)
-    return hit
-
-
 @pytest.fixture(scope="module")
 def rail():
     return reach(RAIL, delta=0.25, stop=QUIET)
@@ -108,7 +95,7 @@ def test_sampled_configurations_of_the_rail_miss_every_outer_box(rail):
     [-pi, pi]), placed by the robot's own numeric position, never lie in a closed outer box."""
     pos = _positions(RAIL, _samples(RAIL, 100_000, seed=11))
     assert len(rail.outer) > 0
-    assert not _in_any_box(pos, rail.outer).any()
+    assert not in_any_box(pos, rail.outer).any()
 
 
 def test_inner_boxes_of_the_rail_are_reached_at_50_digits(rail):
@@ -210,7 +197,7 @@ def test_the_3d_method_and_the_section_method_agree_on_an_elbow_arm():
     assert section.volume_bounds is None and len(cells.inner) and len(section.inner)
     rng = np.random.default_rng(4)
     for a, b in ((section, cells), (cells, section)):
-        assert not _in_any_box(_inside_points(a.inner, rng), b.outer).any()
+        assert not in_any_box(_inside_points(a.inner, rng), b.outer).any()
     (lo1, hi1), (lo2, hi2) = section.measure_bounds, cells.measure_bounds
     assert max(lo1, lo2) <= min(hi1, hi2)
 
@@ -275,7 +262,7 @@ def test_random_prismatic_first_arms_keep_samples_out_of_outer_boxes(twist, rows
     paving = _forced_3d(robot, delta=0.3)
     pos = _positions(robot, _samples(robot, 20_000, seed=1))
     assert paving.complete
-    assert not _in_any_box(pos, paving.outer).any()
+    assert not in_any_box(pos, paving.outer).any()
 
 
 def test_a_joint_that_does_not_move_the_point_is_dropped_before_the_cover():

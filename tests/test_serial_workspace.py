@@ -19,7 +19,7 @@ import pytest
 import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from reach_checks import reached_at_50_digits
+from reach_checks import in_any_box, reached_at_50_digits
 
 import workspace_sym as ws
 from workspace_sym import RunOn, StopAt
@@ -610,21 +610,7 @@ def test_sampled_configurations_miss_every_outer_box(exact_pavings, paved):
     pos = np.stack([np.broadcast_to(np.asarray(v, dtype=float), (len(q),)) for v in f(q.T)], axis=1)
     out = exact_pavings[paved].outer
     assert len(out) > 0
-    assert not _in_any_box(pos[:, :out.shape[1]], out, pad=-1e-9).any(), paved
-
-
-def _in_any_box(points, boxes, pad=0.0):
-    """Like ``_in_boxes`` for many points and boxes: the points sorted along x, each box looks only at those
-    within its x range."""
-    order = np.argsort(points[:, 0])
-    xs = points[order, 0]
-    hit = np.zeros(len(points), dtype=bool)
-    for box in boxes:
-        lo, hi = box[:, 0] - pad, box[:, 1] + pad
-        a, b = np.searchsorted(xs, [lo[0], hi[0]])
-        rows = order[a:b]
-        hit[rows] |= ((points[rows] >= lo) & (points[rows] <= hi)).all(axis=1)
-    return hit
+    assert not in_any_box(pos[:, :out.shape[1]], out, pad=-1e-9).any(), paved
 
 
 def test_the_json_names_the_method_that_ran(capsys):
