@@ -96,6 +96,17 @@ def sampled_arcs_volume(robot, n, h, seed=0):
     return arcs_volume(robot, q[:, 0], p, h)
 
 
+def paved_alike_twice(robot, delta, stop):
+    """``reach(robot, delta, stop)`` run twice, asserting both runs decide the same boxes (a budget of boxes, not of
+    seconds, stops it at the same cells on every run); the first paving."""
+    from workspace_sym.serial_workspace import reach
+
+    runs = [reach(robot, delta=delta, stop=stop) for _ in range(2)]
+    for kind in ("inner", "boundary", "outer"):
+        assert np.array_equal(getattr(runs[0], kind), getattr(runs[1], kind)), kind
+    return runs[0]
+
+
 def in_any_box(points, boxes, pad=0.0):
     """Mask of the points lying in some closed box widened by ``pad`` (narrowed if negative), for many points and
     boxes: the points sorted along x, each box looks only at those within its x range."""

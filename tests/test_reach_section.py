@@ -16,7 +16,7 @@ import pytest
 import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from reach_checks import reached_at_50_digits
+from reach_checks import paved_alike_twice, reached_at_50_digits
 from test_serial_workspace import _in_boxes
 
 from workspace_sym import StopAt
@@ -141,10 +141,7 @@ def test_a_budget_of_boxes_stops_the_section_at_the_same_cells_on_every_run(wris
     holds Pappus's volume of the sampled section (second method).  A budget that is not a whole number of at
     least 1 is refused by name."""
     robot, free = wrist_paving
-    runs = [reach(robot, delta=0.25, stop=StopAt(section_boxes=5000)) for _ in range(2)]
-    for kind in ("inner", "boundary", "outer"):
-        assert np.array_equal(getattr(runs[0], kind), getattr(runs[1], kind)), kind
-    cut = runs[0]
+    cut = paved_alike_twice(robot, 0.25, StopAt(section_boxes=5000))
     assert cut.complete and 0 < len(cut.inner) < len(free.inner) and len(cut.outer)
     lo, hi = cut.measure_bounds
     assert lo < free.measure_bounds[0] and lo <= _pappus_volume(robot, n=400_000, h=0.01) <= hi

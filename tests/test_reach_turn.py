@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import sympy as sp
-from reach_checks import arcs_volume, reached_at_50_digits, sampled_arcs_volume, sampled_positions
+from reach_checks import arcs_volume, paved_alike_twice, reached_at_50_digits, sampled_arcs_volume, sampled_positions
 from test_reach_section import _pappus_volume, check_sampled_and_reached, offset_arm
 
 from workspace_sym import StopAt
@@ -131,10 +131,7 @@ def test_a_budget_of_boxes_stops_the_limited_section_at_its_shares(limited_pavin
     width = SECTION_RATIO * _cell_width(0.25, "diameter", 3)
     _, _, pieces, evaluated, reason = pave_limited(turn, width, _Free(), boxes=budget)
     assert reason == "" and BLOCKS_END * budget <= evaluated < budget + DIRECTION_CHUNK
-    runs = [reach(robot, delta=0.25, stop=StopAt(section_boxes=300)) for _ in range(2)]
-    for kind in ("inner", "boundary", "outer"):
-        assert np.array_equal(getattr(runs[0], kind), getattr(runs[1], kind)), kind
-    cut = runs[0]
+    cut = paved_alike_twice(robot, 0.25, StopAt(section_boxes=300))
     assert cut.complete and 0 < len(cut.inner) < len(free.inner) and len(cut.outer)
     lo, hi = cut.measure_bounds
     assert lo < free.measure_bounds[0] and lo <= sampled_arcs_volume(robot, 400_000, 0.01) <= hi
