@@ -31,8 +31,8 @@ DISC = (["x**2 + y**2 <= 1"], {"x": (-1.1, 1.1), "y": (-1.1, 1.1)})
 LAYERS = {
     "arith": set(), "mp": {"arith"}, "graph": {"arith", "mp"}, "compiler": {"arith", "mp", "graph"},
     "contractor": {"arith", "boxes", "graph", "verdict"},
-    "verdict": set(), "store": set(), "boxes": {"store"}, "executor": {"arith", "verdict"},
-    "driver": {"arith", "boxes", "contractor", "executor", "store", "verdict"},
+    "verdict": set(), "fingerprint": set(), "store": set(), "boxes": {"store"}, "executor": {"arith", "verdict"},
+    "driver": {"arith", "boxes", "contractor", "executor", "fingerprint", "store", "verdict"},
 }
 
 
@@ -158,7 +158,7 @@ def test_image_cells_carry_the_verdict_codes():
 
 def test_a_run_without_checkpoint_does_not_describe_itself(monkeypatch, tmp_path):
     """The checkpoint's fingerprint prints every constraint with SymPy (a third of a small paving's time):
-    only a run with ``resume`` makes one."""
+    only a run with ``resume`` (or a store on disk, which names its problem) makes one."""
     def refuse(*args):
         raise AssertionError("fingerprint made without a checkpoint")
 

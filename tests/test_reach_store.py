@@ -55,7 +55,7 @@ def _section_count(robot) -> int:
     """Boxes the section (the plane factor of the SCARA) takes before the task boxes are classified."""
     budget = serial_workspace.RunBudget(QUIET, "reach")
     values = ()
-    serial_workspace._spatial(robot, values, DELTA, "diameter", budget, executor=None, where=RunOn())
+    serial_workspace._spatial(robot, values, DELTA, "diameter", budget, executor=None, where=RunOn(), problem={})
     budget.close()
     return budget.spent
 
@@ -150,7 +150,8 @@ def test_a_resumed_reach_takes_the_section_kept_beside_its_checkpoint(tmp_path, 
     """A time limit lets a turned section refine as far as the time allows, so paving it again on resuming
     could give other cells and a checkpoint refused.  The section is kept beside the checkpoint
     (``.section.npz``) and taken on resuming: the section is not paved again (its paving fails if called), and
-    the result is the uninterrupted run's (the reference).  A kept section of another delta is not taken."""
+    the result is the uninterrupted run's (the reference).  A kept section of another delta is refused, naming
+    what differs."""
     import sympy as sp
 
     from workspace_sym.kinematics import DHJoint, DHRobot
@@ -174,7 +175,10 @@ def test_a_resumed_reach_takes_the_section_kept_beside_its_checkpoint(tmp_path, 
         resumed = reach(arm, delta=DELTA, stop=QUIET, run=RunOn(resume=checkpoint))
     assert_same(whole_arm, resumed)
     assert resumed.volume_bounds == whole_arm.volume_bounds
-    assert serial_workspace._saved_section(RunOn(resume=checkpoint), "another delta") is None
+    with pytest.raises(InvalidParameterError, match=r"section kept beside a checkpoint of another run \(it differs "
+                                                    r"in delta, section cell\)") as caught:
+        reach(arm, delta=2 * DELTA, stop=QUIET, run=RunOn(resume=checkpoint))
+    assert caught.value.parameter == "resume"
 
 
 def test_a_checkpoint_of_another_reach_is_refused(scara, tmp_path):

@@ -399,6 +399,24 @@ class DHRobot:
     def __repr__(self) -> str:
         return f"DHRobot({self.name!r}, {self.n} joints, {self.convention} DH)"
 
+    def problem_fields(self) -> dict:
+        """Everything that decides this robot's kinematics and limits, by name, for the fingerprint of a stored
+        or resumed run (:class:`~workspace_sym.interval.fingerprint.Fingerprint`): every DH entry and joint
+        type (offsets are in ``theta`` and ``d``), the limits, the convention, base, tool, default parameter
+        values, units and the chop tolerance.  The name is left out: it changes no box.
+
+        >>> a = DHRobot([DHJoint.revolute(1, a=1, limits=(-1, 1))])
+        >>> b = DHRobot([DHJoint.revolute(1, a=1, limits=(-1, 2))])
+        >>> [k for k in a.problem_fields() if a.problem_fields()[k] != b.problem_fields()[k]]
+        ['robot limits']
+        """
+        return {"robot table": [(j.kind, j.variable, j.theta, j.d, j.a, j.alpha) for j in self.joints],
+                "robot limits": [j.limits for j in self.joints],
+                "robot convention": self.convention,
+                "robot base": self.base, "robot tool": self.tool,
+                "robot parameters": sorted(self.parameters.items(), key=lambda item: str(item[0])),
+                "robot units": self.units, "robot chop_tol": self.chop_tol}
+
     def row_matrix(self, k: int) -> sp.Matrix:
         """``A_k``, the DH matrix of row ``k`` (1-based), so that ``T_0^k = T_0^(k-1) A_k`` (no base or tool)."""
         if not 1 <= k <= self.n:

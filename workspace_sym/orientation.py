@@ -1231,6 +1231,7 @@ def _pave_revolved(plan: _Plan, revolved: _Revolved, robot, parameters, delta, s
         _SectionTest,
         check_root,
         classify_task_boxes,
+        reach_problem,
         section_digest,
     )
     from .serial_workspace import _model as reach_model
@@ -1252,8 +1253,10 @@ def _pave_revolved(plan: _Plan, revolved: _Revolved, robot, parameters, delta, s
         return classify_task_boxes(test, box, delta, size, run=kept), evaluated, reason, bracket
     # Then the task boxes go on within what is left of the budget; a checkpoint names the constraint and the
     # section's cells (a resumed run paves the section again and must find the same cells).
-    named = (constraint or plan.model.constraint).to_dict()
-    what = f"reach of {robot.name} {dict(parameters)} with {named} (section), section cells " \
-           f"{section_digest(grid, classes)}"
+    what = reach_problem(robot, parameters, delta, size, constraint=(constraint or plan.model.constraint).to_dict(),
+                         method="section", section_ratio=ratio, options=options,
+                         pose_tuning={"WRIST_CELLS": WRIST_CELLS, "WRIST_GRID": WRIST_GRID,
+                                      "ORTHOGONAL_TOL": ORTHOGONAL_TOL},
+                         **{"section cells": section_digest(grid, classes)})
     run.spent = evaluated
     return classify_task_boxes(test, box, delta, size, run, where, describe=what), evaluated, "", bracket

@@ -85,9 +85,11 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import itertools
+import json
 import math
 import os
 import time
+import zipfile
 from contextlib import contextmanager
 from dataclasses import dataclass
 from functools import lru_cache
@@ -97,8 +99,9 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
+from . import reach_section, reach_turn
 from .errors import InvalidParameterError, JointLimitError, SymbolicBudgetError
-from .interval import arith
+from .interval import arith, image
 from .interval.boxes import Box, Paving, StoredPaving, box_measure, box_sizes, check_delta, halves
 from .interval.driver import (
     RunBudget,
@@ -112,6 +115,7 @@ from .interval.driver import (
     write_checkpoint,
 )
 from .interval.executor import MIN_CHUNK, runner_for
+from .interval.fingerprint import Fingerprint, check_fingerprint
 from .interval.graph import numpy_constant
 from .interval.image import CellGrid, CoverTooLarge, ImageMap, critical_cover, critical_paving, distribute
 from .interval.search import split_every_axis
@@ -133,7 +137,7 @@ from .reach_section import (
 from .reach_turn import LimitedTurnTest, limited_turn, limited_volume, pave_limited
 from .symbolic import symbolic_budget
 
-__all__ = ["reach", "Pose", "resolve_method", "ReachModel", "METHODS", "CHUNK_PAIRS"]
+__all__ = ["reach", "Pose", "resolve_method", "ReachModel", "METHODS", "CHUNK_PAIRS", "reach_problem"]
 
 _TASK = (sp.Symbol("x"), sp.Symbol("y"), sp.Symbol("z"))
 _MIN_PAIRS = 64                  # pairs a task box may always hold, however small its share of the root box
@@ -600,9 +604,10 @@ def _parts(T, Q, owner, pieces: int):
             yield T[a:b], Q[lo:hi], owner[lo:hi] - a
 
 
-def _pairs(robot, parameters, delta, size, run, *, max_pairs, inner_depth, executor, chunk_pairs, where):
+def _pairs(robot, parameters, delta, size, run, *, max_pairs, inner_depth, executor, chunk_pairs, where, problem):
     """The ``"pairs"`` method: ``(paving, None)``, its decided boxes in a store (memory or disk, ``where``) and,
-    with ``where.resume``, a checkpoint of the task boxes left with their joint boxes."""
+    with ``where.resume``, a checkpoint of the task boxes left with their joint boxes, named by ``problem``
+    (:func:`reach_problem`) and the method's own options."""
     model = _model(robot, parameters)
     Q = model.limits[None].copy()
     root = model.enclose(Q)[0]
@@ -612,16 +617,15 @@ def _pairs(robot, parameters, delta, size, run, *, max_pairs, inner_depth, execu
     evaluated, reason, seconds_before = 0, "", 0.0
     step = _ReachStep(robot, parameters, float(delta), size, inner_depth, int(max_pairs), float(_volumes(T)[0]))
     path = None if where.resume is None else Path(where.resume)
-    fingerprint = {"reach": f"pairs of {robot.name} {sorted(map(str, parameters))}", "lower": list(box.lower),
-                   "upper": list(box.upper), "delta": float(delta), "size": size, "max_pairs": int(max_pairs),
-                   "inner_depth": int(inner_depth)}
+    fingerprint = Fingerprint({**problem, "method": "pairs", "lower": list(box.lower), "upper": list(box.upper),
+                               "max_pairs": int(max_pairs), "inner_depth": int(inner_depth)})
     if path is not None and path.exists():
         meta, arrays = read_checkpoint(path, fingerprint)
-        keeper = BoxStore.restore(len(root), meta["store"], arrays)
+        keeper = BoxStore.restore(len(root), meta["store"], arrays, problem=fingerprint.digest)
         T, Q, owner = arrays["pending"], arrays["joint_boxes"], arrays["owner"].astype(int)
         evaluated, seconds_before = int(meta["evaluated"]), float(meta["seconds"])
     else:
-        keeper, _ = store_for(len(root), where)
+        keeper, _ = store_for(len(root), where, fingerprint.digest)
     spread = None if executor is None else runner_for(executor, step)
     rate = 0.0                                  # seconds per (task box, pair) of the last wave of chunks
     try:
@@ -707,10 +711,11 @@ def _cells(robot, parameters, delta, size, run, *, executor):
     return box, [grid.boxes(classes, INSIDE)], boundary, [grid.boxes(classes, OUTSIDE)], pending, evaluated, reason
 
 
-def _spatial(robot, parameters, delta, size, run, *, executor, where):
+def _spatial(robot, parameters, delta, size, run, *, executor, where, problem):
     """The ``"critical"`` method for a spatial robot whose workspace is a product of images or a section
     turned by its first joint (module docstring): the section paved, then the task boxes classified from it by
-    the driver (:func:`classify_task_boxes`, its boxes where ``where`` says).  Returns ``(paving, volume)``,
+    the driver (:func:`classify_task_boxes`, its boxes where ``where`` says; the section kept beside a
+    checkpoint and the checkpoint named by ``problem``, :func:`reach_problem`).  Returns ``(paving, volume)``,
     or the tuple of a run stopped while the section was paved (every task box pending)."""
     model = _model(robot, parameters)
     plan = _section(robot, parameters)
@@ -722,10 +727,8 @@ def _spatial(robot, parameters, delta, size, run, *, executor, where):
     limited = limited_turn(plan, model)
     test = None
     # A resumed run takes the section its checkpoint was classified from (a time limit may refine it differently).
-    table = hashlib.sha256(repr((robot.joints, robot.base, robot.tool)).encode()).hexdigest()[:16]
-    named = (f"{robot.name} {table} {sorted((str(k), str(v)) for k, v in dict(parameters).items())} "
-             f"{type(plan).__name__} delta={float(delta)!r} size={size} cell={SECTION_RATIO * width!r} "
-             f"limits={model.limits.tolist()}" + ("" if run.section_boxes is None else f" boxes={run.section_boxes}"))
+    problem = {**problem, "method": f"critical ({type(plan).__name__})", "section_boxes": run.section_boxes}
+    named = Fingerprint({**problem, "section cell": SECTION_RATIO * width, "joint limits": model.limits})
     saved = _saved_section(where, named)
     if saved is not None:
         grid, classes, proved, pieces, evaluated = saved
@@ -778,8 +781,7 @@ def _spatial(robot, parameters, delta, size, run, *, executor, where):
     test = test or tests[type(plan)](plan, grid, classes)
     # A checkpoint of the classification belongs to this robot, delta and section (a time-limited turned
     # section may refine differently on another run: its cells are part of what the checkpoint names).
-    cells = section_digest(grid, classes, None if limited is None else proved)
-    what = f"reach of {robot.name} {dict(parameters)} ({type(plan).__name__}), section cells {cells}"
+    what = {**problem, "section cells": section_digest(grid, classes, None if limited is None else proved)}
     run.spent = evaluated
     paving = classify_task_boxes(test, box, delta, size, run, RunOn(max_memory=where.max_memory, store=where.store,
                                                                    resume=where.resume), describe=what)
@@ -791,39 +793,42 @@ def _section_file(where: RunOn) -> Path | None:
     return None if where.resume is None else Path(f"{where.resume}.section.npz")
 
 
-def _save_section(where: RunOn, named: str, grid, classes, proved, pieces, evaluated: int) -> None:
-    """Keep a paved section beside the checkpoint (written whole, then renamed: never half-written)."""
+def _save_section(where: RunOn, named: Fingerprint, grid, classes, proved, pieces, evaluated: int) -> None:
+    """Keep a paved section beside the checkpoint (written whole, then renamed: never half-written), with the
+    fingerprint of its problem ``named``."""
     path = _section_file(where)
     if path is None or classes is None:
         return
     pieces = pieces or Pieces.none()
     part = path.with_name(path.name + ".part")
     with open(part, "wb") as out:
-        np.savez(out, named=np.array(named), box=grid.box, width=np.array(grid.width), classes=classes,
+        np.savez(out, named=np.array(json.dumps(named.to_json())), box=grid.box, width=np.array(grid.width),
+                 classes=classes,
                  proved=np.zeros(0, dtype=bool) if proved is None else proved, inner=pieces.inner,
                  outer=pieces.outer, evaluated=np.array(evaluated))
     os.replace(part, path)
 
 
-def _saved_section(where: RunOn, named: str):
-    """``(grid, classes, proved, pieces, evaluated)`` of the section kept beside the checkpoint for this robot,
-    delta and section method, or None (no checkpoint, no file, or one of another run: the section is paved)."""
+def _saved_section(where: RunOn, named: Fingerprint):
+    """``(grid, classes, proved, pieces, evaluated)`` of the section kept beside the checkpoint, or None (no
+    checkpoint, or no file yet: the section is paved).  A file of another problem than ``named`` is refused,
+    naming what differs, as a checkpoint is."""
     path = _section_file(where)
     if path is None or not path.is_file():
         return None
     try:
         with np.load(path, allow_pickle=False) as data:
-            if str(data["named"]) != named:
-                return None
+            stored = json.loads(str(data["named"]))
+            check_fingerprint(stored, named, what=f"{str(path)!r} is the section kept beside a checkpoint")
             grid = CellGrid(data["box"], float(data["width"]))
             classes, proved = data["classes"], data["proved"]
             if classes.shape != grid.shape:
-                return None
+                raise ValueError(f"{classes.shape} cells for a grid of {grid.shape}")
             return (grid, classes, proved if proved.size else None, Pieces(data["inner"], data["outer"]),
                     int(data["evaluated"]))
-    except (OSError, ValueError, KeyError) as exc:
+    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as exc:
         raise InvalidParameterError(f"resume: {str(path)!r} beside the checkpoint is not a section kept by "
-                                    f"reach ({exc})", parameter="resume") from exc
+                                    f"reach ({exc})", parameter="resume") from None
 
 
 def section_digest(grid, classes, proved=None) -> str:
@@ -838,27 +843,28 @@ def section_digest(grid, classes, proved=None) -> str:
 
 @dataclass(frozen=True)
 class _Classify:
-    """The decider of :func:`classify_task_boxes`: the codes of a test's ``(is_in, is_out)`` masks."""
+    """The decider of :func:`classify_task_boxes`: the codes of a test's ``(is_in, is_out)`` masks; ``what``
+    names its problem in a checkpoint's fingerprint (:func:`reach_problem` and the section's cells)."""
 
     test: Any
-    what: str = ""
+    what: Any = None
 
     def __call__(self, boxes: np.ndarray) -> np.ndarray:
         return codes_from_masks(*self.test(boxes))
 
-    def describe(self) -> str:
+    def describe(self) -> Any:
         return self.what or f"{type(self.test).__module__}.{type(self.test).__qualname__}"
 
 
 def classify_task_boxes(test, box: Box, delta: float, size: str, stop: StopAt | RunBudget = StopAt(progress=False),
-                        run: RunOn = RunOn(), *, describe: str = "") -> Paving:
+                        run: RunOn = RunOn(), *, describe: dict | None = None) -> Paving:
     """Pave the task box ``box`` with the driver (:func:`~workspace_sym.interval.driver.subdivide`), each box
     classified by ``test`` (``(is_in, is_out)`` masks from a paved section): proved boxes are inner/outer,
     undecided ones of size at most ``delta`` boundary.  No presplit: every box evaluated is a box of the
     breadth-first bisection from ``box``, so the counts are those of the classification alone.  ``stop``: a
     :class:`~workspace_sym.interval.driver.StopAt`, or ``reach``'s running budget (its clock, bar and the boxes
     the section took); ``run``: where the decided boxes go (``max_memory``, ``store``, ``resume``); ``describe``
-    names the run in a checkpoint."""
+    names the run's whole problem in a checkpoint (:func:`reach_problem`, the section's cells)."""
     return subdivide(_Classify(test, describe), box, delta=delta, size=size, stop=stop, run=run, label="reach",
                      presplit=0)
 
@@ -928,6 +934,37 @@ def _refuse_storage(robot: DHRobot, run: RunOn, m: int) -> None:
                    why="decides one grid of cells in one pass, in memory",
                    supported="method='pairs' on any arm, and the critical method on a spatial arm with a product "
                              "or a section turned by its first joint")
+
+
+def reach_tuning() -> dict:
+    """The tuning constants of the reach methods that change which boxes are proved (cell ratios, samples,
+    depths, shares of a time limit, cover and pair budgets), read when a run starts: part of the fingerprint of
+    every checkpoint and kept section (:func:`reach_problem`)."""
+    names = {image: ("OUTSIDE_PAIRS", "MAX_COVER_BOXES", "OUTSIDE_MIN_CELLS"),
+             reach_section: ("SECTION_PAIRS", "SECTION_SAMPLES", "SECTION_CHUNK", "BLOCKS_SHARE", "BLOCKS_WEIGHT",
+                             "REACH_TOLERANCE", "SECTION_DEPTH"),
+             reach_turn: ("DIRECTIONS", "DIRECTION_CHUNK", "DIRECTION_SAMPLES", "DIRECTION_DEPTH", "TIMED_DEPTH",
+                          "DIRECTIONS_SHARE", "BLOCKS_END", "SHOULDER_PIECES")}
+    own = {"SECTION_RATIO": SECTION_RATIO, "SECTION_RESERVE": SECTION_RESERVE, "ANGLE_PAD": ANGLE_PAD,
+           "MIN_PAIRS": _MIN_PAIRS, "CELLS_MAX_JOINTS": CELLS_MAX_JOINTS, "CELL_CHUNK": CELL_CHUNK}
+    return {**own, **{name: getattr(module, name) for module, group in names.items() for name in group}}
+
+
+def reach_problem(robot: DHRobot, parameters, delta: float, size: str, **more) -> dict:
+    """The whole problem of a reach run, by named fields, for the fingerprint of everything it stores or resumes
+    (:class:`~workspace_sym.interval.fingerprint.Fingerprint`): the exact robot
+    (:meth:`~workspace_sym.kinematics.DHRobot.problem_fields`: every DH entry, type, offset, limit, base, tool,
+    parameter), the parameter values given, ``delta``, ``size``, the tuning (:func:`reach_tuning`) and ``more``
+    (the constraint, the method and its options).
+
+    >>> from workspace_sym.kinematics import DHJoint
+    >>> arm = DHRobot([DHJoint.revolute(1, a=1), DHJoint.revolute(2, a=1, limits=(-1, 1))])
+    >>> sorted(reach_problem(arm, (), 0.1, "diameter"))[:4]
+    ['delta', 'parameters', 'robot base', 'robot chop_tol']
+    """
+    values = sorted(dict(parameters).items(), key=lambda item: str(item[0]))
+    return {**robot.problem_fields(), "parameters": values, "delta": float(delta), "size": size,
+            "tuning": reach_tuning(), **more}
 
 
 @contextmanager
@@ -1094,18 +1131,21 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
                 _ = model.minors           # the 3 x 3 minors of the cover: symbolic, within the time limit
         if stored and cells:
             _refuse_storage(robot, run, model.m)
+        problem = reach_problem(robot, values, delta, size)
         result: Any = None                  # the driver's (paving, volume), or a method's tuple of boxes
         if kind == "critical":
             try:
                 result = (_cells(robot, values, delta, size, budget, executor=executor) if cells else
-                          _spatial(robot, values, delta, size, budget, executor=executor, where=run))
+                          _spatial(robot, values, delta, size, budget, executor=executor, where=run,
+                                   problem=problem))
             except CoverTooLarge as error:
                 too_large: CoverTooLarge | None = error
                 if cells and model.m == 3 and _section(robot, values) is not None:
                     # a turned section proving no inner box: its own path (outer boxes), as before the 3-D cells
                     try:
                         cells, too_large = False, None
-                        result = _spatial(robot, values, delta, size, budget, executor=executor, where=run)
+                        result = _spatial(robot, values, delta, size, budget, executor=executor, where=run,
+                                          problem=problem)
                     except CoverTooLarge as again:
                         too_large = again
                 if too_large is not None and method == "critical":
@@ -1114,7 +1154,7 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         if result is None:
             kind = "pairs"                      # also when the critical cover was too large (auto)
             result = _pairs(robot, values, delta, size, budget, max_pairs=max_pairs, inner_depth=inner_depth,
-                            executor=executor, chunk_pairs=chunk_pairs, where=run)
+                            executor=executor, chunk_pairs=chunk_pairs, where=run, problem=problem)
     except KeyboardInterrupt:
         if model is None or root is None:
             raise

@@ -31,20 +31,22 @@ crash can go on where it stopped.
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 import json
 import math
 import os
 import tempfile
 import time
 import warnings
+import zipfile
 from collections import deque
+from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import lru_cache, partial
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-import sympy as sp
 
 from ..errors import InvalidParameterError, check_choice
 from ..progress import progress_bar
@@ -52,6 +54,7 @@ from . import arith
 from .boxes import SIZES, Box, Paving, StoredPaving, bisect, box_measure, box_sizes, check_delta
 from .contractor import confirm
 from .executor import MIN_CHUNK, Inline, Runner, refuse_result, runner_for
+from .fingerprint import Fingerprint, check_fingerprint
 from .store import KINDS, BoxStore, parse_memory
 from .verdict import INSIDE, OUTSIDE, UNDECIDED, Decider
 
@@ -346,58 +349,79 @@ def checked_step(result, chunk: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.
 
 
 # ----------------------------------------------------------------------------- checkpoints
-def _describe(fn) -> str:
-    """What a decider is, for checking that a checkpoint belongs to this run (a decider may say it itself:
-    a ``describe()`` method, as ``reach``'s classification of task boxes from a paved section does)."""
+def _describe(fn) -> Any:
+    """What a decider (or a separator) is, for the fingerprint of a checkpoint: a decider may say it itself, with a
+    ``describe()`` method returning a text or a mapping of named fields (``reach``'s classification of task boxes
+    names its whole problem: robot, limits, pose, method, tuning, the section's cells)."""
+    if fn is None:
+        return None
     if callable(getattr(fn, "describe", None)):
-        return str(fn.describe())
+        described = fn.describe()
+        return dict(described) if isinstance(described, Mapping) else str(described)
     if isinstance(fn, partial):
         keywords = ", ".join(f"{k}={v!r}" for k, v in sorted(fn.keywords.items()))
         return f"{_describe(fn.func)}({keywords})"
     if hasattr(fn, "constraints") and hasattr(fn, "backend"):
-        return f"constraints {[sp.sstr(c.g) for c in fn.constraints]} ({fn.backend})"
+        digits = getattr(fn, "digits", None) if fn.backend == "mpmath" else None    # the precision of the reference
+        return {"constraints": [c.g for c in fn.constraints], "strict": [c.strict for c in fn.constraints],
+                "backend": fn.backend, "digits": digits}
     return f"{getattr(fn, '__module__', '')}.{getattr(fn, '__qualname__', type(fn).__qualname__)}"
 
 
-def _fingerprint(step: Step, box: Box, constraints, backend) -> dict:
-    return {"variables": [str(v) for v in box.variables], "lower": list(box.lower), "upper": list(box.upper),
-            "constraints": [sp.sstr(c.g) + (" < 0" if c.strict else " <= 0") for c in constraints],
-            "decider": _describe(step.decide), "contract": step.separate is not None,
-            "sized_before_cut": step.sized_before_cut,
-            "delta": step.delta, "size": step.size, "backend": backend}
+def _fingerprint(step: Step, box: Box, constraints, backend) -> Fingerprint:
+    """The fingerprint of a run of :func:`subdivide`: the box, every option that changes boxes, and what the
+    decider and the separator say they are (a decider's named fields enter under their own names)."""
+    decider = _describe(step.decide)
+    named = decider if isinstance(decider, dict) else {"decider": decider}
+    return Fingerprint({"variables": [str(v) for v in box.variables], "lower": list(box.lower),
+                        "upper": list(box.upper),
+                        "constraints": [(c.g, c.strict) for c in constraints], **named,
+                        "separator": _describe(step.separate), "sized_before_cut": step.sized_before_cut,
+                        "delta": step.delta, "size": step.size, "backend": backend})
 
 
 def write_checkpoint(path: Path, meta: dict, pending: np.ndarray, store: BoxStore, extra: dict | None = None) -> None:
-    """Write the checkpoint of a run at ``path`` (atomically): ``meta`` (its ``fingerprint``, ``evaluated``,
-    ``seconds``), the ``pending`` boxes, the store's state (its boxes too when in memory) and ``extra`` arrays
-    a loop carries with its pending boxes (``reach``'s pairs: the joint boxes and their owners)."""
+    """Write the checkpoint of a run at ``path`` (atomically): ``meta`` (its ``fingerprint``, a
+    :class:`~workspace_sym.interval.fingerprint.Fingerprint`, ``evaluated``, ``seconds``), the ``pending``
+    boxes, the store's state (its boxes too when in memory) and ``extra`` arrays a loop carries with its pending
+    boxes (``reach``'s pairs: the joint boxes and their owners); the SHA-256 of every array goes with them."""
     arrays: dict[str, Any] = {"pending": pending, **(extra or {})}
     if store.directory is None:
         arrays.update({k: store.arrays(k) for k in KINDS})
     else:
         store.flush()
-    meta = {**meta, "store": store.state()}
+    meta = {**meta, "fingerprint": meta["fingerprint"].to_json(), "store": store.state(),
+            "arrays": {k: _array_digest(v) for k, v in arrays.items()}}
     tmp = path.with_name(path.name + ".tmp")
     with open(tmp, "wb") as f:
         np.savez(f, meta=np.array(json.dumps(meta)), **arrays)
     os.replace(tmp, path)
 
 
-def read_checkpoint(path: Path, fingerprint: dict):
+def _array_digest(array: np.ndarray) -> str:
+    data = np.ascontiguousarray(array)
+    return hashlib.sha256(f"{data.dtype.str} {data.shape}".encode() + data.tobytes()).hexdigest()
+
+
+def read_checkpoint(path: Path, fingerprint: Fingerprint):
     """``(meta, arrays)`` of the checkpoint at ``path``, refused (``resume``) unless it is one of the run that
-    ``fingerprint`` describes."""
+    ``fingerprint`` describes (:func:`~workspace_sym.interval.fingerprint.check_fingerprint`, naming the fields
+    that differ), whole (every array as written) and with its store (:meth:`BoxStore.restore` checks that)."""
     try:
         with np.load(path, allow_pickle=False) as data:
             meta = json.loads(str(data["meta"]))
+            if not isinstance(meta, dict):
+                raise ValueError("no record of the run")
             arrays = {k: data[k] for k in data.files if k != "meta"}
-    except (OSError, ValueError, KeyError) as exc:
+    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as exc:
         raise InvalidParameterError(f"resume: {str(path)!r} is not a checkpoint of a paving ({exc})",
                                     parameter="resume") from None
-    if meta.get("fingerprint") != fingerprint:
-        theirs = meta.get("fingerprint", {})
-        diff = sorted(k for k in set(theirs) | set(fingerprint) if theirs.get(k) != fingerprint.get(k))
-        raise InvalidParameterError(f"resume: {str(path)!r} is the checkpoint of another run (it differs in "
-                                    f"{', '.join(diff)})", parameter="resume")
+    check_fingerprint(meta.get("fingerprint"), fingerprint, what=f"{str(path)!r} is the checkpoint")
+    listed = meta.get("arrays")
+    if not isinstance(listed, dict) or set(listed) != set(arrays) or \
+            any(listed[k] != _array_digest(v) for k, v in arrays.items()):
+        raise InvalidParameterError(f"resume: {str(path)!r} is damaged (its arrays are not those it recorded); "
+                                    "start the run again", parameter="resume")
     return meta, arrays
 
 
@@ -417,9 +441,10 @@ def _take(stack: deque, size: int, depth_first: bool) -> np.ndarray:
     return first
 
 
-def store_for(n: int, run: RunOn) -> tuple[BoxStore, int | None]:
+def store_for(n: int, run: RunOn, problem: str = "") -> tuple[BoxStore, int | None]:
     """Where the decided boxes of a run of dimension ``n`` go (in memory, or ``.npy`` parts when ``run`` asks
-    for ``max_memory`` or a ``store``), and the memory budget in bytes (None: unbounded)."""
+    for ``max_memory`` or a ``store``, naming ``problem``, the digest of the run's fingerprint), and the memory
+    budget in bytes (None: unbounded)."""
     if run.max_memory is None and run.store is None:
         return BoxStore(n), None
     budget = None if run.max_memory is None else parse_memory(run.max_memory)
@@ -432,7 +457,7 @@ def store_for(n: int, run: RunOn) -> tuple[BoxStore, int | None]:
         raise InvalidParameterError(f"store directory {str(store)!r} already holds boxes of another run; give an "
                                     "empty directory, or resume= the checkpoint of that run", parameter="store")
     flush = 64 * 2**20 if budget is None else max(2**20, min(64 * 2**20, budget // 32))
-    return BoxStore(n, store, flush_bytes=flush), budget
+    return BoxStore(n, store, flush_bytes=flush, problem=problem), budget
 
 
 @arith.nearest_rounding
@@ -492,16 +517,19 @@ def subdivide(decide: Decider, box: Box, *, delta: float, size: str = "diameter"
     step = Step(decide, separate, float(delta), size, bool(sized_before_cut))
     n = len(box.variables)
     path = None if run.resume is None else Path(run.resume)
-    fingerprint = {} if path is None else _fingerprint(step, box, constraints, backend)
+    # The fingerprint names the problem in a checkpoint and a store on disk (it prints every constraint: only a
+    # run that writes one makes it).
+    kept = path is not None or run.max_memory is not None or run.store is not None
+    fingerprint = _fingerprint(step, box, constraints, backend) if kept else Fingerprint()
     evaluated, seconds_before = 0, 0.0
     if path is not None and path.exists():
         meta, arrays = read_checkpoint(path, fingerprint)
-        keeper = BoxStore.restore(n, meta["store"], arrays)
+        keeper = BoxStore.restore(n, meta["store"], arrays, problem=fingerprint.digest)
         budget = None if run.max_memory is None else parse_memory(run.max_memory)
         stack = deque([arrays["pending"]] if len(arrays["pending"]) else [])
         evaluated, seconds_before = int(meta["evaluated"]), float(meta["seconds"])
     else:
-        keeper, budget = store_for(n, run)
+        keeper, budget = store_for(n, run, fingerprint.digest)
         stack = deque([initial_boxes(box, delta, size, presplit)])
     own_clock = isinstance(stop, StopAt)
     clock = RunBudget(stop, label) if isinstance(stop, StopAt) else stop

@@ -6,7 +6,11 @@ about 10^8 boxes) cannot hold its inner, boundary and outer boxes as arrays.
 keeps them (the default) or writes them to a directory, one ``.npy`` file per
 flushed part (``inner/part-000001.npy``, ...): each part is written to a
 temporary name and renamed, so a part on disk is whole, and a checkpoint
-that lists how many parts it accounts for can be resumed after a crash.
+that lists how many parts it accounts for can be resumed after a crash.  A
+store on disk names the problem its boxes belong to (``problem.json``: the
+digest of its :class:`~workspace_sym.interval.fingerprint.Fingerprint`) and
+a checkpoint lists the SHA-256 of every part: a store of another run, or a
+part changed since, is refused when a run resumes.
 
 Measures are **exact sums**: every box's measure (the product of its edge
 widths, in floats, as :func:`~workspace_sym.interval.paving.box_measure`
@@ -25,6 +29,9 @@ the exact measure of the boxes, not only its nearest float.
 
 from __future__ import annotations
 
+import hashlib
+import io
+import json
 import os
 from fractions import Fraction
 from pathlib import Path
@@ -236,10 +243,12 @@ class BoxStore:
     checkpoint), to the same bits since the sums are exact.
     """
 
-    def __init__(self, n: int, directory=None, *, flush_bytes: int = 64 * 2**20):
+    def __init__(self, n: int, directory=None, *, flush_bytes: int = 64 * 2**20, problem: str = ""):
         self.n = n
         self.directory = None if directory is None else Path(directory)
         self.flush_bytes = flush_bytes
+        self.problem = problem                       # the digest of the run's fingerprint (stores on disk)
+        self.hashes: dict[str, list[str]] = {k: [] for k in KINDS}
         self.counts = dict.fromkeys(KINDS, 0)
         # per rounding ("nearest"; "down" and "up": per-box measures rounded outward, for proved bounds)
         self._sums = {r: {k: ExactSum() for k in KINDS} for r in _ROUNDINGS}
@@ -249,6 +258,7 @@ class BoxStore:
         if self.directory is not None:
             for k in KINDS:
                 (self.directory / k).mkdir(parents=True, exist_ok=True)
+            _write_whole(self.directory / _MANIFEST, json.dumps({"problem": problem}).encode())
 
     def add(self, kind: str, boxes: np.ndarray) -> None:
         if not len(boxes):
@@ -291,11 +301,10 @@ class BoxStore:
         if not self._buffer[kind]:
             return
         self.parts[kind] += 1
-        path = self._part(kind, self.parts[kind])
-        tmp = path.with_suffix(".tmp")
-        with open(tmp, "wb") as f:
-            np.save(f, np.concatenate(self._buffer[kind]))
-        os.replace(tmp, path)
+        data = io.BytesIO()
+        np.save(data, np.concatenate(self._buffer[kind]))
+        _write_whole(self._part(kind, self.parts[kind]), data.getbuffer())
+        self.hashes[kind].append(hashlib.sha256(data.getbuffer()).hexdigest())
         self._buffer[kind], self._buffered[kind] = [], 0
 
     def flush(self) -> None:
@@ -314,24 +323,33 @@ class BoxStore:
 
     # ------------------------------------------------------------ checkpoints
     def state(self) -> dict:
-        """What a checkpoint records (after :meth:`flush`): counts, exact sums, parts."""
+        """What a checkpoint records (after :meth:`flush`): counts, exact sums, parts and their SHA-256."""
         return {"counts": dict(self.counts), "sums": {k: str(s) for k, s in self.sums.items()},
                 "sums_down": {k: str(s) for k, s in self.sums_down.items()},
                 "sums_up": {k: str(s) for k, s in self.sums_up.items()},
-                "parts": dict(self.parts),
+                "parts": dict(self.parts), "hashes": {k: list(v) for k, v in self.hashes.items()},
                 "directory": None if self.directory is None else str(self.directory)}
 
     @classmethod
-    def restore(cls, n: int, state: dict, arrays: dict | None = None) -> BoxStore:
-        """The store a checkpoint describes; parts written after it (a crash) are removed."""
-        store = cls(n, state["directory"])
-        store.counts = {k: int(v) for k, v in state["counts"].items()}
-        if "sums_down" not in state:
-            raise InvalidParameterError("this checkpoint was written by an older workspace_sym without the outward "
-                                        "measure sums; start the run again", parameter="resume")
-        store._sums = {r: {k: ExactSum.parse(v) for k, v in state[name].items()}
-                       for r, name in zip(_ROUNDINGS, ("sums", "sums_down", "sums_up"))}
-        store.parts = {k: int(v) for k, v in state["parts"].items()}
+    def restore(cls, n: int, state: dict, arrays: dict | None = None, *, problem: str = "") -> BoxStore:
+        """The store a checkpoint describes; parts written after it (a crash) are removed.  A store on disk
+        must name the problem ``problem`` (the digest of the run's fingerprint) and hold the parts the
+        checkpoint lists, byte for byte: another run's store, or a part changed since, is refused."""
+        directory = state["directory"]
+        if directory is not None:
+            _check_manifest(Path(directory), problem)
+        store = cls(n, directory, problem=problem)
+        try:
+            store.counts = {k: int(state["counts"][k]) for k in KINDS}
+            store._sums = {r: {k: ExactSum.parse(state[name][k]) for k in KINDS}
+                           for r, name in zip(_ROUNDINGS, ("sums", "sums_down", "sums_up"))}
+            store.parts = {k: int(state["parts"][k]) for k in KINDS}
+            store.hashes = {k: [str(h) for h in state["hashes"][k]] for k in KINDS}
+            if any(len(store.hashes[k]) != store.parts[k] for k in KINDS):
+                raise ValueError("a hash per part")
+        except (KeyError, ValueError, TypeError) as exc:
+            raise InvalidParameterError(f"resume: the checkpoint's record of its box store is damaged ({exc})",
+                                        parameter="resume") from None
         if store.directory is None:
             for k in KINDS:
                 store._buffer[k] = [arrays[k]] if arrays is not None and len(arrays[k]) else []
@@ -340,4 +358,36 @@ class BoxStore:
                 for path in (store.directory / k).glob("part-*.npy"):
                     if int(path.stem.split("-")[1]) > store.parts[k]:
                         path.unlink()
+                for path, digest in zip(store.files(k), store.hashes[k]):
+                    try:
+                        whole = hashlib.sha256(path.read_bytes()).hexdigest() == digest
+                    except OSError:
+                        whole = False
+                    if not whole:
+                        raise InvalidParameterError(f"resume: {str(path)!r} is not the part of the box store "
+                                                    "that the checkpoint recorded (missing or changed since); "
+                                                    "start the run again", parameter="resume")
         return store
+
+
+_MANIFEST = "problem.json"
+
+
+def _write_whole(path: Path, data) -> None:
+    """Write ``data`` to ``path`` under a temporary name, then rename it: a file on disk is whole."""
+    tmp = path.with_name(path.name + ".tmp")
+    with open(tmp, "wb") as f:
+        f.write(data)
+    os.replace(tmp, path)
+
+
+def _check_manifest(directory: Path, problem: str) -> None:
+    """Refuse a box store whose ``problem.json`` does not name the problem ``problem``."""
+    try:
+        named = json.loads((directory / _MANIFEST).read_text()).get("problem")
+    except (OSError, ValueError, AttributeError):
+        named = None
+    if named != problem:
+        raise InvalidParameterError(f"resume: the box store {str(directory)!r} holds the boxes of another run "
+                                    f"(its {_MANIFEST} names {'no problem' if named is None else 'another'}); give "
+                                    "the store of this checkpoint's run", parameter="resume")
