@@ -1,4 +1,4 @@
-"""Issue 25 benchmark: certified orientation workspaces (``workspace_sym.orientation``) beside a sampled
+"""Issue 25 benchmark: certified orientation workspaces (``workspace_sym.serial.pose``) beside a sampled
 capability map computed in the same run.
 
 For each robot and constraint: seconds, proved inner / boundary / outer boxes, the measure bracket and its
@@ -28,10 +28,11 @@ import numpy as np
 import sympy as sp
 
 from _common import machine
-from workspace_sym import robots
+from workspace_sym import StopAt, robots
 from workspace_sym.interval.image import ImageMap
 from workspace_sym.kinematics import DHRobot
-from workspace_sym.orientation import constraint_from, reach_pose
+from workspace_sym.serial import Pose, reach
+from workspace_sym.serial.pose import constraint_from
 
 UR5 = Path(__file__).resolve().parents[1] / "tests" / "data" / "dh" / "ur5.json"
 CELL = 0.05
@@ -119,10 +120,10 @@ def main():
     print("|---|---|---|---|---|---|---|---|---|")
     for name, robot, options, deltas in cases(quick):
         constraint = constraint_from(**options)
-        reach_pose(robot, delta=0.4, time_limit=5, **options)       # compile once, as a session would
+        reach(robot, delta=0.4, stop=StopAt(time_limit=5), pose=Pose(**options))   # compile once, as a session would
         for delta in deltas:
             start = time.perf_counter()
-            p = reach_pose(robot, delta=delta, time_limit=120, **options)
+            p = reach(robot, delta=delta, stop=StopAt(time_limit=120), pose=Pose(**options))
             seconds = time.perf_counter() - start
             lo, hi = p.measure_bounds
             box = np.array([p.box.lower, p.box.upper]).T

@@ -32,7 +32,10 @@ from _common import machine
 from workspace_sym import StopAt, robots
 from workspace_sym.interval.image import critical_paving
 from workspace_sym.kinematics import DHJoint, DHRobot
-from workspace_sym.serial_workspace import SECTION_RATIO, ReachModel, _cell_width, _section, reach, resolve_method
+from workspace_sym.serial import ReachModel, reach, resolve_method
+from workspace_sym.serial.model import cell_width
+from workspace_sym.serial.structure import structure_of
+from workspace_sym.serial.tuning import DEFAULT
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from test_serial_workspace import _glass_section_volume, human_arm
@@ -66,9 +69,9 @@ def sampled_measure(model: ReachModel, delta: float, n: int = 1_000_000, seed: i
 
 
 def section_seconds(robot, delta):
-    revolved = _section(robot, ())
+    revolved = structure_of(robot, ())
     start = time.perf_counter()
-    critical_paving(revolved.section, SECTION_RATIO * _cell_width(delta, "diameter", 3))
+    critical_paving(revolved.section, DEFAULT.section_ratio * cell_width(delta, "diameter", 3))
     return time.perf_counter() - start
 
 

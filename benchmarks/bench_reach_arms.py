@@ -46,8 +46,8 @@ def pappus(robot, plan, n=16_000_000, h=0.005, chunk=1_000_000):
     to cells of side zero: ``2 V(h) - V(2 h)`` (Richardson), ``V(h)`` the solids of the cells of side ``h`` hit by
     one of ``n`` samples (it overestimates by about half a cell along the boundary, and 10^6 samples leave cells of
     the KR16's section unhit: 19.37 m^3 at 10^6 samples, 19.91 at 1.6 10^7)."""
-    from workspace_sym.reach_section import Turned, to_first_frame
-    from workspace_sym.serial_workspace import ReachModel
+    from workspace_sym.serial import ReachModel
+    from workspace_sym.serial.section import Turned, to_first_frame
 
     if not isinstance(plan, Turned) or not plan.full:
         return None
@@ -73,7 +73,8 @@ def arcs(robot, n=1_000_000, h=0.005):
 
 def one(name, delta, limit):
     """One arm in this process: a line of the table."""
-    from workspace_sym import StopAt, reach_section, serial_workspace
+    from workspace_sym import StopAt
+    from workspace_sym.serial import model, plans, reach, structure
 
     phases = {"section paving": 0.0}
 
@@ -86,21 +87,18 @@ def one(name, delta, limit):
                 phases["section paving"] += time.perf_counter() - t
         return wrapper
 
-    from workspace_sym import reach_turn
-
-    serial_workspace.section_paving = timed(reach_section.section_paving)
-    reach_turn.pave_limited = timed(reach_turn.pave_limited)
-    serial_workspace.pave_limited = reach_turn.pave_limited
-    serial_workspace.critical_paving = timed(serial_workspace.critical_paving)
+    plans.section_paving = timed(plans.section_paving)
+    plans.pave_limited = timed(plans.pave_limited)
+    plans.critical_paving = timed(plans.critical_paving)
     robot = load(name)
     t = time.perf_counter()
-    paving = serial_workspace.reach(robot, delta=delta, stop=StopAt(time_limit=limit))
+    paving = reach(robot, delta=delta, stop=StopAt(time_limit=limit))
     total = time.perf_counter() - t
-    plan = serial_workspace._section(robot, ())
+    plan = structure.structure_of(robot, ())
     t = time.perf_counter()
-    serial_workspace._section.cache_clear()
-    serial_workspace._model.cache_clear()
-    serial_workspace._section(robot, ())
+    structure.structure_of.cache_clear()
+    model.reach_model.cache_clear()
+    structure.structure_of(robot, ())
     prep = time.perf_counter() - t
     lo, hi = paving.measure_bounds
     ref = pappus(robot, plan) if name not in LIMITED else arcs(robot)

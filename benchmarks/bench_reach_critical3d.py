@@ -23,11 +23,11 @@ from unittest import mock
 import sympy as sp
 
 import workspace_sym.interval.image as image
-import workspace_sym.serial_workspace as serial
 from _common import machine
 from workspace_sym import StopAt
-from workspace_sym.errors import CoverTooLarge
+from workspace_sym.errors import CoverTooLarge, InvalidParameterError
 from workspace_sym.kinematics import DHRobot
+from workspace_sym.serial import model, plans, reach
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
@@ -53,18 +53,18 @@ def run(name, robot, delta, *, forced=False, section=False, time_limit=None, exa
     counts, counted = _cover_counter()
     patches = [mock.patch.object(image, "critical_cover", counted)]
     if forced:
-        patches.append(mock.patch.object(serial, "_section", lambda robot, parameters: None))
+        patches.append(mock.patch.object(plans, "structure_of", lambda robot, parameters: None))
     if section:
-        patches.append(mock.patch.object(serial, "_on_cells", lambda robot, parameters, stored=False: False))
+        patches.append(mock.patch.object(plans, "on_cells", lambda robot, values, stored=False, tuning=None: False))
     start = time.perf_counter()
     try:
         for p in patches:
             p.start()
-        _ = serial._model(robot, ()).minors
+        _ = model.reach_model(robot, ()).minors
         prepared = time.perf_counter() - start
-        paving = serial.reach(robot, delta=delta, method="critical" if forced else "auto",
+        paving = reach(robot, delta=delta, method="critical" if forced else "auto",
                               stop=StopAt(time_limit=time_limit, progress=False))
-    except (CoverTooLarge, serial.InvalidParameterError) as error:
+    except (CoverTooLarge, InvalidParameterError) as error:
         print(f"{name:28s} delta {delta:<5g} cover too large after {time.perf_counter() - start:.1f} s: {error}")
         return
     finally:

@@ -99,7 +99,7 @@ def main():
         print(f"{length} | {t:.2f} s | {err or f'factors {out[2]}'}", flush=True)
     from pathlib import Path
 
-    from workspace_sym.serial_workspace import reach
+    from workspace_sym.serial import reach
 
     path = Path(__file__).resolve().parent.parent / "tests" / "data" / "dh" / "ur5.json"
     start = time.perf_counter()

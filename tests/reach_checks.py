@@ -99,7 +99,7 @@ def sampled_arcs_volume(robot, n, h, seed=0):
 def paved_alike_twice(robot, delta, stop):
     """``reach(robot, delta, stop)`` run twice, asserting both runs decide the same boxes (a budget of boxes, not of
     seconds, stops it at the same cells on every run); the first paving."""
-    from workspace_sym.serial_workspace import reach
+    from workspace_sym.serial import reach
 
     runs = [reach(robot, delta=delta, stop=stop) for _ in range(2)]
     for kind in ("inner", "boundary", "outer"):

@@ -16,7 +16,7 @@ from matplotlib.figure import Figure
 
 import workspace_sym as ws
 from workspace_sym import StopAt
-from workspace_sym.display import plain, textbook_form
+from workspace_sym.display import plain, textbook_form, to_html
 from workspace_sym.numbers import clean, clean_json, fmt, fmt_bound
 from workspace_sym.progress import progress_bar
 
@@ -154,7 +154,7 @@ def test_boundary_repr_and_html(arm_boundary):
 def test_paving_repr_and_html():
     p = ws.robots.build("rpr2").pave(delta=0.5)
     assert one_short_line(repr(p)) and repr(p).startswith(f"Paving({len(p.inner)} inner")
-    page = p._repr_html_()
+    page = to_html(p)
     lo, hi = p.measure_bounds
     # Rounded outward (issue 23 item 5): 42.8203125 to nearest printed 42.820312, below the proved upper bound
     assert (lo, hi) == (27.1875, 42.8203125) and "certified measure in [27.187500, 42.820313]" in page

@@ -138,7 +138,7 @@ def test_image_cells_carry_the_verdict_codes():
     """Issue 26 item 3: the cell classes of critical_paving are the int8 codes of verdict.py; every cell
     proved inside lies in the annulus 1/2 <= r <= 3/2 of the 2R arm, every cell proved outside misses it."""
     from workspace_sym.interval import image
-    from workspace_sym.serial_workspace import ReachModel
+    from workspace_sym.serial import ReachModel
 
     arm = DHRobot([DHJoint.revolute(1, a=1), DHJoint.revolute(2, a=sp.Rational(1, 2))])
     grid, classes, _, reason = image.critical_paving(ReachModel(arm), 0.1)

@@ -20,6 +20,7 @@ from hypothesis import strategies as st
 
 from workspace_sym import RunOn, StopAt, robots
 from workspace_sym.cli import main
+from workspace_sym.display import to_html
 from workspace_sym.errors import InvalidParameterError, WorkspaceError
 from workspace_sym.interval import pave
 from workspace_sym.interval.boxes import StoredPaving
@@ -127,7 +128,7 @@ def test_cube_certificates_on_dask_give_the_same_verdicts(client):
 
 def test_reach_of_the_2r_arm_on_dask_equals_local(client):
     """The serial-arm workspace, each generation cut into chunks of a few hundred pairs on two workers."""
-    from workspace_sym.serial_workspace import reach
+    from workspace_sym.serial import reach
 
     arm = robots.build("planar-2r")
     local = reach(arm, delta=0.2)
@@ -288,7 +289,7 @@ def test_streamed_boxes_on_disk_equal_the_local_run(rpr2, tmp_path):
     from workspace_sym.plotting import plot_paving
 
     drawn = [len(c.get_paths()) for c in plot_paving(stored).axes[0].collections]
-    assert drawn == [len(local.inner), len(local.boundary)] and "<img" in stored._repr_html_()
+    assert drawn == [len(local.inner), len(local.boundary)] and "<img" in to_html(stored)
     data = stored.to_dict()
     assert data["store"] == str(tmp_path / "boxes")
     assert all(os.path.exists(f) for k in ("inner", "boundary", "outer") for f in data[k]["files"])

@@ -38,7 +38,7 @@ from workspace_sym.errors import InvalidParameterError
 from workspace_sym.interval import fingerprint as fingerprint_module
 from workspace_sym.interval import pave
 from workspace_sym.kinematics import DHJoint, DHRobot
-from workspace_sym.serial_workspace import Pose, reach
+from workspace_sym.serial import Pose, Tuning, reach
 
 R = sp.Rational
 QUIET = StopAt(progress=False)
@@ -156,8 +156,8 @@ MUTATIONS = {
     "parameter value": (lambda v: dict(robot=two_r(a2=sp.Symbol("a2"), parameters={"a2": v})), "robot table"),
     "delta": (lambda v: dict(delta=0.1 + float(v) / 100), "delta"),
     "size": (lambda v: dict(size="width"), "size"),
-    "max_pairs": (lambda v: dict(max_pairs=100_000 + int(100 * v)), "max_pairs"),
-    "inner_depth": (lambda v: dict(inner_depth=int(bool(v > HALF))), "inner_depth"),    # the default is 2
+    "max_pairs": (lambda v: dict(tuning=Tuning(max_pairs=100_000 + int(100 * v))), "max_pairs"),
+    "inner_depth": (lambda v: dict(tuning=Tuning(inner_depth=int(bool(v > HALF)))), "inner_depth"),  # default 2
 }
 
 
@@ -186,10 +186,10 @@ def test_a_parameter_value_given_to_reach_is_part_of_the_problem(tmp_path):
         reach(arm, delta=0.25, method="pairs", parameters={sp.Symbol("a2"): 0.25}, stop=QUIET, run=RunOn(resume=ck))
 
 
-def test_the_method_and_a_tuning_constant_are_part_of_the_problem(monkeypatch, tmp_path):
-    """The SCARA by the section (critical) method, then by pairs, from one checkpoint; and a tuning constant of
+def test_the_method_and_a_tuning_constant_are_part_of_the_problem(tmp_path):
+    """The SCARA by the section (critical) method, then by pairs, from one checkpoint; and a tuning figure of
     the section changed between two runs."""
-    from workspace_sym import serial_workspace
+    from workspace_sym.serial import Tuning
 
     scara = robots.build("scara")
     ck = tmp_path / "m.npz"
@@ -197,9 +197,8 @@ def test_the_method_and_a_tuning_constant_are_part_of_the_problem(monkeypatch, t
     assert ck.exists()
     with pytest.raises(InvalidParameterError, match=r"differs in [^)]*method"):
         reach(scara, delta=0.5, method="pairs", stop=QUIET, run=RunOn(resume=ck))
-    monkeypatch.setattr(serial_workspace, "SECTION_RATIO", 0.5)
     with pytest.raises(InvalidParameterError, match=r"differs in [^)]*tuning"):
-        reach(scara, delta=0.5, stop=QUIET, run=RunOn(resume=ck))
+        reach(scara, delta=0.5, stop=QUIET, run=RunOn(resume=ck), tuning=Tuning(section_ratio=0.5))
 
 
 def test_the_tool_constraint_is_part_of_the_problem(tmp_path):

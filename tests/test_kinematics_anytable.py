@@ -388,7 +388,7 @@ def test_reach_time_limit_bounds_the_symbolic_model(tmp_path, capsys):
     interrupted).  A limit the symbolic preparation cannot meet (1 ms: the UR5's fk alone takes far longer
     anywhere) ends with one SymbolicBudgetError naming time_limit, from the library and the command line
     (one line, exit 2, --time-limit named); nothing is reported as proved."""
-    from workspace_sym.serial_workspace import reach
+    from workspace_sym.serial import reach
 
     path = Path(__file__).parent / "data" / "dh" / "ur5.json"
     with pytest.raises(SymbolicBudgetError, match=r"time_limit: the symbolic model of UR5 .* not ready within the "

@@ -15,8 +15,8 @@ import workspace_sym as ws
 from workspace_sym import Pose, StopAt, robots
 from workspace_sym.cli import main
 from workspace_sym.errors import InvalidParameterError, WorkspaceError
-from workspace_sym.orientation import _plan, constraint_from, orientation_constraint, reach_pose
-from workspace_sym.serial_workspace import reach
+from workspace_sym.serial import Tuning, reach
+from workspace_sym.serial.pose import constraint_from, orientation_constraint, pose_structure
 
 
 @pytest.mark.parametrize("options, parameter, fragment", [
@@ -149,7 +149,7 @@ def test_points_of_puma_inner_boxes_are_reached_in_the_cone_at_50_digits(puma_co
     p_float = sp.lambdify(q, list(T[:3, 3]), modules="numpy")
     j_float = sp.lambdify(q, T[:3, 3].jacobian(q), modules="numpy")
     a_float = sp.lambdify(q, T[2, 2], modules="numpy")
-    plan = _plan(robot, (), constraint_from(approach=(0, 0, -1), cone=20))
+    plan = pose_structure(robot, (), constraint_from(approach=(0, 0, -1), cone=20))
     rng = np.random.default_rng(3)
     boxes = puma_cone.inner[rng.choice(len(puma_cone.inner), size=6, replace=False)]
     lim = robot.joint_limits()
@@ -217,7 +217,21 @@ def test_cli_bad_constraint_is_exit_2_and_one_line(capsys, argv, flag):
 def test_errors_are_workspace_errors():
     assert issubclass(InvalidParameterError, WorkspaceError)
     with pytest.raises(WorkspaceError):
-        reach_pose(robots.build("planar-2r"), delta=0.1, approach=(0, 0, 1), cone=10)
+        reach(robots.build("planar-2r"), delta=0.1, pose=Pose(approach=(0, 0, 1), cone=10))
+
+
+def test_reach_pose_of_earlier_releases_still_works_with_a_deprecation_warning():
+    """The entry point of earlier releases, ``orientation.reach_pose``, gives the boxes of ``reach(pose=...)``
+    (reference: the same call spelt the new way) and says how to spell it."""
+    from workspace_sym.orientation import reach_pose
+
+    scara = robots.build("scara")
+    with pytest.warns(DeprecationWarning, match=r"reach_pose is deprecated; pass reach\(robot, delta=\.\.\., "
+                                                r"pose=Pose"):
+        old = reach_pose(scara, delta=0.2, approach=(1, 0, 0), cone=30, max_boxes=400, inner_depth=0)
+    new = reach(scara, delta=0.2, pose=Pose(approach=(1, 0, 0), cone=30), stop=StopAt(max_boxes=400),
+                tuning=Tuning(pose_inner_depth=0))
+    assert old.counts == new.counts and old.measure_bounds == new.measure_bounds and old.method == new.method
 
 
 def _full_wrist_puma(d6=0):
@@ -294,7 +308,7 @@ def test_the_section_bar_moves_while_the_section_is_paved(monkeypatch, puma_cone
     before the task boxes are classified (reference: the boxes the complete run evaluated)."""
     from contextlib import contextmanager
 
-    from workspace_sym import orientation
+    from workspace_sym.serial import pose
 
     seen = []
 
@@ -302,7 +316,7 @@ def test_the_section_bar_moves_while_the_section_is_paved(monkeypatch, puma_cone
     def recorder(progress):
         yield lambda share, evaluated: seen.append((share, evaluated))
 
-    monkeypatch.setattr(orientation, "section_bar", recorder)
+    monkeypatch.setattr(pose, "section_bar", recorder)
     p = reach(robots.build("puma560"), delta=0.3, stop=StopAt(progress=False), pose=Pose(approach=(0, 0, -1),
                                                                                          cone=20))
     assert p.counts == puma_cone.counts

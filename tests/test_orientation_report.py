@@ -5,9 +5,9 @@ from __future__ import annotations
 
 from workspace_sym import robots
 from workspace_sym.numbers import fmt_bracket
-from workspace_sym.orientation import constraint_from
 from workspace_sym.report import Document, _pose_section
-from workspace_sym.serial_workspace import Pose
+from workspace_sym.serial import Pose
+from workspace_sym.serial.pose import constraint_from
 
 
 def test_a_section_run_reports_its_pappus_bracket(tmp_path):

@@ -17,7 +17,7 @@ from workspace_sym.interval.image import CellGrid
 from workspace_sym.interval.verdict import INSIDE as INNER
 from workspace_sym.interval.verdict import OUTSIDE as OUTER
 from workspace_sym.interval.verdict import UNDECIDED
-from workspace_sym.orientation import section_volume_bracket
+from workspace_sym.serial.pose import section_volume_bracket
 
 
 def _turn(c: float, degrees: float):

@@ -14,8 +14,8 @@ import sympy as sp
 
 from workspace_sym import robots
 from workspace_sym.interval.image import ImageMap
-from workspace_sym.orientation import _wrist_reduction, constraint_from
-from workspace_sym.serial_workspace import Pose, reach
+from workspace_sym.serial import Pose, reach
+from workspace_sym.serial.pose import constraint_from, wrist_reduction
 
 PUMA = robots.build("puma560")
 T = PUMA.substitute(PUMA.fk())
@@ -28,10 +28,10 @@ def test_puma_wrist_is_a_cap_of_100_degrees_about_the_forearm():
     # Reference: the exact identity a . z3 = cos(theta5) (SymPy) and the reduced cone: 100 deg (theta5's limit)
     # plus the 20 deg cone; every=True: 100 deg for the drops, 80 deg for the inner proof.
     assert sp.simplify(T[:3, 2].dot(Z3) - sp.cos(PUMA.q[4])) == 0
-    axis, reduced, proof = _wrist_reduction(PUMA, None, constraint_from(approach=(0, 0, -1), cone=20), T)
+    axis, reduced, proof = wrist_reduction(PUMA, None, constraint_from(approach=(0, 0, -1), cone=20), T)
     assert sp.simplify(sp.Matrix(axis) - Z3) == sp.zeros(3, 1)
     assert reduced.cone == sp.pi * 2 / 3 and proof is None
-    _, every, proof = _wrist_reduction(PUMA, None, constraint_from(approach=(0, 0, -1), cone=20, every=True), T)
+    _, every, proof = wrist_reduction(PUMA, None, constraint_from(approach=(0, 0, -1), cone=20, every=True), T)
     assert every.cone == sp.pi * 5 / 9 and proof == sp.pi * 4 / 9
 
 

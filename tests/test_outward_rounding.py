@@ -19,6 +19,7 @@ from hypothesis import strategies as st
 
 import workspace_sym as ws
 from workspace_sym import RunOn, cli
+from workspace_sym.display import to_html
 from workspace_sym.numbers import fmt_bound, fmt_bracket
 from workspace_sym.orthoglide.certificate import DextrousResult
 from workspace_sym.orthoglide.cube import CubeResult
@@ -76,7 +77,7 @@ def test_fmt_bound_directions():
 def test_paving_repr_html_and_plot_title(disk):
     lo, hi = disk.measure_bounds
     assert_holds(repr(disk), lo, hi)
-    assert_holds(disk._repr_html_(), lo, hi)
+    assert_holds(to_html(disk), lo, hi)
     from workspace_sym.plotting import plot_paving
 
     assert_holds(plot_paving(disk).axes[0].get_title(), lo, hi)

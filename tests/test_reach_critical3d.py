@@ -33,7 +33,9 @@ import workspace_sym.interval.image as image
 from workspace_sym import StopAt
 from workspace_sym.errors import InvalidParameterError
 from workspace_sym.kinematics import DHJoint, DHRobot
-from workspace_sym.serial_workspace import _model, _section, reach, resolve_method
+from workspace_sym.serial import reach, resolve_method
+from workspace_sym.serial.model import reach_model
+from workspace_sym.serial.structure import structure_of
 
 QUIET = StopAt(progress=False)
 HALF = sp.Rational(1, 2)
@@ -82,7 +84,7 @@ def oblique():
 def test_an_arm_without_structure_takes_the_critical_method(rail):
     """A prismatic first joint fits no structure (no plane, no product, no revolute first joint): 'auto' picks
     the critical method in space, which ends with inner and outer boxes and a complete paving."""
-    assert _model(RAIL, ()).m == 3 and _section(RAIL, ()) is None
+    assert reach_model(RAIL, ()).m == 3 and structure_of(RAIL, ()) is None
     assert resolve_method(RAIL) == "critical" and resolve_method(RAIL, "critical") == "critical"
     assert rail.method == "critical" and rail.complete and not len(rail.pending)
     assert len(rail.inner) > 0 and len(rail.outer) > 0
@@ -101,7 +103,7 @@ def test_sampled_configurations_of_the_rail_miss_every_outer_box(rail):
 def test_inner_boxes_of_the_rail_are_reached_at_50_digits(rail):
     """Inverse kinematics at 50 digits: the corners and the centre of 8 inner boxes (spread over the list) are
     reached within the limits, the residual below 1e-40."""
-    model = _model(RAIL, ())
+    model = reach_model(RAIL, ())
     rng = np.random.default_rng(5)
     q = model.random_configurations(40_000, rng)
     pos = model.position_float(q)
@@ -125,7 +127,7 @@ def test_the_oblique_prism_reference_is_the_forward_kinematics():
 def test_the_oblique_prism_bracket_holds_its_exact_volume(oblique):
     """Exact reference: the volume 4 pi / 5 lies in the proved bracket (compared exactly: each float bound is a
     rational), and the paving went through the critical method in space."""
-    assert _section(OBLIQUE, ()) is None and oblique.method == "critical" and oblique.complete
+    assert structure_of(OBLIQUE, ()) is None and oblique.method == "critical" and oblique.complete
     lo, hi = oblique.measure_bounds
     assert sp.Rational(lo) <= OBLIQUE_VOLUME <= sp.Rational(hi)
     assert 0 < lo and hi < oblique.box.measure
@@ -172,10 +174,10 @@ ELBOW = DHRobot([DHJoint.revolute(1, alpha=sp.pi / 2, limits=(-2 * sp.pi / 3, 2 
 
 def _forced_3d(robot, **options):
     """``reach`` with every structure hidden: the critical method in space."""
-    import workspace_sym.serial_workspace as serial
+    from workspace_sym.serial import plans
 
     with pytest.MonkeyPatch.context() as patch:
-        patch.setattr(serial, "_section", lambda robot, parameters: None)
+        patch.setattr(plans, "structure_of", lambda robot, parameters: None)
         return reach(robot, stop=QUIET, **options)
 
 
@@ -190,7 +192,7 @@ def test_the_3d_method_and_the_section_method_agree_on_an_elbow_arm():
     """Second method: on the elbow arm, the section method (auto) and the 3-D method (forced) never call a point
     inner by one and outer by the other (sampled interior points of every inner box of each miss the outer
     boxes of the other), and their proved volume brackets meet."""
-    assert _section(ELBOW, ()) is not None
+    assert structure_of(ELBOW, ()) is not None
     section = reach(ELBOW, delta=0.25, stop=QUIET)
     cells = _forced_3d(ELBOW, delta=0.25)
     assert cells.method == section.method == "critical" and cells.complete and section.complete
@@ -258,7 +260,7 @@ def test_random_prismatic_first_arms_keep_samples_out_of_outer_boxes(twist, rows
     robot = DHRobot([DHJoint.prismatic(1, alpha=twist, limits=(0, HALF)),
                      *(DHJoint.revolute(k, d=d, a=a, alpha=alpha, limits=limits)
                        for k, (d, a, alpha, limits) in enumerate(rows, start=2))], name="random rail")
-    assume(_model(robot, ()).m == 3)
+    assume(reach_model(robot, ()).m == 3)
     paving = _forced_3d(robot, delta=0.3)
     pos = _positions(robot, _samples(robot, 20_000, seed=1))
     assert paving.complete
@@ -270,10 +272,10 @@ def test_a_joint_that_does_not_move_the_point_is_dropped_before_the_cover():
     is: the reach model (the map whose critical set is covered) holds the four joints of the rail only, with the
     same position map (exact SymPy identity)."""
     wrist = DHRobot([*RAIL.joints, DHJoint.revolute(5, limits=(-1, 1))], name="rail with a wrist")
-    model, bare = _model(wrist, ()), _model(RAIL, ())
+    model, bare = reach_model(wrist, ()), reach_model(RAIL, ())
     assert model.joints == [0, 1, 2, 3] and model.variables == bare.variables and model.k == 4
     assert all(sp.simplify(a - b) == 0 for a, b in zip(model.expressions, bare.expressions))
-    assert resolve_method(wrist) == "critical" and _section(wrist, ()) is None
+    assert resolve_method(wrist) == "critical" and structure_of(wrist, ()) is None
 
 
 def test_the_cover_looks_at_the_budget_after_every_generation():
@@ -281,7 +283,7 @@ def test_the_cover_looks_at_the_budget_after_every_generation():
     seconds expected of the next one when it takes ``ahead``), the progress bar shown the count each time, and a
     stop there decides no cell (nothing rests on an unfinished cover).  Reference: the counts handed to the
     budget grow from the 3 faces of the first generation, and the run stops with the reason it returned."""
-    model = _model(OBLIQUE, ())
+    model = reach_model(OBLIQUE, ())
     asked = []
 
     def budget(evaluated, ahead=0.0):

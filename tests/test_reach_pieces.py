@@ -30,15 +30,17 @@ from workspace_sym.interval.search import split_every_axis
 from workspace_sym.interval.verdict import INSIDE as INNER
 from workspace_sym.interval.verdict import OUTSIDE as OUTER
 from workspace_sym.interval.verdict import UNDECIDED
-from workspace_sym.reach_section import Pieces, section_paving, turned_volume
-from workspace_sym.serial_workspace import ReachModel, _section
+from workspace_sym.serial import ReachModel
+from workspace_sym.serial.section import Pieces, section_paving, turned_volume
+from workspace_sym.serial.structure import structure_of
+from workspace_sym.serial.tuning import Tuning
 
 R = sp.Rational
 
 
 @functools.cache
 def _shell_plan():
-    return _section(shell_arm(), ())
+    return structure_of(shell_arm(), ())
 
 
 def _owners(grid, rects):
@@ -65,7 +67,7 @@ def test_pieces_of_the_shell_lie_in_the_exact_annulus():
     undecided cells; every piece agrees with the annulus in exact rationals, lies in an undecided cell, no two
     overlap, and the bracket with them is narrower and still holds 4/3 pi (R^3 - r^3)."""
     plan = _shell_plan()
-    grid, classes, _, stopped, pieces = section_paving(plan.section, 0.08, max_pairs=4000, depth=2)
+    grid, classes, _, stopped, pieces = section_paving(plan.section, 0.08, tuning=Tuning(section_pairs=4000), depth=2)
     assert stopped == "" and len(pieces.inner) and len(pieces.outer)
     for kind, rects in ((INNER, pieces.inner), (OUTER, pieces.outer)):
         for (r0, r1), (z0, z1) in rects:
@@ -87,7 +89,7 @@ def test_pieces_of_the_ur5_are_sound():
     polar angle) are reached at 50 digits; second method: the bracket, narrower with the pieces, holds Pappus's
     volume of the section sampled at 10^6 configurations (cells of side 0.008)."""
     robot = industrial_arm("ur5")
-    image = _section(robot, ()).section
+    image = structure_of(robot, ()).section
     # No blocks of cells (no time left for them): the cells and pieces proved from samples and the shoulder bound.
     grid, classes, _, stopped, pieces = section_paving(image, 0.08, depth=2, seconds_left=lambda: 0.0)
     assert stopped == "" and len(pieces.inner) > 100 and len(pieces.outer) > 10

@@ -35,9 +35,12 @@ import pytest
 from reach_checks import arcs_volume, first_axis, industrial_arm, reached_at_50_digits, sampled_positions
 
 from workspace_sym import StopAt
-from workspace_sym.reach_section import Turned
-from workspace_sym.reach_turn import limited_turn
-from workspace_sym.serial_workspace import ReachModel, _model, _on_cells, _section, reach, resolve_method
+from workspace_sym.serial import ReachModel, reach, resolve_method
+from workspace_sym.serial.model import reach_model
+from workspace_sym.serial.plans import on_cells
+from workspace_sym.serial.section import Turned
+from workspace_sym.serial.structure import structure_of
+from workspace_sym.serial.turn import limited_turn
 
 # Deltas and budgets of boxes (never of seconds): the same boxes on every machine.  (delta, the run's budget, the
 # section's budget: None for the full turns, whose sections end on their own at these deltas.)
@@ -151,8 +154,8 @@ def test_the_industrial_arms_keep_their_section_path(arm):
     their structure, read from the section (its sections prepared once, by the paving above), and the paving
     itself, whose volume bracket comes from the section's cells (the 3-D cells give none)."""
     name, robot, paving = arm
-    plan, model = _section(robot, ()), _model(robot, ())
+    plan, model = structure_of(robot, ()), reach_model(robot, ())
     full, limited = SECTION_PATHS[name]
     assert isinstance(plan, Turned) and plan.full is full and (limited_turn(plan, model) is not None) is limited
-    assert resolve_method(robot) == "critical" and not _on_cells(robot, ()) and model.k >= 5
+    assert resolve_method(robot) == "critical" and not on_cells(robot, ()) and model.k >= 5
     assert paving.volume_bounds is not None

@@ -25,10 +25,14 @@ from workspace_sym.interval.image import CellGrid
 from workspace_sym.interval.verdict import INSIDE as INNER
 from workspace_sym.interval.verdict import OUTSIDE as OUTER
 from workspace_sym.interval.verdict import UNDECIDED
-from workspace_sym.kinematics import DHJoint, DHRobot, _rx, _translate
-from workspace_sym.reach_section import RadialMap, Turned, section_bar, section_paving, to_first_frame, turned_volume
-from workspace_sym.reach_turn import limited_turn
-from workspace_sym.serial_workspace import ReachModel, _on_cells, _section, reach
+from workspace_sym.kinematics import DHJoint, DHRobot
+from workspace_sym.serial import ReachModel, reach
+from workspace_sym.serial.plans import on_cells
+from workspace_sym.serial.section import RadialMap, Turned, section_bar, section_paving, to_first_frame, turned_volume
+from workspace_sym.serial.structure import structure_of
+from workspace_sym.serial.tuning import Tuning
+from workspace_sym.serial.turn import limited_turn
+from workspace_sym.transforms import rot_x, translation
 
 R = sp.Rational
 THIRD = R(2, 5)
@@ -52,7 +56,7 @@ def _pappus_volume(robot, n=1_000_000, h=0.004, seed=0):
     rng = np.random.default_rng(seed)
     q = model.random_configurations(n, rng)
     p = model.position_float(q)
-    plan = _section(robot, ())
+    plan = structure_of(robot, ())
     F = to_first_frame(plan.inverse, np.repeat(p[:, :, None], 2, axis=2))[:, :, 0]
     rho, z = np.hypot(F[:, 0], F[:, 1]), F[:, 2]
     cells = np.unique(np.stack([np.floor(rho / h), np.floor(z / h)], axis=1).astype(np.int64), axis=0)
@@ -62,16 +66,16 @@ def _pappus_volume(robot, n=1_000_000, h=0.004, seed=0):
 def test_offset_arm_takes_the_cylindrical_section():
     """The lateral offset of the offset arm varies (the constant-offset section does not fit): the section
     is (rho, z) of theta2, theta3 (exact expressions), and with a rotated and shifted base too."""
-    plan = _section(offset_arm(), ())
+    plan = structure_of(offset_arm(), ())
     assert isinstance(plan, Turned) and plan.full and plan.inverse is None
     assert [str(v) for v in plan.section.variables] == ["theta2", "theta3"]
-    base = _rx(sp.pi / 2) * _translate(R(1, 10), R(-1, 5), R(3, 10))
-    moved = _section(offset_arm(base=base), ())
+    base = rot_x(sp.pi / 2) * translation(R(1, 10), R(-1, 5), R(3, 10))
+    moved = structure_of(offset_arm(base=base), ())
     assert isinstance(moved, Turned) and moved.inverse is not None
     assert [str(v) for v in moved.section.variables] == ["theta2", "theta3"]
 
 
-@pytest.mark.parametrize("base", [None, _rx(sp.pi / 2) * _translate(R(1, 10), R(-1, 5), R(3, 10))])
+@pytest.mark.parametrize("base", [None, rot_x(sp.pi / 2) * translation(R(1, 10), R(-1, 5), R(3, 10))])
 def test_offset_arm_bracket_holds_pappus_and_sampled_points(base):
     """Second method: the bracket holds Pappus's volume of the sampled section (the same with a rigid base);
     independent numerics: 10^5 configurations never in an outer box, inner points reached at 50 digits."""
@@ -118,7 +122,7 @@ def test_three_joint_section_is_paved_by_blocks(wrist_paving):
     joint boxes: sampled configurations never land in an outer box; inner points reached at 50 digits;
     the bracket holds Pappus's volume."""
     robot, paving = wrist_paving
-    plan = _section(robot, ())
+    plan = structure_of(robot, ())
     assert isinstance(plan, Turned) and plan.section.k == 3
     lo, hi = paving.measure_bounds
     volume = _pappus_volume(robot, n=400_000, h=0.01)
@@ -162,14 +166,14 @@ def test_edges_never_give_a_wrong_box(first, a3):
     inner points are reached."""
     robot = offset_arm(first=first, a3=a3)
     paving = reach(robot, delta=0.2)
-    plan = _section(robot, ())
+    plan = structure_of(robot, ())
     model = ReachModel(robot)
     rng = np.random.default_rng(7)
     q = model.random_configurations(30_000, rng)
     pos = model.position_float(q)
     assert not _in_boxes(pos, paving.outer).any()
     if isinstance(plan, Turned) and not plan.full and limited_turn(plan, model) is None:
-        assert _on_cells(robot, ()) is (model.k == 3) and paving.volume_bounds is None
+        assert on_cells(robot, ()) is (model.k == 3) and paving.volume_bounds is None
         if model.k < 3:
             assert not len(paving.inner)                # the section proves outer boxes only
     for box in paving.inner[rng.integers(len(paving.inner), size=2)] if len(paving.inner) else []:
@@ -189,14 +193,14 @@ def shell_arm():
     the spherical shell of radii ``2 max a_i - sum a_i = 3/10`` and ``sum a_i = 7/10`` about the shoulder."""
     lengths = (R(1, 2), R(1, 10), R(1, 10))
     joints = [DHJoint.revolute(1, alpha=sp.pi / 2)] + [DHJoint.revolute(i + 2, a=a) for i, a in enumerate(lengths)]
-    return DHRobot(joints, name="shell arm", base=_translate(R(1, 10), R(-1, 5), R(3, 10)))
+    return DHRobot(joints, name="shell arm", base=translation(R(1, 10), R(-1, 5), R(3, 10)))
 
 
 def test_blocks_stage_keeps_to_its_share_of_the_time_left():
     """With no time left for it, the blocks stage is skipped and the section still ends normally: without the
     shoulder's distance bound (the map rebuilt without it), no cell is proved outside, whatever the machine's
     speed."""
-    plan = _section(shell_arm(), ())
+    plan = structure_of(shell_arm(), ())
     image = RadialMap(plan.section.square, plan.section.lateral)
     grid, classes, _, stopped, _ = section_paving(image, 0.1, depth=1, seconds_left=lambda: 0.0)
     assert stopped == "" and not (classes == OUTER).any()
@@ -218,11 +222,11 @@ def test_turned_volume_holds_the_exact_spherical_shell():
     """Exact closed form: the section's Pappus bracket holds 4/3 pi (R^3 - r^3) of the shell arm (decided
     exactly by SymPy), and every cell and every piece of a cell agrees with the annulus in exact rationals
     (:func:`_agrees_with_shell`).  The section's progress (share of cells decided) only grows."""
-    plan = _section(shell_arm(), ())
+    plan = structure_of(shell_arm(), ())
     assert isinstance(plan, Turned) and plan.full and plan.section.k == 3
     shares = []
     # Cells in up to 16 pieces; a budget of boxes, not of seconds, so every machine classifies the same cells.
-    grid, classes, _, stopped, pieces = section_paving(plan.section, 0.05, max_pairs=4000, depth=2,
+    grid, classes, _, stopped, pieces = section_paving(plan.section, 0.05, tuning=Tuning(section_pairs=4000), depth=2,
                                                        budget=lambda count, ahead=0.0: "enough" if count > 6000 else "",
                                                        show=lambda share, count: shares.append(share))
     assert stopped in ("", "enough") and shares == sorted(shares) and shares[-1] > 0

@@ -28,14 +28,14 @@ from workspace_sym.interval.image import CellGrid
 from workspace_sym.interval.verdict import INSIDE as INNER
 from workspace_sym.interval.verdict import OUTSIDE as OUTER
 from workspace_sym.kinematics import DHRobot
-from workspace_sym.reach_section import ShoulderReach, section_paving, shoulder_distance, turned_volume
-from workspace_sym.serial_workspace import _section
+from workspace_sym.serial.section import ShoulderReach, section_paving, shoulder_distance, turned_volume
+from workspace_sym.serial.structure import structure_of
 
 
 @pytest.fixture(scope="module", params=["ur5", "kr16"])
 def arm(request):
     robot = industrial_arm(request.param)
-    return request.param, robot, _section(robot, ())
+    return request.param, robot, structure_of(robot, ())
 
 
 def _section_points(image, n, seed):
@@ -80,7 +80,7 @@ def test_centred_enclosure_holds_the_values_of_its_box(centre, width):
     """The enclosure of ``h`` (natural form intersected with the centred form) holds its values at the
     corners, the centre and 200 random points of boxes around edge points (the joint limits, zero, pi/2);
     independent numerics: float evaluation of the simplified expression."""
-    reach = _section(industrial_arm("ur5"), ()).section.reach
+    reach = structure_of(industrial_arm("ur5"), ()).section.reach
     k = reach.map.k
     c = np.resize(np.array(centre), k)
     Q = np.stack([c - width / 2, c + width / 2], axis=1)[None]
@@ -121,7 +121,7 @@ def test_far_cells_are_outside_the_bound_disc():
     """The far cells of a grid are those whose nearest point to the centre is beyond the square root of the
     bound (a cell corner exactly on the circle is not far): the cell grid of [0, 2] x [0, 2] with unit-width
     cells around a centre at (0, 0) and bound 1."""
-    reach = _section(industrial_arm("ur5"), ()).section.reach
+    reach = structure_of(industrial_arm("ur5"), ()).section.reach
     with _centred(reach, ((0.0, 0.0), (0.0, 0.0))):
         far = reach.far_cells(UNIT_GRID, 1.0)
     e0, e1 = UNIT_GRID.edges

@@ -13,15 +13,22 @@ import ast
 import inspect
 import json
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
 
-from workspace_sym import RunOn, StopAt, robots, serial_workspace
+from workspace_sym import RunOn, StopAt, robots
 from workspace_sym.cli import main
 from workspace_sym.errors import InvalidParameterError
 from workspace_sym.interval.boxes import StoredPaving, bisect, box_sizes
-from workspace_sym.serial_workspace import Pose, reach
+from workspace_sym.interval.driver import RunBudget
+from workspace_sym.interval.image import critical_paving
+from workspace_sym.serial import Pose, Tuning, plans, reach
+from workspace_sym.serial.classify import ProductTest
+from workspace_sym.serial.model import cell_width, reach_model
+from workspace_sym.serial.structure import structure_of
+from workspace_sym.serial.tuning import DEFAULT
 
 QUIET = StopAt(progress=False)
 DELTA = 0.1
@@ -53,24 +60,22 @@ def whole(scara):
 
 def _section_count(robot) -> int:
     """Boxes the section (the plane factor of the SCARA) takes before the task boxes are classified."""
-    budget = serial_workspace.RunBudget(QUIET, "reach")
-    values = ()
-    serial_workspace._spatial(robot, values, DELTA, "diameter", budget, executor=None, where=RunOn(), problem={})
+    budget = RunBudget(QUIET, "reach")
+    section = plans.SectionPlan(robot, (), DELTA, "diameter", DEFAULT, {}).pave(budget, RunOn())
     budget.close()
-    return budget.spent
+    return section.evaluated
 
 
 def test_classification_is_the_drivers_bisection(scara, whole):
     """The task boxes classified by the driver are those of the breadth-first loop the module ran before
     (reimplemented here: each generation tested, proved boxes kept, undecided ones bisected or kept as
     boundary at delta), with the same test built from the same section."""
-    model = serial_workspace._model(scara, ())
-    plan = serial_workspace._section(scara, ())
-    grid, classes, _, reason = serial_workspace.critical_paving(
-        plan.section, serial_workspace.SECTION_RATIO * serial_workspace._cell_width(DELTA, "diameter", 3),
-        budget=lambda count: "")
+    model = reach_model(scara, ())
+    plan = structure_of(scara, ())
+    grid, classes, _, reason = critical_paving(plan.section, DEFAULT.section_ratio * cell_width(DELTA, "diameter", 3),
+                                               budget=lambda count: "")
     assert not reason
-    test = serial_workspace._ProductTest(plan, grid, classes)
+    test = ProductTest(plan, grid, classes)
     T = model.enclose(model.limits[None])[0][None].copy()
     kinds: dict[str, list] = {"inner": [], "boundary": [], "outer": []}
     count = 0
@@ -89,20 +94,26 @@ def test_classification_is_the_drivers_bisection(scara, whole):
     assert whole.evaluated == _section_count(scara) + count
 
 
-def test_serial_workspace_uses_only_public_names_of_interval():
-    """Issue 26 item 3: no private name of the interval package is imported by serial_workspace."""
-    tree = ast.parse(inspect.getsource(serial_workspace))
-    private = [(node.module, alias.name) for node in ast.walk(tree) if isinstance(node, ast.ImportFrom)
-               and node.module and "interval" in node.module for alias in node.names if alias.name.startswith("_")]
-    assert private == []
-    assert "bisect(" not in inspect.getsource(serial_workspace.classify_task_boxes)
+def test_the_reach_engine_uses_only_public_names_of_interval():
+    """Issue 26 item 3: no private name of the interval package is imported by the reach engine, and the
+    classification of task boxes is the driver's bisection, not a loop of its own."""
+    import workspace_sym.serial as package
+    from workspace_sym.serial.classify import classify_task_boxes
+
+    for path in Path(package.__file__).parent.glob("*.py"):
+        tree = ast.parse(path.read_text())
+        private = [(node.module, alias.name) for node in ast.walk(tree) if isinstance(node, ast.ImportFrom)
+                   and node.module and "interval" in node.module for alias in node.names
+                   if alias.name.startswith("_")]
+        assert private == [], path.name
+    assert "bisect(" not in inspect.getsource(classify_task_boxes)
 
 
 def test_boxes_on_disk_equal_the_run_in_memory(scara, whole, tmp_path):
     """max_memory streams the decided boxes to .npy parts: a StoredPaving with the counts and measures of the
     in-memory run, read back only when asked."""
     stored = reach(scara, delta=DELTA, stop=QUIET, run=RunOn(max_memory="64MB", store=tmp_path / "boxes"))
-    assert isinstance(stored, StoredPaving) and stored._loaded == {}
+    assert isinstance(stored.paving, StoredPaving) and stored.paving._loaded == {}
     assert stored.counts == whole.counts and stored.measures == whole.measures
     assert stored.measure_bounds == whole.measure_bounds and stored.method == "critical"
     assert stored.to_dict()["store"] == str(tmp_path / "boxes")
@@ -171,7 +182,7 @@ def test_a_resumed_reach_takes_the_section_kept_beside_its_checkpoint(tmp_path, 
         raise AssertionError("the section was paved again")
 
     with monkeypatch.context() as patch:
-        patch.setattr(serial_workspace, "critical_paving", paved_again)
+        patch.setattr(plans, "critical_paving", paved_again)
         resumed = reach(arm, delta=DELTA, stop=QUIET, run=RunOn(resume=checkpoint))
     assert_same(whole_arm, resumed)
     assert resumed.volume_bounds == whole_arm.volume_bounds
@@ -202,10 +213,10 @@ def test_the_pairs_method_stores_and_resumes(tmp_path):
                     run=RunOn(resume=checkpoint, store=tmp_path / "boxes"))
     assert not stopped.complete and len(stopped.pending) and checkpoint.exists()
     resumed = reach(arm, **options, stop=QUIET, run=RunOn(resume=checkpoint))
-    assert isinstance(resumed, StoredPaving) and resumed.method == "pairs"
+    assert isinstance(resumed.paving, StoredPaving) and resumed.method == "pairs"
     assert_same(whole, resumed)
     with pytest.raises(InvalidParameterError, match="checkpoint of another run"):
-        reach(arm, delta=0.25, method="pairs", inner_depth=1, stop=QUIET, run=RunOn(resume=checkpoint))
+        reach(arm, delta=0.25, method="pairs", tuning=Tuning(inner_depth=1), stop=QUIET, run=RunOn(resume=checkpoint))
 
 
 def test_the_planar_grid_and_a_pose_by_pairs_refuse_storage(tmp_path):
@@ -255,7 +266,7 @@ def test_a_pose_reach_stopped_and_resumed_gives_the_uninterrupted_boxes(puma, co
         reach(puma, delta=0.3, stop=QUIET, pose=Pose(approach=(0, 0, -1), cone=25), run=run)
     assert caught.value.parameter == "resume"
     resumed = reach(puma, delta=0.3, stop=QUIET, pose=CONE, run=run)
-    assert isinstance(resumed, StoredPaving) and resumed.method == "section"
+    assert isinstance(resumed.paving, StoredPaving) and resumed.method == "section"
     # The stored run's bracket is also the intersection of the boxes' and the section's (Pappus) brackets.
     assert resumed.volume_bounds == cone_whole.volume_bounds
     assert resumed.box_measure_bounds == cone_whole.box_measure_bounds

@@ -17,11 +17,12 @@ import sympy as sp
 
 from workspace_sym import robots
 from workspace_sym.cli import main
+from workspace_sym.display import to_html
 from workspace_sym.errors import InvalidParameterError
 from workspace_sym.interval.driver import RunOn
 from workspace_sym.kinematics import DHRobot
-from workspace_sym.orientation import constraint_from
-from workspace_sym.serial_workspace import Pose, reach
+from workspace_sym.serial import Pose, reach
+from workspace_sym.serial.pose import constraint_from
 
 SCARA_CONE = dict(approach=(1, 0, 0), cone=30)      # never met: the SCARA's approach axis is always vertical
 
@@ -36,7 +37,7 @@ def test_the_display_of_a_constrained_reach_names_its_constraint_and_method(scar
     # and the method the result records; the JSON keys are those the command line already wrote.
     words = constraint_from(**SCARA_CONE).words()
     assert words == "the tool's approach axis (z of the tool frame) can lie within 30 degrees of (1, 0, 0)"
-    page = scara_cone._repr_html_()
+    page = to_html(scara_cone)
     assert f"tool constraint: {html.escape(words)}" in page
     assert scara_cone.method == "pairs" and "method pairs" in page
     data = scara_cone.to_dict()
@@ -47,7 +48,7 @@ def test_the_display_of_a_constrained_reach_names_its_constraint_and_method(scar
 def test_a_reach_without_a_constraint_names_none():
     p = reach(robots.build("planar-2r"), delta=0.2)
     assert p.tool_constraint is None and "constraint" not in p.to_dict()
-    assert "tool constraint" not in p._repr_html_() and f"method {p.method}" in p._repr_html_()
+    assert "tool constraint" not in to_html(p) and f"method {p.method}" in to_html(p)
 
 
 def test_the_cli_json_keeps_its_constraint_key_and_adds_the_words(capsys):
@@ -95,19 +96,22 @@ def test_a_method_other_than_auto_with_a_pose_is_refused(capsys):
 
 
 def test_inner_depth_and_max_pairs_reach_the_constrained_pairs_method(monkeypatch, capsys):
-    # Reference: the keywords the constrained path is called with (they were dropped); unset, reach_pose's own
-    # defaults apply, so a run without them is unchanged.
-    from workspace_sym import orientation
+    # Reference: the tuning the constrained path is called with (the keywords were once dropped); the keywords of
+    # earlier releases become the pose's figures with a DeprecationWarning, and unset, the defaults apply, so a run
+    # without them is unchanged.
+    from workspace_sym.serial import api
+    from workspace_sym.serial.tuning import DEFAULT
 
     calls = []
-    monkeypatch.setattr(orientation, "reach_pose", lambda robot, **kw: calls.append(kw) or None)
-    reach(robots.build("scara"), delta=0.05, pose=Pose(**SCARA_CONE), inner_depth=0, max_pairs=500)
+    monkeypatch.setattr(api, "_reach_pose", lambda robot, **kw: calls.append(kw) or None)
+    with pytest.warns(DeprecationWarning, match=r"inner_depth= is deprecated; pass tuning=Tuning\(pose_inner_depth"):
+        reach(robots.build("scara"), delta=0.05, pose=Pose(**SCARA_CONE), inner_depth=0, max_pairs=500)
     reach(robots.build("scara"), delta=0.05, pose=Pose(**SCARA_CONE))
-    assert (calls[0]["inner_depth"], calls[0]["max_pairs"]) == (0, 500)
-    assert "inner_depth" not in calls[1] and "max_pairs" not in calls[1]
+    assert (calls[0]["tuning"].pose_inner_depth, calls[0]["tuning"].pose_max_pairs) == (0, 500)
+    assert calls[1]["tuning"] == DEFAULT
     main(["reach", "scara", "--delta", "0.05", "--approach", "1,0,0", "--cone", "30", "--inner-depth", "3"])
     capsys.readouterr()
-    assert calls[2]["inner_depth"] == 3
+    assert calls[2]["tuning"].pose_inner_depth == 3
 
 
 ARMS = {"ur5": lambda: DHRobot.from_file(Path(__file__).parent / "data" / "dh" / "ur5.json"),
@@ -153,8 +157,11 @@ def test_the_section_bar_of_the_puma_moves_during_its_critical_cover(monkeypatch
     # Reference: the calls the bar receives (share decided, boxes evaluated): during the cover nothing is decided
     # and the count grows generation by generation; then the share grows.  And the same paving of the section with
     # and without the bar (the bar changes no cell and no count).
-    import workspace_sym.serial_workspace as sw
     from workspace_sym.interval.image import critical_paving
+    from workspace_sym.serial import plans
+    from workspace_sym.serial.model import cell_width
+    from workspace_sym.serial.structure import structure_of
+    from workspace_sym.serial.tuning import DEFAULT
 
     calls = []
 
@@ -162,7 +169,7 @@ def test_the_section_bar_of_the_puma_moves_during_its_critical_cover(monkeypatch
     def recording(progress):
         yield lambda share, evaluated: calls.append((share, evaluated))
 
-    monkeypatch.setattr(sw, "section_bar", recording)
+    monkeypatch.setattr(plans, "section_bar", recording)
     puma = robots.build("puma560")
     paving = reach(puma, delta=0.3)
     assert paving.method == "critical"
@@ -170,8 +177,8 @@ def test_the_section_bar_of_the_puma_moves_during_its_critical_cover(monkeypatch
     assert len(cover) >= 5 and cover == sorted(cover) and cover[0] < cover[-1]
     shares = [share for share, _ in calls]
     assert shares == sorted(shares) and shares[-1] > 0.5
-    section = sw._section(puma, ()).section
-    width = sw.SECTION_RATIO * sw._cell_width(0.3, "diameter", 3)
+    section = structure_of(puma, ()).section
+    width = DEFAULT.section_ratio * cell_width(0.3, "diameter", 3)
     quiet = critical_paving(section, width)
     shown = critical_paving(section, width, show=lambda share, evaluated: None)
     assert np.array_equal(quiet[1], shown[1]) and quiet[2:] == shown[2:]

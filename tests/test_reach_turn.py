@@ -26,10 +26,12 @@ from workspace_sym.interval.image import CellGrid
 from workspace_sym.interval.verdict import INSIDE as INNER
 from workspace_sym.interval.verdict import OUTSIDE as OUTER
 from workspace_sym.kinematics import DHJoint, DHRobot
-from workspace_sym.reach_section import Turned, turned_volume
-from workspace_sym.reach_turn import (
-    BLOCKS_END,
-    DIRECTION_CHUNK,
+from workspace_sym.serial import ReachModel, reach
+from workspace_sym.serial.model import cell_width, reach_model
+from workspace_sym.serial.section import Turned, turned_volume
+from workspace_sym.serial.structure import structure_of
+from workspace_sym.serial.tuning import DEFAULT
+from workspace_sym.serial.turn import (
     cell_level,
     covering_pairs,
     direction_seeds,
@@ -39,7 +41,6 @@ from workspace_sym.reach_turn import (
     pieces_upper,
     prove_directions,
 )
-from workspace_sym.serial_workspace import SECTION_RATIO, ReachModel, _cell_width, _model, _section, reach
 
 R = sp.Rational
 IIWA_LIKE = (-R(17, 18) * sp.pi, R(17, 18) * sp.pi)          # +-170 deg, the LBR iiwa's first joint
@@ -87,11 +88,11 @@ def test_a_limited_first_joint_is_recognised(limited_paving):
     """The +-170 deg first joint of the swing arm: every pair qualifies, the share of the circle is 17/18
     rounded down; a full turn and the two-joint section of the offset arm are left to the other paths."""
     robot, _ = limited_paving
-    turn = limited_turn(_section(robot, ()), _model(robot, ()))
+    turn = limited_turn(structure_of(robot, ()), reach_model(robot, ()))
     assert len(turn.pairs) == 6 and turn.share <= 17 / 18 and 17 / 18 - turn.share < 1e-15
-    assert limited_turn(_section(swing_arm(None), ()), _model(swing_arm(None), ())) is None
+    assert limited_turn(structure_of(swing_arm(None), ()), reach_model(swing_arm(None), ())) is None
     two = offset_arm(first=IIWA_LIKE)
-    assert limited_turn(_section(two, ()), _model(two, ())) is None
+    assert limited_turn(structure_of(two, ()), reach_model(two, ())) is None
 
 
 @pytest.fixture(scope="module")
@@ -105,7 +106,7 @@ def test_limited_first_joint_gets_inner_boxes_and_a_bracket(limited_paving):
     points of inner boxes reached within every limit at 50 digits; second method: the bracket holds the Monte
     Carlo volume of the sampled section with its arcs."""
     robot, paving = limited_paving
-    plan = _section(robot, ())
+    plan = structure_of(robot, ())
     assert isinstance(plan, Turned) and not plan.full and plan.section.k == 3
     assert paving.method == "critical" and paving.complete
     assert len(paving.inner) and len(paving.outer) and paving.volume_bounds is not None
@@ -120,17 +121,17 @@ def test_limited_first_joint_gets_inner_boxes_and_a_bracket(limited_paving):
 def test_a_budget_of_boxes_stops_the_limited_section_at_its_shares(limited_paving):
     """``StopAt(section_boxes=...)`` on the swing arm: the section's stages stop at the shares of the budget
     that they take of a time limit (the proofs at the four directions at ``DIRECTIONS_SHARE``, the blocks at
-    ``BLOCKS_END``, the step under way ending first: ``pave_limited`` with 3000 boxes evaluates between 92 %
+    ``Tuning.blocks_end``, the step under way ending first: ``pave_limited`` with 3000 boxes evaluates between 92 %
     of them and one chunk more), on the same cells every run (two runs of reach stopped at 300 give the same
     boxes: the first chunk of proofs runs whole); fewer cells are proved than without the budget and what is
     proved is still sound: sampled configurations never in an outer box, inner points reached at 50 digits,
     the bracket holds the Monte Carlo volume with arcs (second method)."""
     robot, free = limited_paving
-    turn = limited_turn(_section(robot, ()), _model(robot, ()))
+    turn = limited_turn(structure_of(robot, ()), reach_model(robot, ()))
     budget = 3000                       # of the 70,425 the stages take to their ends on these cells
-    width = SECTION_RATIO * _cell_width(0.25, "diameter", 3)
+    width = DEFAULT.section_ratio * cell_width(0.25, "diameter", 3)
     _, _, pieces, evaluated, reason = pave_limited(turn, width, _Free(), boxes=budget)
-    assert reason == "" and BLOCKS_END * budget <= evaluated < budget + DIRECTION_CHUNK
+    assert reason == "" and DEFAULT.blocks_end * budget <= evaluated < budget + DEFAULT.direction_chunk
     cut = paved_alike_twice(robot, 0.25, StopAt(section_boxes=300))
     assert cut.complete and 0 < len(cut.inner) < len(free.inner) and len(cut.outer)
     lo, hi = cut.measure_bounds
@@ -177,7 +178,7 @@ def test_the_hole_around_the_shoulder_is_outside_at_every_angle():
                      DHJoint.revolute(2, a=R(1, 2), alpha=sp.pi / 2),
                      DHJoint.revolute(3, a=R(2, 5), alpha=sp.pi / 2, limits=(-sp.pi / 2, sp.pi / 2)),
                      DHJoint.revolute(4, a=R(1, 5))], name="swing arm, elbow +-90 deg")
-    turn = limited_turn(_section(robot, ()), _model(robot, ()))
+    turn = limited_turn(structure_of(robot, ()), reach_model(robot, ()))
     reach_ = turn.plan.section.reach
     assert [str(v) for v in reach_.map.variables] == ["theta3", "theta4"]
     assert 0.28 <= reach_.lowest(1e-3) <= 0.29 and 1.21 <= reach_.bound(1e-3) <= 1.22
@@ -219,7 +220,7 @@ def test_pieces_of_cut_cells_count_for_the_volume_and_are_reached():
     its arcs (second method), and points of such pieces at random polar angles are reached within every limit by
     an inverse kinematics at 50 digits (independent numerics)."""
     robot = swing_arm()
-    turn = limited_turn(_section(robot, ()), _model(robot, ()))
+    turn = limited_turn(structure_of(robot, ()), reach_model(robot, ()))
     grid, classes, pieces, _, reason = pave_limited(turn, 0.04, _Free())
     assert reason == ""
     lo, hi = limited_volume(turn, grid, classes, pieces)
@@ -249,7 +250,7 @@ def test_directions_resume_where_they_stopped():
     the time a stopped stage leaves goes to new cells), on the swing arm's section (cells of width 0.08, one
     level of pieces)."""
     robot = swing_arm()
-    section = limited_turn(_section(robot, ()), _model(robot, ())).plan.section
+    section = limited_turn(structure_of(robot, ()), reach_model(robot, ())).plan.section
     grid = CellGrid(section.enclose(section.limits[None])[0], 0.08)
     sampled = direction_seeds(section.lateral, grid, n=20_000)
     every = np.ones(grid.shape, dtype=bool)

@@ -3,7 +3,7 @@
 A section turned by a first joint limited to less than a period (``reach_section.Turned``: a base transform, modified
 DH or a lateral offset varying with the other joints) proves inner boxes only for a section moved by three joints or
 more and a turn of half a circle or more (``reach_turn``).  Otherwise the section path proves outer boxes only; such
-arms moved by at most ``CELLS_MAX_JOINTS`` joints are paved by the critical method in space instead.  Three small
+arms moved by at most ``Tuning.cells_max_joints`` joints are paved by the critical method in space instead.  Three small
 arms of the kinds of the issue, paved at a coarse delta (a budget of boxes, never of seconds):
 
 * an elbow arm on a pedestal (a base transform), its first joint within +-100 deg (a two-joint section);
@@ -30,17 +30,13 @@ import workspace_sym as ws
 import workspace_sym.interval.image as image
 from workspace_sym import RunOn, StopAt
 from workspace_sym.kinematics import DHJoint, DHRobot
-from workspace_sym.reach_section import Turned
-from workspace_sym.reach_turn import limited_turn
-from workspace_sym.serial_workspace import (
-    CELLS_MAX_JOINTS,
-    _model,
-    _on_cells,
-    _Revolved,
-    _section,
-    reach,
-    resolve_method,
-)
+from workspace_sym.serial import reach, resolve_method
+from workspace_sym.serial.model import reach_model
+from workspace_sym.serial.plans import on_cells
+from workspace_sym.serial.section import Turned
+from workspace_sym.serial.structure import Revolved, structure_of
+from workspace_sym.serial.tuning import DEFAULT
+from workspace_sym.serial.turn import limited_turn
 
 HALF, FIFTH = sp.Rational(1, 2), sp.Rational(1, 5)
 STOP = StopAt(max_boxes=200_000, progress=False)
@@ -75,7 +71,7 @@ def arm(request):
 def _section_path(robot, **options):
     """``reach`` on the section path (what it was before the 3-D cells took these arms)."""
     with pytest.MonkeyPatch.context() as patch:
-        patch.setattr("workspace_sym.serial_workspace._on_cells", lambda robot, parameters, stored=False: False)
+        patch.setattr("workspace_sym.serial.plans.on_cells", lambda robot, values, stored=False, tuning=None: False)
         return reach(robot, delta=DELTA, stop=STOP, **options)
 
 
@@ -84,9 +80,9 @@ def test_the_section_path_proves_no_inner_box_and_the_3d_cells_do(arm):
     pair of directions (a two-joint section, or +-60 deg), so the section path ends with outer boxes and no inner
     box; 'auto' and 'critical' pave it on 3-D cells instead, complete, with inner boxes."""
     robot, paving = arm
-    plan, model = _section(robot, ()), _model(robot, ())
+    plan, model = structure_of(robot, ()), reach_model(robot, ())
     assert isinstance(plan, Turned) and not plan.full and limited_turn(plan, model) is None
-    assert _on_cells(robot, ()) and not _on_cells(robot, (), stored=True)
+    assert on_cells(robot, ()) and not on_cells(robot, (), stored=True)
     assert resolve_method(robot) == resolve_method(robot, "critical") == "critical"
     before = _section_path(robot)
     assert before.complete and len(before.outer) > 0 and len(before.inner) == 0
@@ -118,7 +114,7 @@ def test_inner_boxes_are_reached_at_50_digits(arm):
     """Inverse kinematics at 50 digits: the corners and the centre of up to 6 inner boxes spread over the list are
     reached within the limits (residual below 1e-40), from sampled seeds."""
     robot, paving = arm
-    model = _model(robot, ())
+    model = reach_model(robot, ())
     q = model.random_configurations(40_000, np.random.default_rng(5))
     pos = model.position_float(q)
     inner = paving.inner
@@ -139,29 +135,29 @@ def test_storage_and_a_cover_too_large_keep_the_section_path(monkeypatch, tmp_pa
     def too_large(*args, **options):
         raise image.CoverTooLarge("the critical sets of 27 faces need more than 4000000 joint boxes")
 
-    monkeypatch.setattr("workspace_sym.serial_workspace._cells", too_large)    # the 3-D cover only
+    monkeypatch.setattr("workspace_sym.serial.plans.CellsPlan.pave", too_large)    # the 3-D cover only
     for method in ("auto", "critical"):
         fallback = reach(robot, delta=DELTA, stop=STOP, method=method)
         assert fallback.method == "critical" and fallback.counts == before.counts
 
 
 def test_the_rule_counts_the_joints_that_move_the_position():
-    """Up to CELLS_MAX_JOINTS moving joints (three: a two-joint section turned +-60 deg) the 3-D cells take the arm;
-    one more joint moving the point (four: a three-joint section, the 3-D cover ten times the section's time) keeps
-    the section path; the constant-offset arms of the catalog (glass arm, Puma: ``_Revolved``, whose limited turn
-    proves inner boxes) keep theirs.  The UR5, KR16, LBR iiwa and Panda: tests/test_reach_real_arms.py (their
-    sections are prepared there)."""
+    """Up to Tuning.cells_max_joints moving joints (three: a two-joint section turned +-60 deg) the 3-D cells take
+    the arm; one more joint moving the point (four: a three-joint section, the 3-D cover ten times the section's
+    time) keeps the section path; the constant-offset arms of the catalog (glass arm, Puma: ``Revolved``, whose
+    limited turn proves inner boxes) keep theirs.  The UR5, KR16, LBR iiwa and Panda: tests/test_reach_real_arms.py
+    (their sections are prepared there)."""
     rows = [DHJoint.revolute(1, alpha=sp.pi / 2, limits=(-sp.pi / 3, sp.pi / 3)),
             DHJoint.revolute(2, a=HALF, limits=(-sp.pi / 2, sp.pi / 2)),
             DHJoint.revolute(3, a=2 * FIFTH, limits=(-2 * sp.pi / 3, 2 * sp.pi / 3)),
             DHJoint.revolute(4, a=FIFTH, limits=(-sp.pi / 2, sp.pi / 2))]
     three = DHRobot(rows[:3], name="three joints", base=_lift(z=FIFTH))
     four = DHRobot(rows, name="four joints", base=_lift(z=FIFTH))
-    for robot, k, cells in ((three, CELLS_MAX_JOINTS, True), (four, CELLS_MAX_JOINTS + 1, False)):
-        plan, model = _section(robot, ()), _model(robot, ())
+    for robot, k, cells in ((three, DEFAULT.cells_max_joints, True), (four, DEFAULT.cells_max_joints + 1, False)):
+        plan, model = structure_of(robot, ()), reach_model(robot, ())
         assert isinstance(plan, Turned) and not plan.full and limited_turn(plan, model) is None and model.k == k
-        assert _on_cells(robot, ()) is cells and resolve_method(robot) == "critical"
+        assert on_cells(robot, ()) is cells and resolve_method(robot) == "critical"
     for name in ("glass-handling", "puma560"):
         robot = ws.robots.build(name)
-        assert isinstance(_section(robot, ()), _Revolved) and not _on_cells(robot, ())
+        assert isinstance(structure_of(robot, ()), Revolved) and not on_cells(robot, ())
         assert resolve_method(robot) == "critical"

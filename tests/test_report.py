@@ -394,13 +394,12 @@ def test_orthoglide_report(tmp_path):
 def test_paving_section_names_a_pappus_bracket(tmp_path):
     """A paving with a second proved bracket (a turned section's, by Pappus): the printed bracket is the
     intersection (the one measure_bounds gives) and the text gives the boxes' own bracket and says why."""
-    import dataclasses
-
     from workspace_sym.report import Document, _paving_section
+    from workspace_sym.serial import ReachResult
 
     ball = pave(["x**2 + y**2 + z**2 - 1 <= 0"], {"x": (-1.5, 1.5), "y": (-1.5, 1.5), "z": (-1.5, 1.5)}, delta=0.8)
     b_lo, b_hi = ball.measure_bounds
-    paving = dataclasses.replace(ball, volume_bounds=(b_lo + 0.5, b_hi - 0.5))
+    paving = ReachResult(ball, "critical", volume_bounds=(b_lo + 0.5, b_hi - 0.5))
     doc = Document("t")
     _paving_section(doc, paving, tmp_path, units="m")
     text = " ".join(b[1] for b in doc.blocks if b[0] == "p")

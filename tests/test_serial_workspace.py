@@ -25,8 +25,10 @@ import workspace_sym as ws
 from workspace_sym import RunOn, StopAt
 from workspace_sym.errors import InvalidParameterError, JointLimitError
 from workspace_sym.kinematics import DHJoint, DHRobot
-from workspace_sym.reach_section import Turned
-from workspace_sym.serial_workspace import ReachModel, _model, _section, reach, resolve_method
+from workspace_sym.serial import ReachModel, Tuning, reach, resolve_method
+from workspace_sym.serial.model import reach_model
+from workspace_sym.serial.section import Turned
+from workspace_sym.serial.structure import structure_of
 
 DATA = Path(__file__).parent / "data"
 
@@ -284,21 +286,21 @@ def test_the_method_follows_the_structure():
     """glass arm and Puma: p = Rz(theta1) (u, c, v); the SCARA is a product (x, y) x z; the UR5's wrist
     offsets make c vary: its section is in cylindrical coordinates; a coupled first joint fits nothing, so
     'critical' on it is the critical method in space (issue 24 item 1: tests/test_reach_critical3d.py)."""
-    glass = _section(ws.robots.build("glass-handling"), ())
+    glass = structure_of(ws.robots.build("glass-handling"), ())
     assert [str(v) for v in glass.section.variables] == ["theta2", "theta3", "theta4"] and glass.c == (0.0, 0.0)
-    puma = _section(ws.robots.build("puma560"), ())
+    puma = structure_of(ws.robots.build("puma560"), ())
     assert abs(puma.c[0] + 0.15005) < 1e-12 and puma.c[0] <= puma.c[1]
-    scara = _section(ws.robots.build("scara"), ())           # x, y by theta1, theta2; z by d3
+    scara = structure_of(ws.robots.build("scara"), ())           # x, y by theta1, theta2; z by d3
     assert scara.plane == (0, 1) and [axis for axis, _, _ in scara.intervals] == [2]
     # theta_1 also in a later row (a coupled joint, theta_2 = q2 - q1): p is not Rz(theta_1) of the rest
     q1, q2 = sp.symbols("theta1 theta2")
     coupled = DHRobot([DHJoint.revolute(1, d=sp.Rational(3, 10), alpha=sp.pi / 2, limits=(-1, 1)),
                        DHJoint("R", q2 - q1, 0, sp.Rational(1, 2), 0, q2, (-1, 1)),
                        DHJoint.revolute(3, a=sp.Rational(1, 4), limits=(-1, 1))])
-    assert _section(coupled, ()) is None
+    assert structure_of(coupled, ()) is None
     assert resolve_method(coupled, "critical") == resolve_method(coupled) == "critical"
     # The UR5's lateral offset varies with its wrist joints: a section in cylindrical coordinates (issue 24).
-    ur5 = _section(DHRobot.from_file(DATA / "dh" / "ur5.json"), ())
+    ur5 = structure_of(DHRobot.from_file(DATA / "dh" / "ur5.json"), ())
     assert isinstance(ur5, Turned) and ur5.full and ur5.inverse is None
     assert [str(v) for v in ur5.section.variables] == ["theta2", "theta3", "theta4", "theta5"]
     with pytest.raises(InvalidParameterError, match="method must be one of"):
@@ -326,7 +328,7 @@ def test_the_two_methods_agree_where_both_prove():
     """The pair method and the critical method never contradict each other on the planar 3R arm."""
     robot = human_arm()
     a = reach(robot, delta=0.02)
-    b = reach(robot, delta=0.02, method="pairs", max_pairs=20_000)
+    b = reach(robot, delta=0.02, method="pairs", tuning=Tuning(max_pairs=20_000))
     for inner, outer in ((a.inner, b.outer), (b.inner, a.outer)):
         overlap = (inner[:, None, :, 0] < outer[None, :, :, 1]) & (inner[:, None, :, 1] > outer[None, :, :, 0])
         assert not overlap.all(axis=2).any()
@@ -341,8 +343,8 @@ def test_a_critical_set_of_full_dimension_falls_back_to_the_pair_method(monkeypa
     robot = DHRobot([DHJoint.revolute(1, a=1, limits=(-1, 1)), DHJoint.revolute(2, a=0, limits=(-1, 1)),
                      DHJoint.revolute(3, a=sp.Rational(1, 2), limits=(-1, 1))], name="coincident")
     monkeypatch.setattr(image, "MAX_COVER_BOXES", 2_000)
-    p = reach(robot, delta=0.05, max_pairs=20_000)
-    q = reach(robot, delta=0.05, method="pairs", max_pairs=20_000)
+    p = reach(robot, delta=0.05, tuning=Tuning(max_pairs=20_000))
+    q = reach(robot, delta=0.05, method="pairs", tuning=Tuning(max_pairs=20_000))
     assert p.counts == q.counts and p.measure_bounds == q.measure_bounds
     with pytest.raises(InvalidParameterError, match="parallel axes"):
         reach(robot, delta=0.05, method="critical")
@@ -535,21 +537,21 @@ def test_the_exact_arms_take_the_intended_way():
     """The section needs theta1 = c q1 + offset with q1 nowhere else (no d1 = q1/2); a joint is periodic only
     where the position is: q1 of the coupled arm is not (theta2 holds q1/2), q1 of the half-angle arms is
     with period 4 pi."""
-    from workspace_sym.serial_workspace import _Product, _Revolved
+    from workspace_sym.serial.structure import Product, Revolved
 
-    kinds = {name: type(_section(robot, ())) for name, (robot, _, _) in EXACT_ARMS.items() if
-             _model(robot, ()).m == 3}
-    assert kinds == {"shell sector": _Revolved, "scaled shell sector": _Revolved, "offset shell": _Revolved,
-                     "half-angle offset shell": _Revolved, "annulus x stroke": _Product,
+    kinds = {name: type(structure_of(robot, ())) for name, (robot, _, _) in EXACT_ARMS.items() if
+             reach_model(robot, ()).m == 3}
+    assert kinds == {"shell sector": Revolved, "scaled shell sector": Revolved, "offset shell": Revolved,
+                     "half-angle offset shell": Revolved, "annulus x stroke": Product,
                      "joint 1 shifts along its axis": type(None)}
     # no structure: the critical method in space (issue 24 item 1; it was the pair method before)
-    assert _section(ISSUE_30_ARM, ()) is None and resolve_method(ISSUE_30_ARM) == "critical"
-    assert abs(_section(EXACT_ARMS["offset shell"][0], ()).c[0]) == 0.25
-    assert _section(EXACT_ARMS["half-angle offset shell"][0], ()).full
-    assert not _section(EXACT_ARMS["scaled shell sector"][0], ()).full
-    coupled = _model(COUPLED_ARM, ())
+    assert structure_of(ISSUE_30_ARM, ()) is None and resolve_method(ISSUE_30_ARM) == "critical"
+    assert abs(structure_of(EXACT_ARMS["offset shell"][0], ()).c[0]) == 0.25
+    assert structure_of(EXACT_ARMS["half-angle offset shell"][0], ()).full
+    assert not structure_of(EXACT_ARMS["scaled shell sector"][0], ()).full
+    coupled = reach_model(COUPLED_ARM, ())
     assert not coupled.periodic.any() and resolve_method(COUPLED_ARM) == "critical"
-    half = _model(EXACT_ARMS["half-angle ring"][0], ())
+    half = reach_model(EXACT_ARMS["half-angle ring"][0], ())
     assert half.periodic.tolist() == [True, False]
     assert sp.simplify(half.exact_limits[0][1] - half.exact_limits[0][0] - 4 * sp.pi) == 0
 
@@ -605,7 +607,7 @@ def test_sampled_configurations_miss_every_outer_box(exact_pavings, paved):
     within its limits (200,000 for a planar arm, 30,000 in space), and at the corners of the limits, lands
     strictly inside no outer box."""
     robot = EXACT_ARMS[paved[0]][0]
-    q = _configurations(robot, 200_000 if _model(robot, ()).m == 2 else 30_000, np.random.default_rng(7))
+    q = _configurations(robot, 200_000 if reach_model(robot, ()).m == 2 else 30_000, np.random.default_rng(7))
     f = sp.lambdify([robot.q], list(robot.substitute(robot.position)), "numpy")
     pos = np.stack([np.broadcast_to(np.asarray(v, dtype=float), (len(q),)) for v in f(q.T)], axis=1)
     out = exact_pavings[paved].outer

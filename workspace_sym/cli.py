@@ -386,13 +386,14 @@ def _check_plot_in_memory(args) -> None:
                              "--max-memory or --store (the boxes are on disk: load them in Python)")
 
 
-def _show_paving(paving, as_json: bool, extra: dict | None = None) -> None:
-    """A paving's JSON object, or its summary on the terminal."""
-    result = {**paving.to_dict(), **(extra or {})}
+def _show_paving(answer, as_json: bool, extra: dict | None = None) -> None:
+    """A paving's (or a reach result's) JSON object, or its summary on the terminal."""
+    result = {**answer.to_dict(), **(extra or {})}
     if as_json:
         _emit_json(result)
         return
-    lo, hi = paving.measure_bounds
+    lo, hi = answer.measure_bounds
+    paving = getattr(answer, "paving", answer)
     how = ", with contraction" if paving.contract else ""
     print(f"delta = {paving.delta} ({paving.size}), backend {paving.backend}{how}: {paving.seconds:.3f} s, "
           f"{paving.evaluated} boxes evaluated")
@@ -407,7 +408,7 @@ def _show_paving(paving, as_json: bool, extra: dict | None = None) -> None:
 
 
 def cmd_reach(args) -> int:
-    from .serial_workspace import Pose, ReachModel, reach
+    from .serial import Pose, ReachModel, Tuning, reach
 
     robot = _robot_from_args(args)
     constraint = _pose_options(args)
@@ -418,19 +419,21 @@ def cmd_reach(args) -> int:
                                         f"orientation) decides its boxes in this process, so a Dask scheduler does "
                                         f"not apply; got {args.scheduler!r}; it applies to reach without a tool "
                                         "constraint", parameter="scheduler")
-        from .orientation import constraint_from
+        from .serial.pose import constraint_from
 
         described = constraint_from(**constraint)
         from .interval.driver import RunOn
 
         # boxes on disk and checkpoints for the section method (the pairs method with a pose refuses them)
         kept = RunOn(max_memory=args.max_memory, store=args.store, resume=args.resume)
+        tuning = Tuning() if args.inner_depth is None else Tuning(pose_inner_depth=args.inner_depth)
         paving = reach(robot, delta=args.delta, size=args.size, stop=_stop_at(args), pose=Pose(**constraint),
-                       run=kept, method=args.method, inner_depth=args.inner_depth)
+                       run=kept, method=args.method, tuning=tuning)
     else:
+        tuning = Tuning() if args.inner_depth is None else Tuning(inner_depth=args.inner_depth)
         with _distributed(args) as run:
-            paving = reach(robot, delta=args.delta, size=args.size, inner_depth=args.inner_depth,
-                           method=args.method, stop=_stop_at(args), run=run)
+            paving = reach(robot, delta=args.delta, size=args.size, tuning=tuning, method=args.method,
+                           stop=_stop_at(args), run=run)
     if args.plot:
         from .plotting import plot_paving, save_figure
 
@@ -439,7 +442,7 @@ def cmd_reach(args) -> int:
     model = ReachModel(robot)
     extra = {"robot": robot.name, "variables": [str(v) for v in paving.variables],
              "joints_subdivided": [str(q) for q in model.variables], "method": paving.method}
-    if constraint and not args.json:         # (the JSON's "constraint" is the paving's own, Paving.to_dict)
+    if constraint and not args.json:         # (the JSON's "constraint" is the result's own, ReachResult.to_dict)
         print(f"{robot.name}: tool {described}")
     if not args.json:
         print(f"{robot.name}: position workspace over ({', '.join(extra['variables'])}); joints subdivided: "
@@ -658,7 +661,7 @@ def cmd_report(args) -> int:
             raise InvalidParameterError("a tool constraint (approach, cone, every, orientation) is a constraint on "
                                         "the certified workspace section: give reach_delta too",
                                         parameter="reach_delta")
-        from .orientation import constraint_from
+        from .serial.pose import constraint_from
 
         constraint_from(**constraint)     # a bad constraint is refused before any section is written
         reach["reach_constraint"] = constraint

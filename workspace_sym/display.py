@@ -30,13 +30,17 @@ import base64
 import html
 import io
 import re
+import sys
 from functools import lru_cache
 
 import sympy as sp
 
+from .numbers import fmt, fmt_bracket, measure_text
+from .plotting import plot_paving
 from .symbolic import angle_label
 
-__all__ = ["textbook_form", "plain", "html_table", "figure_html", "expr_text", "mathml", "register_notebook_display"]
+__all__ = ["textbook_form", "plain", "html_table", "figure_html", "expr_text", "mathml", "register_notebook_display",
+           "to_html", "paving_html", "MAX_3D_BOXES_SHOWN"]
 
 
 # ------------------------------------------------------------------ textbook shorthand as SymPy functions
@@ -152,16 +156,16 @@ def register_notebook_display(shell=None) -> bool:
     Returns whether a shell was found.
     """
     if shell is None:
-        try:
-            from IPython import get_ipython
-        except ImportError:
-            return False
-        shell = get_ipython()
+        ipython = sys.modules.get("IPython")        # a kernel has imported it; importing it here costs a second
+        shell = None if ipython is None else ipython.get_ipython()
     if shell is None:
         return False
     formatter = shell.display_formatter.formatters["text/html"]
     for kind in (sp.Basic, sp.MatrixBase):
         formatter.for_type(kind, mathml)
+    # The results of the engines, drawn by this layer (the engines import no presentation).
+    for module, name, draw in _RESULTS:
+        formatter.for_type_by_name(module, name, draw)
     return True
 
 
@@ -210,3 +214,58 @@ def figure_html(fig, *, width: int = 420, alt: str = "figure") -> str:
         plt.close(fig)
     data = base64.b64encode(buffer.getvalue()).decode("ascii")
     return f'<img src="data:image/png;base64,{data}" width="{width}" alt="{html.escape(alt)}"/>'
+
+
+# ------------------------------------------------------------------ results of the engines
+MAX_3D_BOXES_SHOWN = 20_000     # a notebook draws a 3D paving up to this many boxes (matplotlib 3D is slow)
+
+
+def paving_html(result) -> str:
+    """Summary (boxes and measure of each class, the certified bracket) and the picture of a
+    :class:`~workspace_sym.interval.boxes.Paving` or of a :class:`~workspace_sym.serial.api.ReachResult` (its
+    method, tool constraint and bracket with the volume proved another way): what a notebook shows of it."""
+    paving = getattr(result, "paving", result)
+    m, c = paving.measures, paving.counts
+    rows = [(kind, c[kind], measure_text(kind, m[kind], 6, "g")) for kind in ("inner", "boundary", "outer", "pending")]
+    lo, hi = result.measure_bounds
+    how = ", with contraction" if paving.contract else ""
+    lines = [f"over ({', '.join(map(str, paving.variables))}), δ = {paving.delta} ({paving.size}), backend "
+             f"{paving.backend}{how}: {paving.evaluated} boxes evaluated in {paving.seconds:.2f} s",
+             f"certified measure in {fmt_bracket(lo, hi, 6)}"]
+    constraint = getattr(result, "constraint", None)
+    if constraint is not None:
+        lines.append(f"tool constraint: {constraint.words()}")
+    if getattr(result, "method", ""):
+        lines.append(f"method {result.method}")
+    if paving.exact_measure is not None:
+        lines.append(f"exact measure {fmt(float(sp.N(paving.exact_measure)), 6)} = {sp.sstr(paving.exact_measure)}")
+    if not paving.complete:
+        lines.append(f"stopped early: {paving.stop_reason}; pending boxes are unclassified")
+    drawn, n = len(paving.inner) + len(paving.boundary), len(paving.variables)
+    picture = ""
+    if n == 2 or (n == 3 and drawn <= MAX_3D_BOXES_SHOWN):
+        picture = figure_html(plot_paving(paving), alt="paving")
+    elif n == 3:
+        picture = f"<p>(no picture of {drawn} boxes in 3D here: see plotting.plot_paving_slices)</p>"
+    return ("<p>" + "<br/>".join(html.escape(t) for t in lines) + "</p>"
+            + html_table(("boxes", "number", "measure"), rows) + picture)
+
+
+_RESULTS = [("workspace_sym.interval.boxes", "Paving", paving_html),
+            ("workspace_sym.interval.boxes", "StoredPaving", paving_html),
+            ("workspace_sym.serial.api", "ReachResult", paving_html)]
+
+
+def to_html(obj) -> str:
+    """The HTML a notebook shows of a result of the package (the function registered for its type with IPython
+    by :func:`register_notebook_display`, or the object's own ``_repr_html_``).
+
+    >>> from workspace_sym.interval import pave
+    >>> "certified measure in" in to_html(pave(["x**2 <= 1"], {"x": (-2, 2)}, delta=0.5))
+    True
+    """
+    for klass in type(obj).__mro__:
+        for module, name, draw in _RESULTS:
+            if klass.__module__ == module and klass.__qualname__ == name:
+                return draw(obj)
+    return obj._repr_html_()

@@ -46,6 +46,7 @@ from .symbolic import (
     textbook_matrix,
     trig_pair,
 )
+from .transforms import inverse_transform, matrix_product, rot_x, rot_z, translation, xyz_rpy
 
 __all__ = [
     "DHJoint",
@@ -67,31 +68,6 @@ EULER_CONVENTIONS = ("zyz", "rpy")
 JOINT_KINDS = ("R", "P")
 
 
-def _rz(t, trig=None):
-    c, s = trig or (sp.cos(t), sp.sin(t))
-    return sp.Matrix([[c, -s, 0, 0], [s, c, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]])
-
-
-def _rx(t, trig=None):
-    c, s = trig or (sp.cos(t), sp.sin(t))
-    return sp.Matrix([[1, 0, 0, 0], [0, c, -s, 0], [0, s, c, 0], [0, 0, 0, 1]])
-
-
-def _ry(t):
-    c, s = sp.cos(t), sp.sin(t)
-    return sp.Matrix([[c, 0, s, 0], [0, 1, 0, 0], [-s, 0, c, 0], [0, 0, 0, 1]])
-
-
-def _translate(x=0, y=0, z=0):
-    return sp.Matrix([[1, 0, 0, x], [0, 1, 0, y], [0, 0, 1, z], [0, 0, 0, 1]])
-
-
-def xyz_rpy(xyz, rpy) -> sp.Matrix:
-    """The homogeneous transform ``Trans(xyz) Rz(yaw) Ry(pitch) Rx(roll)`` of a URDF origin (``rpy`` in radians)."""
-    (x, y, z), (r, p, w) = xyz, rpy
-    return _translate(x, y, z) * _rz(w) * _ry(p) * _rx(r)
-
-
 def dh_matrix(theta, d, a, alpha, *, convention: str = "standard") -> sp.Matrix:
     """Homogeneous transform of one DH row.
 
@@ -110,10 +86,10 @@ def dh_matrix(theta, d, a, alpha, *, convention: str = "standard") -> sp.Matrix:
     check_choice("convention", convention, CONVENTIONS)
     # Constant angles whose cosines SymPy writes as nested radicals (36 deg) or not at all (1 deg)
     # stay cos(c), sin(c) atoms (trig_pair): products of nested radicals grow without end.
-    rz, rx = _rz(theta, trig_pair(theta)), _rx(alpha, trig_pair(alpha))
+    rz, rx = rot_z(theta, trig_pair(theta)), rot_x(alpha, trig_pair(alpha))
     if convention == "standard":
-        return rz * _translate(z=d) * _translate(x=a) * rx
-    return rx * _translate(x=a) * rz * _translate(z=d)
+        return rz * translation(z=d) * translation(x=a) * rx
+    return rx * translation(x=a) * rz * translation(z=d)
 
 
 @dataclass(frozen=True, slots=True)
@@ -225,13 +201,6 @@ class AnalyticJacobian:
     note: str
 
 
-def _product(A: sp.Matrix, B: sp.Matrix) -> sp.Matrix:
-    """``A * B`` with each entry one SymPy sum of its products: the same expressions as SymPy's product, which
-    adds the products one at a time (a quarter of a 6-joint table's fk went into those partial sums)."""
-    return sp.Matrix(A.rows, B.cols, lambda i, j: sp.Add(*(A[i, k] * B[k, j] for k in range(A.cols)
-                                                           if A[i, k] != 0 and B[k, j] != 0)))
-
-
 def _no_longer(T: sp.Matrix, raw: sp.Matrix) -> sp.Matrix:
     """``T`` with each entry that has more operations (``count_ops``) than the same entry of the raw product ``raw``
     replaced by that entry: each product is put in textbook form from the previous one, whose entries may be a
@@ -250,12 +219,6 @@ def _cross(u: sp.Matrix, v: sp.Matrix) -> sp.Matrix:
 
     return sp.Matrix([times(u[1], v[2]) - times(u[2], v[1]), times(u[2], v[0]) - times(u[0], v[2]),
                       times(u[0], v[1]) - times(u[1], v[0])])
-
-
-def _inverse_transform(A: sp.Matrix) -> sp.Matrix:
-    """The inverse ``[R^T, -R^T p; 0, 1]`` of a homogeneous transform."""
-    Rt = A[:3, :3].T
-    return sp.Matrix.vstack(sp.Matrix.hstack(Rt, -_product(Rt, A[:3, 3])), sp.Matrix([[0, 0, 0, 1]]))
 
 
 MAX_JOINTS = 24
@@ -429,7 +392,7 @@ class DHRobot:
     def raw_fk(self) -> sp.Matrix:
         """``base A_1 ... A_n tool`` multiplied out with no simplification (a reference for :meth:`fk`)."""
         T = self._raw_frames[-1]
-        return _product(T, self.tool) if self.tool is not None else T
+        return matrix_product(T, self.tool) if self.tool is not None else T
 
     @cached_property
     def _raw_frames(self) -> tuple[sp.Matrix, ...]:
@@ -438,7 +401,7 @@ class DHRobot:
         out = [T]
         for k in range(1, self.n + 1):
             check_budget(f"the raw product up to joint {k}")
-            T = _product(T, self.row_matrix(k))
+            T = matrix_product(T, self.row_matrix(k))
             out.append(T)
         return tuple(out)
 
@@ -450,7 +413,7 @@ class DHRobot:
         with derivation(f"forward kinematics of {self.name}"):
             for k in range(self.n):
                 check_budget(f"T_0^{k + 1}")
-                T = textbook_matrix(_product(T, self.row_matrix(k + 1)))
+                T = textbook_matrix(matrix_product(T, self.row_matrix(k + 1)))
                 out.append(T)
         return tuple(out)
 
@@ -460,7 +423,7 @@ class DHRobot:
         frames = (sp.eye(4),) + self.transforms
         with derivation(f"forward kinematics of {self.name} (base)"):
             if self.base is not None:
-                frames = tuple(textbook_matrix(_product(self.base, T)) for T in frames)
+                frames = tuple(textbook_matrix(matrix_product(self.base, T)) for T in frames)
             return tuple(_no_longer(T, raw) for T, raw in zip(frames, self._raw_frames))
 
     @cached_property
@@ -469,7 +432,7 @@ class DHRobot:
         if self.tool is None:
             return T
         with derivation(f"forward kinematics of {self.name} (tool)"):
-            return _no_longer(textbook_matrix(_product(T, self.tool)), self.raw_fk())
+            return _no_longer(textbook_matrix(matrix_product(T, self.tool)), self.raw_fk())
 
     def fk(self, k=None, *, parameters: dict | None = None) -> sp.Matrix:
         """``base T_0^k``, with the tool transform appended for ``k = n`` (the default).
@@ -675,12 +638,12 @@ class DHRobot:
         frames[m] = T = sp.eye(4)
         for k in range(m + 1, self.n + 1):
             check_budget(f"frame {k} in frame {m}")
-            T = frames[k] = textbook_matrix(_product(T, self.row_matrix(k)))
+            T = frames[k] = textbook_matrix(matrix_product(T, self.row_matrix(k)))
         T = frames[m]
         for k in range(m, 0, -1):
             check_budget(f"frame {k - 1} in frame {m}")
-            T = frames[k - 1] = textbook_matrix(_product(T, _inverse_transform(self.row_matrix(k))))
-        tip = frames[self.n] if self.tool is None else textbook_matrix(_product(frames[self.n], self.tool))
+            T = frames[k - 1] = textbook_matrix(matrix_product(T, inverse_transform(self.row_matrix(k))))
+        tip = frames[self.n] if self.tool is None else textbook_matrix(matrix_product(frames[self.n], self.tool))
         return frames, tip
 
     def characteristic_polynomial(self, kind: str = "geometric", lam: sp.Symbol | None = None) -> sp.Poly:
@@ -745,8 +708,8 @@ class DHRobot:
         return self.numeric(self.geometric_jacobian)
 
     def reach(self, *, delta: float, **options):
-        """Certified position workspace within the joint limits: :func:`workspace_sym.serial_workspace.reach`."""
-        from .serial_workspace import reach  # one way: serial_workspace builds on this module
+        """Certified position workspace within the joint limits: :func:`workspace_sym.serial.reach`."""
+        from .serial import reach  # one way: the reach engine builds on this module
 
         return reach(self, delta=delta, **options)
 

@@ -91,13 +91,13 @@ def plot_reach(points, *, ax=None, units="m"):
     """Side view ``(r, z)`` with ``r = sqrt(x^2 + y^2)`` of sampled end points ``(N, 3)``: the reach and height
     of the workspace.
 
-    Given the certified :class:`~workspace_sym.interval.paving.Paving` of
-    :func:`~workspace_sym.serial_workspace.reach` instead, draws its boxes
+    Given the certified result of :func:`~workspace_sym.serial.api.reach` (or its
+    :class:`~workspace_sym.interval.boxes.Paving`) instead, draws its boxes
     (:func:`plot_paving`).  Returns the figure.
     """
     from .interval.boxes import Paving
 
-    if isinstance(points, Paving):
+    if isinstance(getattr(points, "paving", points), Paving):
         return plot_paving(points, ax=ax, units=points.units or units)
     points = np.asarray(points)
     if points.ndim != 2 or points.shape[1] < 3:

@@ -516,20 +516,20 @@ def _paving_section(doc: Document, paving, tmp: Path, *, units: str | None = Non
 
 
 def _reach_section(doc: Document, robot, paving, tmp: Path) -> None:
-    """The certified position workspace of a DH robot (:func:`workspace_sym.serial_workspace.reach`)."""
+    """The certified position workspace of a DH robot (:func:`workspace_sym.serial.reach`)."""
     coords = ", ".join(map(str, paving.variables))
     doc.heading("Certified workspace (proved boxes)")
     doc.para(f"The end-effector positions ({coords}) are covered by boxes down to size delta = {paving.delta} "
              f"({paving.size}). Inner boxes: every point of the box is the position of some configuration within "
              "the joint limits. Outer boxes: no point of the box is. Boundary boxes, of size at most delta, are "
              "undecided. Every verdict rests on outward-rounded interval arithmetic "
-             "(workspace_sym.serial_workspace.reach, whose docstring gives the proofs).")
+             "(workspace_sym.serial, whose docstrings give the proofs).")
     _paving_section(doc, paving, tmp, units=robot.units, stem="reach")
 
 
 def _pose_section(doc: Document, robot, paving, constraint, tmp: Path) -> None:
-    """The certified orientation workspace of a DH robot (:func:`workspace_sym.orientation.reach_pose`):
-    ``constraint`` is its :class:`~workspace_sym.orientation.PoseConstraint`."""
+    """The certified orientation workspace of a DH robot (:func:`workspace_sym.serial.reach` with a pose):
+    ``constraint`` is its :class:`~workspace_sym.serial.pose.PoseConstraint`."""
     coords = ", ".join(map(str, paving.variables))
     doc.heading("Certified orientation workspace (proved boxes)")
     what = constraint.words()
@@ -537,7 +537,7 @@ def _pose_section(doc: Document, robot, paving, constraint, tmp: Path) -> None:
              f"{paving.delta} ({paving.size}). Inner boxes: every point of the box is the tool point of a "
              "configuration within the joint limits satisfying the constraint exactly. Outer boxes: no point of the "
              "box is. Boundary boxes, of size at most delta, are undecided. Every verdict rests on outward-rounded "
-             f"interval arithmetic (method {paving.method}; workspace_sym.orientation and docs/methods.md section 8 "
+             f"interval arithmetic (method {paving.method}; workspace_sym.serial.pose and docs/methods.md section 8 "
              "give the proofs).")
     if paving.method == "section":
         lo, hi = paving.volume_bounds
@@ -593,14 +593,14 @@ def dh_robot_report(robot, out, *, samples: int = 20000, command: str | None = N
     from .interval.driver import StopAt
     from .plotting import save_figure, scatter_workspace_3d
     from .sampling import reach_points, sample_joint_box
-    from .serial_workspace import Pose
+    from .serial import Pose
 
     constraint = None
     if reach_delta is not None:                  # checked before the long symbolic work
         check_delta(reach_delta, "reach_delta")
         check_delta(reach_time_limit, "reach_time_limit")
         if reach_constraint:
-            from .orientation import constraint_from
+            from .serial.pose import constraint_from
 
             constraint = constraint_from(**reach_constraint)
     out = Path(out)

@@ -9,22 +9,19 @@ which builds them, and the constraint pavings (:mod:`~workspace_sym.interval.pav
 from __future__ import annotations
 
 import copy
-import html
 import math
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Any
 
 import numpy as np
 import sympy as sp
 
 from ..errors import BoxError, ExpressionError, InvalidParameterError
 from ..expressions import parse_expr
-from ..numbers import fmt, fmt_bracket, measure_text
+from ..numbers import fmt_bracket
 from .store import KINDS, ExactSum, measures_of
 
-__all__ = ["Box", "SIZES", "check_delta", "box_sizes", "halves", "bisect", "box_measure", "Paving", "StoredPaving",
-           "MAX_3D_BOXES_SHOWN"]
+__all__ = ["Box", "SIZES", "check_delta", "box_sizes", "halves", "bisect", "box_measure", "Paving", "StoredPaving"]
 
 SIZES = ("diameter", "width")
 
@@ -123,9 +120,6 @@ def box_measure(boxes: np.ndarray) -> float:
     return ExactSum.of(measures_of(np.asarray(boxes))).value
 
 
-MAX_3D_BOXES_SHOWN = 20_000     # a notebook draws a 3D paving up to this many boxes (matplotlib 3D is slow)
-
-
 @dataclass(frozen=True, eq=False)
 class Paving:
     """Result of :func:`pave`: inner, boundary, outer and pending boxes, each an ``(N, n, 2)`` array.
@@ -153,9 +147,6 @@ class Paving:
     exact_measure: object = field(default=None)
     contract: bool = False
     units: str | None = None
-    method: str = ""                # how the boxes were decided, when a caller chose among ways (reach)
-    volume_bounds: tuple | None = None  # a bracket of the measure proved another way (reach: a turned section)
-    tool_constraint: Any = None     # reach with a pose: its constraint (to_dict() and words(), orientation.py)
 
     @property
     def counts(self) -> dict:
@@ -167,21 +158,17 @@ class Paving:
         """Measure of each class (exact sums, computed once)."""
         return {k: box_measure(getattr(self, k)) for k in ("inner", "boundary", "outer", "pending")}
 
-    @cached_property
+    @property
     def measure_bounds(self) -> tuple[float, float]:
         """The certified bracket ``(measure(inner), measure(inner) + measure(boundary) + measure(pending))``,
         rounded outward: every box's measure and the sums are rounded down for the lower bound, up for the upper
-        one (the figures of :attr:`measures` are rounded to nearest); intersected with :attr:`volume_bounds`
-        when a run proved one (both hold the measure, so their intersection does)."""
-        lo, hi = self.box_measure_bounds
-        if self.volume_bounds is not None:        # two proved brackets of one measure: their intersection
-            lo, hi = max(lo, self.volume_bounds[0]), min(hi, self.volume_bounds[1])
-        return lo, hi
+        one (the figures of :attr:`measures` are rounded to nearest)."""
+        return self.box_measure_bounds
 
     @cached_property
     def box_measure_bounds(self) -> tuple[float, float]:
-        """The bracket of the boxes alone: ``(measure(inner), measure(inner) + measure(boundary) +
-        measure(pending))``, rounded outward (:attr:`measure_bounds` also uses :attr:`volume_bounds`)."""
+        """The bracket of the boxes: ``(measure(inner), measure(inner) + measure(boundary) + measure(pending))``,
+        rounded outward (:attr:`measure_bounds`)."""
         low = ExactSum.of(measures_of(self.inner, "down"))
         high = ExactSum()
         for kind in ("inner", "boundary", "pending"):
@@ -215,14 +202,6 @@ class Paving:
             out["stop_reason"] = self.stop_reason
         if self.units:
             out["units"] = self.units
-        if self.method:
-            out["method"] = self.method
-        if self.volume_bounds is not None:
-            out["box_measure_bounds"] = list(self.box_measure_bounds)
-            out["volume_bounds"] = list(self.volume_bounds)
-        if self.tool_constraint is not None:
-            out["constraint"] = self.tool_constraint.to_dict()
-            out["constraint_words"] = self.tool_constraint.words()
         if self.exact_measure is not None:
             out["exact_measure"] = float(sp.N(self.exact_measure, 17))
             out["exact_measure_expr"] = sp.sstr(self.exact_measure)
@@ -234,38 +213,6 @@ class Paving:
         return (f"Paving({c['inner']} inner, {c['boundary']} boundary, {c['outer']} outer, "
                 f"{c['pending']} pending; measure in {fmt_bracket(lo, hi, 6, 'g')}, "
                 f"delta={self.delta})")
-
-    def _repr_html_(self) -> str:
-        """Summary (boxes and measure of each class, the certified bracket) and the picture (Jupyter)."""
-        from ..display import figure_html, html_table
-        from ..plotting import plot_paving
-
-        m, c = self.measures, self.counts
-        rows = [(kind, c[kind], measure_text(kind, m[kind], 6, "g"))
-                for kind in ("inner", "boundary", "outer", "pending")]
-        lo, hi = self.measure_bounds
-        how = ", with contraction" if self.contract else ""
-        lines = [f"over ({', '.join(map(str, self.variables))}), δ = {self.delta} ({self.size}), backend "
-                 f"{self.backend}{how}: {self.evaluated} boxes evaluated in {self.seconds:.2f} s",
-                 f"certified measure in {fmt_bracket(lo, hi, 6)}"]
-        if self.tool_constraint is not None:
-            lines.append(f"tool constraint: {self.tool_constraint.words()}")
-        if self.method:
-            lines.append(f"method {self.method}")
-        if self.exact_measure is not None:
-            lines.append(f"exact measure {fmt(float(sp.N(self.exact_measure)), 6)} = {sp.sstr(self.exact_measure)}")
-        if not self.complete:
-            lines.append(f"stopped early: {self.stop_reason}; pending boxes are unclassified")
-        drawn, n = len(self.inner) + len(self.boundary), len(self.variables)
-        picture = ""
-        if n == 2 or (n == 3 and drawn <= MAX_3D_BOXES_SHOWN):
-            picture = figure_html(plot_paving(self), alt="paving")
-        elif n == 3:
-            picture = f"<p>(no picture of {drawn} boxes in 3D here: see plotting.plot_paving_slices)</p>"
-        return ("<p>" + "<br/>".join(html.escape(t) for t in lines) + "</p>"
-                + html_table(("boxes", "number", "measure"), rows) + picture)
-
-
 
 
 _FEW = 7     # up to this many variables, a reduction across a box's edges is a loop over columns

@@ -305,9 +305,9 @@ class ImageMap:
             D = [arith.sub((box[:, j, 0], box[:, j, 1]), (q[:, j], q[:, j])) for j in sub]
             for a in range(m):
                 c = [(C[:, a, i], C[:, a, i]) for i in range(m)]
-                acc = arith.neg(_dot(c, R))
+                acc = arith.neg(dot(c, R))
                 for b, j in enumerate(sub):
-                    cj = _dot(c, [JU[i][j] for i in range(m)])                  # (C J(U))[a, b]
+                    cj = dot(c, [JU[i][j] for i in range(m)])                  # (C J(U))[a, b]
                     identity = (1.0, 1.0) if a == b else (0.0, 0.0)
                     acc = arith.add(acc, arith.mul(arith.sub(identity, cj), D[b]))
                 K[:, a, 0], K[:, a, 1] = arith.add(acc, (q[:, sub[a]], q[:, sub[a]]))
@@ -325,7 +325,7 @@ class ImageMap:
         return np.bincount(owner, minlength=len(T)) == 0
 
 
-def _dot(c, v):
+def dot(c, v):
     acc = arith.mul(c[0], v[0])
     for ci, vi in zip(c[1:], v[1:]):
         acc = arith.add(acc, arith.mul(ci, vi))

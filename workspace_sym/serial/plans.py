@@ -1,0 +1,441 @@
+"""The plans of a reach run: one object per method, each with the same three steps.
+
+1. :meth:`Plan.pave` paves what the method decides first: the cells of the task space (the critical method on one
+   grid), the section a turned arm reduces to, the constrained section of a pose, or nothing (the pairs
+   methods start from the root task box);
+2. :meth:`Plan.classify` decides the task boxes from it: read off the cells, classified from the section by the
+   paving driver (:func:`~workspace_sym.serial.classify.classify_task_boxes`, with its store and checkpoints), or
+   by the pairs loop (:func:`~workspace_sym.serial.pairs.pave_pairs`);
+3. :meth:`Plan.volume` proves the workspace's volume another way when it can (a turned section by Pappus's
+   theorem), or gives None.
+
+:func:`choose_plans` picks the plans for a robot and a method, the first one to try followed by those that take
+over when its cover is too large (:class:`~workspace_sym.errors.CoverTooLarge`); :func:`pose_plan` the plan of a
+run with a tool constraint.  Every plan reads its figures from a :class:`~workspace_sym.serial.tuning.Tuning`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..interval.boxes import Box, Paving, StoredPaving
+from ..interval.driver import RunBudget, RunOn, paving_of, read_checkpoint, refuse_storage, store_for, write_checkpoint
+from ..interval.executor import runner_for
+from ..interval.fingerprint import Fingerprint
+from ..interval.image import CellGrid, critical_paving
+from ..interval.store import BoxStore
+from ..interval.verdict import INSIDE, OUTSIDE, UNDECIDED
+from ..kinematics import DHRobot
+from .cells import cover_with
+from .classify import ProductTest, RevolvedTest, classify_task_boxes, section_digest
+from .model import TASK, cell_width, check_root, reach_model
+from .pairs import CHUNK_PAIRS, PositionStep, pave_pairs
+from .pose import PoseConstraint, PoseStep, PoseStructure, section_classes, section_volume_bracket
+from .section import Turned, TurnedTest, section_bar, section_paving, turned_volume
+from .stored import reach_problem, save_section, saved_section
+from .structure import Product, Revolved, structure_of
+from .tuning import DEFAULT, Tuning
+from .turn import LimitedTurnTest, limited_turn, limited_volume, pave_limited
+
+__all__ = ["Section", "Plan", "CellsPlan", "SectionPlan", "PairsPlan", "PoseSectionPlan", "PosePairsPlan",
+           "choose_plans", "pose_plan", "on_cells", "POSE_CHUNK_PAIRS"]
+
+POSE_CHUNK_PAIRS = 200_000       # pairs in one chunk of the pose methods' pairs loop (RunOn.chunk is refused there)
+
+
+@dataclass
+class Section:
+    """What a plan's first step paved: the grid of cells and their classes (None for the pairs methods), the
+    boxes it evaluated, why it stopped (``""``: it did not), and what the next steps need (``test``: the task-box
+    test; ``volume``: a bracket proved from the cells; ``box``: the root task box)."""
+
+    box: Box
+    grid: CellGrid | None = None
+    classes: np.ndarray | None = None
+    evaluated: int = 0
+    reason: str = ""
+    test: Any = None
+    volume: tuple | None = None
+    digest: str = "none"
+
+
+class Plan:
+    """A way of paving a robot's workspace (module docstring): ``method`` names it in the result."""
+
+    method = ""
+
+    def __init__(self, robot: DHRobot, values: tuple, delta: float, size: str, tuning: Tuning, problem: dict):
+        self.robot, self.values, self.delta, self.size, self.tuning = robot, values, float(delta), size, tuning
+        self.problem = problem
+
+    def pave(self, budget: RunBudget, run: RunOn) -> Section:
+        raise NotImplementedError
+
+    def classify(self, section: Section, budget: RunBudget, run: RunOn) -> Paving:
+        raise NotImplementedError
+
+    def volume(self, section: Section) -> tuple | None:
+        return section.volume
+
+    # helpers shared by the plans ------------------------------------------------------------------------
+    def paving(self, box: Box, inner, boundary, outer, pending, budget: RunBudget, evaluated: int, reason: str,
+               units: str) -> Paving:
+        """A paving of the boxes of a step that did not go through the driver (all in memory)."""
+        m = len(box.variables)
+        empty = np.empty((0, m, 2))
+
+        def stack(parts):
+            parts = [p for p in parts if len(p)]
+            return np.concatenate(parts) if parts else empty
+
+        if pending is None or not len(pending):
+            reason = ""                         # a budget that ran out after the last box: nothing is pending
+        return Paving(variables=box.variables, box=box, constraints=(), delta=self.delta, backend="numpy",
+                      size=self.size, inner=stack(inner), boundary=stack(boundary), outer=stack(outer),
+                      pending=empty if pending is None else pending, seconds=budget.seconds, complete=not reason,
+                      evaluated=evaluated, stop_reason=reason, units=units)
+
+
+def _root_box(model) -> tuple[np.ndarray, Box]:
+    root = model.enclose(model.limits[None])[0]
+    return root, Box(model.task_variables, tuple(root[:, 0]), tuple(root[:, 1]))
+
+
+class CellsPlan(Plan):
+    """The critical method on one grid of task cells (:mod:`workspace_sym.serial.cells`): a planar arm, or a spatial
+    one without a structure; its grid is decided in one pass, in memory (no store, no checkpoint)."""
+
+    method = "critical"
+
+    def __init__(self, *args, executor=None):
+        super().__init__(*args)
+        self.executor = executor
+
+    def pave(self, budget, run):
+        model = reach_model(self.robot, self.values)
+        grid, classes, evaluated, reason = critical_paving(
+            model, cell_width(self.delta, self.size, model.m), budget=budget.stop_reason,
+            cover=cover_with(self.executor, self.robot, self.values, "model"), show=budget.show,
+            chunk=None if model.m == 2 else self.tuning.cell_chunk)
+        extent = grid.extent
+        box = Box(model.task_variables, tuple(extent[:, 0]), tuple(extent[:, 1]))
+        return Section(box, grid, classes, evaluated, reason)
+
+    def classify(self, section, budget, run):
+        grid, classes, reason = section.grid, section.classes, section.reason
+        assert grid is not None and classes is not None
+        undecided = grid.boxes(classes, UNDECIDED, merge=bool(reason))
+        return self.paving(section.box, [grid.boxes(classes, INSIDE)], [] if reason else [undecided],
+                           [grid.boxes(classes, OUTSIDE)], undecided if reason else None, budget, section.evaluated,
+                           reason, self.robot.units)
+
+
+class SectionPlan(Plan):
+    """A spatial arm whose workspace is a product of images or a section turned by its first joint
+    (:mod:`workspace_sym.serial.structure`): the section paved (critical cover, stages of
+    :func:`~workspace_sym.serial.section.section_paving`, or the directions of a limited turn), then the task
+    boxes classified from it by the driver, where ``run`` says (store, checkpoint: the section kept beside it)."""
+
+    method = "critical"
+
+    def __init__(self, *args, executor=None):
+        super().__init__(*args)
+        self.executor = executor
+        self.model = reach_model(self.robot, self.values)
+        self.structure = structure_of(self.robot, self.values)
+        self.limited = limited_turn(self.structure, self.model)
+
+    def pave(self, budget, run):
+        model, plan, tuning = self.model, self.structure, self.tuning
+        _, box = _root_box(model)
+        width = tuning.section_ratio * cell_width(self.delta, self.size, 3)
+        grid, classes, evaluated, reason = None, None, 0, ""
+        volume, pieces, proved = None, None, None
+        self.problem = {**self.problem, "method": f"critical ({type(plan).__name__})",
+                        "section_boxes": budget.section_boxes}
+        # A resumed run takes the section its checkpoint was classified from (a time limit may refine it
+        # differently).
+        named = Fingerprint({**self.problem, "section cell": width, "joint limits": model.limits})
+        saved = saved_section(run, named)
+        if saved is not None:
+            grid, classes, proved, pieces, evaluated = saved
+        elif self.limited is not None:
+            # A limited first joint of half a turn or more: cells proved at every polar angle (reach.turn).
+            with section_bar(budget.showing) as show:
+                grid, classes, proved, evaluated, reason = pave_limited(self.limited, width, budget, show=show,
+                                                                        boxes=budget.section_boxes, tuning=tuning)
+        elif isinstance(plan, Turned) and plan.section.k > 2:
+            grid, classes, evaluated, reason, pieces = self._timed_section(plan, box, width, budget)
+        elif plan is not None and plan.section is not None:
+            with section_bar(budget.showing) as show:   # the section's bar, from the first generation of its cover
+                grid, classes, evaluated, reason = critical_paving(
+                    plan.section, width, budget=budget.stop_reason, show=show,
+                    cover=cover_with(self.executor, self.robot, self.values, "section"))
+        test: Any = None
+        if self.limited is not None:
+            volume = limited_volume(self.limited, grid, classes, proved, tuning)
+            test = LimitedTurnTest(self.limited, grid, classes, proved)
+        if not reason and saved is None:
+            save_section(run, named, grid, classes, proved, pieces, evaluated)
+        if isinstance(plan, Turned) and plan.full:
+            volume = turned_volume(grid, classes, pieces)      # the solid of revolution of the section (Pappus)
+        budget.show(0.0, evaluated)
+        if not reason:
+            tests = {Product: ProductTest, Revolved: RevolvedTest, Turned: TurnedTest}
+            test = test or tests[type(plan)](plan, grid, classes)
+        return Section(box, grid, classes, evaluated, reason, test, volume,
+                       section_digest(grid, classes, None if self.limited is None else proved))
+
+    def _timed_section(self, plan, box, width, budget):
+        """A section moved by three joints or more: the stages of ``section_paving``.  It refines while its next
+        step would end before the time limit less the time the (x, y, z) boxes take, measured once on the first
+        proved cells (a rehearsal: more cells decided, fewer boxes)."""
+        tuning = self.tuning
+        reserve = [0.0]
+
+        def rehearse(grid, classes):
+            start = time.perf_counter()
+            classify_task_boxes(TurnedTest(plan, grid, classes), box, self.delta, self.size)
+            reserve[0] = tuning.section_reserve * (time.perf_counter() - start)
+
+        def seconds_left():
+            return budget.time_limit - budget.seconds - reserve[0]
+
+        def section_budget(count, ahead=0.0):
+            late = budget.time_limit is not None and \
+                budget.seconds + tuning.section_reserve * ahead + reserve[0] > budget.time_limit
+            spent = budget.section_boxes is not None and count >= budget.section_boxes
+            return budget.stop_reason(count) or ("section share" if late or spent else "")
+
+        timed = budget.time_limit is not None
+        with section_bar(budget.showing) as show:
+            grid, classes, evaluated, reason, pieces = section_paving(
+                plan.section, width, budget=section_budget, show=show, tuning=tuning,
+                rehearse=rehearse if timed else None, depth=tuning.section_depth if timed else 1,
+                seconds_left=seconds_left if timed else None)
+        return grid, classes, evaluated, ("" if reason == "section share" else reason), pieces
+
+    def classify(self, section, budget, run):
+        if section.reason:                  # stopped while the section was paved: every task box pending
+            root, box = _root_box(self.model)
+            return self.paving(box, [], [], [], root[None].copy(), budget, section.evaluated, section.reason,
+                               self.robot.units)
+        # A checkpoint of the classification belongs to this problem and section (a time-limited turned section
+        # may refine differently on another run: its cells are part of what the checkpoint names).
+        what = {**self.problem, "section cells": section.digest}
+        budget.spent = section.evaluated
+        paving = classify_task_boxes(section.test, section.box, self.delta, self.size, budget,
+                                     RunOn(max_memory=run.max_memory, store=run.store, resume=run.resume),
+                                     describe=what)
+        return _with(paving, evaluated=budget.spent + paving.evaluated, units=self.robot.units)
+
+
+class PairsPlan(Plan):
+    """The pairs method (:mod:`workspace_sym.serial.pairs`) on the position: its decided boxes in a store (memory
+    or disk) and, with ``run.resume``, a checkpoint of the task boxes left with their joint boxes."""
+
+    method = "pairs"
+
+    def pave(self, budget, run):
+        model = reach_model(self.robot, self.values)
+        _, box = _root_box(model)
+        return Section(box)
+
+    def classify(self, section, budget, run):
+        model, tuning = reach_model(self.robot, self.values), self.tuning
+        box = section.box
+        root = box.array
+        Q = model.limits[None].copy()
+        T = root[None].copy()
+        owner = np.zeros(1, dtype=int)
+        evaluated, seconds_before = 0, 0.0
+        step = PositionStep(self.robot, self.values, self.delta, self.size, tuning.inner_depth, tuning.max_pairs,
+                            tuning.min_pairs, float(np.prod(root[:, 1] - root[:, 0])))
+        path = None if run.resume is None else Path(run.resume)
+        fingerprint = Fingerprint({**self.problem, "method": "pairs", "lower": list(box.lower),
+                                   "upper": list(box.upper), "max_pairs": tuning.max_pairs,
+                                   "inner_depth": tuning.inner_depth})
+        if path is not None and path.exists():
+            meta, arrays = read_checkpoint(path, fingerprint)
+            keeper = BoxStore.restore(len(root), meta["store"], arrays, problem=fingerprint.digest)
+            T, Q, owner = arrays["pending"], arrays["joint_boxes"], arrays["owner"].astype(int)
+            evaluated, seconds_before = int(meta["evaluated"]), float(meta["seconds"])
+        else:
+            keeper, _ = store_for(len(root), run, fingerprint.digest)
+        spread = None if run.executor is None else runner_for(run.executor, step)
+        try:
+            T, Q, owner, done, reason = pave_pairs(step, T, Q, owner, budget=budget, keeper=keeper,
+                                                   chunk=CHUNK_PAIRS if run.chunk is None else run.chunk,
+                                                   spread=spread, show=budget.show if budget.showing else None)
+        finally:
+            if spread is not None:
+                spread.close()
+        evaluated += done
+        if path is not None:
+            write_checkpoint(path, {"fingerprint": fingerprint, "evaluated": evaluated,
+                                           "seconds": seconds_before + budget.seconds}, T, keeper,
+                             {"joint_boxes": Q, "owner": owner})
+        keeper.flush()
+        complete = not len(T)
+        return paving_of(keeper, variables=model.task_variables, box=box, constraints=(), delta=self.delta,
+                         backend="numpy", size=self.size, pending=T, seconds=seconds_before + budget.seconds,
+                         complete=complete, evaluated=evaluated, stop_reason="" if complete else reason,
+                         units=self.robot.units)
+
+
+class PoseSectionPlan(Plan):
+    """A cone about the vertical on an arm turned by its first joint (:mod:`workspace_sym.serial.pose`): the
+    constrained section ``(u, v)`` paved by the pairs loop, the task boxes classified from it by the driver
+    (store and checkpoint as for the position's section), the volume by Pappus's theorem."""
+
+    method = "section"
+
+    def __init__(self, *args, structure: PoseStructure):
+        super().__init__(*args)
+        self.structure = structure
+
+    def pave(self, budget, run):
+        position = reach_model(self.robot, self.values)
+        root, _ = _root_box(position)
+        check_root(root, self.delta, self.size, self.robot)
+        box = Box(TASK, tuple(root[:, 0]), tuple(root[:, 1]))
+        width = self.tuning.section_ratio * cell_width(self.delta, self.size, 3)
+        grid, classes, evaluated, reason = section_classes(self.structure.model, width, budget, tuning=self.tuning,
+                                                           chunk=POSE_CHUNK_PAIRS)
+        revolved = self.structure.revolved
+        return Section(box, grid, classes, evaluated, reason, RevolvedTest(revolved, grid, classes),
+                       section_volume_bracket(grid, classes, revolved), section_digest(grid, classes))
+
+    def classify(self, section, budget, run):
+        if section.reason:
+            # The budget ran out while the section was paved: its cells still classify every (x, y, z) box (its
+            # undecided cells leave boundary boxes, so the bracket holds; the run is reported incomplete, with
+            # the reason), and no checkpoint is written (a resumed run paves the section again and starts over).
+            kept = RunOn(max_memory=run.max_memory, store=run.store)
+            paving = classify_task_boxes(section.test, section.box, self.delta, self.size, run=kept)
+            return _with(paving, evaluated=section.evaluated + paving.evaluated, units=self.robot.units,
+                         complete=False, stop_reason=section.reason, seconds=budget.seconds)
+        # Then the task boxes go on within what is left of the budget; a checkpoint names the problem, the
+        # constraint and the section's cells (a resumed run paves the section again and must find the same cells).
+        what = {**self.problem, "method": self.method, "section cells": section.digest}
+        budget.spent = section.evaluated
+        paving = classify_task_boxes(section.test, section.box, self.delta, self.size, budget, run, describe=what)
+        return _with(paving, evaluated=section.evaluated + paving.evaluated, units=self.robot.units)
+
+
+class PosePairsPlan(Plan):
+    """The pairs method with a tool constraint, over ``(x, y, z)`` (:class:`~workspace_sym.serial.pose.PoseStep`
+    in the one pairs loop); its boxes stay in memory."""
+
+    method = "pairs"
+
+    def __init__(self, *args, structure: PoseStructure):
+        super().__init__(*args)
+        self.structure = structure
+
+    def pave(self, budget, run):
+        model = self.structure.model
+        root = model.position.enclose(model.position.limits[None])[0]
+        check_root(root, self.delta, self.size, self.robot)
+        return Section(Box(TASK, tuple(root[:, 0]), tuple(root[:, 1])))
+
+    def classify(self, section, budget, run):
+        model, tuning = self.structure.model, self.tuning
+        root = section.box.array
+        step = PoseStep(model, self.delta, self.size, tuning.pose_inner_depth, tuning.pose_max_pairs,
+                        tuning.min_pairs, float(np.prod(root[:, 1] - root[:, 0])))
+        keeper = BoxStore(3)
+        T, _, _, evaluated, reason = pave_pairs(step, root[None].copy(), model.root_pairs(), np.zeros(1, dtype=int),
+                                                budget=budget, keeper=keeper, chunk=POSE_CHUNK_PAIRS,
+                                                show=budget.show if budget.showing else None)
+        return self.paving(section.box, [keeper.arrays("inner")], [keeper.arrays("boundary")],
+                           [keeper.arrays("outer")], T if len(T) else None, budget, evaluated, reason,
+                           self.robot.units)
+
+
+def _with(paving: Paving, **changes) -> Paving:
+    """``paving`` with ``changes``, its decided boxes not read back when they are on disk."""
+    fields: dict[str, Any] = dict(changes)
+    if isinstance(paving, StoredPaving):        # (replace() would read the stored boxes back)
+        fields.update({k: np.empty((0, len(paving.variables), 2)) for k in ("inner", "boundary", "outer")})
+    return dataclasses.replace(paving, **fields)
+
+
+# ----------------------------------------------------------------------------------------------- choosing
+def turn_without_inner(robot: DHRobot, values: tuple) -> bool:
+    """``robot`` is a section turned by a first joint limited to less than a period (:class:`Turned`, not full)
+    that proves no inner box: a section moved by two joints (``w`` sweeps a surface, no box of ``w`` lies in it)
+    or a turn shorter than half a turn (no pair of directions covers the circle:
+    :func:`~workspace_sym.serial.turn.limited_turn` is None)."""
+    plan = structure_of(robot, values)
+    return isinstance(plan, Turned) and not plan.full and limited_turn(plan, reach_model(robot, values)) is None
+
+
+def on_cells(robot: DHRobot, values: tuple, stored: bool = False, tuning: Tuning = DEFAULT) -> bool:
+    """The critical method decides ``robot`` on one grid of task cells (:class:`CellsPlan`): a planar arm, a
+    spatial one without a product or turned-section structure, or one whose turned section proves no inner box
+    (:func:`turn_without_inner`) moved by at most ``tuning.cells_max_joints`` joints (and by three at least: the
+    image of fewer is a surface, with no inner box either way), unless its boxes are to be stored (``stored``: the
+    section path, which stores them, is kept)."""
+    model = reach_model(robot, values)
+    if model.m == 2 or structure_of(robot, values) is None:
+        return True
+    return not stored and model.m <= model.k <= tuning.cells_max_joints and turn_without_inner(robot, values)
+
+
+def choose_plans(robot: DHRobot, values: tuple, kind: str, method: str, *, delta: float, size: str,
+                 tuning: Tuning, problem: dict, run: RunOn) -> list[Plan]:
+    """The plans for ``robot`` with the resolved method ``kind`` (``"critical"`` or ``"pairs"``, from
+    ``method``): the first to try, then those that take over when its cover is too large
+    (:class:`~workspace_sym.errors.CoverTooLarge`): a turned section after the 3-D cells, and the pairs method
+    under ``"auto"``.  Storage options (``run.max_memory``, ``store``, ``resume``) keep a spatial arm off the
+    one-grid cells (pairs under ``"auto"``, refused under ``"critical"``)."""
+    stored = run.max_memory is not None or run.store is not None or run.resume is not None
+    model = reach_model(robot, values)
+    args = (robot, values, delta, size, tuning, problem)
+    pairs = PairsPlan(*args)
+    if kind == "pairs":
+        return [pairs]
+    cells = on_cells(robot, values, stored, tuning)
+    if cells and model.m == 3 and stored and method == "auto":
+        return [pairs]              # the 3-D grid is decided in memory; the pairs method stores its boxes
+    if cells and model.m == 3:
+        _ = model.minors            # the 3 x 3 minors of the cover: symbolic, within the time limit
+    if stored and cells:
+        space = "planar" if model.m == 2 else "3-D"
+        refuse_storage(f"the {space} critical method on {robot.name}", run,
+                       why="decides one grid of cells in one pass, in memory",
+                       supported="method='pairs' on any arm, and the critical method on a spatial arm with a "
+                                 "product or a section turned by its first joint")
+    plans: list[Plan] = []
+    if cells:
+        plans.append(CellsPlan(*args, executor=run.executor))
+        if model.m == 3 and structure_of(robot, values) is not None:
+            # a turned section proving no inner box: its own path (outer boxes), as before the 3-D cells
+            plans.append(SectionPlan(*args, executor=run.executor))
+    else:
+        plans.append(SectionPlan(*args, executor=run.executor))
+    if method == "auto":
+        plans.append(pairs)         # also when the critical cover is too large
+    return plans
+
+
+def pose_plan(robot: DHRobot, values: tuple, constraint: PoseConstraint, structure: PoseStructure, *,
+              delta: float, size: str, tuning: Tuning, run: RunOn) -> Plan:
+    """The plan of a run with a tool constraint: the constrained section when the first joint turns it (a cone
+    about the vertical), the pairs method otherwise (its boxes in memory: storage options refused)."""
+    problem = reach_problem(robot, values, delta, size, tuning, constraint=constraint.to_dict())
+    args = (robot, values, delta, size, tuning, problem)
+    if structure.revolved is None:
+        refuse_storage(f"reach with {constraint} on {robot.name} (the pairs method)", run,
+                       why="keeps its boxes in memory",
+                       supported="the section method (a constraint whose section the first joint turns, "
+                                 "such as a cone about the vertical on the Puma 560) and reach without a pose")
+        return PosePairsPlan(*args, structure=structure)
+    return PoseSectionPlan(*args, structure=structure)

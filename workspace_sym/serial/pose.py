@@ -1,0 +1,1057 @@
+"""Certified orientation workspaces of a serial robot: where the tool can be *and point where it must*.
+
+``reach(robot, pose=Pose(...))`` (the pose plans of :mod:`workspace_sym.serial.plans`)
+paves the space of tool positions ``(x, y, z)`` under one of two constraints
+on the tool frame (its rotation ``R(q)``, the tool transform included; the
+approach axis ``a(q)`` is its third column):
+
+* **cone** (``approach=d, cone=c``): ``a(q) . d >= |d| cos c`` (the approach
+  axis within ``c`` degrees of ``d``; ``c = 0`` is the exact direction);
+* **orientation** (``orientation=R`` or ``rpy=(r, p, y)``): ``R(q) = R``.
+
+It returns the same three kinds of boxes as
+:func:`workspace_sym.serial.api.reach` without a pose:
+
+* **outer**: no configuration within the joint limits that satisfies the
+  constraint puts the tool point in the box;
+* **inner**: every point of the box is the tool point of some configuration
+  within the limits that satisfies the constraint;
+* **boundary**: neither is proved and the box is at most ``delta``.
+
+The method is the ``"pairs"`` method of ``reach`` with the constraint as a
+filter (docs/methods.md section 8).  The joints are split into *arm* joints,
+which move the position, and *wrist* joints, which move only the constrained
+quantity (``a(q) . d``, or ``R(q)``).  Each task box carries arm boxes
+covering every *admissible* configuration whose position may lie in it; an
+arm box is dropped when its position enclosure misses the task box, or when
+the constraint is proved violated over it times every box of a cover of the
+wrist limits (cone: the upper bound of ``a . d`` below the lower bound of
+``|d| cos c``, and for ``c = 0`` also ``a . e1`` or ``a . e2`` excluding 0;
+orientation: some entry of ``R(q)`` whose enclosure misses that entry of
+``R``).  A task box left without arm boxes is outer.  An arm box proved
+admissible for every arm value (a wrist value satisfying the cone over the
+whole box; for the exact direction, a parametric Krawczyk test on the wrist)
+keeps that status in its halves.
+
+A constant orientation is reduced to the exact direction ``R z`` when the
+last joint spins the tool about its approach axis through a full turn (the
+Puma, the UR5, a SCARA); a cone about the vertical on a robot turned by its
+first joint (``reach``'s section structure) is paved on the section
+``(u, v)`` and turned by the first joint: ``method`` is then ``"section"``,
+and the volume bracket is also proved from the section's cells by Pappus's
+theorem (:func:`section_volume_bracket`, kept as the paving's ``volume_bounds``).
+
+Inner proofs: the Krawczyk test of
+:class:`~workspace_sym.interval.image.ImageMap` on a square system around a
+Newton solution for the box centre, with a side condition proved over the
+Krawczyk box ``U`` (:meth:`ImageMap.admissible`):
+
+* cone with ``c > 0``: the position equations ``p(q) = y`` in three joints
+  (the others fixed at the Newton solution), and ``a . d >= |d| cos c`` proved
+  over ``U``: every point of the box is reached by a configuration in ``U``,
+  all of which satisfy the constraint;
+* cone with ``c = 0``: ``p(q) = y``, ``a . e1 = a . e2 = 0`` (``e1, e2`` an
+  exact orthogonal basis of ``d``'s normal plane) in as many joints, and
+  ``a . d > 0`` over ``U`` (so ``a`` is ``d / |d|``, not its opposite);
+* orientation: ``p(q) = y`` and the skew part of ``R^T R(q)`` zero in six
+  joints, and ``trace(R^T R(q)) > -1`` over ``U``: ``R^T R(q)`` is then a
+  symmetric rotation other than a half turn, the identity, so ``R(q) = R``.
+
+So an inner box is proved with the constraint *exactly* (no tolerance):
+the solution the Krawczyk operator proves lies in ``U``, inside the limits.
+
+A cone on an arm with a roll-pitch wrist (two joints moving the approach
+and not the position, the first turning fully, ``a . z = cos(q_k + phi)``
+about its axis ``z``) is paved as a cone on ``z`` over the arm joints alone
+(:func:`wrist_reduction`, docs/methods.md section 8).
+
+``every=True`` (positions from which every direction of the cone is
+reachable, the dextrous workspace of Kumar and Waldron) is proved with a
+roll-pitch wrist (inner: one arm configuration whose wrist reaches the whole
+cone; outer: ``d`` itself unreachable) and raises otherwise for ``c > 0``; for
+``c = 0`` it is the same as ``every=False``.
+
+The target rotation is made exact: ``rpy`` angles are read like the angles
+of a DH file (numbers are degrees, ``pi`` makes radians); a matrix must be a
+rotation within ``ORTHOGONAL_TOL``; it is read as its roll, pitch and yaw,
+each snapped to a multiple of ``pi/360`` within that tolerance
+(:func:`workspace_sym.snap.snap_angle`) or else taken as the exact binary
+value of its float, and the workspace is that of the rotation those angles
+define (within ``ORTHOGONAL_TOL`` of the matrix given; ``constraint.rotation``).
+Every verdict rests on outward-rounded interval arithmetic (numpy engine).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from functools import lru_cache
+
+import numpy as np
+import sympy as sp
+
+from ..errors import InvalidParameterError
+from ..expressions import parse_angle
+from ..interval import arith
+from ..interval.boxes import box_sizes, halves
+from ..interval.compiler import compile_expr
+from ..interval.graph import exact_constants, numpy_constant
+from ..interval.image import CellGrid, ImageMap, dot, meets
+from ..interval.store import BoxStore, ExactSum
+from ..interval.verdict import INSIDE as INNER
+from ..interval.verdict import OUTSIDE as OUTER
+from ..interval.verdict import UNDECIDED
+from ..kinematics import DHRobot
+from ..numbers import fmt
+from ..snap import snap_angle
+from ..transforms import rot_x, rot_y, rot_z
+from .angles import ANGLE_PAD
+from .model import TASK, joint_range, reach_model
+from .pairs import caps, pave_pairs, prove_in_pieces, split_pairs
+from .section import section_bar
+from .structure import Revolved, revolved
+from .tuning import DEFAULT, Tuning
+
+__all__ = ["PoseConstraint", "approach_constraint", "orientation_constraint", "constraint_from", "PoseModel",
+           "PoseStructure", "pose_structure", "wrist_reduction", "PoseStep", "section_classes",
+           "section_volume_bracket", "ORTHOGONAL_TOL"]
+
+ORTHOGONAL_TOL = 1e-9            # a matrix farther than this from a rotation (entrywise) is refused
+
+
+def _exact(value) -> sp.Expr:
+    """``value`` (a number) with its floats replaced by the rationals they are."""
+    return exact_constants(sp.sympify(value))
+
+
+def _real(value, parameter: str, what: str) -> float:
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise InvalidParameterError(f"{parameter} must be {what}; got {value!r}", parameter=parameter) from None
+    if not math.isfinite(number):
+        raise InvalidParameterError(f"{parameter} must be {what}; got {value!r}", parameter=parameter)
+    return number
+
+
+def _rotation(roll, pitch, yaw) -> sp.Matrix:
+    """``Rz(yaw) Ry(pitch) Rx(roll)`` (the URDF convention), exact."""
+    return sp.ImmutableMatrix((rot_z(yaw) * rot_y(pitch) * rot_x(roll))[:3, :3])
+
+
+@dataclass(frozen=True)
+class PoseConstraint:
+    """A constraint on the tool frame: ``kind`` is ``"cone"`` (``direction`` an exact 3-vector, ``cone`` the
+    exact half-angle in radians, ``degrees`` as given, ``every``) or ``"orientation"`` (``rotation`` an exact
+    rotation matrix, ``rpy`` its exact roll, pitch, yaw in radians)."""
+
+    kind: str
+    direction: tuple = ()
+    cone: sp.Expr = sp.S.Zero
+    degrees: float = 0.0
+    every: bool = False
+    rotation: sp.Matrix | None = None
+    rpy: tuple = ()
+
+    def to_dict(self) -> dict:
+        """The constraint for a JSON answer (floats; the exact values as text)."""
+        if self.kind == "cone":
+            return {"approach": [float(c) for c in self.direction], "cone_deg": self.degrees, "every": self.every}
+        return {"orientation": [[float(self.matrix[i, j]) for j in range(3)] for i in range(3)],
+                "rpy_deg": [float(a * 180 / sp.pi) for a in self.rpy],
+                "rpy_exact": [sp.sstr(a) for a in self.rpy]}
+
+    @property
+    def matrix(self) -> sp.Matrix:
+        """The exact rotation of an orientation constraint."""
+        if self.rotation is None:
+            raise ValueError(f"{self} has no rotation matrix")
+        return self.rotation
+
+    def words(self) -> str:
+        """The constraint in words, as a report or a notebook states it.
+
+        >>> approach_constraint((0, 0, -1), 20, every=True).words()
+        "the tool's approach axis (z of the tool frame) can reach every direction within 20 degrees of (0, 0, -1)"
+        """
+        if self.kind == "cone":
+            what = ("the tool's approach axis (z of the tool frame) can reach every direction within "
+                    if self.every else "the tool's approach axis (z of the tool frame) can lie within ")
+            direction = ", ".join(fmt(float(c), 6, "g") for c in self.direction)
+            return what + f"{fmt(self.degrees, 6, 'g')} degrees of ({direction})"
+        return ("the tool frame can be exactly the rotation of roll, pitch, yaw ("
+                + ", ".join(fmt(float(a * 180 / sp.pi), 6, "g") for a in self.rpy) + ") degrees")
+
+    def __str__(self) -> str:
+        if self.kind == "cone":
+            d = ", ".join(f"{float(c):g}" for c in self.direction)
+            return f"approach within {self.degrees:g} deg of ({d})" + (" (every direction)" if self.every else "")
+        return "orientation rpy = (" + ", ".join(f"{float(a * 180 / sp.pi):g}" for a in self.rpy) + ") deg"
+
+
+def approach_constraint(approach, cone, every: bool = False) -> PoseConstraint:
+    """The cone constraint, checked: ``approach`` three finite numbers not all zero, ``cone`` in [0, 180]
+    degrees.
+
+    Examples
+    --------
+    >>> str(approach_constraint((0, 0, -2), 20))
+    'approach within 20 deg of (0, 0, -2)'
+    >>> approach_constraint((0, 0, 0), 20)
+    Traceback (most recent call last):
+    ...
+    workspace_sym.errors.InvalidParameterError: approach must be a non-zero vector (ax, ay, az); got (0, 0, 0)
+    """
+    try:
+        values = tuple(approach)
+    except TypeError:
+        values = ()
+    if len(values) != 3:
+        raise InvalidParameterError(f"approach must be three numbers (ax, ay, az); got {approach!r}",
+                                    parameter="approach")
+    numbers = [_real(v, "approach", "three finite numbers (ax, ay, az)") for v in values]
+    if not any(numbers):
+        raise InvalidParameterError(f"approach must be a non-zero vector (ax, ay, az); got {approach!r}",
+                                    parameter="approach")
+    if cone is None:
+        raise InvalidParameterError("cone must be given with approach (degrees, 0 for the exact direction); got "
+                                    "None", parameter="cone")
+    degrees = _real(cone, "cone", "an angle in degrees between 0 and 180")
+    if not 0 <= degrees <= 180:
+        raise InvalidParameterError(f"cone must be an angle in degrees between 0 and 180; got {cone!r}",
+                                    parameter="cone")
+    if not isinstance(every, bool):
+        raise InvalidParameterError(f"every must be True or False; got {every!r}", parameter="every")
+    direction = tuple(_exact(v) for v in numbers)
+    return PoseConstraint("cone", direction, _exact(degrees) * sp.pi / 180, degrees, every)
+
+
+def orientation_constraint(orientation=None, rpy=None) -> PoseConstraint:
+    """The constant-orientation constraint from a 3 x 3 rotation matrix or from roll, pitch, yaw angles
+    (``Rz(yaw) Ry(pitch) Rx(roll)``; numbers are degrees, text with ``pi`` radians), made exact (module
+    docstring).
+
+    Examples
+    --------
+    >>> c = orientation_constraint(rpy=(180, 0, 0))
+    >>> c.rotation
+    Matrix([
+    [1,  0,  0],
+    [0, -1,  0],
+    [0,  0, -1]])
+    >>> orientation_constraint([[1, 0, 0], [0, 1, 0], [0, 0, 2]])  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    workspace_sym.errors.InvalidParameterError: orientation must be a rotation matrix ...
+    """
+    if (orientation is None) == (rpy is None):
+        raise InvalidParameterError("give one of orientation (a 3 x 3 rotation matrix) and rpy (roll, pitch, yaw); "
+                                    f"got orientation={orientation!r}, rpy={rpy!r}", parameter="orientation")
+    if rpy is not None:
+        try:
+            values = tuple(rpy)
+        except TypeError:
+            values = ()
+        if len(values) != 3:
+            raise InvalidParameterError(f"rpy must be three angles (roll, pitch, yaw); got {rpy!r}", parameter="rpy")
+        angles = []
+        for v in values:
+            angle = parse_angle(v if isinstance(v, str) else _exact(_real(v, "rpy", "three finite angles")),
+                                "rpy", degrees=True)
+            if angle.free_symbols or not angle.is_real:
+                raise InvalidParameterError(f"rpy must be three numeric angles; got {rpy!r}", parameter="rpy")
+            angles.append(angle)
+        return PoseConstraint("orientation", rotation=_rotation(*angles), rpy=tuple(angles))
+    expected = "a rotation matrix (3 x 3, orthonormal rows, determinant +1, within 1e-09)"
+    try:
+        M = np.array(orientation, dtype=float)
+    except (TypeError, ValueError):
+        raise InvalidParameterError(f"orientation must be {expected}; got {orientation!r}",
+                                    parameter="orientation") from None
+    if M.shape != (3, 3) or not np.isfinite(M).all():
+        raise InvalidParameterError(f"orientation must be {expected}; got {orientation!r}", parameter="orientation")
+    error = np.abs(M.T @ M - np.eye(3)).max()
+    if error > ORTHOGONAL_TOL or np.linalg.det(M) < 0:
+        why = f"M^T M - I is {error:.3g} away from zero" if error > ORTHOGONAL_TOL else "its determinant is -1"
+        raise InvalidParameterError(f"orientation must be {expected}; got {M.tolist()} ({why})",
+                                    parameter="orientation")
+    # Roll, pitch, yaw of Rz(y) Ry(p) Rx(r), each snapped to a multiple of pi/360 or kept as its float.
+    pitch = math.atan2(-M[2, 0], math.hypot(M[0, 0], M[1, 0]))
+    if math.hypot(M[0, 0], M[1, 0]) > 1e-6:
+        roll, yaw = math.atan2(M[2, 1], M[2, 2]), math.atan2(M[1, 0], M[0, 0])
+    else:                                   # gimbal lock: yaw = 0
+        roll, yaw = math.atan2(-M[1, 2], M[1, 1]), 0.0
+    snapped = tuple(snap_angle(a, ORTHOGONAL_TOL) or sp.Rational(a) for a in (roll, pitch, yaw))
+    R = _rotation(*snapped)
+    if np.abs(np.array(R.evalf(20).tolist(), dtype=float) - M).max() > ORTHOGONAL_TOL:
+        raise InvalidParameterError(f"orientation must be {expected}; got {M.tolist()} (no roll, pitch, yaw "
+                                    "reproduces it)", parameter="orientation")
+    return PoseConstraint("orientation", rotation=R, rpy=snapped)
+
+
+def _orthonormal_pair(d):
+    """Two exact vectors spanning the plane normal to ``d`` (orthogonal to it and to each other)."""
+    d = sp.Matrix(d)
+    k = min(range(3), key=lambda i: abs(float(d[i])))
+    e = sp.Matrix([1 if i == k else 0 for i in range(3)])
+    e1 = e - d * (d.dot(e) / d.dot(d))
+    return e1, d.cross(e1)
+
+
+class _ConstrainedMap(ImageMap):
+    """The square system of the inner test (module docstring): ``p(q) = y`` and ``g(q) = 0``, with the side
+    condition ``s(q) > bound`` (``>=`` when ``closed``) proved over the Krawczyk box."""
+
+    def __init__(self, position, equations, side, bound, closed, variables, limits, periodic, aim=None):
+        # An equation that is identically zero holds everywhere: it is not part of the square system.
+        equations = [e for e in equations if sp.simplify(e) != 0]
+        super().__init__(list(position) + list(equations), variables, limits, periodic)
+        self.extra = len(equations)
+        self._side = compile_expr(side, self.variables)
+        self.bound, self.closed = bound, closed
+        self.aim = aim                      # a map whose Newton solutions are tried first (cone: a = d)
+
+    def side(self, Q: np.ndarray):
+        X = [(Q[:, j, 0], Q[:, j, 1]) for j in range(self.k)]
+        with np.errstate(all="ignore"):
+            lo, hi = self._side(X)
+        return np.broadcast_to(lo, (len(Q),)), np.broadcast_to(hi, (len(Q),))
+
+    def admissible(self, box):
+        lo, _ = self.side(box)
+        return (lo >= self.bound) if self.closed else (lo > self.bound)
+
+    def prove_inside(self, T, seeds, *, newton: int = 8):
+        """Inner test of position boxes ``T`` (``(N, 3, 2)``): the equations ``g = 0`` get the target 0."""
+        if self.k < self.m:
+            return np.zeros(len(T), dtype=bool)
+        padded = np.concatenate([T, np.zeros((len(T), self.extra, 2))], axis=1)
+        centre = 0.5 * (padded[:, :, 0] + padded[:, :, 1])
+        proved = np.zeros(len(T), dtype=bool)
+        if self.aim is not None:
+            aim_centre = np.concatenate([centre, np.zeros((len(T), self.aim.m - self.m))], axis=1)
+            q, ok = self.aim.newton(aim_centre, seeds, steps=newton)
+            rows = np.nonzero(ok)[0]
+            proved[rows] = self.prove_inside_at(padded[rows], q[rows])
+        rows = np.nonzero(~proved)[0]
+        if len(rows):
+            q, _ = self.newton(centre[rows], seeds[rows], steps=newton)
+            proved[rows] = self.prove_inside_at(padded[rows], q)
+        return proved
+
+
+class _WristSolver:
+    """A parametric Krawczyk test on the wrist: for an arm box ``A``, a wrist box ``W`` around a Newton
+    solution ``w0`` for the arm box's centre and a float matrix ``C``, if
+    ``K = w0 - C g(A, w0) + (I - C J_w(A, W)) (W - w0)`` lies in the interior of ``W`` (outward-rounded), then
+    for every arm value in ``A`` the equations ``g(arm, w) = 0`` have a solution ``w`` in ``W`` (the Krawczyk
+    operator of ``g(arm, .)`` maps ``W`` into its interior); with ``W`` within the wrist limits and the side
+    condition ``s > 0`` proved over ``A x W``, the arm box is admissible everywhere."""
+
+    def __init__(self, equations, side, variables, ka):
+        self.ka = ka
+        wrist = variables[ka:]
+        self.g = [compile_expr(e, variables) for e in equations]
+        self.dg = [[compile_expr(sp.diff(e, w), variables) for w in wrist] for e in equations]
+        self.side = compile_expr(side, variables)
+        self.side_float = sp.lambdify([variables], side, modules="numpy")
+        self.g_float = sp.lambdify([variables], equations, modules="numpy")
+        self.dg_float = sp.lambdify([variables], [[sp.diff(e, w) for w in wrist] for e in equations],
+                                    modules="numpy")
+
+    def _floats(self, f, q, shape):
+        with np.errstate(all="ignore"):
+            out = f(q.T)
+        return np.moveaxis(np.array([[np.broadcast_to(np.asarray(v, dtype=float), (len(q),)) for v in row]
+                                     for row in out] if len(shape) == 2 else
+                                    [np.broadcast_to(np.asarray(v, dtype=float), (len(q),)) for v in out]), -1, 0)
+
+    @staticmethod
+    def _eval(f, Q):
+        X = [(Q[:, j, 0], Q[:, j, 1]) for j in range(Q.shape[1])]
+        with np.errstate(all="ignore"):
+            lo, hi = f(X)
+        return np.broadcast_to(lo, (len(Q),)), np.broadcast_to(hi, (len(Q),))
+
+    def solves(self, arm, w, wrist: ImageMap) -> np.ndarray:
+        """Mask of the float wrist values ``w`` solving the equations at ``arm`` to 1e-9, within the limits,
+        with the side condition (no proof: it only spares the search for a proof of violation)."""
+        q = np.concatenate([arm, w], axis=1)
+        g = self._floats(self.g_float, q, (wrist.k,))
+        with np.errstate(all="ignore"):
+            side = np.broadcast_to(np.asarray(self.side_float(q.T), dtype=float), (len(q),))
+        within = ((w >= wrist.inner_limits[:, 0]) & (w <= wrist.inner_limits[:, 1])).all(axis=1)
+        return within & (np.abs(g).max(axis=1) <= 1e-9) & (side > 0)
+
+    def prove(self, A, w, wrist: ImageMap, *, steps: int = 6):
+        """Mask of the arm boxes ``A`` proved admissible everywhere, and the wrist value of each."""
+        n, k = len(A), wrist.k
+        centre = 0.5 * (A[:, :, 0] + A[:, :, 1])
+        for _ in range(steps):                           # Newton on the wrist at the arm box's centre
+            q = np.concatenate([centre, w], axis=1)
+            g = self._floats(self.g_float, q, (k,))
+            J = self._floats(self.dg_float, q, (k, k))
+            with np.errstate(all="ignore"):
+                try:
+                    step = np.linalg.solve(J + 1e-12 * np.eye(k), g[:, :, None])[:, :, 0]
+                except np.linalg.LinAlgError:
+                    break
+                w = np.where(np.isfinite(step), w - step, w)
+        w = np.clip(w, wrist.inner_limits[:, 0], wrist.inner_limits[:, 1])
+        q = np.concatenate([centre, w], axis=1)
+        J = self._floats(self.dg_float, q, (k, k))
+        with np.errstate(all="ignore"):
+            det = np.linalg.det(np.where(np.isfinite(J), J, 0.0))
+        singular = ~(np.abs(det) > 1e-12) | ~np.isfinite(J).all(axis=(1, 2))
+        J[singular] = np.eye(k)
+        C = np.linalg.inv(J)
+        usable = ~singular & np.isfinite(C).all(axis=(1, 2)) & np.isfinite(w).all(axis=1)
+        C = np.where(usable[:, None, None], C, 0.0)
+        point = np.concatenate([A, np.repeat(w[:, :, None], 2, axis=2)], axis=1)
+        g0 = [self._eval(f, point) for f in self.g]
+        # W: a box around w0 of the size by which the arm box moves the solution, widened.
+        spread = np.stack([np.maximum(np.abs(lo), np.abs(hi)) for lo, hi in g0], axis=1)
+        radius = 2.0 * np.einsum("nij,nj->ni", np.abs(C), spread) + 1e-12
+        proved = np.zeros(n, dtype=bool)
+        for _ in range(3):
+            W = np.stack([w - radius, w + radius], axis=2)
+            within = ((W[:, :, 0] >= wrist.inner_limits[:, 0]) & (W[:, :, 1] <= wrist.inner_limits[:, 1])
+                      | wrist.periodic).all(axis=1)
+            full = np.concatenate([A, W], axis=1)
+            JW = [[self._eval(f, full) for f in row] for row in self.dg]
+            K = np.empty((n, k, 2))
+            for a in range(k):
+                c = [(C[:, a, i], C[:, a, i]) for i in range(k)]
+                acc = arith.neg(dot(c, g0))
+                for b in range(k):
+                    cj = dot(c, [JW[i][b] for i in range(k)])
+                    identity = (1.0, 1.0) if a == b else (0.0, 0.0)
+                    offset = arith.sub((W[:, b, 0], W[:, b, 1]), (w[:, b], w[:, b]))
+                    acc = arith.add(acc, arith.mul(arith.sub(identity, cj), offset))
+                K[:, a, 0], K[:, a, 1] = arith.add(acc, (w[:, a], w[:, a]))
+            side_lo, _ = self._eval(self.side, full)
+            inside = (K[:, :, 0] > W[:, :, 0]).all(axis=1) & (K[:, :, 1] < W[:, :, 1]).all(axis=1)
+            proved |= usable & within & inside & (side_lo > 0)
+            grow = np.maximum(np.abs(K[:, :, 0] - w), np.abs(K[:, :, 1] - w))
+            radius = np.where(np.isfinite(grow), np.maximum(radius, 1.2 * grow), radius)
+        return proved, w
+
+
+class PoseModel:
+    """A position map (``m`` task coordinates) over the joints that move the position or the constrained
+    quantity, the constraint's enclosures, and the square system of the inner test (module docstring).
+
+    ``approach`` is the tool's approach axis (three expressions) and ``rotation`` its frame (3 x 3, for a
+    constant orientation); ``limits`` are exact, ``periodic`` as for :class:`ImageMap`.
+    """
+
+    def __init__(self, position, approach, rotation, constraint: PoseConstraint, variables, limits, periodic,
+                 task_variables, *, proof_cone: sp.Expr | None = None, tuning: Tuning = DEFAULT):
+        self.constraint = constraint
+        self.wrist_cells, self.wrist_grid = tuning.wrist_cells, tuning.wrist_grid
+        variables, limits, periodic = list(variables), list(limits), list(periodic)
+        position = [sp.sympify(e) for e in position]
+        approach = sp.Matrix(approach)
+        if constraint.kind == "cone":
+            d = sp.Matrix(constraint.direction)
+            e1, e2 = _orthonormal_pair(d)
+            # The exact direction is also a . e1 = a . e2 = 0: enclosures of these exclude 0 at a distance of
+            # the order of the box, where a . d only falls quadratically short of |d|.
+            quantities = [approach.dot(d)] + ([approach.dot(e1), approach.dot(e2)] if constraint.cone == 0 else [])
+        else:
+            quantities = list(rotation)
+        # Arm joints move the position; wrist joints only the constrained quantity (docs/methods.md section 8).
+        moving = set().union(*(e.free_symbols for e in position))
+        order = sorted(range(len(variables)), key=lambda j: variables[j] not in moving)
+        variables, limits, periodic = ([seq[j] for j in order] for seq in (variables, limits, periodic))
+        self.ka = sum(q in moving for q in variables)
+        self.position = ImageMap(position, variables[:self.ka], limits[:self.ka], periodic[:self.ka])
+        self.wrist = ImageMap([], variables[self.ka:], limits[self.ka:], periodic[self.ka:])
+        self.variables = tuple(variables)
+        self.task_variables = tuple(task_variables)
+        self._quantities = [compile_expr(e, self.variables) for e in quantities]
+        self.solver = None
+        self._lead_float = sp.lambdify([self.variables], quantities[0], modules="numpy")
+        if constraint.kind == "cone":
+            norm = sp.sqrt(d.dot(d))
+            self.bound = numpy_constant(norm * sp.cos(constraint.cone))
+            if constraint.cone == 0:
+                self.proof = _ConstrainedMap(position, [approach.dot(e1), approach.dot(e2)], approach.dot(d), 0.0,
+                                             False, variables, limits, periodic)
+                if self.wrist.k == 2:
+                    self.solver = _WristSolver([approach.dot(e1), approach.dot(e2)], approach.dot(d), self.variables,
+                                               self.ka)
+            else:
+                # The inner proof may need a narrower cone than the one whose violation drops a box (every=True
+                # after the wrist reduction); Newton first aims the axis at d when that leaves a square system.
+                proof_bound = self.bound if proof_cone is None else numpy_constant(norm * sp.cos(proof_cone))
+                aim = (ImageMap(position + [approach.dot(e1), approach.dot(e2)], variables, limits, periodic)
+                       if len(variables) >= len(position) + 2 else None)
+                self.proof = _ConstrainedMap(position, [], approach.dot(d), proof_bound[1], True, variables, limits,
+                                             periodic, aim=aim)
+        else:
+            self.entries = np.array([numpy_constant(e) for e in constraint.matrix], dtype=np.float64)   # (9, 2)
+            M = constraint.matrix.T * rotation
+            skew = [M[2, 1] - M[1, 2], M[0, 2] - M[2, 0], M[1, 0] - M[0, 1]]
+            self.proof = _ConstrainedMap(position, skew, M.trace(), -1.0, False, variables, limits, periodic)
+        root = self.position.enclose(self.position.limits[None])[0]
+        length = 0.5 * float(np.max(root[:, 1] - root[:, 0]))
+        # How much a joint moves the position (largest Jacobian entry over the limits) and the constrained
+        # quantity (an angle of at most the joint's turn, as a length: times half the root box).
+        J = self.position.jacobian_enclosure(self.position.limits[None])
+        m = self.position.m
+        scale = np.array([max(max(abs(float(J[i][j][0][0])), abs(float(J[i][j][1][0]))) for i in range(m))
+                          for j in range(self.position.k)])
+        self.position_scale = np.where(np.isfinite(scale), scale, length)
+
+    def _enclosures(self, Q: np.ndarray) -> list:
+        X = [(Q[:, j, 0], Q[:, j, 1]) for j in range(Q.shape[1])]
+        with np.errstate(all="ignore"):
+            return [tuple(np.broadcast_to(v, (len(Q),)) for v in f(X)) for f in self._quantities]
+
+    def constraint_status(self, Q: np.ndarray):
+        """Masks of the boxes ``Q`` over all joints (arm, then wrist) on which the constraint is proved
+        violated everywhere, and proved satisfied everywhere (NaN: neither)."""
+        E = self._enclosures(Q)
+        if self.constraint.kind == "cone":
+            lo, hi = E[0]
+            violated = hi < self.bound[0]
+            for lo_e, hi_e in E[1:]:                 # the exact direction: a . e = 0
+                violated |= (lo_e > 0) | (hi_e < 0)
+            return violated, (lo >= self.bound[1]) & (len(E) == 1)
+        violated = np.zeros(len(Q), dtype=bool)
+        for (lo, hi), (r_lo, r_hi) in zip(E, self.entries):
+            violated |= (hi < r_lo) | (lo > r_hi)
+        return violated, np.zeros(len(Q), dtype=bool)
+
+    def admissibility(self, A: np.ndarray):
+        """For arm boxes ``A`` (``(N, ka, 2)``): the mask of those on which no wrist within its limits
+        satisfies the constraint (proved), the mask of those on which one wrist value satisfies it for every
+        arm value (proved), and a wrist value per box (that value, or the centre of a wrist box not proved
+        violated).
+
+        Wrist boxes are halved (widest first) while wider than the arm box, at most ``wrist_cells`` per arm
+        box; a wrist box is dropped when the constraint is proved violated over it times the arm box.  This
+        search for a proof of violation is skipped where a float search finds a wrist value satisfying the
+        constraint at the arm box's centre (a box is only dropped on a proof, so skipping is always sound)."""
+        n, kw = len(A), self.wrist.k
+        if kw == 0:
+            dead, sure = self.constraint_status(A)
+            return dead, sure, np.zeros((n, 0))
+        witness = np.repeat(0.5 * (self.wrist.inner_limits[:, 0] + self.wrist.inner_limits[:, 1])[None], n, axis=0)
+        sure, alive = np.zeros(n, dtype=bool), np.zeros(n, dtype=bool)
+        centre = 0.5 * (A[:, :, 0] + A[:, :, 1])
+        if self.constraint.kind == "cone" and self.constraint.cone != 0:
+            # First the wrist value of a small grid that best aims the axis at the arm box's centre (floats),
+            # then the proof that it satisfies the cone over the whole arm box.
+            best = self._best_wrist(centre)
+            point = np.repeat(best[:, :, None], 2, axis=2)
+            _, holds = self.constraint_status(np.concatenate([A, point], axis=1))
+            sure[holds], witness[holds] = True, best[holds]
+            with np.errstate(all="ignore"):
+                value = self._lead_float(np.concatenate([centre, best], axis=1).T)
+            plausible = np.broadcast_to(np.asarray(value, dtype=float), (n,)) >= self.bound[1]
+        elif self.solver is not None:
+            best = self._best_wrist(centre)
+            holds, value = self.solver.prove(A, best, self.wrist)
+            sure[holds], witness[holds] = True, value[holds]
+            plausible = self.solver.solves(centre, value, self.wrist)
+        else:
+            best, plausible = witness, np.zeros(n, dtype=bool)
+        keep = plausible & ~sure
+        alive[keep], witness[keep] = True, (best if self.solver is None else value)[keep]
+        W = np.repeat(self.wrist.limits[None], n, axis=0)[~sure & ~plausible]
+        row = np.nonzero(~sure & ~plausible)[0]
+        target = np.max(A[:, :, 1] - A[:, :, 0], axis=1)
+        survives = np.zeros(n, dtype=bool)          # a wrist box not proved violated is left at the end
+        seen = np.zeros(n, dtype=bool)
+        while len(W):
+            violated, _ = self.constraint_status(np.concatenate([A[row], W], axis=1))
+            W, row = W[~violated], row[~violated]
+            centre = np.clip(0.5 * (W[:, :, 0] + W[:, :, 1]), self.wrist.inner_limits[:, 0],
+                             self.wrist.inner_limits[:, 1])
+            if self.constraint.kind == "cone":
+                point = np.repeat(centre[:, :, None], 2, axis=2)
+                _, holds = self.constraint_status(np.concatenate([A[row], point], axis=1))
+                sure[row[holds]] = True
+                witness[row[holds]] = centre[holds]
+            fresh = ~seen[row] & ~sure[row]
+            witness[row[fresh]] = centre[fresh]
+            seen[row] = True
+            keep = ~sure[row]
+            W, row = W[keep], row[keep]
+            width = W[:, :, 1] - W[:, :, 0]
+            split = np.max(width, axis=1) > target[row]
+            count = np.bincount(row, minlength=n) + np.bincount(row[split], minlength=n)
+            split &= (count <= self.wrist_cells)[row]
+            children, ok = halves(W[split])
+            # Boxes not split, or one float wide, are final: their arm box is not proved violated.
+            survives[row[~split]] = True
+            survives[row[split][~ok]] = True
+            W = children.reshape(-1, 2, kw, 2)[ok].reshape(-1, kw, 2)
+            row = np.repeat(row[split][ok], 2)
+        return ~alive & ~sure & ~survives, sure, witness
+
+    def _best_wrist(self, arm: np.ndarray) -> np.ndarray:
+        """Per arm value (``(N, ka)``), the wrist value of a grid over the wrist limits (``wrist_grid`` per joint)
+        where the first constrained quantity (``a . d``) is largest, in floats."""
+        axes = [np.linspace(lo, hi, self.wrist_grid) for lo, hi in self.wrist.inner_limits]
+        grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, self.wrist.k)
+        best = np.empty((len(arm), self.wrist.k))
+        for start in range(0, len(arm), 4096):
+            a = arm[start:start + 4096]
+            q = np.concatenate([np.repeat(a, len(grid), axis=0), np.tile(grid, (len(a), 1))], axis=1)
+            with np.errstate(all="ignore"):
+                value = np.broadcast_to(np.asarray(self._lead_float(q.T), dtype=float), (len(q),))
+            value = np.where(np.isfinite(value), value, -np.inf).reshape(len(a), len(grid))
+            best[start:start + 4096] = grid[np.argmax(value, axis=1)]
+        return best
+
+    def distribute(self, T, Q, owner, cap, *, rounds: int = 4):
+        """Keep the (joint box, task box) pairs whose arm box may hold an admissible configuration with its
+        position in the task box, halving arm boxes along the joint that widens the position most while
+        their position is wider than the task box, while a task box holds at most ``cap`` pairs.
+
+        ``Q`` holds per pair the arm box, then a wrist value per wrist joint and a status (0: not examined,
+        1: not proved either way, 2: admissible for every arm value) as point intervals."""
+        ka, kw = self.ka, self.wrist.k
+        for r in range(rounds + 1):
+            fresh = Q[:, -1, 0] == 0
+            if fresh.any():
+                dead, sure, witness = self.admissibility(Q[fresh, :ka])
+                rows = np.nonzero(fresh)[0]
+                Q[rows, ka:ka + kw] = witness[:, :, None]
+                Q[rows, -1] = np.where(sure, 2.0, np.where(dead, -1.0, 1.0))[:, None]
+            E = self.position.enclose(Q[:, :ka])
+            keep = meets(E, T[owner]) & (Q[:, -1, 0] > 0)
+            Q, owner, E = Q[keep], owner[keep], E[keep]
+            if r == rounds:
+                break
+            width = Q[:, :ka, 1] - Q[:, :ka, 0]
+            task = np.max(T[owner, :, 1] - T[owner, :, 0], axis=1)
+            split = np.max(E[:, :, 1] - E[:, :, 0], axis=1) > task
+            after = np.bincount(owner, minlength=len(T)) + np.bincount(owner[split], minlength=len(T))
+            split &= (after <= cap)[owner]
+            if not split.any():
+                break
+            children, ok = halves(Q[split], np.argmax(width * self.position_scale, axis=1)[split])
+            children = children.reshape(-1, 2, *Q.shape[1:])[ok].reshape(-1, *Q.shape[1:])
+            children[:, -1] = np.where(children[:, -1] == 2.0, 2.0, 0.0)      # admissible stays admissible
+            Q = np.concatenate([Q[~split], Q[split][~ok], children])
+            owner = np.concatenate([owner[~split], owner[split][~ok], np.repeat(owner[split][ok], 2)])
+        return Q, owner
+
+    def root_pairs(self) -> np.ndarray:
+        """The one pair of the root: the arm limits, a wrist value, status 0."""
+        return np.concatenate([self.position.limits, np.zeros((self.wrist.k + 1, 2))])[None]
+
+    def seeds(self, Q: np.ndarray) -> np.ndarray:
+        """Configurations (arm, then wrist) from pairs: the arm box's centre and the pair's wrist value."""
+        return np.concatenate([Q[:, :self.ka].mean(axis=2), Q[:, self.ka:-1, 0]], axis=1)
+
+
+def _free_of(expressions, q) -> bool:
+    return all(q not in sp.sympify(e).free_symbols for e in expressions)
+
+
+def _spin_reduction(robot: DHRobot, params, constraint: PoseConstraint, T) -> PoseConstraint:
+    """A constant orientation ``R`` as the exact direction ``R z`` when the last joint spins the tool about its
+    approach axis through a full turn (docs/methods.md section 8), else the constraint itself.
+
+    The tool frame is ``R_pre Rz(theta_n) C`` with ``R_pre`` and ``C`` free of ``q_n`` when ``q_n`` enters only
+    ``theta_n``; an approach axis ``R_pre Rz(theta_n) C z`` free of ``q_n`` makes ``C z = +-z``, so turning
+    ``theta_n`` by ``phi`` turns the frame about its own ``z`` by ``+-phi`` at a fixed position (the position
+    being free of ``q_n``): when ``q_n``'s range spans a period, every frame with the approach ``R z`` at that
+    position is reached, ``R`` among them.
+    """
+    if constraint.kind != "orientation":
+        return constraint
+    k = robot.n - 1
+    joint = robot.joints[k]
+    q = joint.variable
+    others = [joint.d, joint.a, joint.alpha] + [e for j in robot.joints[:k] for e in (j.theta, j.d, j.a, j.alpha)]
+    others += [e for M in (robot.base, robot.tool) if M is not None for e in M]
+    if joint.kind != "R" or not _free_of(others, q) or not _free_of(list(T[:3, 2]) + list(T[:3, 3]), q):
+        return constraint
+    if not joint_range(robot, k, params)[1]:
+        return constraint
+    return PoseConstraint("cone", tuple(constraint.matrix[:, 2]), sp.S.Zero, 0.0, False)
+
+
+def wrist_reduction(robot: DHRobot, params, constraint: PoseConstraint, T):
+    """A cone on the approach axis as a cone on the roll axis of a roll-pitch wrist, or why there is none.
+
+    The wrist is the two joints ``j < k`` that move the approach ``a`` and not the position (standard DH, both
+    revolute).  When ``q_j`` enters only ``theta_j`` and its range spans a period, ``a = Rot(z, theta_j) b`` with
+    ``z`` the axis of joint ``j`` (``z_{j-1}``, free of the wrist), so a full turn of ``q_j`` sweeps every direction
+    at the angle of ``b`` from ``z``.  When moreover ``a . z = cos(q_k + phi)`` (checked symbolically) and ``q_k``'s
+    range holds an angle ``t`` with ``t + phi = 0 (mod 2 pi)``, the directions the wrist reaches from an arm
+    configuration are exactly the cap ``angle(a, z) <= psi`` with ``psi = min(pi, largest |q_k + phi|)``.  Then
+    (theorem) some direction within ``c`` of ``d`` is reached iff ``angle(z, d) <= psi + c``; every direction of the
+    cone (one arm configuration) iff ``angle(z, d) <= psi - c``; ``d`` itself iff ``angle(z, d) <= psi``.
+
+    Returns ``(z, constraint on z, proof_cone)``: the cone ``psi + c`` (``psi`` with ``every``, whose drops are
+    then proved for the axis ``d`` alone, a direction of the cone) and the cone the inner proof must show
+    (``psi - c`` with ``every``, else None).  The wrist joints then leave the model: its inner proof no longer
+    meets the wrist's singularity (``q_k + phi = 0``, where ``q_j`` is undetermined), nor its violation proofs a
+    cover of wrist boxes.  Otherwise a string: why the robot has no such wrist, in its joints' terms (the
+    refusal of ``every=True`` quotes it).
+    """
+    if constraint.kind != "cone":
+        return "the constraint is not a cone"
+    if robot.convention != "standard":
+        return f"its table is in {robot.convention} DH (the wrist is recognised in standard DH only)"
+    approach, position = list(T[:3, 2]), list(T[:3, 3])
+    in_position = set().union(*(sp.sympify(e).free_symbols for e in position))
+    in_approach = set().union(*(sp.sympify(e).free_symbols for e in approach))
+
+    def named(indices):
+        return ", ".join(f"joint {i + 1} ({robot.q[i]})" for i in indices) or "none"
+
+    wrist = [i for i, q in enumerate(robot.q) if q in in_approach and q not in in_position]
+    if len(wrist) != 2:
+        moving = [i for i, q in enumerate(robot.q) if q in in_approach and q in in_position]
+        if not wrist and not moving:
+            return "no joint turns the approach axis (it is the same in every configuration)"
+        return (f"the joints that turn the approach axis without moving the tool point are {named(wrist)}, not "
+                f"two" + (f" (the tool point moves with {named(moving)}, which also turn the approach axis)"
+                          if moving else ""))
+    if any(robot.joints[i].kind != "R" for i in wrist):
+        return f"its wrist joints {named(wrist)} are not both revolute"
+    j, k = wrist
+    roll, pitch = robot.q[j], robot.q[k]
+    others = [e for i, joint in enumerate(robot.joints) for e in (joint.d, joint.a, joint.alpha)
+              + (() if i == j else (joint.theta,))]
+    others += [e for M in (robot.base, robot.tool) if M is not None for e in M]
+    if not _free_of(others, roll):
+        return f"the roll joint {named([j])} enters the table other than through its angle theta"
+    if not joint_range(robot, j, params)[1]:
+        return f"the roll joint {named([j])} does not turn through a full turn within its limits"
+    axis = list(robot.substitute(robot.fk(j), params)[:3, 2])
+    if not _free_of(axis, roll) or not _free_of(axis, pitch):
+        return f"the axis of the roll joint {named([j])} moves with the wrist"
+    cosine = sp.simplify(sp.Matrix(approach).dot(sp.Matrix(axis)))
+    phi = sp.atan2(-sp.diff(cosine, pitch).subs(pitch, 0), cosine.subs(pitch, 0))
+    if cosine.free_symbols != {pitch} or sp.simplify(sp.expand_trig(cosine - sp.cos(pitch + phi))) != 0:
+        return (f"the angle of the approach axis from the roll axis of {named([j])} is not set by {named([k])} "
+                "alone as a pitch (cos(angle) = cos(q + phi))")
+    (lo, hi), _ = joint_range(robot, k, params)
+    turns = sp.ceiling((lo + phi) / (2 * sp.pi))
+    if not bool(2 * sp.pi * turns <= hi + phi):
+        # the cap's centre is not reached: an annulus, not a cap
+        return (f"the pitch joint {named([k])} cannot bring the approach axis onto the roll axis within its "
+                "limits (the wrist reaches a ring of directions, not a cap)")
+    psi = sp.Min(sp.pi, sp.Max(2 * sp.pi * turns - lo - phi, hi + phi - 2 * sp.pi * turns))
+    c = constraint.cone
+    if constraint.every and c != 0:
+        if not bool(psi - c >= 0):
+            return (f"its wrist ({named(wrist)}) reaches directions up to {fmt(float(psi * 180 / sp.pi), 6, 'g')} "
+                    f"degrees from its roll axis, less than the cone's {fmt(constraint.degrees, 6, 'g')}")
+        reduced = PoseConstraint("cone", constraint.direction, psi, float(psi * 180 / sp.pi), True)
+        return axis, reduced, psi - c
+    angle = sp.Min(sp.pi, psi + c)
+    return axis, PoseConstraint("cone", constraint.direction, angle, float(angle * 180 / sp.pi)), None
+
+
+def _tool_offset(robot: DHRobot, params, constraint: PoseConstraint, T):
+    """For a constant orientation ``R``: ``(k, o_k + R t)`` with ``k`` the first frame whose origin ``o_k`` holds
+    the tool point at a constant offset in the tool frame, ``t = R(q)^T (p(q) - o_k(q))`` free of the joints (a
+    spherical wrist: ``k`` its centre's frame, ``t = (0, 0, d6)`` for the Puma), or None.
+
+    On the configurations with ``R(q) = R`` the tool point is ``o_k(q) + R t`` (theorem), so the workspace is paved
+    with that position, which the wrist joints do not move; its configurations are those of the constraint, so
+    inner and outer proofs hold for the real tool point.  After the spin reduction (a configuration with
+    ``a(q) = R z``, spun by the last joint to ``R(q) = R``) the tool point is still ``o_k + R t``: ``o_k`` does not
+    depend on the last joint."""
+    if constraint.kind != "orientation":
+        return None
+    # R(q)^T (p - o_k) = (R_k^n)^T p_k^n: the offset from the tail of the chain alone (frames k..n, tool).
+    tails = [sp.eye(4) if robot.tool is None else sp.Matrix(robot.tool)]
+    for i in range(robot.n, 0, -1):
+        tails.append(robot.substitute(robot.row_matrix(i), params) * tails[-1])
+    tails = tails[::-1]                     # tails[k] = T_k^n (tool included)
+    probes = np.random.default_rng(0).uniform(-3, 3, size=(robot.n, 4))
+    found = None
+    for k in range(robot.n - 1, 0, -1):     # the shortest tail first; a float probe rejects before SymPy
+        offset = tails[k][:3, :3].T * tails[k][:3, 3]
+        with np.errstate(all="ignore"):
+            values = np.array([np.broadcast_to(np.asarray(v, dtype=float), (4,))
+                               for v in sp.lambdify([robot.q], list(offset), modules="numpy")(probes)])
+        if not np.isfinite(values).all() or np.ptp(values, axis=1).max() > 1e-9:
+            break
+        t = sp.simplify(offset)
+        if t.free_symbols & set(robot.q):
+            break
+        found = k, t
+    if found is None:
+        return None
+    k, t = found
+    origin = robot.substitute(robot.fk(k), params)[:3, 3]
+    return k, [sp.sympify(e) for e in origin + constraint.matrix * t]
+
+
+def _joints_of(robot, expressions, params):
+    moving = set().union(*(sp.sympify(e).free_symbols for e in expressions))
+    joints = [k for k, q in enumerate(robot.q) if q in moving]
+    ranges = [joint_range(robot, k, params) for k in joints]
+    return [robot.q[k] for k in joints], [r for r, _ in ranges], [p for _, p in ranges]
+
+
+@dataclass(frozen=True)
+class PoseStructure:
+    """How the constrained workspace is paved: ``model`` over ``(x, y, z)``, or over the section ``(u, v)`` of
+    a robot turned by its first joint (``revolved``, the position's section structure) when the constraint is
+    invariant under that turn (a cone about the vertical)."""
+
+    model: PoseModel
+    revolved: Revolved | None = None
+
+
+def _section_structure(robot: DHRobot, parameters: tuple, constraint: PoseConstraint, axis, proof_cone,
+                       section_robot: DHRobot, tuning: Tuning) -> PoseStructure | None:
+    """The section structure when the robot is turned by its first joint (the position's
+    :class:`~workspace_sym.serial.structure.Revolved`: standard DH, no base, ``q_1`` only in ``theta_1``) and the
+    cone's axis is vertical:
+    then ``p = Rz(theta_1) p'`` and ``a = Rz(theta_1) a'`` with ``p', a'`` the pose at ``theta_1 = 0``, and
+    ``a . d = a' . d``, so the admissible configurations of the other joints do not depend on ``theta_1``.
+    ``section_robot`` has the position paved (the robot, or the wrist centre's chain shifted by a tool offset)."""
+    if constraint.kind != "cone" or constraint.direction[0] != 0 or constraint.direction[1] != 0:
+        return None
+    turn = revolved(reach_model(section_robot, parameters))
+    if turn is None:
+        return None
+    params = dict(parameters) or None
+    q1 = robot.q[0]
+    theta = robot.substitute(robot.joints[0].theta, params)
+    zero = {q1: -theta.subs(q1, 0) / sp.diff(theta, q1)}
+    approach = [e.subs(zero) for e in axis]
+    position = list(turn.section.expressions)
+    variables, limits, periodic = _joints_of(robot, position + approach, params)
+    if q1 in variables:
+        return None
+    model = PoseModel(position, approach, None, constraint, variables, limits, periodic, (sp.Symbol("u"),
+                                                                                         sp.Symbol("v")),
+                      proof_cone=proof_cone, tuning=tuning)
+    return PoseStructure(model, turn)
+
+
+@lru_cache(maxsize=8)
+def pose_structure(robot: DHRobot, parameters: tuple, constraint: PoseConstraint,
+                   tuning: Tuning = DEFAULT) -> PoseStructure:
+    """How ``robot``'s workspace under ``constraint`` is paved (cached per robot, parameter values, constraint
+    and tuning): the constrained section of a robot turned by its first joint when the constraint is a cone
+    about the vertical, else the pose model over ``(x, y, z)``; a constant orientation reduced to an exact
+    direction, and a cone on a roll-pitch wrist to a cone on its roll axis (module docstring)."""
+    if not isinstance(robot, DHRobot):
+        raise InvalidParameterError(f"robot: reach needs a serial DH robot; got {type(robot).__name__}",
+                                    parameter="robot")
+    params = dict(parameters) or None
+    T = robot.substitute(robot.fk(), params)
+    free = T.free_symbols - set(robot.q)
+    if free:
+        raise InvalidParameterError(f"parameters: give values for {', '.join(sorted(map(str, free)))} "
+                                    "(the pose must be numeric apart from the joints)", parameter="parameters")
+    position = list(T[:3, 3])
+    if not all(e.free_symbols for e in position):
+        raise InvalidParameterError(f"robot: an approach or orientation constraint needs a spatial robot whose "
+                                    f"three position coordinates move; {robot.name}'s position is {position}",
+                                    parameter="robot")
+    section_robot: DHRobot | None = robot
+    offset = _tool_offset(robot, params, constraint, T)
+    if offset is not None:
+        k, position = offset
+        T = sp.Matrix(T)
+        T[:3, 3] = sp.Matrix(position)
+        # The chain to o_k with the offset's vertical part in d_1 (a translation along z_0, the turn's axis):
+        # its section is that of o_k + R t when R t is vertical, the only case a vertical cone's section needs.
+        lift = sp.Matrix(position) - robot.substitute(robot.fk(k), params)[:3, 3]
+        if lift[0] == 0 and lift[1] == 0 and robot.base is None:
+            joints = list(robot.joints[:k])
+            joints[0] = replace(joints[0], d=joints[0].d + lift[2])
+            section_robot = DHRobot(joints, convention=robot.convention, name=f"{robot.name} (wrist centre)",
+                                    parameters=robot.parameters, units=robot.units)
+        else:
+            section_robot = None
+    reduced = _spin_reduction(robot, params, constraint, T)
+    axis, proof_cone = list(T[:3, 2]), None
+    wrist = wrist_reduction(robot, params, reduced, T)
+    if not isinstance(wrist, str):
+        axis, reduced, proof_cone = wrist
+    elif reduced.every and reduced.cone != 0:
+        raise InvalidParameterError(
+            f"every=True (every direction of a {reduced.degrees:g} degree cone, the dextrous workspace) is not "
+            f"implemented for {robot.name}: it is proved only for arms with a roll-pitch wrist, two revolute joints "
+            "that turn the approach axis without moving the tool point, the first (roll) through a full turn, the "
+            "second (pitch) tilting the approach from the roll axis, such as joints 4 and 5 of the Puma 560 "
+            f"(docs/methods.md section 8), and {robot.name} has none: {wrist}; no certified answer is given: use "
+            "every=False (some direction of the cone) or cone=0", parameter="every")
+    structure = None if section_robot is None else _section_structure(robot, parameters, reduced, axis, proof_cone,
+                                                                       section_robot, tuning)
+    if structure is not None:
+        return structure
+    rotation = T[:3, :3]
+    quantities = axis if reduced.kind == "cone" else list(rotation)
+    variables, limits, periodic = _joints_of(robot, position + quantities, params)
+    return PoseStructure(PoseModel(position, axis, rotation, reduced, variables, limits, periodic, TASK,
+                                   proof_cone=proof_cone, tuning=tuning))
+
+
+@dataclass(frozen=True)
+class PoseStep:
+    """One generation of the pairs method with a tool constraint, on a chunk of task boxes with their pairs
+    (:func:`~workspace_sym.serial.pairs.pave_pairs`): the inner, boundary and outer boxes, the children of the
+    split boxes and their pairs.  Each pair carries an arm box, a wrist value per wrist joint and an admissibility
+    status (:meth:`PoseModel.distribute`); a task box is tried from two seeds (its first and last pair: often two
+    branches of the inverse kinematics)."""
+
+    model: PoseModel
+    delta: float
+    size: str
+    inner_depth: int
+    max_pairs: int
+    min_pairs: int
+    root_measure: float
+
+    def __call__(self, part):
+        T, Q, owner = part
+        model = self.model
+        Q, owner = model.distribute(T, Q, owner, caps(T, self.max_pairs, self.min_pairs, self.root_measure))
+        is_out = np.bincount(owner, minlength=len(T)) == 0
+        live, first = np.unique(owner, return_index=True)
+        is_in = np.zeros(len(T), dtype=bool)
+        if len(live):
+            last = box_sizes(T[live], self.size) <= self.delta
+            depth = np.where(last, self.inner_depth, 0)
+            is_in[live] = prove_in_pieces(model.proof, T[live], model.seeds(Q[first]), depth)
+            # A second seed: the last joint box of each task box (another branch of the inverse kinematics).
+            again = np.nonzero(~is_in[live])[0]
+            if len(again):
+                ends = np.searchsorted(owner, live[again], side="right") - 1
+                is_in[live[again]] = prove_in_pieces(model.proof, T[live[again]], model.seeds(Q[ends]),
+                                                      depth[again])
+        return split_pairs(T, Q, owner, is_in, is_out, self.delta, self.size)
+
+
+def constraint_from(approach=None, cone=None, every: bool = False, orientation=None, rpy=None) -> PoseConstraint:
+    """The constraint of :func:`reach_pose`'s keywords (exactly one of ``approach`` and ``orientation`` /
+    ``rpy``)."""
+    if approach is not None and (orientation is not None or rpy is not None):
+        raise InvalidParameterError("give either approach (with cone) or orientation / rpy, not both; got "
+                                    f"approach={approach!r} and orientation={orientation!r}, rpy={rpy!r}",
+                                    parameter="approach")
+    if approach is not None:
+        return approach_constraint(approach, cone, every)
+    if cone is not None or every:
+        raise InvalidParameterError(f"cone and every need approach (the axis of the cone); got cone={cone!r}",
+                                    parameter="cone")
+    return orientation_constraint(orientation, rpy)
+
+
+
+def section_classes(model: PoseModel, width: float, run, *, tuning: Tuning = DEFAULT, chunk: int = 200_000):
+    """A :class:`CellGrid` over the constrained section and the class of each cell, from a pairs paving whose
+    boxes are unions of cells (cells of a power-of-two width on a grid of its multiples: every edge and every
+    midpoint is a float exactly); ``(grid, classes, evaluated, reason)``.  ``run`` is the run's budget."""
+    w = 2.0 ** round(math.log2(width))
+    root = model.position.enclose(model.position.limits[None])[0]
+    # The u range is made symmetric about 0 (edges at odd multiples of w / 2 both ways) so that each cell's
+    # mirror, the other branch of the turn, is a cell (section_volume_bracket).
+    reach_u = math.ceil(max(-root[0, 0], root[0, 1]) / w) * w
+    corner = np.array([[-reach_u, reach_u], [math.floor(root[1, 0] / w) * w, root[1, 1]]])
+    grid = CellGrid(corner, w)
+    lo = np.array([e[0] for e in grid.edges])
+    side = w * 2 ** math.ceil(math.log2(max(len(e) - 1 for e in grid.edges)))
+    square = np.stack([lo, lo + side], axis=1)
+    step = PoseStep(model, w, "width", tuning.pose_inner_depth, tuning.pose_max_pairs, tuning.min_pairs,
+                    float(np.prod(square[:, 1] - square[:, 0])))
+    keeper = BoxStore(2)
+    with section_bar(run.showing) as show:      # the section's bar, as for the arms without a constraint
+        _, _, _, evaluated, reason = pave_pairs(step, square[None].copy(), model.root_pairs(), np.zeros(1, dtype=int),
+                                                budget=run, keeper=keeper, chunk=chunk, show=show)
+    inner, outer = [keeper.arrays("inner")], [keeper.arrays("outer")]
+    classes = np.full(grid.shape, UNDECIDED, dtype=np.int8)
+    # A run stopped by the budget keeps what it proved: its pending boxes stay undecided.
+    for value, parts in ((INNER, inner), (OUTER, outer)):
+        boxes = np.concatenate([p for p in parts if len(p)] or [np.empty((0, 2, 2))])
+        first = np.rint((boxes[:, :, 0] - lo) / w).astype(np.int64)
+        last = np.rint((boxes[:, :, 1] - lo) / w).astype(np.int64)
+        exact = np.all((lo + first * w == boxes[:, :, 0]) & (lo + last * w == boxes[:, :, 1]), axis=1)
+        first, last = first[exact], last[exact]
+        shape = np.array(grid.shape)
+        first, last = np.minimum(first, shape), np.minimum(last, shape)
+        counts = np.zeros((grid.shape[0] + 1, grid.shape[1] + 1), dtype=np.int64)
+        np.add.at(counts, (first[:, 0], first[:, 1]), 1)
+        np.add.at(counts, (first[:, 0], last[:, 1]), -1)
+        np.add.at(counts, (last[:, 0], first[:, 1]), -1)
+        np.add.at(counts, (last[:, 0], last[:, 1]), 1)
+        classes[np.cumsum(np.cumsum(counts, axis=0), axis=1)[:-1, :-1] > 0] = value
+    return grid, classes, evaluated, reason
+
+
+
+def section_volume_bracket(grid: CellGrid, classes: np.ndarray, revolved) -> tuple[float, float]:
+    """Certified bracket of the volume of the solid ``{Rz(theta) (u, c, v)}``, ``theta`` over the first joint's
+    range and ``(u, v)`` over a section set ``S`` whose cells ``classes`` classify (Pappus), rounded outward.
+
+    In cylindrical coordinates the point ``(u, c, v)`` turned by ``theta`` has height ``v``, ``r^2 = s^2 + c^2``
+    with ``s = |u|`` (so ``r dr = s ds``) and polar angle ``theta + alpha`` (``u >= 0``) or
+    ``theta + pi - alpha`` (``u < 0``), ``alpha = atan(c / s)``.  The volume is the integral over ``(s, v)`` of
+    ``A(s, v) s ds dv`` where ``A`` is the measure of the angles reached: ``L`` (the range's length) when one of
+    ``(s, v)`` and ``(-s, v)`` is in ``S``, the union of the two arcs, ``min(2 pi, L + min(d, L))`` with
+    ``d = pi - 2 |alpha|`` their offset, when both are (``2 pi`` for a whole turn).  A folded cell
+    ``[s0, s1] x [v0, v1]`` adds ``A (s1^2 - s0^2) (v1 - v0) / 2``: to the lower bound with ``A`` of its proved
+    inner cells (``u`` and its mirror ``-u``), to the upper bound with ``A`` of those not proved outer.  The grid's
+    first axis must be symmetric about ``u = 0``; ``revolved`` is the position's section structure
+    (:class:`~workspace_sym.serial.structure.Revolved`: ``c``, ``inner_range``, ``outer_range``, ``full``).
+
+    Examples
+    --------
+    >>> grid = CellGrid(np.array([[-1.0, 1.0], [0.0, 1.0]]), 0.5)     # edges -1.75, -1.25, ..., 1.75 along u
+    >>> classes = np.full(grid.shape, OUTER, dtype=np.int8)
+    >>> classes[2:5, 2:4] = INNER                                        # |u| <= 0.75, 0.25 <= v <= 1.25
+    >>> from types import SimpleNamespace
+    >>> turn = SimpleNamespace(c=(0.0, 0.0), inner_range=(-np.pi, np.pi), outer_range=(-np.pi, np.pi), full=True)
+    >>> lo, hi = section_volume_bracket(grid, classes, turn)
+    >>> lo <= math.pi * 0.75 ** 2 * 1.0 <= hi and hi - lo < 1e-12      # a cylinder of radius 0.75, height 1
+    True
+    """
+    e0, e1 = grid.edges
+    n = len(e0) - 1
+    if not np.array_equal(e0, -e0[::-1]):
+        raise ValueError("section_volume_bracket needs a grid symmetric about u = 0")
+    half = np.arange(n // 2, n)                 # the cells with u > 0 somewhere, and their mirrors
+    s0, s1 = np.maximum(e0[half], 0.0), e0[half + 1]
+    plus, minus = classes[half], classes[n - 1 - half]
+    ring = arith.mul(arith.sub(arith.sqr((s1, s1)), arith.sqr((s0, s0))), (0.5, 0.5))
+    ring = arith.mul((ring[0][:, None], ring[1][:, None]), arith.sub((e1[None, 1:], e1[None, 1:]),
+                                                                   (e1[None, :-1], e1[None, :-1])))
+    pi_lo, pi_hi = numpy_constant(sp.pi)
+    shape = plus.shape
+    if revolved.full:
+        one = both = (np.full(shape, 2 * pi_lo), np.full(shape, 2 * pi_hi))
+        length = (2 * pi_lo, 2 * pi_hi)
+    else:
+        (a_in, b_in), (a_out, b_out) = revolved.inner_range, revolved.outer_range
+        length = (max(float(arith.down(np.float64(b_in - a_in))), 0.0), float(arith.up(np.float64(b_out - a_out))))
+        # The offset d = pi - 2 atan(|c| / s) of the two arcs grows with s: its least over the cell at s0, its
+        # greatest at s1 (ANGLE_PAD covers atan's rounding).
+        c_lo, c_hi = revolved.c
+        c_small = 0.0 if c_lo <= 0 <= c_hi else min(abs(c_lo), abs(c_hi))
+        c_large = max(abs(c_lo), abs(c_hi))
+        with np.errstate(divide="ignore", invalid="ignore"):      # s0 = 0: c / 0 is inf (0 / 0 is c = 0)
+            near = np.arctan(arith.up(c_large / s0)) + ANGLE_PAD
+            far = np.arctan(arith.down(c_small / s1)) - ANGLE_PAD
+        d_lo = np.where(c_large == 0.0, pi_lo, np.maximum(arith.down(pi_lo - 2 * near), 0.0))
+        d_hi = np.minimum(arith.up(pi_hi - 2 * np.maximum(far, 0.0)), pi_hi)
+        union_lo = np.minimum(arith.down(length[0] + np.minimum(d_lo, length[0])), 2 * pi_lo)
+        union_hi = np.minimum(arith.up(length[1] + np.minimum(d_hi, length[1])), 2 * pi_hi)
+        one = (np.full(shape, length[0]), np.full(shape, min(length[1], 2 * pi_hi)))
+        both = (np.repeat(union_lo[:, None], shape[1], axis=1), np.repeat(union_hi[:, None], shape[1], axis=1))
+    low = np.where((plus == INNER) & (minus == INNER), both[0], np.where((plus == INNER) | (minus == INNER),
+                                                                           one[0], 0.0))
+    high = np.where((plus != OUTER) & (minus != OUTER), both[1], np.where((plus != OUTER) | (minus != OUTER),
+                                                                            one[1], 0.0))
+    lower = arith.mul((low, low), ring)[0]
+    upper = arith.mul((high, high), ring)[1]
+    return ExactSum.of(lower[low > 0]).value_down, ExactSum.of(upper[high > 0]).value_up
+

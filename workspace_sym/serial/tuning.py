@@ -1,0 +1,140 @@
+"""The tuning of the reach methods: every constant that changes which boxes are proved, in one frozen object.
+
+A plan (:mod:`workspace_sym.serial.plans`) reads its figures from a :class:`Tuning`, the default
+:data:`DEFAULT` or one given to :func:`~workspace_sym.serial.api.reach` (``tuning=``).  None of them can make a
+box proved wrongly: they say how much work each stage may do (samples, pairs, depths, chunks between two looks
+at the budget, shares of a time limit), so they decide how many boxes are proved, and where a stopped run stops.
+The whole object is part of the fingerprint of every checkpoint and kept section
+(:func:`~workspace_sym.serial.stored.reach_problem`): a run resumed with another tuning is refused.
+
+The constants that guard soundness are not here and cannot be tuned: the widening of float polar angles
+(:data:`workspace_sym.serial.angles.ANGLE_PAD`) and the four axis directions of a limited turn
+(:data:`workspace_sym.serial.turn.DIRECTIONS`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+from ..errors import InvalidParameterError
+
+__all__ = ["Tuning", "DEFAULT"]
+
+
+@dataclass(frozen=True, slots=True)
+class Tuning:
+    """How much work each stage of a reach run may do (module docstring).
+
+    Parameters
+    ----------
+    max_pairs, inner_depth : int
+        The pairs method without a tool constraint: a task box stops refining its joint boxes once it would
+        hold more than ``max_pairs`` times its share of the root box's measure (``min_pairs`` at least); a box
+        about to become a boundary box is also proved inner piece by piece, halved along every edge up to
+        ``inner_depth`` times.
+    pose_max_pairs, pose_inner_depth : int
+        The same with a tool constraint (its pairs carry wrist values too).
+    min_pairs : int
+        Pairs a task box may always hold, however small its share of the root box.
+    section_ratio : float
+        Cell width of a section (the plane a turned arm's workspace reduces to) against the width of the task
+        boxes.
+    section_reserve : float
+        Margin on the expected time of a step of a turned section, and on its (x, y, z) boxes.
+    section_pairs, section_samples, section_chunk : int
+        A section moved by three joints or more (:func:`~workspace_sym.serial.section.section_paving`): the
+        (cell block, joint box) pairs of one generation of its blocks at most, the sampled configurations whose
+        cells are proved inside first, and the cells proved between two looks at the budget.
+    blocks_share, blocks_weight : float
+        With a time limit, the share of the section's time left after the first proofs that its blocks may
+        take: at most ``blocks_share``, else ``blocks_weight`` times the share of the undecided volume no
+        sample reached (tuned on the UR5, where that share is 5 % and blocks decide nothing, and the KR16,
+        27 %, where they decide 0.66 m^3 outside in 28 s).
+    reach_tolerance : float
+        The bound of the squared distance from the shoulder is sought within this many cell widths times twice
+        the greatest distance (about a fifth of a cell).
+    section_depth : int
+        With a time limit, an undecided cell of a section is refined into pieces halved this often at most
+        (the time limit stops it first on the UR5 and the KR16).
+    direction_chunk, direction_samples : int
+        A first joint limited to part of a turn (:mod:`workspace_sym.serial.turn`): cells proved at a direction
+        between two looks at the budget, and the sampled configurations giving the seeds of the proofs.
+    direction_depth, timed_depth : int
+        A cell failing whole is tried in ``4^level`` pieces, level up to ``direction_depth`` (``timed_depth``
+        with a time limit: the deepest level takes the time the other stages leave).
+    directions_share, blocks_end : float
+        With a time limit (or a budget of section boxes), the cells are tried at the four directions until
+        ``directions_share`` of the time left after the symbolic preparation, then outside blocks until
+        ``blocks_end`` of it.
+    shoulder_pieces : int
+        The undecided cells of a limited turn are cut this many times along each axis for the volume's upper
+        bound.
+    cells_max_joints : int
+        A turned section proving no inner box gives way to the 3-D cells of the critical method up to this
+        many moving joints (a square map: docs/methods.md section 5 has the measured costs).
+    cell_chunk : int
+        Marked cells of the 3-D critical method proved between two looks at the budget.
+    wrist_cells, wrist_grid : int
+        With a tool constraint: wrist boxes examined per arm box at once, and wrist values per joint tried
+        first for a witness of the cone.
+
+    Examples
+    --------
+    >>> Tuning().section_ratio, Tuning(inner_depth=1).inner_depth
+    (0.25, 1)
+    >>> Tuning(section_ratio=0)
+    Traceback (most recent call last):
+    ...
+    workspace_sym.errors.InvalidParameterError: section_ratio must be a positive number; got 0
+    """
+
+    max_pairs: int = 200_000
+    inner_depth: int = 2
+    pose_max_pairs: int = 400_000
+    pose_inner_depth: int = 1
+    min_pairs: int = 64
+    section_ratio: float = 0.25
+    section_reserve: float = 1.5
+    section_pairs: int = 60_000
+    section_samples: int = 400_000
+    section_chunk: int = 2_000
+    blocks_share: float = 0.5
+    blocks_weight: float = 2.0
+    reach_tolerance: float = 0.2
+    section_depth: int = 6
+    direction_chunk: int = 2_000
+    direction_samples: int = 400_000
+    direction_depth: int = 2
+    timed_depth: int = 3
+    directions_share: float = 0.75
+    blocks_end: float = 0.92
+    shoulder_pieces: int = 8
+    cells_max_joints: int = 3
+    cell_chunk: int = 2_000
+    wrist_cells: int = 64
+    wrist_grid: int = 9
+
+    def __post_init__(self):
+        for f in dataclasses.fields(self):
+            value = getattr(self, f.name)
+            whole = f.type == "int"
+            least = 0 if f.name in ("inner_depth", "pose_inner_depth", "section_depth", "direction_depth",
+                                    "timed_depth") else 1
+            if whole and (not isinstance(value, int) or isinstance(value, bool) or value < least):
+                raise InvalidParameterError(f"{f.name} must be a whole number, {least} or more; got {value!r}",
+                                            parameter=f.name)
+            if not whole and (not isinstance(value, (int, float)) or isinstance(value, bool) or not value > 0
+                              or value != value or value == float("inf")):
+                raise InvalidParameterError(f"{f.name} must be a positive number; got {value!r}", parameter=f.name)
+
+    def replace(self, **changes) -> Tuning:
+        """This tuning with ``changes`` (checked as at construction)."""
+        return dataclasses.replace(self, **changes)
+
+    def to_dict(self) -> dict:
+        return dataclasses.asdict(self)
+
+
+#: The tuning every run uses unless given another.
+DEFAULT = Tuning()

@@ -1,0 +1,397 @@
+"""A spatial arm turned by a LIMITED first joint: section cells proved reached at every polar angle.
+
+The structure is that of :mod:`workspace_sym.serial.section`: ``p = B Rz(theta_1) w(q')`` with ``w = (u, c, v)``
+of the other joints ``q'``, ``theta_1`` now in an interval ``[a, b]`` shorter than a period (LBR iiwa:
+``340 deg``, Panda: ``332 deg``).  In the frame of the first joint a point of cylindrical coordinates
+``(rho, psi, z)`` is reached if and only if some ``q'`` has ``(|w_xy|, w_z) = (rho, z)`` and
+``psi - arg w_xy(q')`` in ``[a, b]`` modulo ``2 pi``.
+
+**Every polar angle.**  Let ``A(rho, z)`` be the polar angles ``arg w_xy`` of the configurations ``q'`` reaching
+``(rho, z)``.  If ``A`` holds two angles ``alpha`` and ``beta`` whose difference ``d`` (modulo ``2 pi``) lies in
+``[2 pi - L, L]`` (``L = b - a``), the arcs ``alpha + [a, b]`` and ``beta + [a, b]`` cover the circle (the gap of
+the first, of length ``2 pi - L``, lies in the second), so the point is reached at every polar angle.  Here
+``alpha`` and ``beta`` are taken among the four axis directions ``k pi / 2`` of the first joint's frame, where
+"``A(rho, z)`` holds ``k pi / 2`` for every ``(rho, z)`` of a cell ``[r0, r1] x [z0, z1]``" is exactly the box
+inclusion
+
+    ``[r0, r1] x {0} x [z0, z1]`` (``k = 0``), ``{0} x [r0, r1] x [z0, z1]`` (``k = 1``),
+    ``[-r1, -r0] x {0} x [z0, z1]`` (``k = 2``), ``{0} x [-r1, -r0] x [z0, z1]`` (``k = 3``)  in  ``w(Q')``
+
+(``r0`` clipped at 0), which the Krawczyk test of :meth:`~workspace_sym.interval.image.ImageMap.prove_inside`
+proves on the map ``w`` itself (three outputs, its joints fixed but three at the Newton solution; the
+degenerate coordinate is an interval of width zero): no polar angle is ever computed for a proof.  Two directions
+``k pi / 2`` apart by ``d`` in ``{pi / 2, pi, 3 pi / 2}`` qualify when ``d`` lies in ``[2 pi - L, L]``, decided
+on an outward enclosure of ``L``: opposite directions when ``L >= pi``, any two when ``L >= 3 pi / 2``.  A cell
+with two qualifying directions proved is **inner** (the solid it turns into lies in the workspace); a cell with
+one direction ``k`` proved holds the sector ``psi in k pi / 2 + [a, b]``.
+
+**Outside.**  A cell proved outside the section (beyond the greatest distance from the shoulder or within the
+least, :meth:`~workspace_sym.serial.section.ShoulderReach.outside_cells`; blocks of cells, stage 2 of
+:func:`~workspace_sym.serial.section.section_paving`) is outside
+the workspace at every polar angle, whatever the limits of ``theta_1``.
+
+**Boxes and volume.**  A world box is mapped to the first joint's frame (``B^-1`` in interval arithmetic); it is
+inner when its ``(rho, z)`` rectangle lies in inner cells, or in cells proved at one direction ``k`` while its
+polar angle range (float ``atan2`` of its corners widened, as the constant-offset section does) lies in
+``k pi / 2 + [a, b]``; outer when the rectangle lies in cells outside the section.  The volume is bracketed as
+:func:`~workspace_sym.serial.section.turned_volume` does, on pieces of cells (a cell failing whole is tried in
+``4^level`` pieces, and those proved count, a cell cut by the section's boundary included): the solids of the
+pieces proved at both directions of a pair, plus a share ``L / 2 pi`` (rounded down) of the solids of the pieces
+with one direction proved, lie in the workspace; the workspace lies in the solid of the cells not proved
+outside, whose pieces beyond the greatest distance from the shoulder (or within the least) are dropped.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import sympy as sp
+
+from ..interval import arith
+from ..interval.graph import numpy_constant
+from ..interval.image import CellGrid, ImageMap
+from ..interval.search import split_every_axis
+from ..interval.store import ExactSum
+from ..interval.verdict import INSIDE as INNER
+from ..interval.verdict import OUTSIDE as OUTER
+from ..interval.verdict import UNDECIDED
+from .angles import arc_within, polar_angles
+from .section import (
+    Turned,
+    TurnedTest,
+    blocks,
+    first_joint_turn,
+    in_chunks,
+    solid_volumes,
+    to_first_frame,
+    turned_volume,
+)
+from .tuning import DEFAULT, Tuning
+
+__all__ = ["DIRECTIONS", "LimitedTurn", "limited_turn", "covering_pairs", "DirectionMap", "direction_seeds",
+           "prove_directions", "full_turn_cells", "limited_volume", "pieces_upper", "cell_level", "LimitedTurnTest",
+           "pave_limited"]
+
+DIRECTIONS = 4                   # the axis directions k pi / 2 of the first joint's frame (not a tuning: the
+                                 # covering pairs and the proofs are written for these four)
+
+
+@dataclass(frozen=True)
+class LimitedTurn:
+    """A :class:`~workspace_sym.serial.section.Turned` arm whose first joint turns through ``[a, b]``, less than
+    a period: ``inner_range`` (floats inside ``[a, b]``), ``pairs`` (the pairs of directions whose arcs cover
+    the circle) and ``share`` (a float at most ``(b - a) / 2 pi``)."""
+
+    plan: Turned
+    inner_range: tuple
+    pairs: tuple
+    share: float
+
+
+def limited_turn(plan, model) -> LimitedTurn | None:
+    """The structure of the module docstring when ``plan`` (of ``model``) is a turned section moved by three
+    joints or more whose first joint is limited to less than a period but at least a half turn; None
+    otherwise."""
+    if not isinstance(plan, Turned) or plan.full or plan.section.k < 3:
+        return None                     # two joints move w over a surface: no box of w is inside its image
+    turn = first_joint_turn(model)
+    if turn is None:
+        return None
+    q1, theta, slope = turn
+    lo, hi = model.exact_limits[0]
+    a, b = sorted((theta.subs(q1, lo), theta.subs(q1, hi)), key=lambda e: float(sp.N(e, 30)))
+    length = sp.Abs(slope) * (hi - lo)
+    pairs = covering_pairs(length)
+    if not pairs:
+        return None
+    a_f, b_f = numpy_constant(a), numpy_constant(b)
+    share = arith.div(numpy_constant(length), numpy_constant(2 * sp.pi))[0]
+    return LimitedTurn(plan, (float(a_f[1]), float(b_f[0])), tuple(pairs), float(share))
+
+
+def covering_pairs(length) -> tuple:
+    """The pairs ``(j, k)`` of axis directions whose arcs ``j pi / 2 + [a, b]`` and ``k pi / 2 + [a, b]`` cover the
+    circle when ``b - a`` is the exact ``length``: ``d = (k - j) pi / 2`` in ``[2 pi - L, L]``, decided on outward
+    enclosures of the exact differences (never a float guess).
+
+    >>> covering_pairs(sp.pi), covering_pairs(3 * sp.pi / 2)[:3], covering_pairs(sp.pi - sp.Rational(1, 10**9))
+    (((0, 2), (1, 3)), ((0, 1), (0, 2), (0, 3)), ())
+    """
+    pairs = []
+    for j, k in itertools.combinations(range(DIRECTIONS), 2):
+        d = (k - j) * sp.pi / 2
+        if numpy_constant(length - d)[0] >= 0 and numpy_constant(d - 2 * sp.pi + length)[0] >= 0:
+            pairs.append((j, k))
+    return tuple(pairs)
+
+
+class DirectionMap:
+    """The inner test of ``(rho, z)`` cells at the direction ``k pi / 2``: each ``(N, 2, 2)`` cell becomes the box
+    of ``w = (u, c, v)`` of the module docstring, proved inside ``w(Q')`` by ``lateral``'s Krawczyk test."""
+
+    def __init__(self, lateral: ImageMap, k: int):
+        self.lateral, self.k = lateral, k
+
+    def boxes(self, T: np.ndarray) -> np.ndarray:
+        r0, r1 = np.maximum(T[:, 0, 0], 0.0), T[:, 0, 1]
+        sign = 1.0 if self.k < 2 else -1.0
+        radial = np.stack([r0, r1], axis=1) if sign > 0 else np.stack([-r1, -r0], axis=1)
+        W = np.zeros((len(T), 3, 2))
+        W[:, self.k % 2] = radial
+        W[:, 2] = T[:, 1]
+        return W
+
+    def prove_inside(self, T: np.ndarray, seeds: np.ndarray) -> np.ndarray:
+        return self.lateral.prove_inside(self.boxes(T), seeds) & (T[:, 0, 1] >= 0)
+
+
+def direction_seeds(lateral: ImageMap, grid, n: int = DEFAULT.direction_samples, seed: int = 0):
+    """``(index, q)``: for each cell of ``grid`` and each direction ``k``, a sampled configuration reaching the
+    cell with its polar angle nearest ``k pi / 2`` (within ``pi / 4``): ``index[k]`` the ``(M, 2)`` cells,
+    ``q[k]`` the ``(M, k')`` configurations (floats: they only choose where a proof starts)."""
+    rng = np.random.default_rng(seed)
+    q = lateral.random_configurations(n, rng)
+    w = lateral.position_float(q)
+    rz = np.stack([np.hypot(w[:, 0], w[:, 1]), w[:, 2]], axis=1)
+    cell, _ = grid.span(np.repeat(rz[:, :, None], 2, axis=2))
+    angle = np.arctan2(w[:, 1], w[:, 0])
+    direction = np.remainder(np.rint(angle / (np.pi / 2)).astype(int), DIRECTIONS)
+    off = np.abs(np.remainder(angle - direction * np.pi / 2 + np.pi, 2 * np.pi) - np.pi)
+    index, seeds = [], []
+    for k in range(DIRECTIONS):
+        mine = np.nonzero(direction == k)[0]
+        mine = mine[np.argsort(off[mine], kind="stable")]        # the nearest angle first: np.unique keeps it
+        cells, first = np.unique(cell[mine], axis=0, return_index=True)
+        index.append(cells)
+        seeds.append(q[mine[first]])
+    return index, seeds
+
+
+def _split(cells: np.ndarray, level: int):
+    """``(pieces, owner, offset)``: each ``(rho, z)`` cell halved along both axes ``level`` times
+    (:func:`~workspace_sym.interval.search.split_every_axis`, the same floats as the proofs'), the cell of each
+    piece and its position ``(a, b)`` among the ``2^level x 2^level`` pieces of its cell."""
+    pieces, owner, offset = cells, np.arange(len(cells)), np.zeros((len(cells), 2), dtype=int)
+    for _ in range(level):           # split_every_axis: children grouped by corner, bit k of it the upper half
+        pieces, owner = split_every_axis(pieces), np.tile(owner, 4)
+        offset = np.concatenate([2 * offset + np.array([c & 1, c >> 1 & 1]) for c in range(4)])
+    return pieces, owner, offset
+
+
+def cell_level(pieces: np.ndarray, grid) -> np.ndarray:
+    """The masks over ``grid``'s cells of the cells whose pieces are all proved, from the piece masks of
+    :func:`prove_directions` (``(..., n0 F, n1 F)``)."""
+    F = pieces.shape[-2] // grid.shape[0]
+    return np.asarray(pieces.reshape(pieces.shape[:-2] + (grid.shape[0], F, grid.shape[1], F)).all(axis=(-3, -1)))
+
+
+def prove_directions(lateral: ImageMap, grid, candidates: np.ndarray, *, budget=None,
+                     depth: int = DEFAULT.direction_depth, sampled=None, evaluated: int = 0, state: dict | None = None,
+                     chunk: int = DEFAULT.direction_chunk):
+    """``(pieces, evaluated, stopped)``: ``pieces[k]`` the mask over the ``2^depth x 2^depth`` pieces of each
+    cell of ``grid`` (shape ``(n0 2^depth, n1 2^depth)``) of those proved at direction ``k`` (module
+    docstring), among the ``candidates`` (a mask over ``grid``) that hold a sampled configuration near that
+    direction (``sampled``: :func:`direction_seeds`, drawn when not given); the cells failing whole are tried
+    in ``4^level`` pieces up to ``depth`` (the pieces not within one proved already), each piece proved
+    counting for the volume (a cell cut by the boundary of the section keeps its pieces inside).
+    ``budget(evaluated, ahead=seconds)`` is asked before each chunk.  ``state`` (a dict, filled on the first
+    call) lets a later call go on where a stopped one ended: the cells tried at each level are not tried
+    again."""
+    budget = budget or (lambda evaluated, ahead=0.0: "")
+    F = 2 ** depth
+    if state is None or not state:
+        state = {} if state is None else state
+        state["pieces"] = np.zeros((DIRECTIONS, grid.shape[0] * F, grid.shape[1] * F), dtype=bool)
+        state["tried"] = np.zeros((depth + 1, DIRECTIONS) + grid.shape, dtype=bool)
+    pieces, tried = state["pieces"], state["tried"]
+    index, seeds = sampled if sampled is not None else direction_seeds(lateral, grid)
+    count = [evaluated]
+    pace = [0.0]
+
+    def ask(ahead):
+        return budget(count[0], ahead=ahead)
+
+    stopped = ""
+    for level in range(depth + 1):
+        for k in range(DIRECTIONS):
+            image = DirectionMap(lateral, k)
+            at = tuple(index[k].T)
+            todo = np.nonzero(candidates[at] & ~cell_level(pieces[k], grid)[at] & ~tried[level, k][at])[0]
+
+            def prove(part, k=k, image=image, level=level):
+                cells = index[k][part]
+                tried[level, k][tuple(cells.T)] = True
+                boxes, owner, offset = _split(grid.cells(cells), level)
+                size = F >> level
+                rows = cells[owner, 0] * F + offset[:, 0] * size
+                cols = cells[owner, 1] * F + offset[:, 1] * size
+                done = np.ones(len(boxes), dtype=bool)
+                for a, b in itertools.product(range(size), repeat=2):
+                    done &= pieces[k][rows + a, cols + b]
+                count[0] += int((~done).sum())
+                inside = np.zeros(len(boxes), dtype=bool)
+                inside[~done] = image.prove_inside(boxes[~done], seeds[k][part][owner[~done]])
+                for a, b in itertools.product(range(size), repeat=2):
+                    pieces[k][rows[inside] + a, cols[inside] + b] = True
+
+            stopped = in_chunks(todo, max(1, chunk // 4 ** level), ask, prove, pace, 4 ** level)
+            if stopped:
+                return pieces, count[0], stopped
+    return pieces, count[0], stopped
+
+
+def full_turn_cells(limited: LimitedTurn, classes: np.ndarray, pieces: np.ndarray) -> np.ndarray:
+    """Classes of the cells for every polar angle: inner where two directions of a qualifying pair are proved
+    (every piece of the cell, ``pieces`` as :func:`prove_directions` gives them), outer where the section's
+    cell is, undecided elsewhere."""
+    full = np.zeros(classes.shape, dtype=bool)
+    F = pieces.shape[-2] // classes.shape[0]
+    for j, k in limited.pairs:
+        full |= (pieces[j] & pieces[k]).reshape(classes.shape[0], F, classes.shape[1], F).all(axis=(1, 3))
+    out = np.full(classes.shape, UNDECIDED, dtype=np.int8)
+    out[full & (classes != OUTER)] = INNER
+    out[classes == OUTER] = OUTER
+    return out
+
+
+def limited_volume(limited: LimitedTurn, grid, full: np.ndarray, pieces: np.ndarray,
+                   tuning: Tuning = DEFAULT) -> tuple[float, float]:
+    """A proved bracket of the workspace's volume (module docstring) from the full-turn classes ``full`` and the
+    pieces proved at each direction (:func:`prove_directions`): a piece proved at both directions of a pair
+    turns into a solid in the workspace, a piece proved at one direction gives a share ``L / 2 pi`` (rounded
+    down) of its solid.  The upper bound is that of the cells not outside, also sought on the pieces of the
+    undecided cells (:func:`pieces_upper`), the lesser kept."""
+    high = turned_volume(grid, full)[1]
+    if limited.plan.section.reach is not None:
+        high = min(high, pieces_upper(limited.plan.section.reach, grid, full, tuning.shoulder_pieces,
+                                       tuning.reach_tolerance))
+    F = pieces.shape[-2] // grid.shape[0]
+    both = np.zeros(pieces.shape[1:], dtype=bool)
+    for j, k in limited.pairs:
+        both |= pieces[j] & pieces[k]
+    outer = np.repeat(np.repeat(full == OUTER, F, axis=0), F, axis=1)
+    both &= ~outer
+    one = pieces.any(axis=0) & ~both & ~outer
+    whole = both.reshape(grid.shape[0], F, grid.shape[1], F).all(axis=(1, 3))       # cells inner: whole solids
+    cells = turned_volume(grid, np.where(whole, INNER, OUTER).astype(np.int8))[0]
+    at = np.argwhere((both | one).reshape(grid.shape[0], F, grid.shape[1], F).any(axis=(1, 3)) & ~whole)
+    boxes, owner, offset = _split(grid.cells(at), F.bit_length() - 1)
+    rows, cols = at[owner, 0] * F + offset[:, 0], at[owner, 1] * F + offset[:, 1]
+    volumes = solid_volumes(boxes[:, 0, 0], boxes[:, 0, 1], boxes[:, 1, 0], boxes[:, 1, 1])[0]
+    low = ExactSum.of(volumes[both[rows, cols]]).value_down
+    part = ExactSum.of(volumes[one[rows, cols]]).value_down
+    with np.errstate(all="ignore"):
+        extra = arith.mul((part, part), (limited.share, limited.share))[0]
+        total = arith.add(arith.add((cells, cells), (low, low)), (extra, extra))[0]
+    return float(total), high
+
+
+def pieces_upper(reach, grid, classes: np.ndarray, pieces: int = DEFAULT.shoulder_pieces,
+                 tolerance: float = DEFAULT.reach_tolerance) -> float:
+    """An upper bound of the volume of the solid of revolution of the section from its classes and the distance
+    from the shoulder (:class:`~workspace_sym.serial.section.ShoulderReach`): the solids of the inner cells, plus
+    those of the pieces of the undecided cells (each cut ``pieces`` times along both axes, the cell's own edges
+    kept as the outer edges of its pieces, so that they cover it) not proved outside by that distance, summed
+    rounded up.  The cells cut by the sphere of the greatest distance (or the least) weigh only their part
+    within it, to a piece."""
+    e0, e1 = grid.edges
+    at = np.argwhere(classes == UNDECIDED)
+    t = np.linspace(0.0, 1.0, pieces + 1)
+
+    def cut(e, index):                          # (N, pieces + 1) edges, the ends exactly the cell's
+        lo, hi = e[index][:, None], e[index + 1][:, None]
+        edges = lo + (hi - lo) * t[None, :]
+        edges[:, 0], edges[:, -1] = lo[:, 0], hi[:, 0]
+        return edges
+
+    r, z = cut(e0, at[:, 0]), cut(e1, at[:, 1])
+    r0, r1 = r[:, :-1, None], r[:, 1:, None]
+    z0, z1 = z[:, None, :-1], z[:, None, 1:]
+    kept = ~reach.outside(r0, r1, z0, z1, grid.width / pieces, tolerance)
+    shape = kept.shape
+    vol = solid_volumes(*(np.broadcast_to(x, shape)[kept] for x in (r0, r1, z0, z1)))[1]
+    inner = turned_volume(grid, np.where(classes == INNER, INNER, OUTER).astype(np.int8))[1]
+    total = ExactSum.of(vol)
+    total.add(np.array([inner]))
+    return float(total.value_up)
+
+
+class LimitedTurnTest(TurnedTest):
+    """Classify world boxes of ``(x, y, z)`` from the full-turn classes and the directions proved (module
+    docstring)."""
+
+    def __init__(self, limited: LimitedTurn, grid, full: np.ndarray, pieces: np.ndarray):
+        super().__init__(limited.plan, grid, full)
+        self.limited = limited
+        self.sectors = [grid.prefix(np.where(p, INNER, UNDECIDED).astype(np.int8), INNER)
+                        for p in cell_level(pieces, grid)]
+
+    def __call__(self, X: np.ndarray):
+        F = self.rectangles(X)
+        finite = np.isfinite(F).all(axis=(1, 2))
+        inner = finite & self.grid.all_in_class(self.inside, F, outside_counts=False)
+        outer = finite & self.grid.all_in_class(self.outside, F, outside_counts=True)
+        rest = np.nonzero(finite & ~inner & ~outer)[0]
+        if len(rest):
+            lo, hi = polar_angles(to_first_frame(self.plan.inverse, X[rest]))
+            a, b = self.limited.inner_range
+            for k, table in enumerate(self.sectors):
+                turn = k * math.pi / 2
+                within = arc_within(lo - turn, hi - turn, a, b, False)
+                cells = self.grid.all_in_class(table, F[rest], outside_counts=False)
+                inner[rest[within & cells]] = True
+        return inner, outer & ~inner
+
+
+def pave_limited(limited: LimitedTurn, width: float, run, *, show=None, boxes: int | None = None,
+                 tuning: Tuning = DEFAULT):
+    """``(grid, full classes, pieces, evaluated, reason)`` over a grid of the given width on the section's
+    enclosure: its cells tried at the four directions (:func:`prove_directions`, whose pieces are returned),
+    then blocks of cells proved outside the section (stage 2 of
+    :func:`~workspace_sym.serial.section.section_paving`; a cell holding a sampled position is never tried, a
+    cell inner at every angle is skipped).  With a time limit, the directions
+    take ``tuning.directions_share`` of the time left when called, the blocks run until ``tuning.blocks_end`` of it (the
+    directions go on where they stopped when the blocks end before), the world boxes take the rest.  With a
+    budget of ``boxes`` (evaluated here; the same cells on every machine), the stages stop at the same shares
+    of it, the step under way ending first."""
+    section = limited.plan.section
+    limit, begun = run.time_limit, run.seconds
+    show = show or (lambda share, evaluated: None)
+
+    def until(share, why):
+        def budget(count, ahead=0.0):
+            late = limit is not None and run.seconds + 1.5 * ahead > begun + share * (limit - begun)
+            spent = boxes is not None and count >= share * boxes
+            return run.stop_reason(count) or (why if late or spent else "")
+        return budget
+
+    grid = CellGrid(section.enclose(section.limits[None])[0], width)
+    # The cells beyond the greatest distance from the shoulder, or within the least: outside, in two proofs.
+    outside = (np.zeros(grid.shape, dtype=bool) if section.reach is None
+               else section.reach.outside_cells(grid, tuning.reach_tolerance))
+    sampled = direction_seeds(section.lateral, grid, tuning.direction_samples)
+    reached = np.zeros(grid.shape, dtype=np.int8)
+    for index in sampled[0]:
+        reached[tuple(index.T)] = 1
+    state: dict = {}
+    depth = tuning.direction_depth if limit is None else tuning.timed_depth
+    proved, evaluated, reason = prove_directions(section.lateral, grid, ~outside,
+                                                 budget=until(tuning.directions_share, "share"), sampled=sampled,
+                                                 state=state, depth=depth, chunk=tuning.direction_chunk)
+    classes = full_turn_cells(limited, np.where(outside, OUTER, UNDECIDED).astype(np.int8), proved)
+    if reason != "share" and reason:
+        return grid, classes, proved, evaluated, reason
+    found = classes.copy()
+    evaluated, reason = blocks(section, grid, found, grid.prefix(reached, 1), until(tuning.blocks_end, "share"),
+                               show, tuning.section_pairs, evaluated)
+    classes[found == OUTER] = OUTER             # (a block proved inside the section proves nothing here)
+    if not reason:              # the blocks ended early: the directions go on with the time left until blocks_end
+        proved, evaluated, reason = prove_directions(section.lateral, grid, classes != OUTER,
+                                                     budget=until(tuning.blocks_end, "share"), sampled=sampled,
+                                                     evaluated=evaluated, state=state, depth=depth,
+                                                     chunk=tuning.direction_chunk)
+        classes = full_turn_cells(limited, classes, proved)
+    return grid, classes, proved, evaluated, "" if reason == "share" else reason
