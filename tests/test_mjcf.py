@@ -189,6 +189,19 @@ BAD = [
 ]
 
 
+@pytest.mark.parametrize("encoding", ["utf-8", "utf-16", "utf-16-be", "utf-32", "utf-32-le"])
+def test_entities_are_refused_in_every_encoding(tmp_path, encoding):
+    """Issue 37 item 3: the refusal looked for the bytes '<!DOCTYPE'; saved as UTF-16 the same model passed and
+    &L; was expanded.  Now the parsed document is checked, whatever the encoding (BOM or none)."""
+    bom = {"utf-16-be": "\ufeff", "utf-32-le": "\ufeff"}.get(encoding, "")      # the other codecs write their own
+    text = (f'{bom}<?xml version="1.0" encoding="{encoding}"?><!DOCTYPE m [<!ENTITY L "0.5">]><mujoco model="arm">'
+            '<worldbody><body name="b" pos="&L; 0 0"><joint/></body></worldbody></mujoco>')
+    path = tmp_path / "m.xml"
+    path.write_bytes(text.encode(encoding))
+    with pytest.raises(MJCFError, match=r"path: '.*m.xml' declares a document type or entities; MJCF needs neither"):
+        DHRobot.from_mjcf(path)
+
+
 @pytest.mark.parametrize("text, message", BAD)
 def test_bad_models_name_element_and_attribute(tmp_path, text, message):
     path = tmp_path / "bad.xml"

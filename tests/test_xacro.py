@@ -4,6 +4,7 @@ Reference: rtb-data ships the KUKA KR16 both as xacro and as the URDF ROS's xacr
 from either is the same exact model (table, base and tool compared as SymPy objects)."""
 
 import json
+import re
 import sys
 from pathlib import Path
 
@@ -93,3 +94,24 @@ def test_without_the_extra_a_xacro_file_is_refused_with_the_way_out(monkeypatch)
     monkeypatch.setitem(sys.modules, "xacro", None)          # as if the extra were not installed
     with pytest.raises(URDFError, match=r"install the xacro extra .*or expand it first \(xacro FILE > robot.urdf\)"):
         DHRobot.from_urdf(KR16 / "urdf" / "kr16_2.xacro", packages=KR16_PACKAGE)
+
+
+@pytest.mark.parametrize("where", ["file", "include"])
+@pytest.mark.parametrize("encoding", ["utf-8", "utf-16"])
+def test_xacro_input_with_entities_is_refused(tmp_path, where, encoding):
+    """Issue 37 item 3: xacro parses with minidom, which expands internal entities (&L; would be 0.5); every file
+    xacro reads, the file and what it includes, is now checked with defusedxml first."""
+    doctype = f'<?xml version="1.0" encoding="{encoding}"?><!DOCTYPE robot [<!ENTITY L "0.5">]>'
+    folder = tmp_path / "mypkg" / "urdf"
+    folder.mkdir(parents=True)
+    macro, robot = MACRO, ROBOT.format(package="mypkg")
+    if where == "include":
+        macro = doctype + macro.replace("${length} 0 0", "&L; 0 0")
+    else:
+        robot = doctype + robot.replace('length="0.5"', 'length="&L;"')
+    (folder / "macro.xacro").write_bytes(macro.encode(encoding))
+    (folder / "two.urdf.xacro").write_bytes(robot.encode(encoding))
+    refused = folder / ("two.urdf.xacro" if where == "file" else "macro.xacro")
+    with pytest.raises(URDFError, match=re.escape(f"path: '{refused}' declares a document type or entities; xacro "
+                                                  "needs neither")):
+        DHRobot.from_urdf(folder / "two.urdf.xacro")

@@ -28,6 +28,11 @@ become that multiple (``1.57079632679`` is ``pi/2`` at the default 1e-9, the
 rounded ``1.5708`` is not), axis components within ``tol`` of ``cos(k pi/12)``
 become it, and the axis is normalised exactly.
 
+The file is untrusted XML: defusedxml parses it first
+(:func:`workspace_sym.files.parse_xml`), refusing document type and entity
+declarations in any encoding, and yourdfpy (whose lxml would expand entities)
+reads only the document so checked.
+
 Xacro files (``robot.urdf.xacro``) are expanded with the ``xacro`` package
 (``pip install 'workspace_sym[xacro]'``; without it they are refused with the
 command that expands them).  ``$(find pkg)`` is the directory given in
@@ -42,6 +47,7 @@ from __future__ import annotations
 import io
 import logging
 import math
+import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import numpy as np
@@ -49,6 +55,7 @@ import sympy as sp
 
 from .errors import URDFError
 from .expressions import check_joint_limits
+from .files import parse_xml, read_bytes
 from .kinematics import DHJoint, DHRobot, xyz_rpy
 from .snap import DEFAULT_TOL, Snapper, chop
 
@@ -151,7 +158,11 @@ def _find_package(name: str, path: Path, packages: dict) -> str:
 
 
 def _expand_xacro(path: Path, packages: dict) -> bytes:
-    """The URDF a xacro file expands to (the ``xacro`` package, ``$(find pkg)`` through :func:`_find_package`)."""
+    """The URDF a xacro file expands to (the ``xacro`` package, ``$(find pkg)`` through :func:`_find_package`).
+
+    Every file xacro reads (``path`` and its ``<xacro:include>``) is first checked as untrusted XML
+    (:func:`workspace_sym.files.parse_xml`: no document type, no entities), and xacro parses the bytes checked.
+    """
     try:
         import xacro
         from xacro import substitution_args
@@ -159,8 +170,19 @@ def _expand_xacro(path: Path, packages: dict) -> bytes:
         raise URDFError(f"path: {str(path)!r} is a xacro file; install the xacro extra to expand it here (pip "
                         "install 'workspace_sym[xacro]'), or expand it first (xacro FILE > robot.urdf) and pass the "
                         ".urdf", parameter="path") from None
+    parse = xacro.parse
+
+    def checked_parse(inp, filename=None):
+        if inp is None:         # a file to open (xacro's own rule: relative to its root_dir)
+            name = Path(xacro.root_dir) / filename
+            data = read_bytes(name, "path", error=URDFError)
+            parse_xml(data, name, "path", kind="xacro", error=URDFError)
+            inp = io.BytesIO(data)
+        return parse(inp, filename)
+
     saved = substitution_args._eval_find
     substitution_args._eval_find = lambda name: _find_package(name, path, packages)
+    xacro.parse = checked_parse
     try:
         return xacro.process_file(str(path), mappings={}).toxml().encode()
     except Exception as exc:  # broad on purpose: xacro raises its own and Python's exceptions on a bad file
@@ -176,6 +198,7 @@ def _expand_xacro(path: Path, packages: dict) -> bytes:
                         parameter="path") from None
     finally:
         substitution_args._eval_find = saved
+        xacro.parse = parse
 
 
 def _load(path: Path, packages: dict | None = None):
@@ -184,15 +207,17 @@ def _load(path: Path, packages: dict | None = None):
     except ImportError:
         raise URDFError("path: reading URDF files needs yourdfpy: pip install 'workspace_sym[urdf]'",
                         parameter="path") from None
-    try:
-        text = path.read_bytes()
-    except OSError as exc:
-        raise URDFError(f"path: cannot read {str(path)!r}: {exc.strerror}", parameter="path") from None
+    text = read_bytes(path, "path", error=URDFError)
     # An expanded file may keep the xmlns:xacro declaration; macros and ${...} mean it was not expanded.
-    source: str | io.BytesIO = str(path)
     if path.suffix == ".xacro" or b"<xacro:" in text or b"${" in text:
-        source = io.BytesIO(_expand_xacro(path, packages or {}))
-    # yourdfpy logs a parse error and then reads whatever lxml can recover: catch that as a failure.
+        text = _expand_xacro(path, packages or {})
+    # yourdfpy parses with lxml, which would expand entities: it gets the document defusedxml parsed and checked
+    root = parse_xml(text, path, "path", kind="URDF", error=URDFError)
+    try:
+        source = io.BytesIO(ET.tostring(root))
+    except RecursionError:
+        raise URDFError(f"path: {str(path)!r} is nested too deeply for a URDF file", parameter="path") from None
+    # yourdfpy logs a parse error (lxml's limits, a depth of 256) and then reads what lxml can recover: a failure.
     logger = logging.getLogger("yourdfpy")
     errors = _Collect()
     logger.addHandler(errors)
@@ -208,8 +233,8 @@ def _load(path: Path, packages: dict | None = None):
     finally:
         logger.removeHandler(errors)
         logger.propagate = propagate
-    if errors.messages:   # the XML itself is broken: say so rather than what the recovery tripped on
-        raise URDFError(f"path: {str(path)!r} is not well-formed XML ({errors.messages[0][:120]})",
+    if errors.messages:
+        raise URDFError(f"path: {str(path)!r} cannot be parsed as URDF ({errors.messages[0][:120]})",
                         parameter="path")
     if failure is not None:
         raise URDFError(f"path: cannot read {str(path)!r} as URDF ({failure})", parameter="path")
