@@ -776,11 +776,12 @@ _MAX_BOXES = (("--max-boxes",), {"type": int, "help": "stop after this many boxe
 _TIME_LIMIT = (("--time-limit",), {"type": float, "help": "stop after this many seconds (the rest is pending)"})
 _ROBOT = (("robot",), {"nargs": "?", "help": "catalog DH robot (see 'workspace-sym robots'), or none with --dh"})
 _DH = (("--dh",), {"metavar": "FILE", "help": _DH_HELP})
-_URDF = (("--urdf",), {"metavar": "FILE", "help": "a URDF file (or xacro, with the xacro extra): its serial chain as a "
-                                                   "DH robot"})
+_URDF = (("--urdf",), {"metavar": "FILE", "help": "a URDF file, read as data: its serial chain as a DH robot. A FILE "
+                                                   "named *.xacro is expanded with xacro (the xacro extra), which runs "
+                                                   "the code it holds: only files you would run"})
 _PACKAGE = (("--package",), {"action": "append", "default": [], "metavar": "PKG=DIR",
-                             "help": "with a xacro --urdf: the directory of package PKG, for $(find PKG) (default: a "
-                                     "folder PKG above the file or beside the folders above it); repeatable"})
+                             "help": "with --urdf FILE.xacro: the directory of package PKG, for $(find PKG) (default: "
+                                     "a folder PKG above the file or beside the folders above it); repeatable"})
 _MJCF = (("--mjcf",), {"metavar": "FILE",
                        "help": "a MuJoCo model (MJCF XML): its serial chain of bodies as a DH robot"})
 _BASE = (("--base",), {"metavar": "LINK", "help": "with --urdf/--mjcf: first link or body of the chain (default: the "

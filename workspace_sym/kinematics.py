@@ -360,9 +360,11 @@ class DHRobot:
         Every chain of revolute and prismatic joints has a standard DH table
         once constant base and tool transforms are allowed; it is extracted
         exactly, and ``fk()`` equals the URDF's own forward kinematics.  See
-        :func:`workspace_sym.urdf.read_urdf` (needs the ``urdf`` extra, yourdfpy;
-        a xacro file the ``xacro`` extra, ``packages`` naming the directories of
-        its ``$(find pkg)``).
+        :func:`workspace_sym.urdf.read_urdf` (needs the ``urdf`` extra, yourdfpy).
+        The file is read as data; only a file named ``*.xacro`` is expanded (the
+        ``xacro`` extra, ``packages`` naming the directories of its
+        ``$(find pkg)``), which runs the code it holds: expand only files you
+        would run.
         """
         from .urdf import read_urdf  # optional dependency; urdf builds on this module
 

@@ -33,13 +33,21 @@ The file is untrusted XML: defusedxml parses it first
 declarations in any encoding, and yourdfpy (whose lxml would expand entities)
 reads only the document so checked.
 
-Xacro files (``robot.urdf.xacro``) are expanded with the ``xacro`` package
-(``pip install 'workspace_sym[xacro]'``; without it they are refused with the
-command that expands them).  ``$(find pkg)`` is the directory given in
-``packages`` (``--package pkg=DIR``), else a folder named ``pkg`` above the
+**A URDF file is data, a xacro file is a program.**  Only a file whose name
+ends in ``.xacro`` (``robot.urdf.xacro``) is expanded, with the ``xacro``
+package (``pip install 'workspace_sym[xacro]'``; without it the file is
+refused with the command that expands it).  Expanding runs the ``${...}``
+expressions of the file with xacro's own evaluator, which reaches any class
+Python has loaded (``subprocess.Popen`` included), as ROS's ``xacro`` command
+does: give a ``.xacro`` name only to a file you would run, and let no one else
+choose the name of a file you read.  Any other file is read as URDF and never
+expanded; one holding xacro markup (an element of xacro's namespace, ``${`` or
+``$(`` in an attribute or a text) is refused, with the way to expand it
+knowingly.  None of the package's readers of others' input (answer keys,
+students' answers) reads robot files.  ``$(find pkg)`` is the directory given
+in ``packages`` (``--package pkg=DIR``), else a folder named ``pkg`` above the
 file or beside one of the folders above it (the layout of rtb-data and of a ROS
-workspace).  Expanding runs the ``${...}`` expressions of the file with xacro's
-own evaluator, as ROS does: expand only files you would run.
+workspace).
 """
 
 from __future__ import annotations
@@ -55,7 +63,7 @@ import sympy as sp
 
 from .errors import URDFError
 from .expressions import check_joint_limits
-from .files import parse_xml, read_bytes
+from .files import parse_xml, read_bytes, read_xml
 from .kinematics import DHJoint, DHRobot, xyz_rpy
 from .snap import DEFAULT_TOL, Snapper, chop
 
@@ -75,7 +83,8 @@ def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None
     Parameters
     ----------
     path : str or Path
-        A URDF file, or a xacro file (expanded with the ``xacro`` extra).
+        A URDF file (read as data), or a xacro file, named ``*.xacro``: expanded with the ``xacro`` extra, which
+        runs the code the file holds (expand only files you would run).
     base_link : str, optional
         Default: the root of the link tree.
     tip_link : str, optional
@@ -85,7 +94,7 @@ def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None
         Snapping of floats (see :mod:`workspace_sym.snap`); ``exact=False`` keeps
         floats and chops entries below ``tol``.
     packages : dict, optional
-        Directories of the packages a xacro file names in ``$(find pkg)``.
+        Directories of the packages a xacro file names in ``$(find pkg)`` (a ``.xacro`` file only).
 
     Joint ``k`` of the chain (fixed joints skipped) gets the variable
     ``theta{k}`` (revolute, continuous) or ``d{k}`` (prismatic), the URDF joint
@@ -94,7 +103,8 @@ def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None
     Raises
     ------
     URDFError
-        Unreadable file, xacro that cannot be expanded, unknown or unconnected links, a branching tree
+        Unreadable file, a document type or entities, a URDF file holding xacro markup, xacro that cannot be
+        expanded, ``packages`` for a file that is not ``.xacro``, unknown or unconnected links, a branching tree
         without ``tip_link``, a mimic, floating or planar joint on the chain, a
         revolute or prismatic joint without ``<limit>``, a chain without joints.
     Examples
@@ -118,7 +128,11 @@ def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None
     '0.4*c1 + 0.3*c12'
     """
     path = Path(path)
-    model = _load(path, _package_dirs(packages))
+    packages = _package_dirs(packages)
+    if packages and not _is_xacro(path):
+        raise URDFError(f"packages: {path.name} is read as URDF, not expanded as xacro (its name does not end in "
+                        f"{_XACRO_SUFFIX}); packages serve the $(find PKG) of a xacro file", parameter="packages")
+    model = _load(path, packages)
     joints = model.robot.joints
     by_child = {j.child: j for j in joints}
     links = [link.name for link in model.robot.links]
@@ -131,6 +145,16 @@ def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None
 
 
 # ---------------------------------------------------------------------------- reading the file
+# The end of the name of a file that read_urdf expands with xacro (and so runs): the user's choice, not the file's.
+_XACRO_SUFFIX = ".xacro"
+# xacro's namespace, in the two spellings ROS files use.
+_XACRO_NAMESPACES = ("http://ros.org/wiki/xacro", "http://www.ros.org/wiki/xacro")
+
+
+def _is_xacro(path: Path) -> bool:
+    return path.name.endswith(_XACRO_SUFFIX)
+
+
 def _package_dirs(packages) -> dict:
     """``packages`` checked: package names to existing directories."""
     out = {}
@@ -201,18 +225,23 @@ def _expand_xacro(path: Path, packages: dict) -> bytes:
         xacro.parse = parse
 
 
-def _load(path: Path, packages: dict | None = None):
+def _load(path: Path, packages: dict):
     try:
         import yourdfpy
     except ImportError:
         raise URDFError("path: reading URDF files needs yourdfpy: pip install 'workspace_sym[urdf]'",
                         parameter="path") from None
-    text = read_bytes(path, "path", error=URDFError)
-    # An expanded file may keep the xmlns:xacro declaration; macros and ${...} mean it was not expanded.
-    if path.suffix == ".xacro" or b"<xacro:" in text or b"${" in text:
-        text = _expand_xacro(path, packages or {})
+    if _is_xacro(path):      # named xacro by the user: expanded, and its expressions run
+        root = parse_xml(_expand_xacro(path, packages), path, "path", kind="URDF", error=URDFError)
+    else:                    # data: never expanded
+        root = read_xml(path, "path", kind="URDF", error=URDFError)
+        markup = _xacro_markup(root)
+        if markup is not None:
+            raise URDFError(f"path: {str(path)!r} looks like xacro, not URDF ({markup}); a URDF file is read as "
+                            "data and never expanded. Expanding xacro runs the code the file holds: if you trust "
+                            f"this file, give it a name ending in {_XACRO_SUFFIX} to expand it here, or expand it "
+                            "yourself (xacro FILE > robot.urdf)", parameter="path")
     # yourdfpy parses with lxml, which would expand entities: it gets the document defusedxml parsed and checked
-    root = parse_xml(text, path, "path", kind="URDF", error=URDFError)
     try:
         source = io.BytesIO(ET.tostring(root))
     except RecursionError:
@@ -239,6 +268,34 @@ def _load(path: Path, packages: dict | None = None):
     if failure is not None:
         raise URDFError(f"path: cannot read {str(path)!r} as URDF ({failure})", parameter="path")
     return model
+
+
+def _xacro_markup(root: ET.Element) -> str | None:
+    """The first xacro markup of a parsed file, shown as ``<tag attribute='value'>``: an element or attribute of
+    xacro's namespace, or an expression ``${`` or a substitution ``$(`` in an attribute or a text; None if none.
+
+    (An expanded file may keep the ``xmlns:xacro`` declaration: that alone is not markup.)
+    """
+    def local(name: str) -> str:
+        return name.rpartition("}")[2]
+
+    def in_xacro(name: str) -> bool:
+        return name.startswith("{") and name[1:].partition("}")[0].rstrip("/") in _XACRO_NAMESPACES
+
+    def marked(text: str) -> bool:
+        return "${" in text or "$(" in text
+
+    for element in root.iter():
+        tag = local(element.tag)
+        if in_xacro(element.tag):
+            return f"<xacro:{tag}>"
+        for key, value in element.attrib.items():
+            if in_xacro(key) or marked(value):
+                return f"<{tag} {local(key)}={value[:40]!r}>"
+        for text in (element.text or "", element.tail or ""):
+            if marked(text):
+                return f"<{tag}> with the text {' '.join(text.split())[:40]!r}"
+    return None
 
 
 class _Collect(logging.Handler):
