@@ -193,3 +193,53 @@ def test_xacro_input_with_entities_is_refused(tmp_path, where, encoding):
     with pytest.raises(URDFError, match=re.escape(f"path: '{refused}' declares a document type or entities; xacro "
                                                   "needs neither")):
         DHRobot.from_urdf(folder / "two.urdf.xacro")
+
+
+PX100 = XACRO / "trossen_descriptions" / "urdf" / "px100.urdf.xacro"
+
+
+def test_xacro_args_give_px100_its_link_names(tmp_path, capsys):
+    """Issue 39: px100.urdf.xacro names its links $(arg robot_name)/...; xacro_args / --xacro-arg pass
+    robot_name:=px100.  Reference: yourdfpy's forward kinematics of the URDF xacro itself expands with that argument
+    (an independent reading of the same file), tip to base, at random configurations."""
+    import numpy as np
+    import xacro as ros_xacro
+    import yourdfpy
+
+    robot = DHRobot.from_urdf(PX100, xacro_args={"robot_name": "px100"}, tip_link="px100/ee_gripper_link")
+    assert robot.name == "px100" and robot.n == 4 and "from 'px100/base_link'" in robot.input_notes[0]
+    expanded = tmp_path / "px100.urdf"
+    expanded.write_text(ros_xacro.process_file(str(PX100), mappings={"robot_name": "px100"}).toxml())
+    model = yourdfpy.URDF.load(str(expanded), build_scene_graph=True, load_meshes=False)
+    names = [j.name for j in model.robot.joints if j.type in ("revolute", "continuous", "prismatic")]
+    for q in np.random.default_rng(3).uniform(-1.5, 1.5, size=(6, robot.n)):
+        model.update_cfg(dict(zip(["waist", "shoulder", "elbow", "wrist_angle"], q)) | {
+            n: 0.0 for n in names if n not in ("waist", "shoulder", "elbow", "wrist_angle")})
+        reference = model.get_transform("px100/ee_gripper_link", "px100/base_link")
+        assert np.abs(robot.fk_numeric(q) - reference).max() < 1e-12
+    assert main(["fk", "--urdf", str(PX100), "--xacro-arg", "robot_name=px100", "--tip", "px100/ee_gripper_link",
+                 "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["robot"] == "px100"
+
+
+@pytest.mark.parametrize(("argv", "needle"), [
+    (["--xacro-arg", "robot_nme=px100"], "--xacro-arg: px100.urdf.xacro has no argument 'robot_nme'; its arguments: "
+                                         "'external_urdf_loc', 'load_gazebo_configs', 'robot_name',"),
+    (["--xacro-arg", "robot_name"], "--xacro-arg: expected NAME=VALUE"),
+    (["--xacro-arg", "=px100"], "--xacro-arg: expected NAME=VALUE"),
+])
+def test_xacro_arg_bad_input_is_one_line(capsys, argv, needle):
+    assert main(["fk", "--urdf", str(PX100), "--tip", "px100/ee_gripper_link", *argv]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and needle in err, err
+
+
+def test_xacro_args_are_for_a_xacro_file_and_hold_text(tmp_path, capsys):
+    path = tmp_path / "arm.urdf"
+    path.write_text(ARM.format(name='"arm"'))
+    with pytest.raises(URDFError, match=r"xacro_args: arm.urdf is read as URDF, not expanded as xacro"):
+        DHRobot.from_urdf(path, xacro_args={"robot_name": "px100"})
+    with pytest.raises(URDFError, match=r"xacro_args: expected an argument name and its value \(text or a number"):
+        DHRobot.from_urdf(PX100, xacro_args={"robot_name": ["px100"]})
+    assert main(["fk", "glass-handling", "--xacro-arg", "robot_name=px100"]) == 2
+    assert "--xacro-arg names an argument of a xacro file: give --urdf FILE" in capsys.readouterr().err

@@ -354,7 +354,7 @@ class DHRobot:
 
     @classmethod
     def from_urdf(cls, path, *, base_link: str | None = None, tip_link: str | None = None, exact: bool = True,
-                  tol: float = DEFAULT_TOL, packages: dict | None = None) -> DHRobot:
+                  tol: float = DEFAULT_TOL, packages: dict | None = None, xacro_args: dict | None = None) -> DHRobot:
         """The serial chain from ``base_link`` to ``tip_link`` of a URDF file, as a DH robot.
 
         Every chain of revolute and prismatic joints has a standard DH table
@@ -363,12 +363,13 @@ class DHRobot:
         :func:`workspace_sym.urdf.read_urdf` (needs the ``urdf`` extra, yourdfpy).
         The file is read as data; only a file named ``*.xacro`` is expanded (the
         ``xacro`` extra, ``packages`` naming the directories of its
-        ``$(find pkg)``), which runs the code it holds: expand only files you
-        would run.
+        ``$(find pkg)``, ``xacro_args`` the values of its ``$(arg name)``),
+        which runs the code it holds: expand only files you would run.
         """
         from .urdf import read_urdf  # optional dependency; urdf builds on this module
 
-        return read_urdf(path, base_link=base_link, tip_link=tip_link, exact=exact, tol=tol, packages=packages)
+        return read_urdf(path, base_link=base_link, tip_link=tip_link, exact=exact, tol=tol, packages=packages,
+                         xacro_args=xacro_args)
 
     @classmethod
     def from_mjcf(cls, path, *, base_link: str | None = None, tip_link: str | None = None, exact: bool = True,

@@ -47,7 +47,9 @@ knowingly.  None of the package's readers of others' input (answer keys,
 students' answers) reads robot files.  ``$(find pkg)`` is the directory given
 in ``packages`` (``--package pkg=DIR``), else a folder named ``pkg`` above the
 file or beside one of the folders above it (the layout of rtb-data and of a ROS
-workspace).
+workspace); ``$(arg name)`` is the value given in ``xacro_args``
+(``--xacro-arg name=value``, xacro's own ``name:=value``), else the default of
+the file's ``<xacro:arg>``.
 """
 
 from __future__ import annotations
@@ -77,7 +79,7 @@ _DUST = 1e-14
 
 
 def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None, exact: bool = True,
-              tol: float = DEFAULT_TOL, packages: dict | None = None) -> DHRobot:
+              tol: float = DEFAULT_TOL, packages: dict | None = None, xacro_args: dict | None = None) -> DHRobot:
     """The serial chain ``base_link -> tip_link`` of a URDF file as an exact DH robot.
 
     Parameters
@@ -95,6 +97,9 @@ def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None
         floats and chops entries below ``tol``.
     packages : dict, optional
         Directories of the packages a xacro file names in ``$(find pkg)`` (a ``.xacro`` file only).
+    xacro_args : dict, optional
+        Values of the arguments of a xacro file, ``$(arg name)`` (a ``.xacro`` file only): text or numbers, as
+        ``name:=value`` on xacro's command line; a name the file neither declares nor uses is refused.
 
     Joint ``k`` of the chain (fixed joints skipped) gets the variable
     ``theta{k}`` (revolute, continuous) or ``d{k}`` (prismatic), the URDF joint
@@ -104,7 +109,8 @@ def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None
     ------
     URDFError
         Unreadable file, a document type or entities, a URDF file holding xacro markup, xacro that cannot be
-        expanded, ``packages`` for a file that is not ``.xacro``, unknown or unconnected links, a branching tree
+        expanded, ``packages`` or ``xacro_args`` for a file that is not ``.xacro``, an argument the file does not
+        have, unknown or unconnected links, a branching tree
         without ``tip_link``, a mimic, floating or planar joint on the chain, a
         revolute or prismatic joint without ``<limit>``, a chain without joints.
     Examples
@@ -128,11 +134,13 @@ def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None
     '0.4*c1 + 0.3*c12'
     """
     path = Path(path)
-    packages = _package_dirs(packages)
-    if packages and not _is_xacro(path):
-        raise URDFError(f"packages: {path.name} is read as URDF, not expanded as xacro (its name does not end in "
-                        f"{_XACRO_SUFFIX}); packages serve the $(find PKG) of a xacro file", parameter="packages")
-    model = _load(path, packages)
+    packages, args = _package_dirs(packages), _xacro_args(xacro_args)
+    for parameter, given, use in (("packages", packages, "package directories serve only the $(find PKG)"),
+                                  ("xacro_args", args, "arguments serve only the $(arg NAME)")):
+        if given and not _is_xacro(path):
+            raise URDFError(f"{parameter}: {path.name} is read as URDF, not expanded as xacro (its name does not end "
+                            f"in {_XACRO_SUFFIX}); {use} of a xacro file", parameter=parameter)
+    model = _load(path, packages, args)
     joints = model.robot.joints
     by_child = {j.child: j for j in joints}
     links = [link.name for link in model.robot.links]
@@ -166,6 +174,35 @@ def _package_dirs(packages) -> dict:
     return out
 
 
+def _xacro_args(values) -> dict:
+    """``xacro_args`` checked: argument names to their values as text (what xacro's ``name:=value`` gives)."""
+    out = {}
+    for name, value in (values or {}).items():
+        if (not isinstance(name, str) or not name or name != name.strip() or type(value) not in (str, int, float)
+                or "\n" in str(value)):
+            raise URDFError(f"xacro_args: expected an argument name and its value (text or a number, one line); got "
+                            f"{name!r:.40} = {value!r:.60}", parameter="xacro_args")
+        out[name] = str(value)
+    return out
+
+
+class _ArgsAsked(dict):
+    """The arguments handed to xacro, noting the names the file asks about (declares with ``<xacro:arg>``, or
+    reads in ``$(arg name)``): xacro itself ignores a given name the file never asks for, a typo included."""
+
+    def __init__(self, values: dict):
+        super().__init__(values)
+        self.asked: set = set()
+
+    def __contains__(self, name) -> bool:
+        self.asked.add(name)
+        return super().__contains__(name)
+
+    def __getitem__(self, name):
+        self.asked.add(name)
+        return super().__getitem__(name)
+
+
 def _find_package(name: str, path: Path, packages: dict) -> str:
     """``$(find name)`` for the xacro file ``path``: a given directory, a folder ``name`` above the file, or beside
     one of the folders above it."""
@@ -181,7 +218,7 @@ def _find_package(name: str, path: Path, packages: dict) -> str:
                     parameter="packages")
 
 
-def _expand_xacro(path: Path, packages: dict) -> bytes:
+def _expand_xacro(path: Path, packages: dict, args: dict) -> bytes:
     """The URDF a xacro file expands to (the ``xacro`` package, ``$(find pkg)`` through :func:`_find_package`).
 
     Every file xacro reads (``path`` and its ``<xacro:include>``) is first checked as untrusted XML
@@ -207,8 +244,9 @@ def _expand_xacro(path: Path, packages: dict) -> bytes:
     saved = substitution_args._eval_find
     substitution_args._eval_find = lambda name: _find_package(name, path, packages)
     xacro.parse = checked_parse
+    mappings = _ArgsAsked(args)
     try:
-        return xacro.process_file(str(path), mappings={}).toxml().encode()
+        expanded = xacro.process_file(str(path), mappings=mappings).toxml().encode()
     except Exception as exc:  # broad on purpose: xacro raises its own and Python's exceptions on a bad file
         cause: BaseException | None = exc
         seen = set()
@@ -223,16 +261,22 @@ def _expand_xacro(path: Path, packages: dict) -> bytes:
     finally:
         substitution_args._eval_find = saved
         xacro.parse = parse
+    unknown = sorted(set(args) - mappings.asked)
+    if unknown:
+        has = ", ".join(map(repr, sorted(mappings.asked))) or "none"
+        raise URDFError(f"xacro_args: {path.name} has no argument {unknown[0]!r}; its arguments: {has}",
+                        parameter="xacro_args")
+    return expanded
 
 
-def _load(path: Path, packages: dict):
+def _load(path: Path, packages: dict, args: dict):
     try:
         import yourdfpy
     except ImportError:
         raise URDFError("path: reading URDF files needs yourdfpy: pip install 'workspace_sym[urdf]'",
                         parameter="path") from None
     if _is_xacro(path):      # named xacro by the user: expanded, and its expressions run
-        root = parse_xml(_expand_xacro(path, packages), path, "path", kind="URDF", error=URDFError)
+        root = parse_xml(_expand_xacro(path, packages, args), path, "path", kind="URDF", error=URDFError)
     else:                    # data: never expanded
         root = read_xml(path, "path", kind="URDF", error=URDFError)
         markup = _xacro_markup(root)
