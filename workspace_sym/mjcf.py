@@ -114,9 +114,12 @@ def read_mjcf(path, *, base_link: str | None = None, tip_link: str | None = None
 # ---------------------------------------------------------------------------- reading the file
 def _parse(path: Path) -> ET.Element:
     root = read_xml(path, "path", kind="MJCF", error=MJCFError)
+    if root.tag == "robot":
+        raise MJCFError(f"path: {str(path)!r} is a URDF file (root element <robot>), not an MJCF model; read it as "
+                        "URDF (DHRobot.from_urdf, --urdf FILE)", parameter="path")
     if root.tag != "mujoco":
-        raise MJCFError(f"--mjcf: {str(path)!r} is not an MJCF model (root element <{root.tag}>, expected "
-                        "<mujoco>)", parameter="mjcf")
+        raise MJCFError(f"path: {str(path)!r} is not an MJCF model (root element <{root.tag}>, expected <mujoco>)",
+                        parameter="path")
     if root.find(".//include") is not None:
         raise MJCFError(f"--mjcf: {str(path)!r} uses <include>; merge the included files first", parameter="mjcf")
     return root

@@ -285,6 +285,12 @@ def _load(path: Path, packages: dict, args: dict):
                             "data and never expanded. Expanding xacro runs the code the file holds: if you trust "
                             f"this file, give it a name ending in {_XACRO_SUFFIX} to expand it here, or expand it "
                             "yourself (xacro FILE > robot.urdf)", parameter="path")
+    if root.tag == "mujoco":
+        raise URDFError(f"path: {str(path)!r} is an MJCF model (root element <mujoco>), not URDF; read it as MJCF "
+                        "(DHRobot.from_mjcf, --mjcf FILE)", parameter="path")
+    if root.tag != "robot":
+        raise URDFError(f"path: {str(path)!r} is not a URDF file (root element <{root.tag}>, expected <robot>)",
+                        parameter="path")
     # yourdfpy parses with lxml, which would expand entities: it gets the document defusedxml parsed and checked
     try:
         source = io.BytesIO(ET.tostring(root))
