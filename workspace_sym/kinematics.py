@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 import os
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 
 import numpy as np
@@ -123,7 +123,9 @@ class DHJoint:
     ``theta`` and ``d`` are full expressions: for a revolute joint ``theta``
     contains the joint variable (``theta_i`` plus any offset), for a prismatic
     joint ``d`` does.  ``limits`` are in radians (revolute) or length units
-    (prismatic); ``None`` means unlimited.
+    (prismatic); ``None`` means unlimited.  ``name`` is the joint's name in
+    the file it was read from (a URDF or MJCF joint), ``None`` for a DH
+    table; it is a label, not part of the table (equal rows are equal joints).
     """
 
     kind: str
@@ -133,6 +135,7 @@ class DHJoint:
     alpha: sp.Expr
     variable: sp.Symbol
     limits: tuple[sp.Expr, sp.Expr] | None = None
+    name: str | None = field(default=None, compare=False)
 
     def __post_init__(self):
         check_choice("joint type", self.kind, JOINT_KINDS)
@@ -841,7 +844,7 @@ class DHRobot:
             moved, (a, alpha) = [*pairs[1:], (sp.Integer(0), sp.Integer(0))], pairs[0]
             start = dh_matrix(0, 0, a, alpha, convention="modified")   # Rx(alpha_0) Tx(a_0), after the base
             base, tool = start if self.base is None else self.base * start, self.tool
-        joints = [DHJoint(j.kind, j.theta, j.d, a, alpha, j.variable, j.limits) for j, (a, alpha) in zip(J, moved)]
+        joints = [replace(j, a=a, alpha=alpha) for j, (a, alpha) in zip(J, moved)]
         identity = sp.eye(4)
         return DHRobot(joints, convention=convention, name=self.name, parameters=self.parameters, units=self.units,
                        base=None if base == identity else base, tool=None if tool == identity else tool,

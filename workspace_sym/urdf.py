@@ -515,7 +515,7 @@ def _dh_robot(name, chain, snapper: Snapper, base_link, tip_link) -> DHRobot:
             raw = (j.limit.lower or 0.0, j.limit.upper or 0.0)
             limits = tuple(read(v, f"joint {j.name!r} limit") for v in raw)
             check_joint_limits(f"{j.name!r}", *limits, shown=raw)
-        joints.append(DHJoint("P" if j.type == "prismatic" else "R", theta, d, a, alpha, q, limits))
+        joints.append(DHJoint("P" if j.type == "prismatic" else "R", theta, d, a, alpha, q, limits, name=j.name))
         names.append(f"{q} = {j.name}")
     base = frames[0]
     tool = _rigid_inverse(frames[-1]) * T_tip
