@@ -241,10 +241,10 @@ def _expand_xacro(path: Path, packages: dict, args: dict) -> bytes:
             inp = io.BytesIO(data)
         return parse(inp, filename)
 
+    mappings = _ArgsAsked(args)
     saved = substitution_args._eval_find
     substitution_args._eval_find = lambda name: _find_package(name, path, packages)
     xacro.parse = checked_parse
-    mappings = _ArgsAsked(args)
     try:
         expanded = xacro.process_file(str(path), mappings=mappings).toxml().encode()
     except Exception as exc:  # broad on purpose: xacro raises its own and Python's exceptions on a bad file
