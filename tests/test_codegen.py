@@ -184,7 +184,7 @@ def test_untrusted_robot_name_cannot_leave_the_directory_or_the_comment(tmp_path
     paths = write_code(robot, tmp_path)
     assert [p.parent for p in paths] == [tmp_path, tmp_path]
     assert [p.name for p in paths] == ["x_int_evil.h", "x_int_evil.c"]
-    assert "int evil;" not in paths[1].read_text().replace("'../../x * / int evil; /*'", "")
+    assert "int evil;" not in paths[1].read_text().replace("'../../x * / int evil; / *'", "")
 
 
 def test_out_is_a_file(tmp_path):
@@ -221,3 +221,42 @@ def test_cli_codegen_bad_out_is_one_line_exit_2(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("\n") == 1
     assert err.startswith("workspace-sym codegen: error: --out: cannot write into") and "not a directory" in err
+
+
+ARM_URDF = ('<robot name="arm"><link name="base"/><link name="upper"/><link name="fore"/><link name="tip"/>'
+            '<joint name={0} type="revolute"><parent link="base"/><child link="upper"/><axis xyz="0 0 1"/>'
+            '<limit lower="-2" upper="2"/></joint>'
+            '<joint name="elbow" type="continuous"><parent link="upper"/><child link="fore"/>'
+            '<origin xyz="0.4 0 0"/><axis xyz="0 0 1"/></joint>'
+            '<joint name="flange" type="fixed"><parent link="fore"/><child link="tip"/><origin xyz="0.3 0 0"/></joint>'
+            '</robot>')
+ARM_MJCF = ('<mujoco model="arm"><worldbody><body name="upper"><joint name="shoulder" axis="0 0 1"/>'
+            '<geom size="0.02"/><body name="fore" pos="0.4 0 0"><joint axis="0 0 1"/><geom size="0.02"/>'
+            '<body name="tip" pos="0.3 0 0"/></body></body></worldbody></mujoco>')
+
+
+def test_header_names_the_joints_of_the_file(tmp_path):
+    """Issue 39: for a robot read from a URDF or MJCF file the header says which of the file's joints each q[k] is
+    (fixed joints skipped); a name is comment text, so one holding '*/' and '/*' still compiles under -Werror.
+    Reference: the compiled fk against fk_numeric, and the plain 2R arm 0.4 c1 + 0.3 c12 by hand."""
+    from xml.sax.saxutils import quoteattr
+
+    pytest.importorskip("yourdfpy")
+    hostile = "shoulder */ int evil; /* x"
+    path = tmp_path / "arm.urdf"
+    path.write_text(ARM_URDF.format(quoteattr(hostile)))
+    mjcf = tmp_path / "arm.xml"
+    mjcf.write_text(ARM_MJCF)
+    for robot, names in ((DHRobot.from_urdf(path), ("shoulder * / int evil; / * x", "elbow")),
+                         (DHRobot.from_mjcf(mjcf), ("shoulder", "joint 1 of body fore"))):
+        c = Compiled(robot, tmp_path / f"c-{len(list(tmp_path.iterdir()))}")
+        header = c.files[0].read_text()
+        assert (f"Joint vector: q[0] = theta1 = joint '{names[0]}' (revolute, rad), q[1] = theta2 = joint "
+                f"'{names[1]}' (revolute, rad).") in header
+        assert "No allocation" in header[:header.index("*/")]     # the hostile name did not close the comment
+        q = np.array([0.3, -0.7])
+        np.testing.assert_allclose(c.fk(q), robot.fk_numeric(q), atol=1e-12)
+        np.testing.assert_allclose(c.fk(q)[:2, 3], [0.4 * np.cos(0.3) + 0.3 * np.cos(-0.4),
+                                                    0.4 * np.sin(0.3) + 0.3 * np.sin(-0.4)], atol=1e-12)
+    assert robot.to_convention("modified").joints[0].name == "shoulder"       # a label the conversion keeps
+    assert "q[0] = theta1 (revolute, rad)," in c_code(robots.build("planar-2r"))["planar_2r.h"]   # a DH table

@@ -183,10 +183,23 @@ BAD = [
     ('<mujoco><compiler angle="grad"/><worldbody/></mujoco>', r"<compiler angle> must be 'degree' or 'radian'"),
     ('<!DOCTYPE m [<!ENTITY a "aaaa">]><mujoco><worldbody/></mujoco>', r"declares a document type or entities"),
     ('<mujoco><worldbody><body', r"is not well-formed XML"),
-    ('<robot name="r"/>', r"is not an MJCF model \(root element <robot>"),
+    ('<model name="r"/>', r"path: '.*bad.xml' is not an MJCF model \(root element <model>, expected <mujoco>\)"),
     ('<mujoco><include file="other.xml"/><worldbody/></mujoco>', r"uses <include>"),
     ('<mujoco><worldbody><body name="b"/></worldbody></mujoco>', r"tip_link: the model has no body moved by a joint"),
 ]
+
+
+@pytest.mark.parametrize("encoding", ["utf-8", "utf-16", "utf-16-be", "utf-32", "utf-32-le"])
+def test_entities_are_refused_in_every_encoding(tmp_path, encoding):
+    """Issue 37 item 3: the refusal looked for the bytes '<!DOCTYPE'; saved as UTF-16 the same model passed and
+    &L; was expanded.  Now the parsed document is checked, whatever the encoding (BOM or none)."""
+    bom = {"utf-16-be": "\ufeff", "utf-32-le": "\ufeff"}.get(encoding, "")      # the other codecs write their own
+    text = (f'{bom}<?xml version="1.0" encoding="{encoding}"?><!DOCTYPE m [<!ENTITY L "0.5">]><mujoco model="arm">'
+            '<worldbody><body name="b" pos="&L; 0 0"><joint/></body></worldbody></mujoco>')
+    path = tmp_path / "m.xml"
+    path.write_bytes(text.encode(encoding))
+    with pytest.raises(MJCFError, match=r"path: '.*m.xml' declares a document type or entities; MJCF needs neither"):
+        DHRobot.from_mjcf(path)
 
 
 @pytest.mark.parametrize("text, message", BAD)
@@ -249,3 +262,24 @@ def test_any_pos_attribute_is_read_or_refused_with_mjcf_error(scratch, value):
     tokens = value.split()
     assert len(tokens) == 3
     np.testing.assert_allclose(robot.fk_numeric(np.zeros(1))[:3, 3], [float(t) for t in tokens], atol=1e-12)
+
+
+def test_each_reader_names_the_other_format(tmp_path, capsys):
+    """Issue 39: --urdf given an MJCF model said "cannot read ... as URDF ('name')"; each reader now names the
+    format it was given and the option that reads it, both ways."""
+    model = tmp_path / "arm.xml"
+    model.write_text(MODELS["euler"])
+    urdf = tmp_path / "arm.urdf"
+    urdf.write_text('<robot name="arm"><link name="base"/></robot>')
+    assert main(["fk", "--urdf", str(model)]) == 2
+    err = capsys.readouterr().err
+    assert err == (f"workspace-sym fk: error: --urdf: {str(model)!r} is an MJCF model (root element <mujoco>), not "
+                   "URDF; read it as MJCF (DHRobot.from_mjcf, --mjcf FILE)\n")
+    assert main(["fk", "--mjcf", str(urdf)]) == 2
+    err = capsys.readouterr().err
+    assert err == (f"workspace-sym fk: error: --mjcf: {str(urdf)!r} is a URDF file (root element <robot>), not an "
+                   "MJCF model; read it as URDF (DHRobot.from_urdf, --urdf FILE)\n")
+    sdf = tmp_path / "arm.sdf"
+    sdf.write_text('<sdf version="1.6"><model name="arm"/></sdf>')
+    assert main(["fk", "--urdf", str(sdf)]) == 2
+    assert "is not a URDF file (root element <sdf>, expected <robot>)" in capsys.readouterr().err

@@ -324,6 +324,39 @@ def test_bad_urdf_one_line_exit_2(tmp_path, capsys, case, message):
     assert "--" not in str(info.value) and info.value.parameter in ("path", "base_link", "tip_link")
 
 
+# A document type with an internal entity (&L; would be 0.5), one naming a file (read by a parser that resolves it),
+# and a parameter entity: each is refused wherever it sits, before yourdfpy's lxml sees the file.
+DOCTYPES = ['<!DOCTYPE robot [<!ENTITY L "0.5">]>', '<!DOCTYPE robot [<!ENTITY L SYSTEM "/etc/hostname">]>',
+            '<!DOCTYPE robot [<!ENTITY % p "x"> %p;]>', '<!DOCTYPE robot>']
+
+
+@pytest.mark.parametrize("doctype", DOCTYPES)
+@pytest.mark.parametrize("encoding", ["utf-8", "utf-16", "utf-32", "latin-1"])
+def test_urdf_entities_are_refused_in_every_encoding(tmp_path, encoding, doctype):
+    """Issue 37 item 3: yourdfpy parses with lxml, which expands the internal entities of a URDF (in any encoding);
+    the file is now parsed with defusedxml first, and yourdfpy gets only the document it checked."""
+    joint = GOOD_JOINT.format(i=1, p=0, kind="revolute", extra=LIMIT).replace('xyz="0 0 0.1"', 'xyz="0 0 &L;"')
+    path = tmp_path / "arm.urdf"
+    path.write_bytes(f'<?xml version="1.0" encoding="{encoding}"?>{doctype}<robot name="t"><link name="l0"/>'
+                     f'<link name="l1"/>{joint}</robot>'.encode(encoding))
+    with pytest.raises(URDFError, match=r"path: '.*arm.urdf' declares a document type or entities; URDF needs "
+                                        r"neither"):
+        DHRobot.from_urdf(path)
+
+
+def test_a_urdf_in_utf16_or_utf32_is_read(tmp_path):
+    """The same arm saved as UTF-8, UTF-16 and UTF-32 (with their byte order marks) is the same robot."""
+    joint = GOOD_JOINT.format(i=1, p=0, kind="revolute", extra=LIMIT)
+    text = f'<?xml version="1.0"?><robot name="t"><link name="l0"/><link name="l1"/>{joint}</robot>'
+    robots = []
+    for encoding in ("utf-8", "utf-16", "utf-32"):
+        path = tmp_path / f"{encoding}.urdf"
+        path.write_bytes(text.encode(encoding))
+        robots.append(DHRobot.from_urdf(path))
+    assert robots[0].fk()[2, 3] == sp.Rational(1, 10)       # the origin's z, 0.1, as the exact decimal
+    assert all(r.joints == robots[0].joints and r.fk() == robots[0].fk() for r in robots)
+
+
 def test_cli_urdf_and_float_dh(tmp_path, capsys):
     path, _ = URDFS["kr16"]
     assert main(["fk", "--urdf", str(path), "--json"]) == 0

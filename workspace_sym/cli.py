@@ -92,13 +92,18 @@ def _robot_from_args(args) -> DHRobot:
                              "or --mjcf FILE")
     if args.package and args.urdf is None:
         raise WorkspaceError("--package names the directory of a package of a xacro file: give --urdf FILE")
+    if args.xacro_arg and args.urdf is None:
+        raise WorkspaceError("--xacro-arg names an argument of a xacro file: give --urdf FILE")
     if args.dh is not None or args.urdf is not None or args.mjcf is not None:
         exact = not args.keep_floats
         robot = (DHRobot.from_file(args.dh, exact=exact, tol=args.snap_tol) if args.dh is not None else
                  DHRobot.from_mjcf(args.mjcf, base_link=args.base, tip_link=args.tip, exact=exact, tol=args.snap_tol)
                  if args.mjcf is not None else
                  DHRobot.from_urdf(args.urdf, base_link=args.base, tip_link=args.tip, exact=exact, tol=args.snap_tol,
-                                   packages=_packages(args.package)))
+                                   packages=_pairs(args.package, "packages", "PKG=DIR (a package of "
+                                                   "the xacro file and its directory)"),
+                                   xacro_args=_pairs(args.xacro_arg, "xacro_args", "NAME=VALUE (an "
+                                                     "argument of the xacro file and its value)", empty=True)))
         line = summary(robot.input_notes)
         if line:
             print(f"workspace-sym {args.command}: note: {line}", file=sys.stderr)
@@ -115,15 +120,16 @@ def _robot_from_args(args) -> DHRobot:
 _ROBOT_FILES = ("dh", "urdf", "mjcf")
 
 
-def _packages(values) -> dict:
-    """``--package PKG=DIR`` options as ``{PKG: DIR}``."""
+def _pairs(values, parameter: str, expected: str, *, empty: bool = False) -> dict:
+    """Repeated ``option NAME=VALUE`` options (``--package PKG=DIR``, ``--xacro-arg NAME=VALUE``) as a dict;
+    ``empty``: a value may be empty (a xacro argument, as ``name:=`` gives)."""
     out = {}
     for text in values or ():
-        name, sep, folder = text.partition("=")
-        if not sep or not name.strip() or not folder.strip():
-            raise InvalidParameterError(f"--package: expected PKG=DIR (a package of the xacro file and its "
-                                        f"directory); got {text!r:.80}", parameter="packages")
-        out[name.strip()] = folder.strip()
+        name, sep, value = text.partition("=")
+        if not sep or not name.strip() or not (value.strip() or empty):
+            # named as the library names it (parameter): the error line puts the option in its place
+            raise InvalidParameterError(f"{parameter}: expected {expected}; got {text!r:.80}", parameter=parameter)
+        out[name.strip()] = value.strip()
     return out
 
 
@@ -673,8 +679,8 @@ def cmd_report(args) -> int:
             raise InvalidParameterError(f"the certified workspace section needs a DH robot (catalog or --dh FILE); "
                                         f"{args.what!r} is not one", parameter="reach_delta")
 
-    if (args.base or args.tip or args.package) and not (args.urdf or args.mjcf):
-        _robot_from_args(args)            # says which file --base, --tip or --package needs
+    if (args.base or args.tip or args.package or args.xacro_arg) and not (args.urdf or args.mjcf):
+        _robot_from_args(args)            # says which file --base, --tip, --package or --xacro-arg needs
     if args.what is not None and files:
         raise WorkspaceError(f"report: give either {args.what!r} or a robot file ({' and '.join(files)}), not both")
     if args.what == "chain":
@@ -779,11 +785,15 @@ _MAX_BOXES = (("--max-boxes",), {"type": int, "help": "stop after this many boxe
 _TIME_LIMIT = (("--time-limit",), {"type": float, "help": "stop after this many seconds (the rest is pending)"})
 _ROBOT = (("robot",), {"nargs": "?", "help": "catalog DH robot (see 'workspace-sym robots'), or none with --dh"})
 _DH = (("--dh",), {"metavar": "FILE", "help": _DH_HELP})
-_URDF = (("--urdf",), {"metavar": "FILE", "help": "a URDF file (or xacro, with the xacro extra): its serial chain as a "
-                                                   "DH robot"})
+_URDF = (("--urdf",), {"metavar": "FILE", "help": "a URDF file, read as data: its serial chain as a DH robot. A FILE "
+                                                   "named *.xacro is expanded with xacro (the xacro extra), which runs "
+                                                   "the code it holds: only files you would run"})
 _PACKAGE = (("--package",), {"action": "append", "default": [], "metavar": "PKG=DIR",
-                             "help": "with a xacro --urdf: the directory of package PKG, for $(find PKG) (default: a "
-                                     "folder PKG above the file or beside the folders above it); repeatable"})
+                             "help": "with --urdf FILE.xacro: the directory of package PKG, for $(find PKG) (default: "
+                                     "a folder PKG above the file or beside the folders above it); repeatable"})
+_XACRO_ARG = (("--xacro-arg",), {"action": "append", "default": [], "metavar": "NAME=VALUE",
+                                 "help": "with --urdf FILE.xacro: the value of the file's argument NAME, for $(arg "
+                                         "NAME) (xacro's NAME:=VALUE); repeatable"})
 _MJCF = (("--mjcf",), {"metavar": "FILE",
                        "help": "a MuJoCo model (MJCF XML): its serial chain of bodies as a DH robot"})
 _BASE = (("--base",), {"metavar": "LINK", "help": "with --urdf/--mjcf: first link or body of the chain (default: the "
@@ -844,8 +854,9 @@ def build_parser() -> _Parser:
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     json_, progress, budget = _parent(_JSON), _parent(_PROGRESS), _parent(_MAX_BOXES, _TIME_LIMIT)
-    dh_robot = _parent(_ROBOT, _DH, _URDF, _MJCF, _BASE, _TIP, _PACKAGE, _SNAP_TOL, _KEEP_FLOATS)
-    robot_files = _parent(_DH, _URDF, _MJCF, _BASE, _TIP, _PACKAGE, _SNAP_TOL, _KEEP_FLOATS)   # report: no positional
+    dh_robot = _parent(_ROBOT, _DH, _URDF, _MJCF, _BASE, _TIP, _PACKAGE, _XACRO_ARG, _SNAP_TOL, _KEEP_FLOATS)
+    # report: the same without the positional robot
+    robot_files = _parent(_DH, _URDF, _MJCF, _BASE, _TIP, _PACKAGE, _XACRO_ARG, _SNAP_TOL, _KEEP_FLOATS)
     sigma, resolution = _parent(_SIGMA), _parent(_DELTA, _SIZE)
     spread, scheduler = _parent(_SCHEDULER, _MAX_MEMORY, _STORE, _RESUME), _parent(_SCHEDULER)
 
@@ -980,7 +991,7 @@ _FLAGS: dict[str | None, str] = {
     "approach": "--approach", "cone": "--cone", "every": "--every", "orientation": "--orientation",
     "rpy": "--orientation",
     "base_link": "--base", "tip_link": "--tip", "out": "--out", "plot": "--plot", "slices": "--slices",
-    "report": "--report", "prefix": "--prefix", "packages": "--package",
+    "report": "--report", "prefix": "--prefix", "packages": "--package", "xacro_args": "--xacro-arg",
 }
 # A library error about ``path`` (a DH, URDF or MJCF file) is about the option that named the file.
 _PATH_OPTIONS = ("urdf", "mjcf", "dh")

@@ -1,11 +1,17 @@
-"""Files named by the user: read as text or JSON, and written whole or not at all.
+"""Files named by the user: read as text, JSON or XML, and written whole or not at all.
 
-Every reader of a user's file (DH tables, URDF files, answer keys and CSVs)
-and every writer of a user's output path (figures, reports, grades, exercise
-sheets) goes through here, so that a missing file, a file that is not UTF-8,
-JSON nested 100,000 deep, a missing or unwritable output directory or an
-unknown figure format each raise a :class:`~workspace_sym.errors.WorkspaceError`
-naming the parameter, the path and what was expected, never a traceback.
+Every reader of a user's file (DH tables, URDF, xacro and MJCF files, answer
+keys and CSVs) and every writer of a user's output path (figures, reports,
+grades, exercise sheets) goes through here, so that a missing file, a file
+that is not UTF-8, JSON nested 100,000 deep, XML declaring entities, a
+missing or unwritable output directory or an unknown figure format each
+raise a :class:`~workspace_sym.errors.WorkspaceError` naming the parameter,
+the path and what was expected, never a traceback.
+
+XML is parsed with defusedxml, a parser built for untrusted XML (the ``urdf``
+extra): a document type declaration, and with it any entity (internal ones
+are how "billion laughs" bombs work, external ones read other files), is
+refused on the parsed document, so in every encoding the parser reads.
 
 Outputs are checked before the work starts (:func:`check_output_file`,
 :func:`check_output_dir`) and written under a temporary name that is renamed
@@ -14,16 +20,21 @@ once complete (:func:`publish_dir`), so a failure leaves nothing half-written.
 
 from __future__ import annotations
 
+import codecs
 import json
 import os
 import shutil
 import tempfile
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from .errors import OutputError, WorkspaceError
 
-__all__ = ["read_text", "read_json", "check_output_file", "check_output_dir", "publish_dir", "write_files",
-           "figure_formats"]
+if TYPE_CHECKING:
+    from xml.etree.ElementTree import Element
+
+__all__ = ["read_text", "read_json", "read_bytes", "read_xml", "parse_xml", "check_output_file", "check_output_dir",
+           "publish_dir", "write_files", "figure_formats"]
 
 
 def read_text(path, parameter: str, *, error: type[WorkspaceError] = WorkspaceError, encoding: str = "utf-8") -> str:
@@ -67,6 +78,77 @@ def read_json(path, parameter: str, *, error: type[WorkspaceError] = WorkspaceEr
     except RecursionError:
         reason = "nested too deeply"
     raise error(f"{parameter}: {str(path)!r} is not valid JSON ({reason})", parameter=parameter)
+
+
+def read_bytes(path, parameter: str, *, error: type[WorkspaceError] = WorkspaceError) -> bytes:
+    """The bytes of the file ``path``; ``error`` (naming ``parameter``) when it cannot be read."""
+    try:
+        return Path(path).read_bytes()
+    except OSError as exc:
+        raise error(f"{parameter}: cannot read {str(path)!r}: {exc.strerror or exc}", parameter=parameter) from None
+
+
+def read_xml(path, parameter: str, *, kind: str, error: type[WorkspaceError] = WorkspaceError) -> Element:
+    """The root element of the XML file ``path`` (a ``kind`` file: ``"URDF"``, ``"MJCF"``), parsed as untrusted data.
+
+    See :func:`parse_xml`.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> bomb = pathlib.Path(tempfile.mkdtemp()) / "bomb.xml"
+    >>> _ = bomb.write_text('<!DOCTYPE m [<!ENTITY a "aaaaaaaa">]><mujoco>&a;</mujoco>', encoding="utf-16")
+    >>> read_xml(bomb, "path", kind="MJCF")                          # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    workspace_sym.errors.WorkspaceError: path: '...bomb.xml' declares a document type or entities; MJCF needs neither
+    """
+    return parse_xml(read_bytes(path, parameter, error=error), path, parameter, kind=kind, error=error)
+
+
+# Byte order marks (XML 1.0, appendix F): a file starting with one is decoded here, whatever its declaration says
+# (expat reads UTF-16 but not under the name 'utf-16-be', and no UTF-32).  UTF-32's marks begin with UTF-16's: first.
+_BOMS = ((codecs.BOM_UTF32_LE, "utf-32"), (codecs.BOM_UTF32_BE, "utf-32"), (codecs.BOM_UTF8, "utf-8-sig"),
+         (codecs.BOM_UTF16_LE, "utf-16"), (codecs.BOM_UTF16_BE, "utf-16"))
+
+
+def parse_xml(data: bytes, path, parameter: str, *, kind: str, error: type[WorkspaceError] = WorkspaceError) -> Element:
+    """The root element of the XML document ``data`` (the bytes of the file ``path``), parsed as untrusted data.
+
+    defusedxml parses it and refuses any document type declaration (so any
+    entity) wherever the parser meets it, in UTF-8, UTF-16 or UTF-32 (with
+    its byte order mark) or a one-byte encoding its declaration names.  A
+    document type, XML that is not well-formed or an encoding the parser does
+    not read each raise ``error`` naming ``parameter``, the path and what was
+    expected.
+    """
+    try:
+        import defusedxml
+        from defusedxml.ElementTree import ParseError, fromstring
+    except ImportError:
+        raise error(f"{parameter}: reading {kind} files needs defusedxml: pip install 'workspace_sym[urdf]'",
+                    parameter=parameter) from None
+    where = repr(str(path))
+    source: bytes | str = data
+    for bom, codec in _BOMS:
+        if data.startswith(bom):
+            try:
+                source = data.decode(codec)
+            except UnicodeDecodeError as exc:
+                name = codec.removesuffix("-sig").upper()
+                raise error(f"{parameter}: {where} starts with the byte order mark of {name} but is not {name} text "
+                            f"({exc.reason} at byte {exc.start})", parameter=parameter) from None
+            break
+    try:
+        return fromstring(source, forbid_dtd=True)
+    except defusedxml.DefusedXmlException:      # before ValueError, which it derives from
+        raise error(f"{parameter}: {where} declares a document type or entities; {kind} needs neither",
+                    parameter=parameter) from None
+    except ParseError as exc:
+        raise error(f"{parameter}: {where} is not well-formed XML ({exc})", parameter=parameter) from None
+    except ValueError as exc:                   # pyexpat: "multi-byte encodings are not supported"
+        raise error(f"{parameter}: {where} is in an encoding the XML parser does not read ({exc}); save it as "
+                    "UTF-8", parameter=parameter) from None
 
 
 def figure_formats() -> tuple[str, ...]:

@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 import os
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 
 import numpy as np
@@ -99,7 +99,9 @@ class DHJoint:
     ``theta`` and ``d`` are full expressions: for a revolute joint ``theta``
     contains the joint variable (``theta_i`` plus any offset), for a prismatic
     joint ``d`` does.  ``limits`` are in radians (revolute) or length units
-    (prismatic); ``None`` means unlimited.
+    (prismatic); ``None`` means unlimited.  ``name`` is the joint's name in
+    the file it was read from (a URDF or MJCF joint), ``None`` for a DH
+    table; it is a label, not part of the table (equal rows are equal joints).
     """
 
     kind: str
@@ -109,6 +111,7 @@ class DHJoint:
     alpha: sp.Expr
     variable: sp.Symbol
     limits: tuple[sp.Expr, sp.Expr] | None = None
+    name: str | None = field(default=None, compare=False)
 
     def __post_init__(self):
         check_choice("joint type", self.kind, JOINT_KINDS)
@@ -317,19 +320,22 @@ class DHRobot:
 
     @classmethod
     def from_urdf(cls, path, *, base_link: str | None = None, tip_link: str | None = None, exact: bool = True,
-                  tol: float = DEFAULT_TOL, packages: dict | None = None) -> DHRobot:
+                  tol: float = DEFAULT_TOL, packages: dict | None = None, xacro_args: dict | None = None) -> DHRobot:
         """The serial chain from ``base_link`` to ``tip_link`` of a URDF file, as a DH robot.
 
         Every chain of revolute and prismatic joints has a standard DH table
         once constant base and tool transforms are allowed; it is extracted
         exactly, and ``fk()`` equals the URDF's own forward kinematics.  See
-        :func:`workspace_sym.urdf.read_urdf` (needs the ``urdf`` extra, yourdfpy;
-        a xacro file the ``xacro`` extra, ``packages`` naming the directories of
-        its ``$(find pkg)``).
+        :func:`workspace_sym.urdf.read_urdf` (needs the ``urdf`` extra, yourdfpy).
+        The file is read as data; only a file named ``*.xacro`` is expanded (the
+        ``xacro`` extra, ``packages`` naming the directories of its
+        ``$(find pkg)``, ``xacro_args`` the values of its ``$(arg name)``),
+        which runs the code it holds: expand only files you would run.
         """
         from .urdf import read_urdf  # optional dependency; urdf builds on this module
 
-        return read_urdf(path, base_link=base_link, tip_link=tip_link, exact=exact, tol=tol, packages=packages)
+        return read_urdf(path, base_link=base_link, tip_link=tip_link, exact=exact, tol=tol, packages=packages,
+                         xacro_args=xacro_args)
 
     @classmethod
     def from_mjcf(cls, path, *, base_link: str | None = None, tip_link: str | None = None, exact: bool = True,
@@ -819,7 +825,7 @@ class DHRobot:
             moved, (a, alpha) = [*pairs[1:], (sp.Integer(0), sp.Integer(0))], pairs[0]
             start = dh_matrix(0, 0, a, alpha, convention="modified")   # Rx(alpha_0) Tx(a_0), after the base
             base, tool = start if self.base is None else self.base * start, self.tool
-        joints = [DHJoint(j.kind, j.theta, j.d, a, alpha, j.variable, j.limits) for j, (a, alpha) in zip(J, moved)]
+        joints = [replace(j, a=a, alpha=alpha) for j, (a, alpha) in zip(J, moved)]
         identity = sp.eye(4)
         return DHRobot(joints, convention=convention, name=self.name, parameters=self.parameters, units=self.units,
                        base=None if base == identity else base, tool=None if tool == identity else tool,

@@ -14,11 +14,12 @@ come from ``<default>`` classes (``class``, ``childclass``) as in MuJoCo; a
 joint is limited when ``limited="true"``, or ``"auto"`` (the default) with a
 ``range``.
 
-The file is parsed with the standard library's ElementTree and every
-attribute is untrusted: numbers are read strictly (a decimal or exponent
-literal, finite, the expected count), and an error names the element and the
-attribute.  Document type declarations (entities) and ``<include>`` are refused.
-Reading needs the ``urdf`` extra (its transform helpers).
+The file is untrusted data: it is parsed with defusedxml
+(:func:`workspace_sym.files.read_xml`), which refuses document type
+declarations (entities) in every encoding; numbers are read strictly (a
+decimal or exponent literal, finite, the expected count), and an error names
+the element and the attribute.  ``<include>`` is refused.  Reading needs the
+``urdf`` extra (defusedxml, and the transform helpers).
 """
 
 from __future__ import annotations
@@ -32,6 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import MJCFError
+from .files import read_xml
 from .snap import DEFAULT_TOL, Snapper
 
 __all__ = ["read_mjcf"]
@@ -111,20 +113,13 @@ def read_mjcf(path, *, base_link: str | None = None, tip_link: str | None = None
 
 # ---------------------------------------------------------------------------- reading the file
 def _parse(path: Path) -> ET.Element:
-    try:
-        text = path.read_bytes()
-    except OSError as exc:
-        raise MJCFError(f"--mjcf: cannot read {str(path)!r}: {exc.strerror}", parameter="mjcf") from None
-    if b"<!DOCTYPE" in text or b"<!ENTITY" in text:   # entity expansion is how XML bombs work
-        raise MJCFError(f"--mjcf: {str(path)!r} declares a document type or entities; MJCF needs neither",
-                        parameter="mjcf")
-    try:
-        root = ET.fromstring(text)
-    except ET.ParseError as exc:
-        raise MJCFError(f"--mjcf: {str(path)!r} is not well-formed XML ({exc})", parameter="mjcf") from None
+    root = read_xml(path, "path", kind="MJCF", error=MJCFError)
+    if root.tag == "robot":
+        raise MJCFError(f"path: {str(path)!r} is a URDF file (root element <robot>), not an MJCF model; read it as "
+                        "URDF (DHRobot.from_urdf, --urdf FILE)", parameter="path")
     if root.tag != "mujoco":
-        raise MJCFError(f"--mjcf: {str(path)!r} is not an MJCF model (root element <{root.tag}>, expected "
-                        "<mujoco>)", parameter="mjcf")
+        raise MJCFError(f"path: {str(path)!r} is not an MJCF model (root element <{root.tag}>, expected <mujoco>)",
+                        parameter="path")
     if root.find(".//include") is not None:
         raise MJCFError(f"--mjcf: {str(path)!r} uses <include>; merge the included files first", parameter="mjcf")
     return root

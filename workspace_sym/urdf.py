@@ -28,13 +28,28 @@ become that multiple (``1.57079632679`` is ``pi/2`` at the default 1e-9, the
 rounded ``1.5708`` is not), axis components within ``tol`` of ``cos(k pi/12)``
 become it, and the axis is normalised exactly.
 
-Xacro files (``robot.urdf.xacro``) are expanded with the ``xacro`` package
-(``pip install 'workspace_sym[xacro]'``; without it they are refused with the
-command that expands them).  ``$(find pkg)`` is the directory given in
-``packages`` (``--package pkg=DIR``), else a folder named ``pkg`` above the
+The file is untrusted XML: defusedxml parses it first
+(:func:`workspace_sym.files.parse_xml`), refusing document type and entity
+declarations in any encoding, and yourdfpy (whose lxml would expand entities)
+reads only the document so checked.
+
+**A URDF file is data, a xacro file is a program.**  Only a file whose name
+ends in ``.xacro`` (``robot.urdf.xacro``) is expanded, with the ``xacro``
+package (``pip install 'workspace_sym[xacro]'``; without it the file is
+refused with the command that expands it).  Expanding runs the ``${...}``
+expressions of the file with xacro's own evaluator, which reaches any class
+Python has loaded (``subprocess.Popen`` included), as ROS's ``xacro`` command
+does: give a ``.xacro`` name only to a file you would run, and let no one else
+choose the name of a file you read.  Any other file is read as URDF and never
+expanded; one holding xacro markup (an element of xacro's namespace, ``${`` or
+``$(`` in an attribute or a text) is refused, with the way to expand it
+knowingly.  None of the package's readers of others' input (answer keys,
+students' answers) reads robot files.  ``$(find pkg)`` is the directory given
+in ``packages`` (``--package pkg=DIR``), else a folder named ``pkg`` above the
 file or beside one of the folders above it (the layout of rtb-data and of a ROS
-workspace).  Expanding runs the ``${...}`` expressions of the file with xacro's
-own evaluator, as ROS does: expand only files you would run.
+workspace); ``$(arg name)`` is the value given in ``xacro_args``
+(``--xacro-arg name=value``, xacro's own ``name:=value``), else the default of
+the file's ``<xacro:arg>``.
 """
 
 from __future__ import annotations
@@ -42,6 +57,7 @@ from __future__ import annotations
 import io
 import logging
 import math
+import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import numpy as np
@@ -49,6 +65,7 @@ import sympy as sp
 
 from .errors import URDFError
 from .expressions import check_joint_limits
+from .files import parse_xml, read_bytes, read_xml
 from .kinematics import DHJoint, DHRobot, xyz_rpy
 from .snap import DEFAULT_TOL, Snapper, chop
 
@@ -62,13 +79,14 @@ _DUST = 1e-14
 
 
 def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None, exact: bool = True,
-              tol: float = DEFAULT_TOL, packages: dict | None = None) -> DHRobot:
+              tol: float = DEFAULT_TOL, packages: dict | None = None, xacro_args: dict | None = None) -> DHRobot:
     """The serial chain ``base_link -> tip_link`` of a URDF file as an exact DH robot.
 
     Parameters
     ----------
     path : str or Path
-        A URDF file, or a xacro file (expanded with the ``xacro`` extra).
+        A URDF file (read as data), or a xacro file, named ``*.xacro``: expanded with the ``xacro`` extra, which
+        runs the code the file holds (expand only files you would run).
     base_link : str, optional
         Default: the root of the link tree.
     tip_link : str, optional
@@ -78,7 +96,10 @@ def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None
         Snapping of floats (see :mod:`workspace_sym.snap`); ``exact=False`` keeps
         floats and chops entries below ``tol``.
     packages : dict, optional
-        Directories of the packages a xacro file names in ``$(find pkg)``.
+        Directories of the packages a xacro file names in ``$(find pkg)`` (a ``.xacro`` file only).
+    xacro_args : dict, optional
+        Values of the arguments of a xacro file, ``$(arg name)`` (a ``.xacro`` file only): text or numbers, as
+        ``name:=value`` on xacro's command line; a name the file neither declares nor uses is refused.
 
     Joint ``k`` of the chain (fixed joints skipped) gets the variable
     ``theta{k}`` (revolute, continuous) or ``d{k}`` (prismatic), the URDF joint
@@ -87,7 +108,9 @@ def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None
     Raises
     ------
     URDFError
-        Unreadable file, xacro that cannot be expanded, unknown or unconnected links, a branching tree
+        Unreadable file, a document type or entities, a URDF file holding xacro markup, xacro that cannot be
+        expanded, ``packages`` or ``xacro_args`` for a file that is not ``.xacro``, an argument the file does not
+        have, unknown or unconnected links, a branching tree
         without ``tip_link``, a mimic, floating or planar joint on the chain, a
         revolute or prismatic joint without ``<limit>``, a chain without joints.
     Examples
@@ -111,7 +134,13 @@ def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None
     '0.4*c1 + 0.3*c12'
     """
     path = Path(path)
-    model = _load(path, _package_dirs(packages))
+    packages, args = _package_dirs(packages), _xacro_args(xacro_args)
+    for parameter, given, use in (("packages", packages, "package directories serve only the $(find PKG)"),
+                                  ("xacro_args", args, "arguments serve only the $(arg NAME)")):
+        if given and not _is_xacro(path):
+            raise URDFError(f"{parameter}: {path.name} is read as URDF, not expanded as xacro (its name does not end "
+                            f"in {_XACRO_SUFFIX}); {use} of a xacro file", parameter=parameter)
+    model = _load(path, packages, args)
     joints = model.robot.joints
     by_child = {j.child: j for j in joints}
     links = [link.name for link in model.robot.links]
@@ -124,6 +153,16 @@ def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None
 
 
 # ---------------------------------------------------------------------------- reading the file
+# The end of the name of a file that read_urdf expands with xacro (and so runs): the user's choice, not the file's.
+_XACRO_SUFFIX = ".xacro"
+# xacro's namespace, in the two spellings ROS files use.
+_XACRO_NAMESPACES = ("http://ros.org/wiki/xacro", "http://www.ros.org/wiki/xacro")
+
+
+def _is_xacro(path: Path) -> bool:
+    return path.name.endswith(_XACRO_SUFFIX)
+
+
 def _package_dirs(packages) -> dict:
     """``packages`` checked: package names to existing directories."""
     out = {}
@@ -133,6 +172,35 @@ def _package_dirs(packages) -> dict:
                             f"{str(folder)!r}", parameter="packages")
         out[name.strip()] = Path(folder)
     return out
+
+
+def _xacro_args(values) -> dict:
+    """``xacro_args`` checked: argument names to their values as text (what xacro's ``name:=value`` gives)."""
+    out = {}
+    for name, value in (values or {}).items():
+        if (not isinstance(name, str) or not name or name != name.strip() or type(value) not in (str, int, float)
+                or "\n" in str(value)):
+            raise URDFError(f"xacro_args: expected an argument name and its value (text or a number, one line); got "
+                            f"{name!r:.40} = {value!r:.60}", parameter="xacro_args")
+        out[name] = str(value)
+    return out
+
+
+class _ArgsAsked(dict):
+    """The arguments handed to xacro, noting the names the file asks about (declares with ``<xacro:arg>``, or
+    reads in ``$(arg name)``): xacro itself ignores a given name the file never asks for, a typo included."""
+
+    def __init__(self, values: dict):
+        super().__init__(values)
+        self.asked: set = set()
+
+    def __contains__(self, name) -> bool:
+        self.asked.add(name)
+        return super().__contains__(name)
+
+    def __getitem__(self, name):
+        self.asked.add(name)
+        return super().__getitem__(name)
 
 
 def _find_package(name: str, path: Path, packages: dict) -> str:
@@ -150,8 +218,12 @@ def _find_package(name: str, path: Path, packages: dict) -> str:
                     parameter="packages")
 
 
-def _expand_xacro(path: Path, packages: dict) -> bytes:
-    """The URDF a xacro file expands to (the ``xacro`` package, ``$(find pkg)`` through :func:`_find_package`)."""
+def _expand_xacro(path: Path, packages: dict, args: dict) -> bytes:
+    """The URDF a xacro file expands to (the ``xacro`` package, ``$(find pkg)`` through :func:`_find_package`).
+
+    Every file xacro reads (``path`` and its ``<xacro:include>``) is first checked as untrusted XML
+    (:func:`workspace_sym.files.parse_xml`: no document type, no entities), and xacro parses the bytes checked.
+    """
     try:
         import xacro
         from xacro import substitution_args
@@ -159,10 +231,22 @@ def _expand_xacro(path: Path, packages: dict) -> bytes:
         raise URDFError(f"path: {str(path)!r} is a xacro file; install the xacro extra to expand it here (pip "
                         "install 'workspace_sym[xacro]'), or expand it first (xacro FILE > robot.urdf) and pass the "
                         ".urdf", parameter="path") from None
+    parse = xacro.parse
+
+    def checked_parse(inp, filename=None):
+        if inp is None:         # a file to open (xacro's own rule: relative to its root_dir)
+            name = Path(xacro.root_dir) / filename
+            data = read_bytes(name, "path", error=URDFError)
+            parse_xml(data, name, "path", kind="xacro", error=URDFError)
+            inp = io.BytesIO(data)
+        return parse(inp, filename)
+
+    mappings = _ArgsAsked(args)
     saved = substitution_args._eval_find
     substitution_args._eval_find = lambda name: _find_package(name, path, packages)
+    xacro.parse = checked_parse
     try:
-        return xacro.process_file(str(path), mappings={}).toxml().encode()
+        expanded = xacro.process_file(str(path), mappings=mappings).toxml().encode()
     except Exception as exc:  # broad on purpose: xacro raises its own and Python's exceptions on a bad file
         cause: BaseException | None = exc
         seen = set()
@@ -176,23 +260,43 @@ def _expand_xacro(path: Path, packages: dict) -> bytes:
                         parameter="path") from None
     finally:
         substitution_args._eval_find = saved
+        xacro.parse = parse
+    unknown = sorted(set(args) - mappings.asked)
+    if unknown:
+        has = ", ".join(map(repr, sorted(mappings.asked))) or "none"
+        raise URDFError(f"xacro_args: {path.name} has no argument {unknown[0]!r}; its arguments: {has}",
+                        parameter="xacro_args")
+    return expanded
 
 
-def _load(path: Path, packages: dict | None = None):
+def _load(path: Path, packages: dict, args: dict):
     try:
         import yourdfpy
     except ImportError:
         raise URDFError("path: reading URDF files needs yourdfpy: pip install 'workspace_sym[urdf]'",
                         parameter="path") from None
+    if _is_xacro(path):      # named xacro by the user: expanded, and its expressions run
+        root = parse_xml(_expand_xacro(path, packages, args), path, "path", kind="URDF", error=URDFError)
+    else:                    # data: never expanded
+        root = read_xml(path, "path", kind="URDF", error=URDFError)
+        markup = _xacro_markup(root)
+        if markup is not None:
+            raise URDFError(f"path: {str(path)!r} looks like xacro, not URDF ({markup}); a URDF file is read as "
+                            "data and never expanded. Expanding xacro runs the code the file holds: if you trust "
+                            f"this file, give it a name ending in {_XACRO_SUFFIX} to expand it here, or expand it "
+                            "yourself (xacro FILE > robot.urdf)", parameter="path")
+    if root.tag == "mujoco":
+        raise URDFError(f"path: {str(path)!r} is an MJCF model (root element <mujoco>), not URDF; read it as MJCF "
+                        "(DHRobot.from_mjcf, --mjcf FILE)", parameter="path")
+    if root.tag != "robot":
+        raise URDFError(f"path: {str(path)!r} is not a URDF file (root element <{root.tag}>, expected <robot>)",
+                        parameter="path")
+    # yourdfpy parses with lxml, which would expand entities: it gets the document defusedxml parsed and checked
     try:
-        text = path.read_bytes()
-    except OSError as exc:
-        raise URDFError(f"path: cannot read {str(path)!r}: {exc.strerror}", parameter="path") from None
-    # An expanded file may keep the xmlns:xacro declaration; macros and ${...} mean it was not expanded.
-    source: str | io.BytesIO = str(path)
-    if path.suffix == ".xacro" or b"<xacro:" in text or b"${" in text:
-        source = io.BytesIO(_expand_xacro(path, packages or {}))
-    # yourdfpy logs a parse error and then reads whatever lxml can recover: catch that as a failure.
+        source = io.BytesIO(ET.tostring(root))
+    except RecursionError:
+        raise URDFError(f"path: {str(path)!r} is nested too deeply for a URDF file", parameter="path") from None
+    # yourdfpy logs a parse error (lxml's limits, a depth of 256) and then reads what lxml can recover: a failure.
     logger = logging.getLogger("yourdfpy")
     errors = _Collect()
     logger.addHandler(errors)
@@ -208,12 +312,40 @@ def _load(path: Path, packages: dict | None = None):
     finally:
         logger.removeHandler(errors)
         logger.propagate = propagate
-    if errors.messages:   # the XML itself is broken: say so rather than what the recovery tripped on
-        raise URDFError(f"path: {str(path)!r} is not well-formed XML ({errors.messages[0][:120]})",
+    if errors.messages:
+        raise URDFError(f"path: {str(path)!r} cannot be parsed as URDF ({errors.messages[0][:120]})",
                         parameter="path")
     if failure is not None:
         raise URDFError(f"path: cannot read {str(path)!r} as URDF ({failure})", parameter="path")
     return model
+
+
+def _xacro_markup(root: ET.Element) -> str | None:
+    """The first xacro markup of a parsed file, shown as ``<tag attribute='value'>``: an element or attribute of
+    xacro's namespace, or an expression ``${`` or a substitution ``$(`` in an attribute or a text; None if none.
+
+    (An expanded file may keep the ``xmlns:xacro`` declaration: that alone is not markup.)
+    """
+    def local(name: str) -> str:
+        return name.rpartition("}")[2]
+
+    def in_xacro(name: str) -> bool:
+        return name.startswith("{") and name[1:].partition("}")[0].rstrip("/") in _XACRO_NAMESPACES
+
+    def marked(text: str) -> bool:
+        return "${" in text or "$(" in text
+
+    for element in root.iter():
+        tag = local(element.tag)
+        if in_xacro(element.tag):
+            return f"<xacro:{tag}>"
+        for key, value in element.attrib.items():
+            if in_xacro(key) or marked(value):
+                return f"<{tag} {local(key)}={value[:40]!r}>"
+        for text in (element.text or "", element.tail or ""):
+            if marked(text):
+                return f"<{tag}> with the text {' '.join(text.split())[:40]!r}"
+    return None
 
 
 class _Collect(logging.Handler):
@@ -383,7 +515,7 @@ def _dh_robot(name, chain, snapper: Snapper, base_link, tip_link) -> DHRobot:
             raw = (j.limit.lower or 0.0, j.limit.upper or 0.0)
             limits = tuple(read(v, f"joint {j.name!r} limit") for v in raw)
             check_joint_limits(f"{j.name!r}", *limits, shown=raw)
-        joints.append(DHJoint("P" if j.type == "prismatic" else "R", theta, d, a, alpha, q, limits))
+        joints.append(DHJoint("P" if j.type == "prismatic" else "R", theta, d, a, alpha, q, limits, name=j.name))
         names.append(f"{q} = {j.name}")
     base = frames[0]
     tool = _rigid_inverse(frames[-1]) * T_tip
