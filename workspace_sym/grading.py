@@ -20,8 +20,11 @@ expression question without a robot lists its ``symbols`` (``["theta1",
 "a1"]``).  A count may name what it counts (``unit``, a word such as ``"arcs"``) and a measure
 its unit (``"m"``, ``"m^2"``, ``"cm^3"``, ``"rad"``, ``"deg"``...): an answer then may carry a unit of the same
 kind (converted: ``3270 cm^2`` is ``0.327 m^2``) and one of another kind is wrong, with the reason.
-Students write ``No.``, ``Four arcs.`` or ``0.327 m²``: a sentence's final full stop, number words and
-units are read (:func:`~workspace_sym.answers.read_count`, :func:`~workspace_sym.answers.split_unit`).
+Students write ``No.``, ``no it is too far``, ``Four arcs.``, ``0.327 m²`` or ``1.40474 +- 0.01``: a
+sentence's final full stop, a verdict with its reason, number words, units and an uncertainty (the value is
+graded) are read (:func:`~workspace_sym.answers.read_yes_no`, :func:`~workspace_sym.answers.read_count`,
+:func:`~workspace_sym.answers.split_unit`, :func:`~workspace_sym.answers.split_uncertainty`); a yes/no answer that
+hedges (``No, not sure``) or contradicts itself (``no, yes``) is *cannot read*, with the words.
 The key is a file, so it is read like any user text: expressions through the
 safe reader, with the robot's notation.
 
@@ -56,7 +59,17 @@ from typing import Any
 
 import sympy as sp
 
-from .answers import ANGLE_UNITS, Notation, plain_sentence, read_answer, read_count, read_unit, read_yes_no, split_unit
+from .answers import (
+    ANGLE_UNITS,
+    Notation,
+    plain_sentence,
+    read_answer,
+    read_count,
+    read_unit,
+    read_yes_no,
+    split_uncertainty,
+    split_unit,
+)
 from .errors import ExpressionError, InvalidParameterError, SymbolicBudgetError, UnknownNameError, WorkspaceError
 from .expressions import parse_expr, read_symbol
 from .files import read_json, read_text, write_files
@@ -250,10 +263,10 @@ def _question(row, k: int, robots: dict, chains: dict) -> Question:
 
 
 def _grade_yes_no(text: str, truth: bool, evidence: str) -> Verdict:
-    claimed = read_yes_no(text)
-    if claimed is None:
-        return Verdict(None, f"cannot read {text[:60]!r}: answer yes (reachable) or no (unreachable)",
-                       {"method": "cannot read", "position": 1})
+    try:
+        claimed = read_yes_no(text)
+    except ExpressionError as exc:
+        return cannot_read(exc)
     said = "reachable" if truth else "unreachable"
     if claimed is truth:
         return Verdict(True, f"{said}: {evidence}".rstrip(": "), {"method": "certified key"})
@@ -287,7 +300,9 @@ def _grade_integer(text: str, truth: int, unit: str = "") -> Verdict:
     return Verdict(False, f"{int(value)}, but the derived count is {truth}{note}", {"method": "certified key"})
 
 
-def _grade_measure(text: str, q: Question) -> Verdict:
+def _read_measure(text: str, q: Question):
+    """``(value in the key's unit, as shown, note)`` of a number with an optional unit, or the verdict when it
+    cannot be read or its unit is of another kind."""
     number, unit = split_unit(text)
     try:
         value = parse_expr(number, "answer", new_symbols=False, max_length=200)
@@ -301,17 +316,33 @@ def _grade_measure(text: str, q: Question) -> Verdict:
     except (TypeError, ValueError):
         return Verdict(None, f"cannot read {text[:60]!r}: expected a number", {"method": "cannot read"})
     expected = read_unit(q.unit) if q.unit else None
-    lo, hi = q.answer
     shown, note = f"{claimed:g}", ""
     if unit is not None and expected is None:
         note = f" (the unit {unit.text} is not checked: the key gives none)"
     elif unit is not None and expected is not None:
         if (unit.dimension, unit.power) != (expected.dimension, expected.power):
             return Verdict(False, f"{text[:60]!r}: {unit.text} is {unit.kind}, but the answer is {expected.kind} "
-                                  f"({q.unit})", {"method": "unit", "bracket": [lo, hi]})
+                                  f"({q.unit})", {"method": "unit", "bracket": list(q.answer)})
         if unit.scale != expected.scale:
             claimed = claimed * unit.scale / expected.scale
             shown = f"{number} {unit.text} = {claimed:g} {q.unit}"
+    return claimed, shown, note
+
+
+def _grade_measure(text: str, q: Question) -> Verdict:
+    value_text, spread_text = split_uncertainty(text)     # "1.40474 +- 0.01": a value and its uncertainty
+    read = _read_measure(value_text, q)
+    if isinstance(read, Verdict):
+        return read
+    claimed, shown, note = read
+    if spread_text is not None:
+        spread = _read_measure(spread_text, q)
+        if isinstance(spread, Verdict) or not (math.isfinite(spread[0]) and spread[0] >= 0):
+            reason = spread.message if isinstance(spread, Verdict) else "it must be a number >= 0"
+            return Verdict(None, f"cannot read the uncertainty of {text[:60]!r} ({spread_text[:30]!r}): {reason}",
+                           {"method": "cannot read"})
+        shown, note = f"{shown} +- {spread[0]:g}", f"{note} (the value is graded, not its stated uncertainty)"
+    lo, hi = q.answer
     in_unit = f" {q.unit}" if q.unit else ""
     slack = q.rel_tol * max(abs(lo), abs(hi))
     bracket = fmt_bracket(lo, hi, 6, "g") + in_unit
