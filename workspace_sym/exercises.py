@@ -34,7 +34,7 @@ import sympy as sp
 
 from .errors import InvalidParameterError
 from .files import write_files
-from .grading import KEY_FORMAT
+from .grading import KEY_FORMAT, tolerance_rule
 from .kinematics import DHRobot
 from .numbers import fmt_bracket
 from .planar import PlanarChain
@@ -48,6 +48,8 @@ __all__ = ["make_exercises", "write_exercises", "exact_parameters", "reach_bound
 MAX_COUNT = 20
 _LENGTHS = [sp.Rational(k, 20) for k in range(2, 11)]          # 0.1 .. 0.5
 _COORD = ("x", "y", "z")
+#: Significant digits asked for an area, stated on the sheet and applied by the key.
+AREA_DIGITS = 3
 _Question = tuple[dict[str, Any], str]      # (the key's entry, the answer as the key document shows it)
 
 
@@ -276,8 +278,9 @@ def _chain_problem(rng, number: int) -> tuple[str, dict, PlanarChain, list[_Ques
          ("yes: " if reachable else "no: ") + why),
         ({"kind": "integer", "answer": len(boundary.arcs), "unit": "arcs",
           "prompt": "How many circular arcs make up the boundary of the workspace?"}, f"{len(boundary.arcs)} arcs"),
-        ({"kind": "measure", "answer": [lo, hi], "rel_tol": 0.01, "unit": "m^2",
-          "prompt": "What is the area of the workspace? (3 significant digits)"},
+        ({"kind": "measure", "answer": [lo, hi], "digits": AREA_DIGITS, "unit": "m^2",
+          "prompt": f"What is the area of the workspace, in m^2? Give {AREA_DIGITS} significant digits: an answer is "
+                    f"accepted when it {tolerance_rule(digits=AREA_DIGITS).replace('value', 'area')}."},
          f"{lo:.6g} m^2" if hi == lo else f"in {fmt_bracket(lo, hi, 6, 'g')} m^2"),
     ]
     return name, spec, chain, questions

@@ -12,8 +12,11 @@ one by hand)::
        {"id": "1c", "kind": "factors", "robot": "R1", "answer": ["s3", "a2*c2 + a3*c23"]},
        {"id": "1d", "kind": "reachable", "answer": true, "evidence": "witness theta = ..."},
        {"id": "2a", "kind": "integer", "answer": 8, "unit": "arcs"},
-       {"id": "2b", "kind": "measure", "answer": [0.2681, 0.2682], "rel_tol": 0.01, "unit": "m^2"}]}
+       {"id": "2b", "kind": "measure", "answer": [0.2681, 0.2682], "digits": 3, "unit": "m^2"}]}
 
+A measure is accepted within its certified bracket widened by its tolerance: ``digits`` (the answer agrees with
+the certified value to that many significant digits: within half a unit of its last one) or ``rel_tol`` (a
+fraction of the value), not both; :func:`tolerance_rule` says it in words, on the sheet and in each verdict.
 Every question may carry ``points`` (default 1) and ``angles``
 (``"radians"`` or ``"degrees"``, how numbers inside sin and cos are read); an
 expression question without a robot lists its ``symbols`` (``["theta1",
@@ -81,7 +84,8 @@ from .symbolic import _Expired, symbolic_budget
 from .verify import Verdict, cannot_read, check_expression, check_factors
 
 __all__ = ["KIND_NAMES", "Question", "AnswerKey", "GradedAnswer", "grade_answers", "read_answers_csv",
-           "write_grading", "duplicate_rows", "MAX_ROWS", "ANSWER_SECONDS", "TOTAL_SECONDS"]
+           "write_grading", "duplicate_rows", "tolerance_rule", "accepted_range", "MAX_ROWS", "ANSWER_SECONDS",
+           "TOTAL_SECONDS"]
 
 #: Kinds of question a key may hold.
 KIND_NAMES = ("expression", "factors", "reachable", "integer", "measure")
@@ -110,6 +114,7 @@ class Question:
     evidence: str = ""
     symbols: tuple = ()
     unit: str = ""
+    digits: int = 0             # a measure: significant digits the answer must agree to (0: rel_tol applies)
 
 
 @dataclass
@@ -242,6 +247,13 @@ def _question(row, k: int, robots: dict, chains: dict) -> Question:
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0:
             raise InvalidParameterError(f"key: {name} of question {qid!r} must be a number >= 0; got {value!r}",
                                         parameter="key")
+    digits = row.get("digits", 0)
+    if isinstance(digits, bool) or not isinstance(digits, int) or not 0 <= digits <= 15:
+        raise InvalidParameterError(f"key: digits of question {qid!r} must be a whole number of significant digits "
+                                    f"from 1 to 15; got {digits!r:.60}", parameter="key")
+    if digits and (kind != "measure" or rel_tol):
+        raise InvalidParameterError(f"key: digits of question {qid!r}: only a measure has them, and not with rel_tol "
+                                    "(give one tolerance)", parameter="key")
     symbols = row.get("symbols", [])
     if not isinstance(symbols, list) or not all(isinstance(n, str) for n in symbols):
         raise InvalidParameterError(f"key: symbols of question {qid!r} must be a list of names", parameter="key")
@@ -256,7 +268,7 @@ def _question(row, k: int, robots: dict, chains: dict) -> Question:
         raise InvalidParameterError(f"key: unit of question {qid!r}: only a count or a measure has one",
                                     parameter="key")
     question = Question(qid, kind, answer, str(row.get("prompt", "")), robot, chain, float(points), angles,
-                        float(rel_tol), str(row.get("evidence", "")), tuple(symbols), unit)
+                        float(rel_tol), str(row.get("evidence", "")), tuple(symbols), unit, digits)
     if kind in ("expression", "factors"):  # the key's own expressions must read: fail now, not per student
         AnswerKey([question], robots, chains).derived(question)
     return question
@@ -316,7 +328,8 @@ def _read_measure(text: str, q: Question):
     except (TypeError, ValueError):
         return Verdict(None, f"cannot read {text[:60]!r}: expected a number", {"method": "cannot read"})
     expected = read_unit(q.unit) if q.unit else None
-    shown, note = f"{claimed:g}", ""
+    # the number as written when it is a decimal ("1.40", not "1.4": its digits are what is graded)
+    shown, note = number if re.fullmatch(r"[-+]?[0-9]*\.?[0-9]+", number) else f"{claimed:g}", ""
     if unit is not None and expected is None:
         note = f" (the unit {unit.text} is not checked: the key gives none)"
     elif unit is not None and expected is not None:
@@ -327,6 +340,52 @@ def _read_measure(text: str, q: Question):
             claimed = claimed * unit.scale / expected.scale
             shown = f"{number} {unit.text} = {claimed:g} {q.unit}"
     return claimed, shown, note
+
+
+def _ordinal(n: int) -> str:
+    return f"{n}{'th' if 10 <= n % 100 <= 20 else {1: 'st', 2: 'nd', 3: 'rd'}.get(n % 10, 'th')}"
+
+
+def tolerance_rule(*, digits: int = 0, rel_tol: float = 0.0) -> str:
+    """How a measure answer is accepted, in words: what an exercise sheet states and what the grader applies
+    (:func:`accepted_range`).
+
+    Examples
+    --------
+    >>> tolerance_rule(digits=3)
+    'agrees with the certified value to 3 significant digits (within half a unit of its 3rd significant digit)'
+    >>> tolerance_rule(rel_tol=0.001), tolerance_rule()
+    ('within 0.1% of the certified value', 'within the certified bracket')
+    """
+    if digits:
+        return (f"agrees with the certified value to {digits} significant digits (within half a unit of its "
+                f"{_ordinal(digits)} significant digit)")
+    if rel_tol:
+        return f"within {rel_tol * 100:g}% of the certified value"
+    return "within the certified bracket"
+
+
+def accepted_range(lo: float, hi: float, *, digits: int = 0, rel_tol: float = 0.0) -> tuple[float, float]:
+    """The answers :func:`tolerance_rule` accepts for the certified bracket ``[lo, hi]``: widened by half a unit of
+    the last of ``digits`` significant digits of each end, or by ``rel_tol`` times the larger end.
+
+    Examples
+    --------
+    >>> [round(v, 9) for v in accepted_range(1.40474, 1.40474, digits=3)]   # 1.40 is right, 1.39 and 1.391 are not
+    [1.39974, 1.40974]
+    >>> accepted_range(0.5, 0.5, rel_tol=0.01)
+    (0.495, 0.505)
+    """
+    from decimal import Decimal
+
+    def half_unit(v: float) -> float:
+        if v == 0 or not math.isfinite(v):
+            return 0.0
+        return 0.5 * 10.0 ** (Decimal(v).adjusted() - digits + 1) * (1 + 1e-12)    # 1e-12: float rounding of a tie
+    if digits:
+        return lo - half_unit(lo), hi + half_unit(hi)
+    slack = rel_tol * max(abs(lo), abs(hi))
+    return lo - slack, hi + slack
 
 
 def _grade_measure(text: str, q: Question) -> Verdict:
@@ -344,13 +403,19 @@ def _grade_measure(text: str, q: Question) -> Verdict:
         shown, note = f"{shown} +- {spread[0]:g}", f"{note} (the value is graded, not its stated uncertainty)"
     lo, hi = q.answer
     in_unit = f" {q.unit}" if q.unit else ""
-    slack = q.rel_tol * max(abs(lo), abs(hi))
+    low, high = accepted_range(lo, hi, digits=q.digits, rel_tol=q.rel_tol)
     bracket = fmt_bracket(lo, hi, 6, "g") + in_unit
-    if math.isfinite(claimed) and lo - slack <= claimed <= hi + slack:
-        return Verdict(True, f"{shown} is within {q.rel_tol:.0%} of the certified {bracket}{note}",
-                       {"bracket": [lo, hi]})
-    return Verdict(False, f"{shown} is not within {q.rel_tol:.0%} of the certified value {bracket}{note}",
-                   {"bracket": [lo, hi]})
+    evidence = {"bracket": [lo, hi], "accepted": [low, high]}
+    if q.digits:
+        if math.isfinite(claimed) and low <= claimed <= high:
+            return Verdict(True, f"{shown} agrees with the certified {bracket} to {q.digits} significant digits"
+                                 f"{note}", evidence)
+        return Verdict(False, f"{shown} does not agree with the certified value {bracket} to {q.digits} significant "
+                              f"digits (accepted: {fmt_bracket(low, high, 6, 'g')}){note}", evidence)
+    within = f"within {q.rel_tol * 100:g}% of"
+    if math.isfinite(claimed) and low <= claimed <= high:
+        return Verdict(True, f"{shown} is {within} the certified {bracket}{note}", evidence)
+    return Verdict(False, f"{shown} is not {within} the certified value {bracket}{note}", evidence)
 
 
 # ------------------------------------------------------------------------------ batch
@@ -502,7 +567,8 @@ def _expected_form(key: AnswerKey, q: Question):
     if q.kind == "reachable":
         return "yes" if q.answer else "no"
     if q.kind == "measure":
-        return fmt_bracket(q.answer[0], q.answer[1], 6, "g")
+        rule = tolerance_rule(digits=q.digits, rel_tol=q.rel_tol).replace("the certified value", "it")
+        return f"{fmt_bracket(q.answer[0], q.answer[1], 6, 'g')} {q.unit}".rstrip() + f"; accepted: {rule}"
     return str(q.answer)
 
 

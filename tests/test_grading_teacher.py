@@ -1,0 +1,67 @@
+"""Issue 39, the teacher's items: what an exercise sheet states is what its key applies, explanations a student
+can check by hand, modified DH said on the sheet, messages that say what to do, and keys that typeset.
+
+References are named in each test: the definition of agreeing to n significant digits (|answer - value| at most
+half a unit of the n-th digit), exact substitution of the question's data, Craig's modified DH convention, and
+pdflatex's / chromium's own rendering of the files.
+"""
+
+import pytest
+
+from workspace_sym.exercises import AREA_DIGITS, make_exercises
+from workspace_sym.grading import AnswerKey, accepted_range, tolerance_rule
+
+SEED, COUNT, JOINTS = 3, 2, 3          # one 3-joint robot, one chain: a small, fast sheet
+
+
+@pytest.fixture(scope="module")
+def generated():
+    return make_exercises(seed=SEED, count=COUNT, max_joints=JOINTS)
+
+
+def _key(*questions, **extra) -> AnswerKey:
+    return AnswerKey.from_dict({"format": "workspace-sym key", "questions": list(questions), **extra})
+
+
+# ------------------------------------------------------------------------------ tolerance
+@pytest.mark.parametrize(("text", "status"), [
+    ("1.40", "correct"), ("1.4047", "correct"), ("1.405", "correct"), ("1.4097", "correct"),
+    ("1.39", "wrong"), ("1.391", "wrong"),     # 1.391 passed the old 1 % (0.98 % off) though it is not 1.40
+    ("1.41", "wrong"), ("1.3998", "correct"), ("1.3997", "wrong"),
+])
+def test_digits_are_what_the_key_applies(text, status):
+    """The issue's numbers: the certified area 1.40474 asked to 3 significant digits.  Reference: agreeing to 3
+    significant digits is |answer - 1.40474| <= 0.005 (half a unit of the third digit), so [1.39974, 1.40974]."""
+    key = _key({"id": "m", "kind": "measure", "answer": [1.40474, 1.40474], "digits": 3})
+    v = key.grade("m", text)
+    assert v.status == status, v.message
+    assert v.evidence["accepted"] == pytest.approx([1.39974, 1.40974], abs=1e-12)
+
+
+def test_the_sheet_states_the_tolerance_the_key_applies(generated):
+    """The prompt asked for 3 significant digits while the key accepted 1 %: an answer 0.8 % off (more than half a
+    unit of the third digit, which is at most 0.5 % of the value) passed.  The prompt now states the rule the key
+    applies, from one function (tolerance_rule)."""
+    sheet, _, key = generated
+    (q,) = [q for q in key["questions"] if q["kind"] == "measure"]
+    assert q["digits"] == AREA_DIGITS == 3 and "rel_tol" not in q
+    rule = tolerance_rule(digits=3).replace("value", "area")
+    assert "3 significant digits" in q["prompt"] and rule in q["prompt"] and rule in sheet.markdown()
+    parsed = AnswerKey.from_dict(key)
+    value = q["answer"][0]
+    for text, status in [(f"{value:.3g}", "correct"), (f"{value:.6g}", "correct"),
+                         (f"{value * 0.992:.4g}", "wrong"), (f"{value * 1.008:.4g}", "wrong")]:
+        assert parsed.grade(q["id"], text).status == status, (text, value)
+
+
+def test_a_tolerance_is_given_once():
+    with pytest.raises(Exception, match="not with rel_tol"):
+        _key({"id": "m", "kind": "measure", "answer": [1, 1], "digits": 3, "rel_tol": 0.01})
+    with pytest.raises(Exception, match="only a measure has them"):
+        _key({"id": "n", "kind": "integer", "answer": 1, "digits": 3})
+    with pytest.raises(Exception, match="digits of question 'm' must be"):
+        _key({"id": "m", "kind": "measure", "answer": [1, 1], "digits": True})
+    assert accepted_range(0.5, 0.5, rel_tol=0.001) == pytest.approx((0.4995, 0.5005))
+    assert "within 0.1% of" in _key({"id": "m", "kind": "measure", "answer": [1, 1], "rel_tol": 0.001}).grade(
+        "m", "1.01").message                     # was "within 0% of": the percentage rounded to a whole number
+
