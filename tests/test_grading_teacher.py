@@ -65,3 +65,42 @@ def test_a_tolerance_is_given_once():
     assert "within 0.1% of" in _key({"id": "m", "kind": "measure", "answer": [1, 1], "rel_tol": 0.001}).grade(
         "m", "1.01").message                     # was "within 0% of": the percentage rounded to a whole number
 
+
+
+# ------------------------------------------------------------------------------ explanations
+@pytest.mark.parametrize("wrong", [
+    "c1 (a1 + a2 c2 + a3 c23 + d5 s234) + s1",      # the difference depends on theta1 alone: the rest stayed symbols
+    "c1 (a1 + a2 c2 + a3 c23 + d5 s234) + a2 - 0.926199 a3",
+    "c1 (a1 + a2 c2 + a3 c23 + d5 c234)",
+])
+def test_a_wrong_answer_is_explained_by_two_numbers_at_the_questions_data(wrong):
+    """The explanation gave 'a1 - 0.926199*a2 + 0.743578' (only the symbols of the difference had values) at
+    random lengths.  Now every symbol has a value, the lengths are the sheet's (the glass arm's catalog values)
+    and each joint lies within its limits.  Reference: exact substitution of the printed point into both
+    expressions gives the two printed values."""
+    import re
+
+    import sympy as sp
+
+    from workspace_sym import robots
+    from workspace_sym.answers import Notation, read_answer
+
+    glass = robots.build("glass-handling")
+    key = AnswerKey.from_dict({"format": "workspace-sym key", "robots": {"G": "glass-handling"}, "questions": [
+        {"id": "x", "kind": "expression", "robot": "G", "answer": "c1 (a1 + a2 c2 + a3 c23 + d5 s234)"}]})
+    v = key.grade("x", wrong)
+    assert v.status == "wrong"
+    m = re.fullmatch(r"not equal: at (.*) the answer is (\S+) but the derived value is (\S+)", v.message)
+    assert m, v.message
+    point = {sp.Symbol(name): sp.Rational(value) for name, value, _ in
+             re.findall(r"(\w+) = (-?[0-9./]+)( rad)?", m[1])}
+    student, derived = read_answer(wrong, Notation.from_robot(glass)), glass.position[0]
+    assert set(point) == student.free_symbols | derived.free_symbols
+    for length, value in glass.parameters.items():
+        if length in point:
+            assert point[length] == sp.Rational(str(value))                     # the sheet's length
+    for j in glass.joints:
+        if j.variable in point:
+            assert j.limits[0] <= point[j.variable] <= j.limits[1]
+    assert float(m[2]) == pytest.approx(float(student.subs(point)), rel=1e-5)
+    assert float(m[3]) == pytest.approx(float(derived.subs(point)), rel=1e-5)

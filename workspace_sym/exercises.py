@@ -39,7 +39,7 @@ from .kinematics import DHRobot
 from .numbers import fmt_bracket
 from .planar import PlanarChain
 from .report import Document
-from .snap import exact_decimal
+from .verify import exact_parameters
 
 __all__ = ["make_exercises", "write_exercises", "exact_parameters", "reach_bound", "reachability_point",
            "MAX_COUNT"]
@@ -107,11 +107,6 @@ def reach_bound(robot: DHRobot, values: dict) -> sp.Expr:
             d = abs(sp.sympify(j.d).subs(values))
         total += a + d
     return sp.nsimplify(total)
-
-
-def exact_parameters(robot: DHRobot) -> dict:
-    """The robot's numeric lengths as the decimals they print as (``0.387`` is ``387/1000``): points stay exact."""
-    return {k: exact_decimal(v) if isinstance(v, float) else sp.nsimplify(v) for k, v in robot.parameters.items()}
 
 
 def reachability_point(robot: DHRobot, rng) -> tuple[list, bool, str, list | None]:
