@@ -104,3 +104,45 @@ def test_a_wrong_answer_is_explained_by_two_numbers_at_the_questions_data(wrong)
             assert j.limits[0] <= point[j.variable] <= j.limits[1]
     assert float(m[2]) == pytest.approx(float(student.subs(point)), rel=1e-5)
     assert float(m[3]) == pytest.approx(float(derived.subs(point)), rel=1e-5)
+
+
+# ------------------------------------------------------------------------------ modified DH on the sheet
+def _rot(axis, t):
+    import sympy as sp
+
+    c, s = sp.cos(t), sp.sin(t)
+    m = {"x": [[1, 0, 0], [0, c, -s], [0, s, c]], "z": [[c, -s, 0], [s, c, 0], [0, 0, 1]]}[axis]
+    return sp.Matrix([[*m[0], 0], [*m[1], 0], [*m[2], 0], [0, 0, 0, 1]])
+
+
+def _move(axis, v):
+    import sympy as sp
+
+    T = sp.eye(4)
+    T["xyz".index(axis), 3] = v
+    return T
+
+
+@pytest.mark.parametrize(("seed", "convention"), [(1, "modified"), (0, "standard")])
+def test_the_sheet_says_what_a_row_holds(seed, convention):
+    """Modified-DH sheets never said that row i holds alpha_{i-1}, a_{i-1}.  The sentence is checked against the
+    robot the key is derived from: the product of the rows, each read as the sheet says (Craig 2005, section 3.4:
+    Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i); standard: Rz Tz Tx Rx), equals its forward kinematics
+    (exact identity)."""
+    import sympy as sp
+
+    sheet, key_doc, key = make_exercises(seed=seed, count=1, max_joints=3)
+    robot = AnswerKey.from_dict(key).robots["R1"]
+    assert robot.convention == convention
+    text = sheet.markdown()
+    said = "row i holds alpha\\_{i-1} and a\\_{i-1}"
+    assert (said in text) == (convention == "modified") and (said in key_doc.markdown()) == (convention == "modified")
+    if convention == "modified":
+        assert "| joint i | type | theta | d | a\\_{i-1} | alpha\\_{i-1} | limits |" in text
+    T = sp.eye(4)
+    for j in robot.joints:
+        if convention == "modified":
+            T = T * _rot("x", j.alpha) * _move("x", j.a) * _rot("z", j.theta) * _move("z", j.d)
+        else:
+            T = T * _rot("z", j.theta) * _move("z", j.d) * _move("x", j.a) * _rot("x", j.alpha)
+    assert sp.simplify(T - robot.fk()) == sp.zeros(4, 4)

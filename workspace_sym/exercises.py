@@ -305,9 +305,11 @@ def make_exercises(*, seed: int, count: int, max_joints: int = 6):
             spec, robot, questions = _robot_problem(rng, number, n)
             key["robots"][robot.name] = spec
             subject = {"robot": robot.name}
+            link = ["a_{i-1}", "alpha_{i-1}"] if robot.convention == "modified" else ["a", "alpha"]
             for doc in (sheet, key_doc):
                 doc.heading(f"Problem {number}: a {robot.n}-joint robot ({robot.convention} DH)")
-                doc.table(["joint", "type", "theta", "d", "a", "alpha", "limits"],
+                doc.para(_CONVENTION_NOTE[robot.convention])
+                doc.table(["joint i", "type", "theta", "d", *link, "limits"],
                           [[str(k), j.kind, j.theta, j.d, j.a, j.alpha, _limits_text(j)]
                            for k, j in enumerate(robot.joints, start=1)])
                 lengths = ", ".join(f"{s} = {v}" for s, v in spec["parameters"].items()) or "none"
@@ -332,6 +334,16 @@ def make_exercises(*, seed: int, count: int, max_joints: int = 6):
             else:
                 key_doc.math("\\text{answer}", shown)
     return sheet, key_doc, key
+
+
+#: What a row of the DH table holds, said on the sheet (kinematics.dh_matrix; Craig 2005, section 3.4 for modified).
+_CONVENTION_NOTE = {
+    "standard": "Standard DH: row i holds theta_i, d_i, a_i and alpha_i, and the frame of joint i is "
+                "Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i) after frame i-1.",
+    "modified": "Modified (Craig) DH: row i holds alpha_{i-1} and a_{i-1}, the twist and length of the link before "
+                "joint i, then theta_i and d_i of joint i; the frame of joint i is Rx(alpha_{i-1}) Tx(a_{i-1}) "
+                "Rz(theta_i) Tz(d_i) after frame i-1.",
+}
 
 
 def _limits_text(joint) -> str:
