@@ -146,3 +146,99 @@ def test_the_sheet_says_what_a_row_holds(seed, convention):
         else:
             T = T * _rot("z", j.theta) * _move("z", j.d) * _move("x", j.a) * _rot("x", j.alpha)
     assert sp.simplify(T - robot.fk()) == sp.zeros(4, 4)
+
+
+# ------------------------------------------------------------------------------ messages
+@pytest.fixture(scope="module")
+def counts():
+    return _key({"id": "m", "kind": "measure", "answer": [1.40474, 1.40474], "digits": 3},
+                {"id": "n", "kind": "integer", "answer": 8},
+                {"id": "k", "kind": "integer", "answer": 1000})
+
+
+@pytest.mark.parametrize(("qid", "text", "status", "words"), [
+    ("m", "1,40", "cannot read", "a comma is not a decimal point; write 1.40"),        # was "a tuple is not allowed"
+    ("k", "1,000", "cannot read", "write 1.000, or 1000 without the thousands separator"),
+    ("n", "8 (eight)", "correct", "8"),                                     # was "Constant is not allowed"
+    ("n", "8 (seven)", "cannot read", "a number followed by '(' is not a product here"),
+    ("m", "1e400", "cannot read", "a number is out of range"),              # was "unknown unit 'e400'"
+    ("m", "1.40 ft", "cannot read", "unknown unit 'ft'"),
+])
+def test_messages_say_what_to_do(counts, qid, text, status, words):
+    v = counts.grade(qid, text)
+    assert v.status == status and words in v.message, v.message
+    assert "Constant" not in v.message and "tuple" not in v.message and "'e400'" not in v.message
+
+
+def test_the_readers_of_every_number_say_it_too():
+    """The messages are the root reader's (parse_expr: DH fields, limits, options), not the grader's."""
+    from workspace_sym.expressions import parse_expr
+
+    with pytest.raises(Exception, match=r"a comma is not a decimal point; write 0\.5"):
+        parse_expr("0,5", "joint 1 d")
+    with pytest.raises(Exception, match=r"write 2\*\(\.\.\.\)"):
+        parse_expr("2 (x + 1)", "joint 1 d")
+    with pytest.raises(Exception, match="comma outside a function's arguments"):
+        parse_expr("1, x", "joint 1 d")
+
+
+def test_one_factor_matches():
+    """'the 1 factors match'."""
+    import sympy as sp
+
+    from workspace_sym.verify import check_factors
+
+    t = sp.Symbol("theta3")
+    assert check_factors("s3", [sp.sin(t)]).message.startswith("the factor matches (up to a constant")
+    assert check_factors("s3, c3", [sp.sin(t), sp.cos(t)]).message.startswith("the 2 factors match")
+
+
+def _write(path, text):
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+@pytest.mark.parametrize("delimiter", [";", "\t"])
+def test_a_semicolon_or_tab_csv_is_read(tmp_path, delimiter):
+    """A spreadsheet in a locale with a decimal comma saves ';'-separated CSV: it was refused ('missing student,
+    question, answer') without a word about the separator.  The header tells the separator apart."""
+    from workspace_sym.grading import read_answers_csv
+
+    path = _write(tmp_path / "a.csv", f"student{delimiter}question{delimiter}answer\nann{delimiter}n{delimiter}"
+                                      f"[a, b]\nbob{delimiter}m{delimiter}1.40\n")
+    assert read_answers_csv(path) == [("ann", "n", "[a, b]"), ("bob", "m", "1.40")]
+
+
+def test_a_header_that_names_no_columns_shows_itself(tmp_path):
+    from workspace_sym.grading import read_answers_csv
+
+    path = _write(tmp_path / "a.csv", "name|question|answer\nann|n|8\n")
+    with pytest.raises(Exception, match=r"separated by ',', ';' or a tab; missing student, question, answer \(its "
+                                        r"first line is 'name\|question\|answer'\)"):
+        read_answers_csv(path)
+
+
+def test_names_that_differ_in_case_or_blanks_are_reported(tmp_path, capsys):
+    """'Alice ' and 'alice' were graded as two students without a word: the report, the command line and its JSON
+    now name them."""
+    import json
+
+    from workspace_sym.cli import main
+    from workspace_sym.grading import grade_answers, similar_students, write_grading
+
+    key = _key({"id": "n", "kind": "integer", "answer": 8})
+    graded = grade_answers(key, [("Alice ", "n", "8"), ("alice", "n", "7"), ("bob", "n", "8"), ("Bob", "n", "8")])
+    assert similar_students(graded) == [["Alice ", "alice"], ["bob", "Bob"]]
+    md = write_grading(key, graded, tmp_path / "o")["markdown"].read_text()
+    assert "Names: 'Alice ' and 'alice'; 'bob' and 'Bob' differ only in case or blanks" in md.replace("\\", "")
+    _write(tmp_path / "key.json", json.dumps({"format": "workspace-sym key",
+                                              "questions": [{"id": "n", "kind": "integer", "answer": 8}]}))
+    _write(tmp_path / "a.csv", "student,question,answer\nAlice,n,8\nalice ,n,7\n")
+    assert main(["grade", str(tmp_path / "key.json"), str(tmp_path / "a.csv"), "--out", str(tmp_path / "g")]) == 0
+    out = capsys.readouterr().out
+    assert "warning: 'Alice' and 'alice' differ only in case or blanks" in out
+    assert f"wrote {tmp_path / 'g' / 'graded.csv'}, {tmp_path / 'g' / 'grades.html'} and " \
+           f"{tmp_path / 'g' / 'grades.md'}" in out                   # grades.md was written and not said
+    assert main(["grade", str(tmp_path / "key.json"), str(tmp_path / "a.csv"), "--out", str(tmp_path / "j"),
+                 "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["similar_students"] == [["Alice", "alice"]]

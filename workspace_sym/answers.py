@@ -798,7 +798,16 @@ def read_count(text: str) -> tuple[int, str] | None:
     --------
     >>> read_count("Four arcs"), read_count("twenty-one"), read_count("4 <b>")
     ((4, 'arcs'), (21, ''), None)
+
+    The number may be said twice, in digits and in words between parentheses, when both agree:
+
+    >>> read_count("8 (eight) arcs"), read_count("8 (seven)")
+    ((8, 'arcs'), None)
     """
+    twice = re.fullmatch(r"\s*([0-9]{1,9})\s*\(([A-Za-z\s-]{1,40})\)(.*)", text, re.DOTALL)
+    if twice:
+        said = read_count(twice[2])
+        return read_count(f"{twice[1]} {twice[3]}") if said == (int(twice[1]), "") else None
     m = re.fullmatch(r"\s*([0-9]{1,9})\s*([A-Za-z][A-Za-z\s-]*)?", text)
     if m:
         rest = (m[2] or "").split()

@@ -29,7 +29,8 @@ from sympy.parsing.sympy_parser import auto_number, eval_expr, rationalize, stri
 from .errors import ExpressionError, JointLimitError
 
 __all__ = ["parse_expr", "parse_math", "subscript_name", "parse_angle", "read_symbol", "as_sympy", "is_finite_value",
-           "check_joint_limits", "refuse_plus_minus", "FUNCTIONS", "CONSTANTS", "MAX_LENGTH", "MAX_DEPTH", "PLUS_MINUS"]
+           "check_joint_limits", "refuse_plus_minus", "refuse_decimal_comma", "FUNCTIONS", "CONSTANTS", "MAX_LENGTH",
+           "MAX_DEPTH", "PLUS_MINUS"]
 
 #: Longest text accepted (characters); ``max_length=`` changes it per call.
 MAX_LENGTH = 2000
@@ -93,6 +94,28 @@ which gives two values, not one; give one value (a subtraction is written a - b)
                           "written a - b)", parameter=parameter, position=column)
 
 
+_DECIMAL_COMMA = re.compile(r"\s*([-+]?[0-9]+),([0-9]+)\s*")
+
+
+def refuse_decimal_comma(text: str, parameter: str) -> None:
+    """Raise :class:`ExpressionError` when ``text`` is a number written with a decimal comma (``1,40``), saying how
+    to write it.
+
+    Examples
+    --------
+    >>> refuse_decimal_comma("1,40", "answer")
+    Traceback (most recent call last):
+    ...
+    workspace_sym.errors.ExpressionError: answer: cannot read '1,40': a comma is not a decimal point; write 1.40
+    """
+    m = _DECIMAL_COMMA.fullmatch(text) if isinstance(text, str) else None
+    if m is None:
+        return
+    thousands = f", or {m[1]}{m[2]} without the thousands separator" if len(m[2]) == 3 else ""
+    raise ExpressionError(f"{parameter}: cannot read {quoted(text)}: a comma is not a decimal point; write "
+                          f"{m[1]}.{m[2]}{thousands}", parameter=parameter, position=text.index(",") + 1)
+
+
 def quoted(text: str) -> str:
     """``text`` for a message: quoted, and cut when long."""
     if len(text) <= _SHOWN:
@@ -135,7 +158,7 @@ class _Checker:
             if type(value) not in (int, float):  # bool, None, str, bytes, complex, Ellipsis
                 raise _Refused(f"{value!r} is not a real number")
             if type(value) is float and not math.isfinite(value):  # 1e999; an int of any length is fine
-                raise _Refused("a number is out of range")
+                raise _Refused("a number is out of range (beyond 1.8e308, the largest float)")
             assert isinstance(value, (int, float))          # for mypy: the type test above is exact
             return math.log10(abs(value)) if abs(value) > 1 else 0.0
         if isinstance(node, ast.Name):
@@ -209,6 +232,8 @@ class _Checker:
 
     def _call(self, node: ast.Call, depth: int):
         func = node.func
+        if isinstance(func, ast.Constant):          # "8 (eight)", "2(x + 1)"
+            raise _Refused(f"a number followed by '(' is not a product here: write {func.value!r}*(...)")
         if not isinstance(func, ast.Name):
             raise _Refused(_describe(func))
         name = func.id
@@ -252,7 +277,8 @@ def _describe(node) -> str:
     """What a refused piece of syntax is, in words."""
     kinds = {
         ast.Attribute: "attribute access ('.')", ast.Subscript: "indexing ('[...]')", ast.Lambda: "lambda",
-        ast.IfExp: "'if ... else'", ast.BoolOp: "'and' / 'or'", ast.List: "a list", ast.Tuple: "a tuple",
+        ast.IfExp: "'if ... else'", ast.BoolOp: "'and' / 'or'", ast.List: "a list",
+        ast.Tuple: "a comma outside a function's arguments (a decimal point is written '.')",
         ast.Dict: "a dict", ast.Set: "a set", ast.ListComp: "a comprehension", ast.SetComp: "a comprehension",
         ast.DictComp: "a comprehension", ast.GeneratorExp: "a generator", ast.JoinedStr: "an f-string",
         ast.Starred: "'*' unpacking", ast.NamedExpr: "':='", ast.Await: "'await'", ast.Yield: "'yield'",
@@ -375,6 +401,7 @@ def _read_text(text: str, parameter: str, *, names, functions, new_symbols, rela
     if not text:
         raise ExpressionError(f"{parameter}: expected an expression, got an empty string")
     refuse_plus_minus(text, parameter)
+    refuse_decimal_comma(text, parameter)
     names = {**(names or {}), **{k: v for k, v in CONSTANTS.items() if k not in (names or {})}}
     bad = [n for n in names if not (isinstance(n, str) and n.isidentifier())]
     if bad:
@@ -542,6 +569,7 @@ def parse_math(value, parameter: str, *, resolve, functions=None, max_length: in
     if functions is None:
         functions = FUNCTIONS
     refuse_plus_minus(text, parameter, offset=offset)
+    refuse_decimal_comma(text, parameter)
     tokens = _math_tokens(text, parameter, offset)
     out: list[str] = []
     values: dict[str, sp.Basic] = {}

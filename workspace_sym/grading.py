@@ -31,9 +31,9 @@ hedges (``No, not sure``) or contradicts itself (``no, yes``) is *cannot read*, 
 The key is a file, so it is read like any user text: expressions through the
 safe reader, with the robot's notation.
 
-Answers are a CSV with columns ``student, question, answer``, at most
-:data:`MAX_ROWS` rows.  Each answer gets a
-:class:`~workspace_sym.verify.Verdict`: correct, wrong (with the
+Answers are a CSV with columns ``student, question, answer`` (separated by commas, semicolons or tabs), at most
+:data:`MAX_ROWS` rows; names that differ only in case or blanks are listed (:func:`similar_students`).
+Each answer gets a :class:`~workspace_sym.verify.Verdict`: correct, wrong (with the
 counterexample) or cannot read (with the column), never an exception; a
 blank answer is *no answer*, and a student's second answer to a question is
 *duplicate* (not graded: the first one is, and the report lists the rows).
@@ -84,8 +84,8 @@ from .symbolic import _Expired, symbolic_budget
 from .verify import Verdict, cannot_read, check_expression, check_factors
 
 __all__ = ["KIND_NAMES", "Question", "AnswerKey", "GradedAnswer", "grade_answers", "read_answers_csv",
-           "write_grading", "duplicate_rows", "tolerance_rule", "accepted_range", "MAX_ROWS", "ANSWER_SECONDS",
-           "TOTAL_SECONDS"]
+           "write_grading", "duplicate_rows", "similar_students", "tolerance_rule", "accepted_range", "DELIMITERS",
+           "MAX_ROWS", "ANSWER_SECONDS", "TOTAL_SECONDS"]
 
 #: Kinds of question a key may hold.
 KIND_NAMES = ("expression", "factors", "reachable", "integer", "measure")
@@ -320,7 +320,8 @@ def _read_measure(text: str, q: Question):
         value = parse_expr(number, "answer", new_symbols=False, max_length=200)
         claimed = float(value)
     except ExpressionError as exc:
-        loose = re.fullmatch(r"[-+]?[0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?\s*([A-Za-z].{0,20})", text.strip())
+        # the number taken whole (atomic group): "1e400" is a number out of range, not 1 and a unit "e400"
+        loose = re.fullmatch(r"(?>[-+]?[0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*([A-Za-z].{0,20})", text.strip())
         if unit is None and loose:                        # "0.327 ft^2": a number and a unit not known here
             return Verdict(None, f"cannot read {text[:60]!r}: unknown unit {loose[1]!r}; write the number alone or "
                                  f"with a unit such as {q.unit or 'm, m^2, rad or deg'}", {"method": "cannot read"})
@@ -429,17 +430,37 @@ class GradedAnswer:
     max_points: float
 
 
+_COLUMNS = ("student", "question", "answer")
+#: Column separators of an answers file, told apart by its header: a spreadsheet in a locale whose decimal mark is a
+#: comma writes ';'.
+DELIMITERS = (",", ";", "\t")
+
+
+def _delimiter(text: str) -> str:
+    """The separator with which the first line names the three columns (',' when none does)."""
+    first = text.split("\n", 1)[0]
+    for delimiter in DELIMITERS:
+        header = {h.strip().lower() for h in next(csv.reader([first], delimiter=delimiter), [])}
+        if set(_COLUMNS) <= header:
+            return delimiter
+    return ","
+
+
 def read_answers_csv(path) -> list[tuple[str, str, str]]:
-    """``(student, question, answer)`` rows of a CSV with those three columns (any order, header required)."""
+    """``(student, question, answer)`` rows of a CSV with those three columns (any order, header required),
+    separated by commas, semicolons or tabs (:data:`DELIMITERS`, the header tells which)."""
     path = Path(path)
     text = read_text(path, "answers", error=InvalidParameterError, encoding="utf-8-sig")
     try:
-        reader = csv.DictReader(io.StringIO(text))
+        reader = csv.DictReader(io.StringIO(text), delimiter=_delimiter(text))
         header = [h.strip().lower() for h in (reader.fieldnames or [])]
-        missing = [c for c in ("student", "question", "answer") if c not in header]
+        missing = [c for c in _COLUMNS if c not in header]
         if missing:
-            raise InvalidParameterError(f"answers: {str(path)!r} needs the columns student, question, answer; "
-                                        f"missing {', '.join(missing)}", parameter="answers")
+            first = text.split("\n", 1)[0].strip()
+            raise InvalidParameterError(f"answers: {str(path)!r} needs the columns student, question, answer, "
+                                        "separated by ',', ';' or a tab; missing "
+                                        f"{', '.join(missing)} (its first line is {first[:60]!r})",
+                                        parameter="answers")
         reader.fieldnames = header
         rows: list = []
         for row in reader:
@@ -447,7 +468,7 @@ def read_answers_csv(path) -> list[tuple[str, str, str]]:
                 raise InvalidParameterError(f"answers: {str(path)!r} has more than {MAX_ROWS} rows, the most one "
                                             "run grades (grading.MAX_ROWS); split it into several files",
                                             parameter="answers")
-            rows.append(tuple((row.get(c) or "").strip() for c in ("student", "question", "answer")))
+            rows.append(tuple((row.get(c) or "").strip() for c in _COLUMNS))
     except csv.Error as exc:
         raise InvalidParameterError(f"answers: {str(path)!r} is not a valid CSV ({exc})",
                                     parameter="answers") from None
@@ -534,6 +555,17 @@ def grade_answers(key: AnswerKey, rows, *, answer_seconds: float = ANSWER_SECOND
     return out
 
 
+def similar_students(graded: list[GradedAnswer]) -> list[list[str]]:
+    """Names graded as different students that differ only in case or blanks (``"Alice "``, ``"alice"``), each
+    group in order of first appearance: probably one student, graded twice, which the teacher should check."""
+    groups: dict[str, list[str]] = {}
+    for g in graded:
+        names = groups.setdefault(" ".join(g.student.split()).casefold(), [])
+        if g.student not in names:
+            names.append(g.student)
+    return [names for names in groups.values() if len(names) > 1]
+
+
 def duplicate_rows(graded: list[GradedAnswer]) -> list[dict]:
     """Each student and question answered more than once, with its rows as numbered in the CSV (the header being
     row 1), in the order of first appearance."""
@@ -601,6 +633,10 @@ def write_grading(key: AnswerKey, graded: list[GradedAnswer], out) -> dict:
     total = sum(q.points for q in key.questions)
     doc = Document(f"Grades: {key.title}")
     repeated = duplicate_rows(graded)
+    similar = similar_students(graded)
+    if similar:
+        doc.para("Names: " + "; ".join(" and ".join(repr(n) for n in names) for names in similar)
+                 + " differ only in case or blanks and are graded as different students: check them.")
     if repeated:
         doc.para(f"Duplicates: {sum(len(d['rows']) - 1 for d in repeated)} duplicate row(s): only the first answer "
                  "of a student to a question is graded, the later ones get no points (rows numbered as in the CSV, "

@@ -290,8 +290,9 @@ def check_factors(student, derived, *, robot=None, angles: str = "radians", seed
     missing = [str(f) for j, f in enumerate(derived) if not any(row[j] for row in matched)]
     extra = [str(g) for g, row in zip(given, matched) if not any(row)]
     if not missing and not extra:
-        return Verdict(True, f"the {len(derived)} factors match (each up to a constant, exact identities)",
-                       {"method": "exact identity"})
+        match = ("the factor matches (up to a constant, an exact identity)" if len(derived) == 1 else
+                 f"the {len(derived)} factors match (each up to a constant, exact identities)")
+        return Verdict(True, match, {"method": "exact identity"})
     parts = ([f"missing {', '.join(missing)}"] if missing else []) + (
         [f"not a singular factor: {', '.join(extra)}"] if extra else [])
     return Verdict(False, "; ".join(parts), {"method": "factor match", "missing": missing, "extra": extra})
