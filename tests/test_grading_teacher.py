@@ -135,10 +135,10 @@ def test_the_sheet_says_what_a_row_holds(seed, convention):
     robot = AnswerKey.from_dict(key).robots["R1"]
     assert robot.convention == convention
     text = sheet.markdown()
-    said = "row i holds alpha\\_{i-1} and a\\_{i-1}"
+    said = "row i holds $\\alpha_{i-1}$ and $a_{i-1}$"
     assert (said in text) == (convention == "modified") and (said in key_doc.markdown()) == (convention == "modified")
     if convention == "modified":
-        assert "| joint i | type | theta | d | a\\_{i-1} | alpha\\_{i-1} | limits |" in text
+        assert "| joint i | type | $\\theta_{i}$ | $d_{i}$ | $a_{i-1}$ | $\\alpha_{i-1}$ | limits |" in text
     T = sp.eye(4)
     for j in robot.joints:
         if convention == "modified":
@@ -242,3 +242,97 @@ def test_names_that_differ_in_case_or_blanks_are_reported(tmp_path, capsys):
     assert main(["grade", str(tmp_path / "key.json"), str(tmp_path / "a.csv"), "--out", str(tmp_path / "j"),
                  "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["similar_students"] == [["Alice", "alice"]]
+
+
+# ------------------------------------------------------------------------------ keys and reports that typeset
+def _chromium():
+    import shutil
+
+    from selenium import webdriver
+    from selenium.webdriver.chrome.service import Service
+
+    options = webdriver.ChromeOptions()
+    options.binary_location = shutil.which("chromium")
+    for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
+                 "--window-size=1000,1400"):
+        options.add_argument(flag)
+    return webdriver.Chrome(service=Service(shutil.which("chromedriver")), options=options)
+
+
+def test_the_key_typesets_its_mathematics(tmp_path):
+    """key.tex printed |p|^2, |a_k| and m^2 as ASCII (\\textbar{}p\\textbar{}\\textasciicircum{}2) and set a
+    6-joint Jacobian column as a row cut into 1 x 1 matrices, (0) and (-1); key.html showed that row wider than the
+    page.  Seed 7 (a 6-joint robot, an unreachable point) and seed 21 (a chain point beyond the reach).
+    References: pdflatex's log (tests/system_tools.assert_compiles: no error, no overfull box) and Chromium's layout
+    (no equation or paragraph wider than its box)."""
+    import re
+
+    from system_tools import assert_compiles, require_tool
+
+    from workspace_sym.exercises import write_exercises
+
+    wide = write_exercises(tmp_path / "s7", seed=7, count=1, max_joints=6)
+    chain = write_exercises(tmp_path / "s21", seed=21, count=2, max_joints=3)
+    for paths in (wide, chain):
+        tex = paths["key.tex"].read_text()
+        assert "textasciicircum" not in tex and "\\textbar" not in tex, re.findall(r".{30}textasciicircum.{30}", tex)
+        assert not re.search(r"\\begin\{pmatrix\}-?[0-9]+\\end\{pmatrix\}", tex)          # (0), (-1)
+        assert "\\left|{p}\\right|^{2} = " in tex
+    assert "\\left|{a_{k}}\\right|" in wide["key.tex"].read_text()
+    assert "exceeds the square of the reach" in chain["key.tex"].read_text() and "m²" in chain["key.tex"].read_text()
+    column = re.search(r"\\text\{answer\} &= \\begin\{pmatrix\}(.*?)\\end\{pmatrix\}", wide["key.tex"].read_text())
+    assert column and column[1].count("\\\\") == 5 and "&" not in column[1]         # 6 x 1: a column of names
+    require_tool("pdflatex")
+    for paths in (wide, chain):
+        for name in ("key.tex", "sheet.tex"):
+            assert_compiles(paths[name])
+    require_tool("chromium", "chromedriver")
+    driver = _chromium()
+    try:
+        for paths in (wide, chain):
+            driver.get(paths["key.html"].as_uri())
+            over = driver.execute_script("return [...document.querySelectorAll('.eq, .tab, p')].filter(e => "
+                                         "e.scrollWidth > e.clientWidth + 1).map(e => e.outerHTML.slice(0, 80))")
+            assert over == []
+            rows = driver.execute_script("return [...document.querySelectorAll('.eq mtable mtable')]"
+                                         ".map(t => t.querySelectorAll(':scope > mtr').length)")
+            assert 6 in rows                                      # the Jacobian column: six rows, not one
+    finally:
+        driver.quit()
+
+
+def test_the_panda_report_stays_on_the_page(tmp_path):
+    """The Panda's report.tex ran 406 and 418 pt past the margin: single terms of its forward kinematics and
+    Jacobian (a sine times a long sum) wider than the line.  Such a term is now cut inside its parentheses.
+    Reference: pdflatex's log (no overfull box over 10 pt)."""
+    from pathlib import Path
+
+    from system_tools import assert_compiles, require_tool
+
+    from workspace_sym.cli import main
+
+    table = Path(__file__).parent / "data" / "dh" / "panda.json"
+    assert main(["report", "--dh", str(table), "--out", str(tmp_path / "out")]) == 0
+    tex = (tmp_path / "out" / "report.tex").read_text()
+    assert "\\right. \\\\" in tex and "\\quad \\left. {}+" in tex           # a term cut in its parentheses
+    require_tool("pdflatex")
+    assert_compiles(tmp_path / "out" / "report.tex")
+
+
+def test_a_long_term_is_cut_inside_its_parentheses():
+    """The pieces of a term wider than the line: parentheses balanced on every line, and the pieces put together
+    are the expression (read back by the students' LaTeX reader, an exact identity)."""
+    import sympy as sp
+
+    from workspace_sym.answers import Notation, read_latex
+    from workspace_sym.report import _tex_pieces
+
+    x = sp.symbols("x1:13")
+    inner = sum(x[k] * x[k + 1] for k in range(0, 11))
+    expr = sp.sin(x[0]) * (inner + x[11] * (x[0] + x[1] + x[2] + x[3] + x[4] + x[5] + x[6] + x[7])) - x[3]
+    pieces = _tex_pieces(expr, 40)
+    assert len(pieces) > 3
+    for p in pieces:
+        assert p.count("\\left") == p.count("\\right")
+    whole = " ".join(pieces).replace("\\left.", "").replace("\\right.", "").replace("\\quad", "").replace("{}", "")
+    assert sp.expand(read_latex(whole, Notation.from_symbols(x)) - expr) == 0
