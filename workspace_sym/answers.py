@@ -33,10 +33,22 @@ from string import ascii_lowercase
 import sympy as sp
 
 from .errors import ExpressionError, check_choice
-from .expressions import CONSTANTS, FUNCTIONS, MAX_DEPTH, MAX_LENGTH, nesting_depth, parse_math, quoted, subscript_name
+from .expressions import (
+    CONSTANTS,
+    FUNCTIONS,
+    MAX_DEPTH,
+    MAX_LENGTH,
+    PLUS_MINUS,
+    nesting_depth,
+    parse_math,
+    quoted,
+    refuse_plus_minus,
+    subscript_name,
+)
 
 __all__ = ["Notation", "read_answer", "read_latex", "split_top_level", "expansion_size", "ANGLE_UNITS",
-           "MAX_EXPANSION", "Unit", "read_unit", "split_unit", "read_count", "read_yes_no", "plain_sentence"]
+           "MAX_EXPANSION", "Unit", "read_unit", "split_unit", "split_uncertainty", "read_count", "read_yes_no",
+           "plain_sentence"]
 
 #: How numbers inside sin, cos and tan are read.
 ANGLE_UNITS = ("radians", "degrees")
@@ -544,6 +556,7 @@ def read_latex(text: str, notation: Notation, *, parameter: str = "answer", max_
     if nesting_depth(text) > MAX_DEPTH:
         raise ExpressionError(f"{parameter}: cannot read {quoted(text)}: nested more than {MAX_DEPTH} levels deep",
                               parameter=parameter)
+    refuse_plus_minus(text, parameter)
     # SymPy's own printer wraps a matrix environment in \left[ ... \right]: blank them (columns stay)
     text = _WRAPPED_MATRIX.sub(lambda m: " " * len(m[1]) + m[2] + " " * len(m[4]), text)
     rewriter = _LatexRewriter(text, parameter, notation.resolver(parameter))
@@ -654,8 +667,6 @@ def read_answer(text, notation: Notation, *, angles: str = "radians", parameter:
 
 
 # ------------------------------------------------------------------------------ yes/no, counts, quantities
-_YES = {"yes", "y", "true", "reachable", "1", "oui"}
-_NO = {"no", "n", "false", "unreachable", "not reachable", "0", "non"}
 _FORMULA_WORDS = {w.lower() for w in (*CONSTANTS, *FUNCTIONS)}
 _ONES = {w: k for k, w in enumerate("zero one two three four five six seven eight nine ten eleven twelve thirteen "
                                     "fourteen fifteen sixteen seventeen eighteen nineteen".split())}
@@ -679,21 +690,103 @@ def plain_sentence(text: str) -> str:
     return stripped.rstrip(".!").rstrip() or stripped
 
 
-def read_yes_no(text: str) -> bool | None:
-    """``True`` for yes, ``False`` for no, ``None`` when ``text`` is neither; a reason may follow the word after a
-    comma, colon, semicolon or dash (``"No, it is beyond the reach"``).
+# A yes/no answer is a verdict word (or a sentence that says reachable / not reachable) and, after it, a reason.
+# Words that may lead a sentence with only a blank after them ("no it is too far"); the single letters and digits
+# need a punctuation mark or the end ("y = 0.5 ..." is not a yes).
+_YES_WORDS = {"yes", "yep", "yeah", "true", "oui"}
+_NO_WORDS = {"no", "nope", "false", "non"}
+_YES_SIGNS = {"y", "1"}
+_NO_SIGNS = {"n", "0"}
+_LEAD = re.compile(r"\s*(?P<word>[^\W_]+)(?P<sep>\s*[,;:!\u2013\u2014]|\s*-(?![0-9])|\.(?=\s|$)|\s+|$)")
+# A bare verdict word making a clause of the reason: "no, yes", "yes and no", "no; no".
+_BARE = re.compile(r"(?:^|[,;:.!\u2013\u2014]|\s-|\b(?:and|or|but|then|so)\b)\s*(?P<word>yes|no|y|n|true|false|oui|non)"
+                   r"\s*(?=$|[,;:.!\u2013\u2014]|\s-|\s(?:and|or|but)\b)", re.IGNORECASE)
+_APOSTROPHE = "['\u2019]"
+_NOT = rf"(?:not|never|no\s+longer|(?:is|are)n{_APOSTROPHE}?t)"
+# Statements about the point: "it is not reachable", "out of reach", "it can be reached", "inside the workspace".
+_NO_PHRASE = re.compile(
+    rf"\bunreachable\b|\b{_NOT}\s+(?:\w+\s+)?(?:reachable|within\s+(?:the\s+|its\s+)?reach|in\s+reach|(?:inside|in|"
+    rf"within)\s+the\s+workspace)\b|\b(?:cannot|can{_APOSTROPHE}?t|can\s+not|could\s*not|couldn{_APOSTROPHE}?t)\s+"
+    rf"(?:be\s+)?reach(?:ed)?\b|\b(?:out\s+of|beyond)\s+(?:the\s+|its\s+)?reach\b|\boutside\s+(?:of\s+)?the\s+"
+    rf"workspace\b", re.IGNORECASE)
+_YES_PHRASE = re.compile(r"\breachable\b|\b(?:can|could)\s+(?:be\s+)?reach(?:ed)?\b|\b(?:within|in)\s+"
+                         r"(?:the\s+|its\s+)?reach\b|\b(?:inside|in|within)\s+the\s+workspace\b", re.IGNORECASE)
+# Words that leave the answer open: a careful teacher reads "No, not sure" as no answer, not as a no.
+_HEDGE = re.compile(
+    rf"\?|\b(?:not\s+(?:sure|certain)|unsure|uncertain|no\s+(?:idea|clue)|dunno|idk|maybe|perhaps|probably|"
+    rf"possibly|might|i\s+(?:think|guess|believe|suppose|assume)|(?:do|does|did|could|can|have|has|had|am|was|were)"
+    rf"(?:n{_APOSTROPHE}?t|\s*not)\s+(?:\w+\s+)?(?:know|solve[ds]?|finish(?:ed)?|tell|say|decide[ds]?|answer(?:ed)?|"
+    rf"check(?:ed)?|compute[ds]?|do\s+it|manage[ds]?|get\s+it|work\s+it\s+out))\b", re.IGNORECASE)
+_ASK = "answer yes (reachable) or no (unreachable), a reason may follow"
+
+
+def _said(claims: list[tuple[bool, str]]) -> str:
+    """``'no' and yes ('it is reachable')``: each claim once, its words when they are not the verdict itself."""
+    words = _YES_WORDS | _NO_WORDS | _YES_SIGNS | _NO_SIGNS
+    return " and ".join(dict.fromkeys(repr(w) if w.lower() in words else f"{'yes' if c else 'no'} ({w!r})"
+                                      for c, w in claims))
+
+
+def read_yes_no(text: str, *, parameter: str = "answer") -> bool:
+    """``True`` for yes, ``False`` for no: a verdict with its reason, as a student writes it.
+
+    The verdict is a leading word (``yes``, ``no``, ``true``, ``false``, ``oui``, ``non``; ``y``, ``n``, ``1``,
+    ``0`` only before a punctuation mark or alone) or a statement about the point (``reachable``, ``It is not
+    reachable``, ``out of reach``, ``it cannot be reached``, ``outside the workspace``).  A reason may follow, after
+    a comma, colon, semicolon, dash, full stop or just a blank (``"No because it is too far"``); it is not graded,
+    but what it says is read.  Case and a final full stop do not matter.
+
+    Raises
+    ------
+    ExpressionError
+        Neither yes nor no; a hedge (``not sure``, ``don't know``, ``didn't solve``, ``maybe``, ``I think``, a
+        question mark), which leaves the answer open; or a contradiction (``"no, yes"``, ``"Yes, it is
+        unreachable"``).  The message names the words; ``position`` is their column.
 
     Examples
     --------
-    >>> read_yes_no("No."), read_yes_no("yes: theta = 0"), read_yes_no("no idea")
-    (False, True, None)
+    >>> read_yes_no("No."), read_yes_no("yes: theta = 0"), read_yes_no("no it is beyond the reach")
+    (False, True, False)
+    >>> read_yes_no("It is not reachable"), read_yes_no("Reachable, with theta1 = 0")
+    (False, True)
+    >>> read_yes_no("No, not sure")
+    Traceback (most recent call last):
+    ...
+    workspace_sym.errors.ExpressionError: answer: cannot read 'No, not sure': 'not sure' leaves the answer open; \
+answer yes (reachable) or no (unreachable), a reason may follow
     """
-    said = " ".join(plain_sentence(text).lower().split())
-    lead = re.fullmatch(r"([^,;:\u2013\u2014-]+?)\s*[,;:\u2013\u2014-]\s*\S.*", said, re.DOTALL)
-    for word in (said, lead[1] if lead else None):
-        if word in _YES or word in _NO:
-            return word in _YES
-    return None
+    said = plain_sentence(text)
+    shift = len(text) - len(text.lstrip())
+
+    def refuse(reason: str, column: int | None = None) -> ExpressionError:
+        return ExpressionError(f"{parameter}: cannot read {quoted(text)}: {reason}", parameter=parameter,
+                               position=None if column is None else column + shift + 1)
+
+    claims: list[tuple[int, bool, str]] = []          # (column, yes, the words), each claim the answer makes
+    rest, start = said, 0
+    lead = _LEAD.match(said)
+    if lead:
+        word = lead["word"].lower()
+        if word in _YES_WORDS | _NO_WORDS or (word in _YES_SIGNS | _NO_SIGNS and not lead["sep"].isspace()):
+            claims.append((lead.start("word"), word in _YES_WORDS | _YES_SIGNS, lead["word"]))
+            rest, start = said[lead.end():], lead.end()
+    hedge = _HEDGE.search(said)
+    if hedge:
+        raise refuse(f"{hedge.group()!r} leaves the answer open; {_ASK}", hedge.start())
+    for m in _BARE.finditer(rest):
+        claims.append((start + m.start("word"), m["word"].lower() in _YES_WORDS | _YES_SIGNS, m["word"]))
+    blanked = _NO_PHRASE.sub(lambda m: " " * len(m.group()), said)
+    for phrase, yes in ((_NO_PHRASE, False), (_YES_PHRASE, True)):
+        for m in phrase.finditer(said if phrase is _NO_PHRASE else blanked):
+            claims.append((m.start(), yes, " ".join(m.group().split())))
+    claims.sort()
+    verdicts = {yes for _, yes, _ in claims}
+    if len(verdicts) > 1:                 # the column of the first claim that contradicts the one before it
+        column = next(c for c, yes, _ in claims if yes != claims[0][1])
+        raise refuse(f"it says both {_said([(yes, w) for _, yes, w in claims])}; {_ASK}", column)
+    if not verdicts:
+        raise refuse(_ASK)
+    return verdicts.pop()
 
 
 def read_count(text: str) -> tuple[int, str] | None:
@@ -705,7 +798,16 @@ def read_count(text: str) -> tuple[int, str] | None:
     --------
     >>> read_count("Four arcs"), read_count("twenty-one"), read_count("4 <b>")
     ((4, 'arcs'), (21, ''), None)
+
+    The number may be said twice, in digits and in words between parentheses, when both agree:
+
+    >>> read_count("8 (eight) arcs"), read_count("8 (seven)")
+    ((8, 'arcs'), None)
     """
+    twice = re.fullmatch(r"\s*([0-9]{1,9})\s*\(([A-Za-z\s-]{1,40})\)(.*)", text, re.DOTALL)
+    if twice:
+        said = read_count(twice[2])
+        return read_count(f"{twice[1]} {twice[3]}") if said == (int(twice[1]), "") else None
     m = re.fullmatch(r"\s*([0-9]{1,9})\s*([A-Za-z][A-Za-z\s-]*)?", text)
     if m:
         rest = (m[2] or "").split()
@@ -773,3 +875,34 @@ def split_unit(text: str) -> tuple[str, Unit | None]:
     m = _QUANTITY.fullmatch(text)
     unit = _unit(m) if m and m["number"].strip() else None
     return (m["number"].strip(), unit) if m and unit else (text, None)
+
+
+def split_uncertainty(text: str) -> tuple[str, str | None]:
+    """``text`` as a value and the uncertainty after its plus-or-minus sign (``+-``, ``+/-``, ``±``), each with
+    the unit written for both, or as it is with ``None`` when it has no such sign (or more than one).
+
+    A unit after the uncertainty, or after the parentheses around both, is the unit of both; a unit after the
+    value alone is the uncertainty's too.
+
+    Examples
+    --------
+    >>> split_uncertainty("1.40474 +- 0.01"), split_uncertainty("(0.327 ± 0.002) m^2")
+    (('1.40474', '0.01'), ('0.327 m^2', '0.002 m^2'))
+    >>> split_uncertainty("45 deg +/- 1"), split_uncertainty("0.3")
+    (('45 deg', '1 deg'), ('0.3', None))
+    """
+    signs = list(PLUS_MINUS.finditer(text))
+    if len(signs) != 1:
+        return text, None
+    value, spread = text[:signs[0].start()].strip(), text[signs[0].end():].strip()
+    after = ""
+    if value.startswith("(") and ")" in spread:
+        spread, after = spread.rsplit(")", 1)
+        value, spread, after = value[1:].strip(), spread.strip(), after.strip()
+    if not after:
+        value_unit, spread_unit = split_unit(value)[1], split_unit(spread)[1]
+        if value_unit is not None and spread_unit is None:
+            spread = f"{spread} {value_unit.text}"
+        elif spread_unit is not None and value_unit is None:
+            value = f"{value} {spread_unit.text}"
+    return (f"{value} {after}".strip(), f"{spread} {after}".strip())

@@ -727,7 +727,7 @@ def cmd_report(args) -> int:
 
 def cmd_grade(args) -> int:
     """Grade a CSV of students' answers against a key; write the graded CSV and the report."""
-    from .grading import AnswerKey, duplicate_rows, grade_answers, read_answers_csv, write_grading
+    from .grading import AnswerKey, duplicate_rows, grade_answers, read_answers_csv, similar_students, write_grading
 
     key = AnswerKey.from_file(args.key)
     graded = grade_answers(key, read_answers_csv(args.answers))
@@ -736,17 +736,21 @@ def cmd_grade(args) -> int:
     scores: dict[str, float] = {}
     for g in graded:
         scores[g.student] = scores.get(g.student, 0.0) + g.points
-    repeated = duplicate_rows(graded)
+    repeated, similar = duplicate_rows(graded), similar_students(graded)
     if args.json:
         _emit_json({"students": scores, "total": total, "answers": len(graded),
-                    "files": {k: str(v) for k, v in paths.items()}, "duplicates": repeated})
+                    "files": {k: str(v) for k, v in paths.items()}, "duplicates": repeated,
+                    "similar_students": similar})
     else:
         for student, score in scores.items():
             print(f"{student}: {score:g} / {total:g}")
         if repeated:
             print(f"{sum(len(d['rows']) - 1 for d in repeated)} duplicate row(s), not graded (only a student's "
                   "first answer to a question is): listed in the report")
-        print(f"wrote {paths['csv']} and {paths['html']}")
+        for names in similar:
+            print(f"warning: {' and '.join(repr(n) for n in names)} differ only in case or blanks and are graded as "
+                  "different students: check them")
+        print(f"wrote {paths['csv']}, {paths['html']} and {paths['markdown']}")
     return 0
 
 
@@ -959,7 +963,7 @@ def build_parser() -> _Parser:
     p = sub.add_parser("grade", help="grade students' answers (CSV: student, question, answer) against a key",
                        parents=[json_])
     p.add_argument("key", help="answer key (JSON, as written by 'workspace-sym exercises')")
-    p.add_argument("answers", help="CSV with columns student, question, answer")
+    p.add_argument("answers", help="CSV with columns student, question, answer (separated by ',', ';' or a tab)")
     p.add_argument("--out", required=True, help="output directory (graded.csv, grades.html, grades.md)")
     p.set_defaults(func=cmd_grade)
 

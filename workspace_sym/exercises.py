@@ -34,12 +34,12 @@ import sympy as sp
 
 from .errors import InvalidParameterError
 from .files import write_files
-from .grading import KEY_FORMAT
+from .grading import KEY_FORMAT, tolerance_rule
 from .kinematics import DHRobot
 from .numbers import fmt_bracket
 from .planar import PlanarChain
 from .report import Document
-from .snap import exact_decimal
+from .verify import exact_parameters
 
 __all__ = ["make_exercises", "write_exercises", "exact_parameters", "reach_bound", "reachability_point",
            "MAX_COUNT"]
@@ -48,7 +48,12 @@ __all__ = ["make_exercises", "write_exercises", "exact_parameters", "reach_bound
 MAX_COUNT = 20
 _LENGTHS = [sp.Rational(k, 20) for k in range(2, 11)]          # 0.1 .. 0.5
 _COORD = ("x", "y", "z")
-_Question = tuple[dict[str, Any], str]      # (the key's entry, the answer as the key document shows it)
+#: Significant digits asked for an area, stated on the sheet and applied by the key.
+AREA_DIGITS = 3
+# (the key's entry, the answer as the key document shows it: text, a list of text and SymPy objects set inline, or a
+# SymPy object displayed)
+_Question = tuple[dict[str, Any], Any]
+_P = sp.Symbol("p")
 
 
 def _dh_description(rng, name: str, n: int) -> dict:
@@ -107,11 +112,6 @@ def reach_bound(robot: DHRobot, values: dict) -> sp.Expr:
     return sp.nsimplify(total)
 
 
-def exact_parameters(robot: DHRobot) -> dict:
-    """The robot's numeric lengths as the decimals they print as (``0.387`` is ``387/1000``): points stay exact."""
-    return {k: exact_decimal(v) if isinstance(v, float) else sp.nsimplify(v) for k, v in robot.parameters.items()}
-
-
 def reachability_point(robot: DHRobot, rng) -> tuple[list, bool, str, list | None]:
     """A point for a reachability question, with its certified answer: ``(point, reachable, why, witness)``.
 
@@ -163,9 +163,9 @@ def _chain_point(chain: PlanarChain, rng):
         verdict = check_reachable(chain, [sp.sstr(v) for v in point], max_boxes=20_000)
         why = verdict.message.split(": ", 1)[-1]
         if verdict.ok is True:
-            return point, True, why, [float(t) for t in verdict.evidence["configuration"]]
+            return point, True, why, [float(t) for t in verdict.evidence["configuration"]], verdict
         if verdict.ok is False:
-            return point, False, why, None
+            return point, False, why, None, verdict
     raise RuntimeError("no decidable point found in 20 draws")  # pragma: no cover - the disc is mostly decidable
 
 
@@ -224,20 +224,26 @@ def _robot_problem(rng, number: int, n: int) -> tuple[dict, DHRobot, list[_Quest
     questions.append(({"kind": "expression", "answer": "[" + ", ".join(robot.to_str(e) for e in column) + "]",
                        "prompt": f"Give column {k + 1} of the geometric Jacobian [v; omega] "
                                  f"(6 entries, as a list [e1, ..., e6])."},
-                      robot.shorthand(column.T)))
+                      robot.shorthand(column)))
     if robot.n == 3:
         factors = robot.singular_factors("position")
         questions.append(({"kind": "factors", "answer": [robot.to_str(f) for f in factors],
                            "prompt": "List the factors of the determinant of the 3 x 3 position Jacobian "
                                      "(comma-separated; constant multiples do not matter)."},
-                          ", ".join(robot.to_str(f) for f in factors)))
+                          [part for f in factors for part in (", ", robot.shorthand(f))][1:]))
     point, reachable, why, witness = reachability_point(robot, rng)
     shown = "(" + ", ".join(sp.sstr(p) for p in point) + ")"
+    if reachable:
+        answer: Any = "yes: " + why
+    else:   # the proof of reachability_point, typeset
+        bound = reach_bound(robot, exact_parameters(robot))
+        answer = ["no: ", sp.Eq(sp.Abs(_P) ** 2, sum(p * p for p in point), evaluate=False), " > ", bound**2,
+                  ", the square of the sum over the DH rows of ", sp.Abs(sp.Symbol("a_k")), " + max ",
+                  sp.Abs(sp.Symbol("d_k")), ", and no end point is farther than that sum (triangle inequality)"]
     questions.append(({"kind": "reachable", "answer": reachable, "evidence": why,
                        "point": [sp.sstr(p) for p in point], "witness": witness,
                        "prompt": f"With the numeric lengths and the joint limits, can the end point reach "
-                                 f"{shown}? Answer yes or no."},
-                      ("yes: " if reachable else "no: ") + why))
+                                 f"{shown}? Answer yes or no."}, answer))
     return spec, robot, questions
 
 
@@ -267,18 +273,23 @@ def _chain_problem(rng, number: int) -> tuple[str, dict, PlanarChain, list[_Ques
             break
     else:  # pragma: no cover - most random chains are clean
         raise RuntimeError("no chain with a fully certified boundary in 50 draws")
-    point, reachable, why, witness = _chain_point(chain, rng)
+    point, reachable, why, witness, verdict = _chain_point(chain, rng)
+    answer: Any = ("yes: " if reachable else "no: ") + why
+    if verdict.evidence["method"] == "reach bound":      # check_reachable's proof, typeset
+        answer = ["no: ", sp.Eq(sp.Abs(_P) ** 2, point[0] ** 2 + point[1] ** 2, evaluate=False),
+                  " exceeds the square of the reach ", sum(chain.exact_lengths),
+                  " (the sum of the lengths), in exact arithmetic"]
     lo, hi = boundary.area, boundary.area + boundary.undecided_area
     questions: list[_Question] = [
         ({"kind": "reachable", "answer": reachable, "evidence": why, "point": [sp.sstr(p) for p in point],
           "witness": witness,
-          "prompt": f"Can the end point reach ({point[0]}, {point[1]})? Answer yes or no."},
-         ("yes: " if reachable else "no: ") + why),
+          "prompt": f"Can the end point reach ({point[0]}, {point[1]})? Answer yes or no."}, answer),
         ({"kind": "integer", "answer": len(boundary.arcs), "unit": "arcs",
           "prompt": "How many circular arcs make up the boundary of the workspace?"}, f"{len(boundary.arcs)} arcs"),
-        ({"kind": "measure", "answer": [lo, hi], "rel_tol": 0.01, "unit": "m^2",
-          "prompt": "What is the area of the workspace? (3 significant digits)"},
-         f"{lo:.6g} m^2" if hi == lo else f"in {fmt_bracket(lo, hi, 6, 'g')} m^2"),
+        ({"kind": "measure", "answer": [lo, hi], "digits": AREA_DIGITS, "unit": "m^2",
+          "prompt": f"What is the area of the workspace, in m²? Give {AREA_DIGITS} significant digits: an answer is "
+                    f"accepted when it {tolerance_rule(digits=AREA_DIGITS).replace('value', 'area')}."},
+         f"{lo:.6g} m²" if hi == lo else f"in {fmt_bracket(lo, hi, 6, 'g')} m²"),
     ]
     return name, spec, chain, questions
 
@@ -307,9 +318,11 @@ def make_exercises(*, seed: int, count: int, max_joints: int = 6):
             spec, robot, questions = _robot_problem(rng, number, n)
             key["robots"][robot.name] = spec
             subject = {"robot": robot.name}
+            link = [_A_PREV, _ALPHA_PREV] if robot.convention == "modified" else [_A, _ALPHA]
             for doc in (sheet, key_doc):
                 doc.heading(f"Problem {number}: a {robot.n}-joint robot ({robot.convention} DH)")
-                doc.table(["joint", "type", "theta", "d", "a", "alpha", "limits"],
+                doc.para(_CONVENTION_NOTE[robot.convention])
+                doc.table(["joint i", "type", _THETA, _D, *link, "limits"],
                           [[str(k), j.kind, j.theta, j.d, j.a, j.alpha, _limits_text(j)]
                            for k, j in enumerate(robot.joints, start=1)])
                 lengths = ", ".join(f"{s} = {v}" for s, v in spec["parameters"].items()) or "none"
@@ -331,9 +344,33 @@ def make_exercises(*, seed: int, count: int, max_joints: int = 6):
             key_doc.para(f"({qid}) {entry['prompt']}")
             if isinstance(shown, str):
                 key_doc.para(f"Answer: {shown}")
+            elif isinstance(shown, list):
+                key_doc.para(["Answer: ", *shown])
             else:
                 key_doc.math("\\text{answer}", shown)
     return sheet, key_doc, key
+
+
+def _frame(*moves) -> list:
+    """The moves from frame i-1 to frame i, in words with inline mathematics (``Rz(theta_i) Tz(d_i) ...``)."""
+    out: list = ["frame i follows frame i-1 by "]
+    for k, (what, value, axis) in enumerate(moves):
+        out += [", " if 0 < k < len(moves) - 1 else " and " if k else "", f"a {what} of ", value, f" about {axis}"
+                if what == "turn" else f" along {axis}"]
+    return out
+
+
+_THETA, _D, _A, _ALPHA = sp.symbols("theta_i d_i a_i alpha_i")
+_A_PREV, _ALPHA_PREV = sp.Symbol("a_i-1"), sp.Symbol("alpha_i-1")        # print as a_{i-1}, alpha_{i-1}
+#: What a row of the DH table holds, said on the sheet (kinematics.dh_matrix; Craig 2005, section 3.4 for modified).
+_CONVENTION_NOTE = {
+    "standard": ["Standard DH: row i holds ", _THETA, ", ", _D, ", ", _A, " and ", _ALPHA, " of joint i; ",
+                 *_frame(("turn", _THETA, "z"), ("move", _D, "z"), ("move", _A, "x"), ("turn", _ALPHA, "x")), "."],
+    "modified": ["Modified (Craig) DH: row i holds ", _ALPHA_PREV, " and ", _A_PREV, ", the twist and length of the "
+                 "link before joint i, then ", _THETA, " and ", _D, " of joint i; ",
+                 *_frame(("turn", _ALPHA_PREV, "x"), ("move", _A_PREV, "x"), ("turn", _THETA, "z"), ("move", _D, "z")),
+                 "."],
+}
 
 
 def _limits_text(joint) -> str:

@@ -29,7 +29,8 @@ from sympy.parsing.sympy_parser import auto_number, eval_expr, rationalize, stri
 from .errors import ExpressionError, JointLimitError
 
 __all__ = ["parse_expr", "parse_math", "subscript_name", "parse_angle", "read_symbol", "as_sympy", "is_finite_value",
-           "check_joint_limits", "FUNCTIONS", "CONSTANTS", "MAX_LENGTH", "MAX_DEPTH"]
+           "check_joint_limits", "refuse_plus_minus", "refuse_decimal_comma", "FUNCTIONS", "CONSTANTS", "MAX_LENGTH",
+           "MAX_DEPTH", "PLUS_MINUS"]
 
 #: Longest text accepted (characters); ``max_length=`` changes it per call.
 MAX_LENGTH = 2000
@@ -63,6 +64,56 @@ _COMPARISONS = {ast.Lt: "<", ast.LtE: "<=", ast.Gt: ">", ast.GtE: ">="}
 _SHOWN = 60
 _LOG2 = math.log10(2)
 _DECIMAL = re.compile(r"(?P<int>[0-9_]*)(?:\.(?P<frac>[0-9_]*))?(?:[eE](?P<exp>[+-]?[0-9_]+))?")
+
+
+#: A plus-or-minus sign as people type it: ``±``, ``∓``, ``+/-``, ``+-`` or ``+ -`` (Python's grammar reads
+#: ``1.4 +- 0.01`` as ``1.4 + (-0.01)``), LaTeX's ``\\pm`` and ``\\mp``.
+PLUS_MINUS = re.compile(r"\u00b1|\u2213|\+\s*/\s*-|\+\s*-|\\(?:pm|mp)(?![A-Za-z])")
+
+
+def refuse_plus_minus(text: str, parameter: str, *, offset: int = 0) -> None:
+    """Raise :class:`ExpressionError` when ``text`` holds a plus-or-minus sign (:data:`PLUS_MINUS`).
+
+    A value read from text is one value: ``1.40474 +- 0.01`` is a value and its uncertainty, never the
+    subtraction ``1.39474`` that Python's unary minus would make of it.  ``offset`` is added to the column.
+
+    Examples
+    --------
+    >>> refuse_plus_minus("0.2 + -0.1", "d")
+    Traceback (most recent call last):
+    ...
+    workspace_sym.errors.ExpressionError: d: cannot read '0.2 + -0.1': '+ -' at column 5 is a plus-or-minus sign, \
+which gives two values, not one; give one value (a subtraction is written a - b)
+    """
+    m = PLUS_MINUS.search(text) if isinstance(text, str) else None
+    if m is None:
+        return
+    column = offset + m.start() + 1
+    raise ExpressionError(f"{parameter}: cannot read {quoted(text)}: {m.group()!r} at column {column} is a "
+                          "plus-or-minus sign, which gives two values, not one; give one value (a subtraction is "
+                          "written a - b)", parameter=parameter, position=column)
+
+
+_DECIMAL_COMMA = re.compile(r"\s*([-+]?[0-9]+),([0-9]+)\s*")
+
+
+def refuse_decimal_comma(text: str, parameter: str) -> None:
+    """Raise :class:`ExpressionError` when ``text`` is a number written with a decimal comma (``1,40``), saying how
+    to write it.
+
+    Examples
+    --------
+    >>> refuse_decimal_comma("1,40", "answer")
+    Traceback (most recent call last):
+    ...
+    workspace_sym.errors.ExpressionError: answer: cannot read '1,40': a comma is not a decimal point; write 1.40
+    """
+    m = _DECIMAL_COMMA.fullmatch(text) if isinstance(text, str) else None
+    if m is None:
+        return
+    thousands = f", or {m[1]}{m[2]} without the thousands separator" if len(m[2]) == 3 else ""
+    raise ExpressionError(f"{parameter}: cannot read {quoted(text)}: a comma is not a decimal point; write "
+                          f"{m[1]}.{m[2]}{thousands}", parameter=parameter, position=text.index(",") + 1)
 
 
 def quoted(text: str) -> str:
@@ -107,7 +158,7 @@ class _Checker:
             if type(value) not in (int, float):  # bool, None, str, bytes, complex, Ellipsis
                 raise _Refused(f"{value!r} is not a real number")
             if type(value) is float and not math.isfinite(value):  # 1e999; an int of any length is fine
-                raise _Refused("a number is out of range")
+                raise _Refused("a number is out of range (beyond 1.8e308, the largest float)")
             assert isinstance(value, (int, float))          # for mypy: the type test above is exact
             return math.log10(abs(value)) if abs(value) > 1 else 0.0
         if isinstance(node, ast.Name):
@@ -181,6 +232,8 @@ class _Checker:
 
     def _call(self, node: ast.Call, depth: int):
         func = node.func
+        if isinstance(func, ast.Constant):          # "8 (eight)", "2(x + 1)"
+            raise _Refused(f"a number followed by '(' is not a product here: write {func.value!r}*(...)")
         if not isinstance(func, ast.Name):
             raise _Refused(_describe(func))
         name = func.id
@@ -224,7 +277,8 @@ def _describe(node) -> str:
     """What a refused piece of syntax is, in words."""
     kinds = {
         ast.Attribute: "attribute access ('.')", ast.Subscript: "indexing ('[...]')", ast.Lambda: "lambda",
-        ast.IfExp: "'if ... else'", ast.BoolOp: "'and' / 'or'", ast.List: "a list", ast.Tuple: "a tuple",
+        ast.IfExp: "'if ... else'", ast.BoolOp: "'and' / 'or'", ast.List: "a list",
+        ast.Tuple: "a comma outside a function's arguments (a decimal point is written '.')",
         ast.Dict: "a dict", ast.Set: "a set", ast.ListComp: "a comprehension", ast.SetComp: "a comprehension",
         ast.DictComp: "a comprehension", ast.GeneratorExp: "a generator", ast.JoinedStr: "an f-string",
         ast.Starred: "'*' unpacking", ast.NamedExpr: "':='", ast.Await: "'await'", ast.Yield: "'yield'",
@@ -270,6 +324,9 @@ def parse_expr(value, parameter: str, *, names: Mapping | None = None, functions
     - ``^`` means power, as in textbooks: ``"(x - 5)^2"`` is ``(x - 5)**2``;
     - a decimal is the rational it spells: ``"0.1"`` is ``1/10``, ``"1e-3"``
       is ``1/1000`` (so results stay exact);
+    - a plus-or-minus sign (``+-``, ``+ -``, ``+/-``, ``±``) is refused
+      (:func:`refuse_plus_minus`): Python's grammar reads ``0.1 +- 0.01`` as
+      ``0.1 + (-0.01)``;
     - names: those of ``names`` (a mapping ``name -> SymPy object``, e.g. the
       variables of a box), then ``pi`` and ``E``; any other identifier becomes
       a plain ``Symbol`` when ``new_symbols`` is true and is refused
@@ -343,6 +400,8 @@ def _read_text(text: str, parameter: str, *, names, functions, new_symbols, rela
     text = text.strip()
     if not text:
         raise ExpressionError(f"{parameter}: expected an expression, got an empty string")
+    refuse_plus_minus(text, parameter)
+    refuse_decimal_comma(text, parameter)
     names = {**(names or {}), **{k: v for k, v in CONSTANTS.items() if k not in (names or {})}}
     bad = [n for n in names if not (isinstance(n, str) and n.isidentifier())]
     if bad:
@@ -509,6 +568,8 @@ def parse_math(value, parameter: str, *, resolve, functions=None, max_length: in
         raise ExpressionError(f"{parameter}: expected an expression, got an empty string", parameter=parameter)
     if functions is None:
         functions = FUNCTIONS
+    refuse_plus_minus(text, parameter, offset=offset)
+    refuse_decimal_comma(text, parameter)
     tokens = _math_tokens(text, parameter, offset)
     out: list[str] = []
     values: dict[str, sp.Basic] = {}

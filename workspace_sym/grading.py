@@ -12,22 +12,28 @@ one by hand)::
        {"id": "1c", "kind": "factors", "robot": "R1", "answer": ["s3", "a2*c2 + a3*c23"]},
        {"id": "1d", "kind": "reachable", "answer": true, "evidence": "witness theta = ..."},
        {"id": "2a", "kind": "integer", "answer": 8, "unit": "arcs"},
-       {"id": "2b", "kind": "measure", "answer": [0.2681, 0.2682], "rel_tol": 0.01, "unit": "m^2"}]}
+       {"id": "2b", "kind": "measure", "answer": [0.2681, 0.2682], "digits": 3, "unit": "m^2"}]}
 
+A measure is accepted within its certified bracket widened by its tolerance: ``digits`` (the answer agrees with
+the certified value to that many significant digits: within half a unit of its last one) or ``rel_tol`` (a
+fraction of the value), not both; :func:`tolerance_rule` says it in words, on the sheet and in each verdict.
 Every question may carry ``points`` (default 1) and ``angles``
 (``"radians"`` or ``"degrees"``, how numbers inside sin and cos are read); an
 expression question without a robot lists its ``symbols`` (``["theta1",
 "a1"]``).  A count may name what it counts (``unit``, a word such as ``"arcs"``) and a measure
 its unit (``"m"``, ``"m^2"``, ``"cm^3"``, ``"rad"``, ``"deg"``...): an answer then may carry a unit of the same
 kind (converted: ``3270 cm^2`` is ``0.327 m^2``) and one of another kind is wrong, with the reason.
-Students write ``No.``, ``Four arcs.`` or ``0.327 m²``: a sentence's final full stop, number words and
-units are read (:func:`~workspace_sym.answers.read_count`, :func:`~workspace_sym.answers.split_unit`).
+Students write ``No.``, ``no it is too far``, ``Four arcs.``, ``0.327 m²`` or ``1.40474 +- 0.01``: a
+sentence's final full stop, a verdict with its reason, number words, units and an uncertainty (the value is
+graded) are read (:func:`~workspace_sym.answers.read_yes_no`, :func:`~workspace_sym.answers.read_count`,
+:func:`~workspace_sym.answers.split_unit`, :func:`~workspace_sym.answers.split_uncertainty`); a yes/no answer that
+hedges (``No, not sure``) or contradicts itself (``no, yes``) is *cannot read*, with the words.
 The key is a file, so it is read like any user text: expressions through the
 safe reader, with the robot's notation.
 
-Answers are a CSV with columns ``student, question, answer``, at most
-:data:`MAX_ROWS` rows.  Each answer gets a
-:class:`~workspace_sym.verify.Verdict`: correct, wrong (with the
+Answers are a CSV with columns ``student, question, answer`` (separated by commas, semicolons or tabs), at most
+:data:`MAX_ROWS` rows; names that differ only in case or blanks are listed (:func:`similar_students`).
+Each answer gets a :class:`~workspace_sym.verify.Verdict`: correct, wrong (with the
 counterexample) or cannot read (with the column), never an exception; a
 blank answer is *no answer*, and a student's second answer to a question is
 *duplicate* (not graded: the first one is, and the report lists the rows).
@@ -56,7 +62,17 @@ from typing import Any
 
 import sympy as sp
 
-from .answers import ANGLE_UNITS, Notation, plain_sentence, read_answer, read_count, read_unit, read_yes_no, split_unit
+from .answers import (
+    ANGLE_UNITS,
+    Notation,
+    plain_sentence,
+    read_answer,
+    read_count,
+    read_unit,
+    read_yes_no,
+    split_uncertainty,
+    split_unit,
+)
 from .errors import ExpressionError, InvalidParameterError, SymbolicBudgetError, UnknownNameError, WorkspaceError
 from .expressions import parse_expr, read_symbol
 from .files import read_json, read_text, write_files
@@ -68,7 +84,8 @@ from .symbolic import _Expired, symbolic_budget
 from .verify import Verdict, cannot_read, check_expression, check_factors
 
 __all__ = ["KIND_NAMES", "Question", "AnswerKey", "GradedAnswer", "grade_answers", "read_answers_csv",
-           "write_grading", "duplicate_rows", "MAX_ROWS", "ANSWER_SECONDS", "TOTAL_SECONDS"]
+           "write_grading", "duplicate_rows", "similar_students", "tolerance_rule", "accepted_range", "DELIMITERS",
+           "MAX_ROWS", "ANSWER_SECONDS", "TOTAL_SECONDS"]
 
 #: Kinds of question a key may hold.
 KIND_NAMES = ("expression", "factors", "reachable", "integer", "measure")
@@ -97,6 +114,7 @@ class Question:
     evidence: str = ""
     symbols: tuple = ()
     unit: str = ""
+    digits: int = 0             # a measure: significant digits the answer must agree to (0: rel_tol applies)
 
 
 @dataclass
@@ -229,6 +247,13 @@ def _question(row, k: int, robots: dict, chains: dict) -> Question:
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0:
             raise InvalidParameterError(f"key: {name} of question {qid!r} must be a number >= 0; got {value!r}",
                                         parameter="key")
+    digits = row.get("digits", 0)
+    if isinstance(digits, bool) or not isinstance(digits, int) or not 0 <= digits <= 15:
+        raise InvalidParameterError(f"key: digits of question {qid!r} must be a whole number of significant digits "
+                                    f"from 1 to 15; got {digits!r:.60}", parameter="key")
+    if digits and (kind != "measure" or rel_tol):
+        raise InvalidParameterError(f"key: digits of question {qid!r}: only a measure has them, and not with rel_tol "
+                                    "(give one tolerance)", parameter="key")
     symbols = row.get("symbols", [])
     if not isinstance(symbols, list) or not all(isinstance(n, str) for n in symbols):
         raise InvalidParameterError(f"key: symbols of question {qid!r} must be a list of names", parameter="key")
@@ -243,17 +268,17 @@ def _question(row, k: int, robots: dict, chains: dict) -> Question:
         raise InvalidParameterError(f"key: unit of question {qid!r}: only a count or a measure has one",
                                     parameter="key")
     question = Question(qid, kind, answer, str(row.get("prompt", "")), robot, chain, float(points), angles,
-                        float(rel_tol), str(row.get("evidence", "")), tuple(symbols), unit)
+                        float(rel_tol), str(row.get("evidence", "")), tuple(symbols), unit, digits)
     if kind in ("expression", "factors"):  # the key's own expressions must read: fail now, not per student
         AnswerKey([question], robots, chains).derived(question)
     return question
 
 
 def _grade_yes_no(text: str, truth: bool, evidence: str) -> Verdict:
-    claimed = read_yes_no(text)
-    if claimed is None:
-        return Verdict(None, f"cannot read {text[:60]!r}: answer yes (reachable) or no (unreachable)",
-                       {"method": "cannot read", "position": 1})
+    try:
+        claimed = read_yes_no(text)
+    except ExpressionError as exc:
+        return cannot_read(exc)
     said = "reachable" if truth else "unreachable"
     if claimed is truth:
         return Verdict(True, f"{said}: {evidence}".rstrip(": "), {"method": "certified key"})
@@ -287,13 +312,16 @@ def _grade_integer(text: str, truth: int, unit: str = "") -> Verdict:
     return Verdict(False, f"{int(value)}, but the derived count is {truth}{note}", {"method": "certified key"})
 
 
-def _grade_measure(text: str, q: Question) -> Verdict:
+def _read_measure(text: str, q: Question):
+    """``(value in the key's unit, as shown, note)`` of a number with an optional unit, or the verdict when it
+    cannot be read or its unit is of another kind."""
     number, unit = split_unit(text)
     try:
         value = parse_expr(number, "answer", new_symbols=False, max_length=200)
         claimed = float(value)
     except ExpressionError as exc:
-        loose = re.fullmatch(r"[-+]?[0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?\s*([A-Za-z].{0,20})", text.strip())
+        # the number taken whole (atomic group): "1e400" is a number out of range, not 1 and a unit "e400"
+        loose = re.fullmatch(r"(?>[-+]?[0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*([A-Za-z].{0,20})", text.strip())
         if unit is None and loose:                        # "0.327 ft^2": a number and a unit not known here
             return Verdict(None, f"cannot read {text[:60]!r}: unknown unit {loose[1]!r}; write the number alone or "
                                  f"with a unit such as {q.unit or 'm, m^2, rad or deg'}", {"method": "cannot read"})
@@ -301,25 +329,94 @@ def _grade_measure(text: str, q: Question) -> Verdict:
     except (TypeError, ValueError):
         return Verdict(None, f"cannot read {text[:60]!r}: expected a number", {"method": "cannot read"})
     expected = read_unit(q.unit) if q.unit else None
-    lo, hi = q.answer
-    shown, note = f"{claimed:g}", ""
+    # the number as written when it is a decimal ("1.40", not "1.4": its digits are what is graded)
+    shown, note = number if re.fullmatch(r"[-+]?[0-9]*\.?[0-9]+", number) else f"{claimed:g}", ""
     if unit is not None and expected is None:
         note = f" (the unit {unit.text} is not checked: the key gives none)"
     elif unit is not None and expected is not None:
         if (unit.dimension, unit.power) != (expected.dimension, expected.power):
             return Verdict(False, f"{text[:60]!r}: {unit.text} is {unit.kind}, but the answer is {expected.kind} "
-                                  f"({q.unit})", {"method": "unit", "bracket": [lo, hi]})
+                                  f"({q.unit})", {"method": "unit", "bracket": list(q.answer)})
         if unit.scale != expected.scale:
             claimed = claimed * unit.scale / expected.scale
             shown = f"{number} {unit.text} = {claimed:g} {q.unit}"
+    return claimed, shown, note
+
+
+def _ordinal(n: int) -> str:
+    return f"{n}{'th' if 10 <= n % 100 <= 20 else {1: 'st', 2: 'nd', 3: 'rd'}.get(n % 10, 'th')}"
+
+
+def tolerance_rule(*, digits: int = 0, rel_tol: float = 0.0) -> str:
+    """How a measure answer is accepted, in words: what an exercise sheet states and what the grader applies
+    (:func:`accepted_range`).
+
+    Examples
+    --------
+    >>> tolerance_rule(digits=3)
+    'agrees with the certified value to 3 significant digits (within half a unit of its 3rd significant digit)'
+    >>> tolerance_rule(rel_tol=0.001), tolerance_rule()
+    ('within 0.1% of the certified value', 'within the certified bracket')
+    """
+    if digits:
+        return (f"agrees with the certified value to {digits} significant digits (within half a unit of its "
+                f"{_ordinal(digits)} significant digit)")
+    if rel_tol:
+        return f"within {rel_tol * 100:g}% of the certified value"
+    return "within the certified bracket"
+
+
+def accepted_range(lo: float, hi: float, *, digits: int = 0, rel_tol: float = 0.0) -> tuple[float, float]:
+    """The answers :func:`tolerance_rule` accepts for the certified bracket ``[lo, hi]``: widened by half a unit of
+    the last of ``digits`` significant digits of each end, or by ``rel_tol`` times the larger end.
+
+    Examples
+    --------
+    >>> [round(v, 9) for v in accepted_range(1.40474, 1.40474, digits=3)]   # 1.40 is right, 1.39 and 1.391 are not
+    [1.39974, 1.40974]
+    >>> accepted_range(0.5, 0.5, rel_tol=0.01)
+    (0.495, 0.505)
+    """
+    from decimal import Decimal
+
+    def half_unit(v: float) -> float:
+        if v == 0 or not math.isfinite(v):
+            return 0.0
+        return 0.5 * 10.0 ** (Decimal(v).adjusted() - digits + 1) * (1 + 1e-12)    # 1e-12: float rounding of a tie
+    if digits:
+        return lo - half_unit(lo), hi + half_unit(hi)
+    slack = rel_tol * max(abs(lo), abs(hi))
+    return lo - slack, hi + slack
+
+
+def _grade_measure(text: str, q: Question) -> Verdict:
+    value_text, spread_text = split_uncertainty(text)     # "1.40474 +- 0.01": a value and its uncertainty
+    read = _read_measure(value_text, q)
+    if isinstance(read, Verdict):
+        return read
+    claimed, shown, note = read
+    if spread_text is not None:
+        spread = _read_measure(spread_text, q)
+        if isinstance(spread, Verdict) or not (math.isfinite(spread[0]) and spread[0] >= 0):
+            reason = spread.message if isinstance(spread, Verdict) else "it must be a number >= 0"
+            return Verdict(None, f"cannot read the uncertainty of {text[:60]!r} ({spread_text[:30]!r}): {reason}",
+                           {"method": "cannot read"})
+        shown, note = f"{shown} +- {spread[0]:g}", f"{note} (the value is graded, not its stated uncertainty)"
+    lo, hi = q.answer
     in_unit = f" {q.unit}" if q.unit else ""
-    slack = q.rel_tol * max(abs(lo), abs(hi))
+    low, high = accepted_range(lo, hi, digits=q.digits, rel_tol=q.rel_tol)
     bracket = fmt_bracket(lo, hi, 6, "g") + in_unit
-    if math.isfinite(claimed) and lo - slack <= claimed <= hi + slack:
-        return Verdict(True, f"{shown} is within {q.rel_tol:.0%} of the certified {bracket}{note}",
-                       {"bracket": [lo, hi]})
-    return Verdict(False, f"{shown} is not within {q.rel_tol:.0%} of the certified value {bracket}{note}",
-                   {"bracket": [lo, hi]})
+    evidence = {"bracket": [lo, hi], "accepted": [low, high]}
+    if q.digits:
+        if math.isfinite(claimed) and low <= claimed <= high:
+            return Verdict(True, f"{shown} agrees with the certified {bracket} to {q.digits} significant digits"
+                                 f"{note}", evidence)
+        return Verdict(False, f"{shown} does not agree with the certified value {bracket} to {q.digits} significant "
+                              f"digits (accepted: {fmt_bracket(low, high, 6, 'g')}){note}", evidence)
+    within = f"within {q.rel_tol * 100:g}% of"
+    if math.isfinite(claimed) and low <= claimed <= high:
+        return Verdict(True, f"{shown} is {within} the certified {bracket}{note}", evidence)
+    return Verdict(False, f"{shown} is not {within} the certified value {bracket}{note}", evidence)
 
 
 # ------------------------------------------------------------------------------ batch
@@ -333,17 +430,37 @@ class GradedAnswer:
     max_points: float
 
 
+_COLUMNS = ("student", "question", "answer")
+#: Column separators of an answers file, told apart by its header: a spreadsheet in a locale whose decimal mark is a
+#: comma writes ';'.
+DELIMITERS = (",", ";", "\t")
+
+
+def _delimiter(text: str) -> str:
+    """The separator with which the first line names the three columns (',' when none does)."""
+    first = text.split("\n", 1)[0]
+    for delimiter in DELIMITERS:
+        header = {h.strip().lower() for h in next(csv.reader([first], delimiter=delimiter), [])}
+        if set(_COLUMNS) <= header:
+            return delimiter
+    return ","
+
+
 def read_answers_csv(path) -> list[tuple[str, str, str]]:
-    """``(student, question, answer)`` rows of a CSV with those three columns (any order, header required)."""
+    """``(student, question, answer)`` rows of a CSV with those three columns (any order, header required),
+    separated by commas, semicolons or tabs (:data:`DELIMITERS`, the header tells which)."""
     path = Path(path)
     text = read_text(path, "answers", error=InvalidParameterError, encoding="utf-8-sig")
     try:
-        reader = csv.DictReader(io.StringIO(text))
+        reader = csv.DictReader(io.StringIO(text), delimiter=_delimiter(text))
         header = [h.strip().lower() for h in (reader.fieldnames or [])]
-        missing = [c for c in ("student", "question", "answer") if c not in header]
+        missing = [c for c in _COLUMNS if c not in header]
         if missing:
-            raise InvalidParameterError(f"answers: {str(path)!r} needs the columns student, question, answer; "
-                                        f"missing {', '.join(missing)}", parameter="answers")
+            first = text.split("\n", 1)[0].strip()
+            raise InvalidParameterError(f"answers: {str(path)!r} needs the columns student, question, answer, "
+                                        "separated by ',', ';' or a tab; missing "
+                                        f"{', '.join(missing)} (its first line is {first[:60]!r})",
+                                        parameter="answers")
         reader.fieldnames = header
         rows: list = []
         for row in reader:
@@ -351,7 +468,7 @@ def read_answers_csv(path) -> list[tuple[str, str, str]]:
                 raise InvalidParameterError(f"answers: {str(path)!r} has more than {MAX_ROWS} rows, the most one "
                                             "run grades (grading.MAX_ROWS); split it into several files",
                                             parameter="answers")
-            rows.append(tuple((row.get(c) or "").strip() for c in ("student", "question", "answer")))
+            rows.append(tuple((row.get(c) or "").strip() for c in _COLUMNS))
     except csv.Error as exc:
         raise InvalidParameterError(f"answers: {str(path)!r} is not a valid CSV ({exc})",
                                     parameter="answers") from None
@@ -438,6 +555,17 @@ def grade_answers(key: AnswerKey, rows, *, answer_seconds: float = ANSWER_SECOND
     return out
 
 
+def similar_students(graded: list[GradedAnswer]) -> list[list[str]]:
+    """Names graded as different students that differ only in case or blanks (``"Alice "``, ``"alice"``), each
+    group in order of first appearance: probably one student, graded twice, which the teacher should check."""
+    groups: dict[str, list[str]] = {}
+    for g in graded:
+        names = groups.setdefault(" ".join(g.student.split()).casefold(), [])
+        if g.student not in names:
+            names.append(g.student)
+    return [names for names in groups.values() if len(names) > 1]
+
+
 def duplicate_rows(graded: list[GradedAnswer]) -> list[dict]:
     """Each student and question answered more than once, with its rows as numbered in the CSV (the header being
     row 1), in the order of first appearance."""
@@ -471,7 +599,8 @@ def _expected_form(key: AnswerKey, q: Question):
     if q.kind == "reachable":
         return "yes" if q.answer else "no"
     if q.kind == "measure":
-        return fmt_bracket(q.answer[0], q.answer[1], 6, "g")
+        rule = tolerance_rule(digits=q.digits, rel_tol=q.rel_tol).replace("the certified value", "it")
+        return f"{fmt_bracket(q.answer[0], q.answer[1], 6, 'g')} {q.unit}".rstrip() + f"; accepted: {rule}"
     return str(q.answer)
 
 
@@ -504,6 +633,10 @@ def write_grading(key: AnswerKey, graded: list[GradedAnswer], out) -> dict:
     total = sum(q.points for q in key.questions)
     doc = Document(f"Grades: {key.title}")
     repeated = duplicate_rows(graded)
+    similar = similar_students(graded)
+    if similar:
+        doc.para("Names: " + "; ".join(" and ".join(repr(n) for n in names) for names in similar)
+                 + " differ only in case or blanks and are graded as different students: check them.")
     if repeated:
         doc.para(f"Duplicates: {sum(len(d['rows']) - 1 for d in repeated)} duplicate row(s): only the first answer "
                  "of a student to a question is graded, the later ones get no points (rows numbered as in the CSV, "

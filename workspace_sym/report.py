@@ -195,6 +195,39 @@ def _lines(expr, width: int = _WIDTH) -> list:
     return lines + [sp.Add(*chunk, evaluate=False)]
 
 
+def _tex_pieces(expr, width: int = _WIDTH) -> list[str]:
+    """The TeX of ``expr`` in lines of at most ``width`` characters of SymPy str: a sum cut between its terms
+    (:func:`_lines`), and a term still too wide cut inside its widest factor in parentheses, each line's
+    parentheses balanced with ``\\right.`` / ``\\left.``.  Lines after the first start with their sign."""
+    if len(str(expr)) <= width:
+        return [_tex(expr)]
+    if isinstance(expr, sp.Add):
+        pieces: list[str] = []
+        for part in _lines(expr, width):
+            terms = part.args if isinstance(part, sp.Add) else (part,)
+            if len(terms) > 1 or len(str(part)) <= width:
+                tex = _tex(part)
+                pieces.append(tex if not pieces or tex.startswith("-") else "+ " + tex)
+                continue
+            negative = part.could_extract_minus_sign()
+            inner = _tex_pieces(-part if negative else part, width)
+            pieces += ["- " * negative + ("+ " if pieces and not negative else "") + inner[0], *inner[1:]]
+        return pieces
+    if isinstance(expr, sp.Mul):
+        factors = list(expr.as_ordered_factors())
+        wide = max(factors, key=lambda f: len(str(f)))
+        inner = _tex_pieces(wide, width - 4) if isinstance(wide, sp.Add) else []
+        if len(inner) > 1:
+            factors.remove(wide)
+            rest = sp.Mul(*factors)
+            head = "" if rest == 1 else "-" if rest == -1 else _tex(rest) + " "
+            # continued lines indented one more step per level; '{}' keeps a leading sign binary (spaced)
+            cont = ["\\quad \\left. " + "{}" * (p[:1] in "+-") + p for p in inner[1:]]
+            return ([head + "\\left(" + inner[0] + " \\right."] + [c + " \\right." for c in cont[:-1]]
+                    + [cont[-1] + " \\right)"])
+    return [_tex(expr)]
+
+
 def _column_width(M, j: int) -> int:
     """Characters of SymPy str of column ``j``'s widest entry, plus its label and the space between."""
     return max(len(str(M[i, j])) for i in range(M.rows)) + 12
@@ -215,14 +248,31 @@ def _column_groups(M, width: int = _WIDTH) -> list:
     return groups + [current]
 
 
+def _inline(parts, text, maths) -> str:
+    """A paragraph of text and inline mathematics: each text run through ``text`` on one line (a blank at its ends
+    is kept), each SymPy object through ``maths``."""
+    if isinstance(parts, str):
+        return text(parts)
+    out = []
+    for p in parts:
+        if not isinstance(p, str):
+            out.append(maths(p))
+        else:
+            words = " ".join(p.split())
+            out.append(" " * p[:1].isspace() + (text(words) + " " * p[-1:].isspace() if words else ""))
+    return "".join(out).strip()
+
+
 class Document:
     """A report as blocks, rendered to Markdown, HTML and LaTeX.
 
     Blocks: headings, paragraphs (plain text), displayed equations whose sides
     are SymPy objects (:meth:`math`, :meth:`equations`: MathML in HTML, ``align*``
-    with long sums broken across lines and ``pmatrix`` in LaTeX), tables whose
-    cells are strings or SymPy expressions, figures (PNG files, numbered), and
-    key/value lists.  Every text is escaped for the format it goes into.
+    with long sums broken across lines, a term still too wide cut inside its
+    parentheses, and ``pmatrix`` in LaTeX), paragraphs with inline mathematics
+    (a list of text and SymPy objects), tables whose headers and cells are
+    strings or SymPy expressions, figures (PNG files, numbered), and key/value
+    lists.  Every text is escaped for the format it goes into.
     """
 
     def __init__(self, title: str):
@@ -233,7 +283,10 @@ class Document:
         self.blocks.append(("h", level, text))
 
     def para(self, text):
-        self.blocks.append(("p", text))
+        """A paragraph: text, or a list of text and SymPy objects (set inline as mathematics: ``["no: ",
+        sp.Abs(p)**2, " > 1"]``)."""
+        self.blocks.append(("p", text if isinstance(text, str) else [
+            t if isinstance(t, str) else sp.sympify(t, strict=True) for t in text]))
 
     def math(self, lhs, expr):
         """A displayed equation ``lhs = expr`` (SymPy objects; ``lhs`` may be a name such as ``"c_1"``)."""
@@ -245,6 +298,7 @@ class Document:
                                     for lhs, e in pairs]))
 
     def table(self, header, rows):
+        """A table: each header and cell is text or a SymPy object (set as mathematics)."""
         self.blocks.append(("table", list(header), [list(r) for r in rows]))
 
     def figure(self, path: Path, caption: str):
@@ -273,11 +327,11 @@ class Document:
             if b[0] == "h":
                 lines += ["#" * b[1] + " " + esc(b[2]), ""]
             elif b[0] == "p":
-                lines += [esc(b[1], block=True), ""]
+                lines += [_inline(b[1], lambda t: esc(t, block=True), lambda x: self._cell_md(x)), ""]
             elif b[0] == "eqs":
                 lines += [f"$$ {_tex(lhs)} = {_tex(e)} $$" for lhs, e in b[1]] + [""]
             elif b[0] == "table":
-                lines.append("| " + " | ".join(esc(h) for h in b[1]) + " |")
+                lines.append("| " + " | ".join(self._cell_md(h) for h in b[1]) + " |")
                 lines.append("|" + "---|" * len(b[1]))
                 lines += ["| " + " | ".join(self._cell_md(c) for c in r) + " |" for r in b[2]]
                 lines.append("")
@@ -310,11 +364,11 @@ class Document:
             if b[0] == "h":
                 body.append(f"<h{b[1]}>{html.escape(b[2])}</h{b[1]}>")
             elif b[0] == "p":
-                body.append(f"<p>{html.escape(b[1])}</p>")
+                body.append(f"<p>{_inline(b[1], html.escape, self._cell_html)}</p>")
             elif b[0] == "eqs":
                 body.append(f"<div class='eq'>{self._html_equations(b[1])}</div>")
             elif b[0] == "table":
-                head = "".join(f"<th>{html.escape(h)}</th>" for h in b[1])
+                head = "".join(f"<th>{self._cell_html(h)}</th>" for h in b[1])
                 rows = "".join("<tr>" + "".join(f"<td>{self._cell_html(c)}</td>" for c in r) + "</tr>" for r in b[2])
                 body.append(f"<div class='tab'><table><thead><tr>{head}</tr></thead><tbody>{rows}</tbody>"
                             "</table></div>")
@@ -345,31 +399,34 @@ class Document:
         for lhs, e in pairs:
             left = _tex(lhs)
             if isinstance(e, sp.MatrixBase):
-                groups = _column_groups(e)
-                if len(groups) == 1:
+                if sum(_column_width(e, j) for j in range(e.cols)) <= _WIDTH:
                     lines.append(f"{left} &= {_tex(e)}")
                     continue
-                # too wide for the page: the matrix by columns, as many side by side as fit
                 base = lhs if isinstance(lhs, sp.Symbol) else sp.Symbol("c")
+                if e.cols == 1:
+                    # a column too wide for the page (a Jacobian column): its entries one by one
+                    names = [_subscripted(base, str(i + 1)) for i in range(e.rows)]
+                    lines.append(f"{left} &= {_tex(sp.Matrix(names))}")
+                    lines += Document._tex_lines(list(zip(names, e)))
+                    continue
+                # the matrix by columns, as many side by side as fit (entries of a row: scalars, not 1 x 1)
                 names = [_subscripted(base, str(j + 1)) for j in range(e.cols)]
                 lines.append(f"{left} &= {_tex(sp.Matrix([names]))}")
-                for g in groups:
+                for g in _column_groups(e):
                     if len(g) == 1 and _column_width(e, g[0]) > _WIDTH:
                         # one column still too wide: its entries one by one, each broken like a sum
-                        lines += Document._tex_lines([(_subscripted(base, f"{i + 1},{g[0] + 1}"), e[i, g[0]])
-                                                      for i in range(e.rows)])
+                        lines += Document._tex_lines([(_subscripted(base, f"{i + 1},{g[0] + 1}") if e.rows > 1
+                                                       else names[g[0]], e[i, g[0]]) for i in range(e.rows)])
                         continue
                     # one alignment column pair per line: more pairs would line up with the (wider) names row
                     # above and run off the page
                     lines.append(f"{_tex(names[g[0]])} &= " + " \\quad ".join(
-                        (f"{_tex(names[j])} = " if j != g[0] else "") + _tex(e[:, j]) for j in g))
+                        (f"{_tex(names[j])} = " if j != g[0] else "") + _tex(e[0, j] if e.rows == 1 else e[:, j])
+                        for j in g))
                 continue
-            for k, part in enumerate(_lines(e)):
-                tex = _tex(part)
-                if k == 0:
-                    lines.append(f"{left} &= {tex}")
-                else:
-                    lines.append("&\\quad " + (tex if tex.startswith("-") else "+ " + tex))
+            pieces = _tex_pieces(e)
+            lines.append(f"{left} &= {pieces[0]}")
+            lines += ["&\\quad " + p for p in pieces[1:]]
         return lines
 
     def latex(self) -> str:
@@ -381,7 +438,7 @@ class Document:
                 out.append(("\\subsection*{" if b[1] <= 2 else "\\subsubsection*{") + tex_escape(b[2], math=False)
                            + "}")
             elif b[0] == "p":
-                out.append(tex_escape(b[1], math=False) + "\n")
+                out.append(_inline(b[1], lambda t: tex_escape(t, math=False), lambda x: f"${_tex(x)}$") + "\n")
             elif b[0] == "eqs":
                 out.append(self._tex_equations(b[1]))
             elif b[0] == "table":
@@ -389,10 +446,9 @@ class Document:
                 # never wider than the page: scaled down only when it would run off
                 out.append("\\par\\noindent\\resizebox{\\ifdim\\width>\\linewidth\\linewidth\\else\\width\\fi}{!}{"
                            "\\small\\begin{tabular}{" + cols + "}")
-                out.append(" & ".join(tex_escape(h, math=False) for h in b[1]) + " \\\\ \\hline")
-                for r in b[2]:
+                for r in (b[1], *b[2]):             # the header row may hold mathematics too
                     out.append(" & ".join(tex_escape(c, math=False) if isinstance(c, str) else f"${_tex(c)}$"
-                                          for c in r) + " \\\\")
+                                          for c in r) + (" \\\\ \\hline" if r is b[1] else " \\\\"))
                 out.append("\\end{tabular}}\n")
             elif b[0] == "fig":
                 out.append("\\begin{figure}[htbp]\\centering\\includegraphics[width=0.7\\linewidth]{" + b[1].name + "}"

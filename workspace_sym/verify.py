@@ -30,8 +30,8 @@ from .errors import ExpressionError, InvalidParameterError
 from .expressions import as_sympy, parse_expr
 from .numbers import fmt_bracket
 
-__all__ = ["Verdict", "cannot_read", "check_expression", "check_factors", "check_reachable", "check_boundary_arc",
-           "check_measure",
+__all__ = ["Verdict", "cannot_read", "exact_parameters", "check_expression", "check_factors", "check_reachable",
+           "check_boundary_arc", "check_measure",
            "assert_expression", "assert_factors", "assert_reachable", "assert_boundary_arc", "assert_measure"]
 
 
@@ -107,7 +107,41 @@ def _read_student(student, notation, angles):
     return as_sympy(student, "student answer")
 
 
-def _scalar_verdict(s, d, *, samples, seed, where: str = ""):
+def _decimal(v: sp.Rational) -> str:
+    """A rational as the decimal it is when it has one (``7/20`` is ``0.35``, as a sheet prints it), else as is."""
+    q = int(v.q)
+    while q % 2 == 0:
+        q //= 2
+    while q % 5 == 0:
+        q //= 5
+    if q != 1:
+        return str(v)
+    from decimal import Decimal
+
+    return format(Decimal(int(v.p)) / Decimal(int(v.q)), "f")
+
+
+def exact_parameters(robot) -> dict:
+    """The robot's numeric lengths as the decimals they print as (``0.387`` is ``387/1000``): points stay exact."""
+    from .snap import exact_decimal
+
+    return {k: exact_decimal(v) if isinstance(v, float) else sp.nsimplify(v) for k, v in robot.parameters.items()}
+
+
+def _question_data(robot) -> dict:
+    """The data of a question on ``robot`` (keywords of :func:`_scalar_verdict`): its numeric lengths (exact), the
+    range of each joint variable (its limits, else half a turn either way) and which variables are angles."""
+    if robot is None:
+        return {}
+    ranges = {j.variable: (float(lo), float(hi)) for j, (lo, hi) in zip(robot.joints, robot.joint_limits())}
+    return {"data": exact_parameters(robot), "ranges": ranges,
+            "angles": frozenset(j.variable for j in robot.joints if j.kind == "R")}
+
+
+def _scalar_verdict(s, d, *, samples, seed, where: str = "", data=None, ranges=None, angles=frozenset()):
+    """Exact identity, or a counterexample where every symbol has a value: first the question's ``data`` (the
+    robot's lengths) with joint values drawn within ``ranges``, then, if the two agree at the data, any values;
+    ``angles`` are shown in radians."""
     from .symbolic import trig_polynomials
 
     diff = s - d
@@ -115,15 +149,24 @@ def _scalar_verdict(s, d, *, samples, seed, where: str = ""):
     if sp.expand(poly) == 0:
         return Verdict(True, f"equal{where}: the difference reduces to 0 after expanding and sin^2 = 1 - cos^2",
                        {"method": "exact identity"})
-    symbols = sorted(diff.free_symbols, key=str)
+    symbols = sorted(s.free_symbols | d.free_symbols, key=str)     # every symbol: both values are numbers
+    data, ranges = data or {}, ranges or {}
     rng = np.random.default_rng(seed)
-    for _ in range(samples):
-        values = {x: sp.Rational(int(rng.integers(-3000, 3000)), 1000) for x in symbols}
+
+    def draw(x, at_data: bool):
+        if at_data and x in data:
+            return data[x]
+        lo, hi = ranges.get(x, (-3.0, 3.0)) if at_data else (-3.0, 3.0)
+        return sp.Rational(int(rng.integers(math.ceil(lo * 1000), math.floor(hi * 1000) + 1)), 1000)
+
+    for k in range(samples):
+        at_data = k < samples // 2 and bool(data or ranges)
+        values = {x: draw(x, at_data) for x in symbols}
         value = sp.N(diff.subs(values), 30)
         if value.is_number and abs(value) > 1e-20:
             shown = {str(x): v for x, v in values.items()}
             mine, theirs = sp.N(s.subs(values), 30), sp.N(d.subs(values), 30)
-            at = ", ".join(f"{k} = {v}" for k, v in shown.items())
+            at = ", ".join(f"{x} = {_decimal(v)}{' rad' if x in angles else ''}" for x, v in values.items())
             return Verdict(False, f"not equal{where}: at {at} the answer is {sp.N(mine, 6)} but the derived "
                                   f"value is {sp.N(theirs, 6)}",
                            {"method": "counterexample", "counterexample": shown, "difference": float(value),
@@ -141,7 +184,9 @@ def check_expression(student, derived, *, robot=None, angles: str = "radians", s
     degree at most one in each ``s_u``; for independent angle symbols it
     vanishes identically exactly when that polynomial is zero.  When it is not
     zero, a counterexample is searched among random rational values of the
-    symbols and confirmed at 30 digits; the verdict gives both values there.
+    symbols (with a robot: at its numeric lengths, the joints within their
+    limits, first) and confirmed at 30 digits; every symbol of both
+    expressions gets a value, so the verdict gives both values as numbers.
     A matrix is checked entry by entry and the first wrong entry is named.
 
     Text is read by :func:`~workspace_sym.answers.read_answer` with the
@@ -167,6 +212,7 @@ def check_expression(student, derived, *, robot=None, angles: str = "radians", s
     """
     d = parse_expr(derived, "derived") if not isinstance(derived, sp.MatrixBase) else derived
     notation = _notation(robot, d.free_symbols)
+    data = _question_data(robot)
     try:
         s = _read_student(student, notation, angles)
     except ExpressionError as exc:
@@ -182,12 +228,12 @@ def check_expression(student, derived, *, robot=None, angles: str = "radians", s
         for i in range(d.rows):
             for j in range(d.cols):
                 where = f" (entry {i + 1},{j + 1})" if d.cols > 1 else f" (entry {i + 1})"
-                v = _scalar_verdict(s[i, j], d[i, j], samples=samples, seed=seed, where=where)
+                v = _scalar_verdict(s[i, j], d[i, j], samples=samples, seed=seed, where=where, **data)
                 if v.ok is not True:
                     v.evidence["entry"] = [i + 1, j + 1]
                     return v
         return Verdict(True, f"all {len(d)} entries are equal (exact identities)", {"method": "exact identity"})
-    return _scalar_verdict(s, d, samples=samples, seed=seed)
+    return _scalar_verdict(s, d, samples=samples, seed=seed, **data)
 
 
 def _read_list(student, notation, angles) -> list:
@@ -244,8 +290,9 @@ def check_factors(student, derived, *, robot=None, angles: str = "radians", seed
     missing = [str(f) for j, f in enumerate(derived) if not any(row[j] for row in matched)]
     extra = [str(g) for g, row in zip(given, matched) if not any(row)]
     if not missing and not extra:
-        return Verdict(True, f"the {len(derived)} factors match (each up to a constant, exact identities)",
-                       {"method": "exact identity"})
+        match = ("the factor matches (up to a constant, an exact identity)" if len(derived) == 1 else
+                 f"the {len(derived)} factors match (each up to a constant, exact identities)")
+        return Verdict(True, match, {"method": "exact identity"})
     parts = ([f"missing {', '.join(missing)}"] if missing else []) + (
         [f"not a singular factor: {', '.join(extra)}"] if extra else [])
     return Verdict(False, "; ".join(parts), {"method": "factor match", "missing": missing, "extra": extra})
