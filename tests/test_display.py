@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 from matplotlib.figure import Figure
 
 import workspace_sym as ws
-from workspace_sym import StopAt
+from workspace_sym import RunOn
 from workspace_sym.display import plain, textbook_form, to_html
 from workspace_sym.numbers import clean, clean_json, fmt, fmt_bound
 from workspace_sym.progress import progress_bar
@@ -127,7 +127,7 @@ def test_textbook_form_leaves_other_angles_alone():
 
 # ------------------------------------------------------------------ rich display of every result
 def test_dh_robot_html_table_has_limits_in_degrees(glass):
-    page = glass._repr_html_()
+    page = to_html(glass)
     # paper 004, section 7: theta1 in [-160, 160] deg, theta2 in [-30, 120] deg (robots.GLASS_LIMITS_DEG)
     assert "[-160°, 160°]" in page and "[-30°, 120°]" in page
     assert "<th>θ</th>" in page and "90°" in page                         # alpha_1 = pi/2 shown as 90 degrees
@@ -167,7 +167,7 @@ def test_dextrous_and_cube_results_display():
 
     dex = ws.robots.build("orthoglide").dextrous(eps=0.25)
     assert one_short_line(repr(dex)) and f"inside volume {fmt_bound(dex.volume_inner, 6, up=False)}" in repr(dex)
-    page = dex._repr_html_()
+    page = to_html(dex)
     assert "eigenvalue of J Jᵀ lies in [0.25, 4]" in page and "error index E" in page and "<img" in page
     # Paper section 5: the edge (sqrt(2) + sqrt(6))/6, centre on the diagonal (README); numpy scalars inside
     edge = (sp.sqrt(2) + sp.sqrt(6)) / 6
@@ -199,7 +199,7 @@ def test_progress_bars_follow_the_progress_option(capsys, monkeypatch):
     with progress_bar(None, total=2, desc="kernel") as bar:         # in Jupyter: shown (after DELAY seconds)
         shown = not bar.disable
     assert shown
-    ws.pave(["x**2 + y**2 <= 1"], {"x": (-1, 1), "y": (-1, 1)}, delta=0.05, stop=StopAt(progress=True))
+    ws.pave(["x**2 + y**2 <= 1"], {"x": (-1, 1), "y": (-1, 1)}, delta=0.05, run=RunOn(progress=True))
     err = capsys.readouterr().err
     assert "paving: 100.0% of the box decided" in err and "boxes" in err
 
@@ -253,7 +253,7 @@ def test_a_jupyter_kernel_gets_a_progress_widget_and_rich_outputs():
     nb = nbformat.v4.new_notebook()
     nb.cells = [nbformat.v4.new_code_cell("import workspace_sym as ws\n"
                                           "p = ws.pave(['x**2 + y**2 <= 1'], {'x': (-1, 1), 'y': (-1, 1)}, "
-                                          "delta=0.01, stop=ws.StopAt(progress=True))\np"),
+                                          "delta=0.01, run=ws.RunOn(progress=True))\np"),
                 nbformat.v4.new_code_cell("r = ws.robots.build('glass-handling')\nr.textbook(r.position)"),
                 nbformat.v4.new_code_cell("r")]
     NotebookClient(nb, timeout=300, kernel_name="python3").execute()

@@ -72,8 +72,8 @@ def test_entry_points_take_at_most_ten_parameters(fn):
 
 def test_the_clock_is_made_from_the_options_alone():
     """RunBudget has no measure to patch afterwards: the bar is moved by the share decided."""
-    assert list(inspect.signature(driver.RunBudget).parameters) == ["stop", "label"]
-    budget = driver.RunBudget(StopAt(max_boxes=10, progress=False), "test")
+    assert list(inspect.signature(driver.RunBudget).parameters) == ["stop", "label", "progress"]
+    budget = driver.RunBudget(StopAt(max_boxes=10), "test", False)
     assert budget.stop_reason(9) == "" and budget.stop_reason(10) == "budget of 10 boxes reached"
 
 

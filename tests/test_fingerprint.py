@@ -41,7 +41,7 @@ from workspace_sym.kinematics import DHJoint, DHRobot
 from workspace_sym.serial import Pose, Tuning, reach
 
 R = sp.Rational
-QUIET = StopAt(progress=False)
+QUIET = StopAt()
 DEG = sp.pi / 180
 
 
@@ -105,7 +105,7 @@ def test_a_limited_turn_resumed_with_other_limits_of_its_first_joint_is_refused(
     """Section path: the arm with q1 in [-90, 180] deg resumed from the checkpoint (and the section kept beside
     it) of the same arm with q1 in [-180, 90] deg is refused, naming the limits, before any box is decided."""
     ck = tmp_path / "turn.npz"
-    stop = StopAt(section_boxes=100, max_boxes=2_000, progress=False)
+    stop = StopAt(section_boxes=100, max_boxes=2_000)
     first = reach(swing_arm((-sp.pi, sp.pi / 2)), delta=0.4, stop=stop, run=RunOn(resume=ck))
     assert first.method == "critical" and ck.exists() and Path(f"{ck}.section.npz").exists()
     with pytest.raises(InvalidParameterError, match=r"section kept beside a checkpoint of another run \(it differs "
@@ -205,7 +205,7 @@ def test_the_tool_constraint_is_part_of_the_problem(tmp_path):
     puma = robots.build("puma560")
     ck = tmp_path / "pose.npz"
     cone = Pose(approach=(0, 0, -1), cone=20)
-    first = reach(puma, delta=0.5, pose=cone, stop=StopAt(max_boxes=2_000, progress=False), run=RunOn(resume=ck))
+    first = reach(puma, delta=0.5, pose=cone, stop=StopAt(max_boxes=2_000), run=RunOn(resume=ck))
     assert first.method == "section" and ck.exists()
     with pytest.raises(InvalidParameterError, match=r"differs in [^)]*constraint"):
         reach(puma, delta=0.5, pose=Pose(approach=(0, 0, -1), cone=25), stop=QUIET, run=RunOn(resume=ck))
@@ -235,7 +235,7 @@ PAVE_MUTATIONS = {
 def test_a_paving_checkpoint_names_every_field_of_its_problem(field, tmp_path):
     ck = tmp_path / "pave.npz"
     base = dict(constraints=DISC[0], box=DISC[1], delta=0.1)
-    stopped = pave(**base, stop=StopAt(max_boxes=200, progress=False), run=RunOn(resume=ck))
+    stopped = pave(**base, stop=StopAt(max_boxes=200), run=RunOn(resume=ck))
     assert not stopped.complete
     changed = {**base, **PAVE_MUTATIONS[field]}
     with pytest.raises(InvalidParameterError, match=rf"checkpoint of another run \(it differs in [^)]*{field}"):
@@ -245,7 +245,7 @@ def test_a_paving_checkpoint_names_every_field_of_its_problem(field, tmp_path):
 # ------------------------------------------------------------------------------ stores and damaged files
 def _stopped_on_disk(tmp_path, name="run"):
     ck, store = tmp_path / f"{name}.npz", tmp_path / f"{name}-boxes"
-    pave(*DISC, delta=0.02, stop=StopAt(max_boxes=3_000, progress=False),
+    pave(*DISC, delta=0.02, stop=StopAt(max_boxes=3_000),
          run=RunOn(resume=ck, store=store, max_memory="64MB"))
     parts = sorted(store.glob("*/part-*.npy"))
     assert parts and (store / "problem.json").exists()
@@ -256,7 +256,7 @@ def test_a_store_of_another_run_is_refused(tmp_path):
     """The checkpoint names its store; a store holding another problem's boxes in its place is refused."""
     ck, store, _ = _stopped_on_disk(tmp_path)
     other = tmp_path / "other"
-    pave(["x**2 + y**2 <= 0.5"], DISC[1], delta=0.02, stop=StopAt(max_boxes=3_000, progress=False),
+    pave(["x**2 + y**2 <= 0.5"], DISC[1], delta=0.02, stop=StopAt(max_boxes=3_000),
          run=RunOn(resume=other / "o.npz", store=other / "boxes", max_memory="64MB"))
     shutil.rmtree(store)
     shutil.copytree(other / "boxes", store)
@@ -276,7 +276,7 @@ def test_a_part_changed_since_the_checkpoint_is_refused(tmp_path):
 def test_a_damaged_checkpoint_is_refused_never_half_read(tmp_path):
     """A checkpoint whose pending boxes were changed, or which was cut short, is refused as a whole."""
     ck = tmp_path / "run.npz"
-    pave(*DISC, delta=0.02, stop=StopAt(max_boxes=500, progress=False), run=RunOn(resume=ck))
+    pave(*DISC, delta=0.02, stop=StopAt(max_boxes=500), run=RunOn(resume=ck))
     with np.load(ck) as data:
         arrays = {k: data[k] for k in data.files}
     arrays["pending"] = arrays["pending"][1:]

@@ -317,7 +317,7 @@ def test_the_section_bar_moves_while_the_section_is_paved(monkeypatch, puma_cone
         yield lambda share, evaluated: seen.append((share, evaluated))
 
     monkeypatch.setattr(pose, "section_bar", recorder)
-    p = reach(robots.build("puma560"), delta=0.3, stop=StopAt(progress=False), pose=Pose(approach=(0, 0, -1),
+    p = reach(robots.build("puma560"), delta=0.3, stop=StopAt(), pose=Pose(approach=(0, 0, -1),
                                                                                          cone=20))
     assert p.counts == puma_cone.counts
     shares, counts = np.array([s for s, _ in seen]), np.array([n for _, n in seen])

@@ -288,15 +288,15 @@ def test_largest_cube_takes_the_option_objects():
 
     ortho = Orthoglide()
     with ThreadPoolExecutor(2) as pool:
-        new = ortho.largest_cube(alpha=0.02, stop=StopAt(progress=False), run=RunOn(executor=pool))
+        new = ortho.largest_cube(alpha=0.02, run=RunOn(executor=pool, progress=False))
         with pytest.warns(DeprecationWarning) as caught:
             old = ortho.largest_cube(alpha=0.02, progress=False, executor=pool)
     assert {str(w.message) for w in caught} == {
         "largest_cube: executor= is deprecated; pass run=RunOn(executor=...)",
-        "largest_cube: progress= is deprecated; pass stop=StopAt(progress=...)"}
+        "largest_cube: progress= is deprecated; pass run=RunOn(progress=...)"}
     assert caught[0].filename == __file__                     # the warning points at the caller's line
     assert (old.edge_lower, old.edge_upper, old.boxes) == (new.edge_lower, new.edge_upper, new.boxes)
     assert new.edge_lower <= 0.643950 <= new.edge_upper
-    starved = ortho.largest_cube(alpha=0.02, stop=StopAt(max_boxes=1, progress=False))
+    starved = ortho.largest_cube(alpha=0.02, stop=StopAt(max_boxes=1))
     assert starved.edge_lower < new.edge_lower and starved.edge_upper > 1.0
     assert starved.edge_lower <= 0.643950 <= starved.edge_upper

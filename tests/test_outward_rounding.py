@@ -117,7 +117,7 @@ def test_orthoglide_results_round_outward(capsys):
     ball = ws.pave(["x**2 + y**2 + z**2 <= 1"], {"x": (-1.1, 1.1), "y": (-1.1, 1.1), "z": (-1.1, 1.1)}, delta=0.3)
     dextrous = DextrousResult(ball, (0.5, 2.0), 0.3)
     inner, undecided = dextrous.volume_inner, dextrous.volume_undecided
-    for text in (repr(dextrous), dextrous._repr_html_()):
+    for text in (repr(dextrous), to_html(dextrous)):
         numbers = [Decimal(v) for v in re.findall(_NUMBER, text)]
         assert any(v <= Decimal(inner) and Decimal(inner) - v < Decimal("1e-5") for v in numbers)
         assert not any(Decimal(inner) < v < Decimal(inner) + Decimal("1e-5") for v in numbers)
@@ -136,5 +136,5 @@ def test_orthoglide_results_round_outward(capsys):
 def test_cube_html_rounds_outward_and_typesets_in_mathml():
     cube = CubeResult(center=(0.1, 0.1, 0.1), edge_lower=0.64395049999, edge_upper=0.6439521111111,
                       alpha=0.001, sigma=(0.5, 2.0), seconds=1.0, boxes={})
-    page = cube._repr_html_()
+    page = to_html(cube)
     assert "edge 0.643950499 centred" in page and "above 0.643952112 fits" in page

@@ -77,7 +77,7 @@ def test_3d_paving_of_nothing():
 def shell():
     """A spherical shell 1/2 <= r <= 1 paved at delta 0.3 (a few thousand boxes of a bisection tree)."""
     return pave(["x**2 + y**2 + z**2 <= 1", "x**2 + y**2 + z**2 >= 0.25"],
-                {"x": (-1.1, 1.1), "y": (-1.1, 1.1), "z": (-1.1, 1.1)}, delta=0.3, stop=StopAt(progress=False))
+                {"x": (-1.1, 1.1), "y": (-1.1, 1.1), "z": (-1.1, 1.1)}, delta=0.3, stop=StopAt())
 
 
 def test_voxels_hold_the_boxes_exactly(shell):

@@ -37,7 +37,7 @@ from workspace_sym.serial import reach, resolve_method
 from workspace_sym.serial.model import reach_model
 from workspace_sym.serial.structure import structure_of
 
-QUIET = StopAt(progress=False)
+QUIET = StopAt()
 HALF = sp.Rational(1, 2)
 
 # A robot on a rail: P along z0, then alpha = 90 deg and two limited revolute joints, and one full turn.
@@ -208,7 +208,7 @@ def test_a_cover_too_large_falls_back_to_the_pair_method(monkeypatch):
     """As on a planar arm: past MAX_COVER_BOXES joint boxes in flight, 'auto' runs the pair method (the same
     boxes as method='pairs' with the same budget) and method='critical' is a clear error naming the method."""
     monkeypatch.setattr(image, "MAX_COVER_BOXES", 200)
-    stop = StopAt(max_boxes=800, progress=False)
+    stop = StopAt(max_boxes=800)
     auto = reach(OBLIQUE, delta=0.25, stop=stop)
     pairs = reach(OBLIQUE, delta=0.25, method="pairs", stop=stop)
     assert auto.method == "pairs" and auto.counts == pairs.counts and auto.measure_bounds == pairs.measure_bounds
@@ -226,7 +226,7 @@ def test_the_3d_method_refuses_storage_and_a_line_is_refused_clearly():
     with pytest.raises(InvalidParameterError, match=r"3-D critical method on oblique prism.*max_memory='2GB'"):
         reach(OBLIQUE, delta=0.25, method="critical", stop=QUIET, run=RunOn(max_memory="2GB"))
     # under "auto" the arm goes to the pairs method, which stores its boxes (as before the 3-D method existed)
-    stored = reach(OBLIQUE, delta=0.25, stop=StopAt(max_boxes=3000, progress=False), run=RunOn(max_memory="2GB"))
+    stored = reach(OBLIQUE, delta=0.25, stop=StopAt(max_boxes=3000), run=RunOn(max_memory="2GB"))
     assert stored.method == "pairs"
     line = DHRobot([DHJoint.prismatic(1, limits=(0, 1))], name="line")
     with pytest.raises(InvalidParameterError, match="method 'critical' needs a position moving in two or three"):
@@ -237,7 +237,7 @@ def test_the_3d_method_refuses_storage_and_a_line_is_refused_clearly():
 def test_a_budget_stops_the_3d_cover_cleanly():
     """A budget of boxes that runs out during the cover: nothing is decided from an unfinished cover, the boxes
     left are pending and tile the grid's box with the others (a box budget: the same on every machine)."""
-    paving = reach(RAIL, delta=0.25, stop=StopAt(max_boxes=2000, progress=False))
+    paving = reach(RAIL, delta=0.25, stop=StopAt(max_boxes=2000))
     assert not paving.complete and "budget of 2000 boxes" in paving.stop_reason
     assert len(paving.pending) > 0 and not len(paving.inner) and not len(paving.outer)
     assert abs(paving.measures["pending"] - paving.box.measure) <= 1e-9 * paving.box.measure

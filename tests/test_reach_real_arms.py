@@ -54,7 +54,7 @@ SECTION_CELL = 0.01            # side h of the (rho, z) cells of the reference v
 def _arm(name):
     robot = industrial_arm(name)            # shared with test_reach_shoulder: one symbolic preparation
     delta, boxes, section = ARMS[name]
-    return robot, reach(robot, delta=delta, stop=StopAt(max_boxes=boxes, progress=False, section_boxes=section))
+    return robot, reach(robot, delta=delta, stop=StopAt(max_boxes=boxes, section_boxes=section))
 
 
 def _strictly_in_boxes(points, boxes, shrink=1e-9, g=0.25):

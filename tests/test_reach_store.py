@@ -30,7 +30,7 @@ from workspace_sym.serial.model import cell_width, reach_model
 from workspace_sym.serial.structure import structure_of
 from workspace_sym.serial.tuning import DEFAULT
 
-QUIET = StopAt(progress=False)
+QUIET = StopAt()
 DELTA = 0.1
 
 
@@ -145,14 +145,14 @@ def test_a_stopped_reach_resumed_gives_the_uninterrupted_boxes(scara, whole, tmp
     spent in the section leaves no checkpoint: the resumed call starts over, with the same result."""
     section = _section_count(scara)
     checkpoint = tmp_path / "reach.npz"
-    stopped = reach(scara, delta=DELTA, stop=StopAt(max_boxes=section + 300, progress=False),
+    stopped = reach(scara, delta=DELTA, stop=StopAt(max_boxes=section + 300),
                     run=RunOn(resume=checkpoint))
     assert not stopped.complete and len(stopped.pending) and checkpoint.exists()
     assert stopped.evaluated == section + 300 and "budget of" in stopped.stop_reason
     resumed = reach(scara, delta=DELTA, stop=QUIET, run=RunOn(resume=checkpoint))
     assert_same(whole, resumed)
     early = tmp_path / "early.npz"
-    first = reach(scara, delta=DELTA, stop=StopAt(max_boxes=1, progress=False), run=RunOn(resume=early))
+    first = reach(scara, delta=DELTA, stop=StopAt(max_boxes=1), run=RunOn(resume=early))
     assert not first.complete and not early.exists()
     assert_same(whole, reach(scara, delta=DELTA, stop=QUIET, run=RunOn(resume=early)))
 
@@ -173,7 +173,7 @@ def test_a_resumed_reach_takes_the_section_kept_beside_its_checkpoint(tmp_path, 
     whole_arm = reach(arm, delta=DELTA, stop=QUIET)
     checkpoint = tmp_path / "arm.npz"
     kept = tmp_path / "arm.npz.section.npz"
-    stopped = reach(arm, delta=DELTA, stop=StopAt(max_boxes=_section_count(arm) + 200, progress=False),
+    stopped = reach(arm, delta=DELTA, stop=StopAt(max_boxes=_section_count(arm) + 200),
                     run=RunOn(resume=checkpoint))
     assert not stopped.complete and checkpoint.exists() and kept.exists()
     assert not list(tmp_path.glob("*.part"))
@@ -195,7 +195,7 @@ def test_a_resumed_reach_takes_the_section_kept_beside_its_checkpoint(tmp_path, 
 def test_a_checkpoint_of_another_reach_is_refused(scara, tmp_path):
     checkpoint = tmp_path / "reach.npz"
     section = _section_count(scara)
-    reach(scara, delta=DELTA, stop=StopAt(max_boxes=section + 10, progress=False), run=RunOn(resume=checkpoint))
+    reach(scara, delta=DELTA, stop=StopAt(max_boxes=section + 10), run=RunOn(resume=checkpoint))
     with pytest.raises(InvalidParameterError, match="checkpoint of another run") as caught:
         reach(scara, delta=0.2, stop=QUIET, run=RunOn(resume=checkpoint))
     assert caught.value.parameter == "resume"
@@ -209,7 +209,7 @@ def test_the_pairs_method_stores_and_resumes(tmp_path):
     options = dict(delta=0.25, method="pairs")
     whole = reach(arm, **options, stop=QUIET)
     checkpoint = tmp_path / "pairs.npz"
-    stopped = reach(arm, **options, stop=StopAt(max_boxes=whole.evaluated // 2, progress=False),
+    stopped = reach(arm, **options, stop=StopAt(max_boxes=whole.evaluated // 2),
                     run=RunOn(resume=checkpoint, store=tmp_path / "boxes"))
     assert not stopped.complete and len(stopped.pending) and checkpoint.exists()
     resumed = reach(arm, **options, stop=QUIET, run=RunOn(resume=checkpoint))
@@ -258,7 +258,7 @@ def test_a_pose_reach_stopped_and_resumed_gives_the_uninterrupted_boxes(puma, co
     bracket of the run never stopped."""
     checkpoint = tmp_path / "cone.npz"
     run = RunOn(resume=checkpoint, max_memory="64MB")
-    stopped = reach(puma, delta=0.3, stop=StopAt(max_boxes=cone_whole.evaluated - 300, progress=False),
+    stopped = reach(puma, delta=0.3, stop=StopAt(max_boxes=cone_whole.evaluated - 300),
                     pose=CONE, run=run)
     assert not stopped.complete and len(stopped.pending) and checkpoint.exists()
     assert stopped.evaluated == cone_whole.evaluated - 300 and "budget of" in stopped.stop_reason
@@ -280,7 +280,7 @@ def test_a_pose_reach_cut_in_its_section_writes_no_checkpoint(puma, cone_whole, 
     seconds are those of the whole call (reference: the wall time around it), not of the classification alone."""
     early = tmp_path / "early.npz"
     start = time.perf_counter()
-    cut = reach(puma, delta=0.3, stop=StopAt(max_boxes=40, progress=False), pose=CONE, run=RunOn(resume=early))
+    cut = reach(puma, delta=0.3, stop=StopAt(max_boxes=40), pose=CONE, run=RunOn(resume=early))
     wall = time.perf_counter() - start
     assert not cut.complete and "budget" in cut.stop_reason and not early.exists()
     assert 0.5 * wall <= cut.seconds <= wall

@@ -39,7 +39,7 @@ from workspace_sym.serial.tuning import DEFAULT
 from workspace_sym.serial.turn import limited_turn
 
 HALF, FIFTH = sp.Rational(1, 2), sp.Rational(1, 5)
-STOP = StopAt(max_boxes=200_000, progress=False)
+STOP = StopAt(max_boxes=200_000)
 DELTA = 0.25
 
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from system_tools import assert_compiles, require_tool
 
-from workspace_sym import StopAt, robots
+from workspace_sym import RunOn, StopAt, robots
 from workspace_sym.interval import pave
 from workspace_sym.numbers import fmt_bracket
 from workspace_sym.planar import PlanarChain
@@ -222,7 +222,7 @@ def test_reach_section_of_a_planar_robot(reach2d):
     """planar-2r: the section's numbers are those of the Paving reach returned; the annulus 1/2 <= r <= 3/2 of
     area 2 pi (exact, the arm's full joint range) lies in the printed bracket; the picture shows inner boxes."""
     md_path, _, paving, kwargs = reach2d
-    assert kwargs == {"delta": 0.2, "stop": StopAt(time_limit=60.0, progress=False)}
+    assert kwargs == {"delta": 0.2, "stop": StopAt(time_limit=60.0), "run": RunOn(progress=False)}
     lo, hi = _assert_reach_section(md_path.read_text(), paving, "area", "m²")
     assert paving.complete and lo <= 2 * np.pi <= hi and paving.counts["inner"] > 0
     folder = md_path.parent
@@ -235,7 +235,7 @@ def test_reach_section_of_a_planar_robot(reach2d):
 def test_reach_section_of_a_spatial_robot(reach3d):
     """SCARA: volume in m³, the 3D picture and three slices spread over the z range of the boxes."""
     md_path, _, paving, kwargs = reach3d
-    assert kwargs == {"delta": 0.1, "stop": StopAt(time_limit=30, progress=False)}
+    assert kwargs == {"delta": 0.1, "stop": StopAt(time_limit=30), "run": RunOn(progress=False)}
     md = md_path.read_text()
     _assert_reach_section(md, paving, "volume", "m³")
     assert paving.counts["inner"] > 0 and len(paving.variables) == 3

@@ -40,8 +40,7 @@ from .planar import Arc, PlanarChain
 from .sampling import extent, reach_points, sample_joint_box, sweep_joints
 from .serial_workspace import Pose, reach
 from .symbolic import factor_trig, shorthand, textbook
-
-__version__ = "0.1.0"
+from .version import __version__ as __version__
 
 _register_notebook_display()          # inside IPython: SymPy results display as MathML (offline exports)
 

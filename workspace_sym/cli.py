@@ -17,12 +17,13 @@ from pathlib import Path
 
 import sympy as sp
 
-from . import __version__, robots
+from . import robots
 from .errors import InvalidParameterError, SymbolicBudgetError, WorkspaceError
 from .expressions import is_finite_value, parse_expr, read_symbol
 from .kinematics import DHRobot
 from .numbers import clean_json, fmt, fmt_bound, fmt_bracket, measure_text
 from .snap import DEFAULT_TOL, summary
+from .version import __version__
 
 __all__ = ["main", "build_parser"]
 
@@ -364,19 +365,20 @@ def cmd_pave(args) -> int:
 
 
 def _stop_at(args):
-    """What a run stops at, from --max-boxes, --time-limit and --progress."""
+    """What a run stops at, from --max-boxes and --time-limit."""
     from .interval.driver import StopAt
 
-    return StopAt(max_boxes=getattr(args, "max_boxes", None), time_limit=args.time_limit, progress=args.progress)
+    return StopAt(max_boxes=getattr(args, "max_boxes", None), time_limit=args.time_limit)
 
 
 @contextmanager
 def _distributed(args, options=("max_memory", "store", "resume")):
-    """Where a run goes (a ``RunOn``), from --scheduler, --max-memory, --store and --resume (a local Dask
-    cluster lives as long as the block)."""
+    """Where and how a run goes (a ``RunOn``), from --scheduler, --max-memory, --store, --resume and --progress (a
+    local Dask cluster lives as long as the block)."""
     from .interval.driver import RunOn
 
     spread = {k: getattr(args, k) for k in options if getattr(args, k, None) is not None}
+    spread["progress"] = getattr(args, "progress", None)
     if args.scheduler is None:
         yield RunOn(**spread)
         return
@@ -431,7 +433,7 @@ def cmd_reach(args) -> int:
         from .interval.driver import RunOn
 
         # boxes on disk and checkpoints for the section method (the pairs method with a pose refuses them)
-        kept = RunOn(max_memory=args.max_memory, store=args.store, resume=args.resume)
+        kept = RunOn(max_memory=args.max_memory, store=args.store, resume=args.resume, progress=args.progress)
         tuning = Tuning() if args.inner_depth is None else Tuning(pose_inner_depth=args.inner_depth)
         paving = reach(robot, delta=args.delta, size=args.size, stop=_stop_at(args), pose=Pose(**constraint),
                        run=kept, method=args.method, tuning=tuning)
@@ -544,7 +546,6 @@ def cmd_dextrous(args) -> int:
 
 
 def cmd_cube(args) -> int:
-    from .interval.driver import StopAt
     from .orthoglide import Orthoglide
 
     model = robots.build(args.robot)
@@ -552,7 +553,7 @@ def cmd_cube(args) -> int:
         raise WorkspaceError(f"robot {args.robot!r}: the largest cube is implemented for the orthoglide")
     with _distributed(args, ()) as run:         # the cube's certificates take the executor alone
         result = model.largest_cube(alpha=args.alpha, sigma=_parse_sigma(args.sigma),
-                                    stop=StopAt(progress=args.progress), run=run)
+                                    run=run)
     if args.json:
         _emit_json(result.to_dict())
     else:

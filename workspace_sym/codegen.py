@@ -128,7 +128,7 @@ for l1 to become C code; give them in the DH file's "parameters" or in DHRobot(p
     prototypes = "\n".join(printer.doprint(FunctionPrototype.from_FunctionDefinition(f)) + ";" for f in functions)
     stem = _stem(robot.name)
     guard, count = f"WORKSPACE_SYM_{stem.upper()}_H", f"{stem.upper()}_N_JOINTS"
-    from . import __version__
+    from .version import __version__
 
     kinds = {"R": "revolute, rad", "P": f"prismatic, {_comment(robot.units)}"}
     # a robot read from a URDF or MJCF file: q[k] is also named by the file's joint, whose position it is

@@ -29,105 +29,19 @@ from __future__ import annotations
 import base64
 import html
 import io
+import math
 import re
 import sys
-from functools import lru_cache
 
 import sympy as sp
 
-from .numbers import fmt, fmt_bracket, measure_text
-from .plotting import plot_paving
-from .symbolic import angle_label
+from .numbers import clean, fmt, fmt_bound, fmt_bracket, measure_text
+from .plotting import plot_paving, plot_paving_slices
+from .report import Equations
+from .symbolic import plain, textbook_form
 
 __all__ = ["textbook_form", "plain", "html_table", "figure_html", "expr_text", "mathml", "register_notebook_display",
-           "to_html", "paving_html", "MAX_3D_BOXES_SHOWN"]
-
-
-# ------------------------------------------------------------------ textbook shorthand as SymPy functions
-class _Shorthand:
-    """Printing of a ``cos`` / ``sin`` subclass as ``c23`` / ``s_{23}``; the maths is the base class's."""
-
-    letter = ""             # "c" or "s"; set with index_of by _functions
-    index_of = None
-
-    @classmethod
-    def class_key(cls):
-        # after symbols and numbers (class 2, 0), before products and sums (class 3): products read as in a
-        # textbook, c1*(a1 + a2*c2), and c before s, c1*s23
-        return 2, 1, cls.letter
-
-    def _short(self):
-        return angle_label(self.args[0], self.index_of)
-
-    def _pretty(self, printer):
-        label = self._short()
-        base = sp.Symbol(f"{self.letter}{label}") if label else self.__class__.__mro__[2](self.args[0])
-        return printer._print(base)
-
-    def _latex(self, printer, exp=None):
-        label = self._short()
-        if label is None:
-            base = self.__class__.__mro__[2](self.args[0])       # plain cos / sin
-            return printer._print(base, exp=exp) if exp is not None else printer._print(base)
-        text = f"{self.letter}_{{{label}}}"
-        return text if exp is None else f"{text}^{{{exp}}}"
-
-    def _mathml_presentation(self, printer):
-        label = self._short()
-        base = sp.Symbol(f"{self.letter}_{label}") if label else self.__class__.__mro__[2](self.args[0])
-        return printer._print(base)
-
-    def _sympystr(self, printer):
-        label = self._short()
-        if label is None:
-            return printer._print(self.__class__.__mro__[2](self.args[0]))
-        return f"{self.letter}{label}"
-
-
-@lru_cache(maxsize=64)
-def _functions(variables: tuple):
-    """The (cosine, sine) classes printing with the indices of ``variables`` (one pair per robot)."""
-    index_of = {v: k + 1 for k, v in enumerate(variables)}
-
-    def fdiff_cos(self, argindex=1):
-        return -sine(self.args[0])
-
-    def fdiff_sin(self, argindex=1):
-        return cosine(self.args[0])
-
-    cosine = type("cos", (_Shorthand, sp.cos), {"letter": "c", "index_of": index_of, "fdiff": fdiff_cos})
-    sine = type("sin", (_Shorthand, sp.sin), {"letter": "s", "index_of": index_of, "fdiff": fdiff_sin})
-    return cosine, sine
-
-
-def textbook_form(expr, variables):
-    """``expr`` (expression, matrix, polynomial or sequence) with every ``cos`` / ``sin`` of a sum of joint
-    variables printing in shorthand: ``c1``, ``s234`` (``c_{1}``, ``s_{234}`` in LaTeX).
-
-    The result is still the same mathematics (``subs``, ``diff``, ``lambdify``
-    work on it); :func:`plain` gives back ordinary ``cos`` and ``sin``.  A
-    polynomial becomes its expression; a list or tuple becomes a SymPy
-    ``Tuple`` (which Jupyter typesets).
-    """
-    cosine, sine = _functions(tuple(variables))
-    if isinstance(expr, list | tuple):
-        return sp.Tuple(*(textbook_form(e, variables) for e in expr))
-    if isinstance(expr, sp.Poly):
-        expr = expr.as_expr()
-    expr = sp.sympify(expr) if not isinstance(expr, sp.MatrixBase) else expr
-    swap = {sp.cos: cosine, sp.sin: sine}
-
-    def short(e):
-        return e.func in swap and angle_label(e.args[0], cosine.index_of) is not None
-
-    return expr.replace(short, lambda e: swap[e.func](e.args[0]))
-
-
-def plain(expr):
-    """``expr`` with the shorthand functions of :func:`textbook_form` turned back into ``cos`` and ``sin``."""
-    if isinstance(expr, sp.Tuple):
-        return sp.Tuple(*(plain(e) for e in expr))
-    return expr.replace(lambda e: isinstance(e, _Shorthand), lambda e: e.__class__.__mro__[2](e.args[0]))
+           "to_html", "paving_html", "robot_html", "dextrous_html", "cube_html", "MAX_3D_BOXES_SHOWN"]
 
 
 # ------------------------------------------------------------------ SymPy results in a notebook
@@ -251,7 +165,62 @@ def paving_html(result) -> str:
             + html_table(("boxes", "number", "measure"), rows) + picture)
 
 
-_RESULTS = [("workspace_sym.interval.boxes", "Paving", paving_html),
+def robot_html(robot) -> str:
+    """A DH robot's table, limits in degrees, and its parameters (what a notebook shows of a ``DHRobot``)."""
+    def degrees(v) -> str:
+        return f"{clean(float(v) * 180 / math.pi, scale=360.0):.10g}°"
+
+    def limits(j) -> str:
+        if j.limits is None:
+            return "none"
+        if j.kind == "R":
+            return f"[{degrees(j.limits[0])}, {degrees(j.limits[1])}]"
+        return f"[{clean(float(j.limits[0])):.10g}, {clean(float(j.limits[1])):.10g}] {robot.units}"
+
+    rows = [(k, j.kind, Markup(expr_text(j.theta)), Markup(expr_text(j.d)), Markup(expr_text(j.a)),
+             degrees(j.alpha) if j.alpha.is_number else Markup(expr_text(j.alpha)), limits(j))
+            for k, j in enumerate(robot.joints, start=1)]
+    table = html_table(("joint", "type", "\u03b8", "d", "a", "\u03b1", "limits"), rows,
+                       caption=f"{robot.name}: {robot.n} joints, {robot.convention} DH, lengths in {robot.units}")
+    params = ", ".join(f"{k} = {v}" for k, v in robot.parameters.items())
+    extra = f"<p>parameters: {expr_text(params)}</p>" if params else ""
+    return table + extra
+
+
+def dextrous_html(result) -> str:
+    """The Orthoglide's dextrous workspace (``DextrousResult``): its definition, volumes, box counts and slices of
+    its boxes."""
+    data = result.to_dict()
+    lo, hi = result.sigma
+    rows = [("certified inside", fmt_bound(result.volume_inner, 6, up=False), data["boxes"]["inner"]),
+            ("error index E (undecided)", fmt_bound(result.volume_undecided, 6, up=True), data["boxes"]["undecided"]),
+            ("outside", "", data["boxes"]["outer"])]
+    stopped = "" if result.paving.complete else " (stopped early: the rest counts in E)"
+    head = (f"<p>Dextrous workspace: the points of [-1, 1]³ where every eigenvalue of J Jᵀ lies in "
+            f"[{lo:g}, {hi:g}]; eps = {result.eps}, {data['boxes_evaluated']} boxes in {result.paving.seconds:.2f} s"
+            f"{stopped}</p>")
+    picture = figure_html(plot_paving_slices(result.paving), width=640, alt="slices")
+    return head + html_table(("boxes", "volume", "number"), rows) + picture
+
+
+def cube_html(result) -> str:
+    """The Orthoglide's largest enclosed cube (``CubeResult``): the certified bracket, the centre and the closed
+    form in MathML (an exported notebook needs no MathJax)."""
+    out = [f"<p><b>Largest cube in the dextrous workspace</b> (&sigma; &isin; [{result.sigma[0]:g}, "
+           f"{result.sigma[1]:g}], &alpha; = {result.alpha:g}, {result.seconds:.1f} s)</p>",
+           "<ul><li>a cube of edge " + html.escape(fmt_bound(result.edge_lower, 9, up=False)) + " centred at ("
+           + ", ".join(fmt(v, 6) for v in result.center) + ") is proved inside;</li>"
+           f"<li>no cube of edge above {fmt_bound(result.edge_upper, 9, up=True)} fits anywhere (proved).</li></ul>"]
+    if result.exact is not None:
+        out.append(f"<p>Closed form (binding: {html.escape(result.binding_text())}):</p>")
+        out.append(Equations(("edge", result.exact["edge"]), ("centre", result.exact["center"]))._repr_html_())
+    return "".join(out)
+
+
+_RESULTS = [("workspace_sym.kinematics", "DHRobot", robot_html),
+            ("workspace_sym.orthoglide.certificate", "DextrousResult", dextrous_html),
+            ("workspace_sym.orthoglide.cube", "CubeResult", cube_html),
+            ("workspace_sym.interval.boxes", "Paving", paving_html),
             ("workspace_sym.interval.boxes", "StoredPaving", paving_html),
             ("workspace_sym.serial.api", "ReachResult", paving_html)]
 

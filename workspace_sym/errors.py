@@ -4,11 +4,16 @@ Every error a user can provoke with bad input derives from :class:`WorkspaceErro
 and its message names the parameter, the value received and what was expected.
 The command line turns any of them into exit status 2 and one line on stderr.
 
-Two classes are not bad input but a bounded stage giving up, which its caller
+Three classes are not bad input but a bounded stage giving up, which its caller
 catches and answers otherwise: :class:`OverBudget` (an expansion would grow
-past its budget) and :class:`CoverTooLarge` (a critical set needs too many
-joint boxes).  Modules that raised them first still re-export them
+past its budget), :class:`CoverTooLarge` (a critical set needs too many
+joint boxes) and :class:`CoverStopped` (a budget ran out during a critical
+cover).  Modules that raised them first still re-export them
 (``workspace_sym.interval.image.CoverTooLarge`` is this class).
+
+Two errors are also the standard exception of their kind, so that a caller
+who catches that kind catches them: :class:`SymbolicBudgetError` is a
+:class:`TimeoutError`, :class:`MissingExtraError` an :class:`ImportError`.
 """
 
 from __future__ import annotations
@@ -29,6 +34,7 @@ __all__ = [
     "WorkerResultError",
     "OverBudget",
     "CoverTooLarge",
+    "CoverStopped",
     "BoundaryError",
     "SymbolicError",
     "SymbolicBudgetError",
@@ -110,9 +116,13 @@ class BoundaryError(WorkspaceError):
     a property every chain has): refused rather than answered wrongly."""
 
 
-class MissingExtraError(WorkspaceError):
+class MissingExtraError(WorkspaceError, ImportError):
     """An optional dependency is not installed (distributed runs need dask.distributed:
-    ``pip install 'workspace_sym[distributed]'``)."""
+    ``pip install 'workspace_sym[distributed]'``); also an :class:`ImportError`.
+
+    >>> issubclass(MissingExtraError, ImportError)
+    True
+    """
 
 
 class WorkerResultError(WorkspaceError):
@@ -128,6 +138,15 @@ class CoverTooLarge(RuntimeError):
     """The critical sets need more than ``image.MAX_COVER_BOXES`` joint boxes at once."""
 
 
+class CoverStopped(Exception):
+    """A budget ran out between two generations of a critical cover (nothing is decided from it): ``evaluated``
+    boxes were evaluated, ``reason`` says why it stopped."""
+
+    def __init__(self, evaluated: int, reason: str):
+        super().__init__(reason)
+        self.evaluated, self.reason = evaluated, reason
+
+
 class OutputError(WorkspaceError):
     """An output path cannot be written (missing or unwritable directory, unknown figure format)."""
 
@@ -137,8 +156,13 @@ class SymbolicError(WorkspaceError):
     polynomial) could not be carried out on this input; the message names what could not be done."""
 
 
-class SymbolicBudgetError(SymbolicError):
-    """A symbolic step did not finish within its budget (time, or the size of an expansion or a table)."""
+class SymbolicBudgetError(SymbolicError, TimeoutError):
+    """A symbolic step did not finish within its budget (time, or the size of an expansion or a table); also a
+    :class:`TimeoutError`, so ``except TimeoutError`` catches it.
+
+    >>> issubclass(SymbolicBudgetError, TimeoutError) and issubclass(SymbolicBudgetError, WorkspaceError)
+    True
+    """
 
 
 def check_choice(parameter: str, value, allowed) -> None:

@@ -43,6 +43,7 @@ from .symbolic import (
     shorthand_latex,
     shorthand_str,
     textbook,
+    textbook_form,
     textbook_matrix,
     trig_pair,
 )
@@ -738,7 +739,7 @@ class DHRobot:
 
         Still a SymPy expression of the joint variables: it substitutes,
         differentiates and evaluates as before, and a notebook typesets it
-        (:func:`workspace_sym.display.textbook_form`).
+        (:func:`workspace_sym.symbolic.textbook_form`).
 
         Examples
         --------
@@ -751,32 +752,7 @@ class DHRobot:
         >>> robot.textbook(robot.singular_factors("position"))
         (s2,)
         """
-        from .display import textbook_form
-
         return textbook_form(expr, self.q)
-
-    def _repr_html_(self) -> str:
-        from .display import Markup, expr_text, html_table
-        from .numbers import clean
-
-        def degrees(v) -> str:
-            return f"{clean(float(v) * 180 / math.pi, scale=360.0):.10g}°"
-
-        def limits(j) -> str:
-            if j.limits is None:
-                return "none"
-            if j.kind == "R":
-                return f"[{degrees(j.limits[0])}, {degrees(j.limits[1])}]"
-            return f"[{clean(float(j.limits[0])):.10g}, {clean(float(j.limits[1])):.10g}] {self.units}"
-
-        rows = [(k, j.kind, Markup(expr_text(j.theta)), Markup(expr_text(j.d)), Markup(expr_text(j.a)),
-                 degrees(j.alpha) if j.alpha.is_number else Markup(expr_text(j.alpha)), limits(j))
-                for k, j in enumerate(self.joints, start=1)]
-        table = html_table(("joint", "type", "\u03b8", "d", "a", "\u03b1", "limits"), rows,
-                           caption=f"{self.name}: {self.n} joints, {self.convention} DH, lengths in {self.units}")
-        params = ", ".join(f"{k} = {v}" for k, v in self.parameters.items())
-        extra = f"<p>parameters: {expr_text(params)}</p>" if params else ""
-        return table + extra
 
     # ------------------------------------------------------------------ a configuration, the other convention
     def fk_at(self, q, *, parameters: dict | None = None) -> sp.Matrix:

@@ -7,6 +7,7 @@ run=RunOn(...), tuning=Tuning(...))`` is its spelling now.
 from __future__ import annotations
 
 import warnings
+from dataclasses import replace
 
 from .interval.driver import RunOn, StopAt
 from .serial.api import Pose, ReachResult, reach
@@ -39,6 +40,7 @@ def reach_pose(robot, *, delta: float, approach=None, cone=None, every: bool = F
     changes = {name: value for name, value in (("pose_max_pairs", max_pairs), ("pose_inner_depth", inner_depth),
                                                ("section_ratio", section_ratio)) if value is not None}
     return reach(robot, delta=delta, size=size, parameters=parameters,
-                 stop=StopAt(max_boxes=max_boxes, time_limit=time_limit, progress=progress), run=run,
+                 stop=StopAt(max_boxes=max_boxes, time_limit=time_limit),
+                 run=run if progress is None else replace(run, progress=progress),
                  pose=Pose(approach=approach, cone=cone, every=every, orientation=orientation, rpy=rpy),
                  tuning=DEFAULT.replace(**changes))

@@ -38,7 +38,7 @@ def reproducibility(command: str | None = None) -> dict:
     import mpmath
     import numpy
 
-    from . import __version__
+    from .version import __version__
 
     return {
         "workspace_sym": __version__,
@@ -646,7 +646,7 @@ def dh_robot_report(robot, out, *, samples: int = 20000, command: str | None = N
     workspace under that constraint, with the constraint stated.
     """
     from .interval.boxes import check_delta
-    from .interval.driver import StopAt
+    from .interval.driver import RunOn, StopAt
     from .plotting import save_figure, scatter_workspace_3d
     from .sampling import reach_points, sample_joint_box
     from .serial import Pose
@@ -702,8 +702,8 @@ def dh_robot_report(robot, out, *, samples: int = 20000, command: str | None = N
         if reach_delta is not None:
             try:
                 pose = {"pose": Pose(**reach_constraint)} if reach_constraint else {}
-                paving = robot.reach(delta=reach_delta, stop=StopAt(time_limit=reach_time_limit, progress=False),
-                                     **pose)
+                paving = robot.reach(delta=reach_delta, stop=StopAt(time_limit=reach_time_limit),
+                                     run=RunOn(progress=False), **pose)
             except SymbolicBudgetError as error:
                 if error.parameter != "time_limit":
                     raise

@@ -49,6 +49,8 @@ from .expressions import as_sympy
 
 __all__ = [
     "textbook",
+    "textbook_form",
+    "plain",
     "trig_pair",
     "symbolic_budget",
     "derivation",
@@ -1429,3 +1431,90 @@ def shorthand_latex(expr, variables, *, short: bool = True) -> str:
     if short:
         expr = shorthand(expr, variables, latex=True)
     return sp.latex(decimal_form(expr))
+
+
+# ------------------------------------------------------------------ textbook shorthand as SymPy functions (notebooks)
+class _Shorthand:
+    """Printing of a ``cos`` / ``sin`` subclass as ``c23`` / ``s_{23}``; the maths is the base class's."""
+
+    letter = ""             # "c" or "s"; set with index_of by _functions
+    index_of = None
+
+    @classmethod
+    def class_key(cls):
+        # after symbols and numbers (class 2, 0), before products and sums (class 3): products read as in a
+        # textbook, c1*(a1 + a2*c2), and c before s, c1*s23
+        return 2, 1, cls.letter
+
+    def _short(self):
+        return angle_label(self.args[0], self.index_of)
+
+    def _pretty(self, printer):
+        label = self._short()
+        base = sp.Symbol(f"{self.letter}{label}") if label else self.__class__.__mro__[2](self.args[0])
+        return printer._print(base)
+
+    def _latex(self, printer, exp=None):
+        label = self._short()
+        if label is None:
+            base = self.__class__.__mro__[2](self.args[0])       # plain cos / sin
+            return printer._print(base, exp=exp) if exp is not None else printer._print(base)
+        text = f"{self.letter}_{{{label}}}"
+        return text if exp is None else f"{text}^{{{exp}}}"
+
+    def _mathml_presentation(self, printer):
+        label = self._short()
+        base = sp.Symbol(f"{self.letter}_{label}") if label else self.__class__.__mro__[2](self.args[0])
+        return printer._print(base)
+
+    def _sympystr(self, printer):
+        label = self._short()
+        if label is None:
+            return printer._print(self.__class__.__mro__[2](self.args[0]))
+        return f"{self.letter}{label}"
+
+
+@lru_cache(maxsize=64)
+def _functions(variables: tuple):
+    """The (cosine, sine) classes printing with the indices of ``variables`` (one pair per robot)."""
+    index_of = {v: k + 1 for k, v in enumerate(variables)}
+
+    def fdiff_cos(self, argindex=1):
+        return -sine(self.args[0])
+
+    def fdiff_sin(self, argindex=1):
+        return cosine(self.args[0])
+
+    cosine = type("cos", (_Shorthand, sp.cos), {"letter": "c", "index_of": index_of, "fdiff": fdiff_cos})
+    sine = type("sin", (_Shorthand, sp.sin), {"letter": "s", "index_of": index_of, "fdiff": fdiff_sin})
+    return cosine, sine
+
+
+def textbook_form(expr, variables):
+    """``expr`` (expression, matrix, polynomial or sequence) with every ``cos`` / ``sin`` of a sum of joint
+    variables printing in shorthand: ``c1``, ``s234`` (``c_{1}``, ``s_{234}`` in LaTeX).
+
+    The result is still the same mathematics (``subs``, ``diff``, ``lambdify``
+    work on it); :func:`plain` gives back ordinary ``cos`` and ``sin``.  A
+    polynomial becomes its expression; a list or tuple becomes a SymPy
+    ``Tuple`` (which Jupyter typesets).
+    """
+    cosine, sine = _functions(tuple(variables))
+    if isinstance(expr, list | tuple):
+        return sp.Tuple(*(textbook_form(e, variables) for e in expr))
+    if isinstance(expr, sp.Poly):
+        expr = expr.as_expr()
+    expr = sp.sympify(expr) if not isinstance(expr, sp.MatrixBase) else expr
+    swap = {sp.cos: cosine, sp.sin: sine}
+
+    def short(e):
+        return e.func in swap and angle_label(e.args[0], cosine.index_of) is not None
+
+    return expr.replace(short, lambda e: swap[e.func](e.args[0]))
+
+
+def plain(expr):
+    """``expr`` with the shorthand functions of :func:`textbook_form` turned back into ``cos`` and ``sin``."""
+    if isinstance(expr, sp.Tuple):
+        return sp.Tuple(*(plain(e) for e in expr))
+    return expr.replace(lambda e: isinstance(e, _Shorthand), lambda e: e.__class__.__mro__[2](e.args[0]))

@@ -13,8 +13,8 @@ with the same boxes; with the measures summed exactly
 (:class:`~workspace_sym.interval.store.ExactSum`) it reports the same counts
 and measures to the last bit.
 
-What to stop at (boxes, time, progress) is a :class:`StopAt`, where to run
-(executor, chunk size, memory, store, checkpoint) a :class:`RunOn`: two small
+What to stop at (boxes, time) is a :class:`StopAt`, where and how to run
+(executor, chunk size, memory, store, checkpoint, progress) a :class:`RunOn`: two small
 frozen option objects that the public entry points (``pave``, ``reach``,
 ``dextrous``) take as they are.
 
@@ -70,17 +70,17 @@ _CHUNK = 200_000                 # the most boxes in one chunk when RunOn does n
 # ----------------------------------------------------------------------------- options
 @dataclass(frozen=True, slots=True)
 class StopAt:
-    """What a run stops at: ``max_boxes`` boxes evaluated, ``time_limit`` seconds, and whether it shows a
-    progress bar on the way (``progress``: None, on an interactive output once the run has lasted a second;
-    True, always; False, never; :mod:`workspace_sym.progress`).  What is left when it stops is pending.
-    ``section_boxes``, of :func:`~workspace_sym.serial_workspace.reach` only: a budget of boxes for the stages
-    of the section of an arm turned by its first joint, the same cells on every machine where a time limit
-    is not.
+    """When a run stops: after ``max_boxes`` boxes evaluated in all (a total budget), or ``time_limit`` seconds.
+    What is left when it stops is pending.  ``section_boxes``, of :func:`~workspace_sym.serial.api.reach` only:
+    a budget of boxes for the stages of the section of an arm turned by its first joint, the same cells on every
+    machine where a time limit is not.  ``progress`` is the spelling of earlier releases of
+    ``RunOn(progress=...)`` (how a run is shown, not when it stops): still taken, with a
+    :class:`DeprecationWarning`.
 
     Examples
     --------
     >>> StopAt(time_limit=5)
-    StopAt(max_boxes=None, time_limit=5, progress=None, section_boxes=None)
+    StopAt(max_boxes=None, time_limit=5, section_boxes=None, progress=None)
     >>> StopAt(max_boxes=0)
     Traceback (most recent call last):
     ...
@@ -89,8 +89,8 @@ class StopAt:
 
     max_boxes: int | None = None
     time_limit: float | None = None
-    progress: bool | None = None
     section_boxes: int | None = None
+    progress: bool | None = None
 
     def __post_init__(self):
         for name, count in (("max_boxes", self.max_boxes), ("section_boxes", self.section_boxes)):
@@ -101,6 +101,9 @@ class StopAt:
                                   and t > 0):
             raise InvalidParameterError(f"time_limit must be a positive number of seconds; got {t!r}",
                                         parameter="time_limit")
+        if self.progress is not None:
+            warnings.warn("StopAt(progress=...) is deprecated; pass run=RunOn(progress=...)", DeprecationWarning,
+                          stacklevel=3)
 
 
 @dataclass(frozen=True, slots=True)
@@ -120,6 +123,9 @@ class RunOn:
     checkpoint, written when the run ends (complete or stopped) and every
     minute while a streamed run goes on, and read to go on from it when it
     exists.  The boxes, counts and measures are those of a run here.
+    ``progress``: how the run is shown, a progress bar (None: on an
+    interactive output once the run has lasted a second; True, always;
+    False, never; :mod:`workspace_sym.progress`).
     """
 
     executor: Any = None
@@ -127,6 +133,7 @@ class RunOn:
     max_memory: int | str | None = None
     store: str | os.PathLike | None = None
     resume: str | os.PathLike | None = None
+    progress: bool | None = None
 
     def __post_init__(self):
         if self.chunk is not None and (not isinstance(self.chunk, int) or isinstance(self.chunk, bool)
@@ -145,8 +152,8 @@ class RunOn:
 def with_legacy_keywords(where: str, stop: StopAt, run: RunOn, *, executor=None, progress=None,
                          stacklevel: int = 3) -> tuple[StopAt, RunOn]:
     """``stop`` and ``run`` with the keywords that came before the option objects folded in (``executor=``
-    into ``run``, ``progress=`` into ``stop``), each with a :class:`DeprecationWarning` naming its
-    replacement.  For the entry points whose documentation used them (``largest_cube``, ``cube_inside``,
+    and ``progress=`` into ``run``), each with a :class:`DeprecationWarning` naming its replacement.  For the
+    entry points whose documentation used them (``largest_cube``, ``cube_inside``,
     ``no_enclosed_cube``, ``prove_all``); None means not given.
 
     Examples
@@ -155,8 +162,8 @@ def with_legacy_keywords(where: str, stop: StopAt, run: RunOn, *, executor=None,
     >>> with warnings.catch_warnings(record=True) as caught:
     ...     warnings.simplefilter("always")
     ...     stop, run = with_legacy_keywords("largest_cube", StopAt(), RunOn(), progress=False)
-    >>> stop.progress, str(caught[0].message)
-    (False, 'largest_cube: progress= is deprecated; pass stop=StopAt(progress=...)')
+    >>> run.progress, str(caught[0].message)
+    (False, 'largest_cube: progress= is deprecated; pass run=RunOn(progress=...)')
     """
     if executor is not None:
         warnings.warn(f"{where}: executor= is deprecated; pass run=RunOn(executor=...)", DeprecationWarning,
@@ -166,9 +173,9 @@ def with_legacy_keywords(where: str, stop: StopAt, run: RunOn, *, executor=None,
                                         "run=RunOn(executor=)); give run= alone", parameter="executor")
         run = dataclasses.replace(run, executor=executor)
     if progress is not None:
-        warnings.warn(f"{where}: progress= is deprecated; pass stop=StopAt(progress=...)", DeprecationWarning,
+        warnings.warn(f"{where}: progress= is deprecated; pass run=RunOn(progress=...)", DeprecationWarning,
                       stacklevel=stacklevel)
-        stop = dataclasses.replace(stop, progress=progress)
+        run = dataclasses.replace(run, progress=progress)
     return stop, run
 
 
@@ -206,11 +213,12 @@ class RunBudget:
     evaluated, counted against ``max_boxes`` and shown on the bar.
     """
 
-    def __init__(self, stop: StopAt, label: str):
+    def __init__(self, stop: StopAt, label: str, progress: bool | None = None):
         self.max_boxes, self.time_limit, self.section_boxes = stop.max_boxes, stop.time_limit, stop.section_boxes
         self.spent = 0
         self.start = time.perf_counter()
-        self.bar = progress_bar(stop.progress, total=100.0, desc=label, unit="%",
+        shown = progress if progress is not None else stop.progress      # RunOn's, else the earlier spelling's
+        self.bar = progress_bar(shown, total=100.0, desc=label, unit="%",
                                 bar_format="{desc}: {percentage:5.1f}% of the box decided{postfix} |{bar}| "
                                            "[{elapsed}]")
 
@@ -532,7 +540,7 @@ def subdivide(decide: Decider, box: Box, *, delta: float, size: str = "diameter"
         keeper, budget = store_for(n, run, fingerprint.digest)
         stack = deque([initial_boxes(box, delta, size, presplit)])
     own_clock = isinstance(stop, StopAt)
-    clock = RunBudget(stop, label) if isinstance(stop, StopAt) else stop
+    clock = RunBudget(stop, label, run.progress) if isinstance(stop, StopAt) else stop
     # in line the step's results stay in this process: expand itself, without the copies for a worker's reply
     runner: Runner = (Inline(partial(expand, decide=decide, separate=separate, delta=float(delta), size=size,
                                      sized_before_cut=bool(sized_before_cut)))

@@ -54,7 +54,7 @@ import time
 import numpy as np
 import sympy as sp
 
-from ..errors import CoverTooLarge
+from ..errors import CoverStopped, CoverTooLarge
 from . import arith
 from .boxes import halves
 from .compiler import compile_expr
@@ -563,14 +563,6 @@ class CellGrid:
 
 
 # ---------------------------------------------------------------------------------------------- the paving
-class _CoverStopped(Exception):
-    """A budget ran out between two generations of the critical cover (nothing is decided from it)."""
-
-    def __init__(self, evaluated: int, reason: str):
-        super().__init__(reason)
-        self.evaluated, self.reason = evaluated, reason
-
-
 def critical_paving(image: ImageMap, width: float, *, rng=None, budget=None, cover_ratio: float = 0.7,
                     cover=None, show=None, chunk: int | None = None):
     """Classify the cells of a grid of the given width over the image of a map into the plane or into space
@@ -615,14 +607,14 @@ def critical_paving(image: ImageMap, width: float, *, rng=None, budget=None, cov
         reason = budget(evaluated, ahead=2.0 * (now - clock[0])) if foresees else budget(evaluated)
         clock[0] = now
         if reason:
-            raise _CoverStopped(evaluated, reason)
+            raise CoverStopped(evaluated, reason)
 
     try:
         if cover is None:
             covers = [critical_cover(image, faces(image), target, root, show=generation)]
         else:
             covers = cover(faces(image), target, root)
-    except _CoverStopped as stop:
+    except CoverStopped as stop:
         return grid, classes, stop.evaluated, stop.reason
     evaluated = sum(n for _, n in covers)
     stopped = budget(evaluated)

@@ -339,10 +339,11 @@ def pave(constraints, box, *, delta: float, variables=None, backend: str = "nump
     stop : :class:`~workspace_sym.interval.driver.StopAt`
         A budget of boxes (``max_boxes``) or seconds (``time_limit``): when
         exhausted, the remaining boxes are returned as ``pending`` (never
-        classified); ``progress``: a progress bar (``tqdm.auto``: a widget in
-        Jupyter, a bar on a terminal; default: on an interactive output once
-        the run has lasted a second; False: never).
+        classified).
     run : :class:`~workspace_sym.interval.driver.RunOn`
+        ``progress``: a progress bar (``tqdm.auto``: a widget in Jupyter, a
+        bar on a terminal; default: on an interactive output once the run has
+        lasted a second; False: never).
         Run on other processes or machines (``executor``: a
         :class:`concurrent.futures.Executor` or a ``dask.distributed.Client``),
         stream the decided boxes to disk (``max_memory``, ``store``), and

@@ -72,7 +72,7 @@ def prove_all(boxes, test, *, min_width: float = 0.0, split: str = "widest", sto
     undecided box is narrower than ``min_width`` on all its edges; ``used`` is
     the number of boxes evaluated.  Only the test proves anything: the search
     never turns an undecided box into a verdict.  A search needs a bound: a
-    box budget, a time limit or ``min_width > 0`` (``stop.progress`` does not
+    box budget, a time limit or ``min_width > 0`` (``run.progress`` does not
     apply: the search shows no bar).
 
     ``run`` (:class:`~workspace_sym.interval.driver.RunOn`): ``executor`` (a

@@ -92,23 +92,6 @@ class DextrousResult:
                 f"E {fmt_bound(self.volume_undecided, 6, up=True)}, "
                 f"eps {self.eps})")
 
-    def _repr_html_(self) -> str:
-        """The definition typeset, volumes and box counts, and slices of the boxes (Jupyter)."""
-        from ..display import figure_html, html_table
-        from ..plotting import plot_paving_slices
-
-        data = self.to_dict()
-        lo, hi = self.sigma
-        rows = [("certified inside", fmt_bound(self.volume_inner, 6, up=False), data["boxes"]["inner"]),
-                ("error index E (undecided)", fmt_bound(self.volume_undecided, 6, up=True), data["boxes"]["undecided"]),
-                ("outside", "", data["boxes"]["outer"])]
-        stopped = "" if self.paving.complete else " (stopped early: the rest counts in E)"
-        head = (f"<p>Dextrous workspace: the points of [-1, 1]³ where every eigenvalue of J Jᵀ lies in "
-                f"[{lo:g}, {hi:g}]; eps = {self.eps}, {data['boxes_evaluated']} boxes in {self.paving.seconds:.2f} s"
-                f"{stopped}</p>")
-        picture = figure_html(plot_paving_slices(self.paving), width=640, alt="slices")
-        return head + html_table(("boxes", "volume", "number"), rows) + picture
-
     def to_dict(self) -> dict:
         p = self.paving
         data = {
@@ -283,12 +266,12 @@ def dextrous(variables, *, eps: float = 0.05, sigma=(0.25, 4.0), box=None, shave
     (:func:`shave_boxes`); ``()`` keeps the paper's plain bisection.
 
     ``stop`` (:class:`~workspace_sym.interval.driver.StopAt`) bounds the
-    boxes and seconds and shows progress; ``run``
+    boxes and seconds; ``run``
     (:class:`~workspace_sym.interval.driver.RunOn`: an ``executor``, a
     ``concurrent.futures.Executor`` or a ``dask.distributed.Client``,
-    ``max_memory``, ``store``, ``resume``; chunks of ``CHUNK`` boxes by default)
-    spreads the chunks, streams the boxes to disk and checkpoints the run;
-    the result is the same.
+    ``max_memory``, ``store``, ``resume``; chunks of ``CHUNK`` boxes by default;
+    ``progress``) spreads the chunks, streams the boxes to disk, checkpoints
+    the run and shows its progress; the result is the same.
     """
     if not isinstance(eps, (int, float)) or not math.isfinite(eps) or eps <= 0:
         raise InvalidParameterError(f"eps must be a positive number; got {eps!r}", parameter="eps")

@@ -58,9 +58,9 @@ class CubeResult:
             return None
         e = self.exact
         return (f"edge = {e['edge']} = {float(e['edge']):.9f}, centre x = y = z = {e['center']} = "
-                f"{float(e['center']):.9f} (binding: {self._binding()})")
+                f"{float(e['center']):.9f} (binding: {self.binding_text()})")
 
-    def _binding(self) -> str:
+    def binding_text(self) -> str:
         """The corners that bind the closed form and the bounds they meet (none without a closed form)."""
         bounds = self.exact["bounds"] if self.exact is not None else {}
         return "; ".join(f"corner ({s}, {s}, {s}) on {', '.join(b)}" for s, b in bounds.items())
@@ -90,24 +90,8 @@ class CubeResult:
                f"- no cube of edge above {fmt_bound(self.edge_upper, 9, up=True)} fits anywhere (proved)."]
         lines = self._latex_lines()
         if lines:
-            out += ["", f"Closed form (binding: {self._binding()}):", ""] + [f"$${line}$$" for line in lines]
+            out += ["", f"Closed form (binding: {self.binding_text()}):", ""] + [f"$${line}$$" for line in lines]
         return "\n".join(out)
-
-    def _repr_html_(self) -> str:
-        """The same as :meth:`_repr_markdown_`, the closed form in MathML (an exported notebook needs no MathJax)."""
-        import html
-
-        from ..report import Equations
-
-        out = [f"<p><b>Largest cube in the dextrous workspace</b> (&sigma; &isin; [{self.sigma[0]:g}, "
-               f"{self.sigma[1]:g}], &alpha; = {self.alpha:g}, {self.seconds:.1f} s)</p>",
-               "<ul><li>a cube of edge " + html.escape(fmt_bound(self.edge_lower, 9, up=False)) + " centred at ("
-               + ", ".join(fmt(v, 6) for v in self.center) + ") is proved inside;</li>"
-               f"<li>no cube of edge above {fmt_bound(self.edge_upper, 9, up=True)} fits anywhere (proved).</li></ul>"]
-        if self.exact is not None:
-            out.append(f"<p>Closed form (binding: {html.escape(self._binding())}):</p>")
-            out.append(Equations(("edge", self.exact["edge"]), ("centre", self.exact["center"]))._repr_html_())
-        return "".join(out)
 
     def to_dict(self) -> dict:
         data = {"center": [float(v) for v in self.center], "edge_lower": self.edge_lower,
@@ -126,7 +110,7 @@ NO_CUBE_BOXES = 400_000    # the budget of no_enclosed_cube when stop gives none
 
 def _budget(stop: StopAt, default: int) -> StopAt:
     """``stop`` with the certificate's own box budget when it gives none."""
-    return stop if stop.max_boxes is not None else StopAt(default, stop.time_limit, stop.progress)
+    return stop if stop.max_boxes is not None else StopAt(default, stop.time_limit)
 
 
 def cube_inside(center, half: float, *, sigma=(0.25, 4.0), min_width: float = 1e-3, stop: StopAt = StopAt(),
@@ -203,23 +187,22 @@ def largest_cube(model, *, alpha: float = 0.001, sigma=(0.25, 4.0), stop: StopAt
        cube of half-edge ``R - alpha/2``, ``no_enclosed_cube`` proves that no
        cube of half-edge ``R + alpha/2`` fits anywhere.
 
-    ``stop`` (:class:`~workspace_sym.interval.driver.StopAt`): ``progress``
-    for the bar of the four stages; ``max_boxes`` and ``time_limit`` bound
-    each certificate search (default: :data:`INSIDE_BOXES` and
+    ``stop`` (:class:`~workspace_sym.interval.driver.StopAt`): ``max_boxes``
+    and ``time_limit`` bound each certificate search (default: :data:`INSIDE_BOXES` and
     :data:`NO_CUBE_BOXES` boxes, no time limit); a search that runs out proves
     nothing, so the bracket widens, never wrongly.  ``run``
     (:class:`~workspace_sym.interval.driver.RunOn`): ``executor`` spreads the
     certificates' box evaluations (a ``concurrent.futures.Executor`` or a
-    ``dask.distributed.Client``).  ``progress=`` and ``executor=`` are the
-    deprecated spellings of ``stop=StopAt(progress=...)`` and
-    ``run=RunOn(executor=...)``.
+    ``dask.distributed.Client``); ``progress`` for the bar of the four
+    stages.  ``progress=`` and ``executor=`` are the deprecated spellings of
+    ``run=RunOn(progress=...)`` and ``run=RunOn(executor=...)``.
     """
     stop, run = with_legacy_keywords("largest_cube", stop, run, executor=executor, progress=progress)
     if not isinstance(alpha, (int, float)) or not math.isfinite(alpha) or alpha <= 0:
         raise InvalidParameterError(f"alpha must be a positive number; got {alpha!r}", parameter="alpha")
     sigma = check_sigma(sigma)
     start = time.perf_counter()
-    say = stage_bar(stop.progress, "cube", 4)
+    say = stage_bar(run.progress if run.progress is not None else stop.progress, "cube", 4)
     search = StopAt(stop.max_boxes, stop.time_limit)     # of each certificate; the stage bar is the only bar
     say("numeric search on the diagonal")
     shape = np.vstack([surface_points(9), np.zeros((1, 3))])

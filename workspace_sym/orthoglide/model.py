@@ -155,7 +155,7 @@ class Orthoglide:
                      run: RunOn = RunOn(), progress: bool | None = None, executor=None) -> cube.CubeResult:
         """The largest cube enclosed in the dextrous workspace, certified.
 
-        See :func:`.cube.largest_cube` and the paper's section 5: ``stop`` holds the progress bar and the
+        See :func:`.cube.largest_cube` and the paper's section 5: ``run`` holds the progress bar, ``stop`` the
         budget of each certificate search, ``run=RunOn(executor=...)`` spreads their box evaluations
         (``progress=`` and ``executor=`` are deprecated spellings of these).
         """

@@ -236,7 +236,7 @@ def resolve_method(robot: DHRobot, method: str = "auto", parameters=()) -> str:
 
 
 # keyword of earlier releases -> (option object, field)
-_LEGACY = {"max_boxes": ("stop", "max_boxes"), "time_limit": ("stop", "time_limit"), "progress": ("stop", "progress"),
+_LEGACY = {"max_boxes": ("stop", "max_boxes"), "time_limit": ("stop", "time_limit"), "progress": ("run", "progress"),
            "section_boxes": ("stop", "section_boxes"), "executor": ("run", "executor"), "chunk": ("run", "chunk"),
            "max_memory": ("run", "max_memory"), "store": ("run", "store"), "resume": ("run", "resume"),
            "approach": ("pose", "approach"), "cone": ("pose", "cone"), "every": ("pose", "every"),
@@ -314,7 +314,7 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         a pose's section method; the critical method on one grid of cells and a pose's pairs method keep their
         boxes in memory and refuse them (under ``"auto"`` a spatial arm without structure is then paved by
         ``"pairs"``).  Every stored or resumed file names its whole problem: one of another problem is refused.
-        ``progress``: a progress bar.
+        ``progress``: a progress bar (None: on an interactive output once the run has lasted a second).
     pose : :class:`Pose`, optional
         A constraint on the tool frame (:mod:`workspace_sym.serial.pose`): inner boxes are then proved reached by
         configurations within the limits satisfying the constraint exactly, outer boxes by none
@@ -356,7 +356,7 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     if legacy:
         stop, run, pose, tuning = _fold_legacy(legacy, stop, run, pose, tuning)
     if not isinstance(tuning, Tuning):
-        raise InvalidParameterError(f"tuning must be a reach.Tuning; got {type(tuning).__name__}",
+        raise InvalidParameterError(f"tuning must be a serial.Tuning; got {type(tuning).__name__}",
                                     parameter="tuning")
     if pose is not None:
         return _reach_pose(robot, delta=delta, size=size, parameters=parameters, method=method, stop=stop, run=run,
@@ -366,7 +366,7 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         raise InvalidParameterError(f"size must be one of 'diameter', 'width'; got {size!r}", parameter="size")
     values = tuple(sorted((parameters or {}).items(), key=lambda item: str(item[0])))  # hashable
     # The time limit bounds the whole call: the clock starts before the symbolic preparation of the model.
-    budget = RunBudget(stop, "reach")
+    budget = RunBudget(stop, "reach", run.progress)
     model = root = None
     try:
         with prepared_within(robot, stop.time_limit, budget.seconds):
@@ -406,7 +406,7 @@ def _reach_pose(robot: DHRobot, *, delta, size, parameters, method, stop: StopAt
                 tuning: Tuning) -> ReachResult:
     """:func:`reach` with a constraint on the tool frame: the pose plans (:func:`~.plans.pose_plan`)."""
     if not isinstance(pose, Pose):
-        raise InvalidParameterError(f"pose must be a reach.Pose; got {type(pose).__name__}", parameter="pose")
+        raise InvalidParameterError(f"pose must be a serial.Pose; got {type(pose).__name__}", parameter="pose")
     if method != "auto":
         raise InvalidParameterError(f"method: reach with a tool constraint chooses its own method (the section "
                                     f"where the first joint turns it, pairs otherwise); got {method!r}, expected "
@@ -426,7 +426,7 @@ def _reach_pose(robot: DHRobot, *, delta, size, parameters, method, stop: StopAt
                                     f"and chunk do not apply; got {given}; they apply to reach without a pose",
                                     parameter="run")
     values = tuple(sorted((parameters or {}).items(), key=lambda item: str(item[0])))
-    budget = RunBudget(stop, "reach")
+    budget = RunBudget(stop, "reach", run.progress)
     try:
         structure = pose_structure(robot, values, constraint, tuning)
         plan = pose_plan(robot, values, constraint, structure, delta=delta, size=size, tuning=tuning, run=run)

@@ -122,8 +122,8 @@ class Classify:
         return self.what or f"{type(self.test).__module__}.{type(self.test).__qualname__}"
 
 
-def classify_task_boxes(test, box: Box, delta: float, size: str, stop: StopAt | RunBudget = StopAt(progress=False),
-                        run: RunOn = RunOn(), *, describe: dict | None = None) -> Paving:
+def classify_task_boxes(test, box: Box, delta: float, size: str, stop: StopAt | RunBudget = StopAt(),
+                        run: RunOn = RunOn(progress=False), *, describe: dict | None = None) -> Paving:
     """Pave the task box ``box`` with the driver (:func:`~workspace_sym.interval.driver.subdivide`), each box
     classified by ``test`` (``(is_in, is_out)`` masks from a paved section): proved boxes are inner/outer,
     undecided ones of size at most ``delta`` boundary.  No presplit: every box evaluated is a box of the

@@ -231,7 +231,8 @@ class SectionPlan(Plan):
         what = {**self.problem, "section cells": section.digest}
         budget.spent = section.evaluated
         paving = classify_task_boxes(section.test, section.box, self.delta, self.size, budget,
-                                     RunOn(max_memory=run.max_memory, store=run.store, resume=run.resume),
+                                     RunOn(max_memory=run.max_memory, store=run.store, resume=run.resume,
+                                           progress=run.progress),
                                      describe=what)
         return _with(paving, evaluated=budget.spent + paving.evaluated, units=self.robot.units)
 
@@ -317,7 +318,7 @@ class PoseSectionPlan(Plan):
             # The budget ran out while the section was paved: its cells still classify every (x, y, z) box (its
             # undecided cells leave boundary boxes, so the bracket holds; the run is reported incomplete, with
             # the reason), and no checkpoint is written (a resumed run paves the section again and starts over).
-            kept = RunOn(max_memory=run.max_memory, store=run.store)
+            kept = RunOn(max_memory=run.max_memory, store=run.store, progress=False)
             paving = classify_task_boxes(section.test, section.box, self.delta, self.size, run=kept)
             return _with(paving, evaluated=section.evaluated + paving.evaluated, units=self.robot.units,
                          complete=False, stop_reason=section.reason, seconds=budget.seconds)
