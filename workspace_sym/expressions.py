@@ -514,8 +514,9 @@ def _math_tokens(text: str, parameter: str, offset: int = 0):
     return tokens
 
 
-def parse_math(value, parameter: str, *, resolve, functions=None, max_length: int = MAX_LENGTH,
+def parse_math(value, parameter: str, *, resolve, functions=None, max_length: int = MAX_LENGTH,  # noqa: C901
                offset: int = 0) -> sp.Expr:
+    # (one reading loop over the tokens whose branches are the grammar's cases, in the order a reader meets them)
     """Read mathematics the way students and textbooks write it.
 
     On top of :func:`parse_expr`'s grammar (which checks the result again):

@@ -26,8 +26,8 @@ __all__ = ["PoseConstraint", "approach_constraint", "orientation_constraint", "c
            "PoseModel", "section_volume_bracket", "ORTHOGONAL_TOL"]
 
 
-def reach_pose(robot, *, delta: float, approach=None, cone=None, every: bool = False, orientation=None, rpy=None,
-               size: str = "diameter", parameters: dict | None = None, max_boxes: int | None = None,
+def reach_pose(robot, *, delta: float, approach=None, cone=None, every: bool = False, orientation=None,  # noqa: PLR0913
+               rpy=None, size: str = "diameter", parameters: dict | None = None, max_boxes: int | None = None,
                time_limit: float | None = None, progress: bool | None = None, max_pairs: int | None = None,
                inner_depth: int | None = None, chunk_pairs: int | None = None, section_ratio: float | None = None,
                run: RunOn = RunOn()) -> ReachResult:

@@ -733,10 +733,17 @@ def _no_quotient(t) -> bool:
     return not (isinstance(t, sp.exp) or (t.is_Rational and not t.is_Integer))
 
 
+def _leading_negative(a) -> bool:
+    """``a`` is a negative number, or a product whose first factor is one (SymPy's own test in ``count_ops``,
+    ``sympy.core.function._coeff_isneg``, written here from its definition: it is private to SymPy)."""
+    if a.is_MatMul or a.is_Mul:
+        a = a.args[0]
+    return bool(a.is_Number and a.is_extended_negative)
+
+
 def _node_ops(a, count) -> int:
     """The operations of ``a``: those ``count_ops`` records at ``a`` plus ``count`` of the subexpressions it walks
     into (sympy/core/function.py, ``count_ops``, its loop body for one ``Expr``, step for step)."""
-    from sympy.core.function import _coeff_isneg
     from sympy.simplify.radsimp import fraction
 
     if a.is_Rational:
@@ -744,7 +751,7 @@ def _node_ops(a, count) -> int:
             return (a.p < 0) + (a.q != 1)
     ops = 0
     if a.is_Mul:
-        if _coeff_isneg(a):
+        if _leading_negative(a):
             ops += 1
             a = a.as_two_terms()[1] if a.args[0] is sp.S.NegativeOne else -a
         # fraction(a) is (a, 1) for a product of no quotient (most of a kinematic entry): not computed
@@ -754,7 +761,7 @@ def _node_ops(a, count) -> int:
         if d is not sp.S.One:
             return ops + 1 + (0 if d.is_Integer else count(d)) + count(n)
     elif a.is_Add:
-        negative = [_coeff_isneg(t) for t in a.args]
+        negative = [_leading_negative(t) for t in a.args]
         ops = len(a.args) - 1 + (all(negative))
         return ops + sum(count(-t if neg else t) for t, neg in zip(a.args, negative))
     if a.is_Pow and a.exp is sp.S.NegativeOne:
