@@ -182,3 +182,25 @@ def test_the_section_bar_of_the_puma_moves_during_its_critical_cover(monkeypatch
     quiet = critical_paving(section, width)
     shown = critical_paving(section, width, show=lambda share, evaluated: None)
     assert np.array_equal(quiet[1], shown[1]) and quiet[2:] == shown[2:]
+
+
+def test_the_reach_text_says_where_each_bracket_comes_from(tmp_path, capsys):
+    """Issue 39 (engineer): the terminal text of a turned arm printed the boxes' measures, then a bracket that
+    did not follow from them (the section's, by Pappus), without a word.  Now each box count says what it means,
+    the boxes' bracket and the section's are both printed with their source, and the last one is their
+    intersection (reference: the result's own brackets)."""
+    import json
+
+    arm = {"name": "offset arm", "angles": "degrees",
+           "joints": [{"type": "R", "d": 0.3, "a": 0, "alpha": 90}, {"type": "R", "d": 0, "a": 0.5, "alpha": 90},
+                      {"type": "R", "d": 0.1, "a": 0.4, "alpha": 0}]}
+    path = tmp_path / "arm.json"
+    path.write_text(json.dumps(arm))
+    assert main(["reach", "--dh", str(path), "--delta", "0.25", "--no-progress"]) == 0
+    out = capsys.readouterr().out
+    result = reach(DHRobot.from_file(path), delta=0.25)
+    assert result.volume_bounds is not None
+    assert "(proved inside)" in out and "(proved outside)" in out and "(undecided, at most delta = 0.25)" in out
+    assert "the boxes bound the measure to [" in out and "the section's cells bound it to [" in out
+    assert "(the intersection of the two)" in out
+    assert out.count("measure in [") == 1

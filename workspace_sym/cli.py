@@ -405,10 +405,20 @@ def _show_paving(answer, as_json: bool, extra: dict | None = None) -> None:
     how = ", with contraction" if paving.contract else ""
     print(f"delta = {paving.delta} ({paving.size}), backend {paving.backend}{how}: {paving.seconds:.3f} s, "
           f"{paving.evaluated} boxes evaluated")
+    meaning = {"inner": "proved inside", "boundary": f"undecided, at most delta = {paving.delta}",
+               "outer": "proved outside", "pending": "not examined: the run stopped"}
     for kind in ("inner", "boundary", "outer", "pending"):
         measure = measure_text(kind, result[kind]["measure"], 6)
-        print(f"  {kind:<8} {result[kind]['boxes']:>8} boxes, measure {measure}")
-    print(f"  measure in {fmt_bracket(lo, hi, 6)}")
+        print(f"  {kind:<8} {result[kind]['boxes']:>8} boxes, measure {measure:<12} ({meaning[kind]})")
+    volume = getattr(answer, "volume_bounds", None)
+    if volume is not None:
+        b_lo, b_hi = answer.box_measure_bounds
+        print(f"  the boxes bound the measure to {fmt_bracket(b_lo, b_hi, 6)} (inner; inner + boundary + pending)")
+        print(f"  the section's cells bound it to {fmt_bracket(*volume, 6)} (the section turned by the first joint, "
+              "Pappus's theorem: proved)")
+        print(f"  measure in {fmt_bracket(lo, hi, 6)} (the intersection of the two)")
+    else:
+        print(f"  measure in {fmt_bracket(lo, hi, 6)} (inner; inner + boundary + pending)")
     if paving.exact_measure is not None:
         print(f"  exact measure {fmt(float(paving.exact_measure), 6)} = {sp.sstr(paving.exact_measure)}")
     if not paving.complete:
