@@ -414,8 +414,8 @@ def _show_paving(answer, as_json: bool, extra: dict | None = None) -> None:
     if volume is not None:
         b_lo, b_hi = answer.box_measure_bounds
         print(f"  the boxes bound the measure to {fmt_bracket(b_lo, b_hi, 6)} (inner; inner + boundary + pending)")
-        print(f"  the section's cells bound it to {fmt_bracket(*volume, 6)} (the section turned by the first joint, "
-              "Pappus's theorem: proved)")
+        print(f"  the section's cells bound it to {fmt_bracket(volume[0], volume[1], 6)} (the section turned by the "
+              "first joint, Pappus's theorem: proved)")
         print(f"  measure in {fmt_bracket(lo, hi, 6)} (the intersection of the two)")
     else:
         print(f"  measure in {fmt_bracket(lo, hi, 6)} (inner; inner + boundary + pending)")
