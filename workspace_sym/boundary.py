@@ -49,7 +49,7 @@ from .exact import closed_forms, exact_area
 from .interval import arith
 from .interval.driver import StopAt
 from .interval.search import prove_all
-from .numbers import clean, fmt
+from .numbers import clean, fmt, md_escape
 from .planar import RESOLUTION, Arc, PlanarChain
 from .progress import stage_bar
 
@@ -119,8 +119,6 @@ class ArcTable(list):
         return html_table(header, rows, caption="Boundary arcs (Table 2 form)")
 
     def _repr_markdown_(self) -> str:
-        from .report import md_escape
-
         header, rows = self._cells()
         return "\n".join(["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
                          + ["| " + " | ".join(md_escape(str(c)) for c in row) + " |" for row in rows]) + "\n"
