@@ -707,7 +707,7 @@ def planar_verification(boundary, exact_rows=None, *, samples: int = 20000, seed
     outside the loops, every boundary arc's configurations inside the joint
     limits and on the arc, and how each face of the arrangement was decided.
     """
-    from .exact import exact_area
+    from .planar.exact import exact_area
 
     chain = boundary.chain
     checks = []
@@ -764,8 +764,8 @@ def planar_report(chain, out, *, command: str | None = None, title: str | None =
     With ``paving`` (a :class:`~workspace_sym.interval.Paving`) a section
     summarises that certified covering as well.  Returns the Markdown path.
     """
-    from .boundary import format_set
-    from .exact import area_terms
+    from .planar.boundary import format_set
+    from .planar.exact import area_terms
     from .plotting import plot_boundary_loops, plot_planar_step, save_figure
 
     out = Path(out)

@@ -1,12 +1,12 @@
 """Closed forms of a planar chain's boundary: every arc and the area as SymPy expressions.
 
-Step 2 (:mod:`workspace_sym.boundary`) decides the topology in floats; this
+Step 2 (:mod:`workspace_sym.planar.boundary`) decides the topology in floats; this
 module rebuilds each arc from the chain's exact inputs (lengths, limits, the
 alignment angles of Step 0) and matches every loop vertex to a closed form:
 an end of the arc's own range, or an intersection of two circles (Bastien
-2018, Table 2: the -55.1005 deg is such an intersection).  Layers:
-planar -> arrangement -> boundary -> exact; this module reads a boundary by
-duck typing and imports none of them.
+2018, Table 2: the -55.1005 deg is such an intersection).  Rooms:
+chain -> boundary -> arrangement, exact; this module reads a boundary and its
+chain by their attributes and imports no other room.
 """
 
 from __future__ import annotations
@@ -17,10 +17,16 @@ import mpmath
 import sympy as sp
 
 __all__ = ["closed_forms", "exact_arcs", "exact_area", "area_terms", "short_atan2", "short_sqrt",
-           "polar_angle", "norm2"]
+           "polar_angle", "norm2", "link_direction", "is_zero"]
 
 
-def _u(angle):
+def link_direction(angle):
+    """``u(angle) = (-sin angle, cos angle)``: the direction of a link at absolute angle ``angle`` from the +y axis,
+    as a SymPy column (the end point of a chain is ``sum_k l_k u(phi_k)``, docs/methods.md section 4).
+
+    >>> link_direction(sp.pi / 2).T
+    Matrix([[-1, 0]])
+    """
     return sp.Matrix([-sp.sin(angle), sp.cos(angle)])
 
 
@@ -205,7 +211,7 @@ def _exact_source(chain, arc) -> dict:
     positive = _value(signed) > 0
     radius = signed if positive else -signed
     centre_terms = _segment_terms(L, theta, 0, i)
-    centre = sum((l_ * _u(a) for l_, a in centre_terms), sp.Matrix([0, 0]))
+    centre = sum((l_ * link_direction(a) for l_, a in centre_terms), sp.Matrix([0, 0]))
     a0_float = arc.start_angle - (arc.theta_sets[i][0] - chain.lower[i])
     at_lo = list(theta)
     at_lo[i] = lo[i]
@@ -254,10 +260,14 @@ def _vertex_angle(src, angle, neighbours, sources_all):
     return sp.Float(angle, 17)
 
 
-def _is_zero(expr, *, max_degree: int = 48) -> bool:
+def is_zero(expr, *, max_degree: int = 48) -> bool:
     """``expr == 0`` proved: zero after expansion, or its minimal polynomial is x.  False when not proved,
     including when the number field is too large for minimal_polynomial to finish quickly (cos(pi/180) has degree
-    48 and one with a few of them can run for minutes): callers then keep the form they had."""
+    48 and one with a few of them can run for minutes): callers then keep the form they had.
+
+    >>> is_zero(sp.cos(sp.pi / 12) - (sp.sqrt(6) + sp.sqrt(2)) / 4), is_zero(sp.cos(sp.pi / 12) - sp.Rational(1, 2))
+    (True, False)
+    """
     expr = sp.expand(expr)
     if expr == 0:
         return True
@@ -290,7 +300,7 @@ def _free_value_at(chain, src, config):
     the arc's circle (or is its centre)."""
     L, i, p = chain.exact_lengths, src["i"], chain.p
     rel = _segment_terms(L, config, 0, p) + [(-l_, a) for l_, a in src["centre_terms"]]
-    if not _is_zero(norm2(rel) - sp.expand(src["radius"] ** 2)):
+    if not is_zero(norm2(rel) - sp.expand(src["radius"] ** 2)):
         return None
     at_zero = list(src["theta"])
     at_zero[i] = sp.Integer(0)
@@ -309,7 +319,7 @@ def _shorter_vertices(chain, loops, arcs, sources, values):
     value is the angle that turns A's configuration onto that point: for Table 2's -55.1005 deg this gives
     -60 deg + 2 atan2(l3 sin 10 deg, l1 + l2 + l3 cos 10 deg).  The new form replaces the old one only when it
     is shorter and equal to it to 30 digits modulo 2 pi, the point being proved on A's circle
-    (:func:`_is_zero`)."""
+    (:func:`is_zero`)."""
     for _ in range(2):                      # a second pass lets rewritten values feed their neighbours
         for loop in loops:
             ids = list(loop.arcs)
@@ -335,7 +345,7 @@ def closed_forms(boundary) -> list[dict]:
     ``theta_sets`` (degrees) and ``free_values`` (the free joint at the start and end vertex, radians), as
     SymPy expressions built from the chain's exact inputs.
 
-    ``boundary`` is a :class:`~workspace_sym.boundary.Boundary` (read for its
+    ``boundary`` is a :class:`~workspace_sym.planar.boundary.Boundary` (read for its
     chain, arcs and loops; this module imports nothing from it).  The topology
     comes from the float computation; each closed form is matched to its float
     value (to 1e-9) and a vertex falls back to a 17-digit float only if no

@@ -29,7 +29,7 @@ The boundary is made of the edges between an inside and an outside face,
 walked with the workspace on the left: outer loops turn counter-clockwise,
 holes clockwise.  Area and perimeter come from the arcs (Green's theorem).
 :attr:`Boundary.exact` holds every arc in closed form from the exact inputs
-(computed by :mod:`workspace_sym.exact` on first use).
+(computed by :mod:`workspace_sym.planar.exact` on first use).
 """
 
 from __future__ import annotations
@@ -39,29 +39,30 @@ import time
 import warnings
 from dataclasses import dataclass, field
 from functools import cached_property
+from typing import Any
 
 import numpy as np
 import sympy as sp
 
+from ..errors import BoundaryError
+from ..interval import arith
+from ..interval.driver import StopAt
+from ..interval.search import prove_all
+from ..numbers import clean, fmt, md_escape
+from ..progress import stage_bar
+from .arcs import RESOLUTION, Arc, degrees
 from .arrangement import Arrangement, arc_area_term, arc_distance, in_span, parity_inside
-from .errors import BoundaryError
 from .exact import closed_forms, exact_area
-from .interval import arith
-from .interval.driver import StopAt
-from .interval.search import prove_all
-from .numbers import clean, fmt, md_escape
-from .planar import RESOLUTION, Arc, PlanarChain
-from .progress import stage_bar
 
-__all__ = ["Boundary", "BoundaryArc", "Loop", "build_boundary", "format_set", "prove_unreachable",
-           "unreachable_via_subchain", "witness_near"]
+__all__ = ["Boundary", "BoundaryArc", "Loop", "ArcTable", "build_boundary", "format_set", "prove_unreachable",
+           "outside_every_turn", "unreachable_via_subchain", "witness_near", "SLIVER_WIDTH"]
 
 _TWO_PI = 2 * math.pi
 
 
 @dataclass(frozen=True, slots=True, repr=False)     # the one-line repr of Arc
 class BoundaryArc(Arc):
-    """One arc of a boundary loop: an :class:`~workspace_sym.planar.Arc` in the loop's direction of travel.
+    """One arc of a boundary loop: an :class:`~workspace_sym.planar.arcs.Arc` in the loop's direction of travel.
 
     The free joint's interval in ``theta_sets`` is restricted to this arc;
     ``start_angle`` and ``end_angle`` follow the direction of travel
@@ -113,7 +114,7 @@ class ArcTable(list):
         return header, [[k, row["type"], *(shown(v) for v in row["theta_sets"])] for k, row in enumerate(self, 1)]
 
     def _repr_html_(self) -> str:
-        from .display import html_table
+        from ..display import html_table
 
         header, rows = self._cells()
         return html_table(header, rows, caption="Boundary arcs (Table 2 form)")
@@ -122,11 +123,6 @@ class ArcTable(list):
         header, rows = self._cells()
         return "\n".join(["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
                          + ["| " + " | ".join(md_escape(str(c)) for c in row) + " |" for row in rows]) + "\n"
-
-
-def _degrees(radians: float) -> float:
-    """An angle of the float geometry in degrees, without float noise (-60.0, not -59.99999999999999)."""
-    return clean(math.degrees(radians), scale=360.0)
 
 
 @dataclass(frozen=True)
@@ -140,7 +136,7 @@ class Loop:
 class Boundary:
     """The boundary of a planar chain's workspace (Step 2), with area, perimeter and point queries."""
 
-    chain: PlanarChain
+    chain: Any                # the PlanarChain (planar.chain), read by its attributes: the chain imports this module
     arcs: list
     loops: list
     counts: dict
@@ -162,7 +158,8 @@ class Boundary:
 
     @cached_property
     def exact(self) -> list[dict]:
-        """Closed forms of the arcs (:func:`workspace_sym.exact.closed_forms`), one dict per arc, computed once."""
+        """Closed forms of the arcs (:func:`~workspace_sym.planar.exact.closed_forms`), one dict per arc, computed
+        once."""
         return closed_forms(self)
 
     def _arc_arrays(self):
@@ -221,7 +218,7 @@ class Boundary:
                 if ex is not None:
                     sets.append(tuple(ex[k]["theta_sets"][j]))
                 else:
-                    sets.append(tuple(_degrees(v) for v in s))
+                    sets.append(tuple(degrees(v) for v in s))
             rows.append({"type": a.type, "free_joint": a.free_joint, "theta_sets": sets})
         return ArcTable(rows, joints=self.chain.p, exact=exact)
 
@@ -232,7 +229,7 @@ class Boundary:
         reach = self.chain.reach
         for k, a in enumerate(self.arcs):
             d = {"type": a.type, "free_joint": a.free_joint,
-                 "theta_sets": [[_degrees(v) for v in s] for s in a.theta_sets],
+                 "theta_sets": [[degrees(v) for v in s] for s in a.theta_sets],
                  "center": [clean(a.center[0], scale=reach), clean(a.center[1], scale=reach)],
                  "radius": clean(a.radius, scale=reach), "start_angle": clean(a.start_angle, scale=_TWO_PI),
                  "end_angle": clean(a.end_angle, scale=_TWO_PI), "side": a.side}
@@ -255,8 +252,8 @@ class Boundary:
 
     def _repr_html_(self) -> str:
         """Counts per step, loops, area, the Table-2-style table and the picture (Jupyter)."""
-        from .display import figure_html
-        from .plotting import plot_boundary_loops
+        from ..display import figure_html
+        from ..plotting import plot_boundary_loops
 
         c = self.counts
         lines = [f"{c['step0']} → {c['step1']} → {c['step2']} arcs after Steps 0 / 1 / 2, {self.seconds:.2f} s",
@@ -614,7 +611,7 @@ def _classify(chain, arr: Arrangement, kept, samples, seed, max_boxes, slivers=(
 
 def build_boundary(chain, *, samples: int = 4096, seed: int = 0, max_boxes: int = 4_000,
                    progress: bool | None = None) -> Boundary:
-    """Step 2 for ``chain`` (see :meth:`workspace_sym.planar.PlanarChain.boundary`)."""
+    """Step 2 for ``chain`` (see :meth:`workspace_sym.planar.chain.PlanarChain.boundary`)."""
     t0 = time.perf_counter()
     say = stage_bar(progress, "boundary", 4)
     say("steps 0 and 1")
