@@ -97,13 +97,15 @@ def format_set(values, digits: int = 4) -> str:
 
 class ArcTable(list):
     """:meth:`Boundary.table`: a list of ``{"type", "free_joint", "theta_sets"}`` dicts, one per arc, that Jupyter
-    displays as the table it is (HTML, or Markdown), held joints in braces and free ones as intervals."""
+    displays as the table it is (HTML drawn by :func:`workspace_sym.display.arc_table_html`, or Markdown), held
+    joints in braces and free ones as intervals."""
 
     def __init__(self, rows, *, joints: int, exact: bool = False):
         super().__init__(rows)
         self.joints, self.exact = joints, exact
 
-    def _cells(self) -> tuple[list, list]:
+    def cells(self) -> tuple[list, list]:
+        """The header and the rows of cells (text), one row per arc."""
         def shown(values):
             if not self.exact:
                 return format_set(values)
@@ -113,14 +115,8 @@ class ArcTable(list):
         header = ["#", "type"] + [f"θ{j + 1} (deg)" for j in range(self.joints)]
         return header, [[k, row["type"], *(shown(v) for v in row["theta_sets"])] for k, row in enumerate(self, 1)]
 
-    def _repr_html_(self) -> str:
-        from ..display import html_table
-
-        header, rows = self._cells()
-        return html_table(header, rows, caption="Boundary arcs (Table 2 form)")
-
     def _repr_markdown_(self) -> str:
-        header, rows = self._cells()
+        header, rows = self.cells()
         return "\n".join(["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
                          + ["| " + " | ".join(md_escape(str(c)) for c in row) + " |" for row in rows]) + "\n"
 
@@ -249,20 +245,6 @@ class Boundary:
     def __repr__(self):
         n = len(self.loops)
         return f"Boundary({len(self.arcs)} arcs, {n} loop{'' if n == 1 else 's'}, area {fmt(self.area, 6, 'g')})"
-
-    def _repr_html_(self) -> str:
-        """Counts per step, loops, area, the Table-2-style table and the picture (Jupyter)."""
-        from ..display import figure_html
-        from ..plotting import plot_boundary_loops
-
-        c = self.counts
-        lines = [f"{c['step0']} → {c['step1']} → {c['step2']} arcs after Steps 0 / 1 / 2, {self.seconds:.2f} s",
-                 f"area {fmt(self.area, 10, 'g')}, perimeter {fmt(self.perimeter, 10, 'g')}"]
-        lines += [f"{loop.kind} loop: arcs {', '.join(str(k + 1) for k in loop.arcs)}" for loop in self.loops]
-        if self.undecided_area:
-            lines.append(f"undecided faces of area {fmt(self.undecided_area, 3, 'g')}: the area is a lower bound")
-        picture = figure_html(plot_boundary_loops(self), alt="boundary loops") if self.arcs else ""
-        return "<p>" + "<br/>".join(lines) + "</p>" + self.table()._repr_html_() + picture
 
     def polygon(self, *, step: float = 0.01):
         """The loops as polylines (list of (n, 2) arrays) for drawing and polygon checks."""

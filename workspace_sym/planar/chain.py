@@ -158,15 +158,6 @@ class PlanarChain:
         return (f"PlanarChain(lengths={list(self.lengths)}, lower=[{deg(self.lower)}], "
                 f"upper=[{deg(self.upper)}])")
 
-    def _repr_html_(self) -> str:
-        """The joints (exact lengths, limits in degrees) and the reach (Jupyter)."""
-        from ..display import html_table
-
-        rows = [(k + 1, sp.sstr(self.exact_lengths[k]), degrees_text(self.lower[k]), degrees_text(self.upper[k]))
-                for k in range(self.p)]
-        return html_table(("joint", "length", "lower (deg)", "upper (deg)"), rows,
-                          caption=f"planar chain of {self.p} revolute joints, reach {fmt(self.reach, 10, 'g')}")
-
     # ------------------------------------------------------------------ kinematics
     def joints_positions(self, theta) -> np.ndarray:
         """``(..., p + 1, 2)`` array of ``P_0 = O, P_1, ..., P_p`` (vectorised over leading axes)."""
