@@ -136,14 +136,14 @@ def test_dh_robot_html_table_has_limits_in_degrees(glass):
 
 def test_planar_chain_html(arm_boundary):
     chain = arm_boundary.chain
-    page = chain._repr_html_()
+    page = to_html(chain)
     assert "93/500" in page and "<td>-60</td>" in page and "<td>130</td>" in page and "reach 0.44" in page
     assert one_short_line(repr(chain))
 
 
 def test_boundary_repr_and_html(arm_boundary):
     assert repr(arm_boundary) == "Boundary(8 arcs, 1 loop, area 0.268479)"
-    page = arm_boundary._repr_html_()
+    page = to_html(arm_boundary)
     assert "16 → 11 → 8 arcs" in page                                     # Bastien 2018, Table 1 iii
     assert "outer loop: arcs 1, 2, 3, 4, 5, 6, 7, 8" in page
     assert "[-60.0000, -55.1005]" in page and "{-10.0000}" in page         # Table 2, arc 8
@@ -282,17 +282,36 @@ def test_notebook_shows_sympy_results_as_mathml():
         assert "text/plain" in data                      # the plain form stays for consoles
 
 
+def test_notebook_shows_planar_results_through_display(arm_boundary):
+    """Issue 38: a planar chain, its boundary and the boundary's table of arcs no longer draw themselves (the planar
+    engine imports no presentation module); display registers their HTML with IPython by module and class name, so
+    a notebook shows the page of to_html: the counts of Bastien 2018, Table 1 (iii), and the picture."""
+    from IPython.core.interactiveshell import InteractiveShell
+
+    from workspace_sym.display import register_notebook_display
+
+    shell = InteractiveShell.instance()
+    assert register_notebook_display(shell)
+    for result, needle in ((arm_boundary.chain, "reach 0.44"), (arm_boundary, "16 → 11 → 8 arcs"),
+                           (arm_boundary.table(), "[-60.0000, -55.1005]")):
+        assert not hasattr(result, "_repr_html_")
+        data, _ = shell.display_formatter.format(result)
+        page = data["text/html"]
+        assert needle in page and page.split("<img")[0] == to_html(result).split("<img")[0]
+    assert '<img src="data:image/png;base64,' in shell.display_formatter.format(arm_boundary)[0]["text/html"]
+
+
 def test_boundary_table_displays_as_a_table(arm_boundary):
     """Issue 27: b.table() showed as a raw list of dicts in Jupyter.  It is still that list of dicts, and displays as
     a table: one row per arc (8 for case iii, Table 2 of Bastien 2018), a held joint in braces, a free one as an
     interval, -55.1005 among them; the exact table too."""
     rows = arm_boundary.table()
     assert isinstance(rows, list) and rows == [dict(r) for r in rows] and len(rows) == 8
-    page = rows._repr_html_()
+    page = to_html(rows)
     assert page.count("<tr>") == 1 + 8 and "θ3 (deg)" in page and "[-60.0000, -55.1005]" in page
     lines = rows._repr_markdown_().strip().splitlines()
     assert len(lines) == 2 + 8 and lines[0] == "| # | type | θ1 (deg) | θ2 (deg) | θ3 (deg) |"
     assert lines[2].startswith(f"| 1 | {rows[0]['type']} | ")
     exact = arm_boundary.table(exact=True)
-    assert len(exact) == 8 and exact._repr_html_().count("<tr>") == 1 + 8
+    assert len(exact) == 8 and to_html(exact).count("<tr>") == 1 + 8
     assert "-60" in exact._repr_markdown_() and "atan" in exact._repr_markdown_()

@@ -8,7 +8,6 @@ The flat public API, so that a notebook writes ``ws.DHRobot(...)``::
 """
 
 from . import answers, exercises, grading, robots, verify
-from .boundary import Boundary
 from .display import register_notebook_display as _register_notebook_display
 from .errors import (
     BoxError,
@@ -22,7 +21,6 @@ from .errors import (
     URDFError,
     WorkspaceError,
 )
-from .exact import exact_arcs, exact_area
 from .interval import Box, Certificate, Paving, RunOn, StopAt, certify_box, hausdorff, pave
 from .kinematics import (
     AnalyticJacobian,
@@ -36,7 +34,8 @@ from .kinematics import (
 )
 from .orthoglide import Orthoglide
 from .parallel import ConstraintModel, rpr2
-from .planar import Arc, PlanarChain
+from .planar import Arc, Boundary, PlanarChain
+from .planar.exact import exact_arcs, exact_area
 from .sampling import extent, reach_points, sample_joint_box, sweep_joints
 from .serial_workspace import Pose, reach
 from .symbolic import factor_trig, shorthand, textbook

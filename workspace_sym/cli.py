@@ -599,7 +599,7 @@ def _chain_from_args(args):
 
 
 def cmd_boundary(args) -> int:
-    from .boundary import format_set
+    from .planar.boundary import format_set
 
     chain = _chain_from_args(args)
     boundary = chain.boundary()

@@ -1,9 +1,11 @@
 """Rich display of results in Jupyter (IPython's display protocol) and textbook-shorthand expressions.
 
-Results a user holds (``DHRobot``, ``PlanarChain``, ``Boundary``, ``Paving``,
-the Orthoglide's results, ``Verdict``) define ``_repr_html_`` or
-``_repr_markdown_`` with the helpers of this module: HTML tables, a figure
-embedded as a PNG, numbers through :mod:`workspace_sym.numbers`.
+The results a user holds (``DHRobot``, ``PlanarChain``, ``Boundary`` and its
+table of arcs, ``Paving``, the Orthoglide's results) are drawn by functions of
+this module, which :func:`register_notebook_display` registers with IPython by
+name (the engines import no presentation; :func:`to_html` gives the same
+HTML): HTML tables, a figure embedded as a PNG, numbers through
+:mod:`workspace_sym.numbers`.
 
 :func:`textbook_form` turns ``cos(theta2 + theta3)`` into a function that is
 still the cosine of ``theta2 + theta3`` (it substitutes, differentiates and
@@ -36,12 +38,14 @@ import sys
 import sympy as sp
 
 from .numbers import clean, fmt, fmt_bound, fmt_bracket, measure_text
-from .plotting import plot_paving, plot_paving_slices
+from .planar.arcs import degrees_text
+from .plotting import plot_boundary_loops, plot_paving, plot_paving_slices
 from .report import Equations
 from .symbolic import plain, textbook_form
 
 __all__ = ["textbook_form", "plain", "html_table", "figure_html", "expr_text", "mathml", "register_notebook_display",
-           "to_html", "paving_html", "robot_html", "dextrous_html", "cube_html", "MAX_3D_BOXES_SHOWN"]
+           "to_html", "paving_html", "robot_html", "dextrous_html", "cube_html", "planar_chain_html", "boundary_html",
+           "arc_table_html", "MAX_3D_BOXES_SHOWN"]
 
 
 # ------------------------------------------------------------------ SymPy results in a notebook
@@ -217,12 +221,45 @@ def cube_html(result) -> str:
     return "".join(out)
 
 
+def planar_chain_html(chain) -> str:
+    """The joints (exact lengths, limits in degrees) and the reach of a
+    :class:`~workspace_sym.planar.chain.PlanarChain`: what a notebook shows of it."""
+    rows = [(k + 1, sp.sstr(chain.exact_lengths[k]), degrees_text(chain.lower[k]), degrees_text(chain.upper[k]))
+            for k in range(chain.p)]
+    return html_table(("joint", "length", "lower (deg)", "upper (deg)"), rows,
+                      caption=f"planar chain of {chain.p} revolute joints, reach {fmt(chain.reach, 10, 'g')}")
+
+
+def arc_table_html(table) -> str:
+    """A boundary's arcs in the form of Bastien's Table 2 (:meth:`~workspace_sym.planar.boundary.Boundary.table`,
+    an :class:`~workspace_sym.planar.boundary.ArcTable`) as an HTML table."""
+    header, rows = table.cells()
+    return html_table(header, rows, caption="Boundary arcs (Table 2 form)")
+
+
+def boundary_html(boundary) -> str:
+    """Counts per step, loops, area, the table of arcs and the picture of a
+    :class:`~workspace_sym.planar.boundary.Boundary`: what a notebook shows of it."""
+    c = boundary.counts
+    lines = [f"{c['step0']} → {c['step1']} → {c['step2']} arcs after Steps 0 / 1 / 2, {boundary.seconds:.2f} s",
+             f"area {fmt(boundary.area, 10, 'g')}, perimeter {fmt(boundary.perimeter, 10, 'g')}"]
+    lines += [f"{loop.kind} loop: arcs {', '.join(str(k + 1) for k in loop.arcs)}" for loop in boundary.loops]
+    if boundary.undecided_area:
+        lines.append(f"undecided faces of area {fmt(boundary.undecided_area, 3, 'g')}: the area is a lower bound")
+    picture = figure_html(plot_boundary_loops(boundary), alt="boundary loops") if boundary.arcs else ""
+    return ("<p>" + "<br/>".join(html.escape(t) for t in lines) + "</p>" + arc_table_html(boundary.table())
+            + picture)
+
+
 _RESULTS = [("workspace_sym.kinematics", "DHRobot", robot_html),
             ("workspace_sym.orthoglide.certificate", "DextrousResult", dextrous_html),
             ("workspace_sym.orthoglide.cube", "CubeResult", cube_html),
             ("workspace_sym.interval.boxes", "Paving", paving_html),
             ("workspace_sym.interval.boxes", "StoredPaving", paving_html),
-            ("workspace_sym.serial.api", "ReachResult", paving_html)]
+            ("workspace_sym.serial.api", "ReachResult", paving_html),
+            ("workspace_sym.planar.chain", "PlanarChain", planar_chain_html),
+            ("workspace_sym.planar.boundary", "Boundary", boundary_html),
+            ("workspace_sym.planar.boundary", "ArcTable", arc_table_html)]
 
 
 def to_html(obj) -> str:

@@ -10,6 +10,9 @@ into ``0.0`` (the same number), while :func:`clean` snaps to a nearby short
 decimal and is meant for float-geometry values (angles of a boundary, centres
 of arcs), not for the ends of a proved bracket.
 
+:func:`md_escape` makes plain text inert in Markdown, for the tables a
+result shows in a notebook and for reports (:mod:`workspace_sym.report`).
+
 Examples
 --------
 >>> clean(-59.99999999999999), clean(7.95e-15, scale=360), clean(-0.0)
@@ -25,7 +28,7 @@ from __future__ import annotations
 import math
 import re
 
-__all__ = ["clean", "fmt", "fmt_bound", "fmt_bracket", "measure_text", "clean_json"]
+__all__ = ["clean", "fmt", "fmt_bound", "fmt_bracket", "measure_text", "clean_json", "md_escape"]
 
 _NOISE = 1e-12          # relative size of the float noise that clean() removes
 _SHORT = 9              # a "short" decimal has at most this many significant digits
@@ -147,3 +150,25 @@ def clean_json(obj):
     if type(obj).__module__ == "numpy" and hasattr(obj, "item"):
         return clean_json(obj.item())
     return obj
+
+
+_MD_SPECIAL = re.compile(r"[\\`*_|$~]")
+_MD_LINE_START = re.compile(r"^(\s*)([#>=+-]|\d+[.)])")
+
+
+def md_escape(text, *, block: bool = False) -> str:
+    r"""Plain text made inert in Markdown (CommonMark and GitHub tables): on one line, markup characters
+    backslash-escaped, ``<`` and ``&`` as entities (no inline HTML), no link; with ``block`` (a paragraph of
+    its own) no block marker (heading, list, quote) at the start either.
+
+    Examples
+    --------
+    >>> print(md_escape("|p|^2 <b>x</b> & *a_1*"))
+    \|p\|^2 &lt;b>x&lt;/b> &amp; \*a\_1\*
+    >>> print(md_escape("# [site](http://x)\n- item", block=True))
+    \# [site]\(http://x) - item
+    """
+    text = " ".join(str(text).split())
+    text = text.replace("&", "&amp;").replace("<", "&lt;")
+    text = _MD_SPECIAL.sub(lambda m: "\\" + m.group(), text).replace("](", "]\\(")
+    return _MD_LINE_START.sub(lambda m: m.group(1) + "\\" + m.group(2), text) if block else text

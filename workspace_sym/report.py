@@ -26,7 +26,7 @@ import sympy as sp
 
 from .errors import SymbolicBudgetError
 from .files import publish_dir
-from .numbers import fmt, fmt_bound, fmt_bracket, measure_text
+from .numbers import fmt, fmt_bound, fmt_bracket, md_escape, measure_text
 
 __all__ = ["Document", "dh_robot_report", "orthoglide_report", "paving_report", "planar_report", "reproducibility",
            "tex_escape", "md_escape", "number", "DEGREE", "Equations"]
@@ -75,28 +75,6 @@ def tex_escape(text: str, *, math: bool = True) -> str:
             part = part.replace("|", "\\textbar{}").replace("<", "\\textless{}").replace(">", "\\textgreater{}")
         parts[k] = part.replace("\0", "\\textbackslash{}").replace("°", "\\ensuremath{^\\circ}")
     return "$".join(parts)
-
-
-_MD_SPECIAL = re.compile(r"[\\`*_|$~]")
-_MD_LINE_START = re.compile(r"^(\s*)([#>=+-]|\d+[.)])")
-
-
-def md_escape(text, *, block: bool = False) -> str:
-    r"""Plain text made inert in Markdown (CommonMark and GitHub tables): on one line, markup characters
-    backslash-escaped, ``<`` and ``&`` as entities (no inline HTML), no link; with ``block`` (a paragraph of
-    its own) no block marker (heading, list, quote) at the start either.
-
-    Examples
-    --------
-    >>> print(md_escape("|p|^2 <b>x</b> & *a_1*"))
-    \|p\|^2 &lt;b>x&lt;/b> &amp; \*a\_1\*
-    >>> print(md_escape("# [site](http://x)\n- item", block=True))
-    \# [site]\(http://x) - item
-    """
-    text = " ".join(str(text).split())
-    text = text.replace("&", "&amp;").replace("<", "&lt;")
-    text = _MD_SPECIAL.sub(lambda m: "\\" + m.group(), text).replace("](", "]\\(")
-    return _MD_LINE_START.sub(lambda m: m.group(1) + "\\" + m.group(2), text) if block else text
 
 
 def number(value, spec: str = ".6f") -> str:
@@ -729,7 +707,7 @@ def planar_verification(boundary, exact_rows=None, *, samples: int = 20000, seed
     outside the loops, every boundary arc's configurations inside the joint
     limits and on the arc, and how each face of the arrangement was decided.
     """
-    from .exact import exact_area
+    from .planar.exact import exact_area
 
     chain = boundary.chain
     checks = []
@@ -786,8 +764,8 @@ def planar_report(chain, out, *, command: str | None = None, title: str | None =
     With ``paving`` (a :class:`~workspace_sym.interval.Paving`) a section
     summarises that certified covering as well.  Returns the Markdown path.
     """
-    from .boundary import format_set
-    from .exact import area_terms
+    from .planar.boundary import format_set
+    from .planar.exact import area_terms
     from .plotting import plot_boundary_loops, plot_planar_step, save_figure
 
     out = Path(out)

@@ -308,13 +308,13 @@ _SNAP = 1e-3            # radians: a witness angle this close to a limit or a mu
 def _chain_image(chain):
     """The chain's end point as an :class:`~workspace_sym.interval.image.ImageMap` of its joints (exact lengths
     and limits), built once per chain."""
-    from .exact import _u
     from .interval.image import ImageMap
+    from .planar.exact import link_direction
 
     if "_image_map" not in chain.__dict__:
         theta = sp.symbols(f"theta1:{chain.p + 1}")
         phi = np.cumsum(np.array(theta, dtype=object))
-        end = sum((L * _u(a) for L, a in zip(chain.exact_lengths, phi)), sp.zeros(2, 1))
+        end = sum((L * link_direction(a) for L, a in zip(chain.exact_lengths, phi)), sp.zeros(2, 1))
         chain._image_map = ImageMap(list(end), theta, list(zip(chain.exact_lower, chain.exact_upper)),
                                     [False] * chain.p)
     return chain._image_map
@@ -323,7 +323,7 @@ def _chain_image(chain):
 def _exact_witness(chain, theta, target) -> list | None:
     """Exact joint values near ``theta`` (each a limit or a multiple of 15 degrees) whose end point is exactly
     ``target``, proved in exact arithmetic; None when there are none."""
-    from .exact import _is_zero, _u
+    from .planar.exact import is_zero, link_direction
 
     config = []
     for t, lo, hi in zip(theta, chain.exact_lower, chain.exact_upper):
@@ -333,8 +333,8 @@ def _exact_witness(chain, theta, target) -> list | None:
             return None
         config.append(best)
     phi = np.cumsum(np.array(config, dtype=object))
-    end = sum((L * _u(a) for L, a in zip(chain.exact_lengths, phi)), sp.zeros(2, 1))
-    return config if all(_is_zero(end[i] - target[i]) for i in range(2)) else None
+    end = sum((L * link_direction(a) for L, a in zip(chain.exact_lengths, phi)), sp.zeros(2, 1))
+    return config if all(is_zero(end[i] - target[i]) for i in range(2)) else None
 
 
 def _proved_inside(chain, theta, target):
@@ -364,7 +364,7 @@ def check_reachable(chain, point, *, max_boxes: int = 500_000, seed: int = 0,
       near the numeric witness reaches the point exactly;
     - unreachable (``ok`` False): ``"reach bound"``, ``|point|`` exceeds the
       sum of the lengths in exact arithmetic; or ``"interval exclusion"``
-      (:func:`~workspace_sym.boundary.prove_unreachable`);
+      (:func:`~workspace_sym.planar.boundary.prove_unreachable`);
     - undecided (``ok`` None): ``"within tolerance"``, a configuration
       reaches a point within ``tol`` times the reach but nothing proves the
       point reached or not (a numeric witness is never a proof); or
@@ -377,13 +377,13 @@ def check_reachable(chain, point, *, max_boxes: int = 500_000, seed: int = 0,
     >>> [check_reachable(arm, p).evidence["method"] for p in [(2, 0), (2 + 1e-10, 0), (0.5, 1.5), (0.5, 1.2)]]
     ['exact witness', 'reach bound', 'interval existence proof', 'interval exclusion']
     """
-    from .boundary import prove_unreachable, witness_near
-    from .planar import _read_value
+    from .planar.boundary import prove_unreachable, witness_near
+    from .planar.chain import read_value
 
     flat = list(np.ravel(np.asarray(point, dtype=object)))
     if len(flat) != 2:
         raise InvalidParameterError(f"point must be two numbers (x, y); got {point!r:.60}", parameter="point")
-    read = [_read_value(v, "point") for v in flat]
+    read = [read_value(v, "point") for v in flat]
     q, target = np.array([f for f, _ in read]), [e for _, e in read]
     reach = sum(chain.exact_lengths)
     if sp.expand(target[0] ** 2 + target[1] ** 2 - reach**2).is_positive:

@@ -1,4 +1,4 @@
-"""Planar serial chains with joint limits: the alignment method of Bastien (2018).
+"""Planar serial chains with joint limits: Steps 0 and 1 of the alignment method of Bastien (2018).
 
 Notation of docs/methods.md section 4, with 0-based indices in the code: segment
 ``k`` goes from ``P_k`` to ``P_{k+1}`` with length ``l_k``; ``theta_0`` is
@@ -14,39 +14,31 @@ Joint numbers shown to users are 1-based, as in the paper.
   the scalar-product test of Lemma 3.1, vectorised over the candidates.
 * Step 2 (:meth:`PlanarChain.boundary`) builds the arrangement of the kept arcs,
   proves which of its faces belong to the workspace and returns the boundary
-  loops (:class:`workspace_sym.boundary.Boundary`).  It lives in
-  :mod:`workspace_sym.boundary`, which builds on this module;
-  :meth:`PlanarChain.boundary` reaches it through a one-way lazy import.
+  loops (:class:`~workspace_sym.planar.boundary.Boundary`).  It lives in
+  :mod:`workspace_sym.planar.boundary`, which this module imports; the boundary
+  reads the chain by its attributes and imports nothing from here.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from fractions import Fraction
 from functools import cached_property
 from numbers import Integral, Number
-from typing import TYPE_CHECKING
 
 import numpy as np
 import sympy as sp
 
-from .errors import ExpressionError, InvalidParameterError
-from .expressions import check_joint_limits, parse_expr
-from .numbers import clean, fmt
+from ..errors import ExpressionError, InvalidParameterError
+from ..expressions import check_joint_limits, parse_expr
+from ..numbers import fmt
+from .arcs import RESOLUTION, Arc, degrees_text
+from .boundary import Boundary, build_boundary
 
-if TYPE_CHECKING:
-    from .boundary import Boundary
-
-__all__ = ["PlanarChain", "Arc"]
+__all__ = ["PlanarChain", "read_value"]
 
 _TOL = 1e-12          # angles (radians) and lengths relative to the chain's reach
 _ZERO_B = 1e-9        # |B_j| <= _ZERO_B |u| |v_j| counts as B_j = 0 (Lemma 3.1)
-# The finest detail Step 2 resolves, relative to the reach: faces narrower than this are merged
-# (boundary.SLIVER_WIDTH).  A joint whose range falls short of a full turn by at most twice this many radians
-# is a full turn: each angle it leaves out lies within RESOLUTION of a limit, so the points only they reach
-# lie within RESOLUTION * reach of the workspace of the limited joint.
-RESOLUTION = 1e-7
 _SAFE_LENGTHS = (1e-100, 1e100)   # the longest link: its square times the number of faces stays a normal float
 _TWO_PI = 2 * math.pi
 
@@ -58,51 +50,7 @@ def _wrap(a):
     return a - np.pi
 
 
-@dataclass(frozen=True, slots=True)
-class Arc:
-    """A circular arc of the workspace boundary (or a candidate for it).
-
-    ``theta_sets[k]`` is ``(value,)`` for a joint held at a limit or at an
-    alignment angle, ``(low, high)`` for the free joint (radians).  ``center``,
-    ``radius``; ``start_angle`` / ``end_angle`` are polar angles about the
-    centre (radians, counter-clockwise from start to end as the free joint
-    increases).  ``side`` is +1 when the workspace lies locally away from the
-    centre, -1 towards it, 0 before Step 1.
-    """
-
-    type: str
-    free_joint: int
-    theta_sets: tuple
-    center: tuple[float, float]
-    radius: float
-    start_angle: float
-    end_angle: float
-    side: int = 0
-
-    def configuration(self, theta_free: float) -> np.ndarray:
-        """The joint vector of the point of the arc where the free joint is ``theta_free``."""
-        theta = np.array([s[0] for s in self.theta_sets])
-        theta[self.free_joint - 1] = theta_free
-        return theta
-
-    def point(self, angle: float) -> np.ndarray:
-        """The point of the circle at polar angle ``angle``."""
-        return np.array([self.center[0] + self.radius * math.cos(angle),
-                         self.center[1] + self.radius * math.sin(angle)])
-
-    def __repr__(self):
-        sets = ", ".join(f"{{{fmt(math.degrees(s[0]))}}}" if len(s) == 1 else
-                         f"[{fmt(math.degrees(s[0]))}, {fmt(math.degrees(s[1]))}]" for s in self.theta_sets)
-        return (f"Arc({self.type}, joint {self.free_joint}, centre ({fmt(self.center[0], 6, 'g')}, "
-                f"{fmt(self.center[1], 6, 'g')}), r = {fmt(self.radius, 6, 'g')}, deg: {sets}, side {self.side:+d})")
-
-
-def _degrees_text(radians: float) -> str:
-    """A joint limit as given in degrees: ``-60``, not ``-59.99999999999999``."""
-    return fmt(clean(math.degrees(radians), scale=360.0), 10, "g")
-
-
-def _read_value(value, name: str):
+def read_value(value, name: str):
     """A user number as ``(float, exact SymPy number)``; decimals are read as the rationals they spell.
 
     Text goes through :func:`~workspace_sym.expressions.parse_expr` (no symbols allowed).
@@ -170,7 +118,7 @@ class PlanarChain:
         unit = "deg" if degrees else "rad"
         floats, exact = [], []
         for k, (l, lo, hi) in enumerate(zip(lengths, lower, upper), start=1):
-            row = [_read_value(v, f"{name} of joint {k}")
+            row = [read_value(v, f"{name} of joint {k}")
                    for name, v in (("length", l), ("lower limit", lo), ("upper limit", hi))]
             (l, _), (lo, _), (hi, _) = row
             if l <= 0:
@@ -205,19 +153,10 @@ class PlanarChain:
 
     def __repr__(self):
         def deg(v):
-            return ", ".join(_degrees_text(x) for x in v)
+            return ", ".join(degrees_text(x) for x in v)
 
         return (f"PlanarChain(lengths={list(self.lengths)}, lower=[{deg(self.lower)}], "
                 f"upper=[{deg(self.upper)}])")
-
-    def _repr_html_(self) -> str:
-        """The joints (exact lengths, limits in degrees) and the reach (Jupyter)."""
-        from .display import html_table
-
-        rows = [(k + 1, sp.sstr(self.exact_lengths[k]), _degrees_text(self.lower[k]), _degrees_text(self.upper[k]))
-                for k in range(self.p)]
-        return html_table(("joint", "length", "lower (deg)", "upper (deg)"), rows,
-                          caption=f"planar chain of {self.p} revolute joints, reach {fmt(self.reach, 10, 'g')}")
 
     # ------------------------------------------------------------------ kinematics
     def joints_positions(self, theta) -> np.ndarray:
@@ -392,8 +331,9 @@ class PlanarChain:
         return PlanarChain(self.lengths[1:], self.lower[1:], self.upper[1:], degrees=False)
 
     # ------------------------------------------------------------------ Step 2
-    def boundary(self, *, samples: int = 4096, seed: int = 0, max_boxes: int = 4_000, progress: bool | None = None):
-        """Step 2: the workspace boundary as loops of arcs (:class:`~workspace_sym.boundary.Boundary`).
+    def boundary(self, *, samples: int = 4096, seed: int = 0, max_boxes: int = 4_000,
+                 progress: bool | None = None) -> Boundary:
+        """Step 2: the workspace boundary as loops of arcs (:class:`~workspace_sym.planar.boundary.Boundary`).
 
         The kept arcs cut the plane into faces; every face lies wholly inside or
         wholly outside the workspace.  A face is proved inside by Lemma 3.1 (a
@@ -408,8 +348,6 @@ class PlanarChain:
         """
         key = (samples, seed, max_boxes)
         if key not in self._boundaries:
-            from .boundary import build_boundary  # boundary builds on this module: import one way, lazily
-
             self._boundaries[key] = build_boundary(self, samples=samples, seed=seed, max_boxes=max_boxes,
                                                     progress=progress)
         return self._boundaries[key]
