@@ -7,7 +7,7 @@ The flat public API, so that a notebook writes ``ws.DHRobot(...)``::
     robot.to_str(robot.position[0])   # 'c1*(a1 + a2*c2 + a3*c23 + d5*s234)'
 """
 
-from . import answers, exercises, grading, robots, verify
+from . import answers, exercises, grading, readers, robots, verify  # readers: fills kinematics.READERS
 from .display import register_notebook_display as _register_notebook_display
 from .errors import (
     BoxError,
@@ -45,6 +45,7 @@ _register_notebook_display()          # inside IPython: SymPy results display as
 
 __all__ = [
     "robots",
+    "readers",
     "WorkspaceError",
     "BoxError",
     "ConstraintError",

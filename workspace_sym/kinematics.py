@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field, replace
 from functools import cached_property
@@ -62,6 +63,7 @@ __all__ = [
     "numeric_function",
     "CONVENTIONS",
     "EULER_CONVENTIONS",
+    "READERS",
 ]
 
 CONVENTIONS = ("standard", "modified")
@@ -236,6 +238,22 @@ def check_joint_count(n: int) -> None:
                            f"joint); got {n}", parameter="joints")
 
 
+READERS: dict[str, Callable[..., DHRobot]] = {}
+"""The readers of robot descriptions, by format: ``"dh"`` (a DH-file dictionary), ``"dh_file"`` (a DH JSON file),
+``"urdf"``, ``"mjcf"``.  The readers build on this module, so it never imports them: :mod:`workspace_sym.readers`
+registers them here when it is imported (``import workspace_sym`` imports it), and ``DHRobot.from_dict``,
+``from_file``, ``from_urdf`` and ``from_mjcf`` look them up."""
+
+
+def _reader(kind: str) -> Callable[..., DHRobot]:
+    """The reader registered for ``kind`` in :data:`READERS`."""
+    reader = READERS.get(kind)
+    if reader is None:
+        raise RuntimeError(f"no reader of {kind!r} robot descriptions is registered in workspace_sym.kinematics."
+                           "READERS; import workspace_sym.readers, which registers them (import workspace_sym does)")
+    return reader
+
+
 class DHRobot:
     """A serial robot described by a DH table.
 
@@ -299,25 +317,22 @@ class DHRobot:
     # ------------------------------------------------------------------ construction
     @classmethod
     def from_dict(cls, data: dict, *, name: str = "robot", exact: bool = True, tol: float = DEFAULT_TOL) -> DHRobot:
-        """Build a robot from the DH-file dictionary of INTERFACE.md: :func:`workspace_sym.dh_file.read_dh`.
+        """Build a robot from a DH-file dictionary: :func:`workspace_sym.readers.read_dh`.
 
-        Floats are made exact where they clearly are (``exact``, ``tol``; listed in ``robot.input_notes``).
+        The format is that of ``docs/cli.md``, section "DH files".  Floats are made exact where they clearly are
+        (``exact``, ``tol``; listed in ``robot.input_notes``).
 
         Examples
         --------
         >>> DHRobot.from_dict({"joints": [{"d": 0, "a": 0.4318, "alpha": 90.0}]}).joints[0]
         DHJoint(R: theta=theta1, d=0, a=2159/5000, alpha=pi/2)
         """
-        from .dh_file import read_dh  # the reader builds on this module
-
-        return read_dh(data, name=name, exact=exact, tol=tol)
+        return _reader("dh")(data, name=name, exact=exact, tol=tol)
 
     @classmethod
     def from_file(cls, path, *, exact: bool = True, tol: float = DEFAULT_TOL) -> DHRobot:
-        """Read a DH JSON file: :func:`workspace_sym.dh_file.read_dh_file`."""
-        from .dh_file import read_dh_file
-
-        return read_dh_file(path, exact=exact, tol=tol)
+        """Read a DH JSON file: :func:`workspace_sym.readers.read_dh_file`."""
+        return _reader("dh_file")(path, exact=exact, tol=tol)
 
     @classmethod
     def from_urdf(cls, path, *, base_link: str | None = None, tip_link: str | None = None, exact: bool = True,
@@ -327,24 +342,20 @@ class DHRobot:
         Every chain of revolute and prismatic joints has a standard DH table
         once constant base and tool transforms are allowed; it is extracted
         exactly, and ``fk()`` equals the URDF's own forward kinematics.  See
-        :func:`workspace_sym.urdf.read_urdf` (needs the ``urdf`` extra, yourdfpy).
+        :func:`workspace_sym.readers.read_urdf` (needs the ``urdf`` extra, yourdfpy).
         The file is read as data; only a file named ``*.xacro`` is expanded (the
         ``xacro`` extra, ``packages`` naming the directories of its
         ``$(find pkg)``, ``xacro_args`` the values of its ``$(arg name)``),
         which runs the code it holds: expand only files you would run.
         """
-        from .urdf import read_urdf  # optional dependency; urdf builds on this module
-
-        return read_urdf(path, base_link=base_link, tip_link=tip_link, exact=exact, tol=tol, packages=packages,
-                         xacro_args=xacro_args)
+        return _reader("urdf")(path, base_link=base_link, tip_link=tip_link, exact=exact, tol=tol,
+                               packages=packages, xacro_args=xacro_args)
 
     @classmethod
     def from_mjcf(cls, path, *, base_link: str | None = None, tip_link: str | None = None, exact: bool = True,
                   tol: float = DEFAULT_TOL) -> DHRobot:
-        """The chain of bodies ``base_link -> tip_link`` of a MuJoCo file: :func:`workspace_sym.mjcf.read_mjcf`."""
-        from .mjcf import read_mjcf  # mjcf builds on this module
-
-        return read_mjcf(path, base_link=base_link, tip_link=tip_link, exact=exact, tol=tol)
+        """The chain of bodies ``base_link -> tip_link`` of a MuJoCo file: :func:`workspace_sym.readers.read_mjcf`."""
+        return _reader("mjcf")(path, base_link=base_link, tip_link=tip_link, exact=exact, tol=tol)
 
     # ------------------------------------------------------------------ basics
     @property

@@ -1,0 +1,345 @@
+"""Serial chains of MuJoCo models (MJCF), turned into exact DH robots as URDF chains are.
+
+An MJCF body sits at ``pos`` and an orientation (``quat``, ``euler``,
+``axisangle``, ``xyaxes`` or ``zaxis``) in its parent body's frame; each of its
+joints moves it, in document order, about (``hinge``) or along (``slide``)
+``axis`` through ``pos``, both in the body's frame, by ``q - ref``.  So a body
+is the constant transform ``Trans(pos) R`` followed, for each joint, by
+``Trans(p) Motion(axis, q) Rot/Trans(axis, -ref) Trans(-p)``: a URDF chain of
+fixed and moving joints, and :mod:`.chain` turns that into a
+standard DH table with base and tool transforms, exactly as for a URDF file
+(same snapping of floats, same notes).  Angles are degrees unless
+``<compiler angle="radian">``; ``eulerseq`` is honoured; joint attributes
+come from ``<default>`` classes (``class``, ``childclass``) as in MuJoCo; a
+joint is limited when ``limited="true"``, or ``"auto"`` (the default) with a
+``range``.
+
+The file is untrusted data: it is parsed with defusedxml
+(:func:`workspace_sym.files.read_xml`), which refuses document type
+declarations (entities) in every encoding; numbers are read strictly (a
+decimal or exponent literal, finite, the expected count), and an error names
+the element and the attribute.  ``<include>`` is refused.  Reading needs the
+``urdf`` extra (defusedxml, and the transform helpers).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import MJCFError
+from ..files import read_xml
+from ..kinematics import DHRobot
+from ..snap import DEFAULT_TOL, Snapper
+from .chain import dh_robot
+
+__all__ = ["read_mjcf"]
+
+_NUMBER = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?\Z")
+_ORIENTATIONS = ("quat", "axisangle", "euler", "xyaxes", "zaxis")
+_DEFAULT_CLASS = "main"
+
+
+@dataclass(frozen=True, slots=True)
+class _Limit:
+    lower: float
+    upper: float
+    placeholder: bool = False     # an unlimited slide joint (URDF has no such joint): dropped after the extraction
+
+
+@dataclass(frozen=True, slots=True)
+class _Joint:
+    """A URDF-shaped joint (what :func:`.chain.dh_robot` reads): a constant origin, then a motion."""
+
+    name: str
+    type: str
+    origin: np.ndarray
+    axis: tuple = (0.0, 0.0, 1.0)
+    limit: _Limit | None = None
+
+
+def read_mjcf(path, *, base_link: str | None = None, tip_link: str | None = None, exact: bool = True,
+              tol: float = DEFAULT_TOL) -> DHRobot:
+    """The serial chain ``base_link -> tip_link`` (body names) of an MJCF file as an exact DH robot.
+
+    ``base_link`` defaults to the world body; ``tip_link`` to the one leaf body
+    below it reached through a joint.  Hinge and slide joints only; ``exact``
+    and ``tol`` as for :func:`workspace_sym.urdf.read_urdf`.  ``fk()`` is the
+    pose of the tip body's frame in the base body's frame.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> text = '''<mujoco model="arm"><worldbody>
+    ...   <body name="upper"><joint type="hinge" axis="0 0 1" range="-150 150"/>
+    ...     <body name="fore" pos="0.4 0 0"><joint axis="0 0 1"/>
+    ...       <body name="tip" pos="0.3 0 0"/></body></body></worldbody></mujoco>'''
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "arm.xml"
+    >>> _ = path.write_text(text)
+    >>> robot = read_mjcf(path)
+    >>> robot.joints[0]
+    DHJoint(R: theta=theta1, d=0, a=2/5, alpha=0, limits=[-5*pi/6, 5*pi/6])
+    >>> robot.to_str(robot.position[0])
+    '0.4*c1 + 0.3*c12'
+    """
+    path = Path(path)
+    root = _parse(path)
+    compiler = {}
+    for c in root.iter("compiler"):
+        compiler.update(c.attrib)
+    if compiler.get("coordinate", "local") != "local":
+        raise MJCFError(f"--mjcf: <compiler coordinate={compiler['coordinate']!r}> is not supported (only "
+                        "'local', the only value MuJoCo 2.3 and later accept)", parameter="mjcf")
+    angle = compiler.get("angle", "degree")
+    if angle not in ("degree", "radian"):
+        raise MJCFError(f"--mjcf: <compiler angle> must be 'degree' or 'radian'; got {angle!r}", parameter="mjcf")
+    seq = compiler.get("eulerseq", "xyz")
+    if not re.fullmatch(r"[xyzXYZ]{3}", seq):
+        raise MJCFError(f"--mjcf: <compiler eulerseq> must be three of x, y, z, X, Y, Z; got {seq!r}",
+                        parameter="mjcf")
+    model = _Model(root, degrees=angle == "degree", eulerseq=seq)
+    base = model.body(base_link or "world", "base_link")
+    tip = model.body(tip_link, "tip_link") if tip_link is not None else model.leaf(base)
+    chain = model.chain(base, tip)
+    robot = dh_robot(root.get("model") or path.stem, chain, Snapper(exact=exact, tol=tol), model.name(base),
+                      model.name(tip))
+    return _without_placeholder_limits(robot, chain)
+
+
+# ---------------------------------------------------------------------------- reading the file
+def _parse(path: Path) -> ET.Element:
+    root = read_xml(path, "path", kind="MJCF", error=MJCFError)
+    if root.tag == "robot":
+        raise MJCFError(f"path: {str(path)!r} is a URDF file (root element <robot>), not an MJCF model; read it as "
+                        "URDF (DHRobot.from_urdf, --urdf FILE)", parameter="path")
+    if root.tag != "mujoco":
+        raise MJCFError(f"path: {str(path)!r} is not an MJCF model (root element <{root.tag}>, expected <mujoco>)",
+                        parameter="path")
+    if root.find(".//include") is not None:
+        raise MJCFError(f"--mjcf: {str(path)!r} uses <include>; merge the included files first", parameter="mjcf")
+    return root
+
+
+def _where(element: ET.Element) -> str:
+    name = element.get("name")
+    return f"<{element.tag}{' name=' + repr(name) if name else ''}>"
+
+
+def _numbers(element: ET.Element, attribute: str, count: int, attrs: dict | None = None) -> list[float] | None:
+    """The attribute as exactly ``count`` finite numbers, or None when absent."""
+    text = (attrs if attrs is not None else element.attrib).get(attribute)
+    if text is None:
+        return None
+    tokens = text.split()
+    if len(tokens) != count or not all(_NUMBER.match(t) for t in tokens):
+        raise MJCFError(f"--mjcf: {_where(element)} {attribute}: expected {count} numbers; got {text[:60]!r}",
+                        parameter="mjcf")
+    values = [float(t) for t in tokens]
+    if not all(math.isfinite(v) for v in values):
+        raise MJCFError(f"--mjcf: {_where(element)} {attribute}: numbers must be finite; got {text[:60]!r}",
+                        parameter="mjcf")
+    return values
+
+
+def _given(element: ET.Element, attribute: str, count: int) -> list[float]:
+    """:func:`_numbers` of an attribute the caller found in ``element``."""
+    values = _numbers(element, attribute, count)
+    assert values is not None
+    return values
+
+
+def _rotation(axis, angle: float) -> np.ndarray:
+    """Rodrigues' rotation about a unit ``axis`` by ``angle`` radians."""
+    x, y, z = axis
+    K = np.array([[0, -z, y], [z, 0, -x], [-y, x, 0]])
+    return np.eye(3) + math.sin(angle) * K + (1 - math.cos(angle)) * K @ K
+
+
+def _unit(v, element, attribute) -> np.ndarray:
+    v = np.asarray(v, dtype=float)
+    n = float(np.linalg.norm(v))
+    if n < 1e-12:
+        raise MJCFError(f"--mjcf: {_where(element)} {attribute}: a zero vector {v.tolist()} has no direction",
+                        parameter="mjcf")
+    return v / n
+
+
+def _homogeneous(R=None, p=(0.0, 0.0, 0.0)) -> np.ndarray:
+    T = np.eye(4)
+    if R is not None:
+        T[:3, :3] = R
+    T[:3, 3] = p
+    return T
+
+
+class _Model:
+    """The body tree, the default classes and the compiler settings of one MJCF file."""
+
+    def __init__(self, root: ET.Element, *, degrees: bool, eulerseq: str):
+        self.degrees, self.eulerseq = degrees, eulerseq
+        self.defaults: dict[str, dict] = {}
+        for d in root.findall("default"):
+            self._read_defaults(d, {}, top=True)
+        world = root.find("worldbody")
+        if world is None:
+            raise MJCFError("--mjcf: the model has no <worldbody>", parameter="mjcf")
+        self.parent: dict[ET.Element, ET.Element | None] = {world: None}
+        self.childclass: dict[ET.Element, str] = {world: _DEFAULT_CLASS}
+        self.bodies: dict[str, ET.Element] = {"world": world}
+        self._walk(world)
+
+    def _read_defaults(self, element: ET.Element, inherited: dict, top: bool = False) -> None:
+        name = element.get("class", _DEFAULT_CLASS if top else None)
+        if name is None:
+            raise MJCFError("--mjcf: a nested <default> needs a class attribute", parameter="mjcf")
+        joint = dict(inherited)
+        for j in element.findall("joint"):
+            joint.update(j.attrib)
+        self.defaults[name] = joint
+        for child in element.findall("default"):
+            self._read_defaults(child, joint)
+
+    def _walk(self, body: ET.Element) -> None:
+        for child in body:
+            if child.tag == "frame":
+                raise MJCFError("--mjcf: <frame> elements are not supported; write their pose into the bodies",
+                                parameter="mjcf")
+            if child.tag != "body":
+                continue
+            self.parent[child] = body
+            self.childclass[child] = child.get("childclass", self.childclass[body])
+            name = child.get("name")
+            if name is not None:
+                if name in self.bodies:
+                    raise MJCFError(f"--mjcf: two bodies are named {name!r}", parameter="mjcf")
+                self.bodies[name] = child
+            self._walk(child)
+
+    def name(self, body: ET.Element) -> str:
+        return next((k for k, v in self.bodies.items() if v is body), "unnamed body")
+
+    def body(self, name: str, parameter: str) -> ET.Element:
+        if name not in self.bodies:
+            shown = ", ".join(map(repr, list(self.bodies)[:12]))
+            raise MJCFError(f"{parameter}: no body {name!r} in the model; bodies: {shown}", parameter=parameter)
+        return self.bodies[name]
+
+    def _joints(self, body: ET.Element) -> list[ET.Element]:
+        return [e for e in body if e.tag in ("joint", "freejoint")]
+
+    def leaf(self, base: ET.Element) -> ET.Element:
+        """The one leaf body below ``base`` reached through a joint."""
+        leaves, stack = [], [(base, False)]
+        while stack:
+            body, moved = stack.pop()
+            below = [c for c in body if c.tag == "body"]
+            if not below and moved:
+                leaves.append(body)
+            stack.extend((c, moved or bool(self._joints(c))) for c in below)
+        if len(leaves) != 1:
+            found = f"{len(leaves)} leaf bodies moved by joints" if leaves else "no body moved by a joint"
+            raise MJCFError(f"tip_link: the model has {found} below {self.name(base)!r}; name the tip body",
+                            parameter="tip_link")
+        return leaves[0]
+
+    def chain(self, base: ET.Element, tip: ET.Element) -> list[_Joint]:
+        """URDF-shaped joints from ``base`` to ``tip``: each body's pose, then its joints."""
+        bodies: list[ET.Element] = []
+        body: ET.Element | None = tip
+        while body is not base:
+            if body is None:
+                raise MJCFError(f"tip_link: body {self.name(tip)!r} is not below {self.name(base)!r}",
+                                parameter="tip_link")
+            bodies.append(body)
+            body = self.parent[body]
+        out = []
+        for body in reversed(bodies):
+            out.append(_Joint(f"body {self.name(body)}", "fixed", self._pose(body)))
+            for k, j in enumerate(self._joints(body), start=1):
+                out.extend(self._joint(body, j, k))
+        return out
+
+    def _angle(self, value: float) -> float:
+        return math.radians(value) if self.degrees else value
+
+    def _pose(self, body: ET.Element) -> np.ndarray:
+        given = [a for a in _ORIENTATIONS if a in body.attrib]
+        if len(given) > 1:
+            raise MJCFError(f"--mjcf: {_where(body)} gives the orientation twice ({' and '.join(given)})",
+                            parameter="mjcf")
+        R = np.eye(3)
+        if given == ["quat"]:
+            w, x, y, z = _unit(_given(body, "quat", 4), body, "quat")
+            R = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                          [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                          [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+        elif given == ["axisangle"]:
+            *axis, a = _given(body, "axisangle", 4)
+            R = _rotation(_unit(axis, body, "axisangle"), self._angle(a))
+        elif given == ["euler"]:
+            for ch, a in zip(self.eulerseq, _given(body, "euler", 3)):
+                step = _rotation(np.eye(3)["xyz".index(ch.lower())], self._angle(a))
+                R = R @ step if ch.islower() else step @ R     # lower case: axes moving with the frame
+        elif given == ["xyaxes"]:
+            v = _given(body, "xyaxes", 6)
+            x = _unit(v[:3], body, "xyaxes")
+            y = _unit(np.asarray(v[3:]) - np.dot(v[3:], x) * x, body, "xyaxes")
+            R = np.column_stack([x, y, np.cross(x, y)])
+        elif given == ["zaxis"]:
+            z = _unit(_given(body, "zaxis", 3), body, "zaxis")
+            c = np.cross([0.0, 0.0, 1.0], z)     # the smallest rotation taking the z axis to z
+            s = float(np.linalg.norm(c))
+            R = (_rotation(c / s, math.atan2(s, z[2])) if s > 1e-12 else
+                 (np.eye(3) if z[2] > 0 else _rotation((1.0, 0.0, 0.0), math.pi)))
+        return _homogeneous(R, _numbers(body, "pos", 3) or (0.0, 0.0, 0.0))
+
+    def _joint(self, body: ET.Element, element: ET.Element, k: int) -> list[_Joint]:
+        cls = element.get("class", self.childclass[body])
+        if cls not in self.defaults and cls != _DEFAULT_CLASS:
+            raise MJCFError(f"--mjcf: {_where(element)} class: no default class {cls!r}", parameter="mjcf")
+        attrs = {**self.defaults.get(cls, {}), **element.attrib}
+        name = element.get("name") or f"joint {k} of body {self.name(body)}"
+        kind = "free" if element.tag == "freejoint" else attrs.get("type", "hinge")
+        if kind not in ("hinge", "slide"):
+            raise MJCFError(f"--mjcf: joint {name!r} is {kind}; a serial chain takes hinge and slide joints only",
+                            parameter="mjcf")
+        p = np.asarray(_numbers(element, "pos", 3, attrs) or (0.0, 0.0, 0.0))
+        axis = _unit(_numbers(element, "axis", 3, attrs) or (0.0, 0.0, 1.0), element, "axis")
+        ref = (_numbers(element, "ref", 1, attrs) or [0.0])[0]
+        limited = attrs.get("limited", "auto")
+        if limited not in ("true", "false", "auto"):
+            raise MJCFError(f"--mjcf: {_where(element)} limited: expected true, false or auto; got {limited[:20]!r}",
+                            parameter="mjcf")
+        span = _numbers(element, "range", 2, attrs)
+        limit = None
+        if limited == "true" or (limited == "auto" and span is not None):
+            if span is None:
+                raise MJCFError(f"--mjcf: {_where(element)} is limited but has no range", parameter="mjcf")
+            lo, hi = (self._angle(v) for v in span) if kind == "hinge" else span
+            limit = _Limit(lo, hi)
+        if kind == "hinge":
+            # URDF's continuous joints have no limits; an unlimited slide gets a placeholder, removed afterwards.
+            motion, undo = ("revolute" if limit else "continuous"), _homogeneous(_rotation(axis, -self._angle(ref)))
+        else:
+            motion, undo = "prismatic", _homogeneous(p=-ref * axis)
+            limit = limit or _Limit(-1.0, 1.0, placeholder=True)
+        return [_Joint(name, motion, _homogeneous(p=p), tuple(axis), limit),
+                _Joint(f"{name} (anchor)", "fixed", undo @ _homogeneous(p=-p))]
+
+
+def _without_placeholder_limits(robot, chain):
+    """Unlimited slide joints: the placeholder limits of :meth:`_Model._joint` removed."""
+    from dataclasses import replace
+
+    moving = [j for j in chain if j.type != "fixed"]
+    if not any(j.limit is not None and j.limit.placeholder for j in moving):
+        return robot
+    joints = [replace(dh, limits=None) if j.limit is not None and j.limit.placeholder else dh
+              for dh, j in zip(robot.joints, moving)]
+    return type(robot)(joints, convention=robot.convention, name=robot.name, units=robot.units, base=robot.base,
+                       tool=robot.tool, input_notes=robot.input_notes, chop_tol=robot.chop_tol)
