@@ -118,6 +118,7 @@ def _robot_from_args(args) -> DHRobot:
     return model
 
 
+# The options naming a robot file; a library error about its ``path`` is about the option given.
 _ROBOT_FILES = ("dh", "urdf", "mjcf")
 
 
@@ -1008,8 +1009,6 @@ _FLAGS: dict[str | None, str] = {
     "base_link": "--base", "tip_link": "--tip", "out": "--out", "plot": "--plot", "slices": "--slices",
     "report": "--report", "prefix": "--prefix", "packages": "--package", "xacro_args": "--xacro-arg",
 }
-# A library error about ``path`` (a DH, URDF or MJCF file) is about the option that named the file.
-_PATH_OPTIONS = ("urdf", "mjcf", "dh")
 # Options naming a file to write (a figure) and a directory to fill (a report); checked before any work.
 _FIGURE_OPTIONS = ("plot", "slices")
 _DIRECTORY_OPTIONS = ("out", "report")
@@ -1019,8 +1018,8 @@ def _error_line(args, exc: WorkspaceError) -> str:
     """The one stderr line of a bad input, with the option to blame when it is known."""
     message = " ".join(str(exc).split())
     flag = _FLAGS.get(exc.parameter)
-    if exc.parameter == "path":
-        flag = next((f"--{dest}" for dest in _PATH_OPTIONS if getattr(args, dest, None) is not None), None)
+    if exc.parameter == "path":         # a DH, URDF or MJCF file: the option that named it (one at most is given)
+        flag = next((f"--{dest}" for dest in _ROBOT_FILES if getattr(args, dest, None) is not None), None)
     if flag is not None and flag[2:].replace("-", "_") in vars(args):
         # "path: 'x.json' is not valid JSON" becomes "--dh: 'x.json' is not valid JSON"
         message = f"{flag}: {message.removeprefix(f'{exc.parameter}: ')}"
