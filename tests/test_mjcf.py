@@ -1,4 +1,4 @@
-"""MuJoCo models (MJCF) read as DH robots (workspace_sym.mjcf).
+"""MuJoCo models (MJCF) read as DH robots (workspace_sym.readers.mjcf).
 
 Reference: MuJoCo's own forward kinematics (``mujoco.mj_kinematics``, an independent implementation of the
 same file): the tip body's ``xpos``/``xmat`` relative to the base body equal ``robot.fk_numeric`` to 1e-12 at
@@ -9,6 +9,7 @@ degrees, a slide joint).  Exact SymPy identities for a planar arm.
 
 from __future__ import annotations
 
+import inspect
 import json
 from pathlib import Path
 
@@ -22,6 +23,7 @@ from hypothesis import strategies as st
 from workspace_sym import DHRobot
 from workspace_sym.cli import main
 from workspace_sym.errors import MJCFError
+from workspace_sym.readers.mjcf import read_mjcf
 
 GEOM = '<geom size="0.02"/>'      # MuJoCo refuses moving bodies without mass; the reader ignores geoms
 MODELS = {
@@ -157,35 +159,46 @@ def test_planar_arm_is_exactly_the_dh_arm(tmp_path):
     assert robot.name == "arm"
 
 
+# (model, the API parameter blamed, the message after "parameter: ")
 BAD = [
     ('<mujoco><worldbody><body name="b" pos="0.1 abc 0"><joint/></body></worldbody></mujoco>',
-     r"<body name='b'> pos: expected 3 numbers; got '0.1 abc 0'"),
+     "path", r"<body name='b'> pos: expected 3 numbers; got '0.1 abc 0'"),
     ('<mujoco><worldbody><body name="b" pos="0 nan 0"><joint/></body></worldbody></mujoco>',
-     r"<body name='b'> pos: expected 3 numbers; got '0 nan 0'"),
+     "path", r"<body name='b'> pos: expected 3 numbers; got '0 nan 0'"),
     ('<mujoco><worldbody><body name="b" pos="1e999 0 0"><joint/></body></worldbody></mujoco>',
-     r"<body name='b'> pos: numbers must be finite"),
+     "path", r"<body name='b'> pos: numbers must be finite"),
     ('<mujoco><worldbody><body name="b" quat="1 0 0"><joint/></body></worldbody></mujoco>',
-     r"<body name='b'> quat: expected 4 numbers"),
+     "path", r"<body name='b'> quat: expected 4 numbers"),
     ('<mujoco><worldbody><body name="b" quat="1 0 0 0" euler="0 0 1"><joint/></body></worldbody></mujoco>',
-     r"<body name='b'> gives the orientation twice \(quat and euler\)"),
+     "path", r"<body name='b'> gives the orientation twice \(quat and euler\)"),
     ('<mujoco><worldbody><body name="b"><joint name="j" type="ball"/></body></worldbody></mujoco>',
-     r"joint 'j' is ball; a serial chain takes hinge and slide joints only"),
+     "path", r"joint 'j' is ball; a serial chain takes hinge and slide joints only"),
     ('<mujoco><worldbody><body name="b"><freejoint/></body></worldbody></mujoco>',
-     r"joint 'joint 1 of body b' is free"),
+     "path", r"joint 'joint 1 of body b' is free"),
     ('<mujoco><worldbody><body name="b"><joint name="j" axis="0 0 0"/></body></worldbody></mujoco>',
-     r"<joint name='j'> axis: a zero vector"),
+     "path", r"<joint name='j'> axis: a zero vector"),
     ('<mujoco><worldbody><body name="b"><joint name="j" limited="true"/></body></worldbody></mujoco>',
-     r"<joint name='j'> is limited but has no range"),
+     "path", r"<joint name='j'> is limited but has no range"),
     ('<mujoco><worldbody><body name="b"><joint name="j" limited="yes" range="0 1"/></body></worldbody></mujoco>',
-     r"<joint name='j'> limited: expected true, false or auto; got 'yes'"),
+     "path", r"<joint name='j'> limited: expected true, false or auto; got 'yes'"),
     ('<mujoco><worldbody><body name="b"><joint name="j" class="nope"/></body></worldbody></mujoco>',
-     r"<joint name='j'> class: no default class 'nope'"),
-    ('<mujoco><compiler angle="grad"/><worldbody/></mujoco>', r"<compiler angle> must be 'degree' or 'radian'"),
-    ('<!DOCTYPE m [<!ENTITY a "aaaa">]><mujoco><worldbody/></mujoco>', r"declares a document type or entities"),
-    ('<mujoco><worldbody><body', r"is not well-formed XML"),
-    ('<model name="r"/>', r"path: '.*bad.xml' is not an MJCF model \(root element <model>, expected <mujoco>\)"),
-    ('<mujoco><include file="other.xml"/><worldbody/></mujoco>', r"uses <include>"),
-    ('<mujoco><worldbody><body name="b"/></worldbody></mujoco>', r"tip_link: the model has no body moved by a joint"),
+     "path", r"<joint name='j'> class: no default class 'nope'"),
+    ('<mujoco><compiler angle="grad"/><worldbody/></mujoco>', "path", r"<compiler angle> must be 'degree' or 'radian'"),
+    ('<mujoco><compiler coordinate="global"/><worldbody/></mujoco>',
+     "path", r"<compiler coordinate='global'> is not supported"),
+    ('<mujoco><compiler eulerseq="xyw"/><worldbody/></mujoco>', "path", r"<compiler eulerseq> must be three of"),
+    ("<mujoco/>", "path", r"the model has no <worldbody>"),
+    ('<mujoco><default><default><joint/></default></default><worldbody/></mujoco>',
+     "path", r"a nested <default> needs a class attribute"),
+    ('<mujoco><worldbody><frame/></worldbody></mujoco>', "path", r"<frame> elements are not supported"),
+    ('<mujoco><worldbody><body name="b"><joint/></body><body name="b"/></worldbody></mujoco>',
+     "path", r"two bodies are named 'b'"),
+    ('<!DOCTYPE m [<!ENTITY a "aaaa">]><mujoco><worldbody/></mujoco>',
+     "path", r".* declares a document type or entities"),
+    ('<mujoco><worldbody><body', "path", r".* is not well-formed XML"),
+    ('<model name="r"/>', "path", r"'.*bad.xml' is not an MJCF model \(root element <model>, expected <mujoco>\)"),
+    ('<mujoco><include file="other.xml"/><worldbody/></mujoco>', "path", r"'.*bad.xml' uses <include>"),
+    ('<mujoco><worldbody><body name="b"/></worldbody></mujoco>', "tip_link", r"the model has no body moved by a joint"),
 ]
 
 
@@ -202,12 +215,17 @@ def test_entities_are_refused_in_every_encoding(tmp_path, encoding):
         DHRobot.from_mjcf(path)
 
 
-@pytest.mark.parametrize("text, message", BAD)
-def test_bad_models_name_element_and_attribute(tmp_path, text, message):
+@pytest.mark.parametrize("text, parameter, message", BAD)
+def test_bad_models_name_element_and_attribute(tmp_path, text, parameter, message):
+    """Each message names the element and the attribute, after the API parameter it blames: issue 38 item 5, 19
+    messages began with the command-line flag "--mjcf:" and blamed a parameter "mjcf" that read_mjcf does not
+    have; only the command line turns a parameter into its flag (cli._FLAGS, and --mjcf for path)."""
     path = tmp_path / "bad.xml"
     path.write_text(text)
-    with pytest.raises(MJCFError, match=message):
+    with pytest.raises(MJCFError, match=f"^{parameter}: {message}") as info:
         DHRobot.from_mjcf(path)
+    assert info.value.parameter == parameter
+    assert parameter in inspect.signature(read_mjcf).parameters
 
 
 def test_unknown_tip_body_is_named(tmp_path):
@@ -228,11 +246,12 @@ def test_cli_fk_of_an_mjcf_chain(tmp_path, capsys):
 
 
 def test_cli_bad_mjcf_is_one_line_exit_2(tmp_path, capsys):
+    """The command line names the option that gave the file where the library names its parameter, path."""
     path = tmp_path / "bad.xml"
     path.write_text(BAD[0][0])
     assert main(["fk", "--mjcf", str(path)]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "<body name='b'> pos: expected 3 numbers" in err
+    assert err == "workspace-sym fk: error: --mjcf: <body name='b'> pos: expected 3 numbers; got '0.1 abc 0'\n"
 
 
 @pytest.fixture(scope="module")

@@ -18,7 +18,8 @@ The file is untrusted data: it is parsed with defusedxml
 (:func:`workspace_sym.files.read_xml`), which refuses document type
 declarations (entities) in every encoding; numbers are read strictly (a
 decimal or exponent literal, finite, the expected count), and an error names
-the element and the attribute.  ``<include>`` is refused.  Reading needs the
+the parameter ``path``, the element and the attribute (the command line
+shows ``path`` as ``--mjcf``).  ``<include>`` is refused.  Reading needs the
 ``urdf`` extra (defusedxml, and the transform helpers).
 """
 
@@ -67,10 +68,32 @@ def read_mjcf(path, *, base_link: str | None = None, tip_link: str | None = None
               tol: float = DEFAULT_TOL) -> DHRobot:
     """The serial chain ``base_link -> tip_link`` (body names) of an MJCF file as an exact DH robot.
 
-    ``base_link`` defaults to the world body; ``tip_link`` to the one leaf body
-    below it reached through a joint.  Hinge and slide joints only; ``exact``
-    and ``tol`` as for :func:`workspace_sym.urdf.read_urdf`.  ``fk()`` is the
-    pose of the tip body's frame in the base body's frame.
+    ``fk()`` is the pose of the tip body's frame in the base body's frame.
+
+    Parameters
+    ----------
+    path : str or Path
+        An MJCF file (read as untrusted data).
+    base_link : str, optional
+        The first body of the chain; default: the world body.
+    tip_link : str, optional
+        The last body; default: the one leaf body below ``base_link`` reached through a joint.
+    exact, tol
+        Snapping of floats, as for :func:`workspace_sym.readers.urdf.read_urdf`.
+
+    Returns
+    -------
+    DHRobot
+        Standard DH with ``base`` and ``tool``; hinge joints are revolute, slide joints prismatic.
+
+    Raises
+    ------
+    MJCFError
+        A file that cannot be read or is not a model this reader takes (``parameter="path"``; the message names
+        the element and the attribute): a number that is not a plain literal, non-finite or of the wrong count,
+        two orientations on one body, a zero axis, a ball or free joint on the chain, an unknown class,
+        ``limited="true"`` without a range, ``<include>``, ``<frame>``, a document type; an unknown body or a
+        chain that does not connect (``"base_link"``, ``"tip_link"``).
 
     Examples
     --------
@@ -93,15 +116,15 @@ def read_mjcf(path, *, base_link: str | None = None, tip_link: str | None = None
     for c in root.iter("compiler"):
         compiler.update(c.attrib)
     if compiler.get("coordinate", "local") != "local":
-        raise MJCFError(f"--mjcf: <compiler coordinate={compiler['coordinate']!r}> is not supported (only "
-                        "'local', the only value MuJoCo 2.3 and later accept)", parameter="mjcf")
+        raise MJCFError(f"path: <compiler coordinate={compiler['coordinate']!r}> is not supported (only "
+                        "'local', the only value MuJoCo 2.3 and later accept)", parameter="path")
     angle = compiler.get("angle", "degree")
     if angle not in ("degree", "radian"):
-        raise MJCFError(f"--mjcf: <compiler angle> must be 'degree' or 'radian'; got {angle!r}", parameter="mjcf")
+        raise MJCFError(f"path: <compiler angle> must be 'degree' or 'radian'; got {angle!r}", parameter="path")
     seq = compiler.get("eulerseq", "xyz")
     if not re.fullmatch(r"[xyzXYZ]{3}", seq):
-        raise MJCFError(f"--mjcf: <compiler eulerseq> must be three of x, y, z, X, Y, Z; got {seq!r}",
-                        parameter="mjcf")
+        raise MJCFError(f"path: <compiler eulerseq> must be three of x, y, z, X, Y, Z; got {seq!r}",
+                        parameter="path")
     model = _Model(root, degrees=angle == "degree", eulerseq=seq)
     base = model.body(base_link or "world", "base_link")
     tip = model.body(tip_link, "tip_link") if tip_link is not None else model.leaf(base)
@@ -121,7 +144,7 @@ def _parse(path: Path) -> ET.Element:
         raise MJCFError(f"path: {str(path)!r} is not an MJCF model (root element <{root.tag}>, expected <mujoco>)",
                         parameter="path")
     if root.find(".//include") is not None:
-        raise MJCFError(f"--mjcf: {str(path)!r} uses <include>; merge the included files first", parameter="mjcf")
+        raise MJCFError(f"path: {str(path)!r} uses <include>; merge the included files first", parameter="path")
     return root
 
 
@@ -137,12 +160,12 @@ def _numbers(element: ET.Element, attribute: str, count: int, attrs: dict | None
         return None
     tokens = text.split()
     if len(tokens) != count or not all(_NUMBER.match(t) for t in tokens):
-        raise MJCFError(f"--mjcf: {_where(element)} {attribute}: expected {count} numbers; got {text[:60]!r}",
-                        parameter="mjcf")
+        raise MJCFError(f"path: {_where(element)} {attribute}: expected {count} numbers; got {text[:60]!r}",
+                        parameter="path")
     values = [float(t) for t in tokens]
     if not all(math.isfinite(v) for v in values):
-        raise MJCFError(f"--mjcf: {_where(element)} {attribute}: numbers must be finite; got {text[:60]!r}",
-                        parameter="mjcf")
+        raise MJCFError(f"path: {_where(element)} {attribute}: numbers must be finite; got {text[:60]!r}",
+                        parameter="path")
     return values
 
 
@@ -164,8 +187,8 @@ def _unit(v, element, attribute) -> np.ndarray:
     v = np.asarray(v, dtype=float)
     n = float(np.linalg.norm(v))
     if n < 1e-12:
-        raise MJCFError(f"--mjcf: {_where(element)} {attribute}: a zero vector {v.tolist()} has no direction",
-                        parameter="mjcf")
+        raise MJCFError(f"path: {_where(element)} {attribute}: a zero vector {v.tolist()} has no direction",
+                        parameter="path")
     return v / n
 
 
@@ -187,7 +210,7 @@ class _Model:
             self._read_defaults(d, {}, top=True)
         world = root.find("worldbody")
         if world is None:
-            raise MJCFError("--mjcf: the model has no <worldbody>", parameter="mjcf")
+            raise MJCFError("path: the model has no <worldbody>", parameter="path")
         self.parent: dict[ET.Element, ET.Element | None] = {world: None}
         self.childclass: dict[ET.Element, str] = {world: _DEFAULT_CLASS}
         self.bodies: dict[str, ET.Element] = {"world": world}
@@ -196,7 +219,7 @@ class _Model:
     def _read_defaults(self, element: ET.Element, inherited: dict, top: bool = False) -> None:
         name = element.get("class", _DEFAULT_CLASS if top else None)
         if name is None:
-            raise MJCFError("--mjcf: a nested <default> needs a class attribute", parameter="mjcf")
+            raise MJCFError("path: a nested <default> needs a class attribute", parameter="path")
         joint = dict(inherited)
         for j in element.findall("joint"):
             joint.update(j.attrib)
@@ -207,8 +230,8 @@ class _Model:
     def _walk(self, body: ET.Element) -> None:
         for child in body:
             if child.tag == "frame":
-                raise MJCFError("--mjcf: <frame> elements are not supported; write their pose into the bodies",
-                                parameter="mjcf")
+                raise MJCFError("path: <frame> elements are not supported; write their pose into the bodies",
+                                parameter="path")
             if child.tag != "body":
                 continue
             self.parent[child] = body
@@ -216,7 +239,7 @@ class _Model:
             name = child.get("name")
             if name is not None:
                 if name in self.bodies:
-                    raise MJCFError(f"--mjcf: two bodies are named {name!r}", parameter="mjcf")
+                    raise MJCFError(f"path: two bodies are named {name!r}", parameter="path")
                 self.bodies[name] = child
             self._walk(child)
 
@@ -270,8 +293,8 @@ class _Model:
     def _pose(self, body: ET.Element) -> np.ndarray:
         given = [a for a in _ORIENTATIONS if a in body.attrib]
         if len(given) > 1:
-            raise MJCFError(f"--mjcf: {_where(body)} gives the orientation twice ({' and '.join(given)})",
-                            parameter="mjcf")
+            raise MJCFError(f"path: {_where(body)} gives the orientation twice ({' and '.join(given)})",
+                            parameter="path")
         R = np.eye(3)
         if given == ["quat"]:
             w, x, y, z = _unit(_given(body, "quat", 4), body, "quat")
@@ -301,25 +324,25 @@ class _Model:
     def _joint(self, body: ET.Element, element: ET.Element, k: int) -> list[_Joint]:
         cls = element.get("class", self.childclass[body])
         if cls not in self.defaults and cls != _DEFAULT_CLASS:
-            raise MJCFError(f"--mjcf: {_where(element)} class: no default class {cls!r}", parameter="mjcf")
+            raise MJCFError(f"path: {_where(element)} class: no default class {cls!r}", parameter="path")
         attrs = {**self.defaults.get(cls, {}), **element.attrib}
         name = element.get("name") or f"joint {k} of body {self.name(body)}"
         kind = "free" if element.tag == "freejoint" else attrs.get("type", "hinge")
         if kind not in ("hinge", "slide"):
-            raise MJCFError(f"--mjcf: joint {name!r} is {kind}; a serial chain takes hinge and slide joints only",
-                            parameter="mjcf")
+            raise MJCFError(f"path: joint {name!r} is {kind}; a serial chain takes hinge and slide joints only",
+                            parameter="path")
         p = np.asarray(_numbers(element, "pos", 3, attrs) or (0.0, 0.0, 0.0))
         axis = _unit(_numbers(element, "axis", 3, attrs) or (0.0, 0.0, 1.0), element, "axis")
         ref = (_numbers(element, "ref", 1, attrs) or [0.0])[0]
         limited = attrs.get("limited", "auto")
         if limited not in ("true", "false", "auto"):
-            raise MJCFError(f"--mjcf: {_where(element)} limited: expected true, false or auto; got {limited[:20]!r}",
-                            parameter="mjcf")
+            raise MJCFError(f"path: {_where(element)} limited: expected true, false or auto; got {limited[:20]!r}",
+                            parameter="path")
         span = _numbers(element, "range", 2, attrs)
         limit = None
         if limited == "true" or (limited == "auto" and span is not None):
             if span is None:
-                raise MJCFError(f"--mjcf: {_where(element)} is limited but has no range", parameter="mjcf")
+                raise MJCFError(f"path: {_where(element)} is limited but has no range", parameter="path")
             lo, hi = (self._angle(v) for v in span) if kind == "hinge" else span
             limit = _Limit(lo, hi)
         if kind == "hinge":
