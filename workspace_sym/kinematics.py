@@ -64,6 +64,7 @@ __all__ = [
     "CONVENTIONS",
     "EULER_CONVENTIONS",
     "READERS",
+    "ENGINES",
 ]
 
 CONVENTIONS = ("standard", "modified")
@@ -243,6 +244,12 @@ READERS: dict[str, Callable[..., DHRobot]] = {}
 ``"urdf"``, ``"mjcf"``.  The readers build on this module, so it never imports them: :mod:`workspace_sym.readers`
 registers them here when it is imported (``import workspace_sym`` imports it), and ``DHRobot.from_dict``,
 ``from_file``, ``from_urdf`` and ``from_mjcf`` look them up."""
+
+
+ENGINES: dict[str, Callable] = {}
+"""The engines a robot's convenience methods hand it to, by name: ``"reach"`` (the certified workspace,
+:func:`workspace_sym.serial.reach`).  They build on this module, which never imports them: each registers itself
+here when it is imported (``import workspace_sym`` imports them), and ``DHRobot.reach`` looks it up."""
 
 
 def _reader(kind: str) -> Callable[..., DHRobot]:
@@ -726,10 +733,25 @@ class DHRobot:
         return self.numeric(self.geometric_jacobian)
 
     def reach(self, *, delta: float, **options):
-        """Certified position workspace within the joint limits: :func:`workspace_sym.serial.reach`."""
-        from .serial import reach  # one way: the reach engine builds on this module
+        """Certified position workspace within the joint limits: :func:`workspace_sym.serial.reach` (registered
+        in :data:`ENGINES` by the engine, which builds on this module).
 
-        return reach(self, delta=delta, **options)
+        Parameters
+        ----------
+        delta : float
+            Undecided task boxes whose size is at most ``delta`` become boundary boxes.
+        **options
+            The keywords of :func:`workspace_sym.serial.reach`.
+
+        Returns
+        -------
+        workspace_sym.serial.ReachResult
+        """
+        engine = ENGINES.get("reach")
+        if engine is None:
+            raise RuntimeError("no reach engine is registered in workspace_sym.kinematics.ENGINES; import "
+                               "workspace_sym.serial, which registers it (import workspace_sym does)")
+        return engine(self, delta=delta, **options)
 
     def codegen(self, *, out, lang: str = "c", prefix: str = "") -> list:
         """Write C for ``fk`` and ``jacobian`` into directory ``out``: :func:`workspace_sym.codegen.write_code`."""

@@ -16,8 +16,12 @@ steps: pave a section or cells, decide the task boxes, prove the volume.  The ro
 * :mod:`.stored`: the fingerprint of a run's whole problem, and the section kept beside a checkpoint;
 * :mod:`.plans`: the plans, and which a robot gets;
 * :mod:`.api`: :func:`reach`, :class:`Pose`, :class:`ReachResult`.
+
+The engine builds on :mod:`workspace_sym.kinematics`, which does not import it: importing this package registers
+:func:`reach` in :data:`workspace_sym.kinematics.ENGINES`, where ``DHRobot.reach`` finds it.
 """
 
+from ..kinematics import ENGINES
 from .api import METHODS, Pose, ReachResult, reach, resolve_method
 from .model import ReachModel
 from .pose import PoseConstraint, approach_constraint, orientation_constraint
@@ -26,3 +30,5 @@ from .tuning import DEFAULT, Tuning
 
 __all__ = ["reach", "Pose", "ReachResult", "Tuning", "DEFAULT", "resolve_method", "METHODS", "ReachModel",
            "PoseConstraint", "approach_constraint", "orientation_constraint", "reach_problem"]
+
+ENGINES["reach"] = reach
