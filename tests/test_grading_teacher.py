@@ -325,7 +325,7 @@ def test_a_long_term_is_cut_inside_its_parentheses():
     import sympy as sp
 
     from workspace_sym.answers import Notation, read_latex
-    from workspace_sym.report import _tex_pieces
+    from workspace_sym.document import _tex_pieces
 
     x = sp.symbols("x1:13")
     inner = sum(x[k] * x[k + 1] for k in range(0, 11))
