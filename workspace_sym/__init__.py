@@ -7,7 +7,7 @@ The flat public API, so that a notebook writes ``ws.DHRobot(...)``::
     robot.to_str(robot.position[0])   # 'c1*(a1 + a2*c2 + a3*c23 + d5*s234)'
 """
 
-from . import answers, exercises, grading, readers, robots, verify  # readers: fills kinematics.READERS
+from . import readers, robots  # readers: fills kinematics.READERS
 from .display import register_notebook_display as _register_notebook_display
 from .errors import (
     BoxError,
@@ -39,6 +39,8 @@ from .planar.exact import exact_arcs, exact_area
 from .sampling import extent, reach_points, sample_joint_box, sweep_joints
 from .serial_workspace import Pose, reach
 from .symbolic import factor_trig, shorthand, textbook
+from .teaching import answers, exercises, grading
+from .teaching import checks as verify
 from .version import __version__ as __version__
 
 _register_notebook_display()          # inside IPython: SymPy results display as MathML (offline exports)

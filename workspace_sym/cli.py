@@ -739,7 +739,7 @@ def cmd_report(args) -> int:
 
 def cmd_grade(args) -> int:
     """Grade a CSV of students' answers against a key; write the graded CSV and the report."""
-    from .grading import AnswerKey, duplicate_rows, grade_answers, read_answers_csv, similar_students, write_grading
+    from .teaching import AnswerKey, duplicate_rows, grade_answers, read_answers_csv, similar_students, write_grading
 
     key = AnswerKey.from_file(args.key)
     graded = grade_answers(key, read_answers_csv(args.answers))
@@ -768,7 +768,7 @@ def cmd_grade(args) -> int:
 
 def cmd_exercises(args) -> int:
     """Write an exercise sheet, its answer key and the machine-readable key."""
-    from .exercises import write_exercises
+    from .teaching import write_exercises
 
     paths = write_exercises(args.out, seed=args.seed, count=args.count, max_joints=args.max_joints)
     if args.json:

@@ -32,8 +32,8 @@ from string import ascii_lowercase
 
 import sympy as sp
 
-from .errors import ExpressionError, check_choice
-from .expressions import (
+from ..errors import ExpressionError, check_choice
+from ..expressions import (
     CONSTANTS,
     FUNCTIONS,
     MAX_DEPTH,
@@ -48,7 +48,7 @@ from .expressions import (
 
 __all__ = ["Notation", "read_answer", "read_latex", "split_top_level", "expansion_size", "ANGLE_UNITS",
            "MAX_EXPANSION", "Unit", "read_unit", "split_unit", "split_uncertainty", "read_count", "read_yes_no",
-           "plain_sentence"]
+           "plain_sentence", "MAX_ENTRIES", "MAX_OPERATIONS"]
 
 #: How numbers inside sin, cos and tan are read.
 ANGLE_UNITS = ("radians", "degrees")

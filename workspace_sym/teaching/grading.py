@@ -25,15 +25,16 @@ its unit (``"m"``, ``"m^2"``, ``"cm^3"``, ``"rad"``, ``"deg"``...): an answer th
 kind (converted: ``3270 cm^2`` is ``0.327 m^2``) and one of another kind is wrong, with the reason.
 Students write ``No.``, ``no it is too far``, ``Four arcs.``, ``0.327 m²`` or ``1.40474 +- 0.01``: a
 sentence's final full stop, a verdict with its reason, number words, units and an uncertainty (the value is
-graded) are read (:func:`~workspace_sym.answers.read_yes_no`, :func:`~workspace_sym.answers.read_count`,
-:func:`~workspace_sym.answers.split_unit`, :func:`~workspace_sym.answers.split_uncertainty`); a yes/no answer that
+graded) are read (:func:`~workspace_sym.teaching.answers.read_yes_no`,
+:func:`~workspace_sym.teaching.answers.read_count`, :func:`~workspace_sym.teaching.answers.split_unit`,
+:func:`~workspace_sym.teaching.answers.split_uncertainty`); a yes/no answer that
 hedges (``No, not sure``) or contradicts itself (``no, yes``) is *cannot read*, with the words.
 The key is a file, so it is read like any user text: expressions through the
 safe reader, with the robot's notation.
 
 Answers are a CSV with columns ``student, question, answer`` (separated by commas, semicolons or tabs), at most
 :data:`MAX_ROWS` rows; names that differ only in case or blanks are listed (:func:`similar_students`).
-Each answer gets a :class:`~workspace_sym.verify.Verdict`: correct, wrong (with the
+Each answer gets a :class:`~workspace_sym.teaching.checks.Verdict`: correct, wrong (with the
 counterexample) or cannot read (with the column), never an exception; a
 blank answer is *no answer*, and a student's second answer to a question is
 *duplicate* (not graded: the first one is, and the report lists the rows).
@@ -62,6 +63,16 @@ from typing import Any
 
 import sympy as sp
 
+from .. import robots as catalog
+from ..document import Document
+from ..errors import ExpressionError, InvalidParameterError, SymbolicBudgetError, UnknownNameError, WorkspaceError
+from ..expressions import parse_expr, read_symbol
+from ..files import read_json, read_text, write_files
+from ..kinematics import DHRobot
+from ..numbers import fmt_bracket
+from ..planar import PlanarChain
+from ..symbolic import RETRY_SECONDS as RETRY_SECONDS  # re-exported: the retry of the budget below
+from ..symbolic import _Expired, symbolic_budget
 from .answers import (
     ANGLE_UNITS,
     Notation,
@@ -73,17 +84,9 @@ from .answers import (
     split_uncertainty,
     split_unit,
 )
-from .errors import ExpressionError, InvalidParameterError, SymbolicBudgetError, UnknownNameError, WorkspaceError
-from .expressions import parse_expr, read_symbol
-from .files import read_json, read_text, write_files
-from .kinematics import DHRobot
-from .numbers import fmt_bracket
-from .planar import PlanarChain
-from .symbolic import RETRY_SECONDS as RETRY_SECONDS  # re-exported: the retry of the budget below
-from .symbolic import _Expired, symbolic_budget
-from .verify import Verdict, cannot_read, check_expression, check_factors
+from .checks import Verdict, cannot_read, check_expression, check_factors
 
-__all__ = ["KIND_NAMES", "Question", "AnswerKey", "GradedAnswer", "grade_answers", "read_answers_csv",
+__all__ = ["KIND_NAMES", "KEY_FORMAT", "Question", "AnswerKey", "GradedAnswer", "grade_answers", "read_answers_csv",
            "write_grading", "duplicate_rows", "similar_students", "tolerance_rule", "accepted_range", "DELIMITERS",
            "MAX_ROWS", "ANSWER_SECONDS", "TOTAL_SECONDS"]
 
@@ -130,8 +133,6 @@ class AnswerKey:
     @classmethod
     def from_dict(cls, data) -> AnswerKey:
         """Check and read a key dictionary (see the module docstring)."""
-        from . import robots as catalog
-
         if not isinstance(data, dict) or data.get("format") != KEY_FORMAT:
             raise InvalidParameterError(f"key: expected a JSON object with \"format\": \"{KEY_FORMAT}\"",
                                         parameter="key")
@@ -609,8 +610,6 @@ def write_grading(key: AnswerKey, graded: list[GradedAnswer], out) -> dict:
 
     Everything is rendered in memory first: nothing is written when rendering fails.
     """
-    from .report import Document
-
     buffer = io.StringIO()
     writer = csv.writer(buffer)
     writer.writerow(["student", "question", "answer", "status", "points", "max_points", "explanation", "position"])

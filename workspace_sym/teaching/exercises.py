@@ -11,7 +11,7 @@ and asks:
   the exact image of angles in multiples of 30 degrees) or a proof (it lies
   beyond the sum of the DH link lengths, compared in exact arithmetic);
 - chains: whether a point is reachable (proved either way by
-  :func:`~workspace_sym.verify.check_reachable`: an exact witness or a
+  :func:`~workspace_sym.teaching.checks.check_reachable`: an exact witness or a
   Krawczyk existence proof, an exact reach bound or an interval exclusion;
   a point it leaves undecided is drawn again), the number
   of arcs of the workspace boundary and its area (certified bracket).
@@ -32,17 +32,17 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from .errors import InvalidParameterError
-from .files import write_files
+from ..document import Document
+from ..errors import InvalidParameterError
+from ..files import write_files
+from ..kinematics import DHRobot
+from ..numbers import fmt_bracket
+from ..planar import PlanarChain
+from .checks import check_reachable, exact_parameters
 from .grading import KEY_FORMAT, tolerance_rule
-from .kinematics import DHRobot
-from .numbers import fmt_bracket
-from .planar import PlanarChain
-from .report import Document
-from .verify import exact_parameters
 
 __all__ = ["make_exercises", "write_exercises", "exact_parameters", "reach_bound", "reachability_point",
-           "MAX_COUNT"]
+           "MAX_COUNT", "AREA_DIGITS"]
 
 #: Most problems on one sheet.
 MAX_COUNT = 20
@@ -152,8 +152,6 @@ def reachability_point(robot: DHRobot, rng) -> tuple[list, bool, str, list | Non
 
 
 def _chain_point(chain: PlanarChain, rng):
-    from .verify import check_reachable
-
     for _ in range(20):
         r = float(rng.uniform(0, 1.1 * chain.reach))
         phi = float(rng.uniform(-math.pi, math.pi))
@@ -295,7 +293,7 @@ def _chain_problem(rng, number: int) -> tuple[str, dict, PlanarChain, list[_Ques
 
 
 def make_exercises(*, seed: int, count: int, max_joints: int = 6):
-    """The sheet, the key (both :class:`~workspace_sym.report.Document`) and the machine-readable key (a dict).
+    """The sheet, the key (both :class:`~workspace_sym.document.Document`) and the machine-readable key (a dict).
 
     Problems alternate between DH robots (3 to ``max_joints`` joints) and
     planar chains.  Deterministic in ``seed``.

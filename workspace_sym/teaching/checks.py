@@ -5,8 +5,8 @@ Every helper returns a :class:`Verdict` whose ``ok`` is True, False, or None
 identity, a counterexample configuration, a witness configuration, an interval
 certificate, or a certified bracket.
 
-One vocabulary, here, in grading (:mod:`workspace_sym.grading`) and in the
-exercise keys (:mod:`workspace_sym.exercises`): a verdict's ``status`` is
+One vocabulary, here, in grading (:mod:`workspace_sym.teaching.grading`) and in the
+exercise keys (:mod:`workspace_sym.teaching.exercises`): a verdict's ``status`` is
 *correct* or *wrong* only with a proof (``evidence["method"]`` names it:
 ``exact identity``, ``counterexample``, ``exact witness``, ``interval
 existence proof``, ``reach bound``, ``interval exclusion``, ``certified
@@ -25,14 +25,22 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
+from ..errors import ExpressionError, InvalidParameterError
+from ..expressions import as_sympy, parse_expr
+from ..interval.graph import numpy_constant
+from ..interval.image import ImageMap
+from ..numbers import fmt_bracket
+from ..planar.boundary import prove_unreachable, witness_near
+from ..planar.chain import read_value
+from ..planar.exact import is_zero, link_direction
+from ..snap import exact_decimal
+from ..symbolic import trig_polynomials
 from .answers import Notation, read_answer, split_top_level
-from .errors import ExpressionError, InvalidParameterError
-from .expressions import as_sympy, parse_expr
-from .numbers import fmt_bracket
 
 __all__ = ["Verdict", "cannot_read", "exact_parameters", "check_expression", "check_factors", "check_reachable",
            "check_boundary_arc", "check_measure",
-           "assert_expression", "assert_factors", "assert_reachable", "assert_boundary_arc", "assert_measure"]
+           "assert_expression", "assert_factors", "assert_reachable", "assert_boundary_arc", "assert_measure",
+           "REACH_TOLERANCE"]
 
 
 #: Statuses of an answer without a verdict (``ok`` None), by the reason.
@@ -99,7 +107,7 @@ def _notation(robot, symbols) -> Notation:
 
 
 def _read_student(student, notation, angles):
-    """The student's answer as SymPy; text through :func:`~workspace_sym.answers.read_answer`."""
+    """The student's answer as SymPy; text through :func:`~workspace_sym.teaching.answers.read_answer`."""
     if isinstance(student, str):
         return read_answer(student, notation, angles=angles, parameter="student answer")
     if isinstance(student, (list, tuple)):
@@ -123,8 +131,6 @@ def _decimal(v: sp.Rational) -> str:
 
 def exact_parameters(robot) -> dict:
     """The robot's numeric lengths as the decimals they print as (``0.387`` is ``387/1000``): points stay exact."""
-    from .snap import exact_decimal
-
     return {k: exact_decimal(v) if isinstance(v, float) else sp.nsimplify(v) for k, v in robot.parameters.items()}
 
 
@@ -142,8 +148,6 @@ def _scalar_verdict(s, d, *, samples, seed, where: str = "", data=None, ranges=N
     """Exact identity, or a counterexample where every symbol has a value: first the question's ``data`` (the
     robot's lengths) with joint values drawn within ``ranges``, then, if the two agree at the data, any values;
     ``angles`` are shown in radians."""
-    from .symbolic import trig_polynomials
-
     diff = s - d
     (poly,), _ = trig_polynomials([diff])
     if sp.expand(poly) == 0:
@@ -189,7 +193,7 @@ def check_expression(student, derived, *, robot=None, angles: str = "radians", s
     expressions gets a value, so the verdict gives both values as numbers.
     A matrix is checked entry by entry and the first wrong entry is named.
 
-    Text is read by :func:`~workspace_sym.answers.read_answer` with the
+    Text is read by :func:`~workspace_sym.teaching.answers.read_answer` with the
     names of ``robot`` (or, without one, of the symbols of ``derived``):
     textbook shorthand ``c1``, ``s23``, ``c_{234}``, ``C1``; ``q1``, ``t1``
     for ``theta1``; juxtaposition ``c1 (a1 + a2 c2)``; LaTeX; ``[e1, e2,
@@ -308,9 +312,6 @@ _SNAP = 1e-3            # radians: a witness angle this close to a limit or a mu
 def _chain_image(chain):
     """The chain's end point as an :class:`~workspace_sym.interval.image.ImageMap` of its joints (exact lengths
     and limits), built once per chain."""
-    from .interval.image import ImageMap
-    from .planar.exact import link_direction
-
     if "_image_map" not in chain.__dict__:
         theta = sp.symbols(f"theta1:{chain.p + 1}")
         phi = np.cumsum(np.array(theta, dtype=object))
@@ -323,8 +324,6 @@ def _chain_image(chain):
 def _exact_witness(chain, theta, target) -> list | None:
     """Exact joint values near ``theta`` (each a limit or a multiple of 15 degrees) whose end point is exactly
     ``target``, proved in exact arithmetic; None when there are none."""
-    from .planar.exact import is_zero, link_direction
-
     config = []
     for t, lo, hi in zip(theta, chain.exact_lower, chain.exact_upper):
         k = round(t / (math.pi / 12))
@@ -341,8 +340,6 @@ def _proved_inside(chain, theta, target):
     """Krawczyk's test (:meth:`ImageMap.prove_inside_at`) around ``theta`` refined by Newton's method: the
     refined configuration when some configuration within the joint limits near it provably reaches every point
     of a box of floats enclosing the exact ``target``, else None."""
-    from .interval.graph import numpy_constant
-
     image = _chain_image(chain)
     T = np.array([[numpy_constant(v) for v in target]], dtype=float)
     q, _ = image.newton(0.5 * (T[:, :, 0] + T[:, :, 1]), np.asarray(theta, dtype=float)[None])
@@ -377,9 +374,6 @@ def check_reachable(chain, point, *, max_boxes: int = 500_000, seed: int = 0,
     >>> [check_reachable(arm, p).evidence["method"] for p in [(2, 0), (2 + 1e-10, 0), (0.5, 1.5), (0.5, 1.2)]]
     ['exact witness', 'reach bound', 'interval existence proof', 'interval exclusion']
     """
-    from .planar.boundary import prove_unreachable, witness_near
-    from .planar.chain import read_value
-
     flat = list(np.ravel(np.asarray(point, dtype=object)))
     if len(flat) != 2:
         raise InvalidParameterError(f"point must be two numbers (x, y); got {point!r:.60}", parameter="point")
