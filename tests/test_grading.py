@@ -360,7 +360,7 @@ def test_a_budget_swallowed_once_still_stops_the_check():
     first interruption is still stopped, within a few retries (reference: the 2 s the loop would run)."""
     import time
 
-    from workspace_sym.grading import RETRY_SECONDS, _OverBudget, _time_budget
+    from workspace_sym.teaching.grading import RETRY_SECONDS, _OverBudget, _time_budget
 
     swallowed = 0
     began = time.perf_counter()

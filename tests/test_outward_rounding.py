@@ -105,7 +105,7 @@ def test_verify_and_grading_messages(disk):
     lo, hi = disk.measure_bounds
     for claimed in (3.1, 10.0):
         assert_holds(ws.verify.check_measure(claimed, disk).message, lo, hi)
-    from workspace_sym.grading import Question, _grade_measure
+    from workspace_sym.teaching.grading import Question, _grade_measure
 
     question = Question("q", "measure", [lo, hi], rel_tol=0.01)
     for text in ("3.1", "10"):
