@@ -72,7 +72,7 @@ from ..kinematics import DHRobot
 from ..numbers import fmt_bracket
 from ..planar import PlanarChain
 from ..symbolic import RETRY_SECONDS as RETRY_SECONDS  # re-exported: the retry of the budget below
-from ..symbolic import _Expired, symbolic_budget
+from ..symbolic import symbolic_budget
 from .answers import (
     ANGLE_UNITS,
     Notation,
@@ -476,24 +476,17 @@ def read_answers_csv(path) -> list[tuple[str, str, str]]:
     return rows
 
 
-# The budget's interruption, as it lands inside a check: symbolic_budget's timer (a BaseException, so no
-# ``except Exception`` of the checking code swallows it); a SymbolicBudgetError leaving the budget is turned into it.
-_OverBudget = _Expired
-
-
 @contextmanager
 def _time_budget(seconds: float):
-    """Interrupt the block after ``seconds`` with :data:`_OverBudget`, through
-    :func:`~workspace_sym.symbolic.symbolic_budget` (whose timer fires again if its interruption is swallowed on
-    the way, and which nested derivations cannot extend); yields whether a timer can interrupt SymPy's own calls
-    (the main thread of a POSIX process: elsewhere only the deadline checks of our loops stop the block, and the
-    caller compares the time it took)."""
+    """Interrupt the block after ``seconds``: :func:`~workspace_sym.symbolic.symbolic_budget`, whose timer fires
+    again if its interruption is swallowed on the way and which nested derivations cannot extend, raises
+    :class:`~workspace_sym.errors.SymbolicBudgetError` when the block is over its time (or a derivation inside it
+    over its own budget).  Yields whether a timer can interrupt SymPy's own calls (the main thread of a POSIX
+    process: elsewhere only the deadline checks of our loops stop the block, and the caller compares the time it
+    took)."""
     interruptible = hasattr(signal, "setitimer") and threading.current_thread() is threading.main_thread()
-    try:
-        with symbolic_budget(seconds, "checking this answer"):
-            yield interruptible
-    except SymbolicBudgetError:
-        raise _OverBudget from None
+    with symbolic_budget(seconds, "checking this answer"):
+        yield interruptible
 
 
 def _check_budget(value, name: str) -> float:
@@ -544,10 +537,10 @@ def grade_answers(key: AnswerKey, rows, *, answer_seconds: float = ANSWER_SECOND
         try:
             with _time_budget(budget):
                 verdict = key.grade(qid, text)
+        except SymbolicBudgetError:     # over its time budget (a WorkspaceError: caught first)
+            verdict = None
         except WorkspaceError as exc:   # an answer must never stop the batch
             verdict = Verdict(None, " ".join(str(exc).split()), {"method": "cannot read"})
-        except _OverBudget:
-            verdict = None
         if verdict is None or time.perf_counter() - began > budget:
             verdict = Verdict(None, f"cannot check: checking this answer was stopped after {budget:g} s, its time "
                                     "budget (a very long or deeply nested expression); it gets no points, check "
