@@ -13,6 +13,7 @@ from workspace_sym.answers import Notation, read_answer
 from workspace_sym.cli import main
 from workspace_sym.exercises import exact_parameters, make_exercises, reach_bound, write_exercises
 from workspace_sym.grading import AnswerKey, grade_answers
+from workspace_sym.interval import StopAt
 from workspace_sym.kinematics import DHRobot
 from workspace_sym.planar import PlanarChain
 
@@ -318,20 +319,56 @@ def test_grading_budgets(tmp_path):
     assert 700 <= len(slow) <= 1000
     grade_answers(key, [("ann", "x", "c1")])      # the key's derivation (seconds on a cold process) is not the answer's
     began = time.perf_counter()
-    (g,) = grade_answers(key, [("ann", "x", slow)], answer_seconds=0.05)
+    (g,) = grade_answers(key, [("ann", "x", slow)], answer_time_limit=0.05)
     assert time.perf_counter() - began < 1.0
     assert g.verdict.status == "cannot check" and g.points == 0 and "0.05 s" in g.verdict.message
     short = _long_latex_answer(key.robots["G"], pairs=1)          # the same answer, one cancelling pair
-    assert grade_answers(key, [("ann", "x", short)], answer_seconds=60)[0].verdict.status == "correct"
+    assert grade_answers(key, [("ann", "x", short)], answer_time_limit=60)[0].verdict.status == "correct"
     rows = [("ann", "x", slow)] + [(f"bob{k}", "x", "c1") for k in range(5)]
-    graded = grade_answers(key, rows, answer_seconds=0.05, total_seconds=0.05)
+    graded = grade_answers(key, rows, answer_time_limit=0.05, stop=StopAt(time_limit=0.05))
     assert [g.verdict.status for g in graded] == ["cannot check"] + ["not graded"] * 5
     began = time.perf_counter()
     md = write_grading(key, graded, tmp_path)["markdown"].read_text()
     assert time.perf_counter() - began < 1.0                # the report does not read the refused answer again
     assert "1 answer(s) could not be checked within their time budget" in md and "5 were not graded" in md
-    with pytest.raises(Exception, match="answer_seconds must be a positive number"):
+    with pytest.raises(Exception, match="answer_time_limit must be a positive number"):
+        grade_answers(key, rows, answer_time_limit=0)
+    # the spelling of earlier releases: the same budgets, each keyword with a DeprecationWarning naming the new one
+    with pytest.warns(DeprecationWarning) as caught:
+        again = grade_answers(key, rows, answer_seconds=0.05, total_seconds=0.05)
+    assert [g.verdict.status for g in again] == ["cannot check"] + ["not graded"] * 5
+    assert [str(w.message) for w in caught] == [
+        "grade_answers: answer_seconds= is deprecated; pass answer_time_limit=...",
+        "grade_answers: total_seconds= is deprecated; pass stop=StopAt(time_limit=...)"]
+    assert {w.filename for w in caught} == {__file__}
+    with pytest.raises(Exception, match="answer_seconds must be a positive number"), pytest.warns(DeprecationWarning):
         grade_answers(key, rows, answer_seconds=0)
+
+
+def test_grading_and_sheets_take_stop(generated, tmp_path):
+    """Issue 38 (one options spelling): grade_answers and make_exercises / write_exercises take stop=StopAt(...)
+    and honour its time limit; a budget of boxes, which they cannot honour, is refused with the field named.  A
+    sheet not made within its time limit is one SymbolicBudgetError naming time_limit, and nothing is written;
+    under a generous limit it is the same sheet (reference: the key made without a limit from the same seed).
+    Without a batch limit (StopAt()) a batch is graded as usual."""
+    from workspace_sym.errors import InvalidParameterError, SymbolicBudgetError
+
+    key = AnswerKey.from_dict({"format": "workspace-sym key", "questions": [
+        {"id": "n", "kind": "integer", "answer": 4}]})
+    assert [g.verdict.status for g in grade_answers(key, [("ann", "n", "4"), ("bob", "n", "5")], stop=StopAt())] == [
+        "correct", "wrong"]
+    for call in (lambda: grade_answers(key, [], stop=StopAt(max_boxes=3)),
+                 lambda: make_exercises(seed=SEED, count=COUNT, stop=StopAt(section_boxes=3))):
+        with pytest.raises(InvalidParameterError, match=r"on time only.*; (max_boxes|section_boxes) does not") as error:
+            call()
+        assert error.value.parameter == "stop"
+    with pytest.raises(SymbolicBudgetError, match=r"time_limit: the exercise sheet .* not made within") as error:
+        make_exercises(seed=SEED, count=COUNT, max_joints=JOINTS, stop=StopAt(time_limit=0.001))
+    assert error.value.parameter == "time_limit"
+    with pytest.raises(SymbolicBudgetError):
+        write_exercises(tmp_path / "sheet", seed=SEED, count=COUNT, max_joints=JOINTS, stop=StopAt(time_limit=0.001))
+    assert not (tmp_path / "sheet").exists()
+    assert make_exercises(seed=SEED, count=COUNT, max_joints=JOINTS, stop=StopAt(time_limit=600))[2] == generated[2]
 
 
 def test_answers_file_has_a_row_limit(tmp_path, capsys):

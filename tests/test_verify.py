@@ -6,7 +6,7 @@ import pytest
 import sympy as sp
 
 from workspace_sym import InvalidParameterError, robots
-from workspace_sym.interval import pave
+from workspace_sym.interval import StopAt, pave
 from workspace_sym.planar import PlanarChain
 from workspace_sym.symbolic import factor_trig
 from workspace_sym.verify import (
@@ -149,6 +149,28 @@ def test_reachable_only_with_a_proof():
     assert assert_reachable(arm, (2, 0)).evidence["method"] == "exact witness"
 
 
+
+def test_reachable_takes_its_box_budget_from_stop():
+    """Issue 38 (one options spelling): the budget of check_reachable's one box search is stop=StopAt(max_boxes=);
+    max_boxes= still works for one release, with a DeprecationWarning naming the new spelling, shown at the caller;
+    a time limit, which the search cannot honour, is refused.  Reference: (0.5, 1.2) is unreachable by the 2R arm
+    with limits [-90, 90] (law of cosines: cos theta2 = (1.69 - 2) / 2 < 0, beyond the elbow's limit), proved
+    under the default budget and not within 1 box."""
+    arm = PlanarChain(["1", "1"], [-90, -90], [90, 90])
+    assert check_reachable(arm, (0.5, 1.2)).evidence["method"] == "interval exclusion"
+    new = check_reachable(arm, (0.5, 1.2), stop=StopAt(max_boxes=1))
+    assert new.status == "undecided" and "no proof within 1 boxes" in new.message
+    with pytest.warns(DeprecationWarning) as caught:
+        old = check_reachable(arm, (0.5, 1.2), max_boxes=1)
+    assert [str(w.message) for w in caught] == [
+        "check_reachable: max_boxes= is deprecated; pass stop=StopAt(max_boxes=...)"]
+    assert caught[0].filename == __file__
+    assert (old.status, old.message) == (new.status, new.message)
+    with pytest.raises(InvalidParameterError, match="time_limit does not apply; got time_limit=5") as error:
+        check_reachable(arm, (0.5, 1.2), stop=StopAt(time_limit=5))
+    assert error.value.parameter == "stop"
+
+
 def test_reachable_verdicts_agree_with_the_law_of_cosines():
     """Random points near the outer circle and the elbow limit of a 2R arm with limits [-90, 90]: every decided
     verdict agrees with the closed-form answer (the elbow angle from the law of cosines within its limit, then
@@ -160,7 +182,7 @@ def test_reachable_verdicts_agree_with_the_law_of_cosines():
         r = float(rng.choice([2 - 1e-9, 2 + 1e-9, np.sqrt(2) * (1 + 1e-9), np.sqrt(2) * (1 - 1e-9)]))
         a = float(rng.uniform(-np.pi, np.pi))
         x, y = r * np.cos(a), r * np.sin(a)
-        v = check_reachable(arm, (x, y), max_boxes=20_000)
+        v = check_reachable(arm, (x, y), stop=StopAt(max_boxes=20_000))
         c2 = (x * x + y * y - 2) / 2
         truth = None
         if c2 > 1 or c2 < 0:                                        # |theta_2| > 90 deg or beyond the reach

@@ -6,6 +6,7 @@ The code is :mod:`workspace_sym.teaching.exercises`; this module keeps the names
 from .teaching.exercises import (
     AREA_DIGITS,
     MAX_COUNT,
+    POINT_BOXES,
     exact_parameters,
     make_exercises,
     reach_bound,
@@ -14,4 +15,4 @@ from .teaching.exercises import (
 )
 
 __all__ = ["make_exercises", "write_exercises", "exact_parameters", "reach_bound", "reachability_point", "MAX_COUNT",
-           "AREA_DIGITS"]
+           "AREA_DIGITS", "POINT_BOXES"]

@@ -5,6 +5,7 @@ The code is :mod:`workspace_sym.teaching.grading`; this module keeps the names i
 
 from .teaching.grading import (
     ANSWER_SECONDS,
+    BATCH,
     DELIMITERS,
     KEY_FORMAT,
     KIND_NAMES,
@@ -25,4 +26,4 @@ from .teaching.grading import (
 
 __all__ = ["KIND_NAMES", "KEY_FORMAT", "Question", "AnswerKey", "GradedAnswer", "grade_answers", "read_answers_csv",
            "write_grading", "duplicate_rows", "similar_students", "tolerance_rule", "accepted_range", "DELIMITERS",
-           "MAX_ROWS", "ANSWER_SECONDS", "TOTAL_SECONDS", "RETRY_SECONDS"]
+           "MAX_ROWS", "ANSWER_SECONDS", "TOTAL_SECONDS", "RETRY_SECONDS", "BATCH"]

@@ -5,6 +5,7 @@ forms); this module keeps the names its users imported from here.
 """
 
 from .teaching.checks import (
+    MAX_BOXES,
     REACH_TOLERANCE,
     Verdict,
     assert_boundary_arc,
@@ -23,4 +24,4 @@ from .teaching.checks import (
 
 __all__ = ["Verdict", "cannot_read", "exact_parameters", "check_expression", "check_factors", "check_reachable",
            "check_boundary_arc", "check_measure", "assert_expression", "assert_factors", "assert_reachable",
-           "assert_boundary_arc", "assert_measure", "REACH_TOLERANCE"]
+           "assert_boundary_arc", "assert_measure", "REACH_TOLERANCE", "MAX_BOXES"]

@@ -2,6 +2,8 @@
 
 The rooms, from the bottom up (each imports only the rooms above it in this list, and the package's lower layers):
 
+* :mod:`.options`: which fields of :class:`~workspace_sym.interval.driver.StopAt` each function honours (the others
+  are refused), and the warning for the keywords of earlier releases;
 * :mod:`.answers`: students' answers as they write them (textbook shorthand, juxtaposition, LaTeX, matrices, units,
   yes/no, counts in words): :class:`Notation`, :func:`read_answer`, :func:`read_latex`;
 * :mod:`.checks`: one answer checked, with its evidence: :class:`Verdict` and the ``check_*`` functions (an exact
@@ -11,6 +13,11 @@ The rooms, from the bottom up (each imports only the rooms above it in this list
   (:func:`grade_answers`), the graded CSV and the report (:func:`write_grading`);
 * :mod:`.exercises`: exercise sheets drawn from a seed, with answer keys derived and certified here
   (:func:`make_exercises`, :func:`write_exercises`).
+
+The functions that may run long take ``stop=StopAt(...)`` as the rest of the package does: ``max_boxes`` for the box
+search of :func:`check_reachable`, ``time_limit`` for a batch of :func:`grade_answers` (its budget per answer is
+``answer_time_limit``) and for a sheet of :func:`make_exercises`.  None of them runs elsewhere or keeps boxes, so
+none takes ``run=RunOn(...)``.
 
 The earlier module paths ``workspace_sym.answers``, ``workspace_sym.verify`` (now :mod:`.checks`),
 ``workspace_sym.grading`` and ``workspace_sym.exercises`` still hold their public names.
@@ -36,6 +43,7 @@ from .answers import (
     split_unit,
 )
 from .checks import (
+    MAX_BOXES,
     REACH_TOLERANCE,
     Verdict,
     assert_boundary_arc,
@@ -51,9 +59,18 @@ from .checks import (
     check_reachable,
     exact_parameters,
 )
-from .exercises import AREA_DIGITS, MAX_COUNT, make_exercises, reach_bound, reachability_point, write_exercises
+from .exercises import (
+    AREA_DIGITS,
+    MAX_COUNT,
+    POINT_BOXES,
+    make_exercises,
+    reach_bound,
+    reachability_point,
+    write_exercises,
+)
 from .grading import (
     ANSWER_SECONDS,
+    BATCH,
     DELIMITERS,
     KEY_FORMAT,
     KIND_NAMES,
@@ -80,11 +97,11 @@ __all__ = [
     # checks
     "Verdict", "cannot_read", "exact_parameters", "check_expression", "check_factors", "check_reachable",
     "check_boundary_arc", "check_measure", "assert_expression", "assert_factors", "assert_reachable",
-    "assert_boundary_arc", "assert_measure", "REACH_TOLERANCE",
+    "assert_boundary_arc", "assert_measure", "REACH_TOLERANCE", "MAX_BOXES",
     # grading
     "KIND_NAMES", "KEY_FORMAT", "Question", "AnswerKey", "GradedAnswer", "grade_answers", "read_answers_csv",
     "write_grading", "duplicate_rows", "similar_students", "tolerance_rule", "accepted_range", "DELIMITERS",
-    "MAX_ROWS", "ANSWER_SECONDS", "TOTAL_SECONDS",
+    "MAX_ROWS", "ANSWER_SECONDS", "TOTAL_SECONDS", "BATCH",
     # exercises
-    "make_exercises", "write_exercises", "reach_bound", "reachability_point", "MAX_COUNT", "AREA_DIGITS",
+    "make_exercises", "write_exercises", "reach_bound", "reachability_point", "MAX_COUNT", "AREA_DIGITS", "POINT_BOXES",
 ]

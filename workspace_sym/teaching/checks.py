@@ -20,13 +20,14 @@ answers only.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import sympy as sp
 
 from ..errors import ExpressionError, InvalidParameterError
 from ..expressions import as_sympy, parse_expr
+from ..interval.driver import StopAt
 from ..interval.graph import numpy_constant
 from ..interval.image import ImageMap
 from ..numbers import fmt_bracket
@@ -36,11 +37,12 @@ from ..planar.exact import is_zero, link_direction
 from ..snap import exact_decimal
 from ..symbolic import trig_polynomials
 from .answers import Notation, read_answer, split_top_level
+from .options import deprecated, refuse_stop
 
 __all__ = ["Verdict", "cannot_read", "exact_parameters", "check_expression", "check_factors", "check_reachable",
            "check_boundary_arc", "check_measure",
            "assert_expression", "assert_factors", "assert_reachable", "assert_boundary_arc", "assert_measure",
-           "REACH_TOLERANCE"]
+           "REACH_TOLERANCE", "MAX_BOXES"]
 
 
 #: Statuses of an answer without a verdict (``ok`` None), by the reason.
@@ -305,6 +307,8 @@ def check_factors(student, derived, *, robot=None, angles: str = "radians", seed
 #: Points whose nearest numeric witness is within this times the reach, and which nothing proves either way,
 #: are "within tolerance" (undecided), never reachable.
 REACH_TOLERANCE = 1e-10
+#: Boxes the interval exclusion of :func:`check_reachable` may evaluate when ``stop`` gives no ``max_boxes``.
+MAX_BOXES = 500_000
 _SNAP = 1e-3            # radians: a witness angle this close to a limit or a multiple of 15 deg is tried exactly
                         # (near a stretched or folded chain an end point 1e-10 away leaves the angles ~1e-5 off)
 
@@ -346,8 +350,8 @@ def _proved_inside(chain, theta, target):
     return q[0] if image.prove_inside_at(T, q)[0] else None
 
 
-def check_reachable(chain, point, *, max_boxes: int = 500_000, seed: int = 0,
-                    tol: float = REACH_TOLERANCE) -> Verdict:
+def check_reachable(chain, point, *, stop: StopAt = StopAt(), seed: int = 0, tol: float = REACH_TOLERANCE,
+                    max_boxes: int | None = None) -> Verdict:
     """Can the planar ``chain`` reach ``point``?  Decided only by a proof, else said to be undecided.
 
     The point is read exactly (a float as the decimal it prints as, text
@@ -365,7 +369,37 @@ def check_reachable(chain, point, *, max_boxes: int = 500_000, seed: int = 0,
     - undecided (``ok`` None): ``"within tolerance"``, a configuration
       reaches a point within ``tol`` times the reach but nothing proves the
       point reached or not (a numeric witness is never a proof); or
-      ``"undecided"``, no witness and no proof within ``max_boxes``.
+      ``"undecided"``, no witness and no proof within ``stop.max_boxes``.
+
+    Parameters
+    ----------
+    chain : PlanarChain
+        The planar chain, with its joint limits.
+    point : pair of numbers or text
+        ``(x, y)``, each a number or text such as ``"1/3"``, read exactly.
+    stop : :class:`~workspace_sym.interval.driver.StopAt`
+        ``max_boxes``: the boxes the interval exclusion may evaluate, the one box search of the call (None:
+        :data:`MAX_BOXES`).  ``time_limit`` and ``section_boxes`` do not apply and are refused; ``progress`` shows
+        nothing (the search has no bar).
+    seed : int
+        Seed of the numeric search for a witness configuration.
+    tol : float
+        Points a configuration reaches within ``tol`` times the reach, and which nothing proves either way, are
+        *within tolerance* (undecided).
+    max_boxes : int, optional
+        Deprecated: ``stop=StopAt(max_boxes=...)`` (taken with a :class:`DeprecationWarning`).
+
+    Returns
+    -------
+    Verdict
+        ``ok`` True (proved reachable), False (proved unreachable) or None, with the method and its evidence.
+
+    Raises
+    ------
+    InvalidParameterError
+        A point that is not two finite real numbers; a ``stop`` that is not a ``StopAt`` or sets a time limit.
+    ExpressionError
+        Text of the point outside the expression grammar.
 
     Examples
     --------
@@ -374,6 +408,11 @@ def check_reachable(chain, point, *, max_boxes: int = 500_000, seed: int = 0,
     >>> [check_reachable(arm, p).evidence["method"] for p in [(2, 0), (2 + 1e-10, 0), (0.5, 1.5), (0.5, 1.2)]]
     ['exact witness', 'reach bound', 'interval existence proof', 'interval exclusion']
     """
+    if max_boxes is not None:
+        deprecated("check_reachable", "max_boxes", "stop=StopAt(max_boxes=...)")
+        stop = replace(stop, max_boxes=max_boxes)
+    refuse_stop("check_reachable", stop, ("max_boxes",), "stops on boxes only (its interval exclusion)")
+    boxes = MAX_BOXES if stop.max_boxes is None else stop.max_boxes
     flat = list(np.ravel(np.asarray(point, dtype=object)))
     if len(flat) != 2:
         raise InvalidParameterError(f"point must be two numbers (x, y); got {point!r:.60}", parameter="point")
@@ -403,7 +442,7 @@ def check_reachable(chain, point, *, max_boxes: int = 500_000, seed: int = 0,
                                  f"within the limits near theta = {deg} deg reaches it exactly",
                            {"method": "interval existence proof", "configuration": refined.tolist(),
                             "distance": float(np.hypot(*(chain.forward(refined) - q)))})
-    if prove_unreachable(chain, q, max_boxes=max_boxes):
+    if prove_unreachable(chain, q, max_boxes=boxes):
         return Verdict(False, "unreachable: interval arithmetic shows that no configuration within the joint "
                               "limits reaches this point", {"method": "interval exclusion"})
     if err <= tol * chain.reach:
@@ -411,7 +450,7 @@ def check_reachable(chain, point, *, max_boxes: int = 500_000, seed: int = 0,
                              f"reaches a point {err:.1e} away, but neither an exact witness, an interval existence "
                              "proof nor a proof of the contrary was found",
                        {"method": "within tolerance", "tolerance": tol, **found})
-    return Verdict(None, f"undecided: no witness found and no proof within {max_boxes} boxes "
+    return Verdict(None, f"undecided: no witness found and no proof within {boxes} boxes "
                          "(the point may be very close to the boundary)", {"method": "undecided"})
 
 

@@ -25,7 +25,9 @@ from __future__ import annotations
 
 import json
 import math
+import time
 import warnings
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -33,16 +35,19 @@ import numpy as np
 import sympy as sp
 
 from ..document import Document
-from ..errors import InvalidParameterError
+from ..errors import InvalidParameterError, SymbolicBudgetError
 from ..files import write_files
+from ..interval.driver import StopAt
 from ..kinematics import DHRobot
 from ..numbers import fmt_bracket
 from ..planar import PlanarChain
+from ..symbolic import symbolic_budget
 from .checks import check_reachable, exact_parameters
 from .grading import KEY_FORMAT, tolerance_rule
+from .options import refuse_stop
 
 __all__ = ["make_exercises", "write_exercises", "exact_parameters", "reach_bound", "reachability_point",
-           "MAX_COUNT", "AREA_DIGITS"]
+           "MAX_COUNT", "AREA_DIGITS", "POINT_BOXES"]
 
 #: Most problems on one sheet.
 MAX_COUNT = 20
@@ -50,6 +55,9 @@ _LENGTHS = [sp.Rational(k, 20) for k in range(2, 11)]          # 0.1 .. 0.5
 _COORD = ("x", "y", "z")
 #: Significant digits asked for an area, stated on the sheet and applied by the key.
 AREA_DIGITS = 3
+#: Boxes the interval exclusion may spend on one drawn point of a chain (a point it leaves undecided is drawn
+#: again): fixed, so that a seed gives the same sheet on every machine.
+POINT_BOXES = 20_000
 # (the key's entry, the answer as the key document shows it: text, a list of text and SymPy objects set inline, or a
 # SymPy object displayed)
 _Question = tuple[dict[str, Any], Any]
@@ -158,7 +166,7 @@ def _chain_point(chain: PlanarChain, rng):
         point = [sp.Rational(round(r * math.cos(phi), 3)).limit_denominator(1000),
                  sp.Rational(round(r * math.sin(phi), 3)).limit_denominator(1000)]
         # the exact point (text of a rational), decided only with a proof: points within tolerance are drawn again
-        verdict = check_reachable(chain, [sp.sstr(v) for v in point], max_boxes=20_000)
+        verdict = check_reachable(chain, [sp.sstr(v) for v in point], stop=StopAt(max_boxes=POINT_BOXES))
         why = verdict.message.split(": ", 1)[-1]
         if verdict.ok is True:
             return point, True, why, [float(t) for t in verdict.evidence["configuration"]], verdict
@@ -292,11 +300,39 @@ def _chain_problem(rng, number: int) -> tuple[str, dict, PlanarChain, list[_Ques
     return name, spec, chain, questions
 
 
-def make_exercises(*, seed: int, count: int, max_joints: int = 6):
+def make_exercises(*, seed: int, count: int, max_joints: int = 6, stop: StopAt = StopAt()):
     """The sheet, the key (both :class:`~workspace_sym.document.Document`) and the machine-readable key (a dict).
 
     Problems alternate between DH robots (3 to ``max_joints`` joints) and
-    planar chains.  Deterministic in ``seed``.
+    planar chains.  Deterministic in ``seed``: a time limit never changes a
+    sheet, which is made whole or not at all.
+
+    Parameters
+    ----------
+    seed : int
+        The seed (0 or more) every drawing is made from.
+    count : int
+        Number of problems, 1 to :data:`MAX_COUNT`.
+    max_joints : int
+        Most joints of a DH robot, 3 to 6.
+    stop : :class:`~workspace_sym.interval.driver.StopAt`
+        ``time_limit``: seconds for the whole sheet (None: no limit).  In the main thread of a POSIX process a
+        timer also interrupts SymPy's own calls; elsewhere the derivations stop at their own checks of the
+        deadline.  ``max_boxes`` and ``section_boxes`` do not apply and are refused: each proof of a drawn point
+        has its fixed budget of :data:`POINT_BOXES` boxes, so that a seed gives the same sheet on every machine.
+
+    Returns
+    -------
+    tuple
+        ``(sheet, key_document, key)``: the student sheet, the answer key as a document, and the key as a
+        dictionary (the JSON that ``workspace-sym grade`` reads).
+
+    Raises
+    ------
+    InvalidParameterError
+        A bad ``seed``, ``count``, ``max_joints`` or ``stop``.
+    SymbolicBudgetError
+        The sheet not made within ``stop.time_limit`` (``parameter`` ``"time_limit"``).
     """
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise InvalidParameterError(f"seed must be a whole number >= 0; got {seed!r}", parameter="seed")
@@ -305,6 +341,34 @@ def make_exercises(*, seed: int, count: int, max_joints: int = 6):
                                     parameter="count")
     if isinstance(max_joints, bool) or not isinstance(max_joints, int) or not 3 <= max_joints <= 6:
         raise InvalidParameterError(f"max_joints must be 3 to 6; got {max_joints!r}", parameter="max_joints")
+    refuse_stop("make_exercises", stop, ("time_limit",), f"stops on time only (the proof of a drawn point has its "
+                                                         f"own budget of {POINT_BOXES} boxes)")
+    with _within(stop.time_limit, f"the exercise sheet (seed {seed}, {count} problems)"):
+        return _sheet(seed, count, max_joints)
+
+
+@contextmanager
+def _within(time_limit: float | None, what: str):
+    """The block within ``time_limit`` seconds (None: no limit): past it, one
+    :class:`~workspace_sym.errors.SymbolicBudgetError` naming ``time_limit``.  A derivation's own budget spent
+    earlier is its own error, as without a time limit."""
+    if time_limit is None:
+        yield
+        return
+    began = time.monotonic()
+    try:
+        with symbolic_budget(time_limit, what):
+            yield
+    except SymbolicBudgetError as exc:
+        if time.monotonic() - began < time_limit:
+            raise
+        raise SymbolicBudgetError(f"time_limit: {what} was not made within the time limit of {time_limit:g} s (a "
+                                  "sheet is made whole or not at all); allow more time or ask for fewer problems",
+                                  parameter="time_limit") from exc
+
+
+def _sheet(seed: int, count: int, max_joints: int):
+    """:func:`make_exercises` once its options are checked."""
     rng = np.random.default_rng(seed)
     title = f"Workspace exercises (seed {seed})"
     sheet, key_doc = Document(title), Document(f"Answer key: {title}")
@@ -378,10 +442,32 @@ def _limits_text(joint) -> str:
     return f"[{lo}, {hi}]"
 
 
-def write_exercises(out, *, seed: int, count: int, max_joints: int = 6) -> dict:
+def write_exercises(out, *, seed: int, count: int, max_joints: int = 6, stop: StopAt = StopAt()) -> dict:
     """Write ``sheet.{md,html,tex}``, ``key.{md,html,tex}``, ``key.json`` and ``answers-template.csv`` into
-    ``out``; return the paths.  Everything is computed before the first file is written."""
-    sheet, key_doc, key = make_exercises(seed=seed, count=count, max_joints=max_joints)
+    ``out``; return the paths.  Everything is computed before the first file is written.
+
+    Parameters
+    ----------
+    out : path
+        The output directory (made when missing).
+    seed, count, max_joints, stop
+        As for :func:`make_exercises`.
+
+    Returns
+    -------
+    dict
+        The path of each file written, by its name.
+
+    Raises
+    ------
+    InvalidParameterError
+        As :func:`make_exercises`.
+    SymbolicBudgetError
+        The sheet not made within ``stop.time_limit``: nothing is written.
+    OutputError
+        ``out`` cannot be written.
+    """
+    sheet, key_doc, key = make_exercises(seed=seed, count=count, max_joints=max_joints, stop=stop)
     texts = {}
     for stem, doc in (("sheet", sheet), ("key", key_doc)):
         texts[f"{stem}.md"] = doc.markdown()

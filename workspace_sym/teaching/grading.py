@@ -40,10 +40,11 @@ blank answer is *no answer*, and a student's second answer to a question is
 *duplicate* (not graded: the first one is, and the report lists the rows).
 
 Checking is bounded in time (:func:`grade_answers`): an answer still being
-checked after ``answer_seconds`` (default :data:`ANSWER_SECONDS`) is
-*cannot check*, with the reason; once the batch has spent ``total_seconds``
-(default :data:`TOTAL_SECONDS`) the remaining rows are *not graded* (no
-points).  Both are counted in the report, which says why.
+checked after ``answer_time_limit`` seconds (default :data:`ANSWER_SECONDS`) is
+*cannot check*, with the reason; once the batch has spent the time limit of
+``stop=StopAt(time_limit=...)`` (default :data:`TOTAL_SECONDS`) the remaining
+rows are *not graded* (no points).  Both are counted in the report, which says
+why.
 """
 
 from __future__ import annotations
@@ -57,7 +58,7 @@ import threading
 import time
 from collections import Counter
 from contextlib import contextmanager
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -68,6 +69,7 @@ from ..document import Document
 from ..errors import ExpressionError, InvalidParameterError, SymbolicBudgetError, UnknownNameError, WorkspaceError
 from ..expressions import parse_expr, read_symbol
 from ..files import read_json, read_text, write_files
+from ..interval.driver import StopAt
 from ..kinematics import DHRobot
 from ..numbers import fmt_bracket
 from ..planar import PlanarChain
@@ -85,10 +87,11 @@ from .answers import (
     split_unit,
 )
 from .checks import Verdict, cannot_read, check_expression, check_factors
+from .options import deprecated, refuse_stop
 
 __all__ = ["KIND_NAMES", "KEY_FORMAT", "Question", "AnswerKey", "GradedAnswer", "grade_answers", "read_answers_csv",
            "write_grading", "duplicate_rows", "similar_students", "tolerance_rule", "accepted_range", "DELIMITERS",
-           "MAX_ROWS", "ANSWER_SECONDS", "TOTAL_SECONDS"]
+           "MAX_ROWS", "ANSWER_SECONDS", "TOTAL_SECONDS", "BATCH"]
 
 #: Kinds of question a key may hold.
 KIND_NAMES = ("expression", "factors", "reachable", "integer", "measure")
@@ -99,6 +102,8 @@ MAX_ROWS = 10_000
 ANSWER_SECONDS = 10.0
 #: Default seconds a whole batch may take; the rows left then are "not graded".
 TOTAL_SECONDS = 1800.0
+#: The default ``stop`` of :func:`grade_answers`: a batch stops after :data:`TOTAL_SECONDS`.
+BATCH = StopAt(time_limit=TOTAL_SECONDS)
 
 
 @dataclass(frozen=True)
@@ -495,23 +500,56 @@ def _check_budget(value, name: str) -> float:
     return float(value)
 
 
-def grade_answers(key: AnswerKey, rows, *, answer_seconds: float = ANSWER_SECONDS,
-                  total_seconds: float = TOTAL_SECONDS) -> list[GradedAnswer]:
+def grade_answers(key: AnswerKey, rows, *, stop: StopAt = BATCH, answer_time_limit: float = ANSWER_SECONDS,
+                  answer_seconds: float | None = None, total_seconds: float | None = None) -> list[GradedAnswer]:
     """Grade ``(student, question, answer)`` rows against ``key``; never raises on an answer.
 
-    An answer whose check takes more than ``answer_seconds`` is stopped and
-    gets *cannot check* (``ok`` None, no points) with the reason; after
-    ``total_seconds`` for the whole batch, every remaining row gets *not
-    graded*.  Where the check cannot be interrupted (not the main thread, or
-    no POSIX timer) an answer runs to its end and is *cannot check* when it
-    took longer than its budget.
+    An answer whose check takes more than ``answer_time_limit`` seconds is
+    stopped and gets *cannot check* (``ok`` None, no points) with the reason;
+    after ``stop.time_limit`` seconds for the whole batch, every remaining row
+    gets *not graded*.  Where the check cannot be interrupted (not the main
+    thread, or no POSIX timer) an answer runs to its end and is *cannot check*
+    when it took longer than its budget.
 
     A student's first row for a question is graded; a later one is
     *duplicate* (no points), naming both rows as numbered in the CSV (the
     header is row 1: the first answer is row 2).
+
+    Parameters
+    ----------
+    key : AnswerKey
+        The answer key.
+    rows : iterable of (str, str, str)
+        ``(student, question, answer)`` rows, as :func:`read_answers_csv` returns them.
+    stop : :class:`~workspace_sym.interval.driver.StopAt`
+        ``time_limit``: seconds for the whole batch (default :data:`BATCH`, :data:`TOTAL_SECONDS`; None: no limit).
+        ``max_boxes`` and ``section_boxes`` do not apply and are refused; ``progress`` shows nothing (no bar).
+    answer_time_limit : float
+        Seconds one answer may take to check (default :data:`ANSWER_SECONDS`): a budget per answer, within
+        what is left of the batch's.
+    answer_seconds, total_seconds : float, optional
+        Deprecated: ``answer_time_limit=`` and ``stop=StopAt(time_limit=...)`` (taken with a
+        :class:`DeprecationWarning`).
+
+    Returns
+    -------
+    list of GradedAnswer
+        One a row, in the order of the rows.
+
+    Raises
+    ------
+    InvalidParameterError
+        A time limit that is not a positive number of seconds, or a ``stop`` setting a budget of boxes.
     """
-    answer_seconds = _check_budget(answer_seconds, "answer_seconds")
-    total_seconds = _check_budget(total_seconds, "total_seconds")
+    if answer_seconds is not None:
+        deprecated("grade_answers", "answer_seconds", "answer_time_limit=...")
+        answer_time_limit = _check_budget(answer_seconds, "answer_seconds")
+    if total_seconds is not None:
+        deprecated("grade_answers", "total_seconds", "stop=StopAt(time_limit=...)")
+        stop = replace(stop, time_limit=_check_budget(total_seconds, "total_seconds"))
+    refuse_stop("grade_answers", stop, ("time_limit",), "stops on time only")
+    answer_time_limit = _check_budget(answer_time_limit, "answer_time_limit")
+    total = math.inf if stop.time_limit is None else float(stop.time_limit)
     out = []
     first_row: dict = {}
     verdict: Verdict | None                                  # None: stopped by its time budget
@@ -526,13 +564,13 @@ def grade_answers(key: AnswerKey, rows, *, answer_seconds: float = ANSWER_SECOND
                               {"method": "duplicate", "rows": [earlier, row]})
             out.append(GradedAnswer(student, qid, text, verdict, 0.0, full))
             continue
-        left = total_seconds - (time.perf_counter() - start)
+        left = total - (time.perf_counter() - start)
         if left <= 0:
-            verdict = Verdict(None, f"not graded: the batch used its time budget of {total_seconds:g} s before "
-                                    "this answer", {"method": "not graded", "budget": total_seconds})
+            verdict = Verdict(None, f"not graded: the batch used its time budget of {total:g} s before "
+                                    "this answer", {"method": "not graded", "budget": total})
             out.append(GradedAnswer(student, qid, text, verdict, 0.0, full))
             continue
-        budget = min(answer_seconds, left)
+        budget = min(answer_time_limit, left)
         began = time.perf_counter()
         try:
             with _time_budget(budget):
