@@ -13,7 +13,7 @@ from workspace_sym.answers import Notation, read_answer
 from workspace_sym.cli import main
 from workspace_sym.exercises import exact_parameters, make_exercises, reach_bound, write_exercises
 from workspace_sym.grading import AnswerKey, grade_answers
-from workspace_sym.interval import StopAt
+from workspace_sym.interval import RunOn, StopAt
 from workspace_sym.kinematics import DHRobot
 from workspace_sym.planar import PlanarChain
 
@@ -146,10 +146,13 @@ def test_wrong_and_unreadable_answers_in_a_class(generated):
 
 
 def test_grade_and_exercises_on_the_command_line(tmp_path, capsys):
+    """Both commands end to end; --progress draws their bars on stderr (the JSON on stdout untouched)."""
     out = tmp_path / "sheet"
     assert main(["exercises", "--seed", str(SEED), "--count", str(COUNT), "--max-joints", str(JOINTS),
-                 "--out", str(out), "--json"]) == 0
-    files = json.loads(capsys.readouterr().out)["files"]
+                 "--out", str(out), "--json", "--progress"]) == 0
+    printed = capsys.readouterr()
+    files = json.loads(printed.out)["files"]
+    assert "exercise sheet" in printed.err and f"{COUNT}/{COUNT}" in printed.err
     assert {"sheet.md", "sheet.html", "sheet.tex", "key.md", "key.html", "key.tex", "key.json"} <= set(files)
     key = json.loads((out / "key.json").read_text())
     assert key == make_exercises(seed=SEED, count=COUNT, max_joints=JOINTS)[2]      # same seed, same key
@@ -160,8 +163,12 @@ def test_grade_and_exercises_on_the_command_line(tmp_path, capsys):
         for qid, text in _right_answers(key).items():
             w.writerow(["ann", qid, text])
             w.writerow(["bob", qid, "c1 (a1"])
-    assert main(["grade", str(out / "key.json"), str(answers), "--out", str(tmp_path / "graded"), "--json"]) == 0
-    summary = json.loads(capsys.readouterr().out)
+    assert main(["grade", str(out / "key.json"), str(answers), "--out", str(tmp_path / "graded"), "--json",
+                 "--progress"]) == 0
+    printed = capsys.readouterr()
+    summary = json.loads(printed.out)
+    rows_graded = 2 * len(key["questions"])
+    assert "grading" in printed.err and f"{rows_graded}/{rows_graded}" in printed.err
     assert summary["students"] == {"ann": len(key["questions"]), "bob": 0.0}
     with (tmp_path / "graded" / "graded.csv").open() as f:
         rows = list(csv.DictReader(f))
@@ -347,7 +354,8 @@ def test_grading_budgets(tmp_path):
 
 def test_grading_and_sheets_take_stop(generated, tmp_path):
     """Issue 38 (one options spelling): grade_answers and make_exercises / write_exercises take stop=StopAt(...)
-    and honour its time limit; a budget of boxes, which they cannot honour, is refused with the field named.  A
+    and honour its time limit, and run=RunOn(progress=) (its bar: tested on the command line); a budget of boxes,
+    or a field of RunOn but progress, which they cannot honour, is refused with the field named.  A
     sheet not made within its time limit is one SymbolicBudgetError naming time_limit, and nothing is written;
     under a generous limit it is the same sheet (reference: the key made without a limit from the same seed).
     Without a batch limit (StopAt()) a batch is graded as usual."""
@@ -362,6 +370,12 @@ def test_grading_and_sheets_take_stop(generated, tmp_path):
         with pytest.raises(InvalidParameterError, match=r"on time only.*; (max_boxes|section_boxes) does not") as error:
             call()
         assert error.value.parameter == "stop"
+    for call in (lambda: grade_answers(key, [], run=RunOn(chunk=10)),
+                 lambda: write_exercises(tmp_path / "kept", seed=SEED, count=COUNT, run=RunOn(store=tmp_path))):
+        with pytest.raises(InvalidParameterError, match="in this process and keeps no boxes: only progress") as error:
+            call()
+        assert error.value.parameter == "run"
+    assert not (tmp_path / "kept").exists()
     with pytest.raises(SymbolicBudgetError, match=r"time_limit: the exercise sheet .* not made within") as error:
         make_exercises(seed=SEED, count=COUNT, max_joints=JOINTS, stop=StopAt(time_limit=0.001))
     assert error.value.parameter == "time_limit"

@@ -739,10 +739,11 @@ def cmd_report(args) -> int:
 
 def cmd_grade(args) -> int:
     """Grade a CSV of students' answers against a key; write the graded CSV and the report."""
+    from .interval.driver import RunOn
     from .teaching import AnswerKey, duplicate_rows, grade_answers, read_answers_csv, similar_students, write_grading
 
     key = AnswerKey.from_file(args.key)
-    graded = grade_answers(key, read_answers_csv(args.answers))
+    graded = grade_answers(key, read_answers_csv(args.answers), run=RunOn(progress=args.progress))
     paths = write_grading(key, graded, args.out)
     total = sum(q.points for q in key.questions)
     scores: dict[str, float] = {}
@@ -768,9 +769,11 @@ def cmd_grade(args) -> int:
 
 def cmd_exercises(args) -> int:
     """Write an exercise sheet, its answer key and the machine-readable key."""
+    from .interval.driver import RunOn
     from .teaching import write_exercises
 
-    paths = write_exercises(args.out, seed=args.seed, count=args.count, max_joints=args.max_joints)
+    paths = write_exercises(args.out, seed=args.seed, count=args.count, max_joints=args.max_joints,
+                            run=RunOn(progress=args.progress))
     if args.json:
         _emit_json({"seed": args.seed, "count": args.count, "files": {k: str(v) for k, v in paths.items()}})
     else:
@@ -973,14 +976,14 @@ def build_parser() -> _Parser:
     p.set_defaults(func=cmd_report)
 
     p = sub.add_parser("grade", help="grade students' answers (CSV: student, question, answer) against a key",
-                       parents=[json_])
+                       parents=[json_, progress])
     p.add_argument("key", help="answer key (JSON, as written by 'workspace-sym exercises')")
     p.add_argument("answers", help="CSV with columns student, question, answer (separated by ',', ';' or a tab)")
     p.add_argument("--out", required=True, help="output directory (graded.csv, grades.html, grades.md)")
     p.set_defaults(func=cmd_grade)
 
     p = sub.add_parser("exercises", help="exercise sheet with a certified answer key (Markdown, HTML, LaTeX, JSON)",
-                       parents=[json_])
+                       parents=[json_, progress])
     p.add_argument("--seed", type=int, default=0, help="random seed: the same seed gives the same sheet")
     p.add_argument("--count", type=int, default=4, help="number of problems (robots and chains alternate)")
     p.add_argument("--max-joints", type=int, default=6, help="largest DH robot drawn, 3 to 6 joints (default 6)")

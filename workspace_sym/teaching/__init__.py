@@ -2,8 +2,9 @@
 
 The rooms, from the bottom up (each imports only the rooms above it in this list, and the package's lower layers):
 
-* :mod:`.options`: which fields of :class:`~workspace_sym.interval.driver.StopAt` each function honours (the others
-  are refused), and the warning for the keywords of earlier releases;
+* :mod:`.options`: which fields of :class:`~workspace_sym.interval.driver.StopAt` and
+  :class:`~workspace_sym.interval.driver.RunOn` each function honours (the others are refused), and the warning for
+  the keywords of earlier releases;
 * :mod:`.answers`: students' answers as they write them (textbook shorthand, juxtaposition, LaTeX, matrices, units,
   yes/no, counts in words): :class:`Notation`, :func:`read_answer`, :func:`read_latex`;
 * :mod:`.checks`: one answer checked, with its evidence: :class:`Verdict` and the ``check_*`` functions (an exact
@@ -16,8 +17,9 @@ The rooms, from the bottom up (each imports only the rooms above it in this list
 
 The functions that may run long take ``stop=StopAt(...)`` as the rest of the package does: ``max_boxes`` for the box
 search of :func:`check_reachable`, ``time_limit`` for a batch of :func:`grade_answers` (its budget per answer is
-``answer_time_limit``) and for a sheet of :func:`make_exercises`.  None of them runs elsewhere or keeps boxes, so
-none takes ``run=RunOn(...)``.
+``answer_time_limit``) and for a sheet of :func:`make_exercises`.  These two, which run long, take
+``run=RunOn(progress=...)`` for their progress bar; they run in this process and keep no boxes, so the other fields
+of a ``RunOn`` are refused.
 
 The earlier module paths ``workspace_sym.answers``, ``workspace_sym.verify`` (now :mod:`.checks`),
 ``workspace_sym.grading`` and ``workspace_sym.exercises`` still hold their public names.

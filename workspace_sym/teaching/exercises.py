@@ -37,14 +37,15 @@ import sympy as sp
 from ..document import Document
 from ..errors import InvalidParameterError, SymbolicBudgetError
 from ..files import write_files
-from ..interval.driver import StopAt
+from ..interval.driver import RunOn, StopAt
 from ..kinematics import DHRobot
 from ..numbers import fmt_bracket
 from ..planar import PlanarChain
+from ..progress import progress_bar
 from ..symbolic import symbolic_budget
 from .checks import check_reachable, exact_parameters
 from .grading import KEY_FORMAT, tolerance_rule
-from .options import refuse_stop
+from .options import refuse_run, refuse_stop
 
 __all__ = ["make_exercises", "write_exercises", "exact_parameters", "reach_bound", "reachability_point",
            "MAX_COUNT", "AREA_DIGITS", "POINT_BOXES"]
@@ -300,7 +301,7 @@ def _chain_problem(rng, number: int) -> tuple[str, dict, PlanarChain, list[_Ques
     return name, spec, chain, questions
 
 
-def make_exercises(*, seed: int, count: int, max_joints: int = 6, stop: StopAt = StopAt()):
+def make_exercises(*, seed: int, count: int, max_joints: int = 6, stop: StopAt = StopAt(), run: RunOn = RunOn()):
     """The sheet, the key (both :class:`~workspace_sym.document.Document`) and the machine-readable key (a dict).
 
     Problems alternate between DH robots (3 to ``max_joints`` joints) and
@@ -320,6 +321,9 @@ def make_exercises(*, seed: int, count: int, max_joints: int = 6, stop: StopAt =
         timer also interrupts SymPy's own calls; elsewhere the derivations stop at their own checks of the
         deadline.  ``max_boxes`` and ``section_boxes`` do not apply and are refused: each proof of a drawn point
         has its fixed budget of :data:`POINT_BOXES` boxes, so that a seed gives the same sheet on every machine.
+    run : :class:`~workspace_sym.interval.driver.RunOn`
+        ``progress``: a bar over the problems (None: on an interactive output once the sheet has taken a second).
+        The sheet is made in this process: the other fields are refused.
 
     Returns
     -------
@@ -330,7 +334,7 @@ def make_exercises(*, seed: int, count: int, max_joints: int = 6, stop: StopAt =
     Raises
     ------
     InvalidParameterError
-        A bad ``seed``, ``count``, ``max_joints`` or ``stop``.
+        A bad ``seed``, ``count``, ``max_joints``, ``stop`` or ``run``.
     SymbolicBudgetError
         The sheet not made within ``stop.time_limit`` (``parameter`` ``"time_limit"``).
     """
@@ -343,8 +347,10 @@ def make_exercises(*, seed: int, count: int, max_joints: int = 6, stop: StopAt =
         raise InvalidParameterError(f"max_joints must be 3 to 6; got {max_joints!r}", parameter="max_joints")
     refuse_stop("make_exercises", stop, ("time_limit",), f"stops on time only (the proof of a drawn point has its "
                                                          f"own budget of {POINT_BOXES} boxes)")
-    with _within(stop.time_limit, f"the exercise sheet (seed {seed}, {count} problems)"):
-        return _sheet(seed, count, max_joints)
+    refuse_run("make_exercises", run)
+    with (progress_bar(run.progress, total=count, desc="exercise sheet", unit="problem") as bar,
+          _within(stop.time_limit, f"the exercise sheet (seed {seed}, {count} problems)")):
+        return _sheet(seed, count, max_joints, bar.update)
 
 
 @contextmanager
@@ -367,8 +373,8 @@ def _within(time_limit: float | None, what: str):
                                   parameter="time_limit") from exc
 
 
-def _sheet(seed: int, count: int, max_joints: int):
-    """:func:`make_exercises` once its options are checked."""
+def _sheet(seed: int, count: int, max_joints: int, done):
+    """:func:`make_exercises` once its options are checked; ``done(1)`` after each problem."""
     rng = np.random.default_rng(seed)
     title = f"Workspace exercises (seed {seed})"
     sheet, key_doc = Document(title), Document(f"Answer key: {title}")
@@ -410,6 +416,7 @@ def _sheet(seed: int, count: int, max_joints: int):
                 key_doc.para(["Answer: ", *shown])
             else:
                 key_doc.math("\\text{answer}", shown)
+        done(1)
     return sheet, key_doc, key
 
 
@@ -442,7 +449,8 @@ def _limits_text(joint) -> str:
     return f"[{lo}, {hi}]"
 
 
-def write_exercises(out, *, seed: int, count: int, max_joints: int = 6, stop: StopAt = StopAt()) -> dict:
+def write_exercises(out, *, seed: int, count: int, max_joints: int = 6, stop: StopAt = StopAt(),
+                    run: RunOn = RunOn()) -> dict:
     """Write ``sheet.{md,html,tex}``, ``key.{md,html,tex}``, ``key.json`` and ``answers-template.csv`` into
     ``out``; return the paths.  Everything is computed before the first file is written.
 
@@ -450,7 +458,7 @@ def write_exercises(out, *, seed: int, count: int, max_joints: int = 6, stop: St
     ----------
     out : path
         The output directory (made when missing).
-    seed, count, max_joints, stop
+    seed, count, max_joints, stop, run
         As for :func:`make_exercises`.
 
     Returns
@@ -467,7 +475,7 @@ def write_exercises(out, *, seed: int, count: int, max_joints: int = 6, stop: St
     OutputError
         ``out`` cannot be written.
     """
-    sheet, key_doc, key = make_exercises(seed=seed, count=count, max_joints=max_joints, stop=stop)
+    sheet, key_doc, key = make_exercises(seed=seed, count=count, max_joints=max_joints, stop=stop, run=run)
     texts = {}
     for stem, doc in (("sheet", sheet), ("key", key_doc)):
         texts[f"{stem}.md"] = doc.markdown()

@@ -69,10 +69,11 @@ from ..document import Document
 from ..errors import ExpressionError, InvalidParameterError, SymbolicBudgetError, UnknownNameError, WorkspaceError
 from ..expressions import parse_expr, read_symbol
 from ..files import read_json, read_text, write_files
-from ..interval.driver import StopAt
+from ..interval.driver import RunOn, StopAt
 from ..kinematics import DHRobot
 from ..numbers import fmt_bracket
 from ..planar import PlanarChain
+from ..progress import progress_bar
 from ..symbolic import RETRY_SECONDS as RETRY_SECONDS  # re-exported: the retry of the budget below
 from ..symbolic import symbolic_budget
 from .answers import (
@@ -87,7 +88,7 @@ from .answers import (
     split_unit,
 )
 from .checks import Verdict, cannot_read, check_expression, check_factors
-from .options import deprecated, refuse_stop
+from .options import deprecated, refuse_run, refuse_stop
 
 __all__ = ["KIND_NAMES", "KEY_FORMAT", "Question", "AnswerKey", "GradedAnswer", "grade_answers", "read_answers_csv",
            "write_grading", "duplicate_rows", "similar_students", "tolerance_rule", "accepted_range", "DELIMITERS",
@@ -501,7 +502,8 @@ def _check_budget(value, name: str) -> float:
 
 
 def grade_answers(key: AnswerKey, rows, *, stop: StopAt = BATCH, answer_time_limit: float = ANSWER_SECONDS,
-                  answer_seconds: float | None = None, total_seconds: float | None = None) -> list[GradedAnswer]:
+                  run: RunOn = RunOn(), answer_seconds: float | None = None,
+                  total_seconds: float | None = None) -> list[GradedAnswer]:
     """Grade ``(student, question, answer)`` rows against ``key``; never raises on an answer.
 
     An answer whose check takes more than ``answer_time_limit`` seconds is
@@ -527,6 +529,9 @@ def grade_answers(key: AnswerKey, rows, *, stop: StopAt = BATCH, answer_time_lim
     answer_time_limit : float
         Seconds one answer may take to check (default :data:`ANSWER_SECONDS`): a budget per answer, within
         what is left of the batch's.
+    run : :class:`~workspace_sym.interval.driver.RunOn`
+        ``progress``: a bar over the rows (None: on an interactive output once the batch has lasted a second).
+        The answers are checked in this process: the other fields are refused.
     answer_seconds, total_seconds : float, optional
         Deprecated: ``answer_time_limit=`` and ``stop=StopAt(time_limit=...)`` (taken with a
         :class:`DeprecationWarning`).
@@ -539,7 +544,8 @@ def grade_answers(key: AnswerKey, rows, *, stop: StopAt = BATCH, answer_time_lim
     Raises
     ------
     InvalidParameterError
-        A time limit that is not a positive number of seconds, or a ``stop`` setting a budget of boxes.
+        A time limit that is not a positive number of seconds, a ``stop`` setting a budget of boxes, or a ``run``
+        setting anything but ``progress``.
     """
     if answer_seconds is not None:
         deprecated("grade_answers", "answer_seconds", "answer_time_limit=...")
@@ -548,43 +554,53 @@ def grade_answers(key: AnswerKey, rows, *, stop: StopAt = BATCH, answer_time_lim
         deprecated("grade_answers", "total_seconds", "stop=StopAt(time_limit=...)")
         stop = replace(stop, time_limit=_check_budget(total_seconds, "total_seconds"))
     refuse_stop("grade_answers", stop, ("time_limit",), "stops on time only")
+    refuse_run("grade_answers", run)
     answer_time_limit = _check_budget(answer_time_limit, "answer_time_limit")
     total = math.inf if stop.time_limit is None else float(stop.time_limit)
+    rows = list(rows)
     out = []
     first_row: dict = {}
-    verdict: Verdict | None                                  # None: stopped by its time budget
     start = time.perf_counter()
-    for row, (student, qid, text) in enumerate(rows, start=2):
-        q = key.question(qid)
-        full = q.points if q is not None else 0.0
-        earlier = first_row.setdefault((student, qid), row)
-        if earlier != row:
-            verdict = Verdict(None, f"duplicate: row {row} repeats row {earlier}, which answered question {qid} "
-                                    f"for student {student}; only the first answer is graded",
-                              {"method": "duplicate", "rows": [earlier, row]})
-            out.append(GradedAnswer(student, qid, text, verdict, 0.0, full))
-            continue
-        left = total - (time.perf_counter() - start)
-        if left <= 0:
-            verdict = Verdict(None, f"not graded: the batch used its time budget of {total:g} s before "
-                                    "this answer", {"method": "not graded", "budget": total})
-            out.append(GradedAnswer(student, qid, text, verdict, 0.0, full))
-            continue
-        budget = min(answer_time_limit, left)
-        began = time.perf_counter()
-        try:
-            with _time_budget(budget):
-                verdict = key.grade(qid, text)
-        except SymbolicBudgetError:     # over its time budget (a WorkspaceError: caught first)
-            verdict = None
-        except WorkspaceError as exc:   # an answer must never stop the batch
-            verdict = Verdict(None, " ".join(str(exc).split()), {"method": "cannot read"})
-        if verdict is None or time.perf_counter() - began > budget:
-            verdict = Verdict(None, f"cannot check: checking this answer was stopped after {budget:g} s, its time "
-                                    "budget (a very long or deeply nested expression); it gets no points, check "
-                                    "it by hand", {"method": "cannot check", "budget": budget})
-        out.append(GradedAnswer(student, qid, text, verdict, full if verdict.ok is True else 0.0, full))
+    with progress_bar(run.progress, total=len(rows), desc="grading", unit="answer") as bar:
+        for row, (student, qid, text) in enumerate(rows, start=2):
+            earlier = first_row.setdefault((student, qid), row)
+            left = total - (time.perf_counter() - start)
+            out.append(_grade_row(key, row, student, qid, text, earlier=earlier, left=left, total=total,
+                                  answer_time_limit=answer_time_limit))
+            bar.update(1)
     return out
+
+
+def _grade_row(key: AnswerKey, row: int, student: str, qid: str, text: str, *, earlier: int, left: float,
+               total: float, answer_time_limit: float) -> GradedAnswer:
+    """One row of :func:`grade_answers`: a duplicate (``earlier`` is the row that answered first), not graded
+    (``left`` seconds of the batch's ``total``), or checked within its budget."""
+    q = key.question(qid)
+    full = q.points if q is not None else 0.0
+    verdict: Verdict | None                                  # None: stopped by its time budget
+    if earlier != row:
+        verdict = Verdict(None, f"duplicate: row {row} repeats row {earlier}, which answered question {qid} "
+                                f"for student {student}; only the first answer is graded",
+                          {"method": "duplicate", "rows": [earlier, row]})
+        return GradedAnswer(student, qid, text, verdict, 0.0, full)
+    if left <= 0:
+        verdict = Verdict(None, f"not graded: the batch used its time budget of {total:g} s before "
+                                "this answer", {"method": "not graded", "budget": total})
+        return GradedAnswer(student, qid, text, verdict, 0.0, full)
+    budget = min(answer_time_limit, left)
+    began = time.perf_counter()
+    try:
+        with _time_budget(budget):
+            verdict = key.grade(qid, text)
+    except SymbolicBudgetError:     # over its time budget (a WorkspaceError: caught first)
+        verdict = None
+    except WorkspaceError as exc:   # an answer must never stop the batch
+        verdict = Verdict(None, " ".join(str(exc).split()), {"method": "cannot read"})
+    if verdict is None or time.perf_counter() - began > budget:
+        verdict = Verdict(None, f"cannot check: checking this answer was stopped after {budget:g} s, its time "
+                                "budget (a very long or deeply nested expression); it gets no points, check "
+                                "it by hand", {"method": "cannot check", "budget": budget})
+    return GradedAnswer(student, qid, text, verdict, full if verdict.ok is True else 0.0, full)
 
 
 def similar_students(graded: list[GradedAnswer]) -> list[list[str]]:

@@ -1,10 +1,11 @@
-"""The options of the teaching functions: which fields of :class:`~workspace_sym.interval.driver.StopAt` apply to
-each, and the keywords of earlier releases.
+"""The options of the teaching functions: which fields of :class:`~workspace_sym.interval.driver.StopAt` and
+:class:`~workspace_sym.interval.driver.RunOn` apply to each, and the keywords of earlier releases.
 
 :func:`~workspace_sym.teaching.checks.check_reachable`, :func:`~workspace_sym.teaching.grading.grade_answers` and
 :func:`~workspace_sym.teaching.exercises.make_exercises` take ``stop=StopAt(...)`` as the rest of the package does:
-``max_boxes`` and ``time_limit`` are budgets of the whole call.  A field that a function cannot honour is refused,
-never ignored (``progress`` only shows a bar: none of them has one, and it is not refused).
+``max_boxes`` and ``time_limit`` are budgets of the whole call.  The two that run long (a batch of answers, a
+sheet) take ``run=RunOn(progress=...)`` for their progress bar; they run in this process and keep no boxes.  A
+field that a function cannot honour is refused, never ignored.
 """
 
 from __future__ import annotations
@@ -12,9 +13,9 @@ from __future__ import annotations
 import warnings
 
 from ..errors import InvalidParameterError
-from ..interval.driver import StopAt
+from ..interval.driver import RunOn, StopAt
 
-__all__ = ["refuse_stop", "deprecated"]
+__all__ = ["refuse_stop", "refuse_run", "deprecated"]
 
 _BUDGETS = ("max_boxes", "time_limit", "section_boxes")
 
@@ -41,6 +42,28 @@ def refuse_stop(where: str, stop: StopAt, applies: tuple[str, ...], why: str) ->
                                     f"{'does' if len(given) == 1 else 'do'} not apply; got "
                                     + ", ".join(f"{name}={getattr(stop, name)!r}" for name in given),
                                     parameter="stop")
+
+
+def refuse_run(where: str, run: RunOn) -> None:
+    """Raise :class:`~workspace_sym.errors.InvalidParameterError` (``parameter="run"``) when ``run`` is not a
+    :class:`RunOn` or says anything but ``progress``: ``where`` runs in this process and keeps no boxes.
+
+    Examples
+    --------
+    >>> refuse_run("grade_answers", RunOn(progress=False))
+    >>> try:
+    ...     refuse_run("grade_answers", RunOn(chunk=10))
+    ... except InvalidParameterError as error:
+    ...     print(error)
+    run: grade_answers runs in this process and keeps no boxes: only progress applies; got chunk=10
+    """
+    if not isinstance(run, RunOn):
+        raise InvalidParameterError(f"run must be a RunOn; got {type(run).__name__}", parameter="run")
+    given = [f"{name}={getattr(run, name)!r}" for name in ("executor", "chunk", "max_memory", "store", "resume")
+             if getattr(run, name) is not None]
+    if given:
+        raise InvalidParameterError(f"run: {where} runs in this process and keeps no boxes: only progress applies; "
+                                    f"got {', '.join(given)}", parameter="run")
 
 
 def deprecated(where: str, old: str, new: str, *, stacklevel: int = 3) -> None:
