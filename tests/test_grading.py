@@ -352,7 +352,7 @@ def test_grading_budgets(tmp_path):
         grade_answers(key, rows, answer_seconds=0)
 
 
-def test_grading_and_sheets_take_stop(generated, tmp_path):
+def test_grading_and_sheets_take_stop(generated, tmp_path, capsys):
     """Issue 38 (one options spelling): grade_answers and make_exercises / write_exercises take stop=StopAt(...)
     and honour its time limit, and run=RunOn(progress=) (its bar: tested on the command line); a budget of boxes,
     or a field of RunOn but progress, which they cannot honour, is refused with the field named.  A
@@ -365,6 +365,10 @@ def test_grading_and_sheets_take_stop(generated, tmp_path):
         {"id": "n", "kind": "integer", "answer": 4}]})
     assert [g.verdict.status for g in grade_answers(key, [("ann", "n", "4"), ("bob", "n", "5")], stop=StopAt())] == [
         "correct", "wrong"]
+    with pytest.warns(DeprecationWarning, match=r"StopAt\(progress=...\) is deprecated"):
+        earlier = StopAt(progress=True)                 # the bar's earlier place still draws it
+    grade_answers(key, [("ann", "n", "4")], stop=earlier)
+    assert "grading" in capsys.readouterr().err
     for call in (lambda: grade_answers(key, [], stop=StopAt(max_boxes=3)),
                  lambda: make_exercises(seed=SEED, count=COUNT, stop=StopAt(section_boxes=3))):
         with pytest.raises(InvalidParameterError, match=r"on time only.*; (max_boxes|section_boxes) does not") as error:

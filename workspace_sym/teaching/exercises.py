@@ -348,7 +348,8 @@ def make_exercises(*, seed: int, count: int, max_joints: int = 6, stop: StopAt =
     refuse_stop("make_exercises", stop, ("time_limit",), f"stops on time only (the proof of a drawn point has its "
                                                          f"own budget of {POINT_BOXES} boxes)")
     refuse_run("make_exercises", run)
-    with (progress_bar(run.progress, total=count, desc="exercise sheet", unit="problem") as bar,
+    shown = run.progress if run.progress is not None else stop.progress        # RunOn's, else the earlier spelling's
+    with (progress_bar(shown, total=count, desc="exercise sheet", unit="problem") as bar,
           _within(stop.time_limit, f"the exercise sheet (seed {seed}, {count} problems)")):
         return _sheet(seed, count, max_joints, bar.update)
 

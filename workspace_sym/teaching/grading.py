@@ -561,7 +561,8 @@ def grade_answers(key: AnswerKey, rows, *, stop: StopAt = BATCH, answer_time_lim
     out = []
     first_row: dict = {}
     start = time.perf_counter()
-    with progress_bar(run.progress, total=len(rows), desc="grading", unit="answer") as bar:
+    shown = run.progress if run.progress is not None else stop.progress        # RunOn's, else the earlier spelling's
+    with progress_bar(shown, total=len(rows), desc="grading", unit="answer") as bar:
         for row, (student, qid, text) in enumerate(rows, start=2):
             earlier = first_row.setdefault((student, qid), row)
             left = total - (time.perf_counter() - start)
