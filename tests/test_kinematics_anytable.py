@@ -435,8 +435,8 @@ def test_a_symbolic_budget_swallowed_once_still_stops_the_step():
     raised again, and the block ends with SymbolicBudgetError instead of running to its end (2 s here)."""
     import time
 
-    from workspace_sym.errors import SymbolicBudgetError
-    from workspace_sym.symbolic import _Expired, symbolic_budget
+    from workspace_sym.errors import BudgetExpired, SymbolicBudgetError
+    from workspace_sym.symbolic import symbolic_budget
 
     swallowed = 0
     began = time.perf_counter()
@@ -445,7 +445,7 @@ def test_a_symbolic_budget_swallowed_once_still_stops_the_step():
             while time.perf_counter() - began < 2.0:
                 try:
                     time.sleep(0.001)
-                except _Expired:
+                except BudgetExpired:
                     if swallowed:
                         raise
                     swallowed += 1

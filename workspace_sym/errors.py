@@ -35,6 +35,8 @@ __all__ = [
     "OverBudget",
     "CoverTooLarge",
     "CoverStopped",
+    "Refused",
+    "BudgetExpired",
     "BoundaryError",
     "SymbolicError",
     "SymbolicBudgetError",
@@ -145,6 +147,17 @@ class CoverStopped(Exception):
     def __init__(self, evaluated: int, reason: str):
         super().__init__(reason)
         self.evaluated, self.reason = evaluated, reason
+
+
+class Refused(Exception):
+    """The expression reader met something its grammar does not take (a name, a function, an operator, a number
+    out of range); it says what, and the reader turns it into an :class:`ExpressionError` naming the text."""
+
+
+class BudgetExpired(BaseException):
+    """Raised by the timer of :func:`~workspace_sym.symbolic.symbolic_budget` inside SymPy's own code; a
+    ``BaseException``, so that no ``except Exception`` on the way swallows it (the budget's block turns it into
+    :class:`SymbolicBudgetError`)."""
 
 
 class OutputError(WorkspaceError):

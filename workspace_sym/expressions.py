@@ -26,7 +26,7 @@ from numbers import Number
 import sympy as sp
 from sympy.parsing.sympy_parser import auto_number, eval_expr, rationalize, stringify_expr
 
-from .errors import ExpressionError, JointLimitError
+from .errors import ExpressionError, JointLimitError, Refused
 
 __all__ = ["parse_expr", "parse_math", "subscript_name", "parse_angle", "read_symbol", "as_sympy", "is_finite_value",
            "check_joint_limits", "refuse_plus_minus", "refuse_decimal_comma", "FUNCTIONS", "CONSTANTS", "MAX_LENGTH",
@@ -123,10 +123,6 @@ def quoted(text: str) -> str:
     return f"{text[:_SHOWN - 3]!r}... ({len(text)} characters)"
 
 
-class _Refused(Exception):
-    """Internal: the text is outside the grammar; the reason is the message."""
-
-
 class _Checker:
     """Walks an :mod:`ast` tree and accepts only arithmetic over the allowed names.
 
@@ -150,15 +146,15 @@ class _Checker:
 
     def visit(self, node, depth: int = 0):
         if depth > self.max_depth:
-            raise _Refused(f"nested more than {self.max_depth} levels deep")
+            raise Refused(f"nested more than {self.max_depth} levels deep")
         if isinstance(node, ast.Expression):
             return self.visit(node.body, depth)
         if isinstance(node, ast.Constant):
             value = node.value
             if type(value) not in (int, float):  # bool, None, str, bytes, complex, Ellipsis
-                raise _Refused(f"{value!r} is not a real number")
+                raise Refused(f"{value!r} is not a real number")
             if type(value) is float and not math.isfinite(value):  # 1e999; an int of any length is fine
-                raise _Refused("a number is out of range (beyond 1.8e308, the largest float)")
+                raise Refused("a number is out of range (beyond 1.8e308, the largest float)")
             assert isinstance(value, (int, float))          # for mypy: the type test above is exact
             return math.log10(abs(value)) if abs(value) > 1 else 0.0
         if isinstance(node, ast.Name):
@@ -182,40 +178,40 @@ class _Checker:
             return self._call(node, depth)
         if isinstance(node, ast.Compare):
             return self._compare(node, depth)
-        raise _Refused(_describe(node))
+        raise Refused(_describe(node))
 
     def _power(self, base, exponent):
         if exponent is None or not self.generated:
             return None if exponent is None or base is None else base * 10.0 ** min(exponent, 300.0)
         magnitude = 10.0 ** exponent if exponent < 300 else math.inf
         if magnitude > MAX_EXPONENT * (1 + 1e-9):
-            raise _Refused(f"a numeric exponent may be at most {MAX_EXPONENT} in magnitude")
+            raise Refused(f"a numeric exponent may be at most {MAX_EXPONENT} in magnitude")
         if base is None:
             return None
         digits = base * magnitude
         if digits > MAX_DIGITS * (1 + 1e-9):
-            raise _Refused(f"a number in it would have more than {MAX_DIGITS} digits")
+            raise Refused(f"a number in it would have more than {MAX_DIGITS} digits")
         return digits
 
     def _name(self, name: str):
         if name.startswith("_"):
-            raise _Refused(f"name {name!r} is not allowed")
+            raise Refused(f"name {name!r} is not allowed")
         if name in self.names:
             value = self.names[name]
             return None if not isinstance(value, sp.Basic) or value.free_symbols else 0.5
         if name in self.functions:
-            raise _Refused(f"function {name!r} must be called, as in {name}(x)")
+            raise Refused(f"function {name!r} must be called, as in {name}(x)")
         if name in _RESERVED:
-            raise _Refused(f"name {name!r} is not allowed")
+            raise Refused(f"name {name!r} is not allowed")
         if not self.new_symbols:
-            raise _Refused(f"unknown symbol {name!r}")
+            raise Refused(f"unknown symbol {name!r}")
         self.symbols.add(name)
         return None
 
     def _machinery(self, name: str, node: ast.Call):
         """auto_number's own wrapping of a number: ``Integer (2 )``, ``Rational ('0.1')``, ``Float ('1e-3')``."""
         if node.keywords or len(node.args) != 1 or not isinstance(node.args[0], ast.Constant):
-            raise _Refused(f"unexpected call of {name}")
+            raise Refused(f"unexpected call of {name}")
         value = node.args[0].value
         if type(value) is int and name != "Symbol":
             return self.visit(node.args[0])
@@ -223,47 +219,47 @@ class _Checker:
             return self._name(value)
         match = _DECIMAL.fullmatch(value) if isinstance(value, str) and name != "Symbol" else None
         if match is None:
-            raise _Refused(f"unexpected call of {name}")
+            raise Refused(f"unexpected call of {name}")
         digits = len(match["int"].replace("_", "").lstrip("0")) + len((match["frac"] or "").replace("_", ""))
         exponent = match["exp"].replace("_", "") if match["exp"] else "0"
         if len(exponent) > 6:
-            raise _Refused(f"the number {match.group()} is out of range")
+            raise Refused(f"the number {match.group()} is out of range")
         return digits + abs(int(exponent)) + 1.0
 
     def _call(self, node: ast.Call, depth: int):
         func = node.func
         if isinstance(func, ast.Constant):          # "8 (eight)", "2(x + 1)"
-            raise _Refused(f"a number followed by '(' is not a product here: write {func.value!r}*(...)")
+            raise Refused(f"a number followed by '(' is not a product here: write {func.value!r}*(...)")
         if not isinstance(func, ast.Name):
-            raise _Refused(_describe(func))
+            raise Refused(_describe(func))
         name = func.id
         if name.startswith("_"):
-            raise _Refused(f"name {name!r} is not allowed")
+            raise Refused(f"name {name!r} is not allowed")
         if self.generated and name in _MACHINERY:
             return self._machinery(name, node)
         if name not in self.functions:
-            raise _Refused(f"function {name!r} is not allowed")
+            raise Refused(f"function {name!r} is not allowed")
         if node.keywords or any(isinstance(a, ast.Starred) for a in node.args):
-            raise _Refused(f"{name}() takes plain arguments only")
+            raise Refused(f"{name}() takes plain arguments only")
         if name in _SORTING:
             # SymPy compares the arguments of Min/Max pairwise: 300 symbols take minutes
             self.sorting_arguments += len(node.args)
             if self.sorting_arguments > MAX_SORTING_ARGUMENTS:
-                raise _Refused(f"Min and Max take at most {MAX_SORTING_ARGUMENTS} arguments in all")
+                raise Refused(f"Min and Max take at most {MAX_SORTING_ARGUMENTS} arguments in all")
         sizes = [self.visit(a, depth + 1) for a in node.args]
         if self.generated and any(s is not None and s > MAX_DIGITS for s in sizes):
-            raise _Refused(f"a number given to {name}() may have at most {MAX_DIGITS} digits")
+            raise Refused(f"a number given to {name}() may have at most {MAX_DIGITS} digits")
         if any(s is None for s in sizes):
             return None
         return sum(sizes)
 
     def _compare(self, node: ast.Compare, depth: int):
         if not self.relational:
-            raise _Refused("a comparison is not allowed here")
+            raise Refused("a comparison is not allowed here")
         if len(node.ops) != 1:
-            raise _Refused("one comparison only (write 'a <= x' and 'x <= b' as two inequalities)")
+            raise Refused("one comparison only (write 'a <= x' and 'x <= b' as two inequalities)")
         if type(node.ops[0]) not in _COMPARISONS:
-            raise _Refused("not an inequality (use <=, <, >= or >)")
+            raise Refused("not an inequality (use <=, <, >= or >)")
         self.visit(node.left, depth + 1)
         self.visit(node.comparators[0], depth + 1)
         return None
@@ -428,7 +424,7 @@ def _read_text(text: str, parameter: str, *, names, functions, new_symbols, rela
                        max_depth=max_depth)
     try:
         checker.visit(tree)
-    except _Refused as exc:
+    except Refused as exc:
         raise ExpressionError(f"{parameter}: cannot read {shown}: {exc}; {allowed}") from None
     local_dict = {n: sp.Symbol(n) for n in checker.symbols}
     local_dict.update(names)
@@ -444,7 +440,7 @@ def _read_text(text: str, parameter: str, *, names, functions, new_symbols, rela
                      relational=relational, max_depth=2 * max_depth + 2, generated=True).visit(generated)
             # sympy's parse_expr is stringify_expr + eval_expr; evaluating the checked code itself leaves no gap
             return eval_expr(code, local_dict, global_dict)
-    except _Refused as exc:
+    except Refused as exc:
         raise ExpressionError(f"{parameter}: cannot read {shown}: {exc}; {allowed}") from None
     except Exception as exc:  # broad on purpose: SymPy's own errors on validated arithmetic, e.g. sin(1, 2)
         reason = " ".join(str(exc).split())[:120] or type(exc).__name__

@@ -44,7 +44,7 @@ from functools import lru_cache
 
 import sympy as sp
 
-from .errors import SymbolicBudgetError, SymbolicError, WorkspaceError
+from .errors import BudgetExpired, SymbolicBudgetError, SymbolicError, WorkspaceError
 from .expressions import as_sympy
 
 __all__ = [
@@ -161,16 +161,11 @@ class symbolic_budget:
         if entry.encloses(_DEADLINE.get()):   # else closed late: the state is no longer its own
             _DEADLINE.set(entry.outer)
         _disarm_alarm(self._alarm)
-        if exc_type is not None and issubclass(exc_type, _Expired):
+        if exc_type is not None and issubclass(exc_type, BudgetExpired):
             raise SymbolicBudgetError(f"{entry.what}: not finished within the budget of {entry.seconds:g} s") from None
 
 
 RETRY_SECONDS = 0.02      # a budget's interruption swallowed on its way out is raised again this much later
-
-
-class _Expired(BaseException):
-    """Raised by the timer of :func:`symbolic_budget` inside SymPy's own code; a BaseException, so that no
-    ``except Exception`` on the way swallows it (the budget's block turns it into SymbolicBudgetError)."""
 
 
 def _closing(frame) -> bool:
@@ -201,7 +196,7 @@ def _arm_alarm(deadline: float):
             signal.setitimer(signal.ITIMER_REAL, RETRY_SECONDS)
             if _closing(frame):
                 return
-            raise _Expired
+            raise BudgetExpired
         if now >= previous_deadline - 1e-3 and callable(previous):   # the enclosing timer's turn
             previous(signum, frame)
         signal.setitimer(signal.ITIMER_REAL, max(deadline - time.monotonic(), 1e-3))
