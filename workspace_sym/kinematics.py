@@ -1,6 +1,6 @@
 """Serial robots from Denavit-Hartenberg tables, derived symbolically.
 
-Standard DH (METHODS.md section 1): ``A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)``.
+Standard DH (docs/methods.md section 1): ``A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)``.
 Modified (Craig) DH: ``A_i = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)``, where
 row ``i`` of the table holds ``alpha_{i-1}, a_{i-1}, theta_i, d_i``.
 
@@ -33,6 +33,7 @@ from .errors import (
     check_choice,
 )
 from .expressions import as_sympy, check_joint_limits, is_finite_value, parse_expr
+from .registry import declared, load
 from .snap import DEFAULT_TOL, chop
 from .symbolic import (
     algebraic_constants,
@@ -242,23 +243,37 @@ def check_joint_count(n: int) -> None:
 READERS: dict[str, Callable[..., DHRobot]] = {}
 """The readers of robot descriptions, by format: ``"dh"`` (a DH-file dictionary), ``"dh_file"`` (a DH JSON file),
 ``"urdf"``, ``"mjcf"``.  The readers build on this module, so it never imports them: :mod:`workspace_sym.readers`
-registers them here when it is imported (``import workspace_sym`` imports it), and ``DHRobot.from_dict``,
-``from_file``, ``from_urdf`` and ``from_mjcf`` look them up."""
+registers them here when it is imported, and ``DHRobot.from_dict``, ``from_file``, ``from_urdf`` and
+``from_mjcf`` look them up; an empty table is filled by the provider the package declares
+(:mod:`workspace_sym.registry`)."""
 
 
 ENGINES: dict[str, Callable] = {}
 """The engines a robot's convenience methods hand it to, by name: ``"reach"`` (the certified workspace,
 :func:`workspace_sym.serial.reach`).  They build on this module, which never imports them: each registers itself
-here when it is imported (``import workspace_sym`` imports them), and ``DHRobot.reach`` looks it up."""
+here when it is imported, and ``DHRobot.reach`` looks it up (an empty table is filled as :data:`READERS` is)."""
+
+
+def _registered(table: dict, name: str, key: str, what: str) -> Callable:
+    """``table[key]`` (``name`` is the table's), the provider the package declares for it imported first when it is
+    not there; ``what`` names the entry in the error."""
+    provider = {"READERS": "readers", "ENGINES": "engines"}[name]
+    if key not in table:
+        try:
+            load(provider)
+        except LookupError:
+            pass
+    found = table.get(key)
+    if found is None:
+        module = declared().get(provider, f"workspace_sym.{provider}")
+        raise RuntimeError(f"no {what} is registered in workspace_sym.kinematics.{name}; import {module}, which "
+                           "registers it")
+    return found
 
 
 def _reader(kind: str) -> Callable[..., DHRobot]:
     """The reader registered for ``kind`` in :data:`READERS`."""
-    reader = READERS.get(kind)
-    if reader is None:
-        raise RuntimeError(f"no reader of {kind!r} robot descriptions is registered in workspace_sym.kinematics."
-                           "READERS; import workspace_sym.readers, which registers them (import workspace_sym does)")
-    return reader
+    return _registered(READERS, "READERS", kind, f"reader of {kind!r} robot descriptions")
 
 
 class DHRobot:
@@ -747,11 +762,7 @@ class DHRobot:
         -------
         workspace_sym.serial.ReachResult
         """
-        engine = ENGINES.get("reach")
-        if engine is None:
-            raise RuntimeError("no reach engine is registered in workspace_sym.kinematics.ENGINES; import "
-                               "workspace_sym.serial, which registers it (import workspace_sym does)")
-        return engine(self, delta=delta, **options)
+        return _registered(ENGINES, "ENGINES", "reach", "reach engine")(self, delta=delta, **options)
 
     def codegen(self, *, out, lang: str = "c", prefix: str = "") -> list:
         """Write C for ``fk`` and ``jacobian`` into directory ``out``: :func:`workspace_sym.codegen.write_code`."""
