@@ -537,3 +537,19 @@ def test_help_points_to_the_installed_contract(capsys):
     out = " ".join(capsys.readouterr().out.split())        # argparse wraps the epilog
     path = Path(re.search(r"installed with the package as (\S+cli\.md)", out).group(1))
     assert path.is_file() and "DH files" in path.read_text()
+
+
+def test_the_help_needs_no_engine_and_its_snap_default_is_the_readers():
+    """``workspace-sym --help`` builds its parser without SymPy or an engine (issue 38 item 6: a CLI that starts
+    in seconds feels broken), and the default it prints for --snap-tol is the readers' own (reference:
+    ``snap.DEFAULT_TOL``; the command line keeps a copy so as not to import SymPy for it)."""
+    import subprocess
+    import sys
+
+    from workspace_sym import cli, snap
+
+    assert cli.SNAP_TOL == snap.DEFAULT_TOL
+    code = ("import sys; from workspace_sym.cli import build_parser; build_parser(); "
+            "print(sorted({m.split('.')[0] for m in sys.modules} & {'sympy', 'numpy', 'matplotlib', 'scipy'}))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]"

@@ -14,16 +14,18 @@ import sys
 import time
 from contextlib import contextmanager
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import sympy as sp
-
-from . import robots
 from .errors import InvalidParameterError, SymbolicBudgetError, WorkspaceError
-from .expressions import is_finite_value, parse_expr, read_symbol
-from .kinematics import DHRobot
 from .numbers import clean_json, fmt, fmt_bound, fmt_bracket, measure_text
-from .snap import DEFAULT_TOL, summary
 from .version import __version__
+
+if TYPE_CHECKING:
+    from .kinematics import DHRobot
+
+# The command line builds its parser and answers --help without SymPy or an engine (each command imports what
+# it uses): `workspace-sym --help` starts in a fraction of a second.
+SNAP_TOL = 1e-9                 # the default of --snap-tol: workspace_sym.snap.DEFAULT_TOL (test_cli checks it)
 
 __all__ = ["main", "build_parser"]
 
@@ -80,6 +82,10 @@ def _wrote_report(path) -> None:
 
 
 def _robot_from_args(args) -> DHRobot:
+    from . import robots
+    from .kinematics import DHRobot
+    from .snap import summary
+
     catalog = getattr(args, "robot", None)
     given = [f"catalog robot {catalog!r}" if catalog is not None else None,
              "--dh FILE" if args.dh is not None else None, "--urdf FILE" if args.urdf is not None else None,
@@ -146,11 +152,15 @@ def _report_summary(path, start: float, **extra) -> dict:
 
 
 def _matrix_strings(M) -> list:
+    import sympy as sp
+
     return [[sp.sstr(M[i, j]) for j in range(M.cols)] for i in range(M.rows)]
 
 
 # ------------------------------------------------------------------------------ subcommands
 def cmd_robots(args) -> int:
+    from . import robots
+
     entries = robots.catalog()
     if args.json:
         _emit_json({"robots": [
@@ -172,6 +182,8 @@ def cmd_robots(args) -> int:
 
 
 def cmd_fk(args) -> int:
+    import sympy as sp
+
     robot = _robot_from_args(args)
     start = time.perf_counter()
     T = robot.fk()
@@ -199,6 +211,8 @@ def cmd_fk(args) -> int:
 
 
 def cmd_jacobian(args) -> int:
+    import sympy as sp
+
     robot = _robot_from_args(args)
     start = time.perf_counter()
     extra = {}
@@ -316,6 +330,8 @@ def _product(robot, pairs, *, latex: bool = False) -> str:
 
 def _parse_var(text: str):
     """``NAME=LOW:HIGH``; the name must be an identifier, the bounds numbers or constant expressions (``-pi/2``)."""
+    from .expressions import is_finite_value, parse_expr, read_symbol
+
     name, sep, bounds = text.partition("=")
     lo, sep2, hi = bounds.partition(":")
     if not sep or not sep2 or not name.strip():
@@ -331,6 +347,7 @@ def _parse_var(text: str):
 
 
 def cmd_pave(args) -> int:
+    from . import robots
     from .interval import pave
     from .parallel import ConstraintModel
 
@@ -397,6 +414,8 @@ def _check_plot_in_memory(args) -> None:
 
 def _show_paving(answer, as_json: bool, extra: dict | None = None) -> None:
     """A paving's (or a reach result's) JSON object, or its summary on the terminal."""
+    import sympy as sp
+
     result = {**answer.to_dict(), **(extra or {})}
     if as_json:
         _emit_json(result)
@@ -523,6 +542,7 @@ def _parse_shave(text: str | None):
 
 
 def cmd_dextrous(args) -> int:
+    from . import robots
     from .orthoglide import Orthoglide
 
     model = robots.build(args.robot)
@@ -557,6 +577,7 @@ def cmd_dextrous(args) -> int:
 
 
 def cmd_cube(args) -> int:
+    from . import robots
     from .orthoglide import Orthoglide
 
     model = robots.build(args.robot)
@@ -638,6 +659,7 @@ def cmd_boundary(args) -> int:
 
 
 def cmd_demo(args) -> int:
+    from . import robots
     from .planar import PlanarChain
     from .report import planar_report
 
@@ -668,6 +690,8 @@ def cmd_demo(args) -> int:
 
 
 def cmd_report(args) -> int:
+    from . import robots
+    from .kinematics import DHRobot
     from .report import dh_robot_report, planar_report
 
     start = time.perf_counter()
@@ -819,9 +843,9 @@ _BASE = (("--base",), {"metavar": "LINK", "help": "with --urdf/--mjcf: first lin
                        "root link, the world body)"})
 _TIP = (("--tip",), {"metavar": "LINK", "help": "with --urdf/--mjcf: last link or body (default: the only leaf moved "
                      "by a joint)"})
-_SNAP_TOL = (("--snap-tol",), {"type": float, "default": DEFAULT_TOL, "metavar": "RAD",
+_SNAP_TOL = (("--snap-tol",), {"type": float, "default": SNAP_TOL, "metavar": "RAD",
                                "help": "float angles of --dh/--urdf this close to a multiple of pi/360 become it "
-                                       f"(default {DEFAULT_TOL:g})"})
+                                       f"(default {SNAP_TOL:g})"})
 _KEEP_FLOATS = (("--keep-floats",), {"action": "store_true",
                                      "help": "keep float inputs as floats; chop entries below --snap-tol instead"})
 _SIGMA = (("--sigma",), {"default": "0.25:4", "help": "range of the eigenvalues of J J^T, MIN:MAX (default 0.25:4)"})
