@@ -23,7 +23,7 @@ PACKAGE = Path(workspace_sym.__file__).parent
 # The layer of each module or package (its first dotted part, or the module itself); the modules kept at their
 # earlier paths for one release (thin re-exports) sit on the layer of what they re-export.
 LAYER = {
-    "errors": 0, "numbers": 0, "progress": 0, "files": 0, "transforms": 0, "version": 0, "document": 0,
+    "errors": 0, "numbers": 0, "progress": 0, "files": 0, "transforms": 0, "version": 0, "document": 0, "registry": 0,
     "expressions": 1, "snap": 1,
     "symbolic": 2, "charpoly": 2, "kinematics": 2, "codegen": 2, "interval": 2,
     "readers": 3, "dh_file": 3, "urdf": 3, "mjcf": 3,
