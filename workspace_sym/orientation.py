@@ -34,7 +34,62 @@ def reach_pose(robot, *, delta: float, approach=None, cone=None, every: bool = F
     """Deprecated: ``reach(robot, delta=..., pose=Pose(approach=, cone=, every=, orientation=, rpy=),
     stop=StopAt(max_boxes=, time_limit=), run=RunOn(progress=), tuning=Tuning(pose_max_pairs=, pose_inner_depth=,
     section_ratio=))``, which this calls.  ``chunk_pairs`` no longer applies (the pose methods cut their chunks
-    themselves; the boxes never depended on it)."""
+    themselves; the boxes never depended on it).
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The serial robot (``reach``'s ``robot``).
+    delta : float
+        Undecided task boxes whose size is at most ``delta`` become boundary boxes (``reach``'s ``delta``).
+    approach : sequence of three numbers, optional
+        The axis of the cone (``Pose.approach``).
+    cone : float, optional
+        The cone's half-angle in degrees, 0 for the exact direction (``Pose.cone``).
+    every : bool
+        Every direction of the cone rather than some (``Pose.every``).
+    orientation : 3 x 3 array_like, optional
+        A constant tool rotation (``Pose.orientation``).
+    rpy : sequence of three angles, optional
+        A constant tool rotation as roll, pitch, yaw in degrees (``Pose.rpy``).
+    size : {"diameter", "width"}
+        How a box's size is measured (``reach``'s ``size``).
+    parameters : dict, optional
+        Values of the symbolic lengths (``reach``'s ``parameters``).
+    max_boxes : int, optional
+        ``StopAt.max_boxes``.
+    time_limit : float, optional
+        ``StopAt.time_limit``, in seconds.
+    progress : bool, optional
+        ``RunOn.progress``; None keeps ``run.progress``.
+    max_pairs : int, optional
+        ``Tuning.pose_max_pairs``; None keeps the default.
+    inner_depth : int, optional
+        ``Tuning.pose_inner_depth``; None keeps the default.
+    chunk_pairs : int, optional
+        Ignored (see above).
+    section_ratio : float, optional
+        ``Tuning.section_ratio``; None keeps the default.
+    run : RunOn
+        Where and how the run goes (``reach``'s ``run``).
+
+    Returns
+    -------
+    ReachResult
+        What ``reach`` returns with this ``pose``.
+
+    Raises
+    ------
+    InvalidParameterError
+        As :func:`~workspace_sym.serial.api.reach` with a pose: a bad constraint, ``delta``, ``size`` or option.
+    JointLimitError
+        A prismatic joint without limits, or an unlimited revolute joint the position is not periodic in.
+
+    Warns
+    -----
+    DeprecationWarning
+        Always: this spelling is deprecated.
+    """
     warnings.warn("reach_pose is deprecated; pass reach(robot, delta=..., pose=Pose(...), stop=StopAt(...), "
                   "run=RunOn(...), tuning=Tuning(...))", DeprecationWarning, stacklevel=2)
     changes = {name: value for name, value in (("pose_max_pairs", max_pairs), ("pose_inner_depth", inner_depth),

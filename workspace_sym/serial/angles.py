@@ -22,7 +22,21 @@ _TWO_PI = 2 * math.pi
 
 def polar_angles(X: np.ndarray):
     """Polar angle range ``(lo, hi)`` of the ``(x, y)`` rectangles of boxes ``X``, widened by ``ANGLE_PAD``;
-    ``(-inf, inf)`` where the rectangle holds the axis ``x = y = 0``."""
+    ``(-inf, inf)`` where the rectangle holds the axis ``x = y = 0``.
+
+    Parameters
+    ----------
+    X : numpy.ndarray
+        ``(N, m, 2)`` boxes, ``m >= 2``, whose first two axes are ``x`` and ``y``.
+
+    Returns
+    -------
+    lo : numpy.ndarray
+        ``(N,)`` lower ends, in radians.
+    hi : numpy.ndarray
+        ``(N,)`` upper ends: every point of the rectangle has a polar angle in ``[lo, hi]`` (taken in
+        ``(pi / 2, 3 pi / 2)``, before the pad, for a rectangle across the negative ``x`` axis).
+    """
     x0, x1, y0, y1 = (X[:, 0, 0] + 0.0, X[:, 0, 1] + 0.0, X[:, 1, 0] + 0.0, X[:, 1, 1] + 0.0)
     axis = (x0 <= 0) & (x1 >= 0) & (y0 <= 0) & (y1 >= 0)
     xs, ys = np.stack([x0, x1, x0, x1], axis=1), np.stack([y0, y0, y1, y1], axis=1)
@@ -35,7 +49,23 @@ def polar_angles(X: np.ndarray):
 
 
 def arc_within(lo, hi, a: float, b: float, full: bool):
-    """``[lo, hi]`` lies in ``[a, b] + 2 pi k`` for some integer ``k``."""
+    """``[lo, hi]`` lies in ``[a, b] + 2 pi k`` for some integer ``k``.
+
+    Parameters
+    ----------
+    lo, hi : numpy.ndarray
+        ``(N,)`` angle ranges in radians (:func:`polar_angles`).
+    a, b : float
+        The range the first joint turns through, in radians.
+    full : bool
+        The joint turns through a whole turn: every range lies in it.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N,)`` booleans, with a margin of ``ARC_MARGIN`` at both ends of ``[a, b]``; False for an infinite
+        range.
+    """
     if full:
         return np.ones(len(lo), dtype=bool)
     with np.errstate(invalid="ignore"):
@@ -44,7 +74,23 @@ def arc_within(lo, hi, a: float, b: float, full: bool):
 
 
 def arc_apart(lo, hi, a: float, b: float, full: bool):
-    """``[lo, hi]`` meets no ``[a, b] + 2 pi k``."""
+    """``[lo, hi]`` meets no ``[a, b] + 2 pi k``.
+
+    Parameters
+    ----------
+    lo, hi : numpy.ndarray
+        ``(N,)`` angle ranges in radians (:func:`polar_angles`).
+    a, b : float
+        The range the first joint turns through, in radians.
+    full : bool
+        The joint turns through a whole turn: every range meets it.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N,)`` booleans, with a margin of ``ARC_MARGIN`` at both ends of the gap; all False when ``full`` or
+        ``b - a >= 2 pi``, and False for an infinite range.
+    """
     if full or b - a >= _TWO_PI:
         return np.zeros(len(lo), dtype=bool)
     with np.errstate(invalid="ignore"):

@@ -52,6 +52,20 @@ class Pose:
     the tool frame) within ``cone`` degrees of ``approach`` (``every``: every direction of the cone), or the frame
     exactly ``orientation`` (a rotation matrix) or ``rpy`` (roll, pitch, yaw in degrees).
 
+    Parameters
+    ----------
+    approach : sequence of three numbers, optional
+        The cone's axis, in the base frame (any length but zero).
+    cone : float, optional
+        The cone's half-angle in degrees (0: the exact direction); given with ``approach``.
+    every : bool
+        Every direction of the cone rather than some (the dextrous workspace).
+    orientation : 3 x 3 array_like, optional
+        A constant rotation of the tool frame.
+    rpy : sequence of three angles, optional
+        The same as roll, pitch, yaw (``Rz(yaw) Ry(pitch) Rx(roll)``; numbers are degrees, text with ``pi``
+        radians).
+
     Examples
     --------
     >>> Pose(approach=(0, 0, -1), cone=20)
@@ -74,6 +88,17 @@ class ReachResult:
 
     The paving's figures are read through it (``inner``, ``counts``, ``complete``, ...); :attr:`measure_bounds`
     is the intersection of the boxes' bracket and ``volume_bounds`` (both hold the measure).
+
+    Parameters
+    ----------
+    paving : Paving
+        The paving of the task space.
+    method : str
+        ``"critical"``, ``"pairs"`` or ``"section"``.
+    volume_bounds : tuple, optional
+        ``(lo, hi)``, the measure proved another way.
+    constraint : PoseConstraint, optional
+        The tool constraint, with a pose.
     """
 
     paving: Paving
@@ -84,98 +109,250 @@ class ReachResult:
     # the paving's figures ------------------------------------------------------------------------------------
     @property
     def inner(self) -> np.ndarray:
+        """The inner boxes: every point is proved reachable.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, m, 2)`` boxes.
+        """
         return self.paving.inner
 
     @property
     def boundary(self) -> np.ndarray:
+        """The boundary boxes: undecided, each of size at most ``delta``.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, m, 2)`` boxes.
+        """
         return self.paving.boundary
 
     @property
     def outer(self) -> np.ndarray:
+        """The outer boxes: no point is reachable.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, m, 2)`` boxes.
+        """
         return self.paving.outer
 
     @property
     def pending(self) -> np.ndarray:
+        """The boxes a stopped run did not decide.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, m, 2)`` boxes.
+        """
         return self.paving.pending
 
     @property
     def counts(self) -> dict:
+        """The number of boxes of each kind.
+
+        Returns
+        -------
+        dict
+            ``inner``, ``boundary``, ``outer``, ``pending``.
+        """
         return self.paving.counts
 
     @property
     def measures(self) -> dict:
+        """The measure (area or volume) of the boxes of each kind.
+
+        Returns
+        -------
+        dict
+            ``inner``, ``boundary``, ``outer``, ``pending``.
+        """
         return self.paving.measures
 
     @property
     def box(self) -> Box:
+        """The root task box.
+
+        Returns
+        -------
+        Box
+            The box paved.
+        """
         return self.paving.box
 
     @property
     def variables(self) -> tuple:
+        """The task coordinates.
+
+        Returns
+        -------
+        tuple
+            Their SymPy symbols (``x, y`` or ``x, y, z``).
+        """
         return self.paving.variables
 
     @property
     def delta(self) -> float:
+        """The run's ``delta``.
+
+        Returns
+        -------
+        float
+            The largest size of a boundary box.
+        """
         return self.paving.delta
 
     @property
     def size(self) -> str:
+        """How a box's size is measured.
+
+        Returns
+        -------
+        str
+            ``"diameter"`` or ``"width"``.
+        """
         return self.paving.size
 
     @property
     def seconds(self) -> float:
+        """The run's duration.
+
+        Returns
+        -------
+        float
+            Seconds.
+        """
         return self.paving.seconds
 
     @property
     def complete(self) -> bool:
+        """Whether every box was decided.
+
+        Returns
+        -------
+        bool
+            False when a budget or Ctrl-C stopped the run.
+        """
         return self.paving.complete
 
     @property
     def evaluated(self) -> int:
+        """The boxes evaluated.
+
+        Returns
+        -------
+        int
+            Summed over the plan's steps.
+        """
         return self.paving.evaluated
 
     @property
     def stop_reason(self) -> str:
+        """Why the run stopped early.
+
+        Returns
+        -------
+        str
+            ``""`` when it did not.
+        """
         return self.paving.stop_reason
 
     @property
     def units(self) -> str | None:
+        """The robot's length units.
+
+        Returns
+        -------
+        str or None
+            As the robot gives them.
+        """
         return self.paving.units
 
     @property
     def backend(self) -> str:
+        """The interval engine.
+
+        Returns
+        -------
+        str
+            ``"numpy"``.
+        """
         return self.paving.backend
 
     @property
     def contract(self) -> bool:
+        """Whether the boxes were contracted (``pave(contract=True)``).
+
+        Returns
+        -------
+        bool
+            False for ``reach``.
+        """
         return self.paving.contract
 
     @property
     def exact_measure(self):
+        """The exact measure of the workspace, when one was attached.
+
+        Returns
+        -------
+        object
+            None unless attached.
+        """
         return self.paving.exact_measure
 
     @property
     def tool_constraint(self) -> PoseConstraint | None:
-        """The tool constraint (the name of earlier releases; :attr:`constraint`)."""
+        """The tool constraint (the name of earlier releases; :attr:`constraint`).
+
+        Returns
+        -------
+        PoseConstraint or None
+            :attr:`constraint`.
+        """
         return self.constraint
 
     # the brackets -------------------------------------------------------------------------------------------
     @property
     def box_measure_bounds(self) -> tuple[float, float]:
-        """The certified bracket of the boxes alone (the paving's)."""
+        """The certified bracket of the boxes alone (the paving's).
+
+        Returns
+        -------
+        tuple of float
+            ``(lo, hi)``.
+        """
         return self.paving.measure_bounds
 
     @cached_property
     def measure_bounds(self) -> tuple[float, float]:
         """The certified bracket of the workspace's measure: the boxes' bracket, intersected with
-        :attr:`volume_bounds` when the plan proved one."""
+        :attr:`volume_bounds` when the plan proved one.
+
+        Returns
+        -------
+        tuple of float
+            ``(lo, hi)``.
+        """
         lo, hi = self.paving.measure_bounds
         if self.volume_bounds is not None:
             lo, hi = max(lo, self.volume_bounds[0]), min(hi, self.volume_bounds[1])
         return lo, hi
 
     def to_dict(self) -> dict:
-        """The JSON answer (docs/cli.md): the paving's, with the method, the brackets and the constraint."""
+        """The JSON answer (docs/cli.md): the paving's, with the method, the brackets and the constraint.
+
+        Returns
+        -------
+        dict
+            The paving's keys, with ``measure_bounds`` (this result's bracket) and ``method``; with
+            ``volume_bounds``, also ``box_measure_bounds`` and ``volume_bounds``; with a constraint,
+            ``constraint`` and ``constraint_words``.
+        """
         out = self.paving.to_dict()
         out["measure_bounds"] = list(self.measure_bounds)
         out["method"] = self.method
@@ -219,7 +396,30 @@ def resolve_method(robot: DHRobot, method: str = "auto", parameters=()) -> str:
     arms, products and sections turned by a revolute first joint first, the critical method in space for any
     other map into ``R^3`` and for a turned section that proves no inner box moved by at most
     ``Tuning.cells_max_joints`` joints (:func:`~workspace_sym.serial.plans.on_cells` tells which); ``"pairs"`` for
-    a position moving along one coordinate only."""
+    a position moving along one coordinate only.
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot.
+    method : {"auto", "critical", "pairs"}
+        The method asked for.
+    parameters : dict or iterable of pairs
+        Values of the robot's symbolic parameters (empty: its own).
+
+    Returns
+    -------
+    str
+        ``"critical"`` or ``"pairs"``.
+
+    Raises
+    ------
+    InvalidParameterError
+        ``method`` not one of :data:`METHODS`, ``"critical"`` for a position moving in one coordinate, or a
+        robot the reach model refuses (:class:`~workspace_sym.serial.model.ReachModel`).
+    JointLimitError
+        A joint without a usable range.
+    """
     if method not in METHODS:
         raise InvalidParameterError(f"method must be one of {', '.join(map(repr, METHODS))}; got {method!r}",
                                     parameter="method")
@@ -299,8 +499,8 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
         or a 3-D cover too large, such an arm keeps the section path (outer boxes only).
     stop : :class:`~workspace_sym.interval.driver.StopAt`
         When to stop: ``max_boxes`` boxes evaluated, ``time_limit`` seconds for the whole call (what is left
-        undecided is returned as ``pending``; a symbolic model not ready within ``time_limit`` raises
-        :class:`~workspace_sym.errors.SymbolicBudgetError`), and ``section_boxes``, a budget of boxes for the
+        undecided is returned as ``pending``; without a pose, a symbolic model not ready within ``time_limit``
+        raises :class:`~workspace_sym.errors.SymbolicBudgetError`), and ``section_boxes``, a budget of boxes for the
         section of an arm turned by its first joint and moved by three joints or more (the same cells on every
         machine where a time limit is not: its stages stop where they stop at their shares of a time limit).
     run : :class:`~workspace_sym.interval.driver.RunOn`
@@ -342,7 +542,7 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     JointLimitError
         A prismatic joint without limits, or an unlimited revolute joint the position is not periodic in.
     SymbolicBudgetError
-        The symbolic model not ready within ``stop.time_limit``.
+        The symbolic model not ready within ``stop.time_limit`` (without a pose).
 
     Examples
     --------

@@ -33,7 +33,23 @@ __all__ = ["plane_map", "CoverStep", "cover_with", "pave_cells"]
 
 def plane_map(robot: DHRobot, parameters: tuple, which: str) -> ImageMap | RadialMap:
     """The map whose critical set a cover step covers: the reach model itself (``"model"``: a planar arm, or a
-    spatial one paved on cells in space) or the section of a spatial arm (``"section"``)."""
+    spatial one paved on cells in space) or the section of a spatial arm (``"section"``).
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot.
+    parameters : tuple
+        Its parameter values as ``(name, value)`` pairs.
+    which : {"model", "section"}
+        Which map.
+
+    Returns
+    -------
+    ImageMap or RadialMap
+        The reach model (:func:`~workspace_sym.serial.model.reach_model`), or the section map of the robot's
+        structure (:func:`~workspace_sym.serial.structure.structure_of`; asked only of a robot that has one).
+    """
     if which == "model":
         return reach_model(robot, parameters)
     section = structure_of(robot, parameters)
@@ -44,7 +60,24 @@ def plane_map(robot: DHRobot, parameters: tuple, which: str) -> ImageMap | Radia
 @dataclass(frozen=True)
 class CoverStep:
     """The critical cover of a group of faces of the planar map or of the section (picklable: the robot
-    travels to the workers, the map is compiled there once)."""
+    travels to the workers, the map is compiled there once).
+
+    Called with a list of faces, it returns what :func:`~workspace_sym.interval.image.critical_cover` returns
+    for them.
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot.
+    parameters : tuple
+        Its parameter values as ``(name, value)`` pairs.
+    which : {"model", "section"}
+        The map covered (:func:`plane_map`).
+    target : float
+        The width the joint boxes of the cover are cut to.
+    clip : tuple
+        An enclosure of the whole image, as nested tuples of ``(lo, hi)`` per coordinate.
+    """
 
     robot: DHRobot
     parameters: tuple
@@ -58,7 +91,26 @@ class CoverStep:
 
 
 def cover_with(executor, robot, parameters, which):
-    """The ``cover`` argument of :func:`critical_paving`: all faces here, or groups of faces, one task each."""
+    """The ``cover`` argument of :func:`critical_paving`: all faces here, or groups of faces, one task each.
+
+    Parameters
+    ----------
+    executor : concurrent.futures.Executor or dask.distributed.Client or None
+        Where the groups run; None: here.
+    robot : DHRobot
+        The robot.
+    parameters : tuple
+        Its parameter values as ``(name, value)`` pairs.
+    which : {"model", "section"}
+        The map covered (:func:`plane_map`).
+
+    Returns
+    -------
+    callable or None
+        ``cover(faces, target, clip)``, the list of the covers of the groups of ``faces`` (one group per slot of
+        the executor, each a :class:`CoverStep` task); None without an executor (:func:`critical_paving` then
+        covers every face here).
+    """
     if executor is None:
         return None
 
@@ -75,7 +127,33 @@ def cover_with(executor, robot, parameters, which):
 def pave_cells(robot, parameters, delta, size, run, *, executor, tuning: Tuning = DEFAULT):
     """The ``"critical"`` method on one grid of task cells (:func:`critical_paving`): a planar robot, or a
     spatial robot without a product or turned-section structure (cells in space).  Undecided cells are
-    boundary boxes, or pending when a budget stopped the run."""
+    boundary boxes, or pending when a budget stopped the run.
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot.
+    parameters : tuple
+        Its parameter values as ``(name, value)`` pairs.
+    delta : float
+        The largest size of a cell (:func:`~workspace_sym.serial.model.cell_width`).
+    size : {"diameter", "width"}
+        How a cell's size is measured.
+    run : RunBudget
+        The run's budget: its ``stop_reason`` and ``show``.
+    executor : concurrent.futures.Executor or dask.distributed.Client or None
+        Where the critical cover runs (:func:`cover_with`).
+    tuning : Tuning
+        ``cell_chunk``: marked cells proved between two looks at the budget (cells in space).
+
+    Returns
+    -------
+    tuple
+        ``(box, inner, boundary, outer, pending, evaluated, reason)``: the grid's extent as a
+        :class:`~workspace_sym.interval.boxes.Box`; lists of ``(N, m, 2)`` arrays of inner, boundary (empty when
+        stopped) and outer cells; the undecided cells when stopped, else None; the boxes evaluated; why the
+        budget stopped it (``""``: it did not).
+    """
     model = reach_model(robot, parameters)
     grid, classes, evaluated, reason = critical_paving(model, cell_width(delta, size, model.m),
                                                        budget=run.stop_reason,

@@ -29,7 +29,20 @@ __all__ = ["RevolvedTest", "ProductTest", "section_digest", "Classify", "classif
 
 
 class RevolvedTest:
-    """Classify boxes of ``(x, y, z)`` from a paving of the section (module docstring)."""
+    """Classify boxes of ``(x, y, z)`` from a paving of the section (module docstring).
+
+    Called with ``(N, 3, 2)`` boxes, it returns the masks ``(is_in, is_out)``: proved inner, proved outer
+    (never both).
+
+    Parameters
+    ----------
+    revolved : Revolved
+        The structure: the section map, the offset ``c`` and the first joint's range.
+    grid : CellGrid
+        The grid of the section ``(u, v)``.
+    classes : numpy.ndarray
+        The verdict code of each cell of ``grid``.
+    """
 
     def __init__(self, revolved: Revolved, grid, classes):
         self.r, self.grid = revolved, grid
@@ -76,7 +89,20 @@ class RevolvedTest:
 
 class ProductTest:
     """Classify boxes of ``(x, y, z)`` for a product structure: inner when every factor is proved inside,
-    outer when one factor is proved outside."""
+    outer when one factor is proved outside.
+
+    Called with ``(N, 3, 2)`` boxes, it returns the masks ``(is_in, is_out)``: proved inner, proved outer
+    (never both).
+
+    Parameters
+    ----------
+    product : Product
+        The structure: the plane factor and the single coordinates.
+    grid : CellGrid or None
+        The grid of the plane factor (None without one).
+    classes : numpy.ndarray or None
+        The verdict code of each cell of ``grid`` (None without a plane factor).
+    """
 
     def __init__(self, product: Product, grid, classes):
         self.p, self.grid = product, grid
@@ -100,7 +126,23 @@ class ProductTest:
 def section_digest(grid, classes, proved=None) -> str:
     """What a checkpoint of the task boxes names of the section they were classified from: a digest of its
     cells' classes, the grid's box and (limited turns) the cells proved per direction; ``"none"`` without a
-    section."""
+    section.
+
+    Parameters
+    ----------
+    grid : CellGrid or None
+        The section's grid.
+    classes : numpy.ndarray or None
+        The verdict code of each cell; None without a section.
+    proved : numpy.ndarray, optional
+        The pieces proved at each direction of a limited turn
+        (:func:`~workspace_sym.serial.turn.prove_directions`).
+
+    Returns
+    -------
+    str
+        16 hexadecimal digits of a SHA-256 digest, or ``"none"``.
+    """
     if classes is None:
         return "none"
     data = np.ascontiguousarray(classes).tobytes() + np.asarray(grid.box, dtype=float).tobytes()
@@ -110,7 +152,15 @@ def section_digest(grid, classes, proved=None) -> str:
 @dataclass(frozen=True)
 class Classify:
     """The decider of :func:`classify_task_boxes`: the codes of a test's ``(is_in, is_out)`` masks; ``what``
-    names its problem in a checkpoint's fingerprint (:func:`reach_problem` and the section's cells)."""
+    names its problem in a checkpoint's fingerprint (:func:`reach_problem` and the section's cells).
+
+    Parameters
+    ----------
+    test : callable
+        ``test(X) -> (is_in, is_out)`` on ``(N, m, 2)`` boxes.
+    what : object, optional
+        What a checkpoint names (a dict of the problem's fields); None: the test's type.
+    """
 
     test: Any
     what: Any = None
@@ -119,6 +169,13 @@ class Classify:
         return codes_from_masks(*self.test(boxes))
 
     def describe(self) -> Any:
+        """What a checkpoint of this decider names.
+
+        Returns
+        -------
+        object
+            ``what``, or the qualified name of the test's type when ``what`` is None or empty.
+        """
         return self.what or f"{type(self.test).__module__}.{type(self.test).__qualname__}"
 
 
@@ -130,6 +187,36 @@ def classify_task_boxes(test, box: Box, delta: float, size: str, stop: StopAt | 
     breadth-first bisection from ``box``, so the counts are those of the classification alone.  ``stop``: a
     :class:`~workspace_sym.interval.driver.StopAt`, or ``reach``'s running budget (its clock, bar and the boxes
     the section took); ``run``: where the decided boxes go (``max_memory``, ``store``, ``resume``); ``describe``
-    names the run's whole problem in a checkpoint (:func:`reach_problem`, the section's cells)."""
+    names the run's whole problem in a checkpoint (:func:`reach_problem`, the section's cells).
+
+    Parameters
+    ----------
+    test : callable
+        ``test(X) -> (is_in, is_out)`` on ``(N, m, 2)`` boxes.
+    box : Box
+        The root task box.
+    delta : float
+        Undecided boxes of size at most ``delta`` are boundary boxes.
+    size : {"diameter", "width"}
+        How a box's size is measured.
+    stop : StopAt or RunBudget
+        When to stop.
+    run : RunOn
+        Where the decided boxes go, and the progress bar (off by default).
+    describe : dict, optional
+        The problem a checkpoint names (None: the test's type).
+
+    Returns
+    -------
+    Paving
+        The paving of ``box`` (a :class:`~workspace_sym.interval.boxes.StoredPaving` when ``run`` stores its
+        boxes).
+
+    Raises
+    ------
+    InvalidParameterError
+        A bad ``delta``, a ``run.store`` holding the boxes of another run, or a ``run.resume`` naming a file that
+        is not a checkpoint of this problem.
+    """
     return subdivide(Classify(test, describe), box, delta=delta, size=size, stop=stop, run=run, label="reach",
                      presplit=0)

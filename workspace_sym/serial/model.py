@@ -39,6 +39,23 @@ def period(robot: DHRobot, k: int, parameters: dict | None):
     (theta and alpha of any row), each ``c_i q + (terms free of q)`` with every ratio ``c_i / c_0`` rational
     (``n_i / D`` over a common denominator, ``g = gcd(n_i)``), the position is ``T`` periodic in ``q`` where
     ``c_i T`` is in ``2 pi Z`` for every ``i``: ``T = 2 pi D / (g |c_0|)``.
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot.
+    k : int
+        The joint's index (0-based).
+    parameters : dict or None
+        Values of the robot's symbolic parameters (None: the robot's own).
+
+    Returns
+    -------
+    T : sympy.Expr or None
+        The least period, exact; None when the position is not proved periodic in ``q``.
+    why : str
+        ``""`` with a period, else why there is none (``q`` sets a length, enters the base or tool transform,
+        or turns the angles at rates that are not constants of rational ratio).
     """
     q = robot.q[k]
     lengths = [e for j in robot.joints for e in (j.d, j.a)]
@@ -70,6 +87,28 @@ def joint_range(robot: DHRobot, k: int, parameters: dict | None):
     A joint whose range spans a period ``T`` of the position (:func:`period`) is given ``[lo, lo + T]``
     (an unlimited one ``[-T/2, T/2]``): the image is the same.  Whether the limits span ``T`` is decided
     exactly; undecidable counts as not, which is always sound.
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot.
+    k : int
+        The joint's index (0-based).
+    parameters : dict or None
+        Values of the robot's symbolic parameters (None: the robot's own).
+
+    Returns
+    -------
+    range : tuple
+        ``(lo, hi)``, exact (SymPy): the joint's limits; ``(lo, lo + T)`` when they span a period ``T``;
+        ``(-T/2, T/2)`` for a joint without limits.
+    periodic : bool
+        Whether the range is one period of the position.
+
+    Raises
+    ------
+    JointLimitError
+        The joint has no limits and is prismatic, or the position is not periodic in it.
     """
     joint = robot.joints[k]
     turn, why = period(robot, k, parameters)
@@ -95,6 +134,21 @@ class ReachModel(ImageMap):
     on the joints (two for a planar robot); ``joints`` are the indices of
     the joints the position depends on, ``limits`` their ``(k, 2)`` limits
     (floats enclosing the exact ones).
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The serial robot.
+    parameters : dict, optional
+        Values of the robot's symbolic parameters (None: the robot's own).
+
+    Raises
+    ------
+    InvalidParameterError
+        ``robot`` is not a :class:`~workspace_sym.kinematics.DHRobot`, its position keeps a symbol other than
+        the joints once ``parameters`` are substituted, or it depends on no joint.
+    JointLimitError
+        A joint the position depends on has no usable range (:func:`joint_range`).
     """
 
     def __init__(self, robot: DHRobot, parameters: dict | None = None):
@@ -122,18 +176,63 @@ class ReachModel(ImageMap):
 
 @lru_cache(maxsize=16)
 def reach_model(robot: DHRobot, parameters: tuple) -> ReachModel:
-    """The reach model of a robot (cached: a worker compiles it once for all its chunks)."""
+    """The reach model of a robot (cached: a worker compiles it once for all its chunks).
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The serial robot.
+    parameters : tuple
+        The parameter values as ``(name, value)`` pairs (hashable); empty for the robot's own.
+
+    Returns
+    -------
+    ReachModel
+        The model, shared by every call with the same robot and values.
+    """
     return ReachModel(robot, dict(parameters) or None)
 
 
 def cell_width(delta: float, size: str, m: int) -> float:
-    """Width of cells whose size (diameter or width) is at most ``delta``."""
+    """Width of cells whose size (diameter or width) is at most ``delta``.
+
+    Parameters
+    ----------
+    delta : float
+        The largest size allowed.
+    size : {"diameter", "width"}
+        How a cell's size is measured: its diagonal (``sqrt(m)`` times its width) or its width.
+    m : int
+        The number of task coordinates.
+
+    Returns
+    -------
+    float
+        ``delta / sqrt(m)`` (diameter) or ``delta`` (width), less a relative margin of ``1e-9``.
+    """
     return (delta / math.sqrt(m) if size == "diameter" else delta) * (1 - 1e-9)
 
 
 def check_root(root, delta: float, size: str, robot: DHRobot) -> None:
     """Refuse a task box ``root`` (the enclosure of the position over the limits) that is not finite, or a
-    ``delta`` larger than it."""
+    ``delta`` larger than it.
+
+    Parameters
+    ----------
+    root : numpy.ndarray
+        ``(m, 2)`` task box.
+    delta : float
+        The run's ``delta``.
+    size : {"diameter", "width"}
+        How the box's size is measured.
+    robot : DHRobot
+        The robot, whose units the message names.
+
+    Raises
+    ------
+    InvalidParameterError
+        ``root`` is not finite, or ``delta`` exceeds its size.
+    """
     if not np.isfinite(root).all():
         raise InvalidParameterError("robot: the position has no finite enclosure over the joint limits",
                                     parameter="robot")

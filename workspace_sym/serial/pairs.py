@@ -40,7 +40,24 @@ CHUNK_PAIRS = 100_000            # (joint box, task box) pairs in one chunk of w
 
 def prove_in_pieces(model, T, seeds, depth):
     """Mask of the boxes ``T`` proved inside the image, box ``i`` cut into up to ``2^(m depth[i])`` pieces
-    (halved along every edge per level) of which every one must pass the test."""
+    (halved along every edge per level) of which every one must pass the test.
+
+    Parameters
+    ----------
+    model : ImageMap
+        The map whose ``prove_inside(T, seeds)`` tests the pieces.
+    T : numpy.ndarray
+        ``(N, m, 2)`` task boxes.
+    seeds : numpy.ndarray
+        ``(N, k)`` configurations, one per box, from which each of its pieces is tried.
+    depth : numpy.ndarray
+        ``(N,)`` whole numbers: how many levels of pieces each box may be cut into (0: the box whole only).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N,)`` booleans: the boxes proved inside.
+    """
     proved = np.ones(len(T), dtype=bool)
     pieces, owner = T, np.arange(len(T))
     for level in range(int(depth.max(initial=0)) + 1):
@@ -61,7 +78,29 @@ def split_pairs(T, Q, owner, is_in, is_out, delta: float, size: str):
     """One step of the pair method after its proofs: ``(inner, boundary, outer, children, Q, owner)``.
 
     Undecided task boxes of size at most ``delta`` (or too thin to halve in floats) are boundary boxes; the
-    others are halved, and both halves inherit the joint boxes ``Q`` their parent owned."""
+    others are halved, and both halves inherit the joint boxes ``Q`` their parent owned.
+
+    Parameters
+    ----------
+    T : numpy.ndarray
+        ``(N, m, 2)`` task boxes.
+    Q : numpy.ndarray
+        The joint boxes of the pairs, ``(P, k, 2)``.
+    owner : numpy.ndarray
+        ``(P,)`` the index in ``T`` of each pair's task box.
+    is_in, is_out : numpy.ndarray
+        ``(N,)`` masks of the task boxes proved inner and outer.
+    delta : float
+        Undecided task boxes of size at most ``delta`` are boundary boxes.
+    size : {"diameter", "width"}
+        How a box's size is measured.
+
+    Returns
+    -------
+    tuple
+        ``(inner, boundary, outer, children, Q, owner)``: the decided task boxes of each kind, the halves of the
+        others, and their pairs (each joint box of a halved box twice, ``owner`` indexing ``children``).
+    """
     und = ~is_out & ~is_in
     small = und & (box_sizes(T, size) <= delta)
     split = und & ~small
@@ -77,7 +116,24 @@ def split_pairs(T, Q, owner, is_in, is_out, delta: float, size: str):
 
 
 def parts(T, Q, owner, pieces: int):
-    """The task boxes cut into ``pieces`` runs of consecutive boxes, each with its own pairs in their order."""
+    """The task boxes cut into ``pieces`` runs of consecutive boxes, each with its own pairs in their order.
+
+    Parameters
+    ----------
+    T : numpy.ndarray
+        ``(N, m, 2)`` task boxes.
+    Q : numpy.ndarray
+        The joint boxes of the pairs.
+    owner : numpy.ndarray
+        The index in ``T`` of each pair's task box.
+    pieces : int
+        How many runs (``numpy.array_split`` of the task boxes; empty runs are skipped).
+
+    Yields
+    ------
+    tuple
+        ``(T, Q, owner)`` of one run, ``owner`` counted from the run's first task box.
+    """
     order = np.argsort(owner, kind="stable")
     Q, owner = Q[order], owner[order]
     for rows in np.array_split(np.arange(len(T)), pieces):
@@ -88,7 +144,24 @@ def parts(T, Q, owner, pieces: int):
 
 
 def caps(T: np.ndarray, max_pairs: int, min_pairs: int, root_measure: float) -> np.ndarray:
-    """The pairs each task box may hold: in proportion to its share of the root box, and at least ``min_pairs``."""
+    """The pairs each task box may hold: in proportion to its share of the root box, and at least ``min_pairs``.
+
+    Parameters
+    ----------
+    T : numpy.ndarray
+        ``(N, m, 2)`` task boxes.
+    max_pairs : int
+        The pairs the whole root box may hold.
+    min_pairs : int
+        The pairs any box may hold.
+    root_measure : float
+        The measure of the root box.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N,)`` whole numbers (as floats): ``max(min_pairs, floor(max_pairs measure / root_measure))``.
+    """
     return np.maximum(min_pairs, np.floor(max_pairs * (measures_of(T) / root_measure)))
 
 
@@ -101,6 +174,23 @@ class PositionStep:
     task boxes, the children of the split ones and their pairs ``(Q, owner)``.
     Each task box is treated on its own (:func:`~workspace_sym.interval.image.distribute`), so chunks give
     together exactly what one call on all the boxes gives.
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot.
+    parameters : tuple
+        Its parameter values as ``(name, value)`` pairs.
+    delta : float
+        Undecided task boxes of size at most ``delta`` are boundary boxes.
+    size : {"diameter", "width"}
+        How a box's size is measured.
+    inner_depth : int
+        Levels of pieces a task box about to become a boundary box is tried in (:func:`prove_in_pieces`).
+    max_pairs, min_pairs : int
+        The caps of pairs per task box (:func:`caps`).
+    root_measure : float
+        The measure of the root task box.
     """
 
     robot: DHRobot
@@ -131,7 +221,7 @@ class PositionStep:
 
 def pave_pairs(step, T, Q, owner, *, budget, keeper: BoxStore, chunk: int, spread=None, show=None):
     """The pairs loop from task boxes ``T`` with their pairs ``(Q, owner)``: ``(T, Q, owner, evaluated,
-    reason)``, the task boxes left (none when complete) with their pairs, the task boxes decided, and why the
+    reason)``, the task boxes left (none when complete) with their pairs, the task boxes evaluated, and why the
     loop stopped (``""`` when complete).
 
     Generation after generation, the task boxes are cut into chunks of about ``chunk`` pairs (at least one per
@@ -140,7 +230,36 @@ def pave_pairs(step, T, Q, owner, *, budget, keeper: BoxStore, chunk: int, sprea
     :class:`~workspace_sym.interval.driver.RunBudget`) is asked before each wave, with the seconds the wave is
     expected to take (the last wave's seconds per task box and pair), and a wave expected to end past the time
     limit is not started: its task boxes stay pending with their joint boxes, as do those of a wave Ctrl-C
-    stops.  The decided boxes go to ``keeper`` wave by wave; ``show(share decided, evaluated)`` after each."""
+    stops.  The decided boxes go to ``keeper`` wave by wave; ``show(share decided, evaluated)`` after each.
+
+    Parameters
+    ----------
+    step : callable
+        One generation on ``(T, Q, owner)``, returning what :func:`split_pairs` returns
+        (:class:`PositionStep`, :class:`~workspace_sym.serial.pose.PoseStep`).
+    T : numpy.ndarray
+        ``(N, m, 2)`` task boxes to start from.
+    Q : numpy.ndarray
+        Their pairs' joint boxes.
+    owner : numpy.ndarray
+        The index in ``T`` of each pair's task box.
+    budget : RunBudget
+        Asked before each wave.
+    keeper : BoxStore
+        Where the decided boxes go.
+    chunk : int
+        About this many pairs in one chunk.
+    spread : Runner, optional
+        Where the chunks run, one per slot; None: here, one at a time.
+    show : callable, optional
+        ``show(share decided, evaluated)``, the share of the first task box's measure.
+
+    Returns
+    -------
+    tuple
+        ``(T, Q, owner, evaluated, reason)``: the task boxes left with their pairs, the number of task boxes
+        handed to ``step`` in this call, and why the loop stopped (``""`` when no task box is left).
+    """
     whole = float(measures_of(T[:1])[0]) if len(T) else 0.0
     evaluated, reason, rate, decided = 0, "", 0.0, 0.0
     while len(T):

@@ -53,7 +53,27 @@ POSE_CHUNK_PAIRS = 200_000       # pairs in one chunk of the pose methods' pairs
 class Section:
     """What a plan's first step paved: the grid of cells and their classes (None for the pairs methods), the
     boxes it evaluated, why it stopped (``""``: it did not), and what the next steps need (``test``: the task-box
-    test; ``volume``: a bracket proved from the cells; ``box``: the root task box)."""
+    test; ``volume``: a bracket proved from the cells; ``box``: the root task box).
+
+    Parameters
+    ----------
+    box : Box
+        The root task box.
+    grid : CellGrid, optional
+        The grid of the cells paved (of the task space, or of the section).
+    classes : numpy.ndarray, optional
+        The verdict code of each cell of ``grid``.
+    evaluated : int
+        Boxes evaluated.
+    reason : str
+        Why a budget stopped the step (``""``: it did not).
+    test : callable, optional
+        ``test(X) -> (is_in, is_out)`` classifying task boxes from the cells.
+    volume : tuple, optional
+        ``(lo, hi)`` bracket of the workspace's measure proved from the cells.
+    digest : str
+        What a checkpoint names of the cells (:func:`~workspace_sym.serial.classify.section_digest`).
+    """
 
     box: Box
     grid: CellGrid | None = None
@@ -66,7 +86,23 @@ class Section:
 
 
 class Plan:
-    """A way of paving a robot's workspace (module docstring): ``method`` names it in the result."""
+    """A way of paving a robot's workspace (module docstring): ``method`` names it in the result.
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot.
+    values : tuple
+        Its parameter values as ``(name, value)`` pairs.
+    delta : float
+        Undecided task boxes of size at most ``delta`` are boundary boxes.
+    size : {"diameter", "width"}
+        How a box's size is measured.
+    tuning : Tuning
+        The figures of every stage.
+    problem : dict
+        The run's whole problem (:func:`~workspace_sym.serial.stored.reach_problem`), named by its checkpoints.
+    """
 
     method = ""
 
@@ -75,18 +111,83 @@ class Plan:
         self.problem = problem
 
     def pave(self, budget: RunBudget, run: RunOn) -> Section:
+        """Step 1: pave what the method decides first.
+
+        Parameters
+        ----------
+        budget : RunBudget
+            The run's budget (clock, box budget, bar).
+        run : RunOn
+            Where and how the run goes.
+
+        Returns
+        -------
+        Section
+            What was paved.
+        """
         raise NotImplementedError
 
     def classify(self, section: Section, budget: RunBudget, run: RunOn) -> Paving:
+        """Step 2: decide the task boxes from what :meth:`pave` paved.
+
+        Parameters
+        ----------
+        section : Section
+            What :meth:`pave` returned.
+        budget : RunBudget
+            The run's budget (clock, box budget, bar).
+        run : RunOn
+            Where and how the run goes (store, checkpoint).
+
+        Returns
+        -------
+        Paving
+            The paving of the task space.
+        """
         raise NotImplementedError
 
     def volume(self, section: Section) -> tuple | None:
+        """Step 3: the workspace's measure proved another way.
+
+        Parameters
+        ----------
+        section : Section
+            What :meth:`pave` returned.
+
+        Returns
+        -------
+        tuple or None
+            ``section.volume``: a ``(lo, hi)`` bracket, or None.
+        """
         return section.volume
 
     # helpers shared by the plans ------------------------------------------------------------------------
     def paving(self, box: Box, inner, boundary, outer, pending, budget: RunBudget, evaluated: int, reason: str,
                units: str) -> Paving:
-        """A paving of the boxes of a step that did not go through the driver (all in memory)."""
+        """A paving of the boxes of a step that did not go through the driver (all in memory).
+
+        Parameters
+        ----------
+        box : Box
+            The root task box.
+        inner, boundary, outer : list of numpy.ndarray
+            The boxes of each kind, in parts (``(N, m, 2)`` arrays, concatenated).
+        pending : numpy.ndarray or None
+            The boxes left undecided when a budget stopped the step.
+        budget : RunBudget
+            The run's budget, whose clock gives the seconds.
+        evaluated : int
+            Boxes evaluated.
+        reason : str
+            Why a budget stopped the step; dropped when nothing is pending.
+        units : str
+            The robot's length units.
+
+        Returns
+        -------
+        Paving
+            Complete unless boxes are pending.
+        """
         m = len(box.variables)
         empty = np.empty((0, m, 2))
 
@@ -109,7 +210,15 @@ def _root_box(model) -> tuple[np.ndarray, Box]:
 
 class CellsPlan(Plan):
     """The critical method on one grid of task cells (:mod:`workspace_sym.serial.cells`): a planar arm, or a spatial
-    one without a structure; its grid is decided in one pass, in memory (no store, no checkpoint)."""
+    one without a structure; its grid is decided in one pass, in memory (no store, no checkpoint).
+
+    Parameters
+    ----------
+    *args
+        Those of :class:`Plan`.
+    executor : concurrent.futures.Executor or dask.distributed.Client, optional
+        Where the critical cover runs (:func:`~workspace_sym.serial.cells.cover_with`); None: here.
+    """
 
     method = "critical"
 
@@ -118,6 +227,25 @@ class CellsPlan(Plan):
         self.executor = executor
 
     def pave(self, budget, run):
+        """The cells of the task space (:func:`~workspace_sym.interval.image.critical_paving`).
+
+        Parameters
+        ----------
+        budget : RunBudget
+            The run's budget (clock, box budget, bar).
+        run : RunOn
+            Not read (the executor was given to the plan).
+
+        Returns
+        -------
+        Section
+            The grid's extent as the root box, the grid, its classes, the boxes evaluated and why it stopped.
+
+        Raises
+        ------
+        CoverTooLarge
+            The critical cover needs too many boxes (the next plan takes over).
+        """
         model = reach_model(self.robot, self.values)
         grid, classes, evaluated, reason = critical_paving(
             model, cell_width(self.delta, self.size, model.m), budget=budget.stop_reason,
@@ -128,6 +256,23 @@ class CellsPlan(Plan):
         return Section(box, grid, classes, evaluated, reason)
 
     def classify(self, section, budget, run):
+        """The task boxes read off the cells: inner and outer cells, the undecided ones boundary boxes (or
+        pending, runs of cells merged, when a budget stopped the cells).
+
+        Parameters
+        ----------
+        section : Section
+            What :meth:`pave` returned.
+        budget : RunBudget
+            The run's budget, whose clock gives the seconds.
+        run : RunOn
+            Not read (the boxes stay in memory).
+
+        Returns
+        -------
+        Paving
+            The cells as boxes.
+        """
         grid, classes, reason = section.grid, section.classes, section.reason
         assert grid is not None and classes is not None
         undecided = grid.boxes(classes, UNDECIDED, merge=bool(reason))
@@ -140,7 +285,16 @@ class SectionPlan(Plan):
     """A spatial arm whose workspace is a product of images or a section turned by its first joint
     (:mod:`workspace_sym.serial.structure`): the section paved (critical cover, stages of
     :func:`~workspace_sym.serial.section.section_paving`, or the directions of a limited turn), then the task
-    boxes classified from it by the driver, where ``run`` says (store, checkpoint: the section kept beside it)."""
+    boxes classified from it by the driver, where ``run`` says (store, checkpoint: the section kept beside it).
+
+    Parameters
+    ----------
+    *args
+        Those of :class:`Plan`.
+    executor : concurrent.futures.Executor or dask.distributed.Client, optional
+        Where the critical cover of the section runs (:func:`~workspace_sym.serial.cells.cover_with`); None:
+        here.
+    """
 
     method = "critical"
 
@@ -152,6 +306,32 @@ class SectionPlan(Plan):
         self.limited = limited_turn(self.structure, self.model)
 
     def pave(self, budget, run):
+        """The section: taken from beside the checkpoint when ``run.resume`` has one, else paved (the directions
+        of a limited turn, the stages of :func:`~workspace_sym.serial.section.section_paving` for a turned
+        section moved by three joints or more, the critical cover otherwise) and kept beside the checkpoint
+        when it was not stopped.  The plan's ``problem`` gains the method and ``budget.section_boxes``.
+
+        Parameters
+        ----------
+        budget : RunBudget
+            The run's budget (clock, box budget, ``section_boxes``, bar).
+        run : RunOn
+            ``resume``: the checkpoint beside which the section is kept.
+
+        Returns
+        -------
+        Section
+            The section's grid and classes, the test of the task boxes (None when the section was stopped, but
+            for a limited turn's), the volume bracket (a :class:`~workspace_sym.serial.section.Turned` section
+            turned fully, or a limited turn proved at its directions; else None) and the digest of the cells.
+
+        Raises
+        ------
+        InvalidParameterError
+            The section kept beside the checkpoint cannot be read or names another problem.
+        CoverTooLarge
+            The critical cover of the section needs too many boxes.
+        """
         model, plan, tuning = self.model, self.structure, self.tuning
         _, box = _root_box(model)
         width = tuning.section_ratio * cell_width(self.delta, self.size, 3)
@@ -222,6 +402,29 @@ class SectionPlan(Plan):
         return grid, classes, evaluated, ("" if reason == "section share" else reason), pieces
 
     def classify(self, section, budget, run):
+        """The task boxes classified from the section by the driver, under what is left of the budget, with the
+        store and checkpoint ``run`` asks for (the checkpoint names the section's cells); every task box pending
+        when the section was stopped.
+
+        Parameters
+        ----------
+        section : Section
+            What :meth:`pave` returned.
+        budget : RunBudget
+            The run's budget; the boxes of the section count against it.
+        run : RunOn
+            ``max_memory``, ``store``, ``resume``, ``progress``.
+
+        Returns
+        -------
+        Paving
+            Its ``evaluated`` counts the section's boxes too.
+
+        Raises
+        ------
+        InvalidParameterError
+            ``run.resume`` names a checkpoint of another problem, or ``run.store`` holds another run's boxes.
+        """
         if section.reason:                  # stopped while the section was paved: every task box pending
             root, box = _root_box(self.model)
             return self.paving(box, [], [], [], root[None].copy(), budget, section.evaluated, section.reason,
@@ -239,16 +442,69 @@ class SectionPlan(Plan):
 
 class PairsPlan(Plan):
     """The pairs method (:mod:`workspace_sym.serial.pairs`) on the position: its decided boxes in a store (memory
-    or disk) and, with ``run.resume``, a checkpoint of the task boxes left with their joint boxes."""
+    or disk) and, with ``run.resume``, a checkpoint of the task boxes left with their joint boxes.
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot.
+    values : tuple
+        Its parameter values as ``(name, value)`` pairs.
+    delta : float
+        Undecided task boxes of size at most ``delta`` are boundary boxes.
+    size : {"diameter", "width"}
+        How a box's size is measured.
+    tuning : Tuning
+        ``max_pairs``, ``inner_depth``, ``min_pairs``.
+    problem : dict
+        The run's whole problem, named by its checkpoint.
+    """
 
     method = "pairs"
 
     def pave(self, budget, run):
+        """Nothing to pave: the root task box, the enclosure of the position over the limits.
+
+        Parameters
+        ----------
+        budget : RunBudget
+            Not read.
+        run : RunOn
+            Not read.
+
+        Returns
+        -------
+        Section
+            The root box alone.
+        """
         model = reach_model(self.robot, self.values)
         _, box = _root_box(model)
         return Section(box)
 
     def classify(self, section, budget, run):
+        """The pairs loop (:func:`~workspace_sym.serial.pairs.pave_pairs`) from the root, or from the checkpoint
+        ``run.resume`` when it exists; the checkpoint is written at the end when ``run.resume`` is given.
+
+        Parameters
+        ----------
+        section : Section
+            What :meth:`pave` returned.
+        budget : RunBudget
+            The run's budget (clock, box budget, bar).
+        run : RunOn
+            ``executor``, ``chunk``, ``max_memory``, ``store``, ``resume``.
+
+        Returns
+        -------
+        Paving
+            A :class:`~workspace_sym.interval.boxes.StoredPaving` when the boxes are on disk.
+
+        Raises
+        ------
+        InvalidParameterError
+            ``run.resume`` names a file that is not a checkpoint of this problem, or ``run.store`` holds another
+            run's boxes.
+        """
         model, tuning = reach_model(self.robot, self.values), self.tuning
         box = section.box
         root = box.array
@@ -293,7 +549,16 @@ class PairsPlan(Plan):
 class PoseSectionPlan(Plan):
     """A cone about the vertical on an arm turned by its first joint (:mod:`workspace_sym.serial.pose`): the
     constrained section ``(u, v)`` paved by the pairs loop, the task boxes classified from it by the driver
-    (store and checkpoint as for the position's section), the volume by Pappus's theorem."""
+    (store and checkpoint as for the position's section), the volume by Pappus's theorem.
+
+    Parameters
+    ----------
+    *args
+        Those of :class:`Plan`.
+    structure : PoseStructure
+        The constrained model over the section ``(u, v)`` and the position's
+        :class:`~workspace_sym.serial.structure.Revolved` structure.
+    """
 
     method = "section"
 
@@ -302,6 +567,27 @@ class PoseSectionPlan(Plan):
         self.structure = structure
 
     def pave(self, budget, run):
+        """The constrained section (:func:`~workspace_sym.serial.pose.section_classes`), its cells about
+        ``tuning.section_ratio`` times as wide as the task cells (a power of two).
+
+        Parameters
+        ----------
+        budget : RunBudget
+            The run's budget (clock, box budget, bar).
+        run : RunOn
+            Not read.
+
+        Returns
+        -------
+        Section
+            The root task box, the section's grid and classes, their test, the volume bracket by Pappus's
+            theorem (:func:`~workspace_sym.serial.pose.section_volume_bracket`) and the digest of the cells.
+
+        Raises
+        ------
+        InvalidParameterError
+            The position has no finite enclosure, or ``delta`` exceeds the size of the root task box.
+        """
         position = reach_model(self.robot, self.values)
         root, _ = _root_box(position)
         check_root(root, self.delta, self.size, self.robot)
@@ -314,6 +600,29 @@ class PoseSectionPlan(Plan):
                        section_volume_bracket(grid, classes, revolved), section_digest(grid, classes))
 
     def classify(self, section, budget, run):
+        """The task boxes classified from the section by the driver, with the store and checkpoint ``run`` asks
+        for; when the budget stopped the section, its cells still classify every task box (no checkpoint, the
+        paving reported incomplete).
+
+        Parameters
+        ----------
+        section : Section
+            What :meth:`pave` returned.
+        budget : RunBudget
+            The run's budget; the boxes of the section count against it.
+        run : RunOn
+            ``max_memory``, ``store``, ``resume``, ``progress``.
+
+        Returns
+        -------
+        Paving
+            Its ``evaluated`` counts the section's boxes too.
+
+        Raises
+        ------
+        InvalidParameterError
+            ``run.resume`` names a checkpoint of another problem, or ``run.store`` holds another run's boxes.
+        """
         if section.reason:
             # The budget ran out while the section was paved: its cells still classify every (x, y, z) box (its
             # undecided cells leave boundary boxes, so the bracket holds; the run is reported incomplete, with
@@ -332,7 +641,15 @@ class PoseSectionPlan(Plan):
 
 class PosePairsPlan(Plan):
     """The pairs method with a tool constraint, over ``(x, y, z)`` (:class:`~workspace_sym.serial.pose.PoseStep`
-    in the one pairs loop); its boxes stay in memory."""
+    in the one pairs loop); its boxes stay in memory.
+
+    Parameters
+    ----------
+    *args
+        Those of :class:`Plan`.
+    structure : PoseStructure
+        The constrained model over ``(x, y, z)``.
+    """
 
     method = "pairs"
 
@@ -341,12 +658,48 @@ class PosePairsPlan(Plan):
         self.structure = structure
 
     def pave(self, budget, run):
+        """Nothing to pave: the root task box, the enclosure of the position over the arm's limits.
+
+        Parameters
+        ----------
+        budget : RunBudget
+            Not read.
+        run : RunOn
+            Not read.
+
+        Returns
+        -------
+        Section
+            The root box alone.
+
+        Raises
+        ------
+        InvalidParameterError
+            The position has no finite enclosure, or ``delta`` exceeds the size of the root task box.
+        """
         model = self.structure.model
         root = model.position.enclose(model.position.limits[None])[0]
         check_root(root, self.delta, self.size, self.robot)
         return Section(Box(TASK, tuple(root[:, 0]), tuple(root[:, 1])))
 
     def classify(self, section, budget, run):
+        """The pairs loop with the pose model's step (:class:`~workspace_sym.serial.pose.PoseStep`), its boxes in
+        memory.
+
+        Parameters
+        ----------
+        section : Section
+            What :meth:`pave` returned.
+        budget : RunBudget
+            The run's budget (clock, box budget, bar).
+        run : RunOn
+            Not read (storage options are refused by :func:`pose_plan`).
+
+        Returns
+        -------
+        Paving
+            Its pending boxes are the task boxes left when the budget stopped the loop.
+        """
         model, tuning = self.structure.model, self.tuning
         root = section.box.array
         step = PoseStep(model, self.delta, self.size, tuning.pose_inner_depth, tuning.pose_max_pairs,
@@ -383,7 +736,24 @@ def on_cells(robot: DHRobot, values: tuple, stored: bool = False, tuning: Tuning
     spatial one without a product or turned-section structure, or one whose turned section proves no inner box
     (:func:`turn_without_inner`) moved by at most ``tuning.cells_max_joints`` joints (and by three at least: the
     image of fewer is a surface, with no inner box either way), unless its boxes are to be stored (``stored``: the
-    section path, which stores them, is kept)."""
+    section path, which stores them, is kept).
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot.
+    values : tuple
+        Its parameter values as ``(name, value)`` pairs.
+    stored : bool
+        The run stores its boxes (``max_memory``, ``store`` or ``resume``).
+    tuning : Tuning
+        ``cells_max_joints``.
+
+    Returns
+    -------
+    bool
+        Whether the critical method paves ``robot`` on one grid of task cells.
+    """
     model = reach_model(robot, values)
     if model.m == 2 or structure_of(robot, values) is None:
         return True
@@ -396,7 +766,39 @@ def choose_plans(robot: DHRobot, values: tuple, kind: str, method: str, *, delta
     ``method``): the first to try, then those that take over when its cover is too large
     (:class:`~workspace_sym.errors.CoverTooLarge`): a turned section after the 3-D cells, and the pairs method
     under ``"auto"``.  Storage options (``run.max_memory``, ``store``, ``resume``) keep a spatial arm off the
-    one-grid cells (pairs under ``"auto"``, refused under ``"critical"``)."""
+    one-grid cells (pairs under ``"auto"``, refused under ``"critical"``).
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot.
+    values : tuple
+        Its parameter values as ``(name, value)`` pairs.
+    kind : {"critical", "pairs"}
+        The resolved method (:func:`~workspace_sym.serial.api.resolve_method`).
+    method : {"auto", "critical", "pairs"}
+        The method asked for.
+    delta : float
+        Undecided task boxes of size at most ``delta`` are boundary boxes.
+    size : {"diameter", "width"}
+        How a box's size is measured.
+    tuning : Tuning
+        The figures of every stage.
+    problem : dict
+        The run's whole problem (:func:`~workspace_sym.serial.stored.reach_problem`).
+    run : RunOn
+        Where and how the run goes (storage options, executor).
+
+    Returns
+    -------
+    list of Plan
+        The plans in the order to try them.
+
+    Raises
+    ------
+    InvalidParameterError
+        Storage options with ``method="critical"`` on an arm paved on one grid of cells.
+    """
     stored = run.max_memory is not None or run.store is not None or run.resume is not None
     model = reach_model(robot, values)
     args = (robot, values, delta, size, tuning, problem)
@@ -430,7 +832,37 @@ def choose_plans(robot: DHRobot, values: tuple, kind: str, method: str, *, delta
 def pose_plan(robot: DHRobot, values: tuple, constraint: PoseConstraint, structure: PoseStructure, *,
               delta: float, size: str, tuning: Tuning, run: RunOn) -> Plan:
     """The plan of a run with a tool constraint: the constrained section when the first joint turns it (a cone
-    about the vertical), the pairs method otherwise (its boxes in memory: storage options refused)."""
+    about the vertical), the pairs method otherwise (its boxes in memory: storage options refused).
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot.
+    values : tuple
+        Its parameter values as ``(name, value)`` pairs.
+    constraint : PoseConstraint
+        The tool constraint.
+    structure : PoseStructure
+        How the constrained workspace is paved (:func:`~workspace_sym.serial.pose.pose_structure`).
+    delta : float
+        Undecided task boxes of size at most ``delta`` are boundary boxes.
+    size : {"diameter", "width"}
+        How a box's size is measured.
+    tuning : Tuning
+        The figures of every stage.
+    run : RunOn
+        Where and how the run goes (its storage options).
+
+    Returns
+    -------
+    Plan
+        A :class:`PoseSectionPlan` when ``structure`` has a revolved section, else a :class:`PosePairsPlan`.
+
+    Raises
+    ------
+    InvalidParameterError
+        Storage options (``max_memory``, ``store``, ``resume``) for the pairs method.
+    """
     problem = reach_problem(robot, values, delta, size, tuning, constraint=constraint.to_dict())
     args = (robot, values, delta, size, tuning, problem)
     if structure.revolved is None:

@@ -143,7 +143,25 @@ def _rotation(roll, pitch, yaw) -> sp.Matrix:
 class PoseConstraint:
     """A constraint on the tool frame: ``kind`` is ``"cone"`` (``direction`` an exact 3-vector, ``cone`` the
     exact half-angle in radians, ``degrees`` as given, ``every``) or ``"orientation"`` (``rotation`` an exact
-    rotation matrix, ``rpy`` its exact roll, pitch, yaw in radians)."""
+    rotation matrix, ``rpy`` its exact roll, pitch, yaw in radians).
+
+    Parameters
+    ----------
+    kind : {"cone", "orientation"}
+        Which constraint.
+    direction : tuple
+        The cone's axis: three exact numbers, not all zero.
+    cone : sympy.Expr
+        The cone's half-angle in radians, exact (0: the exact direction).
+    degrees : float
+        The half-angle as given, in degrees.
+    every : bool
+        Every direction of the cone, rather than some.
+    rotation : sympy.Matrix, optional
+        The exact rotation of an orientation constraint.
+    rpy : tuple
+        Its exact roll, pitch, yaw in radians.
+    """
 
     kind: str
     direction: tuple = ()
@@ -154,7 +172,14 @@ class PoseConstraint:
     rpy: tuple = ()
 
     def to_dict(self) -> dict:
-        """The constraint for a JSON answer (floats; the exact values as text)."""
+        """The constraint for a JSON answer (floats; the exact values as text).
+
+        Returns
+        -------
+        dict
+            A cone: ``approach``, ``cone_deg``, ``every``.  An orientation: ``orientation`` (the matrix),
+            ``rpy_deg``, ``rpy_exact`` (SymPy text).
+        """
         if self.kind == "cone":
             return {"approach": [float(c) for c in self.direction], "cone_deg": self.degrees, "every": self.every}
         return {"orientation": [[float(self.matrix[i, j]) for j in range(3)] for i in range(3)],
@@ -163,7 +188,18 @@ class PoseConstraint:
 
     @property
     def matrix(self) -> sp.Matrix:
-        """The exact rotation of an orientation constraint."""
+        """The exact rotation of an orientation constraint.
+
+        Returns
+        -------
+        sympy.Matrix
+            ``rotation``.
+
+        Raises
+        ------
+        ValueError
+            The constraint has no rotation (a cone).
+        """
         if self.rotation is None:
             raise ValueError(f"{self} has no rotation matrix")
         return self.rotation
@@ -171,6 +207,13 @@ class PoseConstraint:
     def words(self) -> str:
         """The constraint in words, as a report or a notebook states it.
 
+        Returns
+        -------
+        str
+            One sentence without its full stop.
+
+        Examples
+        --------
         >>> approach_constraint((0, 0, -1), 20, every=True).words()
         "the tool's approach axis (z of the tool frame) can reach every direction within 20 degrees of (0, 0, -1)"
         """
@@ -192,6 +235,26 @@ class PoseConstraint:
 def approach_constraint(approach, cone, every: bool = False) -> PoseConstraint:
     """The cone constraint, checked: ``approach`` three finite numbers not all zero, ``cone`` in [0, 180]
     degrees.
+
+    Parameters
+    ----------
+    approach : sequence of three numbers
+        The cone's axis (any length but zero).
+    cone : float
+        The half-angle in degrees, 0 for the exact direction.
+    every : bool
+        Every direction of the cone rather than some.
+
+    Returns
+    -------
+    PoseConstraint
+        A cone, its numbers made exact (a float is the rational it is).
+
+    Raises
+    ------
+    InvalidParameterError
+        ``approach`` not three finite numbers or all zero, ``cone`` missing or outside [0, 180], ``every`` not
+        a bool.
 
     Examples
     --------
@@ -230,6 +293,27 @@ def orientation_constraint(orientation=None, rpy=None) -> PoseConstraint:
     """The constant-orientation constraint from a 3 x 3 rotation matrix or from roll, pitch, yaw angles
     (``Rz(yaw) Ry(pitch) Rx(roll)``; numbers are degrees, text with ``pi`` radians), made exact (module
     docstring).
+
+    Parameters
+    ----------
+    orientation : 3 x 3 array_like, optional
+        A rotation matrix (within ``ORTHOGONAL_TOL`` entrywise).
+    rpy : sequence of three angles, optional
+        Roll, pitch, yaw: numbers are degrees, and so is text without ``pi`` (``"90"``); text with ``pi`` is
+        radians (``"pi/2"``).  Exactly one of ``orientation`` and ``rpy`` is given.
+
+    Returns
+    -------
+    PoseConstraint
+        An orientation, its rotation exact.
+
+    Raises
+    ------
+    InvalidParameterError
+        Both or neither given, ``rpy`` not three finite numeric angles, ``orientation`` not a 3 x 3 rotation
+        matrix (or none of the roll, pitch, yaw read from it reproduces it).
+    ExpressionError
+        An angle given as text that the expression reader refuses.
 
     Examples
     --------
@@ -443,6 +527,30 @@ class PoseModel:
 
     ``approach`` is the tool's approach axis (three expressions) and ``rotation`` its frame (3 x 3, for a
     constant orientation); ``limits`` are exact, ``periodic`` as for :class:`ImageMap`.
+
+    Parameters
+    ----------
+    position : sequence of sympy.Expr
+        The ``m`` task coordinates.
+    approach : sequence of sympy.Expr
+        The approach axis.
+    rotation : sympy.Matrix or None
+        The tool frame's rotation (read for an orientation constraint only).
+    constraint : PoseConstraint
+        The constraint.
+    variables : sequence of sympy.Symbol
+        The joints that move the position or the constrained quantity.
+    limits : sequence of tuple
+        Their exact ``(lo, hi)`` ranges.
+    periodic : sequence of bool
+        Whether each range is a period.
+    task_variables : sequence of sympy.Symbol
+        The names of the task coordinates.
+    proof_cone : sympy.Expr, optional
+        The half-angle the inner proof must show, when narrower than the constraint's (after the wrist
+        reduction with ``every``); None: the constraint's.
+    tuning : Tuning
+        ``wrist_cells``, ``wrist_grid``.
     """
 
     def __init__(self, position, approach, rotation, constraint: PoseConstraint, variables, limits, periodic,
@@ -511,7 +619,20 @@ class PoseModel:
 
     def constraint_status(self, Q: np.ndarray):
         """Masks of the boxes ``Q`` over all joints (arm, then wrist) on which the constraint is proved
-        violated everywhere, and proved satisfied everywhere (NaN: neither)."""
+        violated everywhere, and proved satisfied everywhere (NaN: neither).
+
+        Parameters
+        ----------
+        Q : numpy.ndarray
+            ``(N, ka + kw, 2)`` boxes (fixed joints as point intervals).
+
+        Returns
+        -------
+        violated : numpy.ndarray
+            ``(N,)`` booleans.
+        satisfied : numpy.ndarray
+            ``(N,)`` booleans (only for a cone with a positive half-angle; all False otherwise).
+        """
         E = self._enclosures(Q)
         if self.constraint.kind == "cone":
             lo, hi = E[0]
@@ -533,7 +654,22 @@ class PoseModel:
         Wrist boxes are halved (widest first) while wider than the arm box, at most ``wrist_cells`` per arm
         box; a wrist box is dropped when the constraint is proved violated over it times the arm box.  This
         search for a proof of violation is skipped where a float search finds a wrist value satisfying the
-        constraint at the arm box's centre (a box is only dropped on a proof, so skipping is always sound)."""
+        constraint at the arm box's centre (a box is only dropped on a proof, so skipping is always sound).
+
+        Parameters
+        ----------
+        A : numpy.ndarray
+            ``(N, ka, 2)`` arm boxes.
+
+        Returns
+        -------
+        dead : numpy.ndarray
+            ``(N,)`` booleans: no wrist value satisfies the constraint (proved).
+        sure : numpy.ndarray
+            ``(N,)`` booleans: one wrist value satisfies it for every arm value (proved).
+        witness : numpy.ndarray
+            ``(N, kw)`` wrist values.
+        """
         n, kw = len(A), self.wrist.k
         if kw == 0:
             dead, sure = self.constraint_status(A)
@@ -613,7 +749,28 @@ class PoseModel:
         their position is wider than the task box, while a task box holds at most ``cap`` pairs.
 
         ``Q`` holds per pair the arm box, then a wrist value per wrist joint and a status (0: not examined,
-        1: not proved either way, 2: admissible for every arm value) as point intervals."""
+        1: not proved either way, 2: admissible for every arm value) as point intervals.
+
+        Parameters
+        ----------
+        T : numpy.ndarray
+            ``(N, m, 2)`` task boxes.
+        Q : numpy.ndarray
+            ``(P, ka + kw + 1, 2)`` pairs, as above.
+        owner : numpy.ndarray
+            ``(P,)`` the index in ``T`` of each pair's task box.
+        cap : numpy.ndarray
+            ``(N,)`` the pairs each task box may hold.
+        rounds : int
+            Halvings at most.
+
+        Returns
+        -------
+        Q : numpy.ndarray
+            The pairs kept, halved arm boxes included.
+        owner : numpy.ndarray
+            The index in ``T`` of each pair's task box.
+        """
         ka, kw = self.ka, self.wrist.k
         for r in range(rounds + 1):
             fresh = Q[:, -1, 0] == 0
@@ -642,11 +799,28 @@ class PoseModel:
         return Q, owner
 
     def root_pairs(self) -> np.ndarray:
-        """The one pair of the root: the arm limits, a wrist value, status 0."""
+        """The one pair of the root: the arm limits, a wrist value, status 0.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(1, ka + kw + 1, 2)``: the arm's outward limits, then zeros.
+        """
         return np.concatenate([self.position.limits, np.zeros((self.wrist.k + 1, 2))])[None]
 
     def seeds(self, Q: np.ndarray) -> np.ndarray:
-        """Configurations (arm, then wrist) from pairs: the arm box's centre and the pair's wrist value."""
+        """Configurations (arm, then wrist) from pairs: the arm box's centre and the pair's wrist value.
+
+        Parameters
+        ----------
+        Q : numpy.ndarray
+            ``(P, ka + kw + 1, 2)`` pairs.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(P, ka + kw)`` joint values.
+        """
         return np.concatenate([Q[:, :self.ka].mean(axis=2), Q[:, self.ka:-1, 0]], axis=1)
 
 
@@ -696,6 +870,22 @@ def wrist_reduction(robot: DHRobot, params, constraint: PoseConstraint, T):
     meets the wrist's singularity (``q_k + phi = 0``, where ``q_j`` is undetermined), nor its violation proofs a
     cover of wrist boxes.  Otherwise a string: why the robot has no such wrist, in its joints' terms (the
     refusal of ``every=True`` quotes it).
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot.
+    params : dict or None
+        Values of its symbolic parameters.
+    constraint : PoseConstraint
+        The constraint (a cone, or there is no reduction).
+    T : sympy.Matrix
+        The robot's forward kinematics with ``params`` substituted (4 x 4).
+
+    Returns
+    -------
+    tuple or str
+        ``(z, constraint on z, proof_cone)``, or why there is none.
     """
     if constraint.kind != "cone":
         return "the constraint is not a cone"
@@ -801,7 +991,15 @@ def _joints_of(robot, expressions, params):
 class PoseStructure:
     """How the constrained workspace is paved: ``model`` over ``(x, y, z)``, or over the section ``(u, v)`` of
     a robot turned by its first joint (``revolved``, the position's section structure) when the constraint is
-    invariant under that turn (a cone about the vertical)."""
+    invariant under that turn (a cone about the vertical).
+
+    Parameters
+    ----------
+    model : PoseModel
+        The model paved.
+    revolved : Revolved, optional
+        The position's section structure; None: ``model`` is over ``(x, y, z)``.
+    """
 
     model: PoseModel
     revolved: Revolved | None = None
@@ -841,7 +1039,32 @@ def pose_structure(robot: DHRobot, parameters: tuple, constraint: PoseConstraint
     """How ``robot``'s workspace under ``constraint`` is paved (cached per robot, parameter values, constraint
     and tuning): the constrained section of a robot turned by its first joint when the constraint is a cone
     about the vertical, else the pose model over ``(x, y, z)``; a constant orientation reduced to an exact
-    direction, and a cone on a roll-pitch wrist to a cone on its roll axis (module docstring)."""
+    direction, and a cone on a roll-pitch wrist to a cone on its roll axis (module docstring).
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot.
+    parameters : tuple
+        Its parameter values as ``(name, value)`` pairs.
+    constraint : PoseConstraint
+        The constraint.
+    tuning : Tuning
+        The tuning of the pose model.
+
+    Returns
+    -------
+    PoseStructure
+        The model and, for the section, the position's section structure.
+
+    Raises
+    ------
+    InvalidParameterError
+        ``robot`` not a DH robot, a parameter without a value, a position not moving in all three coordinates,
+        or ``every=True`` with a positive cone on a robot without a roll-pitch wrist.
+    JointLimitError
+        A joint without a usable range (:func:`~workspace_sym.serial.model.joint_range`).
+    """
     if not isinstance(robot, DHRobot):
         raise InvalidParameterError(f"robot: reach needs a serial DH robot; got {type(robot).__name__}",
                                     parameter="robot")
@@ -902,7 +1125,25 @@ class PoseStep:
     (:func:`~workspace_sym.serial.pairs.pave_pairs`): the inner, boundary and outer boxes, the children of the
     split boxes and their pairs.  Each pair carries an arm box, a wrist value per wrist joint and an admissibility
     status (:meth:`PoseModel.distribute`); a task box is tried from two seeds (its first and last pair: often two
-    branches of the inverse kinematics)."""
+    branches of the inverse kinematics).
+
+    Called with ``(T, Q, owner)``, it returns what :func:`~workspace_sym.serial.pairs.split_pairs` returns.
+
+    Parameters
+    ----------
+    model : PoseModel
+        The constrained model.
+    delta : float
+        Undecided task boxes of size at most ``delta`` are boundary boxes.
+    size : {"diameter", "width"}
+        How a box's size is measured.
+    inner_depth : int
+        Levels of pieces a task box about to become a boundary box is tried in.
+    max_pairs, min_pairs : int
+        The caps of pairs per task box (:func:`~workspace_sym.serial.pairs.caps`).
+    root_measure : float
+        The measure of the root task box.
+    """
 
     model: PoseModel
     delta: float
@@ -933,8 +1174,35 @@ class PoseStep:
 
 
 def constraint_from(approach=None, cone=None, every: bool = False, orientation=None, rpy=None) -> PoseConstraint:
-    """The constraint of :func:`reach_pose`'s keywords (exactly one of ``approach`` and ``orientation`` /
-    ``rpy``)."""
+    """The constraint of a :class:`~workspace_sym.serial.api.Pose`'s fields (exactly one of ``approach`` and
+    ``orientation`` / ``rpy``).
+
+    Parameters
+    ----------
+    approach : sequence of three numbers, optional
+        The cone's axis (:func:`approach_constraint`).
+    cone : float, optional
+        The cone's half-angle in degrees; only with ``approach``.
+    every : bool
+        Every direction of the cone; only with ``approach``.
+    orientation : 3 x 3 array_like, optional
+        A constant rotation (:func:`orientation_constraint`).
+    rpy : sequence of three angles, optional
+        A constant rotation as roll, pitch, yaw.
+
+    Returns
+    -------
+    PoseConstraint
+        The constraint, checked.
+
+    Raises
+    ------
+    InvalidParameterError
+        Both kinds or neither given, ``cone`` or ``every`` without ``approach``, or a value refused by
+        :func:`approach_constraint` or :func:`orientation_constraint`.
+    ExpressionError
+        An ``rpy`` angle given as text that the expression reader refuses.
+    """
     if approach is not None and (orientation is not None or rpy is not None):
         raise InvalidParameterError("give either approach (with cone) or orientation / rpy, not both; got "
                                     f"approach={approach!r} and orientation={orientation!r}, rpy={rpy!r}",
@@ -951,7 +1219,28 @@ def constraint_from(approach=None, cone=None, every: bool = False, orientation=N
 def section_classes(model: PoseModel, width: float, run, *, tuning: Tuning = DEFAULT, chunk: int = 200_000):
     """A :class:`CellGrid` over the constrained section and the class of each cell, from a pairs paving whose
     boxes are unions of cells (cells of a power-of-two width on a grid of its multiples: every edge and every
-    midpoint is a float exactly); ``(grid, classes, evaluated, reason)``.  ``run`` is the run's budget."""
+    midpoint is a float exactly); ``(grid, classes, evaluated, reason)``.  ``run`` is the run's budget.
+
+    Parameters
+    ----------
+    model : PoseModel
+        The constrained model over the section ``(u, v)``.
+    width : float
+        The cells' width asked for (rounded to the nearest power of two).
+    run : RunBudget
+        The run's budget.
+    tuning : Tuning
+        ``pose_inner_depth``, ``pose_max_pairs``, ``min_pairs``.
+    chunk : int
+        About this many pairs in one chunk of the pairs loop.
+
+    Returns
+    -------
+    tuple
+        ``(grid, classes, evaluated, reason)``: the :class:`~workspace_sym.interval.image.CellGrid`, the verdict
+        code of each cell (the cells of a stopped run not proved stay undecided), the task boxes evaluated,
+        and why the budget stopped it (``""``: it did not).
+    """
     w = 2.0 ** round(math.log2(width))
     root = model.position.enclose(model.position.limits[None])[0]
     # The u range is made symmetric about 0 (edges at odd multiples of w / 2 both ways) so that each cell's
@@ -1003,6 +1292,27 @@ def section_volume_bracket(grid: CellGrid, classes: np.ndarray, revolved) -> tup
     inner cells (``u`` and its mirror ``-u``), to the upper bound with ``A`` of those not proved outer.  The grid's
     first axis must be symmetric about ``u = 0``; ``revolved`` is the position's section structure
     (:class:`~workspace_sym.serial.structure.Revolved`: ``c``, ``inner_range``, ``outer_range``, ``full``).
+
+    Parameters
+    ----------
+    grid : CellGrid
+        The grid of the section ``(u, v)``, symmetric about ``u = 0``.
+    classes : numpy.ndarray
+        The verdict code of each cell.
+    revolved : Revolved
+        The position's section structure.
+
+    Returns
+    -------
+    lo : float
+        A lower bound of the volume.
+    hi : float
+        An upper bound of the volume.
+
+    Raises
+    ------
+    ValueError
+        The grid is not symmetric about ``u = 0``.
 
     Examples
     --------

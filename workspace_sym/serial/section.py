@@ -92,7 +92,21 @@ class SquareMap(ImageMap):
 
     Its Krawczyk test is not inflated: on 1500 sampled cells of the UR5's section (width 0.0144), one test per
     choice of joints, then four pieces for the cells left, proves 72.5 % of them in a quarter of the time that
-    two inflations take to prove 76 %; the time saved goes to the later stages of :func:`section_paving`."""
+    two inflations take to prove 76 %; the time saved goes to the later stages of :func:`section_paving`.
+
+    Parameters
+    ----------
+    rho2 : sympy.Expr
+        ``u^2 + c^2``, for the floats of Newton's method.
+    w : sequence of sympy.Expr
+        ``(u, c, v)``.
+    variables : sequence of sympy.Symbol
+        The joints ``q'``.
+    limits : sequence of tuple
+        Their ``(lo, hi)`` limits, exact or floats.
+    periodic : sequence of bool
+        As for :class:`~workspace_sym.interval.image.ImageMap`.
+    """
 
     INFLATIONS = 0
 
@@ -101,6 +115,19 @@ class SquareMap(ImageMap):
         self.lateral = ImageMap(w, variables, limits, periodic)
 
     def enclose(self, Q: np.ndarray) -> np.ndarray:
+        """Enclosures of ``(u^2 + c^2, v)`` from those of ``u``, ``c`` and ``v``.
+
+        Parameters
+        ----------
+        Q : numpy.ndarray
+            ``(N, k, 2)`` joint boxes.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, 2, 2)`` outward-rounded enclosures (the first coordinate clipped at 0; infinite where the
+            arithmetic gives NaN).
+        """
         W = self.lateral.enclose(Q)
         E = np.empty((len(Q), 2, 2))
         with np.errstate(all="ignore"):
@@ -110,6 +137,20 @@ class SquareMap(ImageMap):
         return np.where(np.isnan(E), np.inf * np.array([-1.0, 1.0]), E)
 
     def jacobian_enclosure(self, Q: np.ndarray, columns=None):
+        """Enclosures of the Jacobian of ``(u^2 + c^2, v)``: ``2 (u u_j + c c_j)`` and ``v_j``.
+
+        Parameters
+        ----------
+        Q : numpy.ndarray
+            ``(N, k, 2)`` joint boxes.
+        columns : iterable of int, optional
+            The columns wanted; the others are None.  None: all.
+
+        Returns
+        -------
+        list
+            Two rows of ``k`` entries, each ``(lo, hi)`` arrays of length ``N`` or None.
+        """
         W = self.lateral.enclose(Q)
         J = self.lateral.jacobian_enclosure(Q, columns)
         u, c = (W[:, 0, 0], W[:, 0, 1]), (W[:, 1, 0], W[:, 1, 1])
@@ -122,7 +163,22 @@ class SquareMap(ImageMap):
 
 class RadialMap:
     """The section map ``q' -> (rho, v) = (sqrt(u^2 + c^2), v)`` (module docstring), with what
-    :func:`~workspace_sym.interval.image.critical_paving` needs; the rest is the squared map's."""
+    :func:`~workspace_sym.interval.image.critical_paving` needs; the rest is the squared map's.
+
+    Parameters
+    ----------
+    square : ImageMap
+        The map ``q' -> (u^2 + c^2, v)`` (a :class:`SquareMap`).
+    lateral : ImageMap
+        The map ``q' -> (u, c, v)``.
+    reach : ShoulderReach, optional
+        The outer bound from the distance to the shoulder, when there is one.
+
+    Raises
+    ------
+    ValueError
+        ``square`` is not a map into the plane, or ``lateral`` not a map into space.
+    """
 
     def __init__(self, square: ImageMap, lateral: ImageMap, reach: ShoulderReach | None = None):
         if square.m != 2 or lateral.m != 3:
@@ -136,7 +192,18 @@ class RadialMap:
         return getattr(self.square, name)
 
     def enclose(self, Q: np.ndarray) -> np.ndarray:
-        """Enclosures of ``(rho, v)``, ``rho = sqrt(u^2 + c^2)`` from the enclosures of ``u`` and ``c``."""
+        """Enclosures of ``(rho, v)``, ``rho = sqrt(u^2 + c^2)`` from the enclosures of ``u`` and ``c``.
+
+        Parameters
+        ----------
+        Q : numpy.ndarray
+            ``(N, k, 2)`` joint boxes.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, 2, 2)`` outward-rounded enclosures (infinite where the arithmetic gives NaN).
+        """
         W = self.lateral.enclose(Q)
         E = np.empty((len(Q), 2, 2))
         with np.errstate(all="ignore"):
@@ -164,7 +231,22 @@ class RadialMap:
         off the axis; zero on it): the interval product of the entries, cut to one sign where the interval
         ``2 x 2`` matrix is proved regular (its product with the inverse ``C`` of its midpoint lies within
         distance 1 of the identity in the max-row-sum norm, so every matrix in it has the sign of ``det C``,
-        itself enclosed)."""
+        itself enclosed).
+
+        Parameters
+        ----------
+        Q : numpy.ndarray
+            ``(N, k, 2)`` joint boxes.
+        i, j : int
+            Two distinct columns (joints), in either order (the sign follows the order).
+
+        Returns
+        -------
+        lo : numpy.ndarray
+            ``(N,)`` lower bounds of the minor.
+        hi : numpy.ndarray
+            ``(N,)`` upper bounds.
+        """
         top, bottom = self._rows(Q)
         a, b, c, d = top[i], top[j], bottom[i], bottom[j]
         with np.errstate(all="ignore"):
@@ -189,11 +271,41 @@ class RadialMap:
         return (lo, hi) if i < j else (-hi, -lo)
 
     def position_float(self, q: np.ndarray) -> np.ndarray:
+        """``(rho, v)`` at joint values, in floats.
+
+        Parameters
+        ----------
+        q : numpy.ndarray
+            ``(N, k)`` joint values.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, 2)`` values.
+        """
         p = self.square.position_float(q)
         p[:, 0] = np.sqrt(np.maximum(p[:, 0], 0.0))
         return p
 
     def prove_inside_multistart(self, T: np.ndarray, rng, **options):
+        """The squared map's multistart inner test on the ``(rho^2, v)`` boxes holding the same points.
+
+        Parameters
+        ----------
+        T : numpy.ndarray
+            ``(N, 2, 2)`` boxes of ``(rho, v)``.
+        rng : numpy.random.Generator
+            Draws the random starts.
+        **options
+            Those of :meth:`~workspace_sym.interval.image.ImageMap.prove_inside_multistart` (``starts``,
+            ``seeds``, ``reached``).
+
+        Returns
+        -------
+        numpy.ndarray or tuple
+            The ``(N,)`` mask of the boxes proved inside (none reaching ``rho < 0``); with ``reached=True``, also
+            the mask of the boxes whose centre Newton's method reached.
+        """
         T2, ok = _square_boxes(T)
         result = self.square.prove_inside_multistart(T2, rng, **options)
         if isinstance(result, tuple):
@@ -201,10 +313,40 @@ class RadialMap:
         return result & ok
 
     def prove_inside(self, T: np.ndarray, seeds: np.ndarray, **options) -> np.ndarray:
+        """The squared map's inner test on the ``(rho^2, v)`` boxes holding the same points.
+
+        Parameters
+        ----------
+        T : numpy.ndarray
+            ``(N, 2, 2)`` boxes of ``(rho, v)``.
+        seeds : numpy.ndarray
+            ``(N, k)`` joint values from which Newton's method starts.
+        **options
+            Those of :meth:`~workspace_sym.interval.image.ImageMap.prove_inside` (``newton``).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N,)`` mask of the boxes proved inside the section (none reaching ``rho < 0``).
+        """
         T2, ok = _square_boxes(T)
         return self.square.prove_inside(T2, seeds, **options) & ok
 
     def prove_outside(self, T: np.ndarray, **options) -> np.ndarray:
+        """Mask of the boxes of ``(rho, v)`` proved to hold no point of the section.
+
+        Parameters
+        ----------
+        T : numpy.ndarray
+            ``(N, 2, 2)`` boxes of ``(rho, v)``.
+        **options
+            Those of :meth:`~workspace_sym.interval.image.ImageMap.prove_outside` (``max_pairs``, ``rounds``).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N,)`` booleans.
+        """
         # The outward enclosures of rho: a joint box is dropped only when they miss the box.  ImageMap's
         # method reads only what this class also provides (limits, enclose, the periodic joints).
         return ImageMap.prove_outside(cast(ImageMap, self), T, **options)
@@ -223,7 +365,21 @@ class ShoulderReach:
     lower bound ``L`` (:meth:`lowest`), every cell whose farthest point is nearer than ``sqrt(L)`` (the hole
     around the shoulder of an arm whose elbow cannot fold flat: :meth:`near_cells`).  ``h`` is written with
     the joints that change it only (:func:`shoulder_distance`: the LBR iiwa's and the Panda's joints 4 to 6),
-    on which the branch and bound is tight and quick."""
+    on which the branch and bound is tight and quick.
+
+    Parameters
+    ----------
+    expression : sympy.Expr
+        ``h``, in ``variables``.
+    variables : sequence of sympy.Symbol
+        The joints ``h`` depends on.
+    limits : sequence of tuple
+        Their ``(lo, hi)`` limits, exact or floats.
+    periodic : sequence of bool
+        As for :class:`~workspace_sym.interval.image.ImageMap`.
+    centre : tuple
+        ``(|s_xy|, s_z)``, exact.
+    """
 
     def __init__(self, expression, variables, limits, periodic, centre):
         self.map = ImageMap([expression], variables, limits, periodic)
@@ -232,7 +388,20 @@ class ShoulderReach:
 
     def enclose(self, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """``(lo, hi)`` of ``h`` over the joint boxes ``Q`` of its variables: the natural enclosure
-        intersected with the centred form ``h(c) + sum_j dh/dq_j(Q) (Q_j - c_j)`` (``c`` the centres)."""
+        intersected with the centred form ``h(c) + sum_j dh/dq_j(Q) (Q_j - c_j)`` (``c`` the centres).
+
+        Parameters
+        ----------
+        Q : numpy.ndarray
+            ``(N, k, 2)`` joint boxes.
+
+        Returns
+        -------
+        lo : numpy.ndarray
+            ``(N,)`` lower bounds of ``h`` (-inf where the arithmetic gives NaN).
+        hi : numpy.ndarray
+            ``(N,)`` upper bounds (inf where it gives NaN).
+        """
         natural = self.map.enclose(Q)[:, 0]
         centre = 0.5 * Q[:, :, 0] + 0.5 * Q[:, :, 1]
         acc = tuple(self.map.enclose(np.repeat(centre[:, :, None], 2, axis=2))[:, 0].T)
@@ -246,12 +415,44 @@ class ShoulderReach:
     def bound(self, tolerance: float, *, max_boxes: int = 20_000, rounds: int = 60) -> float:
         """An upper bound of ``h`` over the joint box, within about ``tolerance`` of its maximum: boxes whose
         enclosure stays below a value of ``h`` proved attained (the lower end of the enclosure at a box's
-        centre) are dropped, the others halved, until the bound is that close or the boxes that many."""
+        centre) are dropped, the others halved, until the bound is that close or the boxes that many.
+
+        The last bound found is kept: a later call with a tolerance no finer returns it without a search.
+
+        Parameters
+        ----------
+        tolerance : float
+            How close to the maximum the bound is sought.
+        max_boxes : int
+            The search stops before it would hold more boxes.
+        rounds : int
+            Halvings at most.
+
+        Returns
+        -------
+        float
+            An upper bound of ``h`` over the joint box.
+        """
         return self._extreme(tolerance, 1.0, max_boxes, rounds)
 
     def lowest(self, tolerance: float, *, max_boxes: int = 20_000, rounds: int = 60) -> float:
         """A lower bound of ``h`` over the joint box, within about ``tolerance`` of its minimum (the search of
-        :meth:`bound` on ``-h``, whose enclosures are those of ``h`` negated, exactly)."""
+        :meth:`bound` on ``-h``, whose enclosures are those of ``h`` negated, exactly).
+
+        Parameters
+        ----------
+        tolerance : float
+            How close to the minimum the bound is sought.
+        max_boxes : int
+            The search stops before it would hold more boxes.
+        rounds : int
+            Halvings at most.
+
+        Returns
+        -------
+        float
+            A lower bound of ``h`` over the joint box.
+        """
         return -self._extreme(tolerance, -1.0, max_boxes, rounds)
 
     def _extreme(self, tolerance: float, sign: float, max_boxes: int, rounds: int) -> float:
@@ -284,12 +485,38 @@ class ShoulderReach:
 
     def far_cells(self, grid: CellGrid, bound: float) -> np.ndarray:
         """Boolean grid of the cells every point of which is farther than ``sqrt(bound)`` from the centre
-        (outward-rounded: the distance is bounded below)."""
+        (outward-rounded: the distance is bounded below).
+
+        Parameters
+        ----------
+        grid : CellGrid
+            A grid of the section ``(rho, z)``.
+        bound : float
+            An upper bound of ``h`` (:meth:`bound`).
+
+        Returns
+        -------
+        numpy.ndarray
+            Booleans of ``grid.shape``.
+        """
         e0, e1 = grid.edges
         return self.far(e0[:-1, None], e0[1:, None], e1[None, :-1], e1[None, 1:], bound)
 
     def far(self, r0, r1, z0, z1, bound: float) -> np.ndarray:
-        """:meth:`far_cells` of the rectangles ``[r0, r1] x [z0, z1]`` (arrays broadcast together)."""
+        """:meth:`far_cells` of the rectangles ``[r0, r1] x [z0, z1]`` (arrays broadcast together).
+
+        Parameters
+        ----------
+        r0, r1, z0, z1 : numpy.ndarray
+            The rectangles' edges.
+        bound : float
+            An upper bound of ``h`` (:meth:`bound`).
+
+        Returns
+        -------
+        numpy.ndarray
+            Booleans of the broadcast shape.
+        """
         (a, b), (c, d) = self.centre
         with np.errstate(all="ignore"):
             dr = np.maximum(0.0, np.maximum(arith.sub((r0, r0), (b, b))[0], arith.sub((a, a), (r1, r1))[0]))
@@ -301,12 +528,38 @@ class ShoulderReach:
         """Boolean grid of the cells every point of which, at every polar angle, is nearer than
         ``sqrt(lowest)`` to ``S`` (``lowest`` a lower bound of ``h``, :meth:`lowest`): the farthest a point of
         section coordinates ``(rho, z)`` can be from ``S`` is ``(rho + |s_xy|)^2 + (z - s_z)^2``, bounded above
-        over the cell (outward-rounded).  No configuration reaches them: the hole around the shoulder."""
+        over the cell (outward-rounded).  No configuration reaches them: the hole around the shoulder.
+
+        Parameters
+        ----------
+        grid : CellGrid
+            A grid of the section ``(rho, z)``.
+        lowest : float
+            A lower bound of ``h`` (:meth:`lowest`).
+
+        Returns
+        -------
+        numpy.ndarray
+            Booleans of ``grid.shape``.
+        """
         e0, e1 = grid.edges
         return self.near(e0[:-1, None], e0[1:, None], e1[None, :-1], e1[None, 1:], lowest)
 
     def near(self, r0, r1, z0, z1, lowest: float) -> np.ndarray:
-        """:meth:`near_cells` of the rectangles ``[r0, r1] x [z0, z1]`` (arrays broadcast together)."""
+        """:meth:`near_cells` of the rectangles ``[r0, r1] x [z0, z1]`` (arrays broadcast together).
+
+        Parameters
+        ----------
+        r0, r1, z0, z1 : numpy.ndarray
+            The rectangles' edges.
+        lowest : float
+            A lower bound of ``h`` (:meth:`lowest`).
+
+        Returns
+        -------
+        numpy.ndarray
+            Booleans of the broadcast shape.
+        """
         (_, b), (c, d) = self.centre
         with np.errstate(all="ignore"):
             dr = arith.add((np.maximum(r1, 0.0), np.maximum(r1, 0.0)), (b, b))[1]
@@ -316,29 +569,83 @@ class ShoulderReach:
 
     def outside(self, r0, r1, z0, z1, width: float, tolerance: float = DEFAULT.reach_tolerance) -> np.ndarray:
         """Mask of the rectangles ``[r0, r1] x [z0, z1]`` (arrays broadcast together) proved outside the section
-        by the distance from ``S``: far (:meth:`far`) or in the hole around it (:meth:`near`), both bounds sought
-        within ``tolerance`` (:attr:`Tuning.reach_tolerance`) times ``width`` times twice the greatest
-        distance."""
+        by the distance from ``S``: far (:meth:`far`) or in the hole around it (:meth:`near`), both bounds of
+        ``h`` sought within ``tolerance`` (:attr:`Tuning.reach_tolerance`) times ``width`` times the greatest
+        distance (an upper bound of it).
+
+        Parameters
+        ----------
+        r0, r1, z0, z1 : numpy.ndarray
+            The rectangles' edges.
+        width : float
+            The width the tolerance is counted in (a cell's, or a piece's).
+        tolerance : float
+            The tolerance, in widths.
+
+        Returns
+        -------
+        numpy.ndarray
+            Booleans of the broadcast shape.
+        """
         root = self.enclose(self.map.limits[None])[1][0]
         tolerance = tolerance * width * math.sqrt(max(root, 0.0))
         return self.far(r0, r1, z0, z1, self.bound(tolerance)) | self.near(r0, r1, z0, z1, self.lowest(tolerance))
 
     def outside_cells(self, grid: CellGrid, tolerance: float = DEFAULT.reach_tolerance) -> np.ndarray:
         """Boolean grid of the cells proved outside the section by the distance from ``S`` (:meth:`outside`,
-        the far cells and the hole), the bounds sought within ``tolerance`` of a cell (a fifth by default)."""
+        the far cells and the hole), the bounds of ``h`` sought within ``tolerance`` times the cell's width
+        times the greatest distance (for the greatest distance, about half ``tolerance`` of a cell: a tenth by
+        default).
+
+        Parameters
+        ----------
+        grid : CellGrid
+            A grid of the section ``(rho, z)``.
+        tolerance : float
+            The tolerance, in cell widths.
+
+        Returns
+        -------
+        numpy.ndarray
+            Booleans of ``grid.shape``.
+        """
         e0, e1 = grid.edges
         return self.outside(e0[:-1, None], e0[1:, None], e1[None, :-1], e1[None, 1:], grid.width, tolerance)
 
     def far_boxes(self, T: np.ndarray, bound: float) -> np.ndarray:
         """Mask of the ``(rho, z)`` rectangles ``T`` (``(N, 2, 2)``) every point of which is farther than
-        ``sqrt(bound)`` from the centre, as :meth:`far_cells` (the pieces of cells of :func:`section_paving`)."""
+        ``sqrt(bound)`` from the centre, as :meth:`far_cells` (the pieces of cells of :func:`section_paving`).
+
+        Parameters
+        ----------
+        T : numpy.ndarray
+            ``(N, 2, 2)`` rectangles.
+        bound : float
+            An upper bound of ``h`` (:meth:`bound`).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N,)`` booleans.
+        """
         return self.far(T[:, 0, 0], T[:, 0, 1], T[:, 1, 0], T[:, 1, 1], bound)
 
 
 @dataclass(frozen=True)
 class Turned:
     """``p = B Rz(theta_1) w(q')``: the section map, ``B^-1`` as interval rotation rows and translation
-    (None for the identity), and whether ``q_1`` turns the position through a whole period."""
+    (None for the identity), and whether ``q_1`` turns the position through a whole period.
+
+    Parameters
+    ----------
+    section : RadialMap
+        The section map ``q' -> (rho, v)``.
+    inverse : tuple or None
+        ``(rows, back)``: the 3 x 3 rotation ``R^T`` and the translation ``-R^T t`` of ``B^-1``, each entry a
+        ``(lo, hi)`` pair of floats enclosing it; None when ``B`` is the identity.
+    full : bool
+        ``q_1`` turns the position through a whole period.
+    """
 
     section: RadialMap
     inverse: tuple | None
@@ -357,7 +664,19 @@ def _first_frame(robot, parameters) -> sp.Matrix:
 def first_joint_turn(model):
     """``(q1, theta_1, slope)`` when the first joint is revolute with ``theta_1 = slope q1 + offset`` and ``q1``
     appears in no other entry of the table (its own row's ``d``, ``a``, ``alpha`` included), nor in the base or
-    the tool: then it turns everything after it and nothing else.  None otherwise."""
+    the tool: then it turns everything after it and nothing else.  None otherwise.
+
+    Parameters
+    ----------
+    model : ReachModel
+        The robot's reach model.
+
+    Returns
+    -------
+    tuple or None
+        ``(q1, theta_1, slope)``: the joint's symbol, its angle ``theta_1`` with the parameters substituted, and
+        the constant ``d theta_1 / d q1`` (SymPy); None when the joint is not such a turn.
+    """
     robot = model.robot
     joint = robot.joints[0]
     if joint.kind != "R":
@@ -375,7 +694,19 @@ def first_joint_turn(model):
 
 
 def turned(model) -> Turned | None:
-    """The structure of the module docstring in a :class:`~workspace_sym.serial.model.ReachModel`, or None."""
+    """The structure of the module docstring in a :class:`~workspace_sym.serial.model.ReachModel`, or None.
+
+    Parameters
+    ----------
+    model : ReachModel
+        The robot's reach model.
+
+    Returns
+    -------
+    Turned or None
+        The structure (a spatial position, a revolute first joint turning everything after it, a rigid ``B``,
+        a section moved by at least one joint), or None.
+    """
     robot = model.robot
     if model.m != 3 or model.joints[:1] != [0] or robot.joints[0].kind != "R":
         return None
@@ -423,7 +754,25 @@ def shoulder_distance(robot, parameters, joint: int):
     constant point (it is ``0`` in the joint's frame), the next row's inverse maps it to ``s_(k+1)``; when that
     is a constant too, the row's joint turns about an axis through ``S`` (``|Rz(q) r - s| = |r - s|`` for ``s``
     on the axis): it is dropped, and so on.  The first row whose joint moves ``s`` ends the walk; ``h`` is
-    ``|r_k - s_k|^2`` there (expanded: the rotations dropped cannot leave a ``cos^2 + sin^2`` behind)."""
+    ``|r_k - s_k|^2`` there (expanded: the rotations dropped cannot leave a ``cos^2 + sin^2`` behind).
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot.
+    parameters : dict or None
+        Values of its symbolic parameters (None: the robot's own).
+    joint : int
+        The joint whose axis holds ``S`` (0-based).
+
+    Returns
+    -------
+    h : sympy.Expr
+        The squared distance (its shorter form by ``sympy.fu`` when that is shorter and ``h`` has at most
+        ``REACH_SIMPLIFY_OPS`` operations).
+    variables : list of sympy.Symbol
+        The joints ``h`` depends on, in the robot's order.
+    """
     frame = joint + (robot.convention == "modified")
     joints = set(robot.q)
     s = sp.zeros(3, 1)
@@ -465,7 +814,20 @@ def _shoulder_reach(model, B, at_zero, joint: int) -> ShoulderReach | None:
 
 
 def to_first_frame(inverse, X: np.ndarray) -> np.ndarray:
-    """Boxes enclosing ``B^-1`` of the world boxes ``X`` (outward-rounded; ``X`` itself without ``B``)."""
+    """Boxes enclosing ``B^-1`` of the world boxes ``X`` (outward-rounded; ``X`` itself without ``B``).
+
+    Parameters
+    ----------
+    inverse : tuple or None
+        ``B^-1`` as :attr:`Turned.inverse` holds it; None for the identity.
+    X : numpy.ndarray
+        ``(N, 3, 2)`` world boxes.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N, 3, 2)`` boxes in the frame of the first joint (``X`` itself when ``inverse`` is None).
+    """
     if inverse is None:
         return X
     rows, back = inverse
@@ -481,7 +843,20 @@ def to_first_frame(inverse, X: np.ndarray) -> np.ndarray:
 
 
 class TurnedTest:
-    """Classify world boxes of ``(x, y, z)`` from a paving of the section (module docstring)."""
+    """Classify world boxes of ``(x, y, z)`` from a paving of the section (module docstring).
+
+    Called with ``(N, 3, 2)`` boxes, it returns the masks ``(is_in, is_out)``: proved inner (only when ``q_1``
+    turns fully), proved outer (never both).
+
+    Parameters
+    ----------
+    plan : Turned
+        The structure.
+    grid : CellGrid
+        The grid of the section ``(rho, z)``.
+    classes : numpy.ndarray
+        The verdict code of each cell of ``grid``.
+    """
 
     def __init__(self, plan: Turned, grid, classes):
         self.plan, self.grid = plan, grid
@@ -489,7 +864,18 @@ class TurnedTest:
         self.outside = grid.prefix(classes, OUTER)
 
     def rectangles(self, X: np.ndarray) -> np.ndarray:
-        """``(N, 2, 2)`` rectangles of ``(rho, z)`` holding the points of the world boxes ``X``."""
+        """``(N, 2, 2)`` rectangles of ``(rho, z)`` holding the points of the world boxes ``X``.
+
+        Parameters
+        ----------
+        X : numpy.ndarray
+            ``(N, 3, 2)`` world boxes.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, 2, 2)`` rectangles, outward-rounded.
+        """
         F = to_first_frame(self.plan.inverse, X)
         with np.errstate(all="ignore"):
             r2 = arith.add(arith.sqr((F[:, 0, 0], F[:, 0, 1])), arith.sqr((F[:, 1, 0], F[:, 1, 1])))
@@ -510,13 +896,28 @@ class TurnedTest:
 class Pieces:
     """Pieces of undecided cells of a section's grid proved inside (``inner``) or outside (``outer``) the
     section: ``(N, 2, 2)`` rectangles of ``(rho, z)``, each a quarter of a cell or of a piece (halved along both
-    axes at float midpoints), so that they overlap on edges only and lie in cells left undecided."""
+    axes at float midpoints), so that they overlap on edges only and lie in cells left undecided.
+
+    Parameters
+    ----------
+    inner : numpy.ndarray
+        ``(N, 2, 2)`` pieces proved inside.
+    outer : numpy.ndarray
+        ``(M, 2, 2)`` pieces proved outside.
+    """
 
     inner: np.ndarray
     outer: np.ndarray
 
     @classmethod
     def none(cls) -> Pieces:
+        """No piece.
+
+        Returns
+        -------
+        Pieces
+            Two empty ``(0, 2, 2)`` arrays.
+        """
         return cls(np.empty((0, 2, 2)), np.empty((0, 2, 2)))
 
 
@@ -524,7 +925,28 @@ def in_chunks(items: np.ndarray, size: int, budget, work, pace: list, weight: in
     """``work(chunk)`` on ``items`` in chunks of about ``size``; before each chunk ``budget(ahead)`` is asked
     with the seconds it is expected to take: ``weight`` (tests per item) times the chunk's length times
     ``pace[0]``, the seconds per test of the last chunk (shared by every call of one run, so that a first
-    chunk is expected to take its time too).  Returns why it stopped."""
+    chunk is expected to take its time too).  Returns why it stopped.
+
+    Parameters
+    ----------
+    items : numpy.ndarray
+        What ``work`` is called on, in order.
+    size : int
+        About this many items in one chunk (``numpy.array_split`` into ``ceil(len(items) / size)`` chunks).
+    budget : callable
+        ``budget(ahead)``: a stop reason, or ``""`` to go on.
+    work : callable
+        ``work(chunk)``.
+    pace : list
+        ``[seconds per test]``, updated after each chunk.
+    weight : int
+        Tests per item.
+
+    Returns
+    -------
+    str
+        ``budget``'s reason, or ``""`` when every chunk ran.
+    """
     for part in np.array_split(items, max(1, math.ceil(len(items) / size))):
         stopped = budget(pace[0] * weight * len(part))
         if stopped:
@@ -538,7 +960,18 @@ def in_chunks(items: np.ndarray, size: int, budget, work, pace: list, weight: in
 @contextmanager
 def section_bar(progress: bool | None):
     """``show(share decided, evaluated)`` for :func:`section_paving` on a progress bar of its own
-    (:mod:`workspace_sym.progress`): the share of the section's cells decided."""
+    (:mod:`workspace_sym.progress`): the share of the section's cells decided.
+
+    Parameters
+    ----------
+    progress : bool or None
+        Draw the bar (None: on an interactive output, once the section has lasted a moment).
+
+    Yields
+    ------
+    callable
+        ``show(share, evaluated)``.
+    """
     with progress_bar(progress, total=100.0, desc="reach: section", unit="%",
                       bar_format="{desc}: {percentage:5.1f}% of the cells decided{postfix} |{bar}| "
                                  "[{elapsed}]") as bar:
@@ -552,7 +985,7 @@ def section_bar(progress: bool | None):
 def section_paving(image: RadialMap, width: float, *, budget=None, show=None, tuning: Tuning = DEFAULT,
                    rehearse=None, depth: int = 1, seconds_left=None):
     """Classify the cells of a grid of the given width over the section, for sections moved by three joints
-    or more (whose critical sets are too costly to cover), in three stages, each proof standing alone:
+    or more (whose critical sets are too costly to cover), in four stages, each proof standing alone:
 
     1. the cells hit by sampled configurations are each proved inside from their sample (Krawczyk), the
        farthest from the axis first (they weigh the most in the volume); then, when the map has a
@@ -577,7 +1010,33 @@ def section_paving(image: RadialMap, width: float, *, budget=None, show=None, tu
     the run keep their (proved) class; ``pieces`` the :class:`Pieces` of stage 4, for :func:`turned_volume`.
     ``budget(evaluated, ahead=seconds)`` is asked before each step with the time the step is expected to
     take; ``show(share decided, evaluated)`` after each; ``rehearse(grid, classes)`` is called once after
-    stage 1 (the caller measures there what it must keep time for)."""
+    stage 1 (the caller measures there what it must keep time for).
+
+    Parameters
+    ----------
+    image : RadialMap
+        The section map.
+    width : float
+        The cells' width.
+    budget : callable, optional
+        ``budget(evaluated, ahead=seconds)``: a stop reason, or ``""`` to go on; None: no budget.
+    show : callable, optional
+        ``show(share decided, evaluated)``.
+    tuning : Tuning
+        ``section_samples``, ``section_chunk``, ``section_pairs``, ``reach_tolerance``, ``blocks_share``,
+        ``blocks_weight``.
+    rehearse : callable, optional
+        ``rehearse(grid, classes)``, called once after stage 1.
+    depth : int
+        The levels of pieces of stage 4 (1: halved once).
+    seconds_left : callable, optional
+        The seconds the section has left; with it, stage 2 takes its share of them.
+
+    Returns
+    -------
+    tuple
+        ``(grid, classes, evaluated, stopped, pieces)``, as above.
+    """
     budget = budget or (lambda evaluated, ahead=0.0: "")
     show = show or (lambda share, evaluated: None)
     root = image.enclose(image.limits[None])[0]
@@ -727,7 +1186,38 @@ def _prove_cells(image, cells: np.ndarray, seeds: np.ndarray, level: int) -> np.
 
 def blocks(image, grid, classes, reached, budget, show, max_pairs, evaluated):
     """Stage 2 of :func:`section_paving`: ``(evaluated, stopped)``; ``classes`` is updated in place;
-    ``reached`` is the summed-area table of the cells holding the position of a sampled configuration."""
+    ``reached`` is the summed-area table of the cells holding the position of a sampled configuration.
+
+    Blocks of cells, from the whole grid down to single cells, carry the joint boxes whose enclosures meet them; a
+    block that holds no sampled position and is left without joint boxes is outside, a block proved by the
+    Krawczyk test from its first joint box's centre is inside.
+
+    Parameters
+    ----------
+    image : ImageMap or RadialMap
+        The section map.
+    grid : CellGrid
+        The section's grid.
+    classes : numpy.ndarray
+        The verdict code of each cell, updated in place (blocks already decided are skipped).
+    reached : numpy.ndarray
+        The summed-area table (:meth:`~workspace_sym.interval.image.CellGrid.prefix`).
+    budget : callable
+        ``budget(evaluated, ahead=seconds)``, asked before each generation of blocks.
+    show : callable
+        ``show(share decided, evaluated)``, after each generation.
+    max_pairs : int
+        About this many (block, joint box) pairs in one generation (64 per block at least).
+    evaluated : int
+        Boxes evaluated before.
+
+    Returns
+    -------
+    evaluated : int
+        The count, with the blocks of this call.
+    stopped : str
+        Why ``budget`` stopped it (``""``: every block decided or cut down to single cells).
+    """
     proved = grid.prefix(classes, INNER) + grid.prefix(classes, OUTER)        # decided already
     blocks = np.array([[0, grid.shape[0], 0, grid.shape[1]]])
     Q = image.limits[None].copy()
@@ -794,7 +1284,20 @@ def blocks(image, grid, classes, reached, budget, show, max_pairs, evaluated):
 
 def solid_volumes(r0, r1, z0, z1) -> tuple[np.ndarray, np.ndarray]:
     """Enclosures ``(lo, hi)`` of the volumes ``pi (r1^2 - r0^2) (z1 - z0)`` of the rectangles ``[r0, r1] x
-    [z0, z1]`` of ``(rho, z)`` turned through a full circle (``rho`` clipped at 0; outward-rounded)."""
+    [z0, z1]`` of ``(rho, z)`` turned through a full circle (``rho`` clipped at 0; outward-rounded).
+
+    Parameters
+    ----------
+    r0, r1, z0, z1 : numpy.ndarray
+        The rectangles' edges.
+
+    Returns
+    -------
+    lo : numpy.ndarray
+        Lower bounds of the volumes.
+    hi : numpy.ndarray
+        Upper bounds.
+    """
     pi = numpy_constant(sp.pi)
     r0, r1 = np.maximum(r0, 0.0), np.maximum(r1, 0.0)
     with np.errstate(all="ignore"):
@@ -817,6 +1320,24 @@ def turned_volume(grid: CellGrid, classes: np.ndarray, pieces: Pieces | None = N
     with the piece ``[1, 1.5] x [0, 0.5]`` of the second proved inside and ``[1.5, 2] x [0.5, 1]`` outside:
     ``[pi + 5 pi / 8, 4 pi - 7 pi / 8]``.
 
+    Parameters
+    ----------
+    grid : CellGrid
+        The section's grid.
+    classes : numpy.ndarray
+        The verdict code of each cell.
+    pieces : Pieces, optional
+        Pieces of undecided cells proved inside or outside.
+
+    Returns
+    -------
+    lo : float
+        A lower bound of the volume.
+    hi : float
+        An upper bound of the volume.
+
+    Examples
+    --------
     >>> g = CellGrid(np.array([[0.5, 1.5], [0.5, 1.5]]), 1.0)          # cell edges -1, 0, 1, 2, 3
     >>> c = np.full(g.shape, OUTER, dtype=np.int8)
     >>> c[1, 1], c[2, 1] = INNER, UNDECIDED                   # cells [0, 1] and [1, 2] of rho, [0, 1] of z

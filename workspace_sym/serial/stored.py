@@ -36,6 +36,29 @@ def reach_problem(robot: DHRobot, parameters, delta: float, size: str, tuning: T
     parameter), the parameter values given, ``delta``, ``size``, the tuning (:class:`Tuning`, with the constants
     of the engine that change which boxes are proved) and ``more`` (the constraint, the method and its options).
 
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot.
+    parameters : dict or iterable of pairs
+        The parameter values given (``(name, value)`` pairs, or a dict).
+    delta : float
+        The run's ``delta``.
+    size : {"diameter", "width"}
+        The run's ``size``.
+    tuning : Tuning
+        The run's tuning.
+    **more
+        Further fields, by name.
+
+    Returns
+    -------
+    dict
+        The fields by name: the robot's, then ``"parameters"`` (sorted pairs), ``"delta"`` (a float), ``"size"``,
+        ``"tuning"`` (its fields and the engine's constants) and ``more``.
+
+    Examples
+    --------
     >>> from workspace_sym.kinematics import DHJoint
     >>> arm = DHRobot([DHJoint.revolute(1, a=1), DHJoint.revolute(2, a=1, limits=(-1, 1))])
     >>> sorted(reach_problem(arm, (), 0.1, "diameter"))[:4]
@@ -51,13 +74,44 @@ def reach_problem(robot: DHRobot, parameters, delta: float, size: str, tuning: T
 
 
 def section_file(where: RunOn) -> Path | None:
-    """The file beside a checkpoint ``where.resume`` keeping the section its task boxes are classified from."""
+    """The file beside a checkpoint ``where.resume`` keeping the section its task boxes are classified from.
+
+    Parameters
+    ----------
+    where : RunOn
+        The run's options.
+
+    Returns
+    -------
+    pathlib.Path or None
+        ``RESUME.section.npz``; None without ``where.resume``.
+    """
     return None if where.resume is None else Path(f"{where.resume}.section.npz")
 
 
 def save_section(where: RunOn, named: Fingerprint, grid, classes, proved, pieces, evaluated: int) -> None:
     """Keep a paved section beside the checkpoint (written whole, then renamed: never half-written), with the
-    fingerprint of its problem ``named``."""
+    fingerprint of its problem ``named``.
+
+    Nothing is written without ``where.resume`` or without a section (``classes`` None).
+
+    Parameters
+    ----------
+    where : RunOn
+        The run's options (:func:`section_file`).
+    named : Fingerprint
+        The section's whole problem.
+    grid : CellGrid
+        The section's grid.
+    classes : numpy.ndarray or None
+        The verdict code of each cell.
+    proved : numpy.ndarray or None
+        The pieces proved at each direction of a limited turn, or None.
+    pieces : Pieces or None
+        The pieces of undecided cells proved inside or outside, or None.
+    evaluated : int
+        The boxes the section evaluated.
+    """
     path = section_file(where)
     if path is None or classes is None:
         return
@@ -74,7 +128,27 @@ def save_section(where: RunOn, named: Fingerprint, grid, classes, proved, pieces
 def saved_section(where: RunOn, named: Fingerprint):
     """``(grid, classes, proved, pieces, evaluated)`` of the section kept beside the checkpoint, or None (no
     checkpoint, or no file yet: the section is paved).  A file of another problem than ``named`` is refused,
-    naming what differs, as a checkpoint is."""
+    naming what differs, as a checkpoint is.
+
+    Parameters
+    ----------
+    where : RunOn
+        The run's options (:func:`section_file`).
+    named : Fingerprint
+        The whole problem the section must name.
+
+    Returns
+    -------
+    tuple or None
+        ``(grid, classes, proved, pieces, evaluated)``: the :class:`~workspace_sym.interval.image.CellGrid`, the
+        verdict code of each cell, the pieces proved per direction (None when none were kept), the
+        :class:`~workspace_sym.serial.section.Pieces` and the boxes evaluated; None when there is no such file.
+
+    Raises
+    ------
+    InvalidParameterError
+        The file cannot be read as a kept section, or it names another problem.
+    """
     path = section_file(where)
     if path is None or not path.is_file():
         return None

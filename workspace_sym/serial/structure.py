@@ -31,7 +31,21 @@ __all__ = ["Revolved", "revolved", "Product", "product", "structure_of"]
 @dataclass(frozen=True)
 class Revolved:
     """``p = Rz(theta_1) (u, c, v)``: the section map ``(u, v)`` of the other joints, the offset ``c`` (two
-    floats enclosing it) and ``theta_1``'s range (outward and inward floats; ``full`` for a whole turn)."""
+    floats enclosing it) and ``theta_1``'s range (outward and inward floats; ``full`` for a whole turn).
+
+    Parameters
+    ----------
+    section : ImageMap
+        The map ``q' -> (u, v)`` of the other joints.
+    c : tuple
+        ``(lo, hi)`` floats enclosing the lateral offset ``c``.
+    outer_range : tuple
+        ``(a, b)`` floats enclosing ``theta_1``'s range, in radians.
+    inner_range : tuple
+        ``(a, b)`` floats within ``theta_1``'s range, in radians.
+    full : bool
+        ``q_1`` turns the position through a whole period.
+    """
 
     section: ImageMap
     c: tuple
@@ -41,7 +55,19 @@ class Revolved:
 
 
 def revolved(model: ReachModel) -> Revolved | None:
-    """The section of a spatial robot turned by its first joint, or None when the structure is not there."""
+    """The section of a spatial robot turned by its first joint, or None when the structure is not there.
+
+    Parameters
+    ----------
+    model : ReachModel
+        The robot's reach model.
+
+    Returns
+    -------
+    Revolved or None
+        The structure (standard DH, no base transform, a spatial position, ``q_1`` turning everything after it
+        with a constant lateral offset), or None.
+    """
     robot = model.robot
     if robot.convention != "standard" or robot.base is not None or model.m != 3 or model.joints[:1] != [0]:
         return None
@@ -71,7 +97,18 @@ class Product:
     """Position coordinates moved by disjoint sets of joints: the workspace is the product of their images.
     ``plane`` are the two task axes of a group of two coordinates (or ``()``), ``section`` its map;
     ``intervals`` hold, per single coordinate, its axis, an outer enclosure of its image and an inner one
-    (or None)."""
+    (or None).
+
+    Parameters
+    ----------
+    plane : tuple
+        The two task axes moved together (indices), or ``()``.
+    section : ImageMap or None
+        Their map into the plane, or None.
+    intervals : tuple
+        ``(axis, outer, inner)`` per coordinate moved alone: ``outer`` a ``(lo, hi)`` enclosure of its image,
+        ``inner`` a ``(lo, hi)`` inside it, or None.
+    """
 
     plane: tuple
     section: ImageMap | None
@@ -91,7 +128,19 @@ def _interval_image(image: ImageMap, rng) -> tuple:
 
 
 def product(model: ReachModel) -> Product | None:
-    """The product structure of a spatial robot's position (a SCARA: x, y by two joints, z by a third)."""
+    """The product structure of a spatial robot's position (a SCARA: x, y by two joints, z by a third).
+
+    Parameters
+    ----------
+    model : ReachModel
+        The robot's reach model.
+
+    Returns
+    -------
+    Product or None
+        The structure when the coordinates fall into two groups or more moved by disjoint sets of joints, else
+        None.
+    """
     if model.m != 3:
         return None
     uses = [model.expressions[i].free_symbols & set(model.variables) for i in range(3)]
@@ -120,6 +169,20 @@ def product(model: ReachModel) -> Product | None:
 @lru_cache(maxsize=16)
 def structure_of(robot: DHRobot, parameters: tuple) -> Revolved | Product | Turned | None:
     """How a spatial robot's workspace reduces to a map into the plane: a product of images, a section
-    turned by the first joint (constant lateral offset, or any in cylindrical coordinates), or None."""
+    turned by the first joint (constant lateral offset, or any in cylindrical coordinates), or None.
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot.
+    parameters : tuple
+        Its parameter values as ``(name, value)`` pairs.
+
+    Returns
+    -------
+    Revolved or Product or Turned or None
+        The first structure found, in the order :class:`Product`, :class:`Revolved`,
+        :class:`~workspace_sym.serial.section.Turned`.
+    """
     model = reach_model(robot, parameters)
     return product(model) or revolved(model) or turned(model)

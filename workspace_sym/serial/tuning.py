@@ -52,8 +52,8 @@ class Tuning:
         sample reached (tuned on the UR5, where that share is 5 % and blocks decide nothing, and the KR16,
         27 %, where they decide 0.66 m^3 outside in 28 s).
     reach_tolerance : float
-        The bound of the squared distance from the shoulder is sought within this many cell widths times twice
-        the greatest distance (about a fifth of a cell).
+        The bound of the squared distance from the shoulder is sought within this many cell widths times the
+        greatest distance (in distance, about half this many cell widths: a tenth of a cell).
     section_depth : int
         With a time limit, an undecided cell of a section is refined into pieces halved this often at most
         (the time limit stops it first on the UR5 and the KR16).
@@ -78,6 +78,12 @@ class Tuning:
     wrist_cells, wrist_grid : int
         With a tool constraint: wrist boxes examined per arm box at once, and wrist values per joint tried
         first for a witness of the cone.
+
+    Raises
+    ------
+    InvalidParameterError
+        A whole-number field that is not an int of at least 1 (at least 0 for the depths), or another field that
+        is not a finite positive number.
 
     Examples
     --------
@@ -129,10 +135,35 @@ class Tuning:
                 raise InvalidParameterError(f"{f.name} must be a positive number; got {value!r}", parameter=f.name)
 
     def replace(self, **changes) -> Tuning:
-        """This tuning with ``changes`` (checked as at construction)."""
+        """This tuning with ``changes`` (checked as at construction).
+
+        Parameters
+        ----------
+        **changes
+            New values of fields, by name.
+
+        Returns
+        -------
+        Tuning
+            A new tuning; this one is unchanged.
+
+        Raises
+        ------
+        InvalidParameterError
+            A new value refused as at construction.
+        TypeError
+            A name that is not a field.
+        """
         return dataclasses.replace(self, **changes)
 
     def to_dict(self) -> dict:
+        """The fields by name, for the fingerprint of a run (:func:`~workspace_sym.serial.stored.reach_problem`).
+
+        Returns
+        -------
+        dict
+            Every field and its value.
+        """
         return dataclasses.asdict(self)
 
 

@@ -83,7 +83,19 @@ DIRECTIONS = 4                   # the axis directions k pi / 2 of the first joi
 class LimitedTurn:
     """A :class:`~workspace_sym.serial.section.Turned` arm whose first joint turns through ``[a, b]``, less than
     a period: ``inner_range`` (floats inside ``[a, b]``), ``pairs`` (the pairs of directions whose arcs cover
-    the circle) and ``share`` (a float at most ``(b - a) / 2 pi``)."""
+    the circle) and ``share`` (a float at most ``(b - a) / 2 pi``).
+
+    Parameters
+    ----------
+    plan : Turned
+        The turned section.
+    inner_range : tuple
+        ``(a, b)`` floats within ``theta_1``'s range, in radians.
+    pairs : tuple
+        The pairs ``(j, k)`` of axis directions whose arcs cover the circle (:func:`covering_pairs`).
+    share : float
+        At most ``(b - a) / 2 pi``.
+    """
 
     plan: Turned
     inner_range: tuple
@@ -94,7 +106,20 @@ class LimitedTurn:
 def limited_turn(plan, model) -> LimitedTurn | None:
     """The structure of the module docstring when ``plan`` (of ``model``) is a turned section moved by three
     joints or more whose first joint is limited to less than a period but at least a half turn; None
-    otherwise."""
+    otherwise.
+
+    Parameters
+    ----------
+    plan : Turned or other
+        The robot's structure (:func:`~workspace_sym.serial.structure.structure_of`).
+    model : ReachModel
+        The robot's reach model.
+
+    Returns
+    -------
+    LimitedTurn or None
+        The structure, or None.
+    """
     if not isinstance(plan, Turned) or plan.full or plan.section.k < 3:
         return None                     # two joints move w over a surface: no box of w is inside its image
     turn = first_joint_turn(model)
@@ -117,6 +142,18 @@ def covering_pairs(length) -> tuple:
     circle when ``b - a`` is the exact ``length``: ``d = (k - j) pi / 2`` in ``[2 pi - L, L]``, decided on outward
     enclosures of the exact differences (never a float guess).
 
+    Parameters
+    ----------
+    length : sympy.Expr
+        ``L = b - a``, exact, in radians.
+
+    Returns
+    -------
+    tuple
+        The pairs ``(j, k)``, ``0 <= j < k < 4``, in lexicographic order; empty below half a turn.
+
+    Examples
+    --------
     >>> covering_pairs(sp.pi), covering_pairs(3 * sp.pi / 2)[:3], covering_pairs(sp.pi - sp.Rational(1, 10**9))
     (((0, 2), (1, 3)), ((0, 1), (0, 2), (0, 3)), ())
     """
@@ -130,12 +167,33 @@ def covering_pairs(length) -> tuple:
 
 class DirectionMap:
     """The inner test of ``(rho, z)`` cells at the direction ``k pi / 2``: each ``(N, 2, 2)`` cell becomes the box
-    of ``w = (u, c, v)`` of the module docstring, proved inside ``w(Q')`` by ``lateral``'s Krawczyk test."""
+    of ``w = (u, c, v)`` of the module docstring, proved inside ``w(Q')`` by ``lateral``'s Krawczyk test.
+
+    Parameters
+    ----------
+    lateral : ImageMap
+        The map ``q' -> (u, c, v)``.
+    k : int
+        The direction, 0 to 3.
+    """
 
     def __init__(self, lateral: ImageMap, k: int):
         self.lateral, self.k = lateral, k
 
     def boxes(self, T: np.ndarray) -> np.ndarray:
+        """The boxes of ``w`` at direction ``k pi / 2`` of the ``(rho, z)`` cells ``T`` (module docstring).
+
+        Parameters
+        ----------
+        T : numpy.ndarray
+            ``(N, 2, 2)`` cells of ``(rho, z)``.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, 3, 2)`` boxes, ``rho`` clipped at 0, the coordinate across the direction a point interval
+            ``[0, 0]``.
+        """
         r0, r1 = np.maximum(T[:, 0, 0], 0.0), T[:, 0, 1]
         sign = 1.0 if self.k < 2 else -1.0
         radial = np.stack([r0, r1], axis=1) if sign > 0 else np.stack([-r1, -r0], axis=1)
@@ -145,13 +203,46 @@ class DirectionMap:
         return W
 
     def prove_inside(self, T: np.ndarray, seeds: np.ndarray) -> np.ndarray:
+        """Mask of the cells proved reached at direction ``k pi / 2`` at every point.
+
+        Parameters
+        ----------
+        T : numpy.ndarray
+            ``(N, 2, 2)`` cells of ``(rho, z)``.
+        seeds : numpy.ndarray
+            ``(N, k')`` joint values from which Newton's method starts.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N,)`` booleans (False for a cell wholly at ``rho < 0``).
+        """
         return self.lateral.prove_inside(self.boxes(T), seeds) & (T[:, 0, 1] >= 0)
 
 
 def direction_seeds(lateral: ImageMap, grid, n: int = DEFAULT.direction_samples, seed: int = 0):
     """``(index, q)``: for each cell of ``grid`` and each direction ``k``, a sampled configuration reaching the
     cell with its polar angle nearest ``k pi / 2`` (within ``pi / 4``): ``index[k]`` the ``(M, 2)`` cells,
-    ``q[k]`` the ``(M, k')`` configurations (floats: they only choose where a proof starts)."""
+    ``q[k]`` the ``(M, k')`` configurations (floats: they only choose where a proof starts).
+
+    Parameters
+    ----------
+    lateral : ImageMap
+        The map ``q' -> (u, c, v)``.
+    grid : CellGrid
+        The grid of the section ``(rho, z)``.
+    n : int
+        Configurations sampled.
+    seed : int
+        The seed of the random generator.
+
+    Returns
+    -------
+    index : list of numpy.ndarray
+        Per direction, the cells reached.
+    q : list of numpy.ndarray
+        Per direction, a configuration per cell.
+    """
     rng = np.random.default_rng(seed)
     q = lateral.random_configurations(n, rng)
     w = lateral.position_float(q)
@@ -183,7 +274,20 @@ def _split(cells: np.ndarray, level: int):
 
 def cell_level(pieces: np.ndarray, grid) -> np.ndarray:
     """The masks over ``grid``'s cells of the cells whose pieces are all proved, from the piece masks of
-    :func:`prove_directions` (``(..., n0 F, n1 F)``)."""
+    :func:`prove_directions` (``(..., n0 F, n1 F)``).
+
+    Parameters
+    ----------
+    pieces : numpy.ndarray
+        Boolean masks over the pieces, ``(..., n0 F, n1 F)`` with ``F`` pieces per cell along each axis.
+    grid : CellGrid
+        The grid of ``n0 x n1`` cells.
+
+    Returns
+    -------
+    numpy.ndarray
+        Booleans ``(..., n0, n1)``.
+    """
     F = pieces.shape[-2] // grid.shape[0]
     return np.asarray(pieces.reshape(pieces.shape[:-2] + (grid.shape[0], F, grid.shape[1], F)).all(axis=(-3, -1)))
 
@@ -199,7 +303,38 @@ def prove_directions(lateral: ImageMap, grid, candidates: np.ndarray, *, budget=
     counting for the volume (a cell cut by the boundary of the section keeps its pieces inside).
     ``budget(evaluated, ahead=seconds)`` is asked before each chunk.  ``state`` (a dict, filled on the first
     call) lets a later call go on where a stopped one ended: the cells tried at each level are not tried
-    again."""
+    again.
+
+    Parameters
+    ----------
+    lateral : ImageMap
+        The map ``q' -> (u, c, v)``.
+    grid : CellGrid
+        The grid of the section ``(rho, z)``.
+    candidates : numpy.ndarray
+        Booleans of ``grid.shape``: the cells that may be tried.
+    budget : callable, optional
+        ``budget(evaluated, ahead=seconds)``: a stop reason, or ``""`` to go on; None: no budget.
+    depth : int
+        The deepest level of pieces.
+    sampled : tuple, optional
+        ``(index, q)`` of :func:`direction_seeds`.
+    evaluated : int
+        Boxes evaluated before.
+    state : dict, optional
+        Kept between calls (see above); it fixes ``depth`` on its first call.
+    chunk : int
+        Cells proved between two looks at the budget (divided by ``4^level`` at each level).
+
+    Returns
+    -------
+    pieces : numpy.ndarray
+        Booleans ``(4, n0 2^depth, n1 2^depth)``.
+    evaluated : int
+        The count, with the proofs of this call.
+    stopped : str
+        Why ``budget`` stopped it (``""``: it did not).
+    """
     budget = budget or (lambda evaluated, ahead=0.0: "")
     F = 2 ** depth
     if state is None or not state:
@@ -246,7 +381,22 @@ def prove_directions(lateral: ImageMap, grid, candidates: np.ndarray, *, budget=
 def full_turn_cells(limited: LimitedTurn, classes: np.ndarray, pieces: np.ndarray) -> np.ndarray:
     """Classes of the cells for every polar angle: inner where two directions of a qualifying pair are proved
     (every piece of the cell, ``pieces`` as :func:`prove_directions` gives them), outer where the section's
-    cell is, undecided elsewhere."""
+    cell is, undecided elsewhere.
+
+    Parameters
+    ----------
+    limited : LimitedTurn
+        The structure (its covering pairs).
+    classes : numpy.ndarray
+        The verdict code of each cell of the section (only its outer cells are read).
+    pieces : numpy.ndarray
+        The pieces proved at each direction.
+
+    Returns
+    -------
+    numpy.ndarray
+        Verdict codes (``int8``) of the cells for every polar angle.
+    """
     full = np.zeros(classes.shape, dtype=bool)
     F = pieces.shape[-2] // classes.shape[0]
     for j, k in limited.pairs:
@@ -263,7 +413,28 @@ def limited_volume(limited: LimitedTurn, grid, full: np.ndarray, pieces: np.ndar
     pieces proved at each direction (:func:`prove_directions`): a piece proved at both directions of a pair
     turns into a solid in the workspace, a piece proved at one direction gives a share ``L / 2 pi`` (rounded
     down) of its solid.  The upper bound is that of the cells not outside, also sought on the pieces of the
-    undecided cells (:func:`pieces_upper`), the lesser kept."""
+    undecided cells (:func:`pieces_upper`), the lesser kept.
+
+    Parameters
+    ----------
+    limited : LimitedTurn
+        The structure.
+    grid : CellGrid
+        The grid of the section ``(rho, z)``.
+    full : numpy.ndarray
+        The full-turn verdict code of each cell (:func:`full_turn_cells`).
+    pieces : numpy.ndarray
+        The pieces proved at each direction.
+    tuning : Tuning
+        ``shoulder_pieces`` and ``reach_tolerance`` (:func:`pieces_upper`).
+
+    Returns
+    -------
+    lo : float
+        A lower bound of the workspace's volume.
+    hi : float
+        An upper bound.
+    """
     high = turned_volume(grid, full)[1]
     if limited.plan.section.reach is not None:
         high = min(high, pieces_upper(limited.plan.section.reach, grid, full, tuning.shoulder_pieces,
@@ -296,7 +467,26 @@ def pieces_upper(reach, grid, classes: np.ndarray, pieces: int = DEFAULT.shoulde
     those of the pieces of the undecided cells (each cut ``pieces`` times along both axes, the cell's own edges
     kept as the outer edges of its pieces, so that they cover it) not proved outside by that distance, summed
     rounded up.  The cells cut by the sphere of the greatest distance (or the least) weigh only their part
-    within it, to a piece."""
+    within it, to a piece.
+
+    Parameters
+    ----------
+    reach : ShoulderReach
+        The distance from the shoulder.
+    grid : CellGrid
+        The grid of the section ``(rho, z)``.
+    classes : numpy.ndarray
+        The verdict code of each cell.
+    pieces : int
+        Cuts along each axis of an undecided cell.
+    tolerance : float
+        The tolerance of the distance bounds, in pieces' widths (:meth:`ShoulderReach.outside`).
+
+    Returns
+    -------
+    float
+        The bound, rounded up.
+    """
     e0, e1 = grid.edges
     at = np.argwhere(classes == UNDECIDED)
     t = np.linspace(0.0, 1.0, pieces + 1)
@@ -321,7 +511,22 @@ def pieces_upper(reach, grid, classes: np.ndarray, pieces: int = DEFAULT.shoulde
 
 class LimitedTurnTest(TurnedTest):
     """Classify world boxes of ``(x, y, z)`` from the full-turn classes and the directions proved (module
-    docstring)."""
+    docstring).
+
+    Called with ``(N, 3, 2)`` boxes, it returns the masks ``(is_in, is_out)``: proved inner, proved outer (never
+    both).
+
+    Parameters
+    ----------
+    limited : LimitedTurn
+        The structure.
+    grid : CellGrid
+        The grid of the section ``(rho, z)``.
+    full : numpy.ndarray
+        The full-turn verdict code of each cell (:func:`full_turn_cells`).
+    pieces : numpy.ndarray
+        The pieces proved at each direction (:func:`prove_directions`).
+    """
 
     def __init__(self, limited: LimitedTurn, grid, full: np.ndarray, pieces: np.ndarray):
         super().__init__(limited.plan, grid, full)
@@ -356,7 +561,31 @@ def pave_limited(limited: LimitedTurn, width: float, run, *, show=None, boxes: i
     take ``tuning.directions_share`` of the time left when called, the blocks run until ``tuning.blocks_end`` of it (the
     directions go on where they stopped when the blocks end before), the world boxes take the rest.  With a
     budget of ``boxes`` (evaluated here; the same cells on every machine), the stages stop at the same shares
-    of it, the step under way ending first."""
+    of it, the step under way ending first.
+
+    Parameters
+    ----------
+    limited : LimitedTurn
+        The structure.
+    width : float
+        The cells' width.
+    run : RunBudget
+        The run's budget (its clock, ``time_limit`` and ``stop_reason``).
+    show : callable, optional
+        ``show(share decided, evaluated)`` for the blocks.
+    boxes : int, optional
+        A budget of boxes for this section (``StopAt.section_boxes``).
+    tuning : Tuning
+        ``reach_tolerance``, ``direction_samples``, ``direction_depth`` (``timed_depth`` with a time limit),
+        ``direction_chunk``, ``directions_share``, ``blocks_end``, ``section_pairs``.
+
+    Returns
+    -------
+    tuple
+        ``(grid, classes, pieces, evaluated, reason)``: the :class:`~workspace_sym.interval.image.CellGrid`, the
+        full-turn verdict codes, the pieces proved at each direction, the boxes evaluated, and why the run's
+        budget stopped it (``""``: it did not, or only a share ran out).
+    """
     section = limited.plan.section
     limit, begun = run.time_limit, run.seconds
     show = show or (lambda share, evaluated: None)
