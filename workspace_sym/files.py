@@ -160,10 +160,10 @@ def read_xml(path, parameter: str, *, kind: str, error: type[WorkspaceError] = W
         The file.
     parameter : str
         What the file is (``"path"``, ``"answers"``): the message starts with it and the error carries it.
-    error : type
-        The :class:`~workspace_sym.errors.WorkspaceError` subclass raised (default ``WorkspaceError`` itself).
     kind : str
         The kind of file, for the messages.
+    error : type
+        The :class:`~workspace_sym.errors.WorkspaceError` subclass raised (default ``WorkspaceError`` itself).
 
     Returns
     -------
@@ -212,10 +212,10 @@ def parse_xml(data: bytes, path, parameter: str, *, kind: str, error: type[Works
         The file it came from, for the messages.
     parameter : str
         What the file is (``"path"``, ``"answers"``): the message starts with it and the error carries it.
-    error : type
-        The :class:`~workspace_sym.errors.WorkspaceError` subclass raised (default ``WorkspaceError`` itself).
     kind : str
         The kind of file (``"URDF"``, ``"MJCF"``), for the messages.
+    error : type
+        The :class:`~workspace_sym.errors.WorkspaceError` subclass raised (default ``WorkspaceError`` itself).
 
     Returns
     -------
