@@ -492,7 +492,7 @@ class DHRobot:
         Returns
         -------
         DHRobot
-            The robot, named after the file.
+            The robot, named after the file unless the file gives a ``"name"``.
 
         Raises
         ------
@@ -550,7 +550,7 @@ class DHRobot:
 
         Raises
         ------
-        MJCFError
+        MJCFError, JointLimitError, InvalidParameterError
             As for :func:`workspace_sym.readers.read_mjcf`.
         """
         return _reader("mjcf")(path, base_link=base_link, tip_link=tip_link, exact=exact, tol=tol)
