@@ -52,6 +52,32 @@ def characteristic_polynomial(M, lam: sp.Symbol | None = None, *, gram: bool = F
     simplified with ``simplify`` (textbook form by default; pass
     ``sympy.factor`` for rational functions or ``None`` to keep them raw).
 
+    Parameters
+    ----------
+    M : sympy.Matrix or sequence of rows
+        The matrix; entries of a nested sequence are read by :func:`~workspace_sym.expressions.as_sympy` (text
+        through the restricted reader).  Square unless ``gram``.
+    lam : sympy.Symbol, optional
+        The polynomial's variable; None (the default) is ``Symbol("lambda")``.
+    gram : bool
+        Take the characteristic polynomial of ``M M^T`` (default False: of ``M``).
+    simplify : callable or None
+        Applied to each coefficient (default :func:`~workspace_sym.symbolic.textbook`); None keeps them raw.
+
+    Returns
+    -------
+    sympy.Poly
+        The monic polynomial in ``lam``, of degree ``M.rows``.
+
+    Raises
+    ------
+    InvalidParameterError
+        When ``M`` is not square and ``gram`` is False.
+    ExpressionError
+        When an entry of a nested sequence cannot be read.
+    SymbolicBudgetError
+        With ``gram``, when the enclosing budget runs out (see :func:`gram_characteristic_polynomial`).
+
     Examples
     --------
     >>> lam = sp.Symbol("lambda")
@@ -95,7 +121,29 @@ def laplace_minor(P: list, rows: tuple, cols: tuple, memo: dict, zero):
     row, every smaller minor kept in ``memo`` (shared by the maximal minors: they differ in one column) and the
     budget checked at each.  Products of short entries by minors, no division: Bareiss' exact divisions of
     long polynomials took 50 s of a 7-joint arm's 6 x 6 minors (and DomainMatrix.det, which cannot be
-    interrupted, 14 minutes on a float AL5D)."""
+    interrupted, 14 minutes on a float AL5D).
+
+    Parameters
+    ----------
+    P : list of lists
+        The matrix, row by row, its entries elements of one polynomial ring.
+    rows, cols : tuple of int
+        The rows and columns of the minor, increasing, as many of each.
+    memo : dict
+        Minors already computed, by ``(rows, cols)``; the minors computed here are added to it.
+    zero
+        The ring's zero.
+
+    Returns
+    -------
+    ring element
+        The minor.
+
+    Raises
+    ------
+    SymbolicBudgetError
+        When the enclosing :func:`~workspace_sym.symbolic.symbolic_budget` is spent.
+    """
     key = (rows, cols)
     if key in memo:
         return memo[key]
@@ -152,6 +200,26 @@ def gram_characteristic_polynomial(J, lam: sp.Symbol | None = None, *, simplify=
     ``J`` may be rotated first by any orthogonal matrix: ``(Q J)(Q J)^T`` has
     the same characteristic polynomial, which :meth:`DHRobot.characteristic_polynomial`
     uses to shorten the entries.
+
+    Parameters
+    ----------
+    J : sympy.Matrix
+        The ``m x n`` matrix (a Jacobian).  Not text: anything else is passed to ``sympy.Matrix``.
+    lam : sympy.Symbol, optional
+        The polynomial's variable; None (the default) is ``Symbol("lambda")``.
+    simplify : callable or None
+        Applied to each irreducible factor of a minor, and to short coefficients (default
+        :func:`~workspace_sym.symbolic.textbook`); None keeps them raw.
+
+    Returns
+    -------
+    sympy.Poly
+        The monic polynomial of degree ``m`` in ``lam``, over the domain ``EX``.
+
+    Raises
+    ------
+    SymbolicBudgetError
+        When the enclosing budget (or the 120 s of its own) runs out before the coefficients are built.
 
     Examples
     --------
@@ -267,8 +335,25 @@ def _determinant_sums(J: sp.Matrix) -> list:
 def eigenvalues_from_charpoly(poly: sp.Poly, values: dict | None = None) -> np.ndarray:
     """Numeric eigenvalues: roots of the characteristic polynomial at ``values``.
 
-    Returns them sorted; the real parts when every imaginary part is below
-    1e-9 relative (as for the symmetric ``J J^T``).
+    Parameters
+    ----------
+    poly : sympy.Poly
+        A characteristic polynomial, such as :func:`gram_characteristic_polynomial` returns (its unexpanded
+        determinants are evaluated).
+    values : dict, optional
+        Values of the symbols of the coefficients (joint variables and lengths), by symbol; None (the default)
+        when the coefficients are numbers already.
+
+    Returns
+    -------
+    numpy.ndarray
+        The roots: real and in increasing order when every imaginary part is below 1e-9 relative to the largest
+        root (as for the symmetric ``J J^T``), else complex, ordered by real part.
+
+    Raises
+    ------
+    TypeError
+        When a coefficient keeps a symbol that ``values`` does not give.
     """
     values = values or {}
     coeffs = [complex(_evaluated(sp.sympify(c).xreplace(values))) for c in poly.all_coeffs()]
@@ -318,6 +403,26 @@ def maximal_minor_factors(J: sp.Matrix, *, seed: int = 0, multiplicity: bool = F
     With ``multiplicity`` the result is a list of ``(factor, m)``: ``m`` is the
     exponent of the factor in the gcd of the minors (in ``det J`` for a square
     ``J``), e.g. ``[(s2, 1), (s5, 1), (q3, 2)]`` for the Stanford arm.
+
+    Parameters
+    ----------
+    J : sympy.Matrix
+        The Jacobian.  Not text: anything else is passed to ``sympy.Matrix``.
+    seed : int
+        Seed of the random point at which the generic rank is found (default 0).
+    multiplicity : bool
+        Return ``(factor, m)`` pairs (default False: the factors alone).
+
+    Returns
+    -------
+    list
+        The factors (SymPy expressions), shortest first, or ``(factor, m)`` pairs; ``[0]`` (``[(0, 1)]``) when
+        ``J`` is zero at the random point (its generic rank is 0); ``[]`` when no factor is common to the minors.
+
+    Raises
+    ------
+    SymbolicBudgetError
+        When the enclosing :func:`~workspace_sym.symbolic.symbolic_budget` is spent.
 
     Examples
     --------

@@ -95,11 +95,29 @@ def _macro_guards(code: str) -> str:
 def c_code(robot, *, prefix: str = "") -> dict[str, str]:
     """The C header and source of ``robot``'s forward kinematics and geometric Jacobian, in memory.
 
-    Returns ``{"<stem>.h": header, "<stem>.c": source}``, the stem made from the
-    robot's name.  The functions are ``<prefix>fk`` and ``<prefix>jacobian``
+    The functions are ``<prefix>fk`` and ``<prefix>jacobian``
     (a ``prefix`` such as ``"ur5_"`` lets several robots share one program).
     Numeric parameter values (``robot.parameters``) are substituted; a symbolic
     length without a value raises :class:`InvalidParameterError` naming it.
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot.
+    prefix : str
+        Put in front of the function names: empty (the default) or a C identifier.
+
+    Returns
+    -------
+    dict of str to str
+        ``{"<stem>.h": header, "<stem>.c": source}``, the stem made from the robot's name (letters, digits and
+        underscores only; ``"robot"`` when nothing is left).
+
+    Raises
+    ------
+    InvalidParameterError
+        When ``prefix`` is not empty or a C identifier, or when the forward kinematics or the Jacobian keeps a
+        symbol other than the joint variables (a parameter without a value).
 
     Examples
     --------
@@ -162,8 +180,32 @@ def write_code(robot, out, *, lang: str = "c", prefix: str = "") -> list[Path]:
     """Write the generated code of ``robot`` (``lang="c"``: :func:`c_code`) into directory ``out``.
 
     Everything is generated in memory first, then each file is written under a
-    temporary name and renamed: an error leaves no file half-written.  Returns
-    the paths written, header first.
+    temporary name and renamed: an error leaves no file half-written.
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot.
+    out : str or path
+        The output directory, created when missing.
+    lang : str
+        The language, one of :data:`LANGUAGES` (default ``"c"``).
+    prefix : str
+        As for :func:`c_code`.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The paths written, header first.
+
+    Raises
+    ------
+    UnknownNameError
+        When ``lang`` is not one of :data:`LANGUAGES`.
+    WorkspaceError
+        When ``out`` is a file, cannot be created or cannot be written into (``parameter="out"``).
+    InvalidParameterError
+        As for :func:`c_code`.
     """
     check_choice("lang", lang, LANGUAGES)
     out = Path(out)

@@ -30,6 +30,20 @@ def tex_escape(text: str, *, math: bool = True) -> str:
     r"""Escape LaTeX specials in text, leaving ``$...$`` math segments alone (``math=False``: escape ``$`` too,
     for text that came from a user or the command line).
 
+    Parameters
+    ----------
+    text : str
+        The text.
+    math : bool
+        True (the default): the text may hold ``$...$`` mathematics, which is left as it is.  False: all of it is
+        text, put on one line (runs of whitespace become one space), with ``$``, ``|``, ``<`` and ``>`` escaped
+        too.
+
+    Returns
+    -------
+    str
+        The escaped text.
+
     Examples
     --------
     >>> print(tex_escape(r"a_b 50% $x_1$ {c} \ d"))
@@ -206,6 +220,11 @@ class Document:
     (a list of text and SymPy objects), tables whose headers and cells are
     strings or SymPy expressions, figures (PNG files, numbered), and key/value
     lists.  Every text is escaped for the format it goes into.
+
+    Parameters
+    ----------
+    title : str
+        The document's title (its first heading).
     """
 
     def __init__(self, title: str):
@@ -213,31 +232,103 @@ class Document:
         self.blocks: list[tuple] = []
 
     def heading(self, text, level=2):
+        """A heading.
+
+        Parameters
+        ----------
+        text : str
+            The heading's text.
+        level : int
+            2 (the default) for a section, 3 or more below it (the title is level 1); LaTeX has one level below
+            sections.
+        """
         self.blocks.append(("h", level, text))
 
     def para(self, text):
         """A paragraph: text, or a list of text and SymPy objects (set inline as mathematics: ``["no: ",
-        sp.Abs(p)**2, " > 1"]``)."""
+        sp.Abs(p)**2, " > 1"]``).
+
+        Parameters
+        ----------
+        text : str or list
+            The text, or a list of text and SymPy objects (or numbers).
+
+        Raises
+        ------
+        sympy.SympifyError
+            When a part of the list is neither text, a SymPy object nor a number.
+        """
         self.blocks.append(("p", text if isinstance(text, str) else [
             t if isinstance(t, str) else sp.sympify(t, strict=True) for t in text]))
 
     def math(self, lhs, expr):
-        """A displayed equation ``lhs = expr`` (SymPy objects; ``lhs`` may be a name such as ``"c_1"``)."""
+        """A displayed equation ``lhs = expr`` (SymPy objects; ``lhs`` may be a name such as ``"c_1"``).
+
+        Parameters
+        ----------
+        lhs : SymPy object or str
+            The left-hand side, as for :meth:`equations`.
+        expr : SymPy object, number or SymPy matrix
+            The right-hand side.
+
+        Raises
+        ------
+        sympy.SympifyError
+            When ``expr`` is neither a SymPy object, a matrix nor a number (text is refused).
+        """
         self.equations([(lhs, expr)])
 
     def equations(self, pairs):
-        """Several equations ``lhs = expr`` aligned on their ``=`` signs."""
+        """Several equations ``lhs = expr`` aligned on their ``=`` signs.
+
+        Parameters
+        ----------
+        pairs : iterable of (lhs, expr)
+            Each ``lhs`` a SymPy object or a str: a word (``"answer"``, ``"\\text{answer}"``) is set upright as
+            text, any other name (``"c_1"``, ``"theta"``) is made a Symbol; each ``expr`` a SymPy object, a number
+            or a SymPy matrix.
+
+        Raises
+        ------
+        sympy.SympifyError
+            When an ``expr`` is neither a SymPy object, a matrix nor a number (text is refused).
+        """
         self.blocks.append(("eqs", [(_label(lhs), sp.sympify(e, strict=True) if not isinstance(e, sp.MatrixBase) else e)
                                     for lhs, e in pairs]))
 
     def table(self, header, rows):
-        """A table: each header and cell is text or a SymPy object (set as mathematics)."""
+        """A table: each header and cell is text or a SymPy object (set as mathematics).
+
+        Parameters
+        ----------
+        header : iterable
+            The column headers.
+        rows : iterable of iterables
+            The rows, each as long as ``header``.
+        """
         self.blocks.append(("table", list(header), [list(r) for r in rows]))
 
     def figure(self, path: Path, caption: str):
+        """A figure, numbered in the order the figures are added.
+
+        Parameters
+        ----------
+        path : path
+            The PNG file.  Only its name is kept: the Markdown and LaTeX refer to it by name, and :meth:`html`
+            reads it from its ``folder``.
+        caption : str
+            The caption (plain text).
+        """
         self.blocks.append(("fig", Path(path), caption))
 
     def items(self, pairs):
+        """A list of key/value items.
+
+        Parameters
+        ----------
+        pairs : iterable of (key, value)
+            The items; each key and value is shown as ``str`` of it, as plain text.
+        """
         self.blocks.append(("items", list(pairs)))
 
     # ---------------------------------------------------------------- renderers
@@ -253,6 +344,13 @@ class Document:
         return f'<math display="inline">{_mathml(x)}</math>'
 
     def markdown(self) -> str:
+        """The document in Markdown, mathematics as ``$...$`` LaTeX.
+
+        Returns
+        -------
+        str
+            The Markdown text; figures are referred to by file name.
+        """
         esc = md_escape
         lines = [f"# {esc(self.title)}", ""]
         figures = 0
@@ -291,6 +389,23 @@ class Document:
                 + "".join(rows) + "</mtable></math>")
 
     def html(self, folder: Path) -> str:
+        """The document as one HTML page, mathematics as MathML.
+
+        Parameters
+        ----------
+        folder : pathlib.Path
+            The directory holding the figures' files.
+
+        Returns
+        -------
+        str
+            The page, with its style and every figure embedded (it needs no other file).
+
+        Raises
+        ------
+        OSError
+            When a figure's file cannot be read from ``folder``.
+        """
         body = [f"<h1>{html.escape(self.title)}</h1>"]
         figures = 0
         for b in self.blocks:
@@ -363,6 +478,13 @@ class Document:
         return lines
 
     def latex(self) -> str:
+        """The document as a LaTeX ``article`` (amsmath, graphicx, geometry).
+
+        Returns
+        -------
+        str
+            The complete ``.tex`` source; figures are included by file name.
+        """
         out = ["\\documentclass[a4paper,10pt]{article}", "\\usepackage{amsmath,amssymb,graphicx}",
                "\\usepackage[margin=2cm]{geometry}", "\\allowdisplaybreaks", "\\begin{document}",
                f"\\section*{{{tex_escape(self.title, math=False)}}}"]
@@ -396,7 +518,28 @@ class Document:
         return "\n".join(out) + "\n"
 
     def write(self, folder: Path, stem: str = "report") -> dict:
-        """Write ``stem.md``, ``stem.html`` and ``stem.tex`` into ``folder`` (figures must already be there)."""
+        """Write ``stem.md``, ``stem.html`` and ``stem.tex`` into ``folder`` (figures must already be there).
+
+        The files are written in place, one after the other (not all or nothing): the reports write them into a
+        temporary directory and publish it whole.
+
+        Parameters
+        ----------
+        folder : pathlib.Path
+            An existing directory.
+        stem : str
+            The files' name without extension (default ``"report"``).
+
+        Returns
+        -------
+        dict of str to pathlib.Path
+            The path written for each of ``"markdown"``, ``"html"`` and ``"latex"``.
+
+        Raises
+        ------
+        OSError
+            When a file cannot be written, or a figure cannot be read.
+        """
         folder = Path(folder)
         paths = {"markdown": folder / f"{stem}.md", "html": folder / f"{stem}.html", "latex": folder / f"{stem}.tex"}
         paths["markdown"].write_text(self.markdown())
@@ -411,6 +554,17 @@ class Equations:
     across lines as in the reports.
 
     ``Equations(expr)`` shows one expression, ``Equations(("x", e1), ("y", e2))`` several aligned on ``=``.
+
+    Parameters
+    ----------
+    *items
+        One expression (SymPy object, number or matrix) that is not a tuple, or ``(lhs, expr)`` pairs as for
+        :meth:`Document.equations`.
+
+    Raises
+    ------
+    sympy.SympifyError
+        When an expression is neither a SymPy object, a matrix nor a number (text is refused).
 
     Examples
     --------

@@ -50,6 +50,13 @@ class WorkspaceError(ValueError):
     argument that was bad (``"delta"``, ``"max_boxes"``): the message speaks
     of the API, and the command line uses ``parameter`` to name its option.
 
+    Parameters
+    ----------
+    *args
+        The arguments of :class:`ValueError`: in this package, one string, the message.
+    parameter : str or None, optional
+        The name of the bad argument; None (the default) when no one argument is to blame.
+
     Examples
     --------
     >>> err = WorkspaceError("delta must be a positive finite number; got -1", parameter="delta")
@@ -65,19 +72,43 @@ class WorkspaceError(ValueError):
 
 
 class InvalidParameterError(WorkspaceError):
-    """A scalar option is outside its allowed range or set."""
+    """A scalar option is outside its allowed range or set.
+
+    Parameters
+    ----------
+    *args, parameter
+        As for :class:`WorkspaceError`: the message, and the name of the bad argument (None when unknown).
+    """
 
 
 class DHTableError(WorkspaceError):
-    """A Denavit-Hartenberg row or file is malformed."""
+    """A Denavit-Hartenberg row or file is malformed.
+
+    Parameters
+    ----------
+    *args, parameter
+        As for :class:`WorkspaceError`: the message, and the name of the bad argument (None when unknown).
+    """
 
 
 class URDFError(DHTableError):
-    """A URDF file cannot be read as a serial chain (unreadable, xacro, branching, unsupported joint)."""
+    """A URDF file cannot be read as a serial chain (unreadable, xacro, branching, unsupported joint).
+
+    Parameters
+    ----------
+    *args, parameter
+        As for :class:`WorkspaceError`: the message, and the name of the bad argument (None when unknown).
+    """
 
 
 class MJCFError(DHTableError):
-    """A MuJoCo model cannot be read as a serial chain (malformed number, ball or free joint, unknown body)."""
+    """A MuJoCo model cannot be read as a serial chain (malformed number, ball or free joint, unknown body).
+
+    Parameters
+    ----------
+    *args, parameter
+        As for :class:`WorkspaceError`: the message, and the name of the bad argument (None when unknown).
+    """
 
 
 class ExpressionError(WorkspaceError):
@@ -85,6 +116,13 @@ class ExpressionError(WorkspaceError):
 
     ``position``, when the reader knows it, is the 1-based column of the text
     where the problem is (a student's answer is told where it went wrong).
+
+    Parameters
+    ----------
+    *args, parameter
+        As for :class:`WorkspaceError`: the message, and the name of the bad argument (None when unknown).
+    position : int or None, optional
+        The 1-based column of the text where the problem is; None (the default) when unknown.
     """
 
     def __init__(self, *args, parameter: str | None = None, position: int | None = None):
@@ -93,11 +131,23 @@ class ExpressionError(WorkspaceError):
 
 
 class JointLimitError(WorkspaceError):
-    """Joint limits are inverted, non-finite or outside their range."""
+    """Joint limits are inverted, non-finite or outside their range.
+
+    Parameters
+    ----------
+    *args, parameter
+        As for :class:`WorkspaceError`: the message, and the name of the bad argument (None when unknown).
+    """
 
 
 class UnknownNameError(WorkspaceError):
-    """A name (robot, convention, backend, ...) is not among the allowed ones."""
+    """A name (robot, convention, backend, ...) is not among the allowed ones.
+
+    Parameters
+    ----------
+    *args, parameter
+        As for :class:`WorkspaceError`: the message, and the name of the bad argument (None when unknown).
+    """
 
 
 class ConstraintError(ExpressionError):
@@ -106,22 +156,47 @@ class ConstraintError(ExpressionError):
     A constraint is an expression read from user text like any other, so this
     is an :class:`ExpressionError`: ``except ExpressionError`` catches every
     unreadable input.
+
+    Parameters
+    ----------
+    *args, parameter, position
+        As for :class:`ExpressionError`: the message, the name of the bad argument and the 1-based column of the
+        text where the problem is (each None when unknown).
     """
 
 
 class BoxError(WorkspaceError):
-    """A box has inverted or non-finite bounds."""
+    """A box has inverted or non-finite bounds.
+
+    Parameters
+    ----------
+    *args, parameter
+        As for :class:`WorkspaceError`: the message, and the name of the bad argument (None when unknown).
+    """
 
 
 class BoundaryError(WorkspaceError):
     """The exact boundary of a planar chain could not be computed reliably for these inputs (it would contradict
-    a property every chain has): refused rather than answered wrongly."""
+    a property every chain has): refused rather than answered wrongly.
+
+    Parameters
+    ----------
+    *args, parameter
+        As for :class:`WorkspaceError`: the message, and the name of the bad argument (None when unknown).
+    """
 
 
 class MissingExtraError(WorkspaceError, ImportError):
     """An optional dependency is not installed (distributed runs need dask.distributed:
     ``pip install 'workspace_sym[distributed]'``); also an :class:`ImportError`.
 
+    Parameters
+    ----------
+    *args, parameter
+        As for :class:`WorkspaceError`: the message, and the name of the bad argument (None when unknown).
+
+    Examples
+    --------
     >>> issubclass(MissingExtraError, ImportError)
     True
     """
@@ -129,7 +204,13 @@ class MissingExtraError(WorkspaceError, ImportError):
 
 class WorkerResultError(WorkspaceError):
     """A worker of ``executor`` sent back something other than what its task can produce (wrong type, dtype or
-    shape, non-finite bounds, boxes outside the chunk it was given): refused rather than stored as a proof."""
+    shape, non-finite bounds, boxes outside the chunk it was given): refused rather than stored as a proof.
+
+    Parameters
+    ----------
+    *args, parameter
+        As for :class:`WorkspaceError`: the message, and the name of the bad argument (None when unknown).
+    """
 
 
 class OverBudget(Exception):
@@ -141,8 +222,15 @@ class CoverTooLarge(RuntimeError):
 
 
 class CoverStopped(Exception):
-    """A budget ran out between two generations of a critical cover (nothing is decided from it): ``evaluated``
-    boxes were evaluated, ``reason`` says why it stopped."""
+    """A budget ran out between two generations of a critical cover (nothing is decided from it).
+
+    Parameters
+    ----------
+    evaluated : int
+        The number of joint boxes evaluated before the stop.
+    reason : str
+        Why it stopped; also the exception's message.
+    """
 
     def __init__(self, evaluated: int, reason: str):
         super().__init__(reason)
@@ -161,18 +249,37 @@ class BudgetExpired(BaseException):
 
 
 class OutputError(WorkspaceError):
-    """An output path cannot be written (missing or unwritable directory, unknown figure format)."""
+    """An output path cannot be written (missing or unwritable directory, unknown figure format).
+
+    Parameters
+    ----------
+    *args, parameter
+        As for :class:`WorkspaceError`: the message, and the name of the bad argument (None when unknown).
+    """
 
 
 class SymbolicError(WorkspaceError):
     """A symbolic derivation (forward kinematics, a Jacobian, its singular factors, a characteristic
-    polynomial) could not be carried out on this input; the message names what could not be done."""
+    polynomial) could not be carried out on this input; the message names what could not be done.
+
+    Parameters
+    ----------
+    *args, parameter
+        As for :class:`WorkspaceError`: the message, and the name of the bad argument (None when unknown).
+    """
 
 
 class SymbolicBudgetError(SymbolicError, TimeoutError):
     """A symbolic step did not finish within its budget (time, or the size of an expansion or a table); also a
     :class:`TimeoutError`, so ``except TimeoutError`` catches it.
 
+    Parameters
+    ----------
+    *args, parameter
+        As for :class:`WorkspaceError`: the message, and the name of the bad argument (None when unknown).
+
+    Examples
+    --------
     >>> issubclass(SymbolicBudgetError, TimeoutError) and issubclass(SymbolicBudgetError, WorkspaceError)
     True
     """

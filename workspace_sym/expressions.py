@@ -77,6 +77,20 @@ def refuse_plus_minus(text: str, parameter: str, *, offset: int = 0) -> None:
     A value read from text is one value: ``1.40474 +- 0.01`` is a value and its uncertainty, never the
     subtraction ``1.39474`` that Python's unary minus would make of it.  ``offset`` is added to the column.
 
+    Parameters
+    ----------
+    text : str
+        The text to check; anything that is not a string passes.
+    parameter : str
+        What the text is, for the message and the error's ``parameter``.
+    offset : int
+        Added to the column reported (the text is a piece of a longer one).
+
+    Raises
+    ------
+    ExpressionError
+        When a plus-or-minus sign is found; ``position`` is its 1-based column (plus ``offset``).
+
     Examples
     --------
     >>> refuse_plus_minus("0.2 + -0.1", "d")
@@ -100,6 +114,19 @@ _DECIMAL_COMMA = re.compile(r"\s*([-+]?[0-9]+),([0-9]+)\s*")
 def refuse_decimal_comma(text: str, parameter: str) -> None:
     """Raise :class:`ExpressionError` when ``text`` is a number written with a decimal comma (``1,40``), saying how
     to write it.
+
+    Parameters
+    ----------
+    text : str
+        The text to check: the whole of it, spaces aside, must be the number (``"1,40"``, ``"-2,5"``); anything
+        else, and anything that is not a string, passes.
+    parameter : str
+        What the text is, for the message and the error's ``parameter``.
+
+    Raises
+    ------
+    ExpressionError
+        When ``text`` is such a number; ``position`` is the 1-based column of the comma.
 
     Examples
     --------
@@ -334,10 +361,40 @@ def parse_expr(value, parameter: str, *, names: Mapping | None = None, functions
     checks above, and so must the code they produce).  NaN and infinities are
     refused.
 
+    Parameters
+    ----------
+    value : str, number or SymPy object
+        What to read; ``bool`` and ``None`` are refused.
+    parameter : str
+        What the value is (``"joint 2 d"``), for the message.
+    names : mapping of str to SymPy object, optional
+        Names the text may use, and their values; they take precedence over ``pi`` and ``E``.
+    functions : mapping or iterable of str, optional
+        The functions the text may call: a mapping ``name -> SymPy function``, or names among
+        :data:`FUNCTIONS`; None (the default) is all of :data:`FUNCTIONS`.
+    new_symbols : bool
+        Whether an unknown identifier becomes a new ``Symbol`` (default) or is refused.
+    relational : bool
+        Whether one comparison ``<``, ``<=``, ``>``, ``>=`` is allowed (default False).
+    max_length : int
+        Longest text read, in characters (default :data:`MAX_LENGTH`).
+    max_depth : int
+        Deepest nesting accepted (default :data:`MAX_DEPTH`).
+    transformations : tuple
+        Extra SymPy parser transformations (default none).
+
+    Returns
+    -------
+    sympy.Basic
+        A SymPy expression; with ``relational``, possibly an inequality, or ``true`` / ``false`` when the
+        comparison is between numbers.
+
     Raises
     ------
     ExpressionError
         Naming ``parameter``, the text (cut when long) and what is allowed.
+    TypeError
+        When a key of ``names`` is not an identifier (a programming error, not bad input).
 
     Examples
     --------
@@ -464,6 +521,16 @@ _SUBSCRIPT = re.compile(r"_\{([0-9, ]*)\}|_([0-9]+)")
 def subscript_name(name: str) -> str:
     """``c_{23}`` and ``theta_1`` as the plain names ``c23`` and ``theta1`` (digit subscripts only).
 
+    Parameters
+    ----------
+    name : str
+        A name as written; commas and spaces inside braces are dropped (``c_{2, 3}`` is ``c23``).
+
+    Returns
+    -------
+    str
+        The name with its digit subscripts written plainly; other names unchanged.
+
     Examples
     --------
     >>> subscript_name("c_{234}"), subscript_name("theta_1"), subscript_name("joint_a")
@@ -537,10 +604,31 @@ def parse_math(value, parameter: str, *, resolve, functions=None, max_length: in
     ``offset`` is added to every column reported (the text is a piece of a
     longer answer, such as one entry of a matrix).
 
+    Parameters
+    ----------
+    value : str
+        The text; anything else is refused.
+    parameter : str
+        What the text is (``"answer"``), for the message.
+    resolve : callable
+        ``resolve(name)`` returns the SymPy value of a name, or None when the name is unknown.
+    functions : mapping or iterable of str, optional
+        The functions the text may call, as for :func:`parse_expr` (default :data:`FUNCTIONS`).
+    max_length : int
+        Longest text read, in characters (default :data:`MAX_LENGTH`).
+    offset : int
+        Added to every column reported (default 0).
+
+    Returns
+    -------
+    sympy.Expr
+        The expression, with each name replaced by the value ``resolve`` gave it.
+
     Raises
     ------
     ExpressionError
-        Naming the text and, in ``position``, the column of the problem.
+        Naming the text and, in ``position``, the column of the problem (no ``position`` when the text is not a
+        string, is too long or empty, or when :func:`parse_expr` refuses the rewritten text).
 
     Examples
     --------
@@ -681,6 +769,25 @@ def parse_angle(value, parameter: str, *, degrees: bool) -> sp.Expr:
 
     With ``degrees`` false every value is radians.
 
+    Parameters
+    ----------
+    value : str, number or SymPy object
+        The angle, read by :func:`parse_expr`.
+    parameter : str
+        What the value is (``"joint 1 theta"``), for the message; its last word names the field in the hint.
+    degrees : bool
+        Whether the table is in degrees.
+
+    Returns
+    -------
+    sympy.Expr
+        The angle in radians.
+
+    Raises
+    ------
+    ExpressionError
+        When ``value`` cannot be read, or, in a degrees table, adds a number without ``pi`` to a symbol.
+
     Examples
     --------
     >>> parse_angle(90, "alpha", degrees=True)
@@ -714,6 +821,25 @@ give the offset alone in degrees ("theta": 90) or write it in radians: "q1 + pi/
 def read_symbol(name, parameter: str) -> sp.Symbol:
     """A symbol named by user text: an identifier that text read by :func:`parse_expr` can refer to.
 
+    Parameters
+    ----------
+    name : str
+        The name.
+    parameter : str
+        What the name is (``"joint 1 variable"``), for the message.
+
+    Returns
+    -------
+    sympy.Symbol
+        The symbol of that name.
+
+    Raises
+    ------
+    ExpressionError
+        When ``name`` is not a string, not an identifier, a Python keyword, longer than 100 characters, starts
+        with ``_``, or is a name the reader keeps for itself (a function, ``pi``, ``E``, ``oo``, ``zoo``,
+        ``nan``, ``I``, ``Integer``, ``Float``, ``Rational``, ``Symbol``).
+
     Examples
     --------
     >>> read_symbol("q1", "joint 1 variable")
@@ -736,6 +862,23 @@ def as_sympy(value, parameter: str = "expression"):
     SymPy objects and matrices pass through, numbers are converted; any other
     object (a list or dict could hold strings that ``sympify`` would evaluate)
     is refused.
+
+    Parameters
+    ----------
+    value : str, number, SymPy object or SymPy matrix
+        The value.
+    parameter : str
+        What the value is, for the message (default ``"expression"``).
+
+    Returns
+    -------
+    sympy.Basic
+        The SymPy object: a matrix comes back immutable.
+
+    Raises
+    ------
+    ExpressionError
+        When ``value`` is text that :func:`parse_expr` refuses, or of another type.
 
     Examples
     --------
@@ -761,6 +904,24 @@ def check_joint_limits(joint, lower, upper, *, shown=None, unit: str = "") -> No
     ``shown`` are the limits as the user wrote them (for the message),
     ``unit`` follows them ("deg").  The one check behind every joint table.
 
+    Parameters
+    ----------
+    joint : int or str
+        The joint, as the message names it (``joint 3``).
+    lower, upper : number, SymPy number or str
+        The limits (text is read by :func:`parse_expr`).
+    shown : pair, optional
+        The limits as the user wrote them; None (the default) shows ``lower`` and ``upper``.
+    unit : str
+        The unit written after each limit in the message (default none).
+
+    Raises
+    ------
+    JointLimitError
+        When a limit is not a finite real number or ``lower >= upper``.
+    ExpressionError
+        When a limit is text that cannot be read, or of another type.
+
     Examples
     --------
     >>> check_joint_limits(3, sp.Integer(25), sp.Integer(-10), unit="deg")
@@ -782,7 +943,19 @@ def check_joint_limits(joint, lower, upper, *, shown=None, unit: str = "") -> No
 
 
 def is_finite_value(expr: sp.Expr) -> bool:
-    """True when ``expr`` is a number that evaluates to a finite real."""
+    """False when ``expr`` is a number that does not evaluate to a finite real (infinite, NaN, complex).
+
+    Parameters
+    ----------
+    expr : sympy.Expr
+        The expression.
+
+    Returns
+    -------
+    bool
+        False for a number whose value is infinite, NaN or not real; True for a finite real number, and for any
+        expression that is not a number (one with free symbols).
+    """
     if not expr.is_number:
         return True
     value = complex(expr.evalf())

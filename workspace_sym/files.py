@@ -40,6 +40,28 @@ __all__ = ["read_text", "read_json", "read_bytes", "read_xml", "parse_xml", "che
 def read_text(path, parameter: str, *, error: type[WorkspaceError] = WorkspaceError, encoding: str = "utf-8") -> str:
     """The text of the file ``path``; ``error`` (naming ``parameter``) when it cannot be read or is not UTF-8.
 
+    Parameters
+    ----------
+    path : str or path
+        The file.
+    parameter : str
+        What the file is (``"path"``, ``"answers"``): the message starts with it and the error carries it.
+    error : type
+        The :class:`~workspace_sym.errors.WorkspaceError` subclass raised (default ``WorkspaceError`` itself).
+    encoding : str
+        The codec (default ``"utf-8"``; ``"utf-8-sig"`` also drops a byte order mark).  A file it cannot decode is
+        reported as not UTF-8 whatever the codec.
+
+    Returns
+    -------
+    str
+        The file's text.
+
+    Raises
+    ------
+    WorkspaceError
+        Of the class ``error``, when the file cannot be read or decoded.
+
     Examples
     --------
     >>> read_text("/no/such/file.json", "path")
@@ -59,6 +81,25 @@ def read_text(path, parameter: str, *, error: type[WorkspaceError] = WorkspaceEr
 
 def read_json(path, parameter: str, *, error: type[WorkspaceError] = WorkspaceError):
     """The JSON value of the file ``path`` (UTF-8); ``error`` for unreadable, invalid or too deeply nested JSON.
+
+    Parameters
+    ----------
+    path : str or path
+        The file.
+    parameter : str
+        What the file is (``"path"``, ``"answers"``): the message starts with it and the error carries it.
+    error : type
+        The :class:`~workspace_sym.errors.WorkspaceError` subclass raised (default ``WorkspaceError`` itself).
+
+    Returns
+    -------
+    object
+        The decoded JSON value (dict, list, str, number, bool or None).
+
+    Raises
+    ------
+    WorkspaceError
+        Of the class ``error``, when the file cannot be read, is not UTF-8 or is not valid JSON.
 
     Examples
     --------
@@ -81,7 +122,27 @@ def read_json(path, parameter: str, *, error: type[WorkspaceError] = WorkspaceEr
 
 
 def read_bytes(path, parameter: str, *, error: type[WorkspaceError] = WorkspaceError) -> bytes:
-    """The bytes of the file ``path``; ``error`` (naming ``parameter``) when it cannot be read."""
+    """The bytes of the file ``path``; ``error`` (naming ``parameter``) when it cannot be read.
+
+    Parameters
+    ----------
+    path : str or path
+        The file.
+    parameter : str
+        What the file is (``"path"``, ``"answers"``): the message starts with it and the error carries it.
+    error : type
+        The :class:`~workspace_sym.errors.WorkspaceError` subclass raised (default ``WorkspaceError`` itself).
+
+    Returns
+    -------
+    bytes
+        The file's content.
+
+    Raises
+    ------
+    WorkspaceError
+        Of the class ``error``, when the file cannot be read.
+    """
     try:
         return Path(path).read_bytes()
     except OSError as exc:
@@ -92,6 +153,27 @@ def read_xml(path, parameter: str, *, kind: str, error: type[WorkspaceError] = W
     """The root element of the XML file ``path`` (a ``kind`` file: ``"URDF"``, ``"MJCF"``), parsed as untrusted data.
 
     See :func:`parse_xml`.
+
+    Parameters
+    ----------
+    path : str or path
+        The file.
+    parameter : str
+        What the file is (``"path"``, ``"answers"``): the message starts with it and the error carries it.
+    kind : str
+        The kind of file, for the messages.
+    error : type
+        The :class:`~workspace_sym.errors.WorkspaceError` subclass raised (default ``WorkspaceError`` itself).
+
+    Returns
+    -------
+    xml.etree.ElementTree.Element
+        The document's root element.
+
+    Raises
+    ------
+    WorkspaceError
+        Of the class ``error``, when the file cannot be read or parsed, as :func:`parse_xml` says.
 
     Examples
     --------
@@ -121,6 +203,30 @@ def parse_xml(data: bytes, path, parameter: str, *, kind: str, error: type[Works
     document type, XML that is not well-formed or an encoding the parser does
     not read each raise ``error`` naming ``parameter``, the path and what was
     expected.
+
+    Parameters
+    ----------
+    data : bytes
+        The document.
+    path : str or path
+        The file it came from, for the messages.
+    parameter : str
+        What the file is (``"path"``, ``"answers"``): the message starts with it and the error carries it.
+    kind : str
+        The kind of file (``"URDF"``, ``"MJCF"``), for the messages.
+    error : type
+        The :class:`~workspace_sym.errors.WorkspaceError` subclass raised (default ``WorkspaceError`` itself).
+
+    Returns
+    -------
+    xml.etree.ElementTree.Element
+        The document's root element.
+
+    Raises
+    ------
+    WorkspaceError
+        Of the class ``error``: a document type or entity, XML that is not well-formed, a byte order mark the
+        bytes do not follow, an encoding the parser does not read, or defusedxml not installed.
     """
     try:
         import defusedxml
@@ -152,7 +258,13 @@ def parse_xml(data: bytes, path, parameter: str, *, kind: str, error: type[Works
 
 
 def figure_formats() -> tuple[str, ...]:
-    """File name extensions matplotlib can write (``png``, ``pdf``, ``svg``, ...)."""
+    """File name extensions matplotlib can write (``png``, ``pdf``, ``svg``, ...).
+
+    Returns
+    -------
+    tuple of str
+        The extensions, without the dot, in alphabetical order.
+    """
     from matplotlib.backend_bases import FigureCanvasBase
 
     return tuple(sorted(FigureCanvasBase.get_supported_filetypes()))
@@ -195,6 +307,27 @@ def check_output_file(path, parameter: str, *, formats=None) -> Path:
     reported at once.  The directory must exist (a figure is not written into
     a directory that nobody created).
 
+    Parameters
+    ----------
+    path : str or path
+        The output file.
+    parameter : str
+        The argument that named it (``"plot"``), for the message and the error.
+    formats : iterable of str, optional
+        The extensions accepted, lowercase and without the dot (:func:`figure_formats`); None (the default)
+        accepts any name.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+
+    Raises
+    ------
+    OutputError
+        When the extension is not among ``formats``, the directory is missing, not a directory or not writable,
+        or ``path`` is a directory.
+
     Examples
     --------
     >>> check_output_file("/missing/dir/x.png", "plot")
@@ -229,6 +362,23 @@ name ending in .pdf, .png
 def check_output_dir(path, parameter: str) -> Path:
     """``path`` as a Path, once it is a writable directory or can be created (before any work is done).
 
+    Parameters
+    ----------
+    path : str or path
+        The output directory; it is not created here.
+    parameter : str
+        The argument that named it (``"out"``), for the message and the error.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+
+    Raises
+    ------
+    OutputError
+        When ``path`` is a file, or it is missing and cannot be created, or it is not writable.
+
     Examples
     --------
     >>> check_output_dir("/proc/1/new-report", "out")          # doctest: +ELLIPSIS
@@ -251,6 +401,25 @@ def publish_dir(files: Path, out, parameter: str = "out") -> Path:
     into an existing ``out`` the files are copied as hidden siblings first
     and renamed only once all of them are there.  On failure the hidden
     copies are removed and :class:`OutputError` names ``parameter``.
+
+    Parameters
+    ----------
+    files : pathlib.Path
+        A directory holding the finished files (and directories); it is copied, not emptied.
+    out : str or path
+        The output directory.
+    parameter : str
+        The argument that named ``out`` (default ``"out"``), for the message and the error.
+
+    Returns
+    -------
+    pathlib.Path
+        ``out``.
+
+    Raises
+    ------
+    OutputError
+        When ``out`` fails :func:`check_output_dir` or a copy or rename fails.
     """
     out = Path(out)
     check_output_dir(out, parameter)
@@ -289,7 +458,24 @@ def publish_dir(files: Path, out, parameter: str = "out") -> Path:
 def write_files(texts: dict, out, parameter: str = "out") -> dict:
     """Write ``{file name: text}`` into the directory ``out`` as :func:`publish_dir` does: all or nothing.
 
-    Returns ``{file name: path}``.
+    Parameters
+    ----------
+    texts : dict of str to str
+        The text of each file (UTF-8), by its name (a plain name, no directory).
+    out : str or path
+        The output directory (created if needed).
+    parameter : str
+        The argument that named ``out`` (default ``"out"``), for the message and the error.
+
+    Returns
+    -------
+    dict of str to pathlib.Path
+        ``{file name: path}`` of the files written.
+
+    Raises
+    ------
+    OutputError
+        When ``out`` cannot be written, as for :func:`publish_dir`.
     """
     out = check_output_dir(out, parameter)
     with tempfile.TemporaryDirectory() as tmp:

@@ -78,6 +78,24 @@ def dh_matrix(theta, d, a, alpha, *, convention: str = "standard") -> sp.Matrix:
 
     For ``convention="modified"`` the arguments are ``theta_i, d_i, a_{i-1}, alpha_{i-1}``.
 
+    Parameters
+    ----------
+    theta, d, a, alpha : SymPy expression or number
+        The row's fields: angles in radians, lengths in the table's unit.
+    convention : {"standard", "modified"}
+        Standard ``Rz(theta) Tz(d) Tx(a) Rx(alpha)`` (the default) or modified ``Rx(alpha) Tx(a) Rz(theta)
+        Tz(d)``.
+
+    Returns
+    -------
+    sympy.Matrix
+        The 4x4 homogeneous transform.
+
+    Raises
+    ------
+    UnknownNameError
+        When ``convention`` is not one of :data:`CONVENTIONS`.
+
     Examples
     --------
     >>> t = sp.Symbol("t")
@@ -107,6 +125,30 @@ class DHJoint:
     (prismatic); ``None`` means unlimited.  ``name`` is the joint's name in
     the file it was read from (a URDF or MJCF joint), ``None`` for a DH
     table; it is a label, not part of the table (equal rows are equal joints).
+
+    Parameters
+    ----------
+    kind : {"R", "P"}
+        Revolute or prismatic.
+    theta, d, a, alpha : sympy.Expr
+        The row's fields (angles in radians).
+    variable : sympy.Symbol
+        The joint variable, which ``theta`` (revolute) or ``d`` (prismatic) must contain.
+    limits : pair of SymPy numbers, optional
+        ``(lower, upper)``; None (the default) for an unlimited joint.
+    name : str, optional
+        The joint's name in the file it was read from (default None).
+
+    Raises
+    ------
+    UnknownNameError
+        When ``kind`` is neither ``"R"`` nor ``"P"``.
+    DHTableError
+        When the moving field does not contain ``variable``.
+    JointLimitError
+        When a limit is not a finite real number or ``lower >= upper``.
+    ExpressionError
+        When a limit is text that cannot be read.
     """
 
     kind: str
@@ -131,7 +173,34 @@ class DHJoint:
 
     @classmethod
     def revolute(cls, index: int, *, d=0, a=0, alpha=0, offset=0, limits=None, variable=None) -> DHJoint:
-        """Revolute joint ``index`` (1-based) with variable ``theta{index}``."""
+        """Revolute joint ``index`` (1-based) with variable ``theta{index}``.
+
+        Parameters
+        ----------
+        index : int
+            The joint's place in the table, from 1: it names the variable and the messages.
+        d, a, alpha : number, SymPy expression or str
+            The constant fields (default 0; ``alpha`` in radians); text is read by
+            :func:`~workspace_sym.expressions.parse_expr`, new symbols (``"a2"``) included.
+        offset : number, SymPy expression or str
+            Added to the variable: ``theta = variable + offset`` (default 0).
+        limits : pair, optional
+            ``(lower, upper)`` in radians, numbers or text without symbols; None (the default): unlimited.
+        variable : sympy.Symbol, optional
+            The joint variable; None (the default) is ``theta{index}``.
+
+        Returns
+        -------
+        DHJoint
+            The row.
+
+        Raises
+        ------
+        ExpressionError
+            When a field or a limit cannot be read (a limit may not hold a symbol).
+        JointLimitError
+            When a limit is not finite or ``lower >= upper``.
+        """
         q = variable if variable is not None else sp.Symbol(f"theta{index}")
         d, a, alpha, offset = (_field(v, index, k) for k, v in (("d", d), ("a", a), ("alpha", alpha),
                                                                  ("offset", offset)))
@@ -139,7 +208,34 @@ class DHJoint:
 
     @classmethod
     def prismatic(cls, index: int, *, theta=0, a=0, alpha=0, offset=0, limits=None, variable=None) -> DHJoint:
-        """Prismatic joint ``index`` (1-based) with variable ``d{index}``."""
+        """Prismatic joint ``index`` (1-based) with variable ``d{index}``.
+
+        Parameters
+        ----------
+        index : int
+            The joint's place in the table, from 1: it names the variable and the messages.
+        theta, a, alpha : number, SymPy expression or str
+            The constant fields (default 0; ``theta`` and ``alpha`` in radians); text is read by
+            :func:`~workspace_sym.expressions.parse_expr`, new symbols included.
+        offset : number, SymPy expression or str
+            Added to the variable: ``d = variable + offset`` (default 0).
+        limits : pair, optional
+            ``(lower, upper)`` in the length unit, numbers or text without symbols; None (the default): unlimited.
+        variable : sympy.Symbol, optional
+            The joint variable; None (the default) is ``d{index}``.
+
+        Returns
+        -------
+        DHJoint
+            The row.
+
+        Raises
+        ------
+        ExpressionError
+            When a field or a limit cannot be read (a limit may not hold a symbol).
+        JointLimitError
+            When a limit is not finite or ``lower >= upper``.
+        """
         q = variable if variable is not None else sp.Symbol(f"d{index}")
         theta, a, alpha, offset = (_field(v, index, k) for k, v in (("theta", theta), ("a", a), ("alpha", alpha),
                                                                          ("offset", offset)))
@@ -200,6 +296,19 @@ class AnalyticJacobian:
     ``singular_when`` an expression whose zero set is the representation
     singularity (where the angle rates are undefined although the geometric
     Jacobian is fine).
+
+    Parameters
+    ----------
+    convention : {"zyz", "rpy"}
+        The Euler angles.
+    J : sympy.Matrix
+        The 6 x n Jacobian: the position rows, then the rates of the three angles.
+    angles : tuple of three sympy.Expr
+        The angles, as ``atan2`` of entries of the rotation.
+    singular_when : sympy.Expr
+        Zero exactly where the angles' rates are undefined.
+    note : str
+        That condition in words.
     """
 
     convention: str
@@ -282,13 +391,17 @@ class DHRobot:
     Parameters
     ----------
     joints : sequence of DHJoint
+        The rows, from the base out: 1 to :data:`MAX_JOINTS` of them, with distinct variables.
     convention : {"standard", "modified"}
+        The DH convention of the rows (default ``"standard"``).
     name : str
+        The robot's name (default ``"robot"``).
     parameters : dict, optional
         Default numeric values for the symbolic lengths, used by the numeric
-        evaluators and plots (``{Symbol("a2"): 0.25, ...}``).
+        evaluators and plots (``{Symbol("a2"): 0.25, ...}``); a key may be the symbol's name, a value text (read
+        as a finite number).
     units : str
-        Length unit of the table and the parameters.
+        Length unit of the table and the parameters (default ``"m"``).
     base, tool : 4 x 4 matrix, optional
         Constant transforms before the first row and after the last one:
         ``fk() = base T_0^n tool``.  The Jacobians are those of the tool point,
@@ -299,6 +412,18 @@ class DHRobot:
     chop_tol : float, optional
         Floats below it in each DH matrix are set to zero (float tables read
         with ``exact=False``).
+
+    Raises
+    ------
+    DHTableError
+        When ``joints`` is empty or longer than :data:`MAX_JOINTS`, two joints share a variable, a parameter is a
+        joint variable, or ``base`` or ``tool`` is not a 4 x 4 transform with a numeric rotation and last row
+        ``[0, 0, 0, 1]``.
+    UnknownNameError
+        When ``convention`` is not one of :data:`CONVENTIONS`.
+    ExpressionError
+        When an entry of ``base`` or ``tool`` given as text cannot be read, or a parameter value given as text is
+        not a finite number.
 
     Examples
     --------
@@ -344,6 +469,23 @@ class DHRobot:
         The format is that of ``docs/cli.md``, section "DH files".  Floats are made exact where they clearly are
         (``exact``, ``tol``; listed in ``robot.input_notes``).
 
+        Parameters
+        ----------
+        data : dict
+            The DH description.
+        name, exact, tol
+            As for :func:`workspace_sym.readers.read_dh`.
+
+        Returns
+        -------
+        DHRobot
+            The robot.
+
+        Raises
+        ------
+        DHTableError, UnknownNameError, JointLimitError, ExpressionError, InvalidParameterError
+            As for :func:`workspace_sym.readers.read_dh`.
+
         Examples
         --------
         >>> DHRobot.from_dict({"joints": [{"d": 0, "a": 0.4318, "alpha": 90.0}]}).joints[0]
@@ -353,7 +495,25 @@ class DHRobot:
 
     @classmethod
     def from_file(cls, path, *, exact: bool = True, tol: float = DEFAULT_TOL) -> DHRobot:
-        """Read a DH JSON file: :func:`workspace_sym.readers.read_dh_file`."""
+        """Read a DH JSON file: :func:`workspace_sym.readers.read_dh_file`.
+
+        Parameters
+        ----------
+        path : str or path
+            The JSON file.
+        exact, tol
+            As for :func:`workspace_sym.readers.read_dh`.
+
+        Returns
+        -------
+        DHRobot
+            The robot, named after the file unless the file gives a ``"name"``.
+
+        Raises
+        ------
+        DHTableError, UnknownNameError, JointLimitError, ExpressionError, InvalidParameterError
+            As for :func:`workspace_sym.readers.read_dh_file`.
+        """
         return _reader("dh_file")(path, exact=exact, tol=tol)
 
     @classmethod
@@ -369,6 +529,21 @@ class DHRobot:
         ``xacro`` extra, ``packages`` naming the directories of its
         ``$(find pkg)``, ``xacro_args`` the values of its ``$(arg name)``),
         which runs the code it holds: expand only files you would run.
+
+        Parameters
+        ----------
+        path, base_link, tip_link, exact, tol, packages, xacro_args
+            As for :func:`workspace_sym.readers.read_urdf`.
+
+        Returns
+        -------
+        DHRobot
+            Standard DH with ``base`` and ``tool``.
+
+        Raises
+        ------
+        URDFError, JointLimitError, InvalidParameterError
+            As for :func:`workspace_sym.readers.read_urdf`.
         """
         return _reader("urdf")(path, base_link=base_link, tip_link=tip_link, exact=exact, tol=tol,
                                packages=packages, xacro_args=xacro_args)
@@ -376,23 +551,57 @@ class DHRobot:
     @classmethod
     def from_mjcf(cls, path, *, base_link: str | None = None, tip_link: str | None = None, exact: bool = True,
                   tol: float = DEFAULT_TOL) -> DHRobot:
-        """The chain of bodies ``base_link -> tip_link`` of a MuJoCo file: :func:`workspace_sym.readers.read_mjcf`."""
+        """The chain of bodies ``base_link -> tip_link`` of a MuJoCo file: :func:`workspace_sym.readers.read_mjcf`.
+
+        Parameters
+        ----------
+        path, base_link, tip_link, exact, tol
+            As for :func:`workspace_sym.readers.read_mjcf`.
+
+        Returns
+        -------
+        DHRobot
+            Standard DH with ``base`` and ``tool``.
+
+        Raises
+        ------
+        MJCFError, JointLimitError, InvalidParameterError
+            As for :func:`workspace_sym.readers.read_mjcf`.
+        """
         return _reader("mjcf")(path, base_link=base_link, tip_link=tip_link, exact=exact, tol=tol)
 
     # ------------------------------------------------------------------ basics
     @property
     def n(self) -> int:
-        """Number of joints."""
+        """Number of joints.
+
+        Returns
+        -------
+        int
+            The number of rows of the table.
+        """
         return len(self.joints)
 
     @property
     def q(self) -> tuple[sp.Symbol, ...]:
-        """Joint variables in order."""
+        """Joint variables in order.
+
+        Returns
+        -------
+        tuple of sympy.Symbol
+            The variable of each joint, from the base out.
+        """
         return tuple(j.variable for j in self.joints)
 
     @property
     def symbols(self) -> set[sp.Symbol]:
-        """Symbolic constants of the table (lengths, offsets)."""
+        """Symbolic constants of the table (lengths, offsets).
+
+        Returns
+        -------
+        set of sympy.Symbol
+            The free symbols of the DH fields other than the joint variables (base and tool not included).
+        """
         out = set()
         for j in self.joints:
             for e in (j.theta, j.d, j.a, j.alpha):
@@ -408,6 +617,14 @@ class DHRobot:
         type (offsets are in ``theta`` and ``d``), the limits, the convention, base, tool, default parameter
         values, units and the chop tolerance.  The name is left out: it changes no box.
 
+        Returns
+        -------
+        dict
+            Each field by its name (``"robot table"``, ``"robot limits"``, ...): lists, tuples, SymPy objects,
+            strings, numbers or None.
+
+        Examples
+        --------
         >>> a = DHRobot([DHJoint.revolute(1, a=1, limits=(-1, 1))])
         >>> b = DHRobot([DHJoint.revolute(1, a=1, limits=(-1, 2))])
         >>> [k for k in a.problem_fields() if a.problem_fields()[k] != b.problem_fields()[k]]
@@ -421,7 +638,23 @@ class DHRobot:
                 "robot units": self.units, "robot chop_tol": self.chop_tol}
 
     def row_matrix(self, k: int) -> sp.Matrix:
-        """``A_k``, the DH matrix of row ``k`` (1-based), so that ``T_0^k = T_0^(k-1) A_k`` (no base or tool)."""
+        """``A_k``, the DH matrix of row ``k`` (1-based), so that ``T_0^k = T_0^(k-1) A_k`` (no base or tool).
+
+        Parameters
+        ----------
+        k : int
+            The row, 1 to :attr:`n`.
+
+        Returns
+        -------
+        sympy.Matrix
+            The 4x4 transform, its floats below ``chop_tol`` set to zero when the robot has one.
+
+        Raises
+        ------
+        InvalidParameterError
+            When ``k`` is outside 1 to :attr:`n`.
+        """
         if not 1 <= k <= self.n:
             raise InvalidParameterError(f"k must be between 1 and {self.n}; got {k}", parameter="k")
         j = self.joints[k - 1]
@@ -430,7 +663,13 @@ class DHRobot:
 
     # ------------------------------------------------------------------ forward kinematics
     def raw_fk(self) -> sp.Matrix:
-        """``base A_1 ... A_n tool`` multiplied out with no simplification (a reference for :meth:`fk`)."""
+        """``base A_1 ... A_n tool`` multiplied out with no simplification (a reference for :meth:`fk`).
+
+        Returns
+        -------
+        sympy.Matrix
+            The 4x4 product.
+        """
         T = self._raw_frames[-1]
         return matrix_product(T, self.tool) if self.tool is not None else T
 
@@ -480,6 +719,27 @@ class DHRobot:
         ``k = 0`` is the base transform (the identity without one).  A list of
         ``n`` joint values instead of ``k`` gives the pose there:
         :meth:`fk_at`.
+
+        Parameters
+        ----------
+        k : int, sequence or None
+            The frame, 0 to :attr:`n` (None, the default: :attr:`n`, with the tool); or a configuration (list,
+            tuple, array or matrix of :attr:`n` joint values).
+        parameters : dict, optional
+            With a configuration only: as for :meth:`fk_at`.
+
+        Returns
+        -------
+        sympy.Matrix
+            The 4x4 transform in textbook form; at a configuration, the pose there.
+
+        Raises
+        ------
+        InvalidParameterError
+            When ``k`` is neither a frame number from 0 to :attr:`n` nor a configuration, or ``parameters`` is
+            given without a configuration (and as for :meth:`fk_at`).
+        SymbolicError
+            When the derivation fails, or runs out of its budget (:class:`~workspace_sym.errors.SymbolicBudgetError`).
         """
         if isinstance(k, (list, tuple, np.ndarray, sp.MatrixBase)):
             return self.fk_at(k, parameters=parameters)
@@ -496,12 +756,24 @@ class DHRobot:
 
     @property
     def position(self) -> sp.Matrix:
-        """Position of the end-effector (tool point), a 3x1 matrix."""
+        """Position of the end-effector (tool point), a 3x1 matrix.
+
+        Returns
+        -------
+        sympy.Matrix
+            The last column's first three entries of :meth:`fk`.
+        """
         return self.fk()[:3, 3]
 
     @property
     def rotation(self) -> sp.Matrix:
-        """Orientation of the end-effector (tool frame), a 3x3 matrix."""
+        """Orientation of the end-effector (tool frame), a 3x3 matrix.
+
+        Returns
+        -------
+        sympy.Matrix
+            The rotation block of :meth:`fk`.
+        """
         return self.fk()[:3, :3]
 
     # ------------------------------------------------------------------ Jacobians
@@ -562,7 +834,13 @@ class DHRobot:
 
     @property
     def position_jacobian(self) -> sp.Matrix:
-        """3 x n Jacobian of the end-effector position (top rows of the geometric one)."""
+        """3 x n Jacobian of the end-effector position (top rows of the geometric one).
+
+        Returns
+        -------
+        sympy.Matrix
+            The first three rows of :attr:`geometric_jacobian`.
+        """
         return self.geometric_jacobian[:3, :]
 
     def analytic_jacobian(self, convention: str = "zyz") -> AnalyticJacobian:
@@ -578,6 +856,23 @@ class DHRobot:
         ``theta = atan2(-r31, sqrt(r11^2 + r21^2))``, ``psi = atan2(r32, r33)``;
         singular where ``cos(theta) = 0`` (``r11 = r21 = 0``).  The angles of
         paper 004 (its section 6) are this set with the pitch of opposite sign.
+
+        Parameters
+        ----------
+        convention : {"zyz", "rpy"}
+            The Euler angles (default ``"zyz"``).
+
+        Returns
+        -------
+        AnalyticJacobian
+            The 6 x n Jacobian, the angles, and where the angles' rates are undefined.
+
+        Raises
+        ------
+        UnknownNameError
+            When ``convention`` is not one of :data:`EULER_CONVENTIONS`.
+        SymbolicError
+            When the derivation fails, or runs out of its budget (:class:`~workspace_sym.errors.SymbolicBudgetError`).
         """
         check_choice("convention", convention, EULER_CONVENTIONS)
         R = self.rotation
@@ -608,7 +903,25 @@ class DHRobot:
         return AnalyticJacobian(convention, J, angles, singular, note)
 
     def jacobian(self, kind: str = "geometric") -> sp.Matrix:
-        """``"geometric"``, ``"position"`` or ``"analytic"`` (ZYZ) Jacobian."""
+        """``"geometric"``, ``"position"`` or ``"analytic"`` (ZYZ) Jacobian.
+
+        Parameters
+        ----------
+        kind : {"geometric", "position", "analytic"}
+            Which Jacobian (default ``"geometric"``).
+
+        Returns
+        -------
+        sympy.Matrix
+            6 x n (geometric, analytic) or 3 x n (position).
+
+        Raises
+        ------
+        UnknownNameError
+            When ``kind`` is not one of the three.
+        SymbolicError
+            When the derivation fails, or runs out of its budget (:class:`~workspace_sym.errors.SymbolicBudgetError`).
+        """
         check_choice("kind", kind, ("geometric", "position", "analytic"))
         if kind == "geometric":
             return self.geometric_jacobian
@@ -629,6 +942,26 @@ class DHRobot:
         takes tens of seconds); nothing else computes it.  With ``multiplicity``
         the result is a list of ``(factor, m)`` pairs (see
         :func:`maximal_minor_factors`).
+
+        Parameters
+        ----------
+        kind : {"geometric", "position", "analytic"}
+            Which Jacobian (default ``"geometric"``).
+        multiplicity : bool
+            Return ``(factor, m)`` pairs (default False: the factors alone).
+
+        Returns
+        -------
+        list
+            The factors (SymPy expressions), shortest first, or ``(factor, m)`` pairs; ``[]`` when the rank never
+            drops on a hypersurface.
+
+        Raises
+        ------
+        UnknownNameError
+            When ``kind`` is not one of the three.
+        SymbolicError
+            When the derivation fails, or runs out of its budget (:class:`~workspace_sym.errors.SymbolicBudgetError`).
 
         Examples
         --------
@@ -697,6 +1030,25 @@ class DHRobot:
         (``sympy.Determinant``; :func:`eigenvalues_from_charpoly` evaluates it).  Kept
         after the first call for each ``kind``.
 
+        Parameters
+        ----------
+        kind : {"geometric", "position"}
+            Which Jacobian (default ``"geometric"``).
+        lam : sympy.Symbol, optional
+            The polynomial's variable; None (the default) is ``Symbol("lambda")``.
+
+        Returns
+        -------
+        sympy.Poly
+            The monic polynomial in ``lam`` of degree 6 (geometric) or 3 (position), over the domain ``EX``.
+
+        Raises
+        ------
+        UnknownNameError
+            When ``kind`` is neither ``"geometric"`` nor ``"position"``.
+        SymbolicError
+            When the derivation fails, or runs out of its budget (:class:`~workspace_sym.errors.SymbolicBudgetError`).
+
         Examples
         --------
         >>> arm = DHRobot([DHJoint.revolute(1, a=sp.Symbol("a1")), DHJoint.revolute(2, a=sp.Symbol("a2"))])
@@ -716,25 +1068,113 @@ class DHRobot:
     # ------------------------------------------------------------------ printing
     def shorthand(self, expr) -> sp.Expr:
         """``expr`` as printed: ``c_i``, ``s_ij`` symbols for this robot's joint variables, lengths given as
-        decimals shown as decimals (:func:`~workspace_sym.symbolic.decimal_form`)."""
+        decimals shown as decimals (:func:`~workspace_sym.symbolic.decimal_form`).
+
+        Parameters
+        ----------
+        expr : SymPy expression or matrix
+            A result of this robot (text is read by :func:`~workspace_sym.expressions.parse_expr`).
+
+        Returns
+        -------
+        sympy.Basic or sympy.Matrix
+            The expression for printing, in ``c_i``, ``s_ij`` symbols.
+
+        Raises
+        ------
+        ExpressionError
+            When ``expr`` is text that cannot be read, or of another type.
+        """
         return decimal_form(shorthand(expr, self.q))
 
     def to_str(self, expr) -> str:
-        """Textbook string with shorthand, e.g. ``c1*(a1 + a2*c2 + a3*c23 + d5*s234)``."""
+        """Textbook string with shorthand, e.g. ``c1*(a1 + a2*c2 + a3*c23 + d5*s234)``.
+
+        Parameters
+        ----------
+        expr : SymPy expression or matrix
+            A result of this robot (text is read by :func:`~workspace_sym.expressions.parse_expr`).
+
+        Returns
+        -------
+        str
+            The string (:func:`~workspace_sym.symbolic.shorthand_str`).
+
+        Raises
+        ------
+        ExpressionError
+            When ``expr`` is text that cannot be read, or of another type.
+        """
         return shorthand_str(expr, self.q)
 
     def to_latex(self, expr, *, short: bool = True) -> str:
-        """LaTeX of any result, with ``c_{23}`` shorthand when ``short``."""
+        """LaTeX of any result, with ``c_{23}`` shorthand when ``short``.
+
+        Parameters
+        ----------
+        expr : SymPy expression or matrix
+            A result of this robot (text is read by :func:`~workspace_sym.expressions.parse_expr`).
+        short : bool
+            Use the shorthand (default True).
+
+        Returns
+        -------
+        str
+            The LaTeX (:func:`~workspace_sym.symbolic.shorthand_latex`).
+
+        Raises
+        ------
+        ExpressionError
+            When ``expr`` is text that cannot be read, or of another type.
+        """
         return shorthand_latex(expr, self.q, short=short)
 
     # ------------------------------------------------------------------ numbers
     def substitute(self, expr, parameters: dict | None = None):
-        """``expr`` with the default (or given) numeric parameters substituted."""
+        """``expr`` with the default (or given) numeric parameters substituted.
+
+        Parameters
+        ----------
+        expr : SymPy expression or matrix
+            The expression (text is read by :func:`~workspace_sym.expressions.parse_expr`).
+        parameters : dict, optional
+            Values by symbol or name, used instead of the robot's defaults (not merged with them); None (the
+            default) uses :attr:`parameters`.  Python floats become SymPy floats; other values are substituted
+            as given.
+
+        Returns
+        -------
+        sympy.Basic or sympy.Matrix
+            The expression with the values in place (matrices come back immutable).
+
+        Raises
+        ------
+        ExpressionError
+            When ``expr`` is text that cannot be read, or of another type.
+        """
         params = self.parameters if parameters is None else {sp.Symbol(str(k)): v for k, v in parameters.items()}
         return as_sympy(expr).xreplace({k: sp.Float(v) if isinstance(v, float) else v for k, v in params.items()})
 
     def numeric(self, expr, parameters: dict | None = None):
-        """Vectorised evaluator of ``expr`` over configurations (see :func:`numeric_function`)."""
+        """Vectorised evaluator of ``expr`` over configurations (see :func:`numeric_function`).
+
+        Parameters
+        ----------
+        expr : SymPy expression or matrix
+            The expression, in the joint variables and the robot's symbols.
+        parameters : dict, optional
+            As for :meth:`substitute`.
+
+        Returns
+        -------
+        callable
+            ``f(q)``, as :func:`numeric_function` returns it, over the joint variables :attr:`q`.
+
+        Raises
+        ------
+        InvalidParameterError
+            When a symbol other than the joint variables has no value.
+        """
         return numeric_function(self.substitute(expr, parameters), self.q)
 
     @cached_property
@@ -765,13 +1205,40 @@ class DHRobot:
         return _registered(ENGINES, "ENGINES", "reach", "reach engine")(self, delta=delta, **options)
 
     def codegen(self, *, out, lang: str = "c", prefix: str = "") -> list:
-        """Write C for ``fk`` and ``jacobian`` into directory ``out``: :func:`workspace_sym.codegen.write_code`."""
+        """Write C for ``fk`` and ``jacobian`` into directory ``out``: :func:`workspace_sym.codegen.write_code`.
+
+        Parameters
+        ----------
+        out, lang, prefix
+            As for :func:`workspace_sym.codegen.write_code`.
+
+        Returns
+        -------
+        list of pathlib.Path
+            The paths written, header first.
+
+        Raises
+        ------
+        UnknownNameError, WorkspaceError, InvalidParameterError
+            As for :func:`workspace_sym.codegen.write_code`.
+        """
         from .codegen import write_code  # one way: codegen builds on this module
 
         return write_code(self, out, lang=lang, prefix=prefix)
 
     def joint_limits(self, default: float = math.pi) -> np.ndarray:
-        """``(n, 2)`` float array of limits; unlimited joints get ``[-default, default]``."""
+        """``(n, 2)`` float array of limits; unlimited joints get ``[-default, default]``.
+
+        Parameters
+        ----------
+        default : float
+            Half the range given to an unlimited joint, revolute or prismatic (default ``pi``).
+
+        Returns
+        -------
+        numpy.ndarray
+            Lower and upper limit of each joint, radians or length units.
+        """
         out = np.empty((self.n, 2))
         for k, j in enumerate(self.joints):
             out[k] = (-default, default) if j.limits is None else (float(j.limits[0]), float(j.limits[1]))
@@ -784,6 +1251,16 @@ class DHRobot:
         Still a SymPy expression of the joint variables: it substitutes,
         differentiates and evaluates as before, and a notebook typesets it
         (:func:`workspace_sym.symbolic.textbook_form`).
+
+        Parameters
+        ----------
+        expr : SymPy expression, matrix, polynomial, list or tuple
+            The expression (SymPy objects and numbers, not text).
+
+        Returns
+        -------
+        sympy.Basic or sympy.Matrix
+            The same mathematics, printing in shorthand; a list or tuple becomes a SymPy ``Tuple``.
 
         Examples
         --------
@@ -802,6 +1279,28 @@ class DHRobot:
     def fk_at(self, q, *, parameters: dict | None = None) -> sp.Matrix:
         """``fk()`` at the configuration ``q`` (``n`` joint values: radians, or lengths for prismatic joints) with
         the default numeric parameters, or ``parameters``, substituted; exact values give an exact pose.
+
+        Parameters
+        ----------
+        q : sequence
+            :attr:`n` joint values: numbers, NumPy scalars, SymPy numbers or text (read by
+            :func:`~workspace_sym.expressions.parse_expr`).
+        parameters : dict, optional
+            As for :meth:`substitute`.
+
+        Returns
+        -------
+        sympy.Matrix
+            The 4x4 pose.
+
+        Raises
+        ------
+        InvalidParameterError
+            When ``q`` does not hold :attr:`n` values, or a value is not a finite real number.
+        ExpressionError
+            When a value is text that cannot be read, or of another type.
+        SymbolicError
+            When the derivation of :meth:`fk` fails, or runs out of its budget.
 
         Examples
         --------
@@ -831,6 +1330,21 @@ class DHRobot:
         the last pair into the tool; modified to standard moves them one row
         up, the first pair into the base.  The robot itself when it is already
         in ``convention``.
+
+        Parameters
+        ----------
+        convention : {"standard", "modified"}
+            The convention wanted.
+
+        Returns
+        -------
+        DHRobot
+            A new robot (or this one), its input notes saying it was converted.
+
+        Raises
+        ------
+        UnknownNameError
+            When ``convention`` is not one of :data:`CONVENTIONS`.
         """
         check_choice("convention", convention, CONVENTIONS)
         if convention == self.convention:
@@ -863,6 +1377,24 @@ def numeric_function(expr, variables):
     The returned callable takes ``q`` of shape ``(N, n)`` (or ``(n,)``) and returns
     an array of shape ``(N, *expr.shape)`` (or ``expr.shape``).  Common
     subexpressions are shared, so a million configurations cost one pass.
+
+    Parameters
+    ----------
+    expr : SymPy expression or matrix
+        The expression; its only free symbols may be ``variables``.
+    variables : sequence of sympy.Symbol
+        The variables, in the order of the columns of ``q``.
+
+    Returns
+    -------
+    callable
+        ``f(q)`` as above; it raises :class:`~workspace_sym.errors.InvalidParameterError` when the last
+        dimension of ``q`` is not ``len(variables)``.  Its attribute ``expr`` is the matrix it evaluates.
+
+    Raises
+    ------
+    InvalidParameterError
+        When ``expr`` has a free symbol that is not one of ``variables``.
 
     Examples
     --------

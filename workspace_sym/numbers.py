@@ -42,6 +42,19 @@ def clean(x, *, scale: float = 1.0):
     the reach for lengths), below which a value is taken as zero.  Integers,
     non-finite values and anything that is not a real number are returned as
     they are (integers and NaN have no noise to remove).
+
+    Parameters
+    ----------
+    x : number or object
+        The value; anything ``float()`` accepts is cleaned.
+    scale : float
+        The size of the quantity's range (default 1.0).
+
+    Returns
+    -------
+    float or object
+        The cleaned float; ``x`` itself when it is an int or bool or ``float(x)`` fails; ``float(x)`` when that
+        is not finite.
     """
     if isinstance(x, int):                  # bool and int: exact already
         return x
@@ -66,6 +79,20 @@ def fmt(x, digits: int = 4, spec: str = "f") -> str:
     """``format(x, f".{digits}{spec}")`` with the minus sign dropped when every printed digit is zero.
 
     ``spec`` is a float presentation type (``"f"``, ``"g"``, ``"e"``, ``"%"``).
+
+    Parameters
+    ----------
+    x : real number
+        The value (converted with ``float``).
+    digits : int
+        The precision of the format (default 4).
+    spec : str
+        The presentation type (default ``"f"``).
+
+    Returns
+    -------
+    str
+        The formatted number.
     """
     text = format(float(x), f".{digits}{spec}")
     return _NEGATIVE_ZERO.sub("", text)
@@ -78,6 +105,28 @@ def fmt_bound(x, digits: int = 4, spec: str = "f", *, up: bool) -> str:
     Every certified bound the package prints or writes as text goes through
     this function (or :func:`fmt_bracket`); a lower bound rounded to nearest
     could print above the proved one.
+
+    Parameters
+    ----------
+    x : real number
+        The bound (converted with ``float``, then rounded from that float's exact value).
+    digits : int
+        Decimals with ``spec="f"`` (default 4); significant digits with ``spec="g"``, taken between 1 and 15.
+    spec : {"f", "g"}
+        Fixed-point or significant-digit form.
+    up : bool
+        True to round towards +inf (an upper bound), False towards -inf (a lower bound).
+
+    Returns
+    -------
+    str
+        The rounded number, without a minus sign when every printed digit is zero; ``"inf"``, ``"-inf"`` or
+        ``"nan"`` for a value that is not finite.
+
+    Raises
+    ------
+    ValueError
+        When ``spec`` is neither ``"f"`` nor ``"g"``.
 
     Examples
     --------
@@ -110,6 +159,25 @@ def fmt_bracket(lo, hi, digits: int = 4, spec: str = "f") -> str:
     """``"[lo, hi]"`` with ``digits`` decimals (or significant digits with ``spec="g"``), ``lo`` rounded down and
     ``hi`` up: the printed bracket still holds the certified one (``fmt`` would round to nearest and could cut it).
 
+    Parameters
+    ----------
+    lo, hi : real number
+        The ends of the certified bracket.
+    digits : int
+        Decimals, or significant digits with ``spec="g"`` (default 4).
+    spec : {"f", "g"}
+        As for :func:`fmt_bound`.
+
+    Returns
+    -------
+    str
+        ``"[lo, hi]"`` with both ends rounded outwards.
+
+    Raises
+    ------
+    ValueError
+        When ``spec`` is neither ``"f"`` nor ``"g"`` (from :func:`fmt_bound`).
+
     Examples
     --------
     >>> fmt_bracket(4.6318359375, 7.27734375)
@@ -127,6 +195,24 @@ def measure_text(kind: str, value, digits: int = 6, spec: str = "f") -> str:
     bounds (of the set and of its complement) and are rounded down; boundary and pending measures, which bound
     nothing alone, to nearest.
 
+    Parameters
+    ----------
+    kind : str
+        The class of boxes: ``"inner"`` and ``"outer"`` are rounded down, any other kind to nearest.
+    value : real number
+        The measure.
+    digits : int
+        Decimals, or significant digits with ``spec="g"`` (default 6).
+    spec : str
+        The presentation type (default ``"f"``; ``"f"`` or ``"g"`` for the inner and outer measures).
+
+    Returns
+    -------
+    str
+        The measure as text.
+
+    Examples
+    --------
     >>> measure_text("inner", 0.1234567), measure_text("boundary", 0.1234567)
     ('0.123456', '0.123457')
     """
@@ -140,6 +226,16 @@ def clean_json(obj):
 
     Values are otherwise unchanged (certified bounds stay bit for bit what
     they were); tuples become lists, as JSON writes them anyway.
+
+    Parameters
+    ----------
+    obj : JSON-like value
+        Dicts, lists, tuples, floats and other leaves; a NumPy scalar is turned into its Python value first.
+
+    Returns
+    -------
+    object
+        The copy; leaves other than floats and NumPy scalars are returned as they are.
     """
     if isinstance(obj, float):
         return obj + 0.0
@@ -160,6 +256,18 @@ def md_escape(text, *, block: bool = False) -> str:
     r"""Plain text made inert in Markdown (CommonMark and GitHub tables): on one line, markup characters
     backslash-escaped, ``<`` and ``&`` as entities (no inline HTML), no link; with ``block`` (a paragraph of
     its own) no block marker (heading, list, quote) at the start either.
+
+    Parameters
+    ----------
+    text : object
+        The text (``str(text)`` is escaped); runs of whitespace, newlines included, become one space.
+    block : bool
+        True when the text stands as a paragraph of its own: a block marker at its start is escaped too.
+
+    Returns
+    -------
+    str
+        The escaped text, on one line.
 
     Examples
     --------

@@ -39,7 +39,13 @@ def _in_kernel() -> bool:
 
 
 def interactive() -> bool:
-    """Whether a person is watching: stderr is a terminal, or the code runs in a Jupyter kernel."""
+    """Whether a person is watching: stderr is a terminal, or the code runs in a Jupyter kernel.
+
+    Returns
+    -------
+    bool
+        True when stderr is a terminal or the code runs in a Jupyter (IPython) kernel.
+    """
     stream = sys.stderr
     return _in_kernel() or bool(stream is not None and hasattr(stream, "isatty") and stream.isatty())
 
@@ -88,6 +94,26 @@ def progress_bar(progress: bool | None, *, total: float | None, desc: str, unit:
 
     ``options`` go to ``tqdm`` (``bar_format``, ``unit_scale``...).  The bar
     is a context manager; a disabled bar accepts every call and draws nothing.
+
+    Parameters
+    ----------
+    progress : bool or None
+        None: a bar only when :func:`interactive`, shown once the run has lasted :data:`DELAY` seconds and
+        removed when it ends; True: a bar from the start, on stderr, left in place; False: no bar.
+    total : float or None
+        The count the bar goes to (None: unknown).
+    desc : str
+        The label in front of the bar.
+    unit : str
+        The unit of the count (default ``"it"``).
+    **options
+        Further keyword arguments of ``tqdm``.
+
+    Returns
+    -------
+    tqdm.tqdm or silent bar
+        A ``tqdm`` bar writing to stderr, or, when no bar is to be drawn, an object with the same ``update``,
+        ``set_postfix_str``, ``close``, ``n``, ``total`` and ``disable`` (True) that draws nothing.
     """
     enabled = interactive() if progress is None else bool(progress)
     if not enabled:
@@ -99,7 +125,23 @@ def progress_bar(progress: bool | None, *, total: float | None, desc: str, unit:
 
 def stage_bar(progress: bool | None, label: str, total: int):
     """``say(text)`` starts the stage ``text`` of a run of ``total`` stages on a progress bar; ``say(None)``
-    ends the run (the bar closes).  For runs made of a few long steps rather than many small ones."""
+    ends the run (the bar closes).  For runs made of a few long steps rather than many small ones.
+
+    Parameters
+    ----------
+    progress : bool or None
+        As for :func:`progress_bar`.
+    label : str
+        The label in front of the bar.
+    total : int
+        The number of stages.
+
+    Returns
+    -------
+    callable
+        ``say(text)``: ``text`` (str) names the stage that starts now, and the stage before it counts as done;
+        ``None`` fills the bar and closes it.
+    """
     bar = progress_bar(progress, total=total, desc=label, unit="stage",
                        bar_format="{desc}: stage {n_fmt}/{total_fmt}{postfix} |{bar}| [{elapsed}]")
     started = [False]

@@ -67,6 +67,19 @@ def check_tol(tol) -> float:
 def snap_angle(value: float, tol: float = DEFAULT_TOL) -> sp.Expr | None:
     """The multiple of ``pi/360`` within ``tol`` of ``value`` (radians), or ``None``.
 
+    Parameters
+    ----------
+    value : float
+        The angle, in radians.
+    tol : float
+        The largest distance accepted, in radians (default :data:`DEFAULT_TOL`).
+
+    Returns
+    -------
+    sympy.Expr or None
+        ``k*pi/360`` for the nearest multiple when it lies within ``tol``; None otherwise, and for a value so
+        large that no multiple can be found.
+
     Examples
     --------
     >>> snap_angle(1.5707963267948966)
@@ -87,6 +100,16 @@ def snap_angle(value: float, tol: float = DEFAULT_TOL) -> sp.Expr | None:
 
 def exact_decimal(value: float) -> sp.Rational:
     """The shortest decimal within a few units in the last place of ``value``, as a Rational.
+
+    Parameters
+    ----------
+    value : float
+        The number.
+
+    Returns
+    -------
+    sympy.Rational or sympy.Float
+        The decimal, as a Rational (0 for zero); a value that is not finite comes back as a ``Float``.
 
     Examples
     --------
@@ -115,6 +138,17 @@ def _shortest(value: float) -> str:
 def written_unit(value: float) -> tuple[int, float]:
     """``(digits, unit)``: significant digits of the decimal ``value`` was written as, and its last digit's unit.
 
+    Parameters
+    ----------
+    value : float
+        The number, taken to be written as its shortest decimal (:func:`exact_decimal`).
+
+    Returns
+    -------
+    tuple of (int, float)
+        The number of significant digits and the unit of the last one; ``(1, 1.0)`` for zero and for a value that
+        is not finite.
+
     Examples
     --------
     >>> written_unit(1.570796325)
@@ -133,6 +167,24 @@ def chop(expr, tol: float):
     """``expr`` with every float coefficient of magnitude below ``tol`` set to zero.
 
     Works on expressions and matrices; exact numbers are left alone.
+
+    Parameters
+    ----------
+    expr : SymPy expression, matrix, number or str
+        What to chop; text is read by :func:`~workspace_sym.expressions.parse_expr`.
+    tol : float
+        Float coefficients of magnitude below it become 0.
+
+    Returns
+    -------
+    sympy.Basic or sympy.Matrix
+        The chopped expression, or matrix entry by entry.
+
+    Raises
+    ------
+    ExpressionError
+        When ``expr`` is text that cannot be read, or of another type (from
+        :func:`~workspace_sym.expressions.as_sympy`).
 
     Examples
     --------
@@ -162,7 +214,17 @@ class Snapper:
         Snap angles and read lengths as decimals (default); ``False`` keeps floats.
     tol : float
         Angles within ``tol`` radians of a multiple of ``pi/360`` snap; with
-        ``exact=False`` it is the chopping threshold.
+        ``exact=False`` it is the chopping threshold.  Default :data:`DEFAULT_TOL`.
+    notes : list of str
+        The notes written so far (default empty): one sentence per replacement and per near miss is appended.
+    error : type
+        The :class:`~workspace_sym.errors.WorkspaceError` subclass raised, naming the field, for a number that is
+        not finite (default :class:`~workspace_sym.errors.DHTableError`; the URDF reader passes ``URDFError``).
+
+    Raises
+    ------
+    InvalidParameterError
+        When ``tol`` is not a finite number >= 0.
 
     Examples
     --------
@@ -197,7 +259,28 @@ class Snapper:
         return number
 
     def angle(self, value, where: str, *, degrees: bool = False) -> sp.Expr:
-        """An angle, returned in radians: snapped to ``k pi / 360`` within ``tol`` radians, else the float."""
+        """An angle, returned in radians: snapped to ``k pi / 360`` within ``tol`` radians, else the float.
+
+        Parameters
+        ----------
+        value : float
+            The angle as given (anything ``float`` accepts).
+        where : str
+            What the value is (``"joint 1 alpha"``), for the notes and the error.
+        degrees : bool
+            Whether ``value`` is in degrees (default False: radians).
+
+        Returns
+        -------
+        sympy.Expr
+            The angle in radians: the snapped multiple of ``pi/360``, or the float (times ``pi/180`` for
+            degrees); with ``exact=False`` always the float.
+
+        Raises
+        ------
+        WorkspaceError
+            Of the class :attr:`error`, when the value is not finite (in radians too).
+        """
         value = self._finite(value, where, degrees=degrees)
         radians = math.radians(value) if degrees else value
         kept = sp.Float(value) * sp.pi / 180 if degrees else sp.Float(value)
@@ -222,7 +305,25 @@ class Snapper:
         return kept
 
     def length(self, value, where: str) -> sp.Expr:
-        """A length (or any non-angle number): the decimal it spells, or the float with ``exact=False``."""
+        """A length (or any non-angle number): the decimal it spells, or the float with ``exact=False``.
+
+        Parameters
+        ----------
+        value : float
+            The number as given (anything ``float`` accepts).
+        where : str
+            What the value is (``"joint 2 a"``), for the notes and the error.
+
+        Returns
+        -------
+        sympy.Expr
+            The decimal as a Rational (:func:`exact_decimal`), or a ``Float`` with ``exact=False``.
+
+        Raises
+        ------
+        WorkspaceError
+            Of the class :attr:`error`, when the value is not finite.
+        """
         value = self._finite(value, where)
         if not self.exact:
             return sp.Float(value)
@@ -237,6 +338,23 @@ class Snapper:
         ``0, 1/2, sqrt(2)/2, sqrt(3)/2, 1`` and their negatives (and the
         ``(sqrt(6) +- sqrt(2))/4`` of 15 and 75 degrees) are the exact values
         such entries take in real robots.
+
+        Parameters
+        ----------
+        value : float
+            The entry as given (anything ``float`` accepts).
+        where : str
+            What the value is, for the notes and the error.
+
+        Returns
+        -------
+        sympy.Expr
+            The exact cosine within ``tol``, else as :meth:`length`; a ``Float`` with ``exact=False``.
+
+        Raises
+        ------
+        WorkspaceError
+            Of the class :attr:`error`, when the value is not finite.
         """
         value = self._finite(value, where)
         if not self.exact:
@@ -249,7 +367,18 @@ class Snapper:
         return self.length(value, where)
 
     def chop(self, expr):
-        """``expr`` chopped below ``tol`` when floats are kept; unchanged in exact mode."""
+        """``expr`` chopped below ``tol`` when floats are kept; unchanged in exact mode.
+
+        Parameters
+        ----------
+        expr : SymPy expression or matrix
+            What to chop.
+
+        Returns
+        -------
+        sympy.Basic or sympy.Matrix
+            ``expr`` itself in exact mode, else :func:`chop` ``(expr, tol)``.
+        """
         return expr if self.exact else chop(expr, self.tol)
 
 
@@ -268,6 +397,16 @@ def summary(notes) -> str:
 
     Reads the notes a :class:`Snapper` writes; other notes (how a URDF chain
     became a DH table) are left to ``robot.input_notes``.
+
+    Parameters
+    ----------
+    notes : iterable of str
+        The notes, as :attr:`Snapper.notes` holds them.
+
+    Returns
+    -------
+    str
+        The line, ending with where the notes are; the empty string when no note is a snapper's.
 
     Examples
     --------

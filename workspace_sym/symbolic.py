@@ -124,6 +124,19 @@ class symbolic_budget:
     spent at once.  A block closed late (a generator finalised after the blocks
     around it) changes nothing that is no longer its own.
 
+    Parameters
+    ----------
+    seconds : float or None
+        The budget, a finite number of seconds >= 0; None (the default) is :data:`DEFAULT_SECONDS`.
+    what : str
+        What runs in the block, for the message (default ``"symbolic computation"``).
+
+    Raises
+    ------
+    SymbolicBudgetError
+        At construction, when ``seconds`` is not a finite number >= 0 (``parameter="seconds"``); on leaving
+        the block, when its timer interrupted the code inside.
+
     Examples
     --------
     >>> with symbolic_budget(0.0, "demo"):
@@ -254,6 +267,21 @@ def derivation(what: str, seconds: float | None = None):
     :class:`~workspace_sym.errors.SymbolicError` naming ``what`` could not be done (the command line prints
     it on one line and exits with status 2).
 
+    Parameters
+    ----------
+    what : str
+        What is derived (``"singular factors"``), for the messages.
+    seconds : float or None
+        The budget, as for :class:`symbolic_budget` (default None: :data:`DEFAULT_SECONDS`).
+
+    Raises
+    ------
+    SymbolicError
+        When the block raises an exception that is not a :class:`~workspace_sym.errors.WorkspaceError` (those
+        pass as they are).
+    SymbolicBudgetError
+        When the budget runs out, or ``seconds`` is not a finite number >= 0.
+
     Examples
     --------
     >>> with derivation("singular factors"):
@@ -273,14 +301,31 @@ def derivation(what: str, seconds: float | None = None):
 
 
 def check_budget(step: str) -> None:
-    """Raise :class:`~workspace_sym.errors.SymbolicBudgetError` when the enclosing :func:`symbolic_budget` is spent."""
+    """Raise :class:`~workspace_sym.errors.SymbolicBudgetError` when the enclosing :func:`symbolic_budget` is spent.
+
+    Parameters
+    ----------
+    step : str
+        The step that did not finish, for the message.
+
+    Raises
+    ------
+    SymbolicBudgetError
+        When the deadline of the enclosing budget has passed (never outside a budget block).
+    """
     current = _DEADLINE.get()
     if current is not None and time.monotonic() > current.at:
         raise SymbolicBudgetError(f"{current.what}: {step} not finished within the budget of {current.seconds:g} s")
 
 
 def remaining_budget() -> float | None:
-    """Seconds left in the enclosing :func:`symbolic_budget` (0 once spent), or None outside any."""
+    """Seconds left in the enclosing :func:`symbolic_budget` (0 once spent), or None outside any.
+
+    Returns
+    -------
+    float or None
+        The seconds left, 0.0 once spent; None outside any budget block.
+    """
     current = _DEADLINE.get()
     return None if current is None else max(0.0, current.at - time.monotonic())
 
@@ -289,6 +334,25 @@ def attempt(fn, seconds: float, what: str):
     """``(True, fn())`` when ``fn`` finishes within ``seconds`` (and the enclosing budget), ``(False, None)`` when
     those ``seconds`` run out first: the caller then takes a cheaper road.  The enclosing budget spent is its
     own :class:`~workspace_sym.errors.SymbolicBudgetError`, not a ``(False, None)``.
+
+    Parameters
+    ----------
+    fn : callable
+        Called without arguments.
+    seconds : float
+        The time ``fn`` may take (a finite number >= 0).
+    what : str
+        What ``fn`` computes, for the messages.
+
+    Returns
+    -------
+    tuple of (bool, object)
+        ``(True, fn())``, or ``(False, None)`` when ``seconds`` ran out.
+
+    Raises
+    ------
+    SymbolicBudgetError
+        When the enclosing budget is spent, or ``seconds`` is not a finite number >= 0.
 
     Examples
     --------
@@ -318,6 +382,18 @@ def expansion_size(expr, limit: int) -> int:
     hundreds of digits long),
     so that an expansion that would not end is refused before it starts:
     ``(l1 + l2 + 1)**60`` has 1891 terms, ``(a + b + c + d + 1)**99`` about 4.6 million.
+
+    Parameters
+    ----------
+    expr : SymPy expression or number
+        The expression (not text).
+    limit : int
+        The size of interest: estimates above it are reported as ``limit + 1``.
+
+    Returns
+    -------
+    int
+        The estimate, at most ``limit + 1``.
 
     Examples
     --------
@@ -359,6 +435,17 @@ def opaque_powers(exprs) -> tuple[list, dict]:
     textbook form, the minors and their factors (a factor found with the symbol divides at every value of
     it); expanded, it ended in a RecursionError or ran for minutes.
 
+    Parameters
+    ----------
+    exprs : iterable of SymPy expressions
+        The expressions (not text).
+
+    Returns
+    -------
+    tuple of (list, dict)
+        The new expressions, and the substitution ``{symbol: power}`` that puts the powers back (empty when
+        nothing was replaced).
+
     Examples
     --------
     >>> l1, t = sp.symbols("l1 t")
@@ -387,6 +474,16 @@ def trig_pair(t):
     the rationals with square roots of rationals (``cos(pi/12)``) are kept as
     values, anything else stays ``cos(c)``, ``sin(c)`` and is handled as one more
     angle (:func:`trig_ring_form`).
+
+    Parameters
+    ----------
+    t : SymPy expression or number
+        The angle, in radians.
+
+    Returns
+    -------
+    tuple of (sympy.Expr, sympy.Expr)
+        ``(cos t, sin t)``.
 
     Examples
     --------
@@ -572,6 +669,18 @@ def numeric_atoms(exprs, *, sums: bool = False) -> tuple:
     are kept whole.  With ``sums`` a numeric sum (``1/4 + sqrt(5)/4``, an entry of
     a tool rotation) is one constant too.
 
+    Parameters
+    ----------
+    exprs : iterable of SymPy expressions
+        The expressions (not text).
+    sums : bool
+        Take a numeric sum as one constant (default False: walk into it).
+
+    Returns
+    -------
+    tuple
+        The constants, each once, in SymPy's default sort order.
+
     Examples
     --------
     >>> t = sp.Symbol("t")
@@ -693,6 +802,16 @@ def op_count(expr) -> int:
     ``count_ops`` took 40 ms on such an entry, most of it building that sum.
     Relations, booleans and containers go to ``count_ops`` itself.
 
+    Parameters
+    ----------
+    expr : SymPy expression
+        The expression (not text).
+
+    Returns
+    -------
+    int
+        The number of operations.
+
     Examples
     --------
     >>> x, y = sp.symbols("x y")
@@ -705,7 +824,18 @@ def op_count(expr) -> int:
 
 def op_counts(exprs) -> list[int]:
     """:func:`op_count` of each of ``exprs``, the subexpressions they share counted once (the entries of a
-    product of matrices share most of theirs)."""
+    product of matrices share most of theirs).
+
+    Parameters
+    ----------
+    exprs : iterable of SymPy expressions
+        The expressions, or the entries of a matrix (not text).
+
+    Returns
+    -------
+    list of int
+        The number of operations of each, in order.
+    """
     memo: dict = {}
 
     def count(a) -> int:
@@ -894,6 +1024,21 @@ def group_terms(expr: sp.Expr) -> sp.Expr:
     result is kept only if it has no more operations (``count_ops``) than the
     expanded sum with common factors pulled out, so grouping never lengthens.
 
+    Parameters
+    ----------
+    expr : SymPy expression
+        The expression; it is expanded first.
+
+    Returns
+    -------
+    sympy.Expr
+        The nested sum; a sum of more than :data:`GROUP_MAX_TERMS` terms only has its common factors pulled out.
+
+    Raises
+    ------
+    SymbolicBudgetError
+        When the enclosing :func:`symbolic_budget` is spent during the nesting.
+
     Examples
     --------
     >>> c1, c2, s1, s2, a1, a2 = sp.symbols("c1 c2 s1 s2 a1 a2")
@@ -950,7 +1095,18 @@ def _written(base: sp.Expr) -> tuple:
 
 
 def textbook_matrix(M: sp.Matrix) -> sp.Matrix:
-    """Apply :func:`textbook` to every entry of a matrix."""
+    """Apply :func:`textbook` to every entry of a matrix.
+
+    Parameters
+    ----------
+    M : sympy.Matrix
+        The matrix.
+
+    Returns
+    -------
+    sympy.Matrix
+        A new matrix of the entries in textbook form.
+    """
     return M.applyfunc(textbook)
 
 
@@ -968,6 +1124,24 @@ def trig_ring_form(exprs) -> tuple[list, list, dict]:
     Returns the polynomials, the ``(u, c_u, s_u)`` list of the joint angles and
     the substitution that puts the constants back (for :func:`restore_constants`):
     a constant angle's cosine and sine are plain symbols in the polynomials.
+
+    Parameters
+    ----------
+    exprs : iterable
+        The expressions (SymPy objects or numbers; text is read by
+        :func:`~workspace_sym.expressions.parse_expr`).
+
+    Returns
+    -------
+    tuple of (list, list, dict)
+        The polynomial expressions, the ``(u, c_u, s_u)`` triples of the joint angles, and the substitution
+        ``{symbol: value}`` that puts the constant angles, their cosines and sines and the opaque powers
+        (:func:`opaque_powers`) back.
+
+    Raises
+    ------
+    ExpressionError
+        When an expression is text that cannot be read, or of another type.
     """
     exprs, back = opaque_powers([as_sympy(e, "exprs") for e in exprs])
     atoms = set().union(*(e.atoms(sp.sin, sp.cos) for e in exprs)) if exprs else set()
@@ -995,7 +1169,20 @@ def trig_ring_form(exprs) -> tuple[list, list, dict]:
 
 
 def put_back(expr, back: dict):
-    """``expr.xreplace(back)`` where a sine or cosine of a constant angle stays the atom of :func:`trig_pair`."""
+    """``expr.xreplace(back)`` where a sine or cosine of a constant angle stays the atom of :func:`trig_pair`.
+
+    Parameters
+    ----------
+    expr : SymPy expression
+        An expression in the symbols of ``back``.
+    back : dict
+        The substitution ``{symbol: value}``, as :func:`trig_ring_form` or :func:`generic_constants` returns it.
+
+    Returns
+    -------
+    sympy.Expr
+        The expression with the values put back.
+    """
     atoms = {}
     for a in expr.atoms(sp.sin, sp.cos):
         u = a.args[0].xreplace(back)
@@ -1008,8 +1195,22 @@ def put_back(expr, back: dict):
 def trig_polynomials(exprs):
     """Expand grouped angles and write expressions as polynomials in ``c_u, s_u`` symbols.
 
-    Returns the polynomial expressions (with ``s_u**2`` reduced to ``1 - c_u**2``)
-    and the list of ``(u, c_u, s_u)``.
+    Parameters
+    ----------
+    exprs : iterable
+        The expressions (SymPy objects or numbers; text is read by
+        :func:`~workspace_sym.expressions.parse_expr`).
+
+    Returns
+    -------
+    tuple of (list, list)
+        The polynomial expressions (with ``s_u**2`` reduced to ``1 - c_u**2``), and the ``(u, c_u, s_u)``
+        triples, ``c_u`` and ``s_u`` new dummy symbols, one triple per angle ``u``.
+
+    Raises
+    ------
+    ExpressionError
+        When an expression is text that cannot be read, or of another type.
     """
     exprs = [_reduce_pythagorean(sp.expand(sp.expand_trig(as_sympy(e)))) for e in exprs]
     atoms = set()
@@ -1036,8 +1237,13 @@ class HalfAngleRing:
 
     Parameters
     ----------
-    pairs : list of (u, c_u, s_u) from :func:`trig_polynomials`
-    symbols : other symbols (lengths) that occur in the polynomials
+    pairs : list of (u, c_u, s_u)
+        The angles and their cosine and sine symbols, as :func:`trig_polynomials` returns them.
+    symbols : iterable of sympy.Symbol
+        The other symbols (lengths) that occur in the polynomials (default none).
+    extension : iterable of SymPy numbers
+        Algebraic numbers (``sqrt(2)``, :func:`algebraic_constants`) adjoined to the rationals for the
+        coefficients (default none: the rationals).
     """
 
     def __init__(self, pairs, symbols=(), *, extension=()):
@@ -1063,19 +1269,64 @@ class HalfAngleRing:
             self._unit.append(S_**2 + C_**2)
 
     def element(self, expr):
-        """Ring element of a polynomial expression in the ``c_u, s_u`` symbols."""
+        """Ring element of a polynomial expression in the ``c_u, s_u`` symbols.
+
+        Parameters
+        ----------
+        expr : SymPy expression
+            A polynomial in the ring's generators with coefficients in its field.
+
+        Returns
+        -------
+        ring element
+            The element of the ring ``domain``.
+        """
         return self.domain.from_sympy(sp.expand(expr))
 
     def convert(self, p):
-        """Half-angle, homogenised form of a ring element in ``c_u, s_u``."""
+        """Half-angle, homogenised form of a ring element in ``c_u, s_u``.
+
+        Parameters
+        ----------
+        p : ring element
+            An element of the ring ``domain`` in the ``c_u, s_u`` generators.
+
+        Returns
+        -------
+        ring element
+            :meth:`homogenised` of :meth:`half_angle` of ``p``.
+        """
         return self.homogenised(self.half_angle(p))
 
     def half_angle(self, p):
-        """``p`` with ``c_u = C**2 - S**2`` and ``s_u = 2 S C`` substituted."""
+        """``p`` with ``c_u = C**2 - S**2`` and ``s_u = 2 S C`` substituted.
+
+        Parameters
+        ----------
+        p : ring element
+            An element of the ring ``domain``.
+
+        Returns
+        -------
+        ring element
+            The same function of the half angles (``p`` itself when zero or without angles).
+        """
         return p.compose(self._subs) if self._subs and p else p
 
     def homogenised(self, p):
-        """A polynomial in the half angles made homogeneous in each ``(S, C)`` by powers of ``S**2 + C**2 = 1``."""
+        """A polynomial in the half angles made homogeneous in each ``(S, C)`` by powers of ``S**2 + C**2 = 1``.
+
+        Parameters
+        ----------
+        p : ring element
+            An element of the ring ``domain`` in the half-angle generators.
+
+        Returns
+        -------
+        ring element
+            The same function on the circle, homogeneous in each ``(S, C)`` pair, of the highest degree a term
+            of ``p`` has in it.
+        """
         if not self._subs or not p:
             return p
         terms = p.terms()
@@ -1097,7 +1348,18 @@ class HalfAngleRing:
         return out
 
     def to_expr(self, p) -> sp.Expr:
-        """SymPy expression of a ring element."""
+        """SymPy expression of a ring element.
+
+        Parameters
+        ----------
+        p : ring element
+            An element of the ring ``domain``.
+
+        Returns
+        -------
+        sympy.Expr
+            The expression, in the ring's generator symbols.
+        """
         return self.domain.to_sympy(p)
 
 
@@ -1150,9 +1412,26 @@ def _factor_list(poly_expr: sp.Expr, extension) -> list:
 def roots_as_symbols(exprs, roots) -> tuple[list, dict]:
     """``exprs`` with the square roots ``roots`` (see :func:`algebraic_constants`) replaced by symbols.
 
-    Returns the new expressions and the substitution back.  Polynomial
-    identities found with the symbols (a factor, a gcd) hold once the roots
+    Polynomial identities found with the symbols (a factor, a gcd) hold once the roots
     are put back; relations such as ``sqrt(2)**2 = 2`` are not used.
+
+    Parameters
+    ----------
+    exprs : iterable
+        The expressions (SymPy objects or numbers; text is read by
+        :func:`~workspace_sym.expressions.parse_expr`).
+    roots : iterable of SymPy numbers
+        The roots to replace.
+
+    Returns
+    -------
+    tuple of (list, dict)
+        The new expressions, and the substitution ``{symbol: root}`` back.
+
+    Raises
+    ------
+    ExpressionError
+        When an expression is text that cannot be read, or of another type.
     """
     forward = {r: sp.Dummy(f"root{r.base}") for r in roots}
     return [as_sympy(e, "exprs").xreplace(forward) for e in exprs], {v: k for k, v in forward.items()}
@@ -1168,6 +1447,23 @@ def factor_half_angle(poly_expr: sp.Expr, pairs, *, extension=(), multiplicity: 
     ``extension`` lists the algebraic numbers (``sqrt(2)``) of the coefficient
     field.  With ``multiplicity`` the result is a list of ``(factor, m)``
     pairs, ``m`` the exponent of the factor in ``poly_expr``.
+
+    Parameters
+    ----------
+    poly_expr : SymPy expression
+        The polynomial in the half-angle symbols (and other symbols).
+    pairs : list of (u, S_u, C_u)
+        Each angle with its half-angle sine and cosine symbols (:attr:`HalfAngleRing.half`).
+    extension : iterable of SymPy numbers
+        The algebraic numbers of the coefficient field (default none).
+    multiplicity : bool
+        Return ``(factor, m)`` pairs (default False: the factors alone).
+
+    Returns
+    -------
+    list
+        The factors, in full angles and textbook form, numeric factors and signs dropped, shortest first (or
+        ``(factor, m)`` pairs); ``[0]`` (``[(0, 1)]``) for a zero polynomial, ``[]`` for a constant one.
     """
     if poly_expr == 0:
         return [(sp.Integer(0), 1)] if multiplicity else [sp.Integer(0)]
@@ -1218,6 +1514,16 @@ def algebraic_constants(exprs) -> tuple:
     They come from constant angles (``cos(pi/4) = sqrt(2)/2``) and are adjoined to
     the rationals so that polynomial arithmetic stays exact.
 
+    Parameters
+    ----------
+    exprs : iterable of SymPy expressions
+        The expressions (not text).
+
+    Returns
+    -------
+    tuple
+        The roots ``p**(1/q)`` of positive rationals ``p``, each once, in SymPy's default sort order.
+
     Examples
     --------
     >>> algebraic_constants([sp.sqrt(6) / 4 + sp.sqrt(2) / 4, sp.Symbol("x") / 2])
@@ -1240,6 +1546,16 @@ def generic_constants(exprs):
     and factors into 30-digit integers; with symbols the factors keep their
     structure and read ``0.425*c2 + 0.39225*c23`` once the values are put back.
     A factor found with symbols divides the expression at every value of them.
+
+    Parameters
+    ----------
+    exprs : iterable of SymPy expressions
+        The expressions (not text).
+
+    Returns
+    -------
+    tuple of (list, dict)
+        The new expressions, and the substitution ``{symbol: constant}`` back.
     """
     exprs = [sp.sympify(e) for e in exprs]
     atoms = set()
@@ -1261,6 +1577,24 @@ def factor_trig(expr, *, multiplicity: bool = False) -> list:
     square roots that constant angles bring), and each factor brought back to
     full angles in textbook form.  Constant factors are dropped; repetitions
     too, unless ``multiplicity`` asks for ``(factor, exponent)`` pairs.
+
+    Parameters
+    ----------
+    expr : SymPy expression
+        The trigonometric polynomial (text is read by :func:`~workspace_sym.expressions.parse_expr`).
+    multiplicity : bool
+        Return ``(factor, exponent)`` pairs (default False: the distinct factors).
+
+    Returns
+    -------
+    list
+        The factors, shortest first, or ``(factor, exponent)`` pairs; ``[0]`` for zero, ``[]`` for a nonzero
+        constant.
+
+    Raises
+    ------
+    ExpressionError
+        When ``expr`` is text that cannot be read, or of another type.
 
     Examples
     --------
@@ -1291,6 +1625,19 @@ def restore_constants(factors, back) -> list:
 
     Factors that become numbers are dropped, equal ones (up to sign and a
     numeric factor) merged.
+
+    Parameters
+    ----------
+    factors : list of (factor, m)
+        Factors found with the constants as symbols, and their exponents.
+    back : dict
+        The substitution ``{symbol: constant}`` of :func:`generic_constants` (or :func:`trig_ring_form`).
+
+    Returns
+    -------
+    list of (sympy.Expr, int)
+        The factors in textbook form with their summed exponents, shortest first; ``factors`` itself, unchanged,
+        when ``back`` is empty.
     """
     if not back:
         return factors
@@ -1309,7 +1656,21 @@ def restore_constants(factors, back) -> list:
 
 
 def angle_label(arg: sp.Expr, index_of: dict) -> str | None:
-    """'23' for theta2 + theta3 when every term is a joint variable with coefficient 1."""
+    """'23' for theta2 + theta3 when every term is a joint variable with coefficient 1.
+
+    Parameters
+    ----------
+    arg : SymPy expression
+        The argument of a sine or cosine.
+    index_of : dict
+        The 1-based index of each joint variable, by symbol.
+
+    Returns
+    -------
+    str or None
+        The indices in increasing order, separated by commas when one of them is 10 or more (``'2,11'``); None
+        when a term is not a joint variable.
+    """
     terms = sp.Add.make_args(arg)
     idx = []
     for term in terms:
@@ -1332,6 +1693,17 @@ def shorthand(expr, variables, *, latex: bool = False) -> sp.Expr:
         Joint variables in order; variable ``k`` (0-based) gets index ``k + 1``.
     latex : bool
         Name the symbols ``c_{23}`` so that LaTeX prints subscripts.
+
+    Returns
+    -------
+    sympy.Expr or sympy.Matrix
+        ``expr`` with each sine and cosine of a sum of joint variables replaced by its symbol.
+
+    Raises
+    ------
+    ExpressionError
+        When ``expr`` is text that cannot be read, or of another type (read by
+        :func:`~workspace_sym.expressions.as_sympy`).
 
     Examples
     --------
@@ -1382,6 +1754,16 @@ def decimal_form(expr):
     (``sstr(..., full_prec=False)``, or LaTeX); otherwise ``expr`` is returned
     as it is (``a2/2`` stays).  The result is for printing only.
 
+    Parameters
+    ----------
+    expr : SymPy expression or matrix
+        The expression; any other object is returned as it is.
+
+    Returns
+    -------
+    sympy.Basic or sympy.Matrix
+        The expression with its terminating fractions as floats, or ``expr`` itself.
+
     Examples
     --------
     >>> c1, c2, c23 = sp.symbols("c1 c2 c23")
@@ -1423,12 +1805,51 @@ def _spread_decimals(expr):
 
 
 def shorthand_str(expr, variables) -> str:
-    """Textbook string with the ``c_i`` / ``s_ij`` shorthand and decimal lengths as decimals."""
+    """Textbook string with the ``c_i`` / ``s_ij`` shorthand and decimal lengths as decimals.
+
+    Parameters
+    ----------
+    expr : SymPy expression or matrix
+        The expression (text is read by :func:`~workspace_sym.expressions.parse_expr`).
+    variables : sequence of sympy.Symbol
+        The joint variables in order, as for :func:`shorthand`.
+
+    Returns
+    -------
+    str
+        SymPy's string of the expression (``c1*(a1 + a2*c2)``), terminating fractions written as decimals
+        (:func:`decimal_form`).
+
+    Raises
+    ------
+    ExpressionError
+        When ``expr`` is text that cannot be read, or of another type.
+    """
     return sp.sstr(decimal_form(shorthand(expr, variables)), full_prec=False)
 
 
 def shorthand_latex(expr, variables, *, short: bool = True) -> str:
-    """LaTeX of an expression or matrix, with the shorthand when ``short``, decimal lengths as decimals."""
+    """LaTeX of an expression or matrix, with the shorthand when ``short``, decimal lengths as decimals.
+
+    Parameters
+    ----------
+    expr : SymPy expression or matrix
+        The expression (text is read by :func:`~workspace_sym.expressions.parse_expr`).
+    variables : sequence of sympy.Symbol
+        The joint variables in order, as for :func:`shorthand`.
+    short : bool
+        Write ``c_{23}`` for ``cos(theta2 + theta3)`` (default True).
+
+    Returns
+    -------
+    str
+        The LaTeX.
+
+    Raises
+    ------
+    ExpressionError
+        When ``expr`` is text that cannot be read, or of another type.
+    """
     expr = as_sympy(expr)
     if short:
         expr = shorthand(expr, variables, latex=True)
@@ -1500,6 +1921,18 @@ def textbook_form(expr, variables):
     work on it); :func:`plain` gives back ordinary ``cos`` and ``sin``.  A
     polynomial becomes its expression; a list or tuple becomes a SymPy
     ``Tuple`` (which Jupyter typesets).
+
+    Parameters
+    ----------
+    expr : SymPy expression, matrix, polynomial, list or tuple
+        The expression (SymPy objects and numbers, not text).
+    variables : sequence of sympy.Symbol
+        The joint variables in order; variable ``k`` (0-based) gets index ``k + 1``.
+
+    Returns
+    -------
+    sympy.Basic or sympy.Matrix
+        The same mathematics with the shorthand functions in place of ``cos`` and ``sin``.
     """
     cosine, sine = _functions(tuple(variables))
     if isinstance(expr, list | tuple):
@@ -1516,7 +1949,18 @@ def textbook_form(expr, variables):
 
 
 def plain(expr):
-    """``expr`` with the shorthand functions of :func:`textbook_form` turned back into ``cos`` and ``sin``."""
+    """``expr`` with the shorthand functions of :func:`textbook_form` turned back into ``cos`` and ``sin``.
+
+    Parameters
+    ----------
+    expr : SymPy expression, matrix or Tuple
+        A result of :func:`textbook_form`.
+
+    Returns
+    -------
+    sympy.Basic or sympy.Matrix
+        The same mathematics with ordinary ``cos`` and ``sin``.
+    """
     if isinstance(expr, sp.Tuple):
         return sp.Tuple(*(plain(e) for e in expr))
     return expr.replace(lambda e: isinstance(e, _Shorthand), lambda e: e.__class__.__mro__[2](e.args[0]))

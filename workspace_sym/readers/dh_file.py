@@ -48,6 +48,41 @@ def read_dh(data: dict, *, name: str = "robot", exact: bool = True, tol: float =
     chopped (``cos(1.5707963267948966) = 6e-17`` becomes 0).  Strings are read
     as written (``"0.4318"`` is already exact).
 
+    Parameters
+    ----------
+    data : dict
+        The DH description, as decoded from JSON.
+    name : str
+        The robot's name when ``data`` has no ``"name"`` (default ``"robot"``).
+    exact : bool
+        Make floats exact (default True); False keeps them and chops the DH matrices below ``tol``.
+    tol : float
+        The snapping (or chopping) tolerance, a finite number >= 0 (default
+        :data:`~workspace_sym.snap.DEFAULT_TOL`).
+
+    Returns
+    -------
+    DHRobot
+        The robot, its input notes listing every float made exact.
+
+    Raises
+    ------
+    DHTableError
+        When ``data`` is not an object, ``joints`` is not a non-empty list of at most
+        :data:`~workspace_sym.kinematics.MAX_JOINTS` rows, a row is not an object, has an unknown type, a
+        missing or unknown field, ``parameters`` is not an object, ``base`` or ``tool`` is not a rigid transform,
+        or the rows do not make a robot (a field without its variable, variables not distinct, a parameter that
+        is a joint variable).
+    UnknownNameError
+        When ``convention`` or ``angles`` is not one of its values.
+    JointLimitError
+        When ``limits`` is not a pair, or a limit is not finite or not below the other.
+    ExpressionError
+        When a field's text cannot be read or a number is not finite, a ``variable`` is not a name, a parameter
+        value is not a finite number, or, in degrees, a field adds a number without ``pi`` to a symbol.
+    InvalidParameterError
+        When ``tol`` is not a finite number >= 0.
+
     Examples
     --------
     >>> puma_alpha = {"angles": "radians", "joints": [{"d": 0, "a": 0, "alpha": 1.5707963267948966},
@@ -120,7 +155,27 @@ def read_dh(data: dict, *, name: str = "robot", exact: bool = True, tol: float =
 
 
 def read_dh_file(path, *, exact: bool = True, tol: float = DEFAULT_TOL) -> DHRobot:
-    """Read a DH JSON file (see :func:`read_dh` for ``exact`` and ``tol``); the robot is named after the file."""
+    """Read a DH JSON file (see :func:`read_dh` for ``exact`` and ``tol``); the robot is named after the file.
+
+    Parameters
+    ----------
+    path : str or path
+        The JSON file (UTF-8).
+    exact, tol
+        As for :func:`read_dh`.
+
+    Returns
+    -------
+    DHRobot
+        The robot, named after the file's stem unless the file gives a ``"name"``.
+
+    Raises
+    ------
+    DHTableError
+        When the file cannot be read or is not valid JSON (``parameter="path"``), and as for :func:`read_dh`.
+    UnknownNameError, JointLimitError, ExpressionError, InvalidParameterError
+        As for :func:`read_dh`.
+    """
     path = Path(path)
     return read_dh(read_json(path, "path", error=DHTableError), name=path.stem, exact=exact, tol=tol)
 

@@ -94,6 +94,10 @@ def read_mjcf(path, *, base_link: str | None = None, tip_link: str | None = None
         two orientations on one body, a zero axis, a ball or free joint on the chain, an unknown class,
         ``limited="true"`` without a range, ``<include>``, ``<frame>``, a document type; an unknown body or a
         chain that does not connect (``"base_link"``, ``"tip_link"``).
+    JointLimitError
+        A range whose lower end is not below its upper end.
+    InvalidParameterError
+        ``tol`` not a finite number >= 0.
 
     Examples
     --------

@@ -72,9 +72,12 @@ def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None
         Values of the arguments of a xacro file, ``$(arg name)`` (a ``.xacro`` file only): text or numbers, as
         ``name:=value`` on xacro's command line; a name the file neither declares nor uses is refused.
 
-    Joint ``k`` of the chain (fixed joints skipped) gets the variable
-    ``theta{k}`` (revolute, continuous) or ``d{k}`` (prismatic), the URDF joint
-    position itself; limits come from the file (none for continuous joints).
+    Returns
+    -------
+    DHRobot
+        Standard DH with ``base`` and ``tool``.  Joint ``k`` of the chain (fixed joints skipped) gets the variable
+        ``theta{k}`` (revolute, continuous) or ``d{k}`` (prismatic), the URDF joint position itself; limits come
+        from the file (none for continuous joints).
 
     Raises
     ------
@@ -83,7 +86,12 @@ def read_urdf(path, *, base_link: str | None = None, tip_link: str | None = None
         expanded, ``packages`` or ``xacro_args`` for a file that is not ``.xacro``, an argument the file does not
         have, unknown or unconnected links, a branching tree
         without ``tip_link``, a mimic, floating or planar joint on the chain, a
-        revolute or prismatic joint without ``<limit>``, a chain without joints.
+        revolute or prismatic joint without ``<limit>``, a chain without joints, a number that is not finite.
+    JointLimitError
+        A lower limit above the upper one.
+    InvalidParameterError
+        ``tol`` not a finite number >= 0.
+
     Examples
     --------
     A planar 2R arm (links 0.4 and 0.3), its limits written as floats:

@@ -38,6 +38,16 @@ _XACRO_NAMESPACES = ("http://ros.org/wiki/xacro", "http://www.ros.org/wiki/xacro
 def is_xacro(path: Path) -> bool:
     """Whether ``path`` is to be expanded as xacro: its name ends in ``.xacro``, the user's choice, not the file's.
 
+    Parameters
+    ----------
+    path : pathlib.Path
+        The file named by the user.
+
+    Returns
+    -------
+    bool
+        True when its name ends in :data:`XACRO_SUFFIX`.
+
     Examples
     --------
     >>> is_xacro(Path("robot.urdf.xacro")), is_xacro(Path("robot.urdf"))
@@ -217,6 +227,16 @@ def xacro_markup(root: ET.Element) -> str | None:
     xacro's namespace, or an expression ``${`` or a substitution ``$(`` in an attribute or a text; None if none.
 
     (An expanded file may keep the ``xmlns:xacro`` declaration: that alone is not markup.)
+
+    Parameters
+    ----------
+    root : xml.etree.ElementTree.Element
+        The root of the parsed file.
+
+    Returns
+    -------
+    str or None
+        The markup found first (in document order), cut to 40 characters of its value; None when there is none.
 
     Examples
     --------
