@@ -128,6 +128,11 @@ def reach_points(robot, q: np.ndarray, parameters: dict | None = None) -> np.nda
     -------
     numpy.ndarray
         ``(N, 3)`` positions of the end effector.
+
+    Raises
+    ------
+    InvalidParameterError
+        When ``parameters`` leaves a symbol of the position without a value.
     """
     if parameters is None:
         return robot.fk_numeric(q)[..., :3, 3]
