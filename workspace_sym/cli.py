@@ -891,6 +891,14 @@ def _pose_parent() -> _Parser:
 
 
 def build_parser() -> _Parser:
+    """The argument parser of ``workspace-sym``, one subparser per subcommand (docs/cli.md).
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        The parser; its errors are one line on stderr and exit status 2, and ``parser.commands`` maps each
+        subcommand's name to its own parser.
+    """
     parser = _Parser(prog="workspace-sym", description="Robot workspaces, exactly or with proofs.",
                      epilog=f"The options, the DH file format and the JSON keys are described in docs/cli.md, "
                             f"installed with the package as {DOCS / 'cli.md'}.")
@@ -1066,6 +1074,29 @@ def _check_outputs(args) -> None:
 
 
 def main(argv=None) -> int:
+    """Run ``workspace-sym`` with the arguments ``argv``.
+
+    The result goes to stdout (one JSON object with ``--json``), files written are named on stderr.  Bad input
+    (any :class:`~workspace_sym.errors.WorkspaceError`) prints one line on stderr naming the option to blame;
+    an unforeseen failure prints one line too (the traceback with ``WORKSPACE_SYM_DEBUG=1``).
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments after the program name; by default ``sys.argv[1:]``.
+
+    Returns
+    -------
+    int
+        The exit status: 0 on success (also when the reader of stdout went away), 2 for bad input or an
+        unforeseen failure, 130 when interrupted.
+
+    Raises
+    ------
+    SystemExit
+        From argparse: status 2 for arguments it cannot parse (one line on stderr), 0 after ``--help`` or
+        ``--version``.
+    """
     parser = build_parser()
     args, unknown = parser.parse_known_args(argv)
     if unknown:     # said by the subcommand's parser, so the message names the command

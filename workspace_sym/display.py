@@ -53,6 +53,18 @@ def mathml(obj) -> str | None:
     """Block MathML of a SymPy expression or matrix, textbook shorthand included (``c_{1}`` as c with a
     subscript 1); ``None`` when SymPy's MathML printer cannot print ``obj``.
 
+    Parameters
+    ----------
+    obj : sympy.Basic or sympy.MatrixBase
+        The expression or matrix.
+
+    Returns
+    -------
+    str or None
+        ``<math display="block">...</math>`` (presentation MathML), or None.
+
+    Examples
+    --------
     >>> t1 = sp.Symbol("theta1")
     >>> "<msub><mi>c</mi><mi>1</mi></msub>" in mathml(textbook_form(sp.cos(t1), (t1,)))
     True
@@ -72,6 +84,21 @@ def register_notebook_display(shell=None) -> bool:
     MathML is rendered by the browser itself.  Called on import of
     :mod:`workspace_sym` inside IPython; ``shell`` defaults to the running one.
     Returns whether a shell was found.
+
+    The results of the engines (``DHRobot``, ``Paving``, ``ReachResult``, the
+    Orthoglide's results, ``PlanarChain``, ``Boundary``, ``ArcTable``) are
+    registered by name with the HTML formatter as well, drawn by the functions
+    of this module.
+
+    Parameters
+    ----------
+    shell : IPython.core.interactiveshell.InteractiveShell, optional
+        The shell to register with; by default the running one, if IPython has been imported.
+
+    Returns
+    -------
+    bool
+        True when a shell was found and the formatters registered, False otherwise (nothing is changed).
     """
     if shell is None:
         ipython = sys.modules.get("IPython")        # a kernel has imported it; importing it here costs a second
@@ -96,6 +123,18 @@ _GREEK_NAME = re.compile(r"\b(" + "|".join(_GREEK) + r")(?=\d|_|\b)")      # the
 def expr_text(expr) -> str:
     """One line of text for a SymPy value in an HTML cell: ``θ1 + π/2`` (escaped).
 
+    Parameters
+    ----------
+    expr : sympy.Basic or object
+        The value (anything :func:`sympy.sstr` prints).
+
+    Returns
+    -------
+    str
+        SymPy's string form with Greek names as letters and ``**`` as ``^``, HTML-escaped.
+
+    Examples
+    --------
     >>> expr_text(sp.Symbol("theta2") + sp.pi / 2 + sp.Symbol("pitch"))
     'pitch + θ2 + π/2'
     """
@@ -104,7 +143,22 @@ def expr_text(expr) -> str:
 
 
 def html_table(header, rows, *, caption: str | None = None) -> str:
-    """A small HTML table; cells are escaped unless they are already HTML (``markupsafe``-like ``__html__``)."""
+    """A small HTML table; cells are escaped unless they are already HTML (``markupsafe``-like ``__html__``).
+
+    Parameters
+    ----------
+    header : iterable
+        The column headings.
+    rows : iterable of iterable
+        The cells, row by row.
+    caption : str or None, optional
+        A caption (escaped); none by default.
+
+    Returns
+    -------
+    str
+        ``<table>`` with a ``<thead>`` and a ``<tbody>``.
+    """
     def cell(v):
         return v.__html__() if hasattr(v, "__html__") else html.escape(str(v))
 
@@ -122,7 +176,22 @@ class Markup(str):
 
 
 def figure_html(fig, *, width: int = 420, alt: str = "figure") -> str:
-    """The matplotlib figure ``fig`` as an ``<img>`` with an embedded PNG; the figure is closed."""
+    """The matplotlib figure ``fig`` as an ``<img>`` with an embedded PNG; the figure is closed.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure, saved at 90 dpi and closed even when saving fails.
+    width : int, default 420
+        The width of the image on the page (pixels).
+    alt : str, default "figure"
+        The image's alternative text.
+
+    Returns
+    -------
+    str
+        ``<img src="data:image/png;base64,..." ...>``.
+    """
     import matplotlib.pyplot as plt
 
     buffer = io.BytesIO()
@@ -141,7 +210,19 @@ MAX_3D_BOXES_SHOWN = 20_000     # a notebook draws a 3D paving up to this many b
 def paving_html(result) -> str:
     """Summary (boxes and measure of each class, the certified bracket) and the picture of a
     :class:`~workspace_sym.interval.boxes.Paving` or of a :class:`~workspace_sym.serial.api.ReachResult` (its
-    method, tool constraint and bracket with the volume proved another way): what a notebook shows of it."""
+    method, tool constraint and bracket with the volume proved another way): what a notebook shows of it.
+
+    Parameters
+    ----------
+    result : Paving or ReachResult
+        The paving, or a result holding one in ``paving``.
+
+    Returns
+    -------
+    str
+        HTML: the summary lines, the table of box classes and, in 2D or in 3D up to
+        :data:`MAX_3D_BOXES_SHOWN` boxes, the picture.
+    """
     paving = getattr(result, "paving", result)
     m, c = paving.measures, paving.counts
     rows = [(kind, c[kind], measure_text(kind, m[kind], 6, "g")) for kind in ("inner", "boundary", "outer", "pending")]
@@ -170,7 +251,19 @@ def paving_html(result) -> str:
 
 
 def robot_html(robot) -> str:
-    """A DH robot's table, limits in degrees, and its parameters (what a notebook shows of a ``DHRobot``)."""
+    """A DH robot's table, limits in degrees, and its parameters (what a notebook shows of a ``DHRobot``).
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot.
+
+    Returns
+    -------
+    str
+        HTML: one row per joint (type, theta, d, a, alpha, limits in degrees or in the robot's unit of length),
+        and the numeric parameters.
+    """
     def degrees(v) -> str:
         return f"{clean(float(v) * 180 / math.pi, scale=360.0):.10g}°"
 
@@ -193,7 +286,18 @@ def robot_html(robot) -> str:
 
 def dextrous_html(result) -> str:
     """The Orthoglide's dextrous workspace (``DextrousResult``): its definition, volumes, box counts and slices of
-    its boxes."""
+    its boxes.
+
+    Parameters
+    ----------
+    result : DextrousResult
+        The result.
+
+    Returns
+    -------
+    str
+        HTML: the definition, a table of volumes and box counts, and a figure of slices.
+    """
     data = result.to_dict()
     lo, hi = result.sigma
     rows = [("certified inside", fmt_bound(result.volume_inner, 6, up=False), data["boxes"]["inner"]),
@@ -209,7 +313,18 @@ def dextrous_html(result) -> str:
 
 def cube_html(result) -> str:
     """The Orthoglide's largest enclosed cube (``CubeResult``): the certified bracket, the centre and the closed
-    form in MathML (an exported notebook needs no MathJax)."""
+    form in MathML (an exported notebook needs no MathJax).
+
+    Parameters
+    ----------
+    result : CubeResult
+        The result.
+
+    Returns
+    -------
+    str
+        HTML.
+    """
     out = [f"<p><b>Largest cube in the dextrous workspace</b> (&sigma; &isin; [{result.sigma[0]:g}, "
            f"{result.sigma[1]:g}], &alpha; = {result.alpha:g}, {result.seconds:.1f} s)</p>",
            "<ul><li>a cube of edge " + html.escape(fmt_bound(result.edge_lower, 9, up=False)) + " centred at ("
@@ -223,7 +338,18 @@ def cube_html(result) -> str:
 
 def planar_chain_html(chain) -> str:
     """The joints (exact lengths, limits in degrees) and the reach of a
-    :class:`~workspace_sym.planar.chain.PlanarChain`: what a notebook shows of it."""
+    :class:`~workspace_sym.planar.chain.PlanarChain`: what a notebook shows of it.
+
+    Parameters
+    ----------
+    chain : PlanarChain
+        The chain.
+
+    Returns
+    -------
+    str
+        An HTML table, one row per joint.
+    """
     rows = [(k + 1, sp.sstr(chain.exact_lengths[k]), degrees_text(chain.lower[k]), degrees_text(chain.upper[k]))
             for k in range(chain.p)]
     return html_table(("joint", "length", "lower (deg)", "upper (deg)"), rows,
@@ -232,14 +358,37 @@ def planar_chain_html(chain) -> str:
 
 def arc_table_html(table) -> str:
     """A boundary's arcs in the form of Bastien's Table 2 (:meth:`~workspace_sym.planar.boundary.Boundary.table`,
-    an :class:`~workspace_sym.planar.boundary.ArcTable`) as an HTML table."""
+    an :class:`~workspace_sym.planar.boundary.ArcTable`) as an HTML table.
+
+    Parameters
+    ----------
+    table : ArcTable
+        The table of arcs.
+
+    Returns
+    -------
+    str
+        An HTML table, one row per arc.
+    """
     header, rows = table.cells()
     return html_table(header, rows, caption="Boundary arcs (Table 2 form)")
 
 
 def boundary_html(boundary) -> str:
     """Counts per step, loops, area, the table of arcs and the picture of a
-    :class:`~workspace_sym.planar.boundary.Boundary`: what a notebook shows of it."""
+    :class:`~workspace_sym.planar.boundary.Boundary`: what a notebook shows of it.
+
+    Parameters
+    ----------
+    boundary : Boundary
+        The boundary.
+
+    Returns
+    -------
+    str
+        HTML: the summary lines, the table of arcs (:func:`arc_table_html`) and, when there are arcs, the
+        picture of the loops.
+    """
     c = boundary.counts
     lines = [f"{c['step0']} → {c['step1']} → {c['step2']} arcs after Steps 0 / 1 / 2, {boundary.seconds:.2f} s",
              f"area {fmt(boundary.area, 10, 'g')}, perimeter {fmt(boundary.perimeter, 10, 'g')}"]
@@ -266,6 +415,23 @@ def to_html(obj) -> str:
     """The HTML a notebook shows of a result of the package (the function registered for its type with IPython
     by :func:`register_notebook_display`, or the object's own ``_repr_html_``).
 
+    Parameters
+    ----------
+    obj : object
+        A result of the package, or any object with ``_repr_html_``.
+
+    Returns
+    -------
+    str
+        The HTML.
+
+    Raises
+    ------
+    AttributeError
+        When ``obj`` is none of the registered types and has no ``_repr_html_``.
+
+    Examples
+    --------
     >>> from workspace_sym.interval import pave
     >>> "certified measure in" in to_html(pave(["x**2 <= 1"], {"x": (-2, 2)}, delta=0.5))
     True

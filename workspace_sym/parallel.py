@@ -19,7 +19,27 @@ __all__ = ["ConstraintModel", "rpr2", "lens_area", "rpr2_exact_area"]
 
 @dataclass(frozen=True)
 class ConstraintModel:
-    """A workspace ``{x in box : g_j(x) <= 0}`` with its provenance."""
+    """A workspace ``{x in box : g_j(x) <= 0}`` with its provenance.
+
+    Parameters
+    ----------
+    name : str
+        The model's name (``"rpr2"``).
+    variables : tuple of sympy.Symbol
+        The platform coordinates.
+    constraints : tuple of sympy.Rel
+        The inequalities that define the workspace.
+    box : dict
+        ``{variable: (lo, hi)}``: the initial box of the paving.
+    source : str
+        The publication the model comes from.
+    units : str
+        The unit of lengths.
+    parameters : dict
+        The dimensions used, by name.
+    exact_measure : sympy.Expr or None, optional
+        The area (or volume) of the workspace in closed form, when known.
+    """
 
     name: str
     variables: tuple
@@ -31,7 +51,21 @@ class ConstraintModel:
     exact_measure: sp.Expr | None = None
 
     def pave(self, *, delta, **options):
-        """:func:`workspace_sym.interval.pave` on this model (exact measure attached)."""
+        """:func:`workspace_sym.interval.pave` on this model (exact measure attached).
+
+        Parameters
+        ----------
+        delta : float
+            Undecided boxes whose size is at most ``delta`` become boundary boxes.
+        **options
+            The other keywords of :func:`~workspace_sym.interval.pave` (``backend``, ``size``, ``contract``,
+            ``stop``, ``run``...).
+
+        Returns
+        -------
+        Paving
+            The paving of :attr:`constraints` over :attr:`box`, with :attr:`exact_measure` attached.
+        """
         from .interval import pave
 
         return pave(self.constraints, self.box, delta=delta, **options).with_exact_measure(self.exact_measure)
@@ -39,6 +73,19 @@ class ConstraintModel:
 
 def lens_area(r, R, d) -> sp.Expr:
     """Exact area of the intersection of two discs of radii ``r``, ``R`` whose centres are ``d`` apart.
+
+    Parameters
+    ----------
+    r, R : number or sympy.Expr
+        The radii, non-negative; a float is read as the simple rational near it (:func:`sympy.nsimplify`).
+    d : number or sympy.Expr
+        The distance between the centres, non-negative.
+
+    Returns
+    -------
+    sympy.Expr
+        The area: 0 when the discs are apart or tangent outside, that of the smaller disc when one holds the
+        other.
 
     Examples
     --------
@@ -68,6 +115,20 @@ def rpr2_exact_area(l0, lmin1, lmax1, lmin2, lmax2) -> sp.Expr:
     and ``lmin2 <= |x - (l0, 0)| <= lmax2``; by inclusion-exclusion over the
     four discs ``|A1 n A2| = L(M1, M2) - L(m1, M2) - L(M1, m2) + L(m1, m2)``
     with ``L`` the lens area, and the half-plane holds half of it by symmetry.
+
+    Parameters
+    ----------
+    l0 : number or sympy.Expr
+        The distance between the base joints.
+    lmin1, lmax1 : number or sympy.Expr
+        The range of the first leg's length.
+    lmin2, lmax2 : number or sympy.Expr
+        The range of the second leg's length.
+
+    Returns
+    -------
+    sympy.Expr
+        The area, simplified.
     """
     return sp.simplify((lens_area(lmax1, lmax2, l0) - lens_area(lmin1, lmax2, l0)
                         - lens_area(lmax1, lmin2, l0) + lens_area(lmin1, lmin2, l0)) / 2)
@@ -79,6 +140,30 @@ def rpr2(l0=5, lmin=8, lmax=12, *, lmin2=None, lmax2=None) -> ConstraintModel:
     Two legs of lengths in ``[lmin, lmax]`` from base joints at ``(0, 0)`` and
     ``(l0, 0)`` meet at the platform point ``(x1, x2)``; the initial box is
     ``[-lmax1, l0 + lmax2] x [0, min(lmax1, lmax2)]`` as in the paper.
+
+    Parameters
+    ----------
+    l0 : number or str, default 5
+        The distance between the base joints, positive.  Text is read by the restricted grammar
+        (:func:`~workspace_sym.expressions.parse_expr`, no symbols).
+    lmin, lmax : number or str, default 8 and 12
+        The range of the legs' lengths, ``0 <= lmin < lmax`` (of the first leg alone when the second has its
+        own).
+    lmin2, lmax2 : number or str, optional
+        The range of the second leg, by default that of the first.
+
+    Returns
+    -------
+    ConstraintModel
+        The four annulus constraints on ``(x1, x2)``, the box and the exact area (:func:`rpr2_exact_area`).
+
+    Raises
+    ------
+    InvalidParameterError
+        When a dimension is not a real number, ``l0`` is not positive or a leg range is not
+        ``0 <= lmin < lmax``.
+    ExpressionError
+        When a dimension given as text cannot be read.
 
     Examples
     --------

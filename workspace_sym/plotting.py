@@ -45,7 +45,28 @@ def _label(name, units) -> str:
 
 
 def scatter_workspace_3d(points, *, ax=None, color=None, size=1.0, title=None, units="m"):
-    """3D scatter of reachable points (paper 004, figures 2-5).  Returns the figure."""
+    """3D scatter of reachable points (paper 004, figures 2-5).  Returns the figure.
+
+    Parameters
+    ----------
+    points : array_like
+        ``(N, 3)`` points.
+    ax : matplotlib.axes.Axes, optional
+        3D axes to draw in; by default a new figure.
+    color : color or array_like, optional
+        One colour, or one value a point; by default the height ``z`` on the viridis map.
+    size : float, default 1.0
+        Marker size (points squared).
+    title : str, optional
+        The axes' title; none by default.
+    units : str, default "m"
+        The unit of length, for the axis labels.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure holding the axes, with equal scales on the three axes.
+    """
     points = np.asarray(points)
     ax = _axes3d(ax)
     ax.scatter(points[:, 0], points[:, 1], points[:, 2], s=size,
@@ -70,7 +91,35 @@ def _equal_3d(ax, points):
 
 def plot_sweeps(robot, joints, *, n=200, ax=None, parameters=None):
     """Trajectories of the end-effector when each of ``joints`` sweeps its range alone
-    (paper 004, figures 6-10), one line per joint.  Returns the figure."""
+    (paper 004, figures 6-10), one line per joint.  Returns the figure.
+
+    Each joint sweeps from where the previous sweep left the arm (:func:`~workspace_sym.sampling.sweep_joints`,
+    starting with every joint at its lower limit).
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot.
+    joints : sequence of int
+        The joints to sweep, 1-based, in order.
+    n : int, default 200
+        Samples per sweep.
+    ax : matplotlib.axes.Axes, optional
+        3D axes to draw in; by default a new figure.
+    parameters : dict, optional
+        Numeric values of the robot's symbolic parameters (:func:`~workspace_sym.sampling.reach_points`); by
+        default its own.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure, with a legend naming each joint's line.
+
+    Raises
+    ------
+    InvalidParameterError
+        When a joint index is out of range.
+    """
     from .sampling import reach_points, sweep_joints
 
     ax = _axes3d(ax)
@@ -94,6 +143,25 @@ def plot_reach(points, *, ax=None, units="m"):
     Given the certified result of :func:`~workspace_sym.serial.api.reach` (or its
     :class:`~workspace_sym.interval.boxes.Paving`) instead, draws its boxes
     (:func:`plot_paving`).  Returns the figure.
+
+    Parameters
+    ----------
+    points : array_like or Paving or ReachResult
+        ``(N, 3)`` end points, or a certified result.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw in; by default a new figure.
+    units : str, default "m"
+        The unit of length, for the axis labels (a paving's own units come first).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure, titled with the largest distance from the base.
+
+    Raises
+    ------
+    InvalidParameterError
+        When ``points`` is neither an ``(N, 3)`` array nor a paving, or the paving is neither 2D nor 3D.
     """
     from .interval.boxes import Paving
 
@@ -121,6 +189,26 @@ def save_figure(artists, path, *, dpi=120):
 
     The file is written under a temporary name and renamed, so a failure never
     leaves a half-written image.
+
+    Parameters
+    ----------
+    artists : Figure, Axes, artist, list or dict
+        The figure, or something that holds it (the first item of a list or dict).
+    path : str or os.PathLike
+        The file; its suffix chooses the format (``.png``, ``.svg``, ``.pdf``...).
+    dpi : int, default 120
+        Resolution of raster formats.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+
+    Raises
+    ------
+    OutputError
+        When the file cannot be written (missing or unwritable directory, unknown format); the figure is
+        closed all the same.
     """
     import os
     from pathlib import Path
@@ -177,6 +265,34 @@ def plot_paving(paving, *, ax=None, show_outer=False, exact_boundary=None, title
     is drawn over a 2D paving (e.g. ``max_j g_j``).  ``units`` labels the axes
     (``"x (m)"``; default: the paving's own ``units``).  Returns the figure; the legend, beside the axes so that
     it hides no box, names the box classes.
+
+    A 3D paving is drawn as voxels (:func:`paving_voxels`): the inner boxes an opaque solid, the boundary and
+    pending boxes a translucent shell.
+
+    Parameters
+    ----------
+    paving : Paving
+        A paving of 2 or 3 variables.
+    ax : matplotlib.axes.Axes, optional
+        Axes (3D axes for a 3D paving) to draw in; by default a new figure.
+    show_outer : bool, default False
+        Whether to draw the outer boxes too (2D only).
+    exact_boundary : callable, optional
+        ``(x, y) -> array``, as above (2D only).
+    title : str, optional
+        The title; by default ``delta`` and the certified bracket of the measure.
+    units : str, optional
+        The unit of the axes.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
+
+    Raises
+    ------
+    InvalidParameterError
+        When the paving has neither 2 nor 3 variables.
     """
     units = paving.units if units is None else units
     n = len(paving.variables)
@@ -232,6 +348,21 @@ def paving_voxels(paving, kinds=("inner", "boundary", "pending"), *, resolution:
     cell of its own centre, so nothing drawn disappears.  Later kinds paint
     over earlier ones (a picture leans towards the undecided).  A picture,
     not a proof: the certified boxes are the paving's.
+
+    Parameters
+    ----------
+    paving : Paving
+        A paving of 3 variables.
+    kinds : sequence of str, default ("inner", "boundary", "pending")
+        The box classes to put on the grid, in painting order.
+    resolution : int, default 64
+        The most cells along an axis.
+
+    Returns
+    -------
+    tuple
+        ``(grid, lower, step)``: the int8 grid, the ``(3,)`` corner of the paving's box where cell ``(0, 0, 0)``
+        starts, and the ``(3,)`` cell size.
     """
     lower = np.asarray(paving.box.lower, dtype=float)
     upper = np.asarray(paving.box.upper, dtype=float)
@@ -313,7 +444,20 @@ def _plot_paving_3d(paving, *, ax=None, title=None, units=None, resolution: int 
 def slice_heights(paving, axis: int = 2) -> tuple[float, ...]:
     """Three values spread over the range of ``variables[axis]`` of a paving's box (0.2, 0.45 and 0.7 of the
     way), rounded to about three significant digits of that range: where to slice a 3D paving
-    (:func:`plot_paving_slices`) when nothing says where."""
+    (:func:`plot_paving_slices`) when nothing says where.
+
+    Parameters
+    ----------
+    paving : Paving
+        The paving, read for its box.
+    axis : int, default 2
+        The variable across which to slice (0-based).
+
+    Returns
+    -------
+    tuple of float
+        The three values.
+    """
     lo, hi = paving.box.lower[axis], paving.box.upper[axis]
     width = hi - lo
     decimals = max(0, 2 - math.floor(math.log10(width))) if width > 0 else 3
@@ -330,6 +474,33 @@ def plot_paving_slices(paving, *, axis: int = 2, values=(-0.4, 0.0, 0.3), refere
     an independent picture to hold the certified boxes against.  ``ax`` is a
     sequence of axes, one per value (default: a new row of panels).  Returns
     the figure.
+
+    Parameters
+    ----------
+    paving : Paving
+        A paving of 3 variables; its inner and boundary boxes are drawn.
+    axis : int, default 2
+        The variable fixed on each slice (0-based).
+    values : sequence of float, default (-0.4, 0.0, 0.3)
+        The values of that variable, one panel each (:func:`slice_heights` suggests some for another box).
+    reference : callable, optional
+        ``(m, 3) points -> bool array``, as above.
+    title : str, optional
+        A title over the panels.
+    ax : sequence of matplotlib.axes.Axes, optional
+        One axes per value.
+    units : str, optional
+        The unit of the axes; by default the paving's.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure holding the panels.
+
+    Raises
+    ------
+    InvalidParameterError
+        When the paving does not have 3 variables, or ``ax`` does not hold one axes per value.
     """
     from matplotlib.collections import PolyCollection
     from matplotlib.lines import Line2D
@@ -425,6 +596,36 @@ def plot_planar_step(chain, step: int, *, ax=None, samples: int = 20000, seed: i
     are ``samples`` random configurations (the discrete swept area).
     ``units`` is the length unit of the chain, for the axis labels.  Returns
     the figure.
+
+    Parameters
+    ----------
+    chain : PlanarChain
+        The chain.
+    step : {0, 1, 2}
+        The step to draw.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw in; by default a new figure.
+    samples : int, default 20000
+        Random configurations drawn as dots; 0 draws none.
+    seed : int, default 0
+        Seed of those configurations.
+    title : str, optional
+        The title; by default the step and its number of arcs.
+    units : str, default "m"
+        The unit of length, for the axis labels.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure, with a legend of the arc types and of what else is drawn.
+
+    Raises
+    ------
+    InvalidParameterError
+        When ``step`` is not 0, 1 or 2.
+    BoundaryError
+        Step 2, when the chain's boundary cannot be computed reliably
+        (:meth:`~workspace_sym.planar.chain.PlanarChain.boundary`).
     """
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch, PathPatch
@@ -474,7 +675,20 @@ def plot_planar_step(chain, step: int, *, ax=None, samples: int = 20000, seed: i
 def arc_label_positions(boundary, *, separation: float = 0.07) -> np.ndarray:
     """Where :func:`plot_boundary_loops` writes the arc numbers, ``(n, 2)``: on each arc, just outside the
     workspace, at the first of several points along the arc that stays ``separation`` times the reach away
-    from the labels already placed (else the farthest one)."""
+    from the labels already placed (else the farthest one).
+
+    Parameters
+    ----------
+    boundary : Boundary
+        The boundary.
+    separation : float, default 0.07
+        The distance wanted between labels, relative to the chain's reach.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(n, 2)``: one position per arc of ``boundary.arcs``, in order.
+    """
     reach = boundary.chain.reach
     offset, gap = 0.035 * reach, separation * reach
     placed: list[np.ndarray] = []
@@ -497,7 +711,26 @@ def arc_label_positions(boundary, *, separation: float = 0.07) -> np.ndarray:
 
 def plot_boundary_loops(boundary, *, ax=None, labels: bool = True, title=None, units="m"):
     """The boundary loops with the arcs numbered as in the report's table (numbers placed apart,
-    :func:`arc_label_positions`), coloured by arc type.  Returns the figure."""
+    :func:`arc_label_positions`), coloured by arc type.  Returns the figure.
+
+    Parameters
+    ----------
+    boundary : Boundary
+        The boundary.
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw in; by default a new figure.
+    labels : bool, default True
+        Whether to number the arcs.
+    title : str, optional
+        The title; by default the number of arcs and the area.
+    units : str, default "m"
+        The unit of length, for the axis labels.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
+    """
     ax = _axes(ax, (5.5, 5.5))
     for a in boundary.arcs:
         _draw_arc(ax, a.center, a.radius, a.start_angle, a.end_angle, color=_ARC_COLOURS[a.type], lw=2)

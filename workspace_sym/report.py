@@ -32,7 +32,19 @@ __all__ = ["Document", "dh_robot_report", "orthoglide_report", "paving_report", 
 
 
 def reproducibility(command: str | None = None) -> dict:
-    """Versions, date and command that produced a result."""
+    """Versions, date and command that produced a result.
+
+    Parameters
+    ----------
+    command : str or None, optional
+        The command to record; by default ``workspace-sym`` followed by this process's arguments.
+
+    Returns
+    -------
+    dict
+        ``workspace_sym``, ``python``, ``sympy``, ``numpy``, ``mpmath`` and ``matplotlib`` versions, ``date``
+        (UTC, to the minute) and ``command``, all strings.
+    """
     import matplotlib
     import mpmath
     import numpy
@@ -55,6 +67,23 @@ def number(value, spec: str = ".6f") -> str:
     """``value`` formatted with ``spec`` (``".6f"``, ``".1f"``, ``"g"``), never as a negative zero.
 
     The one place where reports format numbers, through :func:`workspace_sym.numbers.fmt`.
+
+    Parameters
+    ----------
+    value : float
+        The number.
+    spec : str, default ".6f"
+        ``[.digits]type`` with type ``f``, ``g``, ``e`` or ``%``; 6 digits when none are given.
+
+    Returns
+    -------
+    str
+        The formatted number.
+
+    Raises
+    ------
+    ValueError
+        When ``spec`` is not of that form.
 
     Examples
     --------
@@ -201,7 +230,39 @@ def dh_robot_report(robot, out, *, samples: int = 20000, command: str | None = N
     whether the run completed, the boxes (3D: also three slices in z).
     ``reach_constraint`` (the keywords ``approach``, ``cone``, ``every``,
     ``orientation``, ``rpy`` of ``reach``) makes it the certified orientation
-    workspace under that constraint, with the constraint stated.
+    workspace under that constraint, with the constraint stated.  A symbolic
+    stage of ``reach`` that does not finish within the time limit leaves a
+    note in that section instead.
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot.
+    out : str or os.PathLike
+        The directory of the report, created if needed; files of the same names in it are replaced.
+    samples : int, default 20000
+        Random configurations of the sampled picture (seed 1).
+    command : str or None, optional
+        The command line recorded in the Reproducibility section; by default this process's arguments.
+    reach_delta : float or None, optional
+        The ``delta`` of the certified section; None (default) leaves the section out.
+    reach_time_limit : float, default 60.0
+        Seconds given to ``reach``.
+    reach_constraint : dict or None, optional
+        Keywords of a tool constraint, as above.
+
+    Returns
+    -------
+    pathlib.Path
+        ``out / "report.md"``; ``report.html``, ``report.tex`` and the figures are beside it.
+
+    Raises
+    ------
+    InvalidParameterError
+        When ``reach_delta`` or ``reach_time_limit`` is not a positive finite number, or ``reach_constraint`` is
+        not a valid constraint (checked before the symbolic work).
+    OutputError
+        When ``out`` cannot be written.
     """
     from .interval.boxes import check_delta
     from .interval.driver import RunOn, StopAt
@@ -343,6 +404,35 @@ def planar_report(chain, out, *, command: str | None = None, title: str | None =
 
     With ``paving`` (a :class:`~workspace_sym.interval.Paving`) a section
     summarises that certified covering as well.  Returns the Markdown path.
+
+    Parameters
+    ----------
+    chain : PlanarChain
+        The chain; its boundary is computed (or reused) with the default options.
+    out : str or os.PathLike
+        The directory of the report, created if needed; files of the same names in it are replaced.
+    command : str or None, optional
+        The command line recorded in the Reproducibility section; by default this process's arguments.
+    title : str or None, optional
+        The report's title; by default "Workspace boundary of a planar p-joint chain".
+    exact : bool, default True
+        Whether to add the closed forms of the arcs and of the area.
+    paving : Paving, optional
+        A certified paving of the same workspace to summarise.
+    paving_title : str or None, optional
+        The heading of that section; by default "Certified paving".
+
+    Returns
+    -------
+    pathlib.Path
+        ``out / "report.md"``; ``report.html``, ``report.tex`` and the figures are beside it.
+
+    Raises
+    ------
+    BoundaryError
+        When the chain's boundary cannot be computed reliably.
+    OutputError
+        When ``out`` cannot be written.
     """
     from .planar.boundary import format_set
     from .planar.exact import area_terms
@@ -408,7 +498,29 @@ def planar_report(chain, out, *, command: str | None = None, title: str | None =
 
 
 def paving_report(paving, out, *, title: str = "Certified paving", command: str | None = None) -> Path:
-    """Report of a certified paving: box counts, the measure bracket, a picture, reproducibility."""
+    """Report of a certified paving: box counts, the measure bracket, a picture, reproducibility.
+
+    Parameters
+    ----------
+    paving : Paving
+        The paving (2D or 3D for the pictures).
+    out : str or os.PathLike
+        The directory of the report, created if needed; files of the same names in it are replaced.
+    title : str, default "Certified paving"
+        The report's title.
+    command : str or None, optional
+        The command line recorded in the Reproducibility section; by default this process's arguments.
+
+    Returns
+    -------
+    pathlib.Path
+        ``out / "report.md"``; ``report.html``, ``report.tex`` and the figures are beside it.
+
+    Raises
+    ------
+    OutputError
+        When ``out`` cannot be written.
+    """
     doc = Document(title)
     with tempfile.TemporaryDirectory() as tmpdir:
         tmp = Path(tmpdir)
@@ -417,7 +529,35 @@ def paving_report(paving, out, *, title: str = "Certified paving", command: str 
 
 
 def orthoglide_report(model, out, *, eps: float = 0.125, alpha: float = 0.01, command: str | None = None) -> Path:
-    """Report of the Orthoglide: J, the pencil polynomial, the certified dextrous volume and the largest cube."""
+    """Report of the Orthoglide: J, the pencil polynomial, the certified dextrous volume and the largest cube.
+
+    Parameters
+    ----------
+    model : Orthoglide
+        The model.
+    out : str or os.PathLike
+        The directory of the report, created if needed; files of the same names in it are replaced.
+    eps : float, default 0.125
+        The ``eps`` of the dextrous workspace (:meth:`Orthoglide.dextrous
+        <workspace_sym.orthoglide.model.Orthoglide.dextrous>`).
+    alpha : float, default 0.01
+        The ``alpha`` of the largest cube (:meth:`Orthoglide.largest_cube
+        <workspace_sym.orthoglide.model.Orthoglide.largest_cube>`).
+    command : str or None, optional
+        The command line recorded in the Reproducibility section; by default this process's arguments.
+
+    Returns
+    -------
+    pathlib.Path
+        ``out / "report.md"``; ``report.html``, ``report.tex`` and the figures are beside it.
+
+    Raises
+    ------
+    InvalidParameterError
+        When ``eps`` or ``alpha`` is not a positive finite number.
+    OutputError
+        When ``out`` cannot be written.
+    """
     from .plotting import plot_paving, plot_paving_slices, save_figure
 
     out = Path(out)

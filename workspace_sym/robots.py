@@ -29,6 +29,30 @@ class CatalogEntry:
 
     ``parameters`` maps parameter names to their default values (in ``units``);
     ``limits`` describes the joint limits as text, the way a table prints them.
+
+    Parameters
+    ----------
+    name : str
+        The catalog name (``"puma560"``).
+    kind : str
+        The structure, as text (``"serial (DH, 6R)"``).
+    source : str
+        The publication or data sheet the model comes from.
+    units : str
+        The unit of lengths.
+    summary : str
+        One line on the robot.
+    factory : callable
+        ``factory(**overrides)`` builds the model.
+    parameters : dict, optional
+        Parameter name -> default value; the only names :meth:`build` accepts.
+    limits : str, optional
+        The joint limits as text.
+
+    Raises
+    ------
+    UnknownNameError
+        From :meth:`build`, for an override that is not a parameter (the constructor checks nothing).
     """
 
     name: str
@@ -42,7 +66,26 @@ class CatalogEntry:
 
     def build(self, **overrides):
         """Build the model; keyword arguments override default parameters (an unknown name is refused, not
-        ignored)."""
+        ignored).
+
+        Parameters
+        ----------
+        **overrides
+            Values of parameters named in :attr:`parameters`.
+
+        Returns
+        -------
+        object
+            What ``factory`` builds: a :class:`~workspace_sym.kinematics.DHRobot`, a
+            :class:`~workspace_sym.parallel.ConstraintModel` or an :class:`~workspace_sym.orthoglide.Orthoglide`
+            for the built-in entries.
+
+        Raises
+        ------
+        UnknownNameError
+            When an override is not one of :attr:`parameters`, naming it and listing them; the factory may
+            refuse a value with its own error.
+        """
         unknown = sorted(set(overrides) - set(self.parameters))
         if unknown:
             known = ", ".join(self.parameters) or "none"
@@ -55,7 +98,23 @@ _CATALOG: dict[str, CatalogEntry] = {}
 
 
 def register(entry: CatalogEntry) -> CatalogEntry:
-    """Add an entry to the catalog (name clashes are programming errors)."""
+    """Add an entry to the catalog (name clashes are programming errors).
+
+    Parameters
+    ----------
+    entry : CatalogEntry
+        The entry; its name must be new.
+
+    Returns
+    -------
+    CatalogEntry
+        ``entry`` itself.
+
+    Raises
+    ------
+    ValueError
+        When an entry of that name is already registered.
+    """
     if entry.name in _CATALOG:
         raise ValueError(f"catalog entry {entry.name!r} registered twice")
     _CATALOG[entry.name] = entry
@@ -63,12 +122,34 @@ def register(entry: CatalogEntry) -> CatalogEntry:
 
 
 def catalog() -> list[CatalogEntry]:
-    """Every entry, in registration order."""
+    """Every entry, in registration order.
+
+    Returns
+    -------
+    list of CatalogEntry
+        A new list.
+    """
     return list(_CATALOG.values())
 
 
 def get(name: str) -> CatalogEntry:
-    """Entry by name; :class:`UnknownNameError` lists the known names otherwise."""
+    """Entry by name; :class:`UnknownNameError` lists the known names otherwise.
+
+    Parameters
+    ----------
+    name : str
+        The catalog name, exactly.
+
+    Returns
+    -------
+    CatalogEntry
+        The entry.
+
+    Raises
+    ------
+    UnknownNameError
+        When no entry has that name.
+    """
     try:
         return _CATALOG[name]
     except KeyError:
@@ -77,7 +158,25 @@ def get(name: str) -> CatalogEntry:
 
 
 def build(name: str, **overrides):
-    """Build the model of a catalog entry."""
+    """Build the model of a catalog entry.
+
+    Parameters
+    ----------
+    name : str
+        The catalog name.
+    **overrides
+        Parameters of the entry overriding their defaults (:meth:`CatalogEntry.build`).
+
+    Returns
+    -------
+    object
+        The model.
+
+    Raises
+    ------
+    UnknownNameError
+        When the name is not in the catalog or an override is not a parameter of the entry.
+    """
     return get(name).build(**overrides)
 
 
@@ -103,6 +202,17 @@ the wrist and gripper) are not limited in the paper and get the full turn."""
 
 def glass_handling_arm(**parameters) -> DHRobot:
     """6R glass-handling arm of Mohammadi & Mirnajafizade (2016), standard DH (docs/methods.md section 1).
+
+    Parameters
+    ----------
+    **parameters
+        Numeric values of the symbolic lengths (d1, a1, a2, a3, d5; defaults :data:`GLASS_DEFAULTS`), in metres,
+        overriding the defaults (names are not checked here; :func:`build` refuses unknown ones).
+
+    Returns
+    -------
+    DHRobot
+        The model, with symbolic lengths and ``parameters`` holding their numeric values.
 
     Examples
     --------
@@ -132,7 +242,19 @@ PUMA_LIMITS_DEG = [(-160, 160), (-110, 110), (-135, 135), (-266, 266), (-100, 10
 
 def puma560(**parameters) -> DHRobot:
     """Unimation Puma 560, standard DH, lengths of Corke & Armstrong-Helouvry (1994), as in
-    the Robotics Toolbox model: a2 = 0.4318, a3 = 0.0203, d3 = 0.15005, d4 = 0.4318 m."""
+    the Robotics Toolbox model: a2 = 0.4318, a3 = 0.0203, d3 = 0.15005, d4 = 0.4318 m.
+
+    Parameters
+    ----------
+    **parameters
+        Numeric values of the symbolic lengths (a2, a3, d3, d4), in metres, overriding the defaults (names are
+        not checked here; :func:`build` refuses unknown ones).
+
+    Returns
+    -------
+    DHRobot
+        The model, with symbolic lengths and ``parameters`` holding their numeric values.
+    """
     a2, a3, d3, d4 = sp.symbols("a2 a3 d3 d4")
     rows = [dict(alpha=sp.pi / 2), dict(a=a2), dict(d=d3, a=a3, alpha=-sp.pi / 2), dict(d=d4, alpha=sp.pi / 2),
             dict(alpha=-sp.pi / 2), dict()]
@@ -155,7 +277,19 @@ SCARA_DEFAULTS = {"d1": 0.387, "a1": 0.325, "a2": 0.275}
 
 def scara(**parameters) -> DHRobot:
     """RRPR SCARA with the dimensions of the Adept Cobra 600 (standard DH, alpha2 = pi so
-    that the prismatic joint moves down): reach 0.325 + 0.275 m, stroke 0.210 m."""
+    that the prismatic joint moves down): reach 0.325 + 0.275 m, stroke 0.210 m.
+
+    Parameters
+    ----------
+    **parameters
+        Numeric values of the symbolic lengths (d1 = 0.387, a1 = 0.325, a2 = 0.275 by default), in metres,
+        overriding the defaults (names are not checked here; :func:`build` refuses unknown ones).
+
+    Returns
+    -------
+    DHRobot
+        The model, with symbolic lengths and ``parameters`` holding their numeric values.
+    """
     d1, a1, a2 = sp.symbols("d1 a1 a2")
     joints = [
         DHJoint.revolute(1, d=d1, a=a1, limits=(-50 * deg, 50 * deg)),
@@ -175,14 +309,38 @@ register(CatalogEntry(
 
 # ---------------------------------------------------------------------------- planar 2R / 3R
 def planar_2r(**parameters) -> DHRobot:
-    """Planar 2R arm with symbolic lengths l1, l2 (defaults 1 and 1/2), joints free."""
+    """Planar 2R arm with symbolic lengths l1, l2 (defaults 1 and 1/2), joints free.
+
+    Parameters
+    ----------
+    **parameters
+        Numeric values of the symbolic lengths (l1, l2), in metres, overriding the defaults (names are not
+        checked here; :func:`build` refuses unknown ones).
+
+    Returns
+    -------
+    DHRobot
+        The model, with symbolic lengths and ``parameters`` holding their numeric values.
+    """
     l1, l2 = sp.symbols("l1 l2")
     joints = [DHJoint.revolute(1, a=l1, limits=(-sp.pi, sp.pi)), DHJoint.revolute(2, a=l2, limits=(-sp.pi, sp.pi))]
     return DHRobot(joints, name="planar-2r", parameters={"l1": 1.0, "l2": 0.5, **parameters}, units="m")
 
 
 def planar_3r(**parameters) -> DHRobot:
-    """Planar 3R arm with symbolic lengths l1, l2, l3 (defaults 1, 1/2, 1/4), joints free."""
+    """Planar 3R arm with symbolic lengths l1, l2, l3 (defaults 1, 1/2, 1/4), joints free.
+
+    Parameters
+    ----------
+    **parameters
+        Numeric values of the symbolic lengths (l1, l2, l3), in metres, overriding the defaults (names are not
+        checked here; :func:`build` refuses unknown ones).
+
+    Returns
+    -------
+    DHRobot
+        The model, with symbolic lengths and ``parameters`` holding their numeric values.
+    """
     ls = sp.symbols("l1:4")
     joints = [DHJoint.revolute(k + 1, a=l, limits=(-sp.pi, sp.pi)) for k, l in enumerate(ls)]
     return DHRobot(joints, name="planar-3r", parameters={"l1": 1.0, "l2": 0.5, "l3": 0.25, **parameters},

@@ -71,7 +71,22 @@ __all__ = ["DextrousResult", "box_module", "check_sigma", "dextrous", "inverse_e
 
 @dataclass(frozen=True, eq=False)
 class DextrousResult:
-    """Certified dextrous workspace: inside volume and the error index E (volume of undecided boxes)."""
+    """Certified dextrous workspace: inside volume and the error index E (volume of undecided boxes).
+
+    Made by :func:`dextrous`.
+
+    Parameters
+    ----------
+    paving : Paving
+        The paving of ``[-1, 1]^3`` (or of the box given), a
+        :class:`~workspace_sym.interval.boxes.StoredPaving` when its boxes were streamed to disk.
+    sigma : tuple of float
+        ``(sigma_min, sigma_max)``, the bounds on the eigenvalues of ``J J^T``.
+    eps : float
+        The largest edge of an undecided box.
+    shave : tuple of float, default ()
+        The slab fractions of the shaving; empty for plain bisection.
+    """
 
     paving: Paving
     sigma: tuple[float, float]
@@ -80,10 +95,24 @@ class DextrousResult:
 
     @property
     def volume_inner(self) -> float:
+        """The volume of the boxes proved inside.
+
+        Returns
+        -------
+        float
+            A proved lower bound of the dextrous volume (the paving's measure of inner boxes, rounded down).
+        """
         return self.paving.measure_bounds[0]          # the proved lower bound (rounded down)
 
     @property
     def volume_undecided(self) -> float:
+        """The error index E: the volume of the boxes neither proved inside nor outside.
+
+        Returns
+        -------
+        float
+            The measure of the boundary and pending boxes (each rounded to nearest).
+        """
         m = self.paving.measures
         return m["boundary"] + m["pending"]
 
@@ -93,6 +122,15 @@ class DextrousResult:
                 f"eps {self.eps})")
 
     def to_dict(self) -> dict:
+        """The result as a JSON object (``workspace-sym dextrous --json``, docs/cli.md).
+
+        Returns
+        -------
+        dict
+            ``volume_inner``, ``volume_undecided``, ``boxes`` (counts of inner, undecided and outer boxes),
+            ``eps``, ``sigma``, ``shave``, ``complete``, ``boxes_evaluated`` and ``seconds``; with ``store`` and
+            ``files`` when the boxes were streamed to disk.
+        """
         p = self.paving
         data = {
             "volume_inner": self.volume_inner,
@@ -119,6 +157,23 @@ def box_module(boxes: np.ndarray, sigma=(0.25, 4.0)) -> np.ndarray:
     the module docstring).  A box wholly outside a cylinder is -1; a box
     that straddles a cylinder can be proved -1 on its part inside the
     cylinders, never 1.
+
+    Parameters
+    ----------
+    boxes : numpy.ndarray
+        ``(N, 3, 2)`` boxes of positions ``(x, y, z)``, ``[..., 0]`` lower and ``[..., 1]`` upper bounds.
+    sigma : pair of float, default (0.25, 4.0)
+        ``(sigma_min, sigma_max)``: the bounds on the eigenvalues of ``J J^T``, ``0 < sigma_min < sigma_max``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N,)`` verdict codes (:mod:`workspace_sym.interval.verdict`): 1 inside, -1 outside, 0 undecided.
+
+    Raises
+    ------
+    InvalidParameterError
+        When ``sigma`` is not two finite numbers with ``0 < sigma_min < sigma_max``.
     """
     sigma_min, sigma_max = check_sigma(sigma)
     a_lo, a_hi = reciprocal(sigma_max)
@@ -169,7 +224,21 @@ def box_module(boxes: np.ndarray, sigma=(0.25, 4.0)) -> np.ndarray:
 
 def numeric_dextrous(pts, sigma) -> np.ndarray:
     """Whether points are dextrous, by float Sylvester tests on ``N = (J J^T)^-1`` (a guess for the search,
-    the pictures and the tests, never a certificate)."""
+    the pictures and the tests, never a certificate).
+
+    Parameters
+    ----------
+    pts : array_like
+        ``(n, 3)`` positions (one position ``(3,)`` is taken as ``(1, 3)``).
+    sigma : pair of float
+        ``(sigma_min, sigma_max)``, not checked.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(n,)`` bools: True where every leg is defined and the eigenvalues of ``J J^T`` lie strictly between
+        ``sigma_min`` and ``sigma_max`` in floats.
+    """
     pts = np.atleast_2d(np.asarray(pts, dtype=float))
     x_, y_, z_ = pts.T
     e2 = np.stack([1 - y_**2 - z_**2, 1 - x_**2 - z_**2, 1 - x_**2 - y_**2])
@@ -195,6 +264,18 @@ def witnessed_module(boxes: np.ndarray, sigma) -> np.ndarray:
     tested (float Sylvester tests, about 4 us a box against about 25 us
     for the certificate); at fine eps most undecided boxes straddle the
     boundary this way.
+
+    Parameters
+    ----------
+    boxes : numpy.ndarray
+        ``(N, 3, 2)`` boxes of positions.
+    sigma : pair of float
+        ``(sigma_min, sigma_max)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N,)`` verdict codes: those of :func:`box_module`, and 0 for the skipped boxes.
     """
     pts = boxes[:, None, :, 0] + _CORNERS_AND_CENTRE[None] * (boxes[:, None, :, 1] - boxes[:, None, :, 0])
     ok = numeric_dextrous(pts.reshape(-1, 3), sigma).reshape(len(boxes), len(_CORNERS_AND_CENTRE))
@@ -226,6 +307,26 @@ def shave_boxes(boxes: np.ndarray, *, sigma, delta: float, fractions=SHAVE, deci
     (every cut is at one float, shared by the slab and the rest).  The
     paving confirms each slab with its own decider before declaring it
     (:func:`~workspace_sym.interval.paving.subdivide`).
+
+    Parameters
+    ----------
+    boxes : array_like
+        ``(N, 3, 2)`` undecided boxes.
+    sigma : pair of float
+        ``(sigma_min, sigma_max)``, for the default ``decide``.
+    delta : float
+        Only boxes whose largest edge is at most ``delta`` are shaved.
+    fractions : sequence of float, default ``SHAVE``
+        The slab fractions, in (0, 1), tried in turn.
+    decide : callable, optional
+        ``decide(boxes) -> codes`` for an ``(M, 3, 2)`` array; by default :func:`witnessed_module` with
+        ``sigma``.
+
+    Returns
+    -------
+    Separation
+        ``inner`` and ``outer``, the slabs proved inside and outside, and ``kept``, one box per input box (what
+        is left of it).
     """
     if decide is None:
         decide = partial(witnessed_module, sigma=sigma)
@@ -272,6 +373,37 @@ def dextrous(variables, *, eps: float = 0.05, sigma=(0.25, 4.0), box=None, shave
     ``max_memory``, ``store``, ``resume``; chunks of ``CHUNK`` boxes by default;
     ``progress``) spreads the chunks, streams the boxes to disk, checkpoints
     the run and shows its progress; the result is the same.
+
+    Parameters
+    ----------
+    variables : sequence of sympy.Symbol
+        The three symbols naming x, y and z (the box's variables).
+    eps : float, default 0.05
+        Boxes are bisected while their largest edge exceeds ``eps``.
+    sigma : pair of float, default (0.25, 4.0)
+        ``(sigma_min, sigma_max)``: the bounds on the eigenvalues of ``J J^T``, ``0 < sigma_min < sigma_max``.
+    box : dict, optional
+        ``{variable: (lo, hi)}`` (:meth:`Box.from_bounds <workspace_sym.interval.boxes.Box.from_bounds>`), by
+        default ``[-1, 1]`` for each of ``variables``.
+    shave : sequence of float, default ``SHAVE``
+        Slab fractions in (0, 1), as above; ``()`` for plain bisection.
+    stop : StopAt, optional
+        What to stop at (boxes evaluated, seconds); by default no limit.
+    run : RunOn, optional
+        Where to run (executor, chunk, max_memory, store, resume) and the progress bar.
+
+    Returns
+    -------
+    DextrousResult
+        The paving, with the inside volume and E.
+
+    Raises
+    ------
+    InvalidParameterError
+        When ``eps`` is not a positive finite number, ``sigma`` is not two numbers with
+        ``0 < sigma_min < sigma_max``, or ``shave`` is not a sequence of fractions in (0, 1).
+    BoxError
+        When ``box`` is malformed.
     """
     if not isinstance(eps, (int, float)) or not math.isfinite(eps) or eps <= 0:
         raise InvalidParameterError(f"eps must be a positive number; got {eps!r}", parameter="eps")
@@ -326,6 +458,25 @@ def inverse_entries(x, y, z, s, r, *, gradients: bool = True, axes=(0, 1, 2)):
     ``None`` for the others) as dicts ``{(i, j): entry}``
     for ``i <= j``; the chain rule used is ``ds1/dy = 2 y s1^2``,
     ``dr1/dy = y s1 r1`` and the like.
+
+    Parameters
+    ----------
+    x, y, z : sympy.Expr, float, numpy.ndarray or Interval
+        The position (all of one kind).
+    s : sequence of three
+        ``s_i = 1/eta_i^2`` of the same kind.
+    r : sequence of three
+        ``r_i = 1/eta_i`` of the same kind.
+    gradients : bool, default True
+        Whether to compute the partial derivatives.
+    axes : tuple of int, default (0, 1, 2)
+        The derivatives to compute: 0 for x, 1 for y, 2 for z.
+
+    Returns
+    -------
+    tuple
+        ``(N, gradients)``: ``N`` a dict ``{(i, j): entry}`` for ``i <= j``, ``gradients`` None or the triple
+        ``(dN/dx, dN/dy, dN/dz)`` of such dicts, None for an axis not in ``axes``.
     """
     s1, s2, s3 = s
     r1, r2, r3 = r
@@ -361,6 +512,17 @@ def leg_terms(X) -> tuple[list[Interval], list[Interval], list[Interval], list[I
     """Squares, ``eta_i^2``, ``s_i = 1/eta_i^2`` and ``r_i = 1/eta_i`` as intervals.
 
     ``s_i`` and ``r_i`` are NaN (no enclosure) where ``eta_i^2`` may be <= 0.
+
+    Parameters
+    ----------
+    X : sequence of Interval
+        ``[X, Y, Z]``: interval arrays of the boxes' coordinates.
+
+    Returns
+    -------
+    tuple of list of Interval
+        ``(squares, eta2, s, r)``, three intervals each: ``[X^2, Y^2, Z^2]``, ``eta_i^2``, ``1/eta_i^2`` and
+        ``1/eta_i``, outward-rounded.
     """
     squares = [v.sq() for v in X]
     eta2 = [1 - (squares[1] + squares[2]), 1 - (squares[0] + squares[2]), 1 - (squares[0] + squares[1])]
@@ -370,12 +532,41 @@ def leg_terms(X) -> tuple[list[Interval], list[Interval], list[Interval], list[I
 
 
 def reciprocal(v: float) -> tuple[float, float]:
-    """Outward enclosure of 1/v for a float v > 0."""
+    """Outward enclosure of 1/v for a float v > 0.
+
+    Parameters
+    ----------
+    v : float
+        A positive float.
+
+    Returns
+    -------
+    tuple of float
+        ``(lo, hi)`` with ``lo <= 1/v <= hi``.
+    """
     q = 1.0 / v
     return float(arith.down(q)), float(arith.up(q))
 
 
 def check_sigma(sigma):
+    """``sigma`` read as ``(sigma_min, sigma_max)``, checked.
+
+    Parameters
+    ----------
+    sigma : pair of numbers
+        The bounds on the eigenvalues of ``J J^T``.
+
+    Returns
+    -------
+    tuple of float
+        ``(sigma_min, sigma_max)`` as floats.
+
+    Raises
+    ------
+    InvalidParameterError
+        When ``sigma`` is not two numbers, ``sigma_min`` is not positive and finite, ``sigma_max`` is not finite,
+        or ``sigma_max <= sigma_min``.
+    """
     try:
         lo, hi = (float(v) for v in sigma)
     except (TypeError, ValueError):

@@ -39,6 +39,29 @@ class CubeResult:
     A cube of edge ``edge_lower`` centred at ``center`` is proved inside; no
     cube of edge larger than ``edge_upper`` is enclosed anywhere (proved: for
     every possible centre, a point of such a cube is proved outside).
+
+    Made by :func:`largest_cube`.
+
+    Parameters
+    ----------
+    center : tuple of float
+        The centre ``(x, y, z)`` of the cube proved inside.
+    edge_lower : float
+        The edge of the cube proved inside (0 when none was).
+    edge_upper : float
+        No enclosed cube has a larger edge.
+    alpha : float
+        The step of the search on the half-edge.
+    sigma : tuple of float
+        ``(sigma_min, sigma_max)``, the bounds on the eigenvalues of ``J J^T``.
+    seconds : float
+        Wall-clock time.
+    boxes : dict
+        Boxes evaluated by each certificate: ``{"inside_proof": ..., "upper_proof": ...}``.
+    binding : list of dict, optional
+        The binding points (:func:`binding_points`).
+    exact : dict or None, optional
+        The closed form (:func:`closed_form_cube`) when it was derived and lies in the certified bracket.
     """
 
     center: tuple
@@ -61,7 +84,13 @@ class CubeResult:
                 f"{float(e['center']):.9f} (binding: {self.binding_text()})")
 
     def binding_text(self) -> str:
-        """The corners that bind the closed form and the bounds they meet (none without a closed form)."""
+        """The corners that bind the closed form and the bounds they meet (none without a closed form).
+
+        Returns
+        -------
+        str
+            ``"corner (+, +, +) on sigma_max; ..."``, or ``""`` without a closed form.
+        """
         bounds = self.exact["bounds"] if self.exact is not None else {}
         return "; ".join(f"corner ({s}, {s}, {s}) on {', '.join(b)}" for s, b in bounds.items())
 
@@ -94,6 +123,15 @@ class CubeResult:
         return "\n".join(out)
 
     def to_dict(self) -> dict:
+        """The result as a JSON object (``workspace-sym cube --json``, docs/cli.md).
+
+        Returns
+        -------
+        dict
+            ``center``, ``edge_lower``, ``edge_upper``, ``alpha``, ``sigma``, ``seconds``, ``boxes`` and
+            ``binding``; with ``closed_form``, ``edge_exact`` and ``center_exact`` (text) when the closed form
+            was derived.
+        """
         data = {"center": [float(v) for v in self.center], "edge_lower": self.edge_lower,
                 "edge_upper": self.edge_upper, "alpha": self.alpha, "sigma": list(self.sigma),
                 "seconds": self.seconds, "boxes": dict(self.boxes), "binding": self.binding}
@@ -124,6 +162,34 @@ def cube_inside(center, half: float, *, sigma=(0.25, 4.0), min_width: float = 1e
     ``run=RunOn(executor=...)`` spreads the evaluation
     (:func:`~workspace_sym.interval.search.prove_all`; ``executor=`` is its
     deprecated spelling).
+
+    Parameters
+    ----------
+    center : array_like
+        ``(3,)``: the centre of the cube.
+    half : float
+        Its half-edge.
+    sigma : pair of float, default (0.25, 4.0)
+        ``(sigma_min, sigma_max)``: the bounds on the eigenvalues of ``J J^T``, ``0 < sigma_min < sigma_max``.
+    min_width : float, default 1e-3
+        Undecided sub-boxes narrower than this on every edge stop the search (verdict None).
+    stop : StopAt, optional
+        The box budget (``max_boxes``, default ``INSIDE_BOXES``) and ``time_limit`` of the search.
+    run : RunOn, optional
+        ``executor`` spreads the box evaluations; the search keeps no boxes.
+    executor : concurrent.futures.Executor or dask.distributed.Client, optional
+        Deprecated spelling of ``run=RunOn(executor=...)`` (a :class:`DeprecationWarning`).
+
+    Returns
+    -------
+    tuple
+        ``(verdict, used)``: True, False or None as above, and the number of boxes evaluated.
+
+    Raises
+    ------
+    InvalidParameterError
+        When ``sigma`` is not two numbers with ``0 < sigma_min < sigma_max``, or two different executors are
+        given.
     """
     stop, run = with_legacy_keywords("cube_inside", stop, run, executor=executor)
     sigma = check_sigma(sigma)
@@ -145,6 +211,34 @@ def no_enclosed_cube(half: float, *, sigma=(0.25, 4.0), grid: int = 5, min_width
     Returns True, or None when boxes narrower than ``min_width`` remain or
     the budget ran out, and the number of centre boxes evaluated.  ``stop``
     and ``run`` as for :func:`cube_inside` (default budget ``NO_CUBE_BOXES``).
+
+    Parameters
+    ----------
+    half : float
+        The half-edge of the cubes.
+    sigma : pair of float, default (0.25, 4.0)
+        ``(sigma_min, sigma_max)``: the bounds on the eigenvalues of ``J J^T``, ``0 < sigma_min < sigma_max``.
+    grid : int, default 5
+        Points per edge of the grid on each face of the shrunk cube (after its corners and centre).
+    min_width : float, default 1e-4
+        Undecided centre boxes narrower than this on every edge stop the search (verdict None).
+    stop : StopAt, optional
+        The box budget (``max_boxes``, default ``NO_CUBE_BOXES``) and ``time_limit`` of the search.
+    run : RunOn, optional
+        ``executor`` spreads the box evaluations; the search keeps no boxes.
+    executor : concurrent.futures.Executor or dask.distributed.Client, optional
+        Deprecated spelling of ``run=RunOn(executor=...)`` (a :class:`DeprecationWarning`).
+
+    Returns
+    -------
+    tuple
+        ``(verdict, used)``: True (proved) or None, and the number of centre boxes evaluated.
+
+    Raises
+    ------
+    InvalidParameterError
+        When ``sigma`` is not two numbers with ``0 < sigma_min < sigma_max``, or two different executors are
+        given.
     """
     stop, run = with_legacy_keywords("no_enclosed_cube", stop, run, executor=executor)
     sigma = check_sigma(sigma)
@@ -196,6 +290,35 @@ def largest_cube(model, *, alpha: float = 0.001, sigma=(0.25, 4.0), stop: StopAt
     ``dask.distributed.Client``); ``progress`` for the bar of the four
     stages.  ``progress=`` and ``executor=`` are the deprecated spellings of
     ``run=RunOn(progress=...)`` and ``run=RunOn(executor=...)``.
+
+    Parameters
+    ----------
+    model : Orthoglide
+        The model, read for its pencil, variables, leg terms and eigenvalues.
+    alpha : float, default 0.001
+        The step on the half-edge: the certified bracket of the half-edge is ``alpha`` wide (that of the edge
+        ``2 alpha``) when both certificates succeed at the first try, wider by ``alpha / 2`` for each retry.
+    sigma : pair of float, default (0.25, 4.0)
+        ``(sigma_min, sigma_max)``: the bounds on the eigenvalues of ``J J^T``, ``0 < sigma_min < sigma_max``.
+    stop : StopAt, optional
+        ``max_boxes`` and ``time_limit`` of each certificate search, as above.
+    run : RunOn, optional
+        ``executor`` and ``progress``, as above.
+    progress : bool or None, optional
+        Deprecated spelling of ``run=RunOn(progress=...)``.
+    executor : concurrent.futures.Executor or dask.distributed.Client, optional
+        Deprecated spelling of ``run=RunOn(executor=...)``.
+
+    Returns
+    -------
+    CubeResult
+        The certified bracket of the edge, the centre, the binding points and the closed form when derived.
+
+    Raises
+    ------
+    InvalidParameterError
+        When ``alpha`` is not a positive finite number, ``sigma`` is not two numbers with
+        ``0 < sigma_min < sigma_max``, or two different executors are given.
     """
     stop, run = with_legacy_keywords("largest_cube", stop, run, executor=executor, progress=progress)
     if not isinstance(alpha, (int, float)) or not math.isfinite(alpha) or alpha <= 0:
@@ -271,7 +394,31 @@ def largest_cube(model, *, alpha: float = 0.001, sigma=(0.25, 4.0), stop: StopAt
 
 def binding_points(model, t: float, half: float, sigma, *, step: float) -> list[dict]:
     """Points of the cube's surface (9 x 9 grid per face) that leave the workspace when the half-edge grows by
-    ``step``, with the bounds they cross: ``{"corner": signs, "point": [...], "bounds": [...]}``."""
+    ``step``, with the bounds they cross: ``{"signs": [...], "point": [...], "bounds": [...]}``.
+
+    Float eigenvalues (:meth:`Orthoglide.eigenvalues <workspace_sym.orthoglide.model.Orthoglide.eigenvalues>`):
+    a guide for the closed form, not a proof.
+
+    Parameters
+    ----------
+    model : Orthoglide
+        The model, read for its eigenvalues.
+    t : float
+        The centre of the cube is ``(t, t, t)``.
+    half : float
+        Its half-edge.
+    sigma : pair of float
+        ``(sigma_min, sigma_max)``.
+    step : float
+        How much the half-edge grows.
+
+    Returns
+    -------
+    list of dict
+        One dict per point that leaves: ``signs`` (the point on the cube ``[-1, 1]^3``), ``point`` (its
+        position on the grown cube) and ``bounds`` (``"sigma_min"``, ``"sigma_max"``, or ``"cylinder"`` when a
+        leg is undefined there).
+    """
     shape = surface_points(9)
     pts = t + (half + step) * shape
     out = []
@@ -295,6 +442,28 @@ def closed_form_cube(model, binding, t: float, half: float, sigma, *, tol: float
     ``q(sigma_bound; u) = 0``, solved exactly, and the root next to the
     numeric corner is kept.  None when the binding points are elsewhere,
     the roots disagree, or SymPy finds no root there.
+
+    Parameters
+    ----------
+    model : Orthoglide
+        The model, read for its pencil, variables and leg terms.
+    binding : list of dict
+        The binding points (:func:`binding_points`).
+    t : float
+        The numeric centre ``(t, t, t)``.
+    half : float
+        The numeric half-edge.
+    sigma : pair of float
+        ``(sigma_min, sigma_max)``, read as the rationals they spell.
+    tol : float
+        A root is kept when it lies within ``tol`` of the numeric corner coordinate (exactly one must).
+
+    Returns
+    -------
+    dict or None
+        ``{"half", "center", "edge", "corners", "bounds"}``: SymPy numbers for the half-edge, the centre
+        coordinate and the edge, the corner coordinates ``{"+": ..., "-": ...}`` and the bounds each corner
+        meets; or None.
     """
     corners: dict[int, set[str]] = {}
     for b in binding:
@@ -330,7 +499,19 @@ def closed_form_cube(model, binding, t: float, half: float, sigma, *, tol: float
 
 
 def surface_points(n: int) -> np.ndarray:
-    """Points of the surface of the cube [-1, 1]^3 on an n x n grid per face, (m, 3)."""
+    """Points of the surface of the cube [-1, 1]^3 on an n x n grid per face, (m, 3).
+
+    Parameters
+    ----------
+    n : int
+        Points per edge of each face's grid.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(m, 3)`` points, sorted, each once (edges and corners are shared by faces): ``6 n^2 - 12 n + 8`` for
+        ``n >= 2``.
+    """
     g = np.linspace(-1, 1, n)
     a, b = (m.ravel() for m in np.meshgrid(g, g))
     faces = []

@@ -33,6 +33,25 @@ class Arc:
     centre (radians, counter-clockwise from start to end as the free joint
     increases).  ``side`` is +1 when the workspace lies locally away from the
     centre, -1 towards it, 0 before Step 1.
+
+    Parameters
+    ----------
+    type : str
+        The paper's type of the set J of free joints (``free_joint`` and the joints held at alignment angles;
+        the others are at limits): ``"I"`` when J holds every joint, ``"III"`` when it holds ``free_joint`` alone,
+        ``"II"`` otherwise.
+    free_joint : int
+        The joint that turns along the arc, 1-based.
+    theta_sets : tuple of tuple of float
+        One entry per joint: ``(value,)`` for a held joint, ``(low, high)`` for the free joint (radians).
+    center : tuple of float
+        The centre ``(x, y)`` of the circle, in the unit of the chain's lengths.
+    radius : float
+        The radius of the circle, in the unit of the chain's lengths.
+    start_angle, end_angle : float
+        Polar angles about ``center`` where the arc starts and ends (radians).
+    side : int, default 0
+        +1, -1 or 0, as above.
     """
 
     type: str
@@ -45,13 +64,35 @@ class Arc:
     side: int = 0
 
     def configuration(self, theta_free: float) -> np.ndarray:
-        """The joint vector of the point of the arc where the free joint is ``theta_free``."""
+        """The joint vector of the point of the arc where the free joint is ``theta_free``.
+
+        Parameters
+        ----------
+        theta_free : float
+            The value of the free joint (radians).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(p,)`` joint angles (radians): the held joints at their values, the free one at ``theta_free``.
+        """
         theta = np.array([s[0] for s in self.theta_sets])
         theta[self.free_joint - 1] = theta_free
         return theta
 
     def point(self, angle: float) -> np.ndarray:
-        """The point of the circle at polar angle ``angle``."""
+        """The point of the circle at polar angle ``angle``.
+
+        Parameters
+        ----------
+        angle : float
+            Polar angle about :attr:`center` (radians); any value, not only one on the arc.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(2,)``: the point ``center + radius (cos angle, sin angle)``.
+        """
         return np.array([self.center[0] + self.radius * math.cos(angle),
                          self.center[1] + self.radius * math.sin(angle)])
 
@@ -63,13 +104,37 @@ class Arc:
 
 
 def degrees(radians: float) -> float:
-    """An angle of the float geometry in degrees, without float noise (-60.0, not -59.99999999999999)."""
+    """An angle of the float geometry in degrees, without float noise (-60.0, not -59.99999999999999).
+
+    Parameters
+    ----------
+    radians : float
+        The angle in radians.
+
+    Returns
+    -------
+    float
+        The angle in degrees (:func:`~workspace_sym.numbers.clean` on the scale of a full turn): the nearest
+        decimal of at most 9 significant digits when within float noise of it, 0.0 within 3.6e-10 deg of zero.
+    """
     return clean(math.degrees(radians), scale=360.0)
 
 
 def degrees_text(radians: float) -> str:
     """A joint limit as given in degrees: ``-60``, not ``-59.99999999999999``.
 
+    Parameters
+    ----------
+    radians : float
+        The angle in radians.
+
+    Returns
+    -------
+    str
+        :func:`degrees` written with at most 10 significant digits, without a trailing ``.0``.
+
+    Examples
+    --------
     >>> degrees_text(math.radians(-60)), degrees(math.radians(130))
     ('-60', 130.0)
     """

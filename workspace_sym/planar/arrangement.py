@@ -25,18 +25,64 @@ _TWO_PI = 2 * math.pi
 
 
 def arc_area_term(cx, cy, r, a0, a1):
-    """Green's theorem term ``(1/2) int (x dy - y dx)`` of the arc of centre ``c``, radius ``r``, angles a0 -> a1."""
+    """Green's theorem term ``(1/2) int (x dy - y dx)`` of the arc of centre ``c``, radius ``r``, angles a0 -> a1.
+
+    Parameters
+    ----------
+    cx, cy : float or numpy.ndarray
+        The centre.
+    r : float or numpy.ndarray
+        The radius.
+    a0, a1 : float or numpy.ndarray
+        Polar angles about the centre where the arc starts and ends (radians); ``a1 < a0`` runs clockwise.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        The term (broadcast over array arguments); the terms of a closed loop add up to its signed area.
+    """
     return 0.5 * (r * r * (a1 - a0) + r * cx * (np.sin(a1) - np.sin(a0)) - r * cy * (np.cos(a1) - np.cos(a0)))
 
 
 def in_span(angle, start, span, tol=0.0):
-    """Whether ``angle`` lies on the counter-clockwise span ``[start, start + span]`` (vectorised)."""
+    """Whether ``angle`` lies on the counter-clockwise span ``[start, start + span]`` (vectorised).
+
+    Parameters
+    ----------
+    angle : float or numpy.ndarray
+        The angle(s) (radians), any turn.
+    start : float or numpy.ndarray
+        Where the span starts (radians).
+    span : float or numpy.ndarray
+        Its counter-clockwise length (radians, 0 to 2 pi).
+    tol : float, default 0.0
+        Slack in radians at both ends.
+
+    Returns
+    -------
+    bool or numpy.ndarray
+        True where the angle lies on the span, within ``tol`` (broadcast over array arguments).
+    """
     rel = np.mod(angle - start + tol, _TWO_PI) - tol
     return (rel >= -tol) & (rel <= span + tol)
 
 
 def arc_distance(points, cx, cy, r, start, span):
-    """Distance from each point (n, 2) to each arc (m) -> (n, m)."""
+    """Distance from each point (n, 2) to each arc (m) -> (n, m).
+
+    Parameters
+    ----------
+    points : array_like
+        ``(n, 2)`` points (one point ``(2,)`` is taken as ``(1, 2)``).
+    cx, cy, r, start, span : numpy.ndarray
+        ``(m,)`` arcs: centre, radius, start angle and counter-clockwise span (radians).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(n, m)``: the distance from each point to the nearest point of each arc (to the circle when the
+        point's polar angle lies on the span, else to the nearer end).
+    """
     points = np.atleast_2d(points)
     dx = points[:, 0:1] - cx
     dy = points[:, 1:2] - cy
@@ -48,7 +94,22 @@ def arc_distance(points, cx, cy, r, start, span):
 
 
 def crossings(points, cx, cy, r, start, span, direction: float = 0.0):
-    """Number of crossings of the ray from each point in ``direction`` (radians) with each arc -> (n, m) ints."""
+    """Number of crossings of the ray from each point in ``direction`` (radians) with each arc -> (n, m) ints.
+
+    Parameters
+    ----------
+    points : array_like
+        ``(n, 2)`` points (one point ``(2,)`` is taken as ``(1, 2)``).
+    cx, cy, r, start, span : numpy.ndarray
+        ``(m,)`` arcs: centre, radius, start angle and counter-clockwise span (radians).
+    direction : float, default 0.0
+        The direction of the rays (radians, 0 along +x).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(n, m)`` integers, 0 to 2: the crossings strictly ahead of each point; a tangent ray counts none.
+    """
     points = np.atleast_2d(points)
     cb, sb = math.cos(direction), math.sin(direction)
     # rotate everything by -direction so that the ray runs along +x
@@ -68,7 +129,26 @@ def crossings(points, cx, cy, r, start, span, direction: float = 0.0):
 
 def parity_inside(points, cx, cy, r, start, span, *, tol: float = 1e-12):
     """Ray parity of each point against closed loops of arcs, choosing for each point a ray that passes
-    no arc end point and touches no circle within ``tol`` (so vertices and tangencies never decide)."""
+    no arc end point and touches no circle within ``tol`` (so vertices and tangencies never decide).
+
+    Six fixed directions are tried in turn; a point for which every one passes within ``tol`` of an end or a
+    tangency gets the parity of the ray along +x.
+
+    Parameters
+    ----------
+    points : array_like
+        ``(n, 2)`` points (one point ``(2,)`` is taken as ``(1, 2)``).
+    cx, cy, r, start, span : numpy.ndarray
+        ``(m,)`` arcs forming closed loops: centre, radius, start angle and counter-clockwise span (radians).
+    tol : float, default 1e-12
+        Distance (in the unit of the points) within which a ray is taken to pass an end point or touch a
+        circle.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(n,)`` bools: True where the ray crosses the arcs an odd number of times (inside).
+    """
     points = np.atleast_2d(points)
     ends = np.concatenate([np.stack([cx + r * np.cos(start), cy + r * np.sin(start)], 1),
                            np.stack([cx + r * np.cos(start + span), cy + r * np.sin(start + span)], 1)])
@@ -104,12 +184,25 @@ class Edge:
 
 
 class Arrangement:
-    """The arrangement of circular arcs ``(cx, cy, r, start, span)`` (counter-clockwise spans, ``0 < span < 2 pi``).
+    """The arrangement of circular arcs ``(cx, cy, r, start, span)`` (counter-clockwise spans, ``0 < span <= 2 pi``).
 
     Attributes after construction: ``circles`` (k, 3), ``vertices`` (v, 2),
-    ``edges`` (list of :class:`Edge`), half-edge ``next``/``face`` arrays,
-    ``faces`` (index -1 is the unbounded face; ``face_cycles[f]`` its outer cycle),
-    and ``cycle_area``.
+    ``edges`` (list of :class:`Edge`), half-edge arrays ``tail``, ``head``,
+    ``next`` and ``half_face`` (the face on the left of each half-edge, -1 for
+    the unbounded face), the cycles of half-edges ``cycles`` and their signed
+    areas ``cycle_area``, and for each bounded face ``f`` its outer cycle
+    ``face_cycles[f]``, its holes ``face_holes[f]`` and its area ``face_area[f]``.
+
+    Parameters
+    ----------
+    arcs : array_like
+        ``(n, 5)`` rows ``(cx, cy, r, start, span)``.
+    scale : float, default 1.0
+        The size of the figure (the chain's reach): the tolerances are relative to it.
+    tol : float, default 1e-9
+        Circles, and points, closer than ``tol * scale`` are merged.
+    tangent_tol : float, default 1e-7
+        Two circles within ``tangent_tol * scale`` of tangency meet in one point.
     """
 
     def __init__(self, arcs, *, scale: float = 1.0, tol: float = 1e-9, tangent_tol: float = 1e-7):
@@ -260,6 +353,20 @@ class Arrangement:
                     e.sources.append(int(k))
 
     def edge_point(self, e: Edge, t: float):
+        """The point of edge ``e``'s circle at polar angle ``t``.
+
+        Parameters
+        ----------
+        e : Edge
+            An edge of :attr:`edges`.
+        t : float
+            Polar angle about the circle's centre (radians).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(2,)``: the point.
+        """
         cx, cy, r = self.circles[e.circle]
         return np.array([cx + r * math.cos(t), cy + r * math.sin(t)])
 
@@ -297,7 +404,18 @@ class Arrangement:
         self.outgoing = outgoing
 
     def half_edge_arc(self, h):
-        """``(cx, cy, r, a_from, a_to)`` of half-edge ``h`` in its direction of travel."""
+        """``(cx, cy, r, a_from, a_to)`` of half-edge ``h`` in its direction of travel.
+
+        Parameters
+        ----------
+        h : int
+            Half-edge index: ``2e`` runs counter-clockwise along edge ``e``, ``2e + 1`` back.
+
+        Returns
+        -------
+        tuple of float
+            Centre, radius, and the polar angles where the half-edge starts and ends (radians).
+        """
         e = self.edges[h // 2]
         cx, cy, r = self.circles[e.circle]
         if h % 2 == 0:
@@ -370,7 +488,18 @@ class Arrangement:
         return np.array([cx + r * math.cos(m), cy + r * math.sin(m)])
 
     def cycle_arrays(self, k):
-        """The arcs of cycle ``k`` as arrays ``cx, cy, r, start, span`` (counter-clockwise spans)."""
+        """The arcs of cycle ``k`` as arrays ``cx, cy, r, start, span`` (counter-clockwise spans).
+
+        Parameters
+        ----------
+        k : int
+            Index into :attr:`cycles`.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(5, m)``: one column per edge of the cycle (cached per cycle).
+        """
         cache = self.__dict__.setdefault("_cycle_cache", {})
         if k not in cache:
             edges = self._edge_table()
@@ -383,11 +512,37 @@ class Arrangement:
         return self._edge_arr
 
     def inside_cycle(self, points, k):
-        """Whether each point lies inside cycle ``k`` (ray parity)."""
+        """Whether each point lies inside cycle ``k`` (ray parity).
+
+        Parameters
+        ----------
+        points : array_like
+            ``(n, 2)`` points.
+        k : int
+            Index into :attr:`cycles`.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n,)`` bools (:func:`parity_inside` with the arrangement's tolerance).
+        """
         return parity_inside(points, *self.cycle_arrays(k), tol=self.tol)
 
     def in_face(self, points, f):
-        """Whether each point lies in bounded face ``f``: inside its outer cycle and inside none of its holes."""
+        """Whether each point lies in bounded face ``f``: inside its outer cycle and inside none of its holes.
+
+        Parameters
+        ----------
+        points : array_like
+            ``(n, 2)`` points (one point ``(2,)`` is taken as ``(1, 2)``).
+        f : int
+            A bounded face, index into :attr:`face_cycles`.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n,)`` bools.
+        """
         points = np.atleast_2d(points)
         cx, cy, r, _, _ = self.cycle_arrays(self.face_cycles[f])
         box = ((points[:, 0] >= (cx - r).min()) & (points[:, 0] <= (cx + r).max()) &
@@ -402,12 +557,36 @@ class Arrangement:
         return out
 
     def face_edges(self, f):
-        """Indices of the edges around bounded face ``f`` (outer cycle and holes)."""
+        """Indices of the edges around bounded face ``f`` (outer cycle and holes).
+
+        Parameters
+        ----------
+        f : int
+            A bounded face, index into :attr:`face_cycles`.
+
+        Returns
+        -------
+        list of int
+            Indices into :attr:`edges`, sorted, each once.
+        """
         hs = list(self.cycles[self.face_cycles[f]]) + [h for k in self.face_holes[f] for h in self.cycles[k]]
         return sorted({h // 2 for h in hs})
 
     def face_clearance(self, points, f):
-        """Distance from points inside face ``f`` to the nearest edge (only the face's own edges can be nearest)."""
+        """Distance from points inside face ``f`` to the nearest edge (only the face's own edges can be nearest).
+
+        Parameters
+        ----------
+        points : array_like
+            ``(n, 2)`` points inside face ``f``.
+        f : int
+            A bounded face, index into :attr:`face_cycles`.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n,)`` distances to the nearest edge of the face.
+        """
         return arc_distance(points, *self._edge_table()[:, self.face_edges(f)]).min(axis=1)
 
     def interior_point(self, f):
@@ -416,6 +595,17 @@ class Arrangement:
         Probes step off the middle (and quarters) of the face's longest edges
         into the face, from a third of the edge length down to 1e-5 of it, and
         keep the probe with the largest clearance.
+
+        Parameters
+        ----------
+        f : int
+            A bounded face, index into :attr:`face_cycles`.
+
+        Returns
+        -------
+        tuple
+            ``(point, clearance)``: a ``(2,)`` array and its distance to the nearest edge (more than 10 times the
+            tolerance), or ``(None, -1.0)``.
         """
         best, best_clear = None, -1.0
         hs = list(self.cycles[self.face_cycles[f]])

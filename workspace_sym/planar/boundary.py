@@ -68,28 +68,90 @@ class BoundaryArc(Arc):
     ``start_angle`` and ``end_angle`` follow the direction of travel
     (``end < start`` when the loop runs clockwise on this circle).  ``source``
     indexes the Step 1 arc it comes from.
+
+    Parameters
+    ----------
+    type : str
+        ``"I"``, ``"II"`` or ``"III"``, as in :class:`~workspace_sym.planar.arcs.Arc`.
+    free_joint : int
+        The joint that turns along the arc, 1-based.
+    theta_sets : tuple of tuple of float
+        ``(value,)`` for a held joint, ``(low, high)`` for the free joint over this arc (radians).
+    center : tuple of float
+        The centre ``(x, y)`` of the circle.
+    radius : float
+        The radius of the circle.
+    start_angle, end_angle : float
+        Polar angles about ``center`` at the start and the end of the arc in the loop's direction of travel
+        (radians).
+    side : int, default 0
+        The side of the Step 1 arc (+1 workspace away from the centre, -1 towards it).
+    source : int, default -1
+        The index of the Step 1 arc in :attr:`PlanarChain.step1 <workspace_sym.planar.chain.PlanarChain.step1>`.
     """
 
     source: int = -1
 
     @property
     def sweep(self) -> float:
+        """The signed angle the arc turns through.
+
+        Returns
+        -------
+        float
+            ``end_angle - start_angle`` (radians): negative when the loop runs clockwise on this circle.
+        """
         return self.end_angle - self.start_angle
 
     @property
     def start(self):
+        """The point where the arc starts in the direction of travel.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(2,)``: the point at ``start_angle``.
+        """
         return self.point(self.start_angle)
 
     @property
     def end(self):
+        """The point where the arc ends in the direction of travel.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(2,)``: the point at ``end_angle``.
+        """
         return self.point(self.end_angle)
 
     def area_term(self) -> float:
+        """The arc's term of the enclosed area by Green's theorem, ``(1/2) int (x dy - y dx)`` along it.
+
+        Returns
+        -------
+        float
+            The term (:func:`~workspace_sym.planar.arrangement.arc_area_term`); the terms of a loop add up to
+            its signed area.
+        """
         return float(arc_area_term(*self.center, self.radius, self.start_angle, self.end_angle))
 
 
 def format_set(values, digits: int = 4) -> str:
-    """A joint's set of a boundary arc, in degrees: ``{-60.0000}`` (held) or ``[-60.0000, -55.1005]`` (free)."""
+    """A joint's set of a boundary arc, in degrees: ``{-60.0000}`` (held) or ``[-60.0000, -55.1005]`` (free).
+
+    Parameters
+    ----------
+    values : sequence of float
+        ``(value,)`` or ``(low, high)``, already in degrees.
+    digits : int, default 4
+        Decimals shown.
+
+    Returns
+    -------
+    str
+        The set in braces (one value) or as an interval (two).
+    """
     if len(values) == 1:
         return f"{{{fmt(values[0], digits)}}}"
     return f"[{fmt(values[0], digits)}, {fmt(values[1], digits)}]"
@@ -98,14 +160,33 @@ def format_set(values, digits: int = 4) -> str:
 class ArcTable(list):
     """:meth:`Boundary.table`: a list of ``{"type", "free_joint", "theta_sets"}`` dicts, one per arc, that Jupyter
     displays as the table it is (HTML drawn by :func:`workspace_sym.display.arc_table_html`, or Markdown), held
-    joints in braces and free ones as intervals."""
+    joints in braces and free ones as intervals.
+
+    Parameters
+    ----------
+    rows : iterable of dict
+        One dict per arc: ``"type"``, ``"free_joint"`` (1-based) and ``"theta_sets"`` (one tuple per joint, in
+        degrees: floats, or SymPy expressions when ``exact``).
+    joints : int
+        The number of joints (columns of sets).
+    exact : bool, default False
+        Whether the sets are closed forms (shown as SymPy prints them) rather than floats (shown with 4
+        decimals).
+    """
 
     def __init__(self, rows, *, joints: int, exact: bool = False):
         super().__init__(rows)
         self.joints, self.exact = joints, exact
 
     def cells(self) -> tuple[list, list]:
-        """The header and the rows of cells (text), one row per arc."""
+        """The header and the rows of cells (text), one row per arc.
+
+        Returns
+        -------
+        tuple
+            ``(header, rows)``: the header ``["#", "type", "θ1 (deg)", ...]`` and one list per arc: its number
+            from 1, its type and the set of each joint as text (:func:`format_set`, or the closed forms).
+        """
         def shown(values):
             if not self.exact:
                 return format_set(values)
@@ -123,6 +204,18 @@ class ArcTable(list):
 
 @dataclass(frozen=True)
 class Loop:
+    """One closed loop of a boundary, the workspace on its left.
+
+    Parameters
+    ----------
+    kind : str
+        ``"outer"`` (counter-clockwise) or ``"hole"`` (clockwise).
+    arcs : tuple of int
+        Indices into :attr:`Boundary.arcs`, in order of travel.
+    area : float
+        The signed area it encloses: positive for an outer loop, negative for a hole.
+    """
+
     kind: str                 # "outer" or "hole"
     arcs: tuple               # indices into Boundary.arcs, in order of travel
     area: float               # signed: positive for an outer loop
@@ -130,7 +223,35 @@ class Loop:
 
 @dataclass
 class Boundary:
-    """The boundary of a planar chain's workspace (Step 2), with area, perimeter and point queries."""
+    """The boundary of a planar chain's workspace (Step 2), with area, perimeter and point queries.
+
+    Made by :func:`build_boundary` (:meth:`PlanarChain.boundary <workspace_sym.planar.chain.PlanarChain.boundary>`).
+
+    Parameters
+    ----------
+    chain : PlanarChain
+        The chain, read by its attributes.
+    arcs : list of BoundaryArc
+        Every arc of every loop.
+    loops : list of Loop
+        The loops, outer ones first, each kind by decreasing area.
+    counts : dict
+        The number of arcs after each step: ``{"step0": ..., "step1": ..., "step2": ...}``.
+    faces : dict
+        Face index of the arrangement -> ``"inside"``, ``"outside"`` or ``"undecided"``.
+    evidence : dict
+        Face index -> how its status was decided: ``{"method": ..., ...}`` with the arc, the witness
+        configuration or the probe point.
+    undecided_area : float
+        The total area of the undecided faces (0 when every face was decided).
+    seconds : float
+        Wall-clock time of the computation.
+    arrangement : Arrangement
+        The arrangement of the kept arcs.
+    merged : dict, optional
+        The slivers merged into their neighbours: ``{"faces", "area", "width_tolerance", "into"}``; empty when
+        there were none.
+    """
 
     chain: Any                # the PlanarChain (planar.chain), read by its attributes: the chain imports this module
     arcs: list
@@ -145,17 +266,36 @@ class Boundary:
 
     @property
     def area(self) -> float:
-        """Area enclosed by the loops (Green's theorem over the arcs)."""
+        """Area enclosed by the loops (Green's theorem over the arcs).
+
+        Returns
+        -------
+        float
+            The sum of the loops' signed areas (holes subtract), in the square of the chain's unit of length.
+        """
         return float(sum(loop.area for loop in self.loops))
 
     @property
     def perimeter(self) -> float:
+        """The total length of the boundary.
+
+        Returns
+        -------
+        float
+            The sum of ``radius * |sweep|`` over every arc of every loop.
+        """
         return float(sum(a.radius * abs(a.sweep) for a in self.arcs))
 
     @cached_property
     def exact(self) -> list[dict]:
         """Closed forms of the arcs (:func:`~workspace_sym.planar.exact.closed_forms`), one dict per arc, computed
-        once."""
+        once.
+
+        Returns
+        -------
+        list of dict
+            One dict per arc of :attr:`arcs`, in the same order.
+        """
         return closed_forms(self)
 
     def _arc_arrays(self):
@@ -163,11 +303,39 @@ class Boundary:
         return np.array(rows, dtype=float).reshape(-1, 5).T
 
     def contains(self, point, *, tol: float = 1e-9) -> str:
-        """``"inside"``, ``"outside"`` or ``"boundary"`` (within ``tol`` times the reach) — ray parity (paper §5)."""
+        """``"inside"``, ``"outside"`` or ``"boundary"`` (within ``tol`` times the reach) — ray parity (paper §5).
+
+        Parameters
+        ----------
+        point : array_like
+            ``(2,)``: the point ``(x, y)``.
+        tol : float, default 1e-9
+            Distance to the nearest arc, relative to the chain's reach, within which the point is on the
+            boundary.
+
+        Returns
+        -------
+        str
+            ``"inside"``, ``"outside"`` or ``"boundary"``.  With one joint the workspace is an arc: every point
+            off it is ``"outside"``.
+        """
         return str(self.classify(np.asarray(point, dtype=float).reshape(1, 2), tol=tol)[0])
 
     def classify(self, points, *, tol: float = 1e-9) -> np.ndarray:
-        """:meth:`contains` for many points at once: an array of ``"inside"`` / ``"outside"`` / ``"boundary"``."""
+        """:meth:`contains` for many points at once: an array of ``"inside"`` / ``"outside"`` / ``"boundary"``.
+
+        Parameters
+        ----------
+        points : array_like
+            ``(n, 2)`` points (one point ``(2,)`` is taken as ``(1, 2)``).
+        tol : float, default 1e-9
+            As in :meth:`contains`.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n,)`` object array of the three strings.
+        """
         q = np.atleast_2d(np.asarray(points, dtype=float))
         out = np.full(len(q), "outside", dtype=object)
         if not self.arcs:
@@ -185,6 +353,19 @@ class Boundary:
         """Every configuration on a kept arc (Step 1) that reaches the boundary point ``point`` (radians, (k, p)).
 
         Empty when the point is not on the boundary.
+
+        Parameters
+        ----------
+        point : array_like
+            ``(2,)``: the point ``(x, y)``.
+        tol : float, default 1e-9
+            Distance relative to the chain's reach within which the point is on the boundary and on a kept arc.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(k, p)`` joint angles (radians), rounded to 12 decimals and without repeats; ``(0, p)`` when the
+            point is not on the boundary.
         """
         q = np.asarray(point, dtype=float)
         if self.contains(q, tol=tol) != "boundary":
@@ -205,7 +386,19 @@ class Boundary:
 
     def table(self, *, exact: bool = False) -> ArcTable:
         """Rows in the form of the paper's Table 2: type and the set of every joint, in degrees (a list of dicts
-        that a notebook displays as a table)."""
+        that a notebook displays as a table).
+
+        Parameters
+        ----------
+        exact : bool, default False
+            Whether the sets are the closed forms of :attr:`exact` (SymPy expressions in degrees) rather than
+            floats.
+
+        Returns
+        -------
+        ArcTable
+            One ``{"type", "free_joint", "theta_sets"}`` dict per arc.
+        """
         rows = []
         ex = self.exact if exact else None
         for k, a in enumerate(self.arcs):
@@ -219,7 +412,20 @@ class Boundary:
         return ArcTable(rows, joints=self.chain.p, exact=exact)
 
     def to_dict(self, *, exact: bool = False) -> dict:
-        """The JSON object of ``workspace-sym boundary`` (docs/cli.md)."""
+        """The JSON object of ``workspace-sym boundary`` (docs/cli.md).
+
+        Parameters
+        ----------
+        exact : bool, default False
+            Whether to add the closed forms: an ``"exact"`` object per arc (strings of SymPy expressions) and
+            ``"area_exact"``.
+
+        Returns
+        -------
+        dict
+            ``arcs`` (type, free joint, sets in degrees, centre, radius, start and end angles in radians, side),
+            ``loops``, ``area``, ``perimeter``, ``counts``, ``undecided_area``, ``seconds`` and ``merged``.
+        """
         arcs = []
         ex = self.exact if exact else None
         reach = self.chain.reach
@@ -247,7 +453,18 @@ class Boundary:
         return f"Boundary({len(self.arcs)} arcs, {n} loop{'' if n == 1 else 's'}, area {fmt(self.area, 6, 'g')})"
 
     def polygon(self, *, step: float = 0.01):
-        """The loops as polylines (list of (n, 2) arrays) for drawing and polygon checks."""
+        """The loops as polylines (list of (n, 2) arrays) for drawing and polygon checks.
+
+        Parameters
+        ----------
+        step : float, default 0.01
+            The largest angle between two points of an arc (radians); each arc has at least its two ends.
+
+        Returns
+        -------
+        list of numpy.ndarray
+            One ``(n, 2)`` array per loop, in :attr:`loops` order; a point shared by two arcs appears twice.
+        """
         polys = []
         for loop in self.loops:
             pts = []
@@ -288,6 +505,21 @@ def prove_unreachable(chain, q, *, max_boxes: int = 200_000) -> bool | None:
     a box is discarded when the disc ``|v - v(m)| <= sum_j lever_j h_j``
     (outward-rounded mean-value bound, levers from an interval enclosure of
     ``|P_p - P_j|`` over the box) misses that arc by more than a 1e-9 margin.
+
+    Parameters
+    ----------
+    chain : PlanarChain
+        The chain, read by its attributes.
+    q : array_like
+        ``(2,)``: the point.
+    max_boxes : int, default 200000
+        Budget of the bisection (:func:`~workspace_sym.interval.search.prove_all`).
+
+    Returns
+    -------
+    bool or None
+        True when proved unreachable; None when the budget ran out first (never False: no box is proved to
+        reach ``q``).  With one joint, True when ``|q|`` differs from the length by more than the margin.
     """
     L = np.array(chain.lengths)
     q = np.asarray(q, dtype=float)
@@ -365,6 +597,19 @@ def outside_every_turn(chain, q) -> bool:
     A face of the arrangement is reachable everywhere or nowhere, so one such point proves the whole face outside:
     the hole of a chain whose joints turn a hair short of a full turn is tangent to reachable points, and no finite
     interval exclusion can cover it.
+
+    Parameters
+    ----------
+    chain : PlanarChain
+        The chain, read by its exact lengths.
+    q : array_like
+        ``(2,)``: the point (floats, compared as the rationals they are).
+
+    Returns
+    -------
+    bool
+        True when ``q`` is proved outside the annulus; False otherwise, and always when a length is irrational
+        (no claim is made).
     """
     from fractions import Fraction
 
@@ -388,8 +633,22 @@ def unreachable_via_subchain(chain, q, *, margin: float = 1e-9):
     ``margin`` times the reach from every boundary arc of ``W``, ``q`` is
     unreachable.  Float geometry with explicit tolerances, like the rest of Step 2.
 
-    Returns ``(True, None)`` (unreachable), ``(False, theta)`` (reachable, with a
-    witness configuration when one was found) or ``(None, None)``.
+    Parameters
+    ----------
+    chain : PlanarChain
+        The chain, read by its attributes.
+    q : array_like
+        ``(2,)``: the point.
+    margin : float, default 1e-9
+        The tolerance, relative to the chain's reach.
+
+    Returns
+    -------
+    tuple
+        ``(True, None)`` (unreachable), ``(False, theta)`` (reachable, ``theta`` a ``(p,)`` witness
+        configuration in radians, or None when the least squares did not land within the tolerance) or
+        ``(None, None)`` (undecided, also when the workspace of joints 2..p is itself unreliable or has
+        undecided faces).
     """
     q = np.asarray(q, dtype=float)
     tol = margin * chain.reach
@@ -460,7 +719,30 @@ def witness_near(chain, targets, *, starts=None, points=None, samples: int = 409
     """Configurations reaching ``targets`` (m, 2): least squares from the ``k`` sampled configurations whose
     end points are nearest each target.  ``starts`` (and their end ``points``) may be given to reuse a sample.
 
-    Returns the best configuration per target (m, p) and its distance to the target (m,).
+    Parameters
+    ----------
+    chain : PlanarChain
+        The chain, read by its attributes.
+    targets : array_like
+        ``(m, 2)`` points (one point ``(2,)`` is taken as ``(1, 2)``).
+    starts : numpy.ndarray, optional
+        ``(n, p)`` configurations to start from (radians); by default ``chain.sample(samples, seed=seed)``.
+    points : numpy.ndarray, optional
+        ``(n, 2)`` end points of ``starts``; by default computed.
+    samples : int, default 4096
+        Size of the random sample drawn when ``starts`` is not given.
+    seed : int, default 0
+        Seed of that sample.
+    k : int, default 16
+        The number of starts per target.
+    iterations : int, default 60
+        Damped least-squares steps, projected on the joint box.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        The best configuration per target ``(m, p)`` (radians, within the limits) and its distance to the
+        target ``(m,)``.
     """
     targets = np.atleast_2d(np.asarray(targets, dtype=float))
     if starts is None:
@@ -593,7 +875,39 @@ def _classify(chain, arr: Arrangement, kept, samples, seed, max_boxes, slivers=(
 
 def build_boundary(chain, *, samples: int = 4096, seed: int = 0, max_boxes: int = 4_000,
                    progress: bool | None = None) -> Boundary:
-    """Step 2 for ``chain`` (see :meth:`workspace_sym.planar.chain.PlanarChain.boundary`)."""
+    """Step 2 for ``chain`` (see :meth:`workspace_sym.planar.chain.PlanarChain.boundary`).
+
+    Parameters
+    ----------
+    chain : PlanarChain
+        The chain, read by its attributes (its Steps 0 and 1).
+    samples : int, default 4096
+        The number of random configurations drawn to find witnesses.
+    seed : int, default 0
+        Seed of that sample.
+    max_boxes : int, default 4000
+        Box budget of the interval exclusion of each face.
+    progress : bool or None, default None
+        Show the stages: True always, False never, None on an interactive output once the run has lasted a
+        second.
+
+    Returns
+    -------
+    Boundary
+        A new boundary (:meth:`PlanarChain.boundary <workspace_sym.planar.chain.PlanarChain.boundary>` keeps
+        it; this function does not).
+
+    Raises
+    ------
+    BoundaryError
+        When the loops found contradict a property every chain has (an area larger than the annulus that holds
+        every configuration, or a negative one).
+
+    Warns
+    -----
+    UserWarning
+        When faces stay undecided, and for each note of the classification.
+    """
     t0 = time.perf_counter()
     say = stage_bar(progress, "boundary", 4)
     say("steps 0 and 1")

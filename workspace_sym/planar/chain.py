@@ -54,6 +54,26 @@ def read_value(value, name: str):
     """A user number as ``(float, exact SymPy number)``; decimals are read as the rationals they spell.
 
     Text goes through :func:`~workspace_sym.expressions.parse_expr` (no symbols allowed).
+
+    Parameters
+    ----------
+    value : int, float, fractions.Fraction, str or SymPy number
+        The number: an integer or fraction is exact, a float is the decimal it prints as (``0.186`` is
+        ``93/500``), text such as ``"3/20"`` or ``"sqrt(2)/10"`` is read by the restricted grammar.
+    name : str
+        What the value is, for messages (``"length of joint 2"``).
+
+    Returns
+    -------
+    tuple
+        ``(float, sympy.Expr)``: the value as a float and as an exact real SymPy number.
+
+    Raises
+    ------
+    InvalidParameterError
+        When ``value`` is a bool, None, of another type, not finite or not real.
+    ExpressionError
+        When text cannot be read as a number (a symbol, a syntax error, a refused construct).
     """
     if isinstance(value, bool) or value is None:
         raise InvalidParameterError(f"{name} must be a finite number; got {value!r}")
@@ -85,18 +105,32 @@ def read_value(value, name: str):
 class PlanarChain:
     """A planar chain of revolute joints with limits.
 
-    Parameters
-    ----------
-    lengths : sequence of positive numbers (floats, integers, fractions or strings
-        such as ``"3/20"`` or ``"sqrt(2)/10"``)
-    lower, upper : joint limits, ``lower < upper`` (degrees by default), any values: a range of a full turn
-        (360 degrees) or more, such as ``[-180, 180]`` or a datasheet's ``[-360, 360]``, is a joint without
-        limits, and so is one that falls short of a full turn by at most ``2 *`` :data:`RESOLUTION` radians
-        (1.1e-5 deg: the angles it leaves out move the end point by less than the detail the boundary resolves)
-    degrees : bool
-
     Inputs are kept exact as well: a float is read as the decimal it prints as
     (``0.186`` is ``93/500``), so that :meth:`boundary` can give closed forms.
+
+    Parameters
+    ----------
+    lengths : sequence of numbers
+        The link lengths, positive: floats, integers, fractions or strings such as ``"3/20"`` or
+        ``"sqrt(2)/10"`` (:func:`read_value`).  The longest lies between 1e-100 and 1e100 and the shortest is at
+        least :data:`RESOLUTION` times the longest.
+    lower, upper : sequence of numbers
+        Joint limits, one per joint, ``lower < upper`` (degrees by default), any values: a range of a full turn
+        (360 degrees) or more, such as ``[-180, 180]`` or a datasheet's ``[-360, 360]``, is a joint without
+        limits, and so is one that falls short of a full turn by at most ``2 *`` :data:`RESOLUTION` radians
+        (1.1e-5 deg: the angles it leaves out move the end point by less than the detail the boundary resolves).
+    degrees : bool, default True
+        Whether ``lower`` and ``upper`` are in degrees; False reads them as radians.
+
+    Raises
+    ------
+    InvalidParameterError
+        When the three are not sequences of one value per joint, there is no joint, a value is not a finite real
+        number or a length is not positive or out of the ranges above.
+    ExpressionError
+        When a value given as text cannot be read as a number.
+    JointLimitError
+        When a lower limit is not below its upper limit.
 
     Examples
     --------
@@ -160,7 +194,18 @@ class PlanarChain:
 
     # ------------------------------------------------------------------ kinematics
     def joints_positions(self, theta) -> np.ndarray:
-        """``(..., p + 1, 2)`` array of ``P_0 = O, P_1, ..., P_p`` (vectorised over leading axes)."""
+        """``(..., p + 1, 2)`` array of ``P_0 = O, P_1, ..., P_p`` (vectorised over leading axes).
+
+        Parameters
+        ----------
+        theta : array_like
+            ``(..., p)`` joint angles (radians).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(..., p + 1, 2)``: the origin, then the end of each link.
+        """
         theta = np.asarray(theta, dtype=float)
         phi = np.cumsum(theta, axis=-1)
         steps = np.stack([-np.sin(phi), np.cos(phi)], axis=-1) * np.asarray(self.lengths)[:, None]
@@ -168,13 +213,40 @@ class PlanarChain:
         return np.concatenate([zero, np.cumsum(steps, axis=-2)], axis=-2)
 
     def forward(self, theta) -> np.ndarray:
-        """End point ``P_p`` (vectorised over leading axes of ``theta``)."""
+        """End point ``P_p`` (vectorised over leading axes of ``theta``).
+
+        Parameters
+        ----------
+        theta : array_like
+            ``(..., p)`` joint angles (radians).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(..., 2)``: the end point of each configuration.
+        """
         theta = np.asarray(theta, dtype=float)
         phi = np.cumsum(theta, axis=-1)
         return np.stack([-(np.sin(phi) * self.lengths).sum(-1), (np.cos(phi) * self.lengths).sum(-1)], axis=-1)
 
     def sample(self, n: int, *, seed=0, corners: bool = True) -> np.ndarray:
-        """``n`` random configurations (uniform in the joint box), plus up to 4096 corners of the box."""
+        """``n`` random configurations (uniform in the joint box), plus up to 4096 corners of the box.
+
+        Parameters
+        ----------
+        n : int
+            The number of random configurations.
+        seed : int, numpy.random.Generator or None, default 0
+            Seed of :func:`numpy.random.default_rng`; None draws a fresh one.
+        corners : bool, default True
+            Whether to put the ``2**min(p, 12)`` corners of the box first: the first 12 joints at either limit,
+            any further joints at their lower limit.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n + 2**min(p, 12), p)`` joint angles (radians), corners first; ``(n, p)`` without corners.
+        """
         rng = np.random.default_rng(seed)
         lo, hi = np.array(self.lower), np.array(self.upper)
         theta = lo + (hi - lo) * rng.random((n, self.p))
@@ -257,6 +329,12 @@ class PlanarChain:
         free joints, the angles of the free joints after ``i = min J`` are fixed
         (kept when strictly inside their limits), and ``P_p`` describes an arc
         of the circle centred at ``P_i`` as ``theta_i`` runs over its range.
+
+        Returns
+        -------
+        list of Arc
+            The candidate arcs, a new list on each call (the arrays behind it, :attr:`step0`, are computed
+            once); ``side`` is 0.
         """
         cand = self.step0
         return [self._make_arc(cand, k, self.lower[i], self.upper[i]) for k, i in enumerate(cand["free"])]
@@ -320,7 +398,13 @@ class PlanarChain:
         return tuple(kept)
 
     def kept_arcs(self) -> list[Arc]:
-        """Step 1: the parts of the candidate arcs kept by Lemma 3.1, with their side."""
+        """Step 1: the parts of the candidate arcs kept by Lemma 3.1, with their side.
+
+        Returns
+        -------
+        list of Arc
+            A new list of :attr:`step1` (computed once), ``side`` +1 or -1.
+        """
         return list(self.step1)
 
     @cached_property
@@ -345,6 +429,38 @@ class PlanarChain:
 
         ``progress`` shows the stages of a long run (:mod:`workspace_sym.progress`;
         by default on an interactive output once it has lasted a second).
+
+        The result is kept: a second call with the same ``samples``, ``seed`` and ``max_boxes`` returns the same
+        object.
+
+        Parameters
+        ----------
+        samples : int, default 4096
+            The number of random configurations drawn (with the corners of the joint box) to find witnesses.
+        seed : int, default 0
+            Seed of that sample.
+        max_boxes : int, default 4000
+            Box budget of the interval exclusion of each face.
+        progress : bool or None, default None
+            True shows the stages, False never; None shows them on an interactive output once the run has
+            lasted a second.
+
+        Returns
+        -------
+        Boundary
+            The loops of arcs, their area and perimeter, and how each face was decided.
+
+        Raises
+        ------
+        BoundaryError
+            When the loops found contradict a property every chain has (an area larger than the annulus that
+            holds every configuration, or a negative one): limits a hair short of a full turn.
+
+        Warns
+        -----
+        UserWarning
+            When faces stay undecided (the area is then a lower bound, :attr:`Boundary.undecided_area` the
+            rest), and for each note of the classification.
         """
         key = (samples, seed, max_boxes)
         if key not in self._boundaries:

@@ -24,6 +24,18 @@ def link_direction(angle):
     """``u(angle) = (-sin angle, cos angle)``: the direction of a link at absolute angle ``angle`` from the +y axis,
     as a SymPy column (the end point of a chain is ``sum_k l_k u(phi_k)``, docs/methods.md section 4).
 
+    Parameters
+    ----------
+    angle : sympy.Expr or number
+        The absolute angle of the link (radians).
+
+    Returns
+    -------
+    sympy.Matrix
+        The 2 x 1 column ``(-sin angle, cos angle)``.
+
+    Examples
+    --------
     >>> link_direction(sp.pi / 2).T
     Matrix([[-1, 0]])
     """
@@ -49,6 +61,16 @@ def short_atan2(y, x):
     """``atan2(y, x)`` as one short term: a known angle when SymPy evaluates it exactly, otherwise
     ``atan2`` (not ``atan`` of a quotient plus a multiple of pi) of integer-coefficient arguments, with the sign
     of ``y`` pulled out.
+
+    Parameters
+    ----------
+    y, x : sympy.Expr
+        The coordinates, exact expressions.
+
+    Returns
+    -------
+    sympy.Expr
+        An expression equal to ``atan2(y, x)``.
 
     Examples
     --------
@@ -91,7 +113,19 @@ def _combine(terms):
 
 def polar_angle(terms):
     """Polar angle of ``sum L u(a)`` over ``terms`` (pairs ``(L, a)``), as ``a_ref + pi/2 + atan2(...)`` with
-    the arguments measured from the term of largest coefficient.  ``None`` for the zero vector."""
+    the arguments measured from the term of largest coefficient.  ``None`` for the zero vector.
+
+    Parameters
+    ----------
+    terms : iterable of tuple
+        Pairs ``(L, a)`` of SymPy expressions: a length and an absolute angle (radians); terms of equal angles
+        are added first.
+
+    Returns
+    -------
+    sympy.Expr or None
+        The polar angle (radians, not reduced to a turn), or None when the terms cancel.
+    """
     terms = _combine(terms)
     if not terms:
         return None
@@ -104,7 +138,18 @@ def polar_angle(terms):
 
 
 def norm2(terms):
-    """``|sum L u(a)|^2`` as ``sum L^2 + 2 sum L L' cos(a - a')`` (never a sin^2 + cos^2)."""
+    """``|sum L u(a)|^2`` as ``sum L^2 + 2 sum L L' cos(a - a')`` (never a sin^2 + cos^2).
+
+    Parameters
+    ----------
+    terms : iterable of tuple
+        Pairs ``(L, a)`` of SymPy expressions: a length and an absolute angle (radians).
+
+    Returns
+    -------
+    sympy.Expr
+        The squared norm, expanded.
+    """
     terms = _combine(terms)
     return sp.expand(sum(L ** 2 for L, _ in terms)
                      + sum(2 * L1 * L2 * sp.cos(a2 - a1) for (L1, a1), (L2, a2) in zip_pairs(terms)))
@@ -112,6 +157,16 @@ def norm2(terms):
 
 def short_sqrt(value):
     """``sqrt(value)`` written ``sqrt(N)/D`` with integer coefficients in ``N`` and ``D`` an integer.
+
+    Parameters
+    ----------
+    value : sympy.Expr
+        A non-negative exact expression.
+
+    Returns
+    -------
+    sympy.Expr
+        An expression equal to ``sqrt(value)``; a rational or a single term gives SymPy's own ``sqrt``.
 
     Examples
     --------
@@ -265,6 +320,22 @@ def is_zero(expr, *, max_degree: int = 48) -> bool:
     including when the number field is too large for minimal_polynomial to finish quickly (cos(pi/180) has degree
     48 and one with a few of them can run for minutes): callers then keep the form they had.
 
+    Parameters
+    ----------
+    expr : sympy.Expr
+        An exact expression.
+    max_degree : int, default 48
+        The largest bound on the degree of the number field (sines and cosines of rational multiples of pi,
+        square roots) for which the minimal polynomial is tried.
+
+    Returns
+    -------
+    bool
+        True when ``expr`` is proved zero; False when it is not, or not proved (its value exceeds 1e-30, it
+        holds another kind of term, or the field is too large).
+
+    Examples
+    --------
     >>> is_zero(sp.cos(sp.pi / 12) - (sp.sqrt(6) + sp.sqrt(2)) / 4), is_zero(sp.cos(sp.pi / 12) - sp.Rational(1, 2))
     (True, False)
     """
@@ -352,8 +423,21 @@ def closed_forms(boundary) -> list[dict]:
     closed form matches (the row's ``"exact"`` flag is then False).  Polar
     angles are written as one ``atan2`` of integer-coefficient arguments,
     radii as ``sqrt(N)/D``, and a vertex shared with a plain neighbour is
-    rewritten from the neighbour's configuration (:func:`_shorter_vertices`).
+    rewritten from the neighbour's configuration when that form is shorter and proved equal.
     Computed on every call; :attr:`Boundary.exact` holds the result once.
+
+    Parameters
+    ----------
+    boundary : Boundary
+        The boundary of a planar chain.
+
+    Returns
+    -------
+    list of dict
+        One dict per arc of ``boundary.arcs``: ``center`` (pair), ``radius``, ``start_angle``, ``end_angle``,
+        ``theta_sets`` (one tuple per joint, degrees), ``free_values``, ``joint`` (0-based index of the free
+        joint), ``configuration`` (the joint angles of the Step 1 arc, radians, None for the free joint) and
+        ``exact`` (False when a vertex fell back to a float).
     """
     chain = boundary.chain
     kept = chain.kept_arcs()
@@ -399,6 +483,17 @@ def closed_forms(boundary) -> list[dict]:
 def exact_arcs(boundary) -> list[dict]:
     """The closed forms of the arcs of ``boundary`` (:func:`closed_forms`), computed once per boundary.
 
+    Parameters
+    ----------
+    boundary : Boundary
+        The boundary of a planar chain.
+
+    Returns
+    -------
+    list of dict
+        :attr:`boundary.exact <workspace_sym.planar.boundary.Boundary.exact>`: the rows of :func:`closed_forms`,
+        the same list on every call.
+
     Examples
     --------
     >>> from workspace_sym import PlanarChain
@@ -429,6 +524,18 @@ def area_terms(boundary, rows=None) -> list[sp.Expr]:
     (``cross(u(a), u(b)) = sin(b - a)``): the sector swept about ``C`` plus the change of ``cross(C, P)``.  Each term
     is written in the shortest of a few rearrangements SymPy proves equal (expanded, common factors out).
 
+    Parameters
+    ----------
+    boundary : Boundary
+        The boundary of a planar chain.
+    rows : list of dict, optional
+        Its closed forms (:func:`closed_forms`); by default ``boundary.exact``.
+
+    Returns
+    -------
+    list of sympy.Expr
+        One term per arc, in the order of ``rows``.
+
     Examples
     --------
     >>> from workspace_sym import PlanarChain
@@ -455,5 +562,18 @@ def area_terms(boundary, rows=None) -> list[sp.Expr]:
 
 def exact_area(boundary, rows=None) -> sp.Expr:
     """The enclosed area as a closed form: the sum of :func:`area_terms` (over the exact arcs ``rows``, by
-    default those of :func:`exact_arcs`)."""
+    default those of :func:`exact_arcs`).
+
+    Parameters
+    ----------
+    boundary : Boundary
+        The boundary of a planar chain.
+    rows : list of dict, optional
+        Its closed forms (:func:`closed_forms`); by default ``boundary.exact``.
+
+    Returns
+    -------
+    sympy.Expr
+        The area, as an unsimplified sum (``sympy.simplify`` may shorten it).
+    """
     return sp.Add(*area_terms(boundary, rows))

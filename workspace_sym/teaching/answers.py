@@ -78,6 +78,19 @@ class Notation:
     When these meanings differ (a robot with a length called ``t1``, or ``c1``
     as a parameter) the name is ambiguous and refused with both meanings.
 
+    Parameters
+    ----------
+    joints : dict, optional
+        ``{k: (variable, kind)}``, as above; empty by default.
+    constants : frozenset, optional
+        The other symbols of the robot; empty by default.
+
+    Raises
+    ------
+    ExpressionError
+        From :meth:`resolve` (the constructor checks nothing): a name that is ambiguous, or that asks for the
+        angle of a prismatic joint.
+
     Examples
     --------
     >>> from workspace_sym import robots
@@ -91,13 +104,35 @@ class Notation:
 
     @classmethod
     def from_robot(cls, robot) -> Notation:
-        """The notation of a :class:`~workspace_sym.kinematics.DHRobot`."""
+        """The notation of a :class:`~workspace_sym.kinematics.DHRobot`.
+
+        Parameters
+        ----------
+        robot : DHRobot
+            The robot: its joint variables and kinds, and its other symbols as constants.
+
+        Returns
+        -------
+        Notation
+            The robot's names.
+        """
         joints = {k: (j.variable, j.kind) for k, j in enumerate(robot.joints, start=1)}
         return cls(joints, frozenset(robot.symbols))
 
     @classmethod
     def from_symbols(cls, symbols) -> Notation:
-        """Guess the joints from symbol names ``theta<k>``, ``q<k>``, ``t<k>`` (revolute); the rest are constants."""
+        """Guess the joints from symbol names ``theta<k>``, ``q<k>``, ``t<k>`` (revolute); the rest are constants.
+
+        Parameters
+        ----------
+        symbols : iterable of sympy.Symbol
+            The symbols; the first of them (by name) to name joint ``k`` is its variable.
+
+        Returns
+        -------
+        Notation
+            The guessed names.
+        """
         joints, constants = {}, set()
         for s in sorted(symbols, key=str):
             m = _JOINT_ALIAS.fullmatch(str(s))
@@ -114,7 +149,25 @@ class Notation:
         return own
 
     def resolve(self, name: str):
-        """SymPy value of ``name``, ``None`` when unknown; :class:`ExpressionError` when ambiguous."""
+        """SymPy value of ``name``, ``None`` when unknown; :class:`ExpressionError` when ambiguous.
+
+        Parameters
+        ----------
+        name : str
+            A name as the student wrote it (``"s234"``, ``"q1"``, ``"a2"``).
+
+        Returns
+        -------
+        sympy.Expr or None
+            The symbol, the joint variable, or the sine or cosine of a sum of joint variables; None when the
+            name means nothing for this robot.
+
+        Raises
+        ------
+        ExpressionError
+            When the name has two meanings, or names the angle of a prismatic joint (``theta2``, ``t2`` or
+            ``c2`` when joint 2 is prismatic and no symbol is spelled so).
+        """
         meanings = []
         own = self._own().get(name)
         if own is not None:
@@ -144,7 +197,24 @@ class Notation:
         return distinct[0] if distinct else None
 
     def resolver(self, parameter: str):
-        """``resolve`` with ``parameter`` prefixed to its ambiguity errors."""
+        """``resolve`` with ``parameter`` prefixed to its ambiguity errors.
+
+        Parameters
+        ----------
+        parameter : str
+            The name of the answer, put before the message and set as the error's ``parameter``.
+
+        Returns
+        -------
+        callable
+            ``resolve(name)``, as :meth:`resolve`.
+
+        Raises
+        ------
+        ExpressionError
+            From the returned function, where :meth:`resolve` raises it, with ``parameter`` named (this method
+            itself raises nothing).
+        """
         def resolve(name):
             try:
                 return self.resolve(name)
@@ -156,6 +226,18 @@ class Notation:
 # ------------------------------------------------------------------------------ plain text and matrices
 def split_top_level(text: str, offset: int = 0) -> list[tuple[str, int]]:
     """Pieces of ``text`` between commas outside brackets, each with its column offset.
+
+    Parameters
+    ----------
+    text : str
+        The text.
+    offset : int, default 0
+        Added to every column (the place of ``text`` in a longer text).
+
+    Returns
+    -------
+    list of tuple
+        ``(piece, column)`` pairs, pieces unstripped; one piece when there is no comma at depth 0.
 
     Examples
     --------
@@ -542,6 +624,29 @@ def _parse_latex_cell(rewritten: str, rewriter: _LatexRewriter):
 def read_latex(text: str, notation: Notation, *, parameter: str = "answer", max_length: int = 1000):
     """A LaTeX answer as SymPy (a matrix for ``pmatrix`` / ``bmatrix``), read with the names of ``notation``.
 
+    Parameters
+    ----------
+    text : str
+        The LaTeX.
+    notation : Notation
+        The names the answer may use.
+    parameter : str, default "answer"
+        The answer's name in messages.
+    max_length : int, default 1000
+        The most characters read.
+
+    Returns
+    -------
+    sympy.Expr or sympy.Matrix
+        The expression, or the matrix of a matrix environment.
+
+    Raises
+    ------
+    ExpressionError
+        When the text is too long, nested too deep, holds a plus-or-minus sign, or cannot be read (an unknown
+        command or name, a syntax error, two readings that differ, too many matrix entries); ``position`` is
+        the column of the problem when known.
+
     Examples
     --------
     >>> t1, t2, a1, a2 = sp.symbols("theta1 theta2 a1 a2")
@@ -574,6 +679,18 @@ def expansion_size(expr, cap: int = 10**9) -> int:
     expanded (what checking an answer does), stopped at ``cap``.
 
     ``(c1 + s1 + c2 + s2)^1000`` is a short text whose expansion would not finish: its estimate is the cap.
+
+    Parameters
+    ----------
+    expr : sympy.Expr
+        The expression.
+    cap : int, default 10**9
+        The largest value returned.
+
+    Returns
+    -------
+    int
+        The estimate, between 1 and ``cap``.
 
     Examples
     --------
@@ -621,11 +738,32 @@ def read_answer(text, notation: Notation, *, angles: str = "radians", parameter:
     ``\\begin{pmatrix} ... \\end{pmatrix}``).  With ``angles="degrees"``
     numbers added to angles inside sin, cos and tan are degrees.
 
+    Parameters
+    ----------
+    text : str
+        The answer.
+    notation : Notation
+        The names the answer may use.
+    angles : {"radians", "degrees"}, default "radians"
+        How numbers inside sin, cos and tan are read.
+    parameter : str, default "answer"
+        The answer's name in messages.
+
+    Returns
+    -------
+    sympy.Expr or sympy.Matrix
+        The answer; a matrix for a matrix answer.
+
     Raises
     ------
     ExpressionError
-        The text cannot be read; ``position`` is the column of the problem
-        when known.
+        The text cannot be read (or is not text, is longer than
+        :data:`~workspace_sym.expressions.MAX_LENGTH`, has more than
+        :data:`MAX_ENTRIES` entries or would expand past
+        :data:`MAX_EXPANSION` terms); ``position`` is the column of the
+        problem when known.
+    UnknownNameError
+        When ``angles`` is neither ``"radians"`` nor ``"degrees"``.
 
     Examples
     --------
@@ -685,7 +823,18 @@ _DIMENSIONS = {("length", 1): "a length", ("length", 2): "an area", ("length", 3
 
 def plain_sentence(text: str) -> str:
     """``text`` without surrounding blanks and the full stop or exclamation marks ending a sentence (``"No."``,
-    ``"4 arcs."``): nothing a formula ends with."""
+    ``"4 arcs."``): nothing a formula ends with.
+
+    Parameters
+    ----------
+    text : str
+        The answer.
+
+    Returns
+    -------
+    str
+        The text stripped of blanks and of final ``.`` and ``!``; the stripped text when nothing else is left.
+    """
     stripped = text.strip()
     return stripped.rstrip(".!").rstrip() or stripped
 
@@ -735,6 +884,18 @@ def read_yes_no(text: str, *, parameter: str = "answer") -> bool:
     reachable``, ``out of reach``, ``it cannot be reached``, ``outside the workspace``).  A reason may follow, after
     a comma, colon, semicolon, dash, full stop or just a blank (``"No because it is too far"``); it is not graded,
     but what it says is read.  Case and a final full stop do not matter.
+
+    Parameters
+    ----------
+    text : str
+        The answer.
+    parameter : str, default "answer"
+        The answer's name in messages.
+
+    Returns
+    -------
+    bool
+        True for yes (reachable), False for no.
 
     Raises
     ------
@@ -794,6 +955,17 @@ def read_count(text: str) -> tuple[int, str] | None:
     (``"4 circular arcs"`` is ``(4, "circular arcs")``); ``None`` when ``text`` is not of that form, or when a
     word after the number means something in a formula (``"2 pi"``, ``"3 sqrt"``).
 
+    Parameters
+    ----------
+    text : str
+        The answer.
+
+    Returns
+    -------
+    tuple or None
+        ``(number, words)``: the words after the number joined by single blanks (lower-cased when the number
+        is in words); or None.
+
     Examples
     --------
     >>> read_count("Four arcs"), read_count("twenty-one"), read_count("4 <b>")
@@ -830,7 +1002,19 @@ def read_count(text: str) -> tuple[int, str] | None:
 class Unit:
     """A unit of length, area, volume or angle as written (``"cm^2"``, ``"m²"``, ``"°"``): its dimension
     (``"length"`` with ``power`` 1 to 3, or ``"angle"``) and ``scale``, the value of one unit in metres to the
-    power, or in radians."""
+    power, or in radians.
+
+    Parameters
+    ----------
+    text : str
+        The unit as written.
+    dimension : str
+        ``"length"`` or ``"angle"``.
+    power : int
+        1, 2 or 3 for a length (1 for an angle).
+    scale : float
+        One unit in metres to ``power``, or in radians.
+    """
 
     text: str
     dimension: str
@@ -839,7 +1023,13 @@ class Unit:
 
     @property
     def kind(self) -> str:
-        """``"a length"``, ``"an area"``, ``"a volume"`` or ``"an angle"``."""
+        """``"a length"``, ``"an area"``, ``"a volume"`` or ``"an angle"``.
+
+        Returns
+        -------
+        str
+            The quantity the unit measures, with its article.
+        """
         return _DIMENSIONS[self.dimension, self.power]
 
 
@@ -854,6 +1044,16 @@ def _unit(m) -> Unit | None:
 def read_unit(text: str) -> Unit | None:
     """The unit ``text`` spells (``"m^2"``, ``"cm²"``, ``"rad"``, ``"degrees"``), ``None`` when it is none of them.
 
+    Parameters
+    ----------
+    text : str
+        The unit, blanks around it allowed; anything that is not a string gives None.
+
+    Returns
+    -------
+    Unit or None
+        The unit; None also for a power of an angle unit.
+
     Examples
     --------
     >>> read_unit("cm^2").scale, read_unit("m³").kind, read_unit("ft")
@@ -866,6 +1066,16 @@ def read_unit(text: str) -> Unit | None:
 def split_unit(text: str) -> tuple[str, Unit | None]:
     """``text`` as the number it starts with and the unit it ends with (``"0.327 m^2"``, ``"45°"``), or as it is
     with ``None`` when it ends with no unit.
+
+    Parameters
+    ----------
+    text : str
+        The answer.
+
+    Returns
+    -------
+    tuple
+        ``(number, unit)``: the text before the unit, stripped, and the :class:`Unit`; or ``(text, None)``.
 
     Examples
     --------
@@ -883,6 +1093,16 @@ def split_uncertainty(text: str) -> tuple[str, str | None]:
 
     A unit after the uncertainty, or after the parentheses around both, is the unit of both; a unit after the
     value alone is the uncertainty's too.
+
+    Parameters
+    ----------
+    text : str
+        The answer.
+
+    Returns
+    -------
+    tuple
+        ``(value, uncertainty)`` as text, or ``(text, None)``.
 
     Examples
     --------

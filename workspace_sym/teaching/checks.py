@@ -14,7 +14,11 @@ key``), else *undecided* (``within tolerance``: a numeric witness within
 ``t`` times the reach, "within tolerance t of the workspace, not decided";
 ``undecided``: nothing found), *cannot read*, *cannot check* (over its time
 budget) or *not graded* (the batch ran out of time).  A key holds proved
-answers only.
+answers only.  Two helpers judge otherwise: :func:`check_boundary_arc`
+compares sampled points with the computed boundary in floats within a
+tolerance (``"boundary test"``, the boundary's own standard), and
+:func:`check_measure` places a number in a certified bracket (its evidence
+is the bracket).
 """
 
 from __future__ import annotations
@@ -59,6 +63,16 @@ class Verdict:
     not checked within its time budget (``"cannot check"``), or a batch ran
     out of time before it (``"not graded"``), or it is blank (``"no answer"``)
     or a student's second answer to one question (``"duplicate"``).
+
+    Parameters
+    ----------
+    ok : bool or None
+        The judgement.
+    message : str
+        The sentence for the student.
+    evidence : dict, optional
+        What the judgement rests on: ``"method"`` and the method's data (a counterexample, a witness, a
+        bracket...).
     """
 
     ok: bool | None
@@ -71,7 +85,13 @@ class Verdict:
     @property
     def status(self) -> str:
         """``"correct"``, ``"wrong"``, ``"cannot read"``, ``"cannot check"``, ``"not graded"``, ``"no answer"``,
-        ``"duplicate"`` or ``"undecided"``."""
+        ``"duplicate"`` or ``"undecided"``.
+
+        Returns
+        -------
+        str
+            The status: from ``ok``, or for ``ok`` None from ``evidence["method"]`` when it names a reason.
+        """
         if self.ok is None:
             method = self.evidence.get("method")
             return method if method in _UNGRADED else "undecided"
@@ -96,7 +116,19 @@ def _number(value, name: str) -> float:
 
 
 def cannot_read(exc: ExpressionError) -> Verdict:
-    """The verdict on an answer that could not be read: the reason, and where."""
+    """The verdict on an answer that could not be read: the reason, and where.
+
+    Parameters
+    ----------
+    exc : ExpressionError
+        The reader's error.
+
+    Returns
+    -------
+    Verdict
+        ``ok`` None, the error's message on one line, ``evidence`` ``{"method": "cannot read", "position": ...}``
+        (the 1-based column, or None).
+    """
     message = " ".join(str(exc).split())
     return Verdict(None, message, {"method": "cannot read", "position": getattr(exc, "position", None)})
 
@@ -132,7 +164,18 @@ def _decimal(v: sp.Rational) -> str:
 
 
 def exact_parameters(robot) -> dict:
-    """The robot's numeric lengths as the decimals they print as (``0.387`` is ``387/1000``): points stay exact."""
+    """The robot's numeric lengths as the decimals they print as (``0.387`` is ``387/1000``): points stay exact.
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot, read for its numeric ``parameters``.
+
+    Returns
+    -------
+    dict
+        Parameter -> exact SymPy number.
+    """
     return {k: exact_decimal(v) if isinstance(v, float) else sp.nsimplify(v) for k, v in robot.parameters.items()}
 
 
@@ -202,6 +245,34 @@ def check_expression(student, derived, *, robot=None, angles: str = "radians", s
     e3]`` for a column.  Nothing of it is evaluated as Python; text that
     cannot be read gets a *cannot read* verdict (``ok`` None) naming the
     problem and its column, never an exception.
+
+    Parameters
+    ----------
+    student : str, SymPy expression or matrix, or sequence
+        The student's answer (a sequence is a column).
+    derived : str, sympy.Expr or sympy.Matrix
+        The right answer; text is read by :func:`~workspace_sym.expressions.parse_expr`.
+    robot : DHRobot, optional
+        The robot the question is about: its names, numeric lengths and joint limits.
+    angles : {"radians", "degrees"}, default "radians"
+        How the student's numbers inside sin, cos and tan are read.
+    samples : int, default 50
+        Random points tried for a counterexample (per entry of a matrix).
+    seed : int, default 0
+        Seed of those points.
+
+    Returns
+    -------
+    Verdict
+        ``ok`` True (exact identity), False (a counterexample, or a wrong shape) or None (no counterexample
+        found, or the answer cannot be read).
+
+    Raises
+    ------
+    ExpressionError
+        When ``derived`` (the teacher's text) cannot be read.
+    UnknownNameError
+        When ``angles`` is neither ``"radians"`` nor ``"degrees"``.
 
     Examples
     --------
@@ -274,6 +345,25 @@ def check_factors(student, derived, *, robot=None, angles: str = "radians", seed
     factors (e.g. ``robot.singular_factors()``).  Each derived factor must
     match one of the student's (``g = k f`` for a constant ``k``, proved as
     an exact identity) and each of the student's factors one derived.
+
+    Parameters
+    ----------
+    student : str or sequence
+        The student's factors.
+    derived : sequence
+        The derived factors (SymPy expressions, or text read by :func:`~workspace_sym.expressions.as_sympy`).
+    robot : DHRobot, optional
+        The robot, for its names; by default the names of the derived factors' symbols.
+    angles : {"radians", "degrees"}, default "radians"
+        How the student's numbers inside sin, cos and tan are read.
+    seed : int, default 0
+        Seed of the point where each constant ratio is guessed.
+
+    Returns
+    -------
+    Verdict
+        ``ok`` True when the factors match both ways, False with ``evidence["missing"]`` and
+        ``evidence["extra"]`` otherwise, None when the answer cannot be read.
 
     Examples
     --------
@@ -460,6 +550,38 @@ def check_boundary_arc(chain, center, radius, start_angle, end_angle, *, tol: fl
 
     Sample points of the claim are tested against the computed boundary within
     ``tol`` times the reach; the verdict names the first point that is not.
+    The test is float geometry with that tolerance (the standard of the
+    boundary itself, :mod:`workspace_sym.planar.boundary`), not a proof:
+    ``evidence["method"]`` is ``"boundary test"``.
+
+    Parameters
+    ----------
+    chain : PlanarChain
+        The chain; its boundary is computed (or reused).
+    center : pair of numbers or text
+        The claimed centre ``(x, y)``; text such as ``"1/2"`` is read by the restricted grammar.
+    radius : number or text
+        The claimed radius, positive.
+    start_angle, end_angle : number or text
+        Polar angles about the centre where the arc starts and ends (radians).
+    tol : float, default 1e-6
+        Distance from the boundary, relative to the reach, within which a point is on it.
+    points : int, default 9
+        Points sampled along the claim, ends included.
+
+    Returns
+    -------
+    Verdict
+        ``ok`` True when every sampled point is on the boundary, False naming the first that is not.
+
+    Raises
+    ------
+    InvalidParameterError
+        When a number is not real, or ``radius`` is not positive.
+    ExpressionError
+        When a number given as text cannot be read.
+    BoundaryError
+        When the chain's boundary cannot be computed reliably.
     """
     b = chain.boundary()
     c = np.array([_number(v, "center") for v in np.ravel(np.asarray(center, dtype=object))]).reshape(2)
@@ -487,6 +609,28 @@ def check_measure(claimed: float, result, *, rel_tol: float = 0.0) -> Verdict:
     area, widened by undecided faces), a :class:`~workspace_sym.interval.Paving`
     (``measure_bounds``) or an Orthoglide ``DextrousResult`` (inside volume,
     inside + E).  ``rel_tol`` widens the bracket for rounded answers.
+
+    Parameters
+    ----------
+    claimed : number or text
+        The student's area or volume; text such as ``"pi/4"`` is read by the restricted grammar.
+    result : Boundary, Paving or DextrousResult
+        What the claim is checked against.
+    rel_tol : float, default 0.0
+        The bracket is widened on both sides by ``rel_tol`` times its larger end (in absolute value).
+
+    Returns
+    -------
+    Verdict
+        ``ok`` True when the claim lies in the (widened) bracket, False otherwise; ``evidence["bracket"]`` is
+        ``[lo, hi]``.
+
+    Raises
+    ------
+    InvalidParameterError
+        When ``claimed`` is not a finite real number or ``result`` is of another type.
+    ExpressionError
+        When ``claimed`` is text that cannot be read.
     """
     claimed = _number(claimed, "claimed")
     if not math.isfinite(claimed):
@@ -523,6 +667,25 @@ def assert_expression(student, derived, **options) -> Verdict:
     """:func:`check_expression` for an autograder cell: return the verdict if correct, else raise
     :class:`AssertionError` whose message is the explanation (the counterexample, or what could not be read).
 
+    Parameters
+    ----------
+    student : str, SymPy expression or matrix, or sequence
+        The student's answer.
+    derived : str, sympy.Expr or sympy.Matrix
+        The right answer.
+    **options
+        Keywords of :func:`check_expression`.
+
+    Returns
+    -------
+    Verdict
+        The verdict, when correct.
+
+    Raises
+    ------
+    AssertionError
+        Unless the verdict is correct: its status and message.
+
     Examples
     --------
     >>> assert_expression("c1 c2 - s1 s2", "cos(t1 + t2)").status
@@ -536,7 +699,27 @@ def assert_expression(student, derived, **options) -> Verdict:
 
 
 def assert_factors(student, derived, **options) -> Verdict:
-    """:func:`check_factors` raising :class:`AssertionError` with the explanation unless correct."""
+    """:func:`check_factors` raising :class:`AssertionError` with the explanation unless correct.
+
+    Parameters
+    ----------
+    student : str or sequence
+        The student's factors.
+    derived : sequence
+        The derived factors.
+    **options
+        Keywords of :func:`check_factors`.
+
+    Returns
+    -------
+    Verdict
+        The verdict, when correct.
+
+    Raises
+    ------
+    AssertionError
+        Unless the verdict is correct: its status and message.
+    """
     return _assert(check_factors(student, derived, **options))
 
 
@@ -548,6 +731,27 @@ def assert_reachable(chain, point, claimed: bool = True, **options) -> Verdict:
     unreachability: :func:`check_reachable`); raises :class:`AssertionError`
     with the evidence otherwise, also when it cannot decide (a point within
     tolerance of the workspace is neither).
+
+    Parameters
+    ----------
+    chain : PlanarChain
+        The chain.
+    point : pair of numbers or text
+        The point ``(x, y)``.
+    claimed : bool, default True
+        The student's claim: True for reachable.
+    **options
+        Keywords of :func:`check_reachable`.
+
+    Returns
+    -------
+    Verdict
+        ``ok`` True, with the message and evidence of the proof, when the claim is proved.
+
+    Raises
+    ------
+    AssertionError
+        When the claim is proved wrong or nothing is proved.
 
     Examples
     --------
@@ -574,10 +778,54 @@ def assert_reachable(chain, point, claimed: bool = True, **options) -> Verdict:
 
 
 def assert_boundary_arc(chain, center, radius, start_angle, end_angle, **options) -> Verdict:
-    """:func:`check_boundary_arc` raising :class:`AssertionError` with the explanation unless correct."""
+    """:func:`check_boundary_arc` raising :class:`AssertionError` with the explanation unless correct.
+
+    Parameters
+    ----------
+    chain : PlanarChain
+        The chain.
+    center : pair of numbers or text
+        The claimed centre.
+    radius : number or text
+        The claimed radius.
+    start_angle, end_angle : number or text
+        The claimed polar angles (radians).
+    **options
+        Keywords of :func:`check_boundary_arc`.
+
+    Returns
+    -------
+    Verdict
+        The verdict, when correct.
+
+    Raises
+    ------
+    AssertionError
+        Unless the verdict is correct: its status and message.
+    """
     return _assert(check_boundary_arc(chain, center, radius, start_angle, end_angle, **options))
 
 
 def assert_measure(claimed, result, **options) -> Verdict:
-    """:func:`check_measure` raising :class:`AssertionError` with the explanation unless correct."""
+    """:func:`check_measure` raising :class:`AssertionError` with the explanation unless correct.
+
+    Parameters
+    ----------
+    claimed : number or text
+        The student's area or volume.
+    result : Boundary, Paving or DextrousResult
+        What the claim is checked against.
+    **options
+        Keywords of :func:`check_measure`.
+
+    Returns
+    -------
+    Verdict
+        The verdict, when correct.
+
+    Raises
+    ------
+    AssertionError
+        Unless the verdict is correct: its status and message.
+    """
     return _assert(check_measure(claimed, result, **options))

@@ -108,7 +108,20 @@ def _interesting(exprs, rng):
 
 
 def reach_bound(robot: DHRobot, values: dict) -> sp.Expr:
-    """Sum over the rows of ``|a| + max |d|``: by the triangle inequality no end point is farther from the origin."""
+    """Sum over the rows of ``|a| + max |d|``: by the triangle inequality no end point is farther from the origin.
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot; a prismatic joint's ``d`` is taken at both its limits.
+    values : dict
+        Exact values of the robot's symbolic lengths (:func:`~workspace_sym.teaching.checks.exact_parameters`).
+
+    Returns
+    -------
+    sympy.Expr
+        The bound, exact.
+    """
     total = sp.Integer(0)
     for j in robot.joints:
         a = abs(sp.sympify(j.a).subs(values))
@@ -127,6 +140,22 @@ def reachability_point(robot: DHRobot, rng) -> tuple[list, bool, str, list | Non
     Either the exact image of joint angles in multiples of 30 degrees within
     the limits (``witness`` lists them, exact text) or a point beyond
     :func:`reach_bound`, compared in exact rationals (``witness`` None).
+    A prismatic joint of the witness takes a multiple of 1/10 from 0 to 1/2,
+    not checked against its limits (those of the sheets' robots are
+    ``[0, 1/2]``); every joint needs limits.
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot, with its numeric lengths.
+    rng : numpy.random.Generator
+        The source of the draws (about half the points are reachable).
+
+    Returns
+    -------
+    tuple
+        ``(point, reachable, why, witness)``: three exact SymPy coordinates, the answer, the reason in words and
+        the witness joint values as text (None for an unreachable point).
     """
     values = exact_parameters(robot)
     position = robot.position.subs(values)

@@ -109,7 +109,40 @@ BATCH = StopAt(time_limit=TOTAL_SECONDS)
 
 @dataclass(frozen=True)
 class Question:
-    """One question of a key: what is asked, of which robot or chain, and the derived answer."""
+    """One question of a key: what is asked, of which robot or chain, and the derived answer.
+
+    Made by :meth:`AnswerKey.from_dict`, which checks every field.
+
+    Parameters
+    ----------
+    id : str
+        The question's id (``"1a"``), at most 40 characters.
+    kind : str
+        One of :data:`KIND_NAMES`.
+    answer : object
+        By kind: the expression as text, a list of factors as text, a bool (reachable), an int (a count) or a
+        certified bracket ``[lo, hi]`` (a measure).
+    prompt : str, default ""
+        The question as the sheet asks it.
+    robot : str or None, optional
+        The name of the key's robot the question is about.
+    chain : str or None, optional
+        The name of the key's chain the question is about.
+    points : float, default 1.0
+        The points of a correct answer.
+    angles : {"radians", "degrees"}, default "radians"
+        How numbers inside sin and cos are read.
+    rel_tol : float, default 0.0
+        A measure's tolerance, as a fraction of the value.
+    evidence : str, default ""
+        Why the key's answer holds (a reachability question), shown in the verdict.
+    symbols : tuple of str, optional
+        The names an expression question without a robot may use.
+    unit : str, default ""
+        What a count counts (one word), or a measure's unit.
+    digits : int, default 0
+        A measure's tolerance in significant digits (0: ``rel_tol`` applies).
+    """
 
     id: str
     kind: str
@@ -128,7 +161,27 @@ class Question:
 
 @dataclass
 class AnswerKey:
-    """A parsed key: robots and chains by name, questions in order."""
+    """A parsed key: robots and chains by name, questions in order.
+
+    Read from a file with :meth:`from_file` or from its JSON value with :meth:`from_dict` (the module docstring
+    gives the format).
+
+    Parameters
+    ----------
+    questions : list of Question
+        The questions, in order.
+    robots : dict, optional
+        Name -> :class:`~workspace_sym.kinematics.DHRobot`.
+    chains : dict, optional
+        Name -> :class:`~workspace_sym.planar.PlanarChain`.
+    title : str, default "Exercises"
+        The title of the sheet and of the grading report.
+
+    Raises
+    ------
+    InvalidParameterError
+        From :meth:`from_dict` and :meth:`from_file`, for a malformed key (the constructor checks nothing).
+    """
 
     questions: list
     robots: dict = field(default_factory=dict)
@@ -138,7 +191,35 @@ class AnswerKey:
 
     @classmethod
     def from_dict(cls, data) -> AnswerKey:
-        """Check and read a key dictionary (see the module docstring)."""
+        """Check and read a key dictionary (see the module docstring).
+
+        Parameters
+        ----------
+        data : dict
+            The key's JSON value.
+
+        Returns
+        -------
+        AnswerKey
+            The key, its robots built and its chains made; every expression and factor of its answers has been
+            read once to check it.
+
+        Raises
+        ------
+        InvalidParameterError
+            When the key is not a ``workspace-sym key`` object, a robot, chain or question is malformed (an id
+            missing, repeated or longer than 40 characters; an answer of the wrong type; a bad ``points``,
+            ``rel_tol``, ``digits``, ``unit`` or ``symbols``), or a question names a robot or chain the key does not
+            define.
+        UnknownNameError
+            When a question's ``kind`` or ``angles`` is not one of those allowed, or a robot names no catalog entry.
+        DHTableError
+            When a robot's DH description is malformed.
+        ExpressionError
+            When an expression or factor of the key cannot be read with its robot's names.
+        JointLimitError
+            When a chain's limits are inverted.
+        """
         if not isinstance(data, dict) or data.get("format") != KEY_FORMAT:
             raise InvalidParameterError(f"key: expected a JSON object with \"format\": \"{KEY_FORMAT}\"",
                                         parameter="key")
@@ -167,20 +248,70 @@ class AnswerKey:
 
     @classmethod
     def from_file(cls, path) -> AnswerKey:
-        """Read a key file (JSON)."""
+        """Read a key file (JSON).
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The file (UTF-8 JSON).
+
+        Returns
+        -------
+        AnswerKey
+            The key (:meth:`from_dict`).
+
+        Raises
+        ------
+        InvalidParameterError
+            When the file cannot be read or is not valid JSON, and as :meth:`from_dict`.
+        """
         return cls.from_dict(read_json(path, "key", error=InvalidParameterError))
 
     def question(self, qid: str) -> Question | None:
+        """The question of id ``qid``.
+
+        Parameters
+        ----------
+        qid : str
+            The id, exactly.
+
+        Returns
+        -------
+        Question or None
+            The question, or None when the key has none of that id.
+        """
         return next((q for q in self.questions if q.id == qid), None)
 
     def notation(self, q: Question) -> Notation:
-        """The names of the question's robot, or of its ``symbols`` (joints ``theta<k>``, ``q<k>``, ``t<k>``)."""
+        """The names of the question's robot, or of its ``symbols`` (joints ``theta<k>``, ``q<k>``, ``t<k>``).
+
+        Parameters
+        ----------
+        q : Question
+            A question of this key.
+
+        Returns
+        -------
+        Notation
+            The names a student may use in the answer.
+        """
         if q.robot:
             return Notation.from_robot(self.robots[q.robot])
         return Notation.from_symbols([read_symbol(n, f"key question {q.id} symbols") for n in q.symbols])
 
     def derived(self, q: Question):
-        """The key's answer as SymPy (expressions, factors) or as a plain value (read once per question)."""
+        """The key's answer as SymPy (expressions, factors) or as a plain value (read once per question).
+
+        Parameters
+        ----------
+        q : Question
+            A question of this key.
+
+        Returns
+        -------
+        object
+            A SymPy expression or matrix (a copy), a list of them (factors), or ``q.answer`` for the other kinds.
+        """
         if q.kind not in ("expression", "factors"):
             return q.answer
         texts = (q.answer,) if q.kind == "expression" else tuple(q.answer)
@@ -191,7 +322,21 @@ class AnswerKey:
         return values[0] if q.kind == "expression" else values
 
     def grade(self, qid: str, text) -> Verdict:
-        """The verdict on one answer to question ``qid``."""
+        """The verdict on one answer to question ``qid``.
+
+        Parameters
+        ----------
+        qid : str
+            The question's id.
+        text : str
+            The student's answer.
+
+        Returns
+        -------
+        Verdict
+            Correct or wrong with the evidence, or ``ok`` None: *cannot read* (also for an unknown question id),
+            *no answer* (blank or not text) or undecided.  Not bounded in time: :func:`grade_answers` is.
+        """
         q = self.question(qid)
         if q is None:
             known = ", ".join(x.id for x in self.questions)
@@ -358,6 +503,18 @@ def tolerance_rule(*, digits: int = 0, rel_tol: float = 0.0) -> str:
     """How a measure answer is accepted, in words: what an exercise sheet states and what the grader applies
     (:func:`accepted_range`).
 
+    Parameters
+    ----------
+    digits : int, default 0
+        Significant digits the answer must agree to.
+    rel_tol : float, default 0.0
+        The tolerance as a fraction of the value, when ``digits`` is 0.
+
+    Returns
+    -------
+    str
+        The rule in words.
+
     Examples
     --------
     >>> tolerance_rule(digits=3)
@@ -376,6 +533,20 @@ def tolerance_rule(*, digits: int = 0, rel_tol: float = 0.0) -> str:
 def accepted_range(lo: float, hi: float, *, digits: int = 0, rel_tol: float = 0.0) -> tuple[float, float]:
     """The answers :func:`tolerance_rule` accepts for the certified bracket ``[lo, hi]``: widened by half a unit of
     the last of ``digits`` significant digits of each end, or by ``rel_tol`` times the larger end.
+
+    Parameters
+    ----------
+    lo, hi : float
+        The certified bracket.
+    digits : int, default 0
+        Significant digits the answer must agree to (takes precedence over ``rel_tol``).
+    rel_tol : float, default 0.0
+        The tolerance as a fraction of the larger end, in absolute value.
+
+    Returns
+    -------
+    tuple of float
+        ``(low, high)``: the answers accepted.
 
     Examples
     --------
@@ -429,6 +600,24 @@ def _grade_measure(text: str, q: Question) -> Verdict:
 # ------------------------------------------------------------------------------ batch
 @dataclass(frozen=True)
 class GradedAnswer:
+    """One row of a batch, graded.
+
+    Parameters
+    ----------
+    student : str
+        The student's name as written.
+    question : str
+        The question's id.
+    answer : str
+        The answer as written.
+    verdict : Verdict
+        The verdict.
+    points : float
+        The points given: the question's points when correct, else 0.
+    max_points : float
+        The question's points (0 for an unknown question).
+    """
+
     student: str
     question: str
     answer: str
@@ -455,7 +644,24 @@ def _delimiter(text: str) -> str:
 
 def read_answers_csv(path) -> list[tuple[str, str, str]]:
     """``(student, question, answer)`` rows of a CSV with those three columns (any order, header required),
-    separated by commas, semicolons or tabs (:data:`DELIMITERS`, the header tells which)."""
+    separated by commas, semicolons or tabs (:data:`DELIMITERS`, the header tells which).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The CSV file (UTF-8, a byte-order mark allowed); column names are read without case or blanks.
+
+    Returns
+    -------
+    list of tuple
+        ``(student, question, answer)`` per row, each stripped, empty for a missing cell.
+
+    Raises
+    ------
+    InvalidParameterError
+        When the file cannot be read, is not a valid CSV, lacks one of the three columns or has more than
+        :data:`MAX_ROWS` rows.
+    """
     path = Path(path)
     text = read_text(path, "answers", error=InvalidParameterError, encoding="utf-8-sig")
     try:
@@ -606,7 +812,18 @@ def _grade_row(key: AnswerKey, row: int, student: str, qid: str, text: str, *, e
 
 def similar_students(graded: list[GradedAnswer]) -> list[list[str]]:
     """Names graded as different students that differ only in case or blanks (``"Alice "``, ``"alice"``), each
-    group in order of first appearance: probably one student, graded twice, which the teacher should check."""
+    group in order of first appearance: probably one student, graded twice, which the teacher should check.
+
+    Parameters
+    ----------
+    graded : list of GradedAnswer
+        The graded rows.
+
+    Returns
+    -------
+    list of list of str
+        The groups of names, each of two names or more.
+    """
     groups: dict[str, list[str]] = {}
     for g in graded:
         names = groups.setdefault(" ".join(g.student.split()).casefold(), [])
@@ -617,7 +834,18 @@ def similar_students(graded: list[GradedAnswer]) -> list[list[str]]:
 
 def duplicate_rows(graded: list[GradedAnswer]) -> list[dict]:
     """Each student and question answered more than once, with its rows as numbered in the CSV (the header being
-    row 1), in the order of first appearance."""
+    row 1), in the order of first appearance.
+
+    Parameters
+    ----------
+    graded : list of GradedAnswer
+        The graded rows (the duplicates are those whose status is ``"duplicate"``).
+
+    Returns
+    -------
+    list of dict
+        ``{"student", "question", "rows"}`` per student and question answered more than once.
+    """
     seen: dict = {}
     for g in graded:
         if g.verdict.status == "duplicate":
@@ -657,6 +885,25 @@ def write_grading(key: AnswerKey, graded: list[GradedAnswer], out) -> dict:
     """Write ``graded.csv`` and the report ``grades.html`` / ``grades.md`` into ``out``; return their paths.
 
     Everything is rendered in memory first: nothing is written when rendering fails.
+
+    Parameters
+    ----------
+    key : AnswerKey
+        The key the answers were graded with.
+    graded : list of GradedAnswer
+        The graded rows (:func:`grade_answers`).
+    out : str or os.PathLike
+        The directory, created if needed; files of the same names in it are replaced.
+
+    Returns
+    -------
+    dict
+        ``{"csv": ..., "html": ..., "markdown": ...}``: the paths written.
+
+    Raises
+    ------
+    OutputError
+        When ``out`` cannot be written.
     """
     buffer = io.StringIO()
     writer = csv.writer(buffer)

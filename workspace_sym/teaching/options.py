@@ -25,6 +25,22 @@ def refuse_stop(where: str, stop: StopAt, applies: tuple[str, ...], why: str) ->
     :class:`StopAt` or sets a budget that ``where`` does not apply (those not in ``applies``); ``why`` says what it
     stops on instead.
 
+    Parameters
+    ----------
+    where : str
+        The function's name, for the message.
+    stop : StopAt
+        The caller's ``stop``.
+    applies : tuple of str
+        The budgets ``where`` honours, among ``max_boxes``, ``time_limit`` and ``section_boxes``.
+    why : str
+        What ``where`` stops on, for the message (``"stops on boxes only"``).
+
+    Raises
+    ------
+    InvalidParameterError
+        As above.
+
     Examples
     --------
     >>> refuse_stop("check_reachable", StopAt(max_boxes=10), ("max_boxes",), "stops on boxes only")
@@ -48,6 +64,19 @@ def refuse_run(where: str, run: RunOn) -> None:
     """Raise :class:`~workspace_sym.errors.InvalidParameterError` (``parameter="run"``) when ``run`` is not a
     :class:`RunOn` or says anything but ``progress``: ``where`` runs in this process and keeps no boxes.
 
+    Parameters
+    ----------
+    where : str
+        The function's name, for the message.
+    run : RunOn
+        The caller's ``run``.
+
+    Raises
+    ------
+    InvalidParameterError
+        When ``run`` is not a :class:`RunOn` or sets ``executor``, ``chunk``, ``max_memory``, ``store`` or
+        ``resume``.
+
     Examples
     --------
     >>> refuse_run("grade_answers", RunOn(progress=False))
@@ -69,6 +98,22 @@ def refuse_run(where: str, run: RunOn) -> None:
 def deprecated(where: str, old: str, new: str, *, stacklevel: int = 3) -> None:
     """Warn that the keyword ``old`` of ``where`` is deprecated, naming its new spelling ``new``
     (:class:`DeprecationWarning`, shown at the caller of ``where`` with the default ``stacklevel``).
+
+    Parameters
+    ----------
+    where : str
+        The function's name.
+    old : str
+        The deprecated keyword, without ``=``.
+    new : str
+        What to pass instead (``"stop=StopAt(max_boxes=...)"``).
+    stacklevel : int, default 3
+        Passed to :func:`warnings.warn`.
+
+    Warns
+    -----
+    DeprecationWarning
+        Always.
 
     Examples
     --------
