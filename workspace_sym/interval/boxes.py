@@ -133,7 +133,7 @@ class Box:
 
     @property
     def measure(self) -> float:
-        """The product of the edge widths (area, volume), a float product rounded to nearest.
+        """The product of the edge widths (area, volume), in floats (not rounded outward).
 
         Returns
         -------
@@ -190,7 +190,7 @@ class Paving:
         The constraints paved (:class:`~workspace_sym.interval.paving.Constraint`); empty when the paving
         comes from another decider.
     delta : float
-        The size below which a box was not split further.
+        Undecided boxes of size at most ``delta`` were not split further.
     backend : str
         ``"numpy"`` or ``"mpmath"``: the arithmetic that decided the boxes.
     size : str
@@ -198,7 +198,7 @@ class Paving:
     inner, boundary, outer, pending : numpy.ndarray
         ``(N, n, 2)`` boxes: proved inside, undecided down to ``delta``, proved outside, not examined.
     seconds : float
-        Wall-clock seconds of the run (a resumed run's included).
+        Wall-clock seconds of the run, with those of the earlier parts of a resumed one.
     complete : bool
         True when no box is pending.
     evaluated : int
@@ -349,7 +349,7 @@ def box_sizes(boxes: np.ndarray, size: str) -> np.ndarray:
     Returns
     -------
     numpy.ndarray
-        ``(N,)`` sizes, rounded to nearest.
+        ``(N,)`` sizes, computed in floats (not rounded outward).
     """
     w = boxes[:, :, 1] - boxes[:, :, 0]
     return np.sqrt(_across(np.add, w * w)) if size == "diameter" else _across(np.maximum, w)
@@ -439,12 +439,12 @@ class StoredPaving(Paving):
 
     Parameters
     ----------
-    variables, box, constraints, delta, backend, size, pending, seconds, complete, evaluated
-        As for :class:`Paving`.
-    stop_reason, exact_measure, contract, units
+    variables, box, constraints, delta, backend, size
         As for :class:`Paving`.
     inner, boundary, outer
         Given empty: these classes are read from ``files`` the first time they are asked for.
+    pending, seconds, complete, evaluated, stop_reason, exact_measure, contract, units
+        As for :class:`Paving`.
     store : str
         The directory of the box store.
     stored_counts : dict

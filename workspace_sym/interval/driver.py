@@ -434,10 +434,14 @@ def expand(batch: np.ndarray, decide: Decider, separate, delta: float, size: str
 
     Returns
     -------
-    inner, boundary, outer, children : numpy.ndarray
-        ``(M, n, 2)`` arrays: boxes (or contracted slices) proved inside, undecided boxes not to be bisected
-        (those of size at most ``delta``, and those one float wide), proved outside, and the halves of the
-        other undecided boxes.
+    inner : numpy.ndarray
+        ``(M, n, 2)`` boxes (or contracted slices) proved inside.
+    boundary : numpy.ndarray
+        Undecided boxes not to be bisected: those of size at most ``delta``, and those one float wide.
+    outer : numpy.ndarray
+        Boxes (or slices) proved outside.
+    children : numpy.ndarray
+        The halves of the other undecided boxes.
     """
     codes = decide(batch)
     und = batch[codes == UNDECIDED]

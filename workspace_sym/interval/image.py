@@ -698,8 +698,10 @@ class CellGrid:
 
         Returns
         -------
-        first, last : numpy.ndarray of int
-            ``(N, m)`` each, clipped to the grid (a box beyond it gets the cells at its edge).
+        first : numpy.ndarray of int
+            ``(N, m)``, clipped to the grid (a box beyond it gets the cells at its edge).
+        last : numpy.ndarray of int
+            ``(N, m)``, clipped likewise.
         """
         first = np.stack([np.searchsorted(e, E[:, a, 0], side="left") - 1 for a, e in enumerate(self.edges)], axis=1)
         last = np.stack([np.searchsorted(e, E[:, a, 1], side="right") - 1 for a, e in enumerate(self.edges)], axis=1)
