@@ -51,7 +51,13 @@ _PROBE = [1.0, 2.0**-60]
 
 
 def rounding_mode() -> str:
-    """The rounding mode in force in this thread: 'nearest', 'upward', 'downward' or 'toward zero'."""
+    """The rounding mode in force in this thread: 'nearest', 'upward', 'downward' or 'toward zero'.
+
+    Returns
+    -------
+    str
+        The mode, read from the results of two float additions.
+    """
     one, tiny = _PROBE                       # variables: a literal sum would be folded when compiled
     up_, down_ = one + tiny > one, one - tiny < one
     if not (up_ or down_):
@@ -95,7 +101,19 @@ def round_to_nearest():
 
 
 def nearest_rounding(fn):
-    """``fn`` run under :func:`round_to_nearest` (for functions that prove)."""
+    """``fn`` run under :func:`round_to_nearest` (for functions that prove).
+
+    Parameters
+    ----------
+    fn : callable
+        The function to wrap.
+
+    Returns
+    -------
+    callable
+        A function with ``fn``'s signature and name that calls ``fn`` inside :func:`round_to_nearest` (and so
+        raises ``RuntimeError`` where that does).
+    """
 
     @functools.wraps(fn)
     def wrapper(*args, **kwargs):
@@ -117,6 +135,16 @@ def down(x):
     there).  Both are tested against exact rationals in
     ``tests/test_interval.py``.  ``+inf`` (an overflow) becomes the largest
     float, ``-inf`` and NaN stay.
+
+    Parameters
+    ----------
+    x : float or numpy.ndarray
+        Round-to-nearest results.
+
+    Returns
+    -------
+    numpy.ndarray or float
+        Lower bounds, element by element, of the same shape.
     """
     if np.size(x) < _SMALL:
         return np.nextafter(x, -_INF)
@@ -129,7 +157,20 @@ def down(x):
 
 
 def up(x):
-    """A float at least the exact value that ``x`` is the round-to-nearest result of (see :func:`down`)."""
+    """A float at least the exact value that ``x`` is the round-to-nearest result of (see :func:`down`).
+
+    ``-inf`` (an overflow) becomes the most negative float; ``+inf`` and NaN stay.
+
+    Parameters
+    ----------
+    x : float or numpy.ndarray
+        Round-to-nearest results.
+
+    Returns
+    -------
+    numpy.ndarray or float
+        Upper bounds, element by element, of the same shape.
+    """
     if np.size(x) < _SMALL:
         return np.nextafter(x, _INF)
     r = np.maximum(x, -_MAX)
@@ -150,25 +191,85 @@ def _up_ulps(x, k):
 
 
 def const(lo: float, hi: float, shape=()):
-    """A constant interval broadcast to ``shape``."""
+    """A constant interval broadcast to ``shape``.
+
+    Parameters
+    ----------
+    lo, hi : float
+        The bounds, taken as they are (no rounding).
+    shape : int or tuple of int
+        Shape of the arrays (default ``()``: scalars as 0-d arrays).
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(lo, hi)``, each filled with its bound.
+    """
     return np.full(shape, lo, dtype=float), np.full(shape, hi, dtype=float)
 
 
 def point(x):
-    """The degenerate interval ``[x, x]`` of a float array (exact)."""
+    """The degenerate interval ``[x, x]`` of a float array (exact).
+
+    Parameters
+    ----------
+    x : array_like
+        The points, converted to float64 (a conversion that rounds is not made exact here).
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(x, copy of x)``: two arrays that do not share memory.
+    """
     x = np.asarray(x, dtype=float)
     return x, x.copy()
 
 
 def add(a, b):
+    """``a + b``, outward.
+
+    Parameters
+    ----------
+    a, b : pair of numpy.ndarray
+        Intervals ``(lo, hi)`` of shapes that broadcast together.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(lo, hi)``, an enclosure of the exact sum; NaN where an input bound is NaN.
+    """
     return down(a[0] + b[0]), up(a[1] + b[1])
 
 
 def sub(a, b):
+    """``a - b``, outward.
+
+    Parameters
+    ----------
+    a, b : pair of numpy.ndarray
+        Intervals ``(lo, hi)`` of shapes that broadcast together.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(lo, hi)``, an enclosure of the exact difference; NaN where an input bound is NaN.
+    """
     return down(a[0] - b[1]), up(a[1] - b[0])
 
 
 def neg(a):
+    """``-a`` (exact).
+
+    Parameters
+    ----------
+    a : pair of numpy.ndarray
+        The interval ``(lo, hi)``.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(-hi, -lo)``.
+    """
     return -a[1], -a[0]
 
 
@@ -177,6 +278,19 @@ def _nan_to(x, value):
 
 
 def mul(a, b):
+    """``a * b``, outward; ``0 * inf`` counts as 0 (IEEE 1788).
+
+    Parameters
+    ----------
+    a, b : pair of numpy.ndarray
+        Intervals ``(lo, hi)`` of shapes that broadcast together.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(lo, hi)``, an enclosure of the exact product; NaN (no enclosure) where an input bound is NaN or the
+        four bounds sum to NaN (an input ``[-inf, inf]``, or infinities of both signs across the two).
+    """
     (al, ah), (bl, bh) = a, b
     with np.errstate(invalid="ignore", over="ignore"):
         p1, p2, p3, p4 = al * bl, al * bh, ah * bl, ah * bh
@@ -190,7 +304,19 @@ def mul(a, b):
 
 
 def div(a, b):
-    """``a / b``; a divisor that contains zero gives the whole line (sound, possibly loose)."""
+    """``a / b``; a divisor that contains zero gives the whole line (sound, possibly loose).
+
+    Parameters
+    ----------
+    a, b : pair of numpy.ndarray
+        Dividend and divisor, intervals ``(lo, hi)`` of shapes that broadcast together.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(lo, hi)``, an enclosure of the exact quotient: ``(-inf, inf)`` where ``b`` contains 0, NaN where an
+        input bound is NaN.
+    """
     (al, ah), (bl, bh) = a, b
     zero = (bl <= 0) & (bh >= 0)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
@@ -228,7 +354,18 @@ def _up_nonnegative(x):
 
 
 def sqr(a):
-    """Tight square: ``[-1, 2]**2 = [0, 4]``, not ``[-2, 4]`` as ``x*x`` would give."""
+    """Tight square: ``[-1, 2]**2 = [0, 4]``, not ``[-2, 4]`` as ``x*x`` would give.
+
+    Parameters
+    ----------
+    a : pair of numpy.ndarray
+        The interval ``(lo, hi)``.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(lo, hi)``, an enclosure of the squares, ``lo >= 0``.
+    """
     lo, hi = a
     # Smallest |x| on [lo, hi] is max(lo, -hi, 0), largest is max(-lo, hi).
     small = np.maximum(np.maximum(lo, -hi), 0.0)
@@ -239,7 +376,21 @@ def sqr(a):
 
 
 def ipow(a, n: int):
-    """``a**n`` for an integer ``n >= 1``; even powers are tight like :func:`sqr`."""
+    """``a**n`` for an integer ``n >= 1``; even powers are tight like :func:`sqr`.
+
+    Parameters
+    ----------
+    a : pair of numpy.ndarray
+        The interval ``(lo, hi)``.
+    n : int
+        The exponent, 1 or more.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(lo, hi)``, an enclosure of the powers (``n`` ulps outward: ``numpy.power`` is not correctly rounded);
+        ``a`` itself for ``n = 1``.
+    """
     if n == 1:
         return a
     if n == 2:
@@ -255,7 +406,18 @@ def ipow(a, n: int):
 
 
 def sqrt(a):
-    """Square root; an interval reaching below zero is a domain error: NaN (undecided)."""
+    """Square root; an interval reaching below zero is a domain error: NaN (undecided).
+
+    Parameters
+    ----------
+    a : pair of numpy.ndarray
+        The interval ``(lo, hi)``.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(lo, hi)``, an enclosure of the square roots; both NaN where ``lo < 0``, and a NaN bound stays NaN.
+    """
     lo, hi = a
     with np.errstate(invalid="ignore"):
         r_lo = np.maximum(down(np.sqrt(np.maximum(lo, 0.0))), 0.0)
@@ -265,6 +427,18 @@ def sqrt(a):
 
 
 def iabs(a):
+    """``|a|`` (exact).
+
+    Parameters
+    ----------
+    a : pair of numpy.ndarray
+        The interval ``(lo, hi)``.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(lo, hi)``, the absolute values' range; a NaN bound in ``a`` gives a NaN upper bound.
+    """
     lo, hi = a
     low = np.where(lo >= 0, lo, np.where(hi <= 0, -hi, 0.0))
     return low, np.maximum(np.abs(lo), np.abs(hi))
@@ -297,15 +471,52 @@ def _trig(a, fn, phase_max, phase_min):
 
 
 def sin(a):
+    """``sin(a)``, outward (2 ulps: numpy's sine is faithful).
+
+    Parameters
+    ----------
+    a : pair of numpy.ndarray
+        The interval ``(lo, hi)``, radians.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(lo, hi)`` within ``[-1, 1]``, an enclosure of the sines: ``[-1, 1]`` where the interval is a full
+        turn wide or reaches beyond ``2^20`` in magnitude; NaN where a bound is NaN.
+    """
     return _trig(a, np.sin, np.pi / 2, -np.pi / 2)
 
 
 def cos(a):
+    """``cos(a)``, outward (2 ulps: numpy's cosine is faithful).
+
+    Parameters
+    ----------
+    a : pair of numpy.ndarray
+        The interval ``(lo, hi)``, radians.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(lo, hi)`` within ``[-1, 1]``, an enclosure of the cosines: ``[-1, 1]`` where the interval is a full
+        turn wide or reaches beyond ``2^20`` in magnitude; NaN where a bound is NaN.
+    """
     return _trig(a, np.cos, 0.0, np.pi)
 
 
 def intersect(a, b):
-    """``a`` intersected with ``b`` where ``b`` is defined; NaN in ``a`` stays NaN."""
+    """``a`` intersected with ``b`` where ``b`` is defined; NaN in ``a`` stays NaN.
+
+    Parameters
+    ----------
+    a, b : pair of numpy.ndarray
+        Intervals ``(lo, hi)``; a NaN bound of ``b`` leaves ``a``'s bound as it is.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(max(a_lo, b_lo), min(a_hi, b_hi))``, exact.  An empty result (``lo > hi``) is returned as it is.
+    """
     lo = np.where(np.isnan(b[0]), a[0], np.maximum(a[0], b[0]))
     hi = np.where(np.isnan(b[1]), a[1], np.minimum(a[1], b[1]))
     return lo, hi
@@ -316,6 +527,11 @@ class Interval:
 
     ``a + b``, ``a - b``, ``a * b`` and ``a.sq()`` call the outward-rounded
     functions above; floats and integers mix in as exact constants.
+
+    Parameters
+    ----------
+    lo, hi : float or numpy.ndarray
+        The bounds, kept as given.
     """
 
     __slots__ = ("lo", "hi")
@@ -325,6 +541,13 @@ class Interval:
 
     @property
     def pair(self):
+        """The bounds as the module's functions take them.
+
+        Returns
+        -------
+        tuple
+            ``(lo, hi)``.
+        """
         return self.lo, self.hi
 
     @staticmethod
@@ -352,5 +575,11 @@ class Interval:
     __rmul__ = __mul__
 
     def sq(self):
-        """The tight square."""
+        """The tight square (:func:`sqr`).
+
+        Returns
+        -------
+        Interval
+            An enclosure of the squares.
+        """
         return Interval(*sqr(self.pair))

@@ -30,6 +30,18 @@ SIZES = ("diameter", "width")
 class Box:
     """An axis-aligned box ``[lower_k, upper_k]`` over named variables.
 
+    Parameters
+    ----------
+    variables : tuple of sympy.Symbol
+        The variables, one per edge.
+    lower, upper : tuple of float
+        The bounds of each edge.  The constructor takes the fields as given; :meth:`from_bounds` checks them.
+
+    Raises
+    ------
+    BoxError
+        From :meth:`from_bounds`, for bounds that do not make a box.
+
     Examples
     --------
     >>> Box.from_bounds({"x": (0, 1), "y": (-1, 2)})
@@ -50,6 +62,28 @@ class Box:
 
         Bounds are numbers or text read by :func:`~workspace_sym.expressions.parse_expr`
         (``"-pi/2"``), rounded to the nearest float.
+
+        Parameters
+        ----------
+        bounds : dict, sequence of pairs or Box
+            ``{variable: (lo, hi)}`` (a variable is a name or a SymPy symbol), or ``(lo, hi)`` pairs in the
+            order of ``variables``; a Box is returned as it is.
+        variables : sequence of str or sympy.Symbol, optional
+            The variables of a sequence of pairs (needed then; ignored with a dict).
+
+        Returns
+        -------
+        Box
+            The box.
+
+        Raises
+        ------
+        BoxError
+            For a sequence without ``variables`` or of another length, no variable, a variable given twice, a
+            bound that is not a number, an infinite bound or width, a lower bound above its upper bound, or a
+            measure that overflows double precision.
+        ExpressionError
+            For text that is not a constant expression.
         """
         if isinstance(bounds, Box):
             return bounds
@@ -99,6 +133,13 @@ class Box:
 
     @property
     def measure(self) -> float:
+        """The product of the edge widths (area, volume), in floats (not rounded outward).
+
+        Returns
+        -------
+        float
+            The measure.
+        """
         return float(np.prod(np.subtract(self.upper, self.lower)))
 
     def __repr__(self):
@@ -114,6 +155,16 @@ def box_measure(boxes: np.ndarray) -> float:
     exactly and rounded once (:class:`~workspace_sym.interval.store.ExactSum`):
     the total does not depend on the order of the boxes, so a distributed or
     resumed run gives the same figure as a local one.
+
+    Parameters
+    ----------
+    boxes : numpy.ndarray
+        ``(N, n, 2)`` boxes.
+
+    Returns
+    -------
+    float
+        The sum of the float measures of the boxes, rounded to nearest once; 0.0 for no box.
     """
     if len(boxes) == 0:
         return 0.0
@@ -128,6 +179,39 @@ class Paving:
     did not examine: they are neither proved nor classified.  ``units`` is the
     length unit of the variables when they are lengths (a robot's workspace
     from ``reach``), for the axes of its pictures.
+
+    Parameters
+    ----------
+    variables : tuple of sympy.Symbol
+        The variables of the boxes' edges.
+    box : Box
+        The box that was paved.
+    constraints : tuple
+        The constraints paved (:class:`~workspace_sym.interval.paving.Constraint`); empty when the paving
+        comes from another decider.
+    delta : float
+        Undecided boxes of size at most ``delta`` were not split further.
+    backend : str
+        ``"numpy"`` or ``"mpmath"``: the arithmetic that decided the boxes.
+    size : str
+        How a box's size was measured against ``delta``: ``"diameter"`` or ``"width"`` (:data:`SIZES`).
+    inner, boundary, outer, pending : numpy.ndarray
+        ``(N, n, 2)`` boxes: proved inside, undecided down to ``delta``, proved outside, not examined.
+    seconds : float
+        Wall-clock seconds of the run, with those of the earlier parts of a resumed one.
+    complete : bool
+        True when no box is pending.
+    evaluated : int
+        Number of boxes the decider evaluated.
+    stop_reason : str
+        Why a run stopped with boxes pending (``"time limit of 5 s reached"``, ``"budget of 1000 boxes reached"``,
+        ``"interrupted"``); ``""`` for a complete one.
+    exact_measure : sympy.Expr or None
+        The exact measure of the set, when known (:meth:`with_exact_measure`).
+    contract : bool
+        Whether boxes were contracted as well as bisected.
+    units : str or None
+        The length unit of the variables, when they are lengths.
     """
 
     variables: tuple
@@ -177,12 +261,32 @@ class Paving:
 
     def with_exact_measure(self, value) -> Paving:
         """This paving with the exact measure of the set it covers attached (shown beside the bracket by
-        :meth:`to_dict`, the display and reports); the boxes are shared, not copied."""
+        :meth:`to_dict`, the display and reports); the boxes are shared, not copied.
+
+        Parameters
+        ----------
+        value : sympy.Expr
+            The exact measure.
+
+        Returns
+        -------
+        Paving
+            A shallow copy (of the same class) with ``exact_measure`` set.
+        """
         twin = copy.copy(self)
         object.__setattr__(twin, "exact_measure", value)
         return twin
 
     def to_dict(self) -> dict:
+        """The JSON summary of the paving (``docs/cli.md``), without the boxes.
+
+        Returns
+        -------
+        dict
+            For each class its ``boxes`` (count) and ``measure``; ``measure_bounds``, ``delta``, ``size``,
+            ``backend``, ``contract``, ``complete``, ``boxes_evaluated``, ``seconds``; and ``stop_reason``,
+            ``units``, ``exact_measure`` (a float) with ``exact_measure_expr`` (text) when they are set.
+        """
         m, c = self.measures, self.counts
         out = {
             "inner": {"boxes": c["inner"], "measure": m["inner"]},
@@ -233,13 +337,42 @@ def _across(op, a):
 
 
 def box_sizes(boxes: np.ndarray, size: str) -> np.ndarray:
+    """The size of each box, as compared with ``delta``.
+
+    Parameters
+    ----------
+    boxes : numpy.ndarray
+        ``(N, n, 2)`` boxes.
+    size : str
+        ``"diameter"``: the length of the diagonal; anything else (``"width"``): the widest edge.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N,)`` sizes, computed in floats (not rounded outward).
+    """
     w = boxes[:, :, 1] - boxes[:, :, 0]
     return np.sqrt(_across(np.add, w * w)) if size == "diameter" else _across(np.maximum, w)
 
 
 def halves(boxes: np.ndarray, axis: np.ndarray | None = None):
     """Both halves of every box along ``axis`` (default: its longest edge), in order (``2i``, ``2i + 1``),
-    and the mask of boxes that could be split (a box one float wide cannot; its two "halves" are itself)."""
+    and the mask of boxes that could be split (a box one float wide cannot; its two "halves" are itself).
+
+    Parameters
+    ----------
+    boxes : numpy.ndarray
+        ``(N, n, 2)`` boxes.
+    axis : numpy.ndarray of int or None
+        ``(N,)``: the edge to split in each box; None (default): its longest edge (the first of equals).
+
+    Returns
+    -------
+    children : numpy.ndarray
+        ``(2 N, n, 2)``: the lower half of box ``i`` at ``2i``, its upper half at ``2i + 1``.
+    split : numpy.ndarray of bool
+        ``(N,)``: True where the box was split.
+    """
     N, n = boxes.shape[:2]
     lo, hi = boxes[:, :, 0], boxes[:, :, 1]
     k = np.argmax(hi - lo, axis=1) if axis is None else np.asarray(axis)
@@ -253,13 +386,40 @@ def halves(boxes: np.ndarray, axis: np.ndarray | None = None):
 
 
 def bisect(boxes: np.ndarray):
-    """Split every box along its longest edge; also returns boxes too thin to split."""
+    """Split every box along its longest edge; also returns boxes too thin to split.
+
+    Parameters
+    ----------
+    boxes : numpy.ndarray
+        ``(N, n, 2)`` boxes.
+
+    Returns
+    -------
+    halves : numpy.ndarray
+        ``(2 M, n, 2)``: both halves of each of the ``M`` boxes that could be split, in order.
+    unsplit : numpy.ndarray
+        ``(N - M, n, 2)``: the boxes whose longest edge is one float wide.
+    """
     children, ok = halves(boxes)
     return children.reshape(-1, 2, *boxes.shape[1:])[ok].reshape(-1, *boxes.shape[1:]), boxes[~ok]
 
 
 
 def check_delta(delta, name="delta"):
+    """Refuse a ``delta`` that is not a positive finite number.
+
+    Parameters
+    ----------
+    delta : object
+        The value to check.
+    name : str
+        The parameter's name for the error message (default ``"delta"``).
+
+    Raises
+    ------
+    InvalidParameterError
+        When ``delta`` is not an int or float (a bool is not), not finite, or not positive.
+    """
     if not isinstance(delta, (int, float)) or isinstance(delta, bool) or not math.isfinite(delta) or delta <= 0:
         raise InvalidParameterError(f"{name} must be a positive finite number; got {delta!r}", parameter=name)
 
@@ -276,6 +436,28 @@ class StoredPaving(Paving):
     notebook display, reports) sees the same boxes as with an in-memory run.
     The counts and measures are those accumulated while the boxes were
     written (exact sums), without reading them back.
+
+    Parameters
+    ----------
+    variables, box, constraints, delta, backend, size
+        As for :class:`Paving`.
+    inner, boundary, outer
+        Given empty: these classes are read from ``files`` the first time they are asked for.
+    pending, seconds, complete, evaluated, stop_reason, exact_measure, contract, units
+        As for :class:`Paving`.
+    store : str
+        The directory of the box store.
+    stored_counts : dict
+        Number of boxes of each decided class, by class.
+    stored_sums : dict
+        The exact sum of each decided class's measures (text of an
+        :class:`~workspace_sym.interval.store.ExactSum`), by class.
+    stored_bounds : dict
+        ``{"down": sums, "up": sums}``: the same sums of per-box measures rounded down and up.
+    files : dict
+        The ``.npy`` parts of each decided class, by class.
+    _loaded : dict
+        The classes read from disk so far (a cache); leave it empty.
     """
 
     store: str = ""
@@ -296,10 +478,24 @@ class StoredPaving(Paving):
 
     @property
     def counts(self) -> dict:
+        """Number of boxes of each class, without reading the boxes.
+
+        Returns
+        -------
+        dict
+            ``{"inner": ..., "boundary": ..., "outer": ..., "pending": ...}``.
+        """
         return {**self.stored_counts, "pending": len(self.pending)}
 
     @property
     def measures(self) -> dict:
+        """Measure of each class, from the exact sums kept while the boxes were written.
+
+        Returns
+        -------
+        dict
+            ``{"inner": ..., "boundary": ..., "outer": ..., "pending": ...}``, floats rounded to nearest.
+        """
         return {**{k: ExactSum.parse(v).value for k, v in self.stored_sums.items()},
                 "pending": box_measure(self.pending)}
 
@@ -314,16 +510,45 @@ class StoredPaving(Paving):
         return down["inner"].value_down, high.value_up
 
     def parts(self, kind: str):
-        """The boxes of a class, part by part (memory-mapped ``(N, n, 2)`` arrays)."""
+        """The boxes of a class, part by part (memory-mapped ``(N, n, 2)`` arrays).
+
+        Parameters
+        ----------
+        kind : str
+            ``"inner"``, ``"boundary"`` or ``"outer"``.
+
+        Yields
+        ------
+        numpy.memmap
+            One part, read-only.
+        """
         for path in self.files[kind]:
             yield np.load(path, mmap_mode="r")
 
     def load(self, kind: str) -> np.ndarray:
-        """All the boxes of a class as one array (when they fit in memory)."""
+        """All the boxes of a class as one array (when they fit in memory).
+
+        Parameters
+        ----------
+        kind : str
+            ``"inner"``, ``"boundary"`` or ``"outer"``.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, n, 2)``: the parts concatenated in order.
+        """
         parts = list(self.parts(kind))
         return np.concatenate(parts) if parts else np.empty((0, len(self.variables), 2))
 
     def to_dict(self) -> dict:
+        """The JSON summary of :meth:`Paving.to_dict`, with where the boxes are.
+
+        Returns
+        -------
+        dict
+            As for a Paving, plus ``files`` (the parts' paths, as text) in each decided class and ``store``.
+        """
         out = super().to_dict()
         for k in KINDS:
             out[k]["files"] = [str(p) for p in self.files[k]]

@@ -53,7 +53,20 @@ MAX_REWRITE_DEGREE = 40   # ... and so are those of higher total degree (factori
 
 # ----------------------------------------------------------------------------- forms
 def repeated_occurrences(expr: sp.Expr, variables) -> int:
-    """Sum over variables of (occurrences - 1): zero means the natural extension is exact."""
+    """Sum over variables of (occurrences - 1): zero means the natural extension is exact.
+
+    Parameters
+    ----------
+    expr : sympy.Expr
+        The expression.
+    variables : iterable of sympy.Symbol
+        The variables counted.
+
+    Returns
+    -------
+    int
+        The number of repeated occurrences (0 or more).
+    """
     counts = {v: 0 for v in variables}
     for node in sp.preorder_traversal(expr):
         if node in counts:
@@ -109,6 +122,17 @@ def expansion_bound(expr: sp.Expr) -> tuple[int, int]:
     a sum, product or positive integer power counts as one term of degree 1
     when it holds a symbol, 0 otherwise.
 
+    Parameters
+    ----------
+    expr : sympy.Expr
+        The expression.
+
+    Returns
+    -------
+    tuple of int
+        ``(terms, degree)``; ``terms`` is ``2**64`` (past any budget) where the binomial is too costly to
+        compute.
+
     Examples
     --------
     >>> x, y = sp.symbols("x y")
@@ -151,6 +175,27 @@ def expand_bounded(expr: sp.Expr, gens, *, max_terms: int, deadline: float | Non
     rationals (``sqrt(2)``, ``pi``) are coefficients of the expression
     domain.  Raises :class:`OverBudget`, or ``ValueError`` when ``expr`` is
     not a polynomial in ``gens``.
+
+    Parameters
+    ----------
+    expr : sympy.Expr
+        The expression.
+    gens : iterable of sympy.Symbol
+        The polynomial's variables.
+    max_terms : int
+        The most terms any intermediate result may have.
+    deadline : float or None
+        A :func:`time.perf_counter` value past which the expansion stops (None: no deadline).
+
+    Returns
+    -------
+    sympy.polys.rings.PolyElement
+        The polynomial, in a ring over ``QQ`` (rational constants only) or ``EX``.
+
+    Raises
+    ------
+    OverBudget
+        When a result has more than ``max_terms`` terms or the deadline has passed.
 
     Examples
     --------
@@ -207,6 +252,26 @@ def best_form(expr, variables, *, seconds: float = REWRITE_SECONDS) -> sp.Expr:
     each is kept only when it expands back to ``expr``.  Floats become the
     equal rationals.
 
+    Parameters
+    ----------
+    expr : sympy.Expr, number or str
+        The expression (text is read by :func:`~workspace_sym.expressions.parse_expr`).
+    variables : iterable of sympy.Symbol
+        The variables whose repeated occurrences are counted.
+    seconds : float
+        The time after which no further candidate is tried (default :data:`REWRITE_SECONDS`).
+
+    Returns
+    -------
+    sympy.Expr
+        The candidate with the fewest repeated occurrences of the variables, then the fewest operations;
+        ``expr`` (its floats made exact) when no rewriting is tried or none is better.
+
+    Raises
+    ------
+    ExpressionError
+        For text that is not an expression, or an object that is neither text, a number nor SymPy's.
+
     Examples
     --------
     >>> x, y = sp.symbols("x y")
@@ -262,6 +327,22 @@ class CompiledExpr:
     numpy backend: call with ``X`` a list of ``(lo, hi)`` arrays (one per
     variable), get ``(lo, hi)`` arrays; NaN means no enclosure.
     mpmath backend: call with a list of ``iv.mpf``; ``None`` means no enclosure.
+    With the numpy backend an expression that still repeats a variable (and holds no ``Abs``) is
+    ``centred``: its value is the intersection of the natural and the mean-value enclosures.
+
+    Parameters
+    ----------
+    expr : sympy.Expr, number or str
+        The expression; its :func:`best_form` is evaluated.
+    variables : iterable of sympy.Symbol
+        The variables, in the order of ``X``.
+    backend : str
+        ``"numpy"``; anything else is the mpmath reference (:func:`compile_expr` checks the name).
+
+    Raises
+    ------
+    ExpressionError
+        For an operation the interval compiler does not support, or a symbol that is not a variable.
     """
 
     def __init__(self, expr, variables, backend):
@@ -289,11 +370,34 @@ class CompiledExpr:
         return arith.intersect(values[0], self._mean_value(X, values[1:]))
 
     def natural(self, X):
-        """The natural interval extension of the chosen form alone."""
+        """The natural interval extension of the chosen form alone.
+
+        Parameters
+        ----------
+        X : list
+            One interval per variable, as for a call.
+
+        Returns
+        -------
+        tuple or mpmath.iv.mpf or None
+            The enclosure, as for a call, without the mean-value form.
+        """
         return self._graph.evaluate(X, self.backend)[0]
 
     def mean_value(self, X):
-        """Centred form ``f(m) + sum_i G_i(X) (X_i - m_i)`` (numpy backend)."""
+        """Centred form ``f(m) + sum_i G_i(X) (X_i - m_i)`` (numpy backend).
+
+        Parameters
+        ----------
+        X : list of pair of numpy.ndarray
+            One ``(lo, hi)`` interval per variable.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            ``(lo, hi)``, the mean-value enclosure alone.  Only a ``centred`` evaluator has one; another
+            raises ``AttributeError``.
+        """
         return self._mean_value(X, self._graph.evaluate(X, self.backend)[1:])
 
     def _mean_value(self, X, gradients):
@@ -311,6 +415,30 @@ def _compile_cached(expr, variables, backend):
 
 def compile_expr(expr, variables, *, backend: str = "numpy") -> CompiledExpr:
     """Interval evaluator of ``expr`` over ``variables`` (cached).
+
+    Parameters
+    ----------
+    expr : sympy.Expr, number or str
+        The expression (text is read by :func:`~workspace_sym.expressions.parse_expr`).
+    variables : iterable of sympy.Symbol
+        The variables, in the order the evaluator takes their intervals; every symbol of ``expr`` must be one.
+    backend : str
+        ``"numpy"`` (default: arrays of boxes, floats rounded outward) or ``"mpmath"`` (one box, at the
+        precision in force).
+
+    Returns
+    -------
+    CompiledExpr
+        The evaluator; the same object for the same expression, variables and backend while it stays among
+        the 512 last compiled.
+
+    Raises
+    ------
+    UnknownNameError
+        For a backend not in :data:`BACKENDS`.
+    ExpressionError
+        For an expression that cannot be read, a symbol that is not among ``variables``, or an operation the
+        interval compiler does not support.
 
     Examples
     --------

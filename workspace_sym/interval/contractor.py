@@ -56,6 +56,16 @@ class Separation:
     not wholly decided.  Together they tile the input boxes.  ``inner_from``,
     ``outer_from`` and ``kept_from``, when given, are the indices of the
     input box each of them was cut from.
+
+    Parameters
+    ----------
+    inner, outer : numpy.ndarray
+        ``(M, n, 2)`` slices proposed inside and outside.
+    kept : numpy.ndarray
+        ``(N', n, 2)`` undecided remainders.
+    inner_from, outer_from, kept_from : numpy.ndarray of int or None
+        The index of the input box each slice or remainder comes from (None: not given;
+        :meth:`Program.separate` gives them).
     """
 
     inner: np.ndarray
@@ -127,6 +137,20 @@ def confirm(decide, inner: np.ndarray, outer: np.ndarray, *, depth: int = CONFIR
     its box.  Only ``decide`` proves, so a slip in an inverse operation of the
     contraction cannot become a verdict.  Both kinds share each call of
     ``decide``, made after every third bisection of the undecided pieces.
+
+    Parameters
+    ----------
+    decide : Decider
+        The verdicts of the paving.
+    inner, outer : numpy.ndarray
+        ``(M, n, 2)`` slices proposed inside and outside.
+    depth : int
+        The most bisections of a slice (default :data:`CONFIRM_DEPTH`: up to ``2^6`` pieces).
+
+    Returns
+    -------
+    tuple of numpy.ndarray of bool
+        ``(proved_inner, proved_outer)``: one flag a slice of ``inner`` and of ``outer``.
     """
 
     boxes = np.concatenate([inner, outer])
@@ -158,14 +182,23 @@ class Program:
 
     Parameters
     ----------
-    expressions : the ``g_j`` (SymPy)
-    variables : the box's variables, in order
-    min_gain : a contraction by less than this fraction of a box's edge is not
-        applied (the slab it would cut off is not worth a box).
-    passes : forward-backward sweeps per cut, each on the box the previous one
-        left (stops early at a fixed point).  One is the default: on Rybak's
-        robot a second pass shrinks the final boundary by 0.2 % and changes the
-        bisection tree more than it gains.
+    expressions : iterable of sympy.Expr
+        The ``g_j``.
+    variables : iterable of sympy.Symbol
+        The box's variables, in order.
+    min_gain : float
+        A contraction by less than this fraction of a box's edge is not applied (the slab it would cut off is
+        not worth a box); default ``1e-3``.
+    passes : int
+        Forward-backward sweeps per cut, each on the box the previous one left (stops early at a fixed
+        point).  One is the default: on Rybak's robot a second pass shrinks the final boundary by 0.2 % and
+        changes the bisection tree more than it gains.
+
+    Raises
+    ------
+    ExpressionError
+        For an operation the interval compiler does not support, or a symbol that is not a variable
+        (:class:`~workspace_sym.interval.graph.Graph`).
 
     Examples
     --------
@@ -198,7 +231,18 @@ class Program:
 
     # -------------------------------------------------------------- sweeps
     def forward(self, X):
-        """Enclosures ``(lo, hi)`` of every node over the boxes ``X`` (a list of ``(lo, hi)`` arrays)."""
+        """Enclosures ``(lo, hi)`` of every node over the boxes ``X`` (a list of ``(lo, hi)`` arrays).
+
+        Parameters
+        ----------
+        X : list of pair of numpy.ndarray
+            One ``(lo, hi)`` interval per variable.
+
+        Returns
+        -------
+        list of tuple
+            The enclosure of every node of the graph, NaN meaning none.
+        """
         return self.graph.forward(X)
 
     def _backward(self, forward, targets, order, shape):
@@ -306,6 +350,17 @@ class Program:
         One backward sweep serves all cuts: the boxes are stacked ``m + 1``
         times, the first copy cut by every constraint (``g_j <= 0``), copy
         ``j + 1`` by the negation of constraint ``j`` alone (``g_j >= 0``).
+
+        Parameters
+        ----------
+        boxes : numpy.ndarray
+            ``(N, n, 2)`` boxes.
+
+        Returns
+        -------
+        Separation
+            The slices and remainders, with the index of the box each comes from.  A box whose forward sweep
+            is not finite everywhere is not cut: it is kept whole.
         """
         boxes = np.asarray(boxes, dtype=float)
         N, n = boxes.shape[:2]

@@ -71,11 +71,26 @@ _CHUNK = 200_000                 # the most boxes in one chunk when RunOn does n
 @dataclass(frozen=True, slots=True)
 class StopAt:
     """When a run stops: after ``max_boxes`` boxes evaluated in all (a total budget), or ``time_limit`` seconds.
-    What is left when it stops is pending.  ``section_boxes``, of :func:`~workspace_sym.serial.api.reach` only:
-    a budget of boxes for the stages of the section of an arm turned by its first joint, the same cells on every
-    machine where a time limit is not.  ``progress`` is the spelling of earlier releases of
-    ``RunOn(progress=...)`` (how a run is shown, not when it stops): still taken, with a
-    :class:`DeprecationWarning`.
+    What is left when it stops is pending.
+
+    Parameters
+    ----------
+    max_boxes : int or None
+        The most boxes evaluated in all, 1 or more (None: no budget).
+    time_limit : float or None
+        Seconds, positive and finite (None: no limit); checked between chunks of work.
+    section_boxes : int or None
+        Of :func:`~workspace_sym.serial.api.reach` only: a budget of boxes, 1 or more, for the stages of the
+        section of an arm turned by its first joint, the same cells on every machine where a time limit is not.
+    progress : bool or None
+        The spelling of earlier releases of ``RunOn(progress=...)`` (how a run is shown, not when it stops):
+        still taken, with a :class:`DeprecationWarning`; None: not given.
+
+    Raises
+    ------
+    InvalidParameterError
+        For a budget that is not a whole number of at least 1, or a time limit that is not a positive finite
+        number (a bool is neither).
 
     Examples
     --------
@@ -110,22 +125,33 @@ class StopAt:
 class RunOn:
     """Where a run's chunks of boxes go and where its decided boxes stay.
 
-    ``executor``: None (this process), a :class:`concurrent.futures.Executor`
-    or a ``dask.distributed.Client``
-    (:func:`~workspace_sym.interval.executor.connect`); ``chunk``: the most
-    boxes in one chunk of work (None: the entry point's own, 200,000 for
-    ``pave``); ``max_memory`` (bytes, or text such as
-    ``"2GB"``): stream the decided boxes to disk and cap the chunks so that the
-    boxes being decided fit (the result is a
-    :class:`~workspace_sym.interval.boxes.StoredPaving`); ``store``: the
-    directory for the decided boxes (default: a new temporary directory, or
-    ``<resume>.boxes`` with a checkpoint); ``resume``: the path of a
-    checkpoint, written when the run ends (complete or stopped) and every
-    minute while a streamed run goes on, and read to go on from it when it
-    exists.  The boxes, counts and measures are those of a run here.
-    ``progress``: how the run is shown, a progress bar (None: on an
-    interactive output once the run has lasted a second; True, always;
-    False, never; :mod:`workspace_sym.progress`).
+    The boxes, counts and measures are those of a run here.
+
+    Parameters
+    ----------
+    executor : concurrent.futures.Executor, dask.distributed.Client or None
+        Where the chunks run: None (this process), an executor or a Dask client
+        (:func:`~workspace_sym.interval.executor.connect`).
+    chunk : int or None
+        The most boxes in one chunk of work, 1 or more (None: the entry point's own, 200,000 for ``pave``).
+    max_memory : int, str or None
+        Bytes, or text such as ``"2GB"``: stream the decided boxes to disk and cap the chunks so that the boxes
+        being decided fit (the result is a :class:`~workspace_sym.interval.boxes.StoredPaving`).  None: no cap.
+    store : path or None
+        The directory for the decided boxes (the result is then a StoredPaving).  None: in memory unless
+        ``max_memory`` is given, and then ``<resume>.boxes`` with a checkpoint, else a new temporary directory.
+    resume : path or None
+        A checkpoint, written when the run ends (complete or stopped) and every minute while a streamed run
+        goes on, and read to go on from it when it exists.  None: no checkpoint.
+    progress : bool or None
+        How the run is shown, a progress bar: None, on an interactive output once the run has lasted a second;
+        True, always; False, never (:mod:`workspace_sym.progress`).
+
+    Raises
+    ------
+    InvalidParameterError
+        For a ``chunk`` that is not a whole number of at least 1, or a ``max_memory`` that is not a size of
+        at least 1 MiB (:func:`~workspace_sym.interval.store.parse_memory`).
     """
 
     executor: Any = None
@@ -145,7 +171,13 @@ class RunOn:
 
     @property
     def here(self) -> bool:
-        """Whether everything runs in line in this process, the boxes kept in memory, with no checkpoint."""
+        """Whether everything runs in line in this process, the boxes kept in memory, with no checkpoint.
+
+        Returns
+        -------
+        bool
+            True when ``executor``, ``max_memory``, ``store`` and ``resume`` are all None.
+        """
         return self.executor is None and self.max_memory is None and self.store is None and self.resume is None
 
 
@@ -155,6 +187,31 @@ def with_legacy_keywords(where: str, stop: StopAt, run: RunOn, *, executor=None,
     and ``progress=`` into ``run``), each with a :class:`DeprecationWarning` naming its replacement.  For the
     entry points whose documentation used them (``largest_cube``, ``cube_inside``,
     ``no_enclosed_cube``, ``prove_all``); None means not given.
+
+    Parameters
+    ----------
+    where : str
+        The entry point's name, for the warnings and the error.
+    stop : StopAt
+        Returned as it is.
+    run : RunOn
+        The run options given.
+    executor : object or None
+        The earlier ``executor=`` keyword.
+    progress : bool or None
+        The earlier ``progress=`` keyword.
+    stacklevel : int
+        The warnings' ``stacklevel`` (default 3: the caller of the entry point).
+
+    Returns
+    -------
+    tuple
+        ``(stop, run)`` with ``run`` carrying the keywords given.
+
+    Raises
+    ------
+    InvalidParameterError
+        When ``executor=`` and ``run.executor`` are two different executors.
 
     Examples
     --------
@@ -185,6 +242,22 @@ def refuse_storage(where: str, run: RunOn, *, why: str = "keeps no boxes", suppo
     chunk size only.  The error names the options given with their values, and what takes them
     (``supported``).
 
+    Parameters
+    ----------
+    where : str
+        The entry point's name, for the error.
+    run : RunOn
+        The run options given.
+    why : str
+        Why the options do not apply (default ``"keeps no boxes"``).
+    supported : str
+        What takes them instead, named in the error (default ``""``: not named).
+
+    Raises
+    ------
+    InvalidParameterError
+        ``parameter="run"``, when ``run`` has ``max_memory``, ``store`` or ``resume``.
+
     Examples
     --------
     >>> try:
@@ -211,6 +284,16 @@ class RunBudget:
     then its task boxes classified by :func:`subdivide`) hands one budget to
     each phase in turn: ``spent`` is the count of boxes the earlier phases
     evaluated, counted against ``max_boxes`` and shown on the bar.
+
+    Parameters
+    ----------
+    stop : StopAt
+        The budget and time limit.
+    label : str
+        The bar's label.
+    progress : bool or None
+        Whether the bar draws (:class:`RunOn`'s ``progress``); None: ``stop.progress`` (the earlier spelling),
+        and when that is None too, on an interactive output once the run has lasted a second.
     """
 
     def __init__(self, stop: StopAt, label: str, progress: bool | None = None):
@@ -224,16 +307,42 @@ class RunBudget:
 
     @property
     def seconds(self) -> float:
+        """Seconds since the budget was made (wall clock).
+
+        Returns
+        -------
+        float
+            The elapsed time.
+        """
         return time.perf_counter() - self.start
 
     @property
     def showing(self) -> bool:
-        """Whether the bar draws (callers skip computing what it would show otherwise)."""
+        """Whether the bar draws (callers skip computing what it would show otherwise).
+
+        Returns
+        -------
+        bool
+            True when the bar is enabled.
+        """
         return not self.bar.disable
 
     def stop_reason(self, evaluated: int, *, ahead: float = 0.0) -> str:
-        """``ahead``: seconds the next step is expected to take; the run stops before a step that would end
-        past the time limit."""
+        """Why the run stops now, or ``""`` while it may go on.
+
+        Parameters
+        ----------
+        evaluated : int
+            Boxes this phase has evaluated (added to ``spent`` against ``max_boxes``).
+        ahead : float
+            Seconds the next step is expected to take; the run stops before a step that would end past the time
+            limit (default 0).
+
+        Returns
+        -------
+        str
+            ``"time limit of T s reached"``, ``"budget of N boxes reached"``, or ``""``.
+        """
         elapsed = self.seconds
         if self.time_limit is not None and elapsed + ahead > self.time_limit:
             return f"time limit of {self.time_limit} s reached"
@@ -242,13 +351,22 @@ class RunBudget:
         return ""
 
     def show(self, share: float, evaluated: int) -> None:
-        """The bar at ``share`` (0 to 1) of the task box decided, after ``evaluated`` boxes."""
+        """The bar at ``share`` (0 to 1) of the task box decided, after ``evaluated`` boxes.
+
+        Parameters
+        ----------
+        share : float
+            The share of the task box decided, clipped to 0 to 1.
+        evaluated : int
+            Boxes this phase has evaluated (shown with ``spent`` added).
+        """
         if not self.showing:
             return
         self.bar.set_postfix_str(f"{self.spent + evaluated} boxes", refresh=False)
         self.bar.update(100.0 * min(1.0, max(0.0, share)) - self.bar.n)
 
     def close(self) -> None:
+        """Close the bar (the caller that made the budget does, once every phase is done)."""
         self.bar.close()
 
 
@@ -258,6 +376,23 @@ def initial_boxes(box: Box, delta: float, size: str, presplit: int) -> np.ndarra
 
     A fresh array each call, from a cache: the same box, delta and size give the same boxes, and bisecting them
     costs about as much as deciding them (nine generations of numpy calls for 512 boxes).
+
+    Parameters
+    ----------
+    box : Box
+        The box to pave.
+    delta : float
+        No box is bisected unless every box of its generation is larger than ``delta``.
+    size : str
+        ``"diameter"`` or ``"width"``: how a box's size is measured.
+    presplit : int
+        Bisect (each generation doubling the boxes) while there are fewer boxes than this.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N, n, 2)`` boxes covering ``box``; ``box`` alone when ``presplit`` is at most 1 or ``box`` is not
+        larger than ``delta``.
     """
     return _initial_boxes(box.lower, box.upper, float(delta), size, presplit).copy()
 
@@ -281,6 +416,32 @@ def expand(batch: np.ndarray, decide: Decider, separate, delta: float, size: str
     box after its contraction is bisected when it is itself larger than
     ``delta``, or, with ``sized_before_cut``, when the box was larger than
     ``delta`` before the contraction (:func:`subdivide`).
+
+    Parameters
+    ----------
+    batch : numpy.ndarray
+        ``(N, n, 2)`` boxes.
+    decide : Decider
+        The verdicts.
+    separate : callable or None
+        The contraction (a :class:`~workspace_sym.interval.contractor.Separation` of undecided boxes), or None.
+    delta : float
+        Undecided boxes of size at most ``delta`` are boundary boxes; larger ones are bisected.
+    size : str
+        ``"diameter"`` or ``"width"``: how a box's size is measured.
+    sized_before_cut : bool
+        Size the remainder of a contracted box by the box before the contraction (default False).
+
+    Returns
+    -------
+    inner : numpy.ndarray
+        ``(M, n, 2)`` boxes (or contracted slices) proved inside.
+    boundary : numpy.ndarray
+        Undecided boxes not to be bisected: those of size at most ``delta``, and those one float wide.
+    outer : numpy.ndarray
+        Boxes (or slices) proved outside.
+    children : numpy.ndarray
+        The halves of the other undecided boxes.
     """
     codes = decide(batch)
     und = batch[codes == UNDECIDED]
@@ -307,7 +468,15 @@ def expand(batch: np.ndarray, decide: Decider, separate, delta: float, size: str
 
 @dataclass(frozen=True)
 class Step:
-    """One branch-and-bisect step on a chunk of boxes (picklable: it travels to the workers once)."""
+    """One branch-and-bisect step on a chunk of boxes (picklable: it travels to the workers once).
+
+    Calling it on ``(N, n, 2)`` boxes runs :func:`expand` and returns its four arrays as contiguous float64.
+
+    Parameters
+    ----------
+    decide, separate, delta, size, sized_before_cut
+        As for :func:`expand`.
+    """
 
     decide: object
     separate: object
@@ -347,7 +516,25 @@ def _checked_boxes(name: str, value, n: int, hull: tuple[np.ndarray, np.ndarray]
 def checked_step(result, chunk: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """A step's result ``(inner, boundary, outer, children)`` as sent back for ``chunk``, checked before it is
     stored: plain float arrays of the chunk's dimension, finite, ordered, inside the chunk's hull.  It cannot
-    check the verdicts themselves (that would be doing the work again): an untrusted cluster stays untrusted."""
+    check the verdicts themselves (that would be doing the work again): an untrusted cluster stays untrusted.
+
+    Parameters
+    ----------
+    result : object
+        What the worker sent back.
+    chunk : numpy.ndarray
+        The ``(N, n, 2)`` boxes it was sent.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(inner, boundary, outer, children)``, the arrays of ``result`` as they are.
+
+    Raises
+    ------
+    WorkerResultError
+        For anything else (:func:`~workspace_sym.interval.executor.refuse_result`).
+    """
     if type(result) not in (tuple, list) or len(result) != 4:
         refuse_result("something other than 4 arrays (inner, boundary, outer, children)", type(result).__name__)
     n, hull = chunk.shape[1], _hull(chunk)
@@ -392,7 +579,21 @@ def write_checkpoint(path: Path, meta: dict, pending: np.ndarray, store: BoxStor
     """Write the checkpoint of a run at ``path`` (atomically): ``meta`` (its ``fingerprint``, a
     :class:`~workspace_sym.interval.fingerprint.Fingerprint`, ``evaluated``, ``seconds``), the ``pending``
     boxes, the store's state (its boxes too when in memory) and ``extra`` arrays a loop carries with its pending
-    boxes (``reach``'s pairs: the joint boxes and their owners); the SHA-256 of every array goes with them."""
+    boxes (``reach``'s pairs: the joint boxes and their owners); the SHA-256 of every array goes with them.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The checkpoint file (an ``.npz`` archive), written under ``<path>.tmp`` and renamed.
+    meta : dict
+        The run's record, JSON-ready but for ``fingerprint``.
+    pending : numpy.ndarray
+        The ``(N, n, 2)`` boxes not yet decided.
+    store : BoxStore
+        The decided boxes (a store on disk is flushed first).
+    extra : dict or None
+        More arrays by name (None: none).
+    """
     arrays: dict[str, Any] = {"pending": pending, **(extra or {})}
     if store.directory is None:
         arrays.update({k: store.arrays(k) for k in KINDS})
@@ -414,7 +615,28 @@ def _array_digest(array: np.ndarray) -> str:
 def read_checkpoint(path: Path, fingerprint: Fingerprint):
     """``(meta, arrays)`` of the checkpoint at ``path``, refused (``resume``) unless it is one of the run that
     ``fingerprint`` describes (:func:`~workspace_sym.interval.fingerprint.check_fingerprint`, naming the fields
-    that differ), whole (every array as written) and with its store (:meth:`BoxStore.restore` checks that)."""
+    that differ), whole (every array as written) and with its store (:meth:`BoxStore.restore` checks that).
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The checkpoint file.
+    fingerprint : Fingerprint
+        The fingerprint of this run.
+
+    Returns
+    -------
+    meta : dict
+        The run's record, as :func:`write_checkpoint` wrote it.
+    arrays : dict
+        The arrays by name: ``pending``, the store's classes when it was in memory, and any ``extra``.
+
+    Raises
+    ------
+    InvalidParameterError
+        ``parameter="resume"``: the file is not a checkpoint, is of another version or another run, or its
+        arrays are not those it recorded.
+    """
     try:
         with np.load(path, allow_pickle=False) as data:
             meta = json.loads(str(data["meta"]))
@@ -452,7 +674,29 @@ def _take(stack: deque, size: int, depth_first: bool) -> np.ndarray:
 def store_for(n: int, run: RunOn, problem: str = "") -> tuple[BoxStore, int | None]:
     """Where the decided boxes of a run of dimension ``n`` go (in memory, or ``.npy`` parts when ``run`` asks
     for ``max_memory`` or a ``store``, naming ``problem``, the digest of the run's fingerprint), and the memory
-    budget in bytes (None: unbounded)."""
+    budget in bytes (None: unbounded).
+
+    Parameters
+    ----------
+    n : int
+        Number of variables.
+    run : RunOn
+        The run options.
+    problem : str
+        The digest of the run's fingerprint (default ``""``).
+
+    Returns
+    -------
+    store : BoxStore
+        A new store, in memory or on disk.
+    budget : int or None
+        ``run.max_memory`` in bytes.
+
+    Raises
+    ------
+    InvalidParameterError
+        ``parameter="store"``, when the directory already holds parts of boxes.
+    """
     if run.max_memory is None and run.store is None:
         return BoxStore(n), None
     budget = None if run.max_memory is None else parse_memory(run.max_memory)
@@ -516,9 +760,48 @@ def subdivide(decide: Decider, box: Box, *, delta: float, size: str = "diameter"
     ``constraints`` and ``backend`` describe the decider in the result (and
     in a checkpoint's fingerprint).
 
+    Parameters
+    ----------
+    decide : Decider
+        The verdicts (see above).
+    box : Box
+        The box to pave.
+    delta : float
+        Positive: undecided boxes of size at most ``delta`` are boundary boxes.
+    size : str
+        How a box's size is measured: ``"diameter"`` (default, its diagonal) or ``"width"`` (its widest edge).
+    stop : StopAt or RunBudget
+        When to stop (see above; default: never).
+    run : RunOn
+        Where to run (see above; default: here).
+    constraints : tuple
+        The constraints (:class:`~workspace_sym.interval.paving.Constraint`) that ``decide`` tests, for the
+        result and the fingerprint (default: none).
+    backend : str
+        The arithmetic that ``decide`` uses, for the result and the fingerprint (default ``"numpy"``).
+    label : str
+        The progress bar's label (default ``"paving"``).
+    presplit : int
+        Boxes bisected before the first evaluation (default 512; see above).
+    separate : callable or None
+        The contraction (see above); None (default): none.
+    sized_before_cut : bool
+        Size the remainder of a contracted box by the box before the contraction (default False; see above).
+
     Returns
     -------
-    Paving, or StoredPaving when the boxes are on disk.
+    Paving
+        Or a :class:`~workspace_sym.interval.boxes.StoredPaving` when the boxes are on disk.
+
+    Raises
+    ------
+    InvalidParameterError
+        For a ``delta`` that is not a positive finite number; a checkpoint (``resume``) of another run,
+        version or store, or damaged; a ``store`` directory that already holds boxes.
+    UnknownNameError
+        For a ``size`` other than ``"diameter"`` and ``"width"``.
+    WorkerResultError
+        When a worker of another process sends back something other than a step's result.
     """
     check_delta(delta)
     check_choice("size", size, SIZES)
@@ -611,7 +894,20 @@ def subdivide(decide: Decider, box: Box, *, delta: float, size: str = "diameter"
 
 def paving_of(keeper: BoxStore, **common) -> Paving:
     """The result of a run whose decided boxes are in ``keeper``: a :class:`Paving`, or a
-    :class:`StoredPaving` when they are on disk; ``common`` are the other fields of a Paving."""
+    :class:`StoredPaving` when they are on disk; ``common`` are the other fields of a Paving.
+
+    Parameters
+    ----------
+    keeper : BoxStore
+        The decided boxes (flushed, when on disk).
+    **common
+        The fields of a Paving other than ``inner``, ``boundary`` and ``outer``.
+
+    Returns
+    -------
+    Paving
+        A Paving holding the boxes, or a StoredPaving naming the store's files, counts and exact sums.
+    """
     empty = np.empty((0, keeper.n, 2))
     if keeper.directory is None:
         return Paving(inner=keeper.arrays("inner"), boundary=keeper.arrays("boundary"),

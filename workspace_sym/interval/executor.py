@@ -87,7 +87,20 @@ def _call_in_worker(fn, boxes):
 
 
 def refuse_result(what: str, got: str):
-    """Raise the error of a worker's result that is not what was asked for."""
+    """Raise the error of a worker's result that is not what was asked for.
+
+    Parameters
+    ----------
+    what : str
+        What the worker returned, described (``"codes other than 1, 0 and -1"``).
+    got : str
+        A short account of the value (its type, shape or some of its entries).
+
+    Raises
+    ------
+    WorkerResultError
+        Always, with ``parameter="executor"``.
+    """
     raise WorkerResultError(f"executor: a worker returned {what}; got {got} (a worker of another version or an "
                             "untrusted cluster?)", parameter="executor")
 
@@ -112,33 +125,97 @@ def _is_dask_client(executor) -> bool:
 
 
 class Runner:
-    """``fn`` applied to chunks of boxes somewhere, with futures: the seam every paving goes through."""
+    """``fn`` applied to chunks of boxes somewhere, with futures: the seam every paving goes through.
+
+    ``slots`` is how many chunks the driver keeps in flight; ``local`` is True when results are computed in
+    this process's threads (never unpickled, so not checked).  A subclass defines :meth:`submit`.
+    """
 
     slots = 1
     local = False                   # results computed in this process's threads: never unpickled, not checked
 
     def submit(self, boxes):
+        """Start ``fn`` on a chunk of boxes.
+
+        Parameters
+        ----------
+        boxes : numpy.ndarray
+            The ``(N, n, 2)`` chunk.
+
+        Returns
+        -------
+        future
+            Its future (``result()`` gives ``fn(boxes)``).  The base class raises ``NotImplementedError``.
+        """
         raise NotImplementedError
 
     def result(self, future, boxes: np.ndarray, check):
-        """The result of ``future`` (the task on ``boxes``), checked by ``check`` when it came from elsewhere."""
+        """The result of ``future`` (the task on ``boxes``), checked by ``check`` when it came from elsewhere.
+
+        Parameters
+        ----------
+        future : future
+            A future of :meth:`submit`.
+        boxes : numpy.ndarray
+            The chunk it was given.
+        check : callable
+            ``check(value, boxes)`` returns the value checked or raises
+            (:func:`~workspace_sym.interval.driver.checked_step`).
+
+        Returns
+        -------
+        object
+            ``fn(boxes)``, checked unless the runner is :attr:`local`.
+        """
         value = future.result()
         return value if self.local else check(value, boxes)
 
     def wait(self, futures, timeout: float) -> list:
+        """The futures that are done, waiting until one is or ``timeout`` passes.
+
+        Parameters
+        ----------
+        futures : iterable of future
+            Futures of :meth:`submit`.
+        timeout : float
+            The most seconds to wait.
+
+        Returns
+        -------
+        list
+            The futures done (empty when none is by then).
+        """
         done, _ = concurrent.futures.wait(futures, timeout=timeout, return_when=concurrent.futures.FIRST_COMPLETED)
         return list(done)
 
     def cancel(self, futures) -> None:
+        """Cancel the futures not yet started (those running finish; their results are not asked for).
+
+        Parameters
+        ----------
+        futures : iterable of future
+            Futures of :meth:`submit`.
+        """
         for f in futures:
             f.cancel()
 
     def close(self) -> None:
+        """Release what the runner holds elsewhere (nothing here; the executor is the caller's)."""
         pass
 
 
 class Futures(Runner):
-    """A ``concurrent.futures.Executor`` (threads or processes): the step is pickled with each chunk."""
+    """A ``concurrent.futures.Executor`` (threads or processes): the step is pickled with each chunk.
+
+    Parameters
+    ----------
+    executor : concurrent.futures.Executor
+        Where the chunks run; a ``ThreadPoolExecutor`` makes the runner :attr:`local` (results not checked).
+    fn : callable
+        The function applied to each chunk, in round-to-nearest.
+    slots : int
+        How many chunks the driver keeps in flight.
+    """
 
     def __init__(self, executor, fn, slots: int):
         self.executor, self.fn, self.slots = executor, fn, slots
@@ -146,11 +223,38 @@ class Futures(Runner):
         self.entry = _call if self.local else _call_in_worker
 
     def submit(self, boxes):
+        """Submit ``fn`` on a chunk to the executor.
+
+        Parameters
+        ----------
+        boxes : numpy.ndarray
+            The ``(N, n, 2)`` chunk.
+
+        Returns
+        -------
+        concurrent.futures.Future
+            Its future.
+        """
         return self.executor.submit(self.entry, self.fn, boxes)
 
 
 class Dask(Runner):
-    """A ``dask.distributed.Client``: the step is one task whose result every chunk depends on."""
+    """A ``dask.distributed.Client``: the step is one task whose result every chunk depends on.
+
+    ``slots`` is twice the number of the cluster's worker threads when the runner is made.
+
+    Parameters
+    ----------
+    client : dask.distributed.Client
+        The cluster's client (the caller's: it stays open).
+    fn : callable
+        The function applied to each chunk; it must pickle.
+
+    Raises
+    ------
+    MissingExtraError
+        When ``dask.distributed`` is not installed.
+    """
 
     def __init__(self, client, fn):
         self.distributed = _distributed()
@@ -163,9 +267,35 @@ class Dask(Runner):
         self.fn = client.submit(_itself, fn, pure=False)
 
     def submit(self, boxes):
+        """Submit ``fn`` on a chunk to the cluster.
+
+        Parameters
+        ----------
+        boxes : numpy.ndarray
+            The ``(N, n, 2)`` chunk.
+
+        Returns
+        -------
+        distributed.Future
+            Its future.
+        """
         return self.client.submit(_call_in_worker, self.fn, boxes, pure=False)
 
     def wait(self, futures, timeout: float) -> list:
+        """The futures that are done, waiting until one is or ``timeout`` passes.
+
+        Parameters
+        ----------
+        futures : iterable of distributed.Future
+            Futures of :meth:`submit`.
+        timeout : float
+            The most seconds to wait.
+
+        Returns
+        -------
+        list
+            The futures done (empty when none is by then).
+        """
         done = [f for f in futures if f.done()]
         if done:
             return done
@@ -176,10 +306,18 @@ class Dask(Runner):
         return [f for f in futures if f.done()]
 
     def cancel(self, futures) -> None:
+        """Cancel the futures on the cluster.
+
+        Parameters
+        ----------
+        futures : iterable of distributed.Future
+            Futures of :meth:`submit`.
+        """
         if futures:
             self.client.cancel(list(futures))
 
     def close(self) -> None:
+        """Release the task that holds ``fn`` on the cluster (the client stays open)."""
         self.client.cancel([self.fn])
 
 
@@ -201,7 +339,13 @@ class _Deferred:
 
 
 class Inline(Runner):
-    """``fn`` in this process's thread, one chunk at a time, when its result is asked for."""
+    """``fn`` in this process's thread, one chunk at a time, when its result is asked for.
+
+    Parameters
+    ----------
+    fn : callable
+        The function applied to each chunk (in the thread and rounding mode of the caller).
+    """
 
     local = True
 
@@ -209,17 +353,71 @@ class Inline(Runner):
         self.fn = fn
 
     def submit(self, boxes):
+        """A deferred chunk: nothing runs until its ``result()`` is asked for.
+
+        Parameters
+        ----------
+        boxes : numpy.ndarray
+            The ``(N, n, 2)`` chunk.
+
+        Returns
+        -------
+        object
+            A future-like object whose ``result()`` computes ``fn(boxes)``.
+        """
         return _Deferred(self.fn, boxes)
 
     def wait(self, futures, timeout: float) -> list:
+        """Every future, at once (each is done when its result is asked for).
+
+        Parameters
+        ----------
+        futures : iterable
+            Futures of :meth:`submit`.
+        timeout : float
+            Not used.
+
+        Returns
+        -------
+        list
+            ``futures`` as a list.
+        """
         return list(futures)
 
     def cancel(self, futures) -> None:
+        """Nothing to cancel: a chunk not asked for never runs.
+
+        Parameters
+        ----------
+        futures : iterable
+            Futures of :meth:`submit`.
+        """
         pass
 
 
 def runner_for(executor, fn) -> Runner:
-    """The seam: local threads (``None``), a ``concurrent.futures.Executor``, or a Dask client."""
+    """The seam: local threads (``None``), a ``concurrent.futures.Executor``, or a Dask client.
+
+    Parameters
+    ----------
+    executor : concurrent.futures.Executor, dask.distributed.Client or None
+        None: a pool of this process's threads (as many as the cores, at most 4), shared by the process.
+    fn : callable
+        The function applied to each chunk.
+
+    Returns
+    -------
+    Runner
+        :class:`Futures` (this process's threads, a slot each; an executor, two slots a worker) or
+        :class:`Dask`.
+
+    Raises
+    ------
+    InvalidParameterError
+        ``parameter="executor"``, for any other executor.
+    MissingExtraError
+        For a Dask client when ``dask.distributed`` cannot be imported.
+    """
     if executor is None:
         workers = min(os.cpu_count() or 1, 4)
         return Futures(thread_pool(workers), fn, workers)
@@ -238,6 +436,25 @@ def connect(address: str):
 
     ``local:N`` starts a ``LocalCluster`` of ``N`` worker processes (one
     thread each) for the duration of the block and stops it afterwards.
+
+    Parameters
+    ----------
+    address : str
+        ``local:N`` with ``N`` at least 1, or a scheduler's address with a scheme (``tcp://host:8786``).
+
+    Yields
+    ------
+    dask.distributed.Client
+        The client, closed when the block ends.
+
+    Raises
+    ------
+    MissingExtraError
+        When ``dask.distributed`` is not installed.
+    InvalidParameterError
+        ``parameter="scheduler"``, for an address of neither form.
+    WorkspaceError
+        ``parameter="scheduler"``, when the scheduler cannot be reached within 30 seconds.
     """
     distributed = _distributed()
     text = str(address).strip()
@@ -269,6 +486,30 @@ def map_codes(decide: Decider, boxes: np.ndarray, executor, *, chunk: int = 50_0
 
     For searches whose loop stays here (:func:`~workspace_sym.interval.search.prove_all`):
     only the evaluation of each generation is spread.
+
+    Parameters
+    ----------
+    decide : Decider
+        The verdicts; it must pickle for an executor of other processes.
+    boxes : numpy.ndarray
+        ``(N, n, 2)`` boxes.
+    executor : concurrent.futures.Executor, dask.distributed.Client or None
+        Where the chunks run (:func:`runner_for`).  None, or at most :data:`MIN_CHUNK` boxes: ``decide(boxes)``
+        in this thread.
+    chunk : int
+        The most boxes in one chunk (default 50,000).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N,)`` codes, in the order of ``boxes``.
+
+    Raises
+    ------
+    WorkerResultError
+        When codes sent back from another process are not one number 1, 0 or -1 a box.
+    InvalidParameterError
+        For an executor of another kind (:func:`runner_for`).
     """
     if executor is None or len(boxes) <= MIN_CHUNK:
         return decide(boxes)

@@ -40,6 +40,19 @@ def canonical(value: Any) -> str:
     SymPy objects are written by ``srepr`` (``Rational(1, 2)`` is not ``Float('0.5')``), floats by their
     shortest exact ``repr``, arrays by dtype, shape and bytes; mappings are sorted by key.
 
+    Parameters
+    ----------
+    value : object
+        A mapping, list, tuple, numpy array, SymPy object or matrix, bool, int, float, str or None, nested
+        freely (a tuple and a list of the same entries give the same text).
+
+    Returns
+    -------
+    str
+        The canonical text.  Any other type raises ``TypeError``.
+
+    Examples
+    --------
     >>> canonical({"a": 0.1, "b": (1, None)})
     "{'a': 0.1, 'b': [1, None]}"
     >>> canonical(sp.Rational(1, 2)) != canonical(sp.Float(0.5))
@@ -73,6 +86,16 @@ def _digest(value: Any) -> str:
 class Fingerprint(Mapping):
     """The fields of a problem, each kept as the SHA-256 of its canonical text, and :data:`FORMAT`.
 
+    Parameters
+    ----------
+    fields : mapping or None
+        The fields by name, values of any type :func:`canonical` takes; the field ``format`` (:data:`FORMAT`)
+        is added first (a field of that name replaces it).  None: no field but ``format``.
+    digests : mapping or None
+        The digests by name, as :meth:`to_json` wrote them: taken as they are, and ``fields`` is ignored.
+
+    Examples
+    --------
     >>> a = Fingerprint({"delta": 0.1, "limits": [(-1, 1)]})
     >>> b = Fingerprint({"delta": 0.1, "limits": [(-1, 2)]})
     >>> a.differs(b)
@@ -111,15 +134,45 @@ class Fingerprint(Mapping):
         return hashlib.sha256(json.dumps(self._digests, sort_keys=True).encode()).hexdigest()
 
     def differs(self, other: Mapping[str, str]) -> list[str]:
-        """The fields whose digests differ (or that only one of the two has), sorted."""
+        """The fields whose digests differ (or that only one of the two has), sorted.
+
+        Parameters
+        ----------
+        other : mapping
+            Another fingerprint, or its digests by name.
+
+        Returns
+        -------
+        list of str
+            The names of the fields.
+        """
         theirs = dict(other)
         return sorted(k for k in set(theirs) | set(self._digests) if theirs.get(k) != self._digests.get(k))
 
     def to_json(self) -> dict[str, str]:
+        """The digests by name, for a JSON file.
+
+        Returns
+        -------
+        dict
+            A copy of ``{field: SHA-256 hex digest}``.
+        """
         return dict(self._digests)
 
     @classmethod
     def from_json(cls, data: Any) -> Fingerprint:
+        """The fingerprint :meth:`to_json` wrote.
+
+        Parameters
+        ----------
+        data : object
+            What the file holds: a mapping of field names to digests, both text.
+
+        Returns
+        -------
+        Fingerprint
+            The fingerprint.  Anything else raises ``ValueError``.
+        """
         if not isinstance(data, Mapping) or not all(isinstance(k, str) and isinstance(v, str)
                                                     for k, v in data.items()):
             raise ValueError("a fingerprint is a mapping of field names to digests")
@@ -134,6 +187,25 @@ def check_fingerprint(stored: Any, expected: Fingerprint, *, what: str, paramete
     one of another version of the files, or of another problem, naming the fields that differ.  ``what`` names
     the artefact (``"'run.npz' is the checkpoint"``).
 
+    Parameters
+    ----------
+    stored : object
+        What the artefact holds as its fingerprint (:meth:`Fingerprint.to_json`); anything that is not one
+        counts as another version.
+    expected : Fingerprint
+        The fingerprint of this run.
+    what : str
+        The start of the error message, naming the artefact.
+    parameter : str
+        The parameter the error names (default ``"resume"``).
+
+    Raises
+    ------
+    InvalidParameterError
+        When ``stored`` is of another :data:`FORMAT` (or none), or any field differs.
+
+    Examples
+    --------
     >>> check_fingerprint({}, Fingerprint({"delta": 0.1}), what="'run.npz' is the checkpoint")
     Traceback (most recent call last):
     ...

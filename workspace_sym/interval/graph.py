@@ -42,6 +42,16 @@ _FUNCTIONS = {sp.sin: "sin", sp.cos: "cos", sp.Abs: "abs"}
 def exact_constants(expr: sp.Expr) -> sp.Expr:
     """``expr`` with every ``Float`` replaced by the ``Rational`` of the same value (exact).
 
+    Parameters
+    ----------
+    expr : sympy.Expr
+        The expression.
+
+    Returns
+    -------
+    sympy.Expr
+        The expression with exact constants (``expr`` itself when it holds no float).
+
     Examples
     --------
     >>> x = sp.Symbol("x")
@@ -62,7 +72,25 @@ def _unsupported(node, what="is not supported by the interval compiler"):
 
 # ----------------------------------------------------------------------------- constants
 def numpy_constant(value: sp.Expr) -> tuple[float, float]:
-    """Two floats enclosing the real constant ``value`` (equal when it is a float exactly)."""
+    """Two floats enclosing the real constant ``value`` (equal when it is a float exactly).
+
+    Parameters
+    ----------
+    value : sympy.Expr, number or str
+        A constant expression (no symbol).
+
+    Returns
+    -------
+    tuple of float
+        ``(lo, hi)``; a rational beyond the float range gives ``(largest float, inf)`` or its negative.  Other
+        constants are enclosed at 60 digits and widened by a float spacing each way.
+
+    Raises
+    ------
+    ExpressionError
+        For a constant that is not real (``sqrt(1 - pi)``), or one the interval compiler does not support
+        (``sqrt(-2)``, which SymPy writes with ``I``).
+    """
     value = exact_constants(as_sympy(value))
     if value.is_Rational:
         p, q = int(value.p), int(value.q)
@@ -139,6 +167,21 @@ class Graph:
 
     ``fold=False`` keeps constant subexpressions as operations over constant
     leaves (rationals, ``pi``, ``E``): used to enclose a constant itself.
+
+    Parameters
+    ----------
+    expressions : iterable
+        The expressions (SymPy, numbers or text); their roots are :attr:`roots`, in order.
+    variables : iterable of sympy.Symbol
+        The variables, in the order of the intervals a sweep takes.
+    fold : bool
+        Enclose each constant subexpression once, as a leaf (default True).
+
+    Raises
+    ------
+    ExpressionError
+        For an operation outside :data:`SUPPORTED`, a symbol that is not a variable, or a constant that is not
+        real.
 
     Examples
     --------
@@ -243,6 +286,18 @@ class Graph:
         value is a ``(lo, hi)`` pair, NaN meaning no enclosure.  mpmath:
         ``X`` is a list of ``iv.mpf``; ``None`` means no enclosure (a domain
         error).
+
+        Parameters
+        ----------
+        X : list
+            One interval per variable.
+        backend : str
+            ``"numpy"`` (default); anything else is the mpmath reference.
+
+        Returns
+        -------
+        list
+            The enclosure of every node, in the order of :attr:`nodes`.
         """
         numpy = backend == "numpy"
         ops = _NUMPY if numpy else _MPMATH
@@ -265,6 +320,19 @@ class Graph:
         return self._mp_graphs[i].evaluate([], "mpmath")[0]
 
     def evaluate(self, X, backend: str = "numpy") -> list:
-        """Enclosures of the roots (the expressions, in order) over ``X``."""
+        """Enclosures of the roots (the expressions, in order) over ``X``.
+
+        Parameters
+        ----------
+        X : list
+            One interval per variable, as for :meth:`forward`.
+        backend : str
+            ``"numpy"`` (default) or ``"mpmath"``.
+
+        Returns
+        -------
+        list
+            One enclosure per expression.
+        """
         vals = self.forward(X, backend)
         return [vals[r] for r in self.roots]

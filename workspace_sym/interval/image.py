@@ -82,14 +82,25 @@ class ImageMap:
 
     Parameters
     ----------
-    expressions : the ``m`` coordinates of ``f`` as SymPy expressions of ``variables``.
-    variables : the ``k`` joint symbols.
-    limits : ``k`` pairs ``(lo, hi)``, exact (SymPy) or floats.
-    periodic : ``k`` booleans: the map is periodic in that joint with period
+    expressions : sequence of sympy.Expr
+        The ``m`` coordinates of ``f`` as SymPy expressions of ``variables``.
+    variables : sequence of sympy.Symbol
+        The ``k`` joint symbols.
+    limits : sequence of pairs
+        ``k`` pairs ``(lo, hi)``, exact (SymPy) or floats.  Enclosures use the limits rounded outward, the
+        boxes of inner proofs the limits rounded inward.
+    periodic : sequence of bool
+        ``k`` booleans: the map is periodic in that joint with period
         ``hi - lo`` (its limits span exactly one period, so it has no limit faces
         and any value of it is allowed).  A joint turning through a full circle
         is periodic only when the map is (a joint in a coupled angle such as
         ``q2 + q1/2`` is not ``2 pi`` periodic).
+
+    Raises
+    ------
+    ExpressionError
+        For an expression with an operation the interval compiler does not support, or a limit that is not a
+        real constant.
     """
 
     COMBOS_TRIED = 3       # choices of the m joints of the inner test tried per box, best-conditioned first
@@ -116,7 +127,18 @@ class ImageMap:
 
     # -------------------------------------------------------------- interval enclosures
     def enclose(self, Q: np.ndarray) -> np.ndarray:
-        """``(N, m, 2)`` enclosures of ``f`` over joint boxes ``Q`` (``(N, k, 2)``)."""
+        """``(N, m, 2)`` enclosures of ``f`` over joint boxes ``Q`` (``(N, k, 2)``).
+
+        Parameters
+        ----------
+        Q : numpy.ndarray
+            ``(N, k, 2)`` joint boxes.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, m, 2)``, rounded outward; a coordinate with no enclosure (NaN) is ``[-inf, inf]``.
+        """
         X = [(Q[:, j, 0], Q[:, j, 1]) for j in range(self.k)]
         out = np.empty((len(Q), self.m, 2))
         with np.errstate(all="ignore"):
@@ -127,7 +149,20 @@ class ImageMap:
 
     def jacobian_enclosure(self, Q: np.ndarray, columns=None):
         """``J[i][j] = (lo, hi)`` arrays enclosing ``d f_i / d q_j`` over ``Q``; with ``columns``, only those
-        columns are computed (the others are None)."""
+        columns are computed (the others are None).
+
+        Parameters
+        ----------
+        Q : numpy.ndarray
+            ``(N, k, 2)`` joint boxes.
+        columns : iterable of int or None
+            The joints whose columns are wanted (None: all).
+
+        Returns
+        -------
+        list of list
+            ``m`` rows of ``k`` entries: a ``(lo, hi)`` pair of ``(N,)`` arrays (NaN: no enclosure), or None.
+        """
         X = [(Q[:, j, 0], Q[:, j, 1]) for j in range(self.k)]
         shape = (len(Q),)
         wanted = range(self.k) if columns is None else set(int(j) for j in columns)
@@ -154,7 +189,20 @@ class ImageMap:
 
     def minor_enclosure(self, Q: np.ndarray, *columns: int):
         """Enclosure of ``det [J_c1, ..., J_cm]`` over ``Q`` for ``m`` distinct columns in any order (the sign
-        of the permutation that sorts them is applied)."""
+        of the permutation that sorts them is applied).
+
+        Parameters
+        ----------
+        Q : numpy.ndarray
+            ``(N, k, 2)`` joint boxes.
+        *columns : int
+            ``m`` distinct joint indices.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            ``(lo, hi)``, each ``(N,)``.
+        """
         X = [(Q[:, v, 0], Q[:, v, 1]) for v in range(self.k)]
         order = tuple(sorted(columns))
         f = self.minors[order]
@@ -164,23 +212,78 @@ class ImageMap:
 
     # -------------------------------------------------------------- floats
     def position_float(self, q: np.ndarray) -> np.ndarray:
-        """``(N, m)`` values of ``f`` at joint values ``q`` (``(N, k)``), in floats."""
+        """``(N, m)`` values of ``f`` at joint values ``q`` (``(N, k)``), in floats.
+
+        Parameters
+        ----------
+        q : numpy.ndarray
+            ``(N, k)`` joint values.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, m)`` positions (no proof: rounded as numpy rounds).
+        """
         out = self._p_float(q.T)
         return np.stack([np.broadcast_to(np.asarray(v, dtype=float), (len(q),)) for v in out], axis=1)
 
     def jacobian_float(self, q: np.ndarray) -> np.ndarray:
-        """``(N, m, k)`` Jacobians at ``q``, in floats."""
+        """``(N, m, k)`` Jacobians at ``q``, in floats.
+
+        Parameters
+        ----------
+        q : numpy.ndarray
+            ``(N, k)`` joint values.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, m, k)``: ``d f_i / d q_j`` at each configuration.
+        """
         rows = self._j_float(q.T)
         return np.stack([np.stack([np.broadcast_to(np.asarray(v, dtype=float), (len(q),)) for v in row], axis=1)
                          for row in rows], axis=1)
 
     def random_configurations(self, n: int, rng) -> np.ndarray:
+        """Joint values drawn uniformly within the limits (rounded inward).
+
+        Parameters
+        ----------
+        n : int
+            Number of configurations.
+        rng : numpy.random.Generator
+            The source of the draws.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(n, k)`` joint values.
+        """
         return rng.uniform(self.inner_limits[:, 0], self.inner_limits[:, 1], size=(n, self.k))
 
     # -------------------------------------------------------------- inner test
     def newton(self, targets: np.ndarray, seeds: np.ndarray, *, steps: int = 8):
         """Joint values near a solution of ``f(q) = target`` from each seed (least-squares Newton steps kept
-        within the limits), and the mask of those whose residual is below ``1e-9`` times the reach."""
+        within the limits), and the mask of those whose residual is below ``1e-9`` times the reach.
+
+        Parameters
+        ----------
+        targets : numpy.ndarray
+            ``(N, m)`` points.
+        seeds : numpy.ndarray
+            ``(N, k)`` starting joint values.
+        steps : int
+            Newton steps (default 8).
+
+        Returns
+        -------
+        q : numpy.ndarray
+            ``(N, k)`` joint values after the steps (periodic joints wrapped into their period, the others
+            clipped to their limits rounded inward).
+        converged : numpy.ndarray of bool
+            ``(N,)``: ``q`` is finite and ``|f(q) - target| <= 1e-9 (1 + max_i |target_i|)``, in floats (a
+            hint, not a proof).
+        """
         q = seeds.copy()
         with np.errstate(all="ignore"):
             for _ in range(steps):
@@ -201,6 +304,21 @@ class ImageMap:
 
         ``seeds`` are joint values (``(N, k)``) from which Newton's method
         looks for a configuration reaching the centre of each box.
+
+        Parameters
+        ----------
+        T : numpy.ndarray
+            ``(N, m, 2)`` task boxes.
+        seeds : numpy.ndarray
+            ``(N, k)`` starting joint values.
+        newton : int
+            Newton steps (default 8).
+
+        Returns
+        -------
+        numpy.ndarray of bool
+            ``(N,)``: True where the box is proved inside; all False when the map has fewer joints than
+            coordinates (``k < m``).
         """
         if self.k < self.m:
             return np.zeros(len(T), dtype=bool)
@@ -208,7 +326,23 @@ class ImageMap:
         return self.prove_inside_at(T, q)
 
     def prove_inside_at(self, T: np.ndarray, q: np.ndarray) -> np.ndarray:
-        """The Krawczyk test of each box ``T`` around the configuration ``q`` (``(N, k)``)."""
+        """The Krawczyk test of each box ``T`` around the configuration ``q`` (``(N, k)``).
+
+        Up to :attr:`COMBOS_TRIED` choices of the ``m`` joints that vary are tried per box, the best
+        conditioned first.
+
+        Parameters
+        ----------
+        T : numpy.ndarray
+            ``(N, m, 2)`` task boxes.
+        q : numpy.ndarray
+            ``(N, k)`` configurations, one per box.
+
+        Returns
+        -------
+        numpy.ndarray of bool
+            ``(N,)``: True where the box is proved inside.
+        """
         N, m, k = len(T), self.m, self.k
         with np.errstate(all="ignore"):
             J = self.jacobian_float(q)
@@ -236,7 +370,27 @@ class ImageMap:
         in all, each time on the boxes not yet proved; the test runs where Newton's method converged.
 
         With ``reached``, also returns the mask of boxes whose centre Newton's method reached (in floats:
-        no proof, a hint that a proof of the outside would fail)."""
+        no proof, a hint that a proof of the outside would fail).
+
+        Parameters
+        ----------
+        T : numpy.ndarray
+            ``(N, m, 2)`` task boxes.
+        rng : numpy.random.Generator
+            The source of the random configurations.
+        starts : int
+            Attempts in all, the seeds included (default 6).
+        seeds : numpy.ndarray or None
+            ``(N, k)`` joint values for the first attempt (None: random ones).
+        reached : bool
+            Also return the mask of centres reached (default False).
+
+        Returns
+        -------
+        numpy.ndarray of bool or tuple
+            ``proved`` (``(N,)``: True where the box is proved inside), or ``(proved, reached)`` with
+            ``reached``.  Nothing is proved when ``k < m``.
+        """
         proved = np.zeros(len(T), dtype=bool)
         hit = np.zeros(len(T), dtype=bool)
         if self.k < self.m:
@@ -256,7 +410,18 @@ class ImageMap:
     def admissible(self, box: np.ndarray) -> np.ndarray:
         """Mask of the joint boxes ``box`` (``(N, k, 2)``, fixed joints as points) on which a side condition
         of the inner test is proved; a test around a box outside the mask fails.  The plain map has none: a
-        constrained map (:mod:`workspace_sym.orientation`) proves its constraint over the Krawczyk box."""
+        constrained map (:mod:`workspace_sym.orientation`) proves its constraint over the Krawczyk box.
+
+        Parameters
+        ----------
+        box : numpy.ndarray
+            ``(N, k, 2)`` joint boxes.
+
+        Returns
+        -------
+        numpy.ndarray of bool
+            ``(N,)``: all True here.
+        """
         return np.ones(len(box), dtype=bool)
 
     def _krawczyk(self, T, q, cols, factor, *, inflations: int = 2):
@@ -317,7 +482,22 @@ class ImageMap:
     def prove_outside(self, T: np.ndarray, *, max_pairs=200_000, rounds: int = 60) -> np.ndarray:
         """Mask of the task boxes ``T`` proved to hold no point of the image: every joint box whose enclosure
         meets a task box is halved (longest edge) until none is left, or the box holds ``max_pairs`` (one
-        number, or one per box)."""
+        number, or one per box).
+
+        Parameters
+        ----------
+        T : numpy.ndarray
+            ``(N, m, 2)`` task boxes.
+        max_pairs : int or array_like of int
+            The most joint boxes a task box may hold (default 200,000).
+        rounds : int
+            The most rounds of halving (default 60).
+
+        Returns
+        -------
+        numpy.ndarray of bool
+            ``(N,)``: True where no joint box is left, a proof that the box holds no point of the image.
+        """
         Q = np.repeat(self.limits[None], len(T), axis=0)
         owner = np.arange(len(T))
         cap = np.broadcast_to(np.asarray(max_pairs), (len(T),))
@@ -479,6 +659,13 @@ class CellGrid:
     ``edges[a]`` are the float cell edges along axis ``a``; cell ``(i, j, ...)`` is
     ``[edges[0][i], edges[0][i + 1]] x ...``.  The margin cells lie strictly outside
     ``box``.
+
+    Parameters
+    ----------
+    box : array_like
+        ``(m, 2)``: the box to cover.
+    width : float
+        The cells' width, positive.
     """
 
     def __init__(self, box: np.ndarray, width: float):
@@ -492,10 +679,30 @@ class CellGrid:
 
     @property
     def extent(self) -> np.ndarray:
+        """The grid's own box, margin included.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(m, 2)``: the first and last cell edge along each axis.
+        """
         return np.array([(e[0], e[-1]) for e in self.edges])
 
     def span(self, E: np.ndarray):
-        """First and last cell index along each axis of the cells each closed box ``E`` meets: ``(N, m)`` twice."""
+        """First and last cell index along each axis of the cells each closed box ``E`` meets: ``(N, m)`` twice.
+
+        Parameters
+        ----------
+        E : numpy.ndarray
+            ``(N, m, 2)`` closed boxes.
+
+        Returns
+        -------
+        first : numpy.ndarray of int
+            ``(N, m)``, clipped to the grid (a box beyond it gets the cells at its edge).
+        last : numpy.ndarray of int
+            ``(N, m)``, clipped likewise.
+        """
         first = np.stack([np.searchsorted(e, E[:, a, 0], side="left") - 1 for a, e in enumerate(self.edges)], axis=1)
         last = np.stack([np.searchsorted(e, E[:, a, 1], side="right") - 1 for a, e in enumerate(self.edges)], axis=1)
         top = np.array(self.shape) - 1
@@ -518,7 +725,18 @@ class CellGrid:
 
     def mark(self, E: np.ndarray) -> np.ndarray:
         """Boolean grid of the cells meeting at least one box of ``E`` (a difference array: ``+-1`` at the
-        corners of each block of cells, summed along every axis)."""
+        corners of each block of cells, summed along every axis).
+
+        Parameters
+        ----------
+        E : numpy.ndarray
+            ``(N, m, 2)`` closed boxes.
+
+        Returns
+        -------
+        numpy.ndarray of bool
+            Of the grid's shape: True for a cell that meets a box.
+        """
         counts = np.zeros(tuple(n + 1 for n in self.shape), dtype=np.int64)
         if len(E):
             first, last = self.span(E)
@@ -527,12 +745,38 @@ class CellGrid:
         return self._summed(counts)[tuple(slice(None, -1) for _ in self.shape)] > 0
 
     def cells(self, index: np.ndarray) -> np.ndarray:
-        """``(N, m, 2)`` boxes of the cells at integer positions ``index`` (``(N, m)``)."""
+        """``(N, m, 2)`` boxes of the cells at integer positions ``index`` (``(N, m)``).
+
+        Parameters
+        ----------
+        index : numpy.ndarray of int
+            ``(N, m)`` cell positions.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, m, 2)`` closed cells.
+        """
         return np.stack([np.stack([e[index[:, a]], e[index[:, a] + 1]], axis=1) for a, e in enumerate(self.edges)],
                         axis=1)
 
     def boxes(self, classes: np.ndarray, value: int, *, merge: bool = True) -> np.ndarray:
-        """The cells of one class as ``(N, m, 2)`` boxes, runs along the last axis merged into one box."""
+        """The cells of one class as ``(N, m, 2)`` boxes, runs along the last axis merged into one box.
+
+        Parameters
+        ----------
+        classes : numpy.ndarray
+            A code per cell, of the grid's shape.
+        value : int
+            The class wanted.
+        merge : bool
+            Merge runs of cells along the last axis (default True); False: one box a cell.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, m, 2)`` boxes whose union is the class's cells.
+        """
         hit = classes == value
         if not merge:
             return self.cells(np.argwhere(hit))
@@ -545,14 +789,44 @@ class CellGrid:
         return out
 
     def prefix(self, classes: np.ndarray, value: int) -> np.ndarray:
-        """Summed-area table of the cells of one class, for :meth:`all_in_class`."""
+        """Summed-area table of the cells of one class, for :meth:`all_in_class`.
+
+        Parameters
+        ----------
+        classes : numpy.ndarray
+            A code per cell, of the grid's shape.
+        value : int
+            The class counted.
+
+        Returns
+        -------
+        numpy.ndarray of int64
+            One longer than the grid along each axis: entry ``(i, j, ...)`` counts the class's cells below
+            ``i``, ``j``, ....
+        """
         table = np.zeros(tuple(n + 1 for n in self.shape), dtype=np.int64)
         table[tuple(slice(1, None) for _ in self.shape)] = self._summed((classes == value).astype(np.int64))
         return table
 
     def all_in_class(self, table: np.ndarray, E: np.ndarray, *, outside_counts: bool) -> np.ndarray:
         """Mask of the closed boxes ``E`` (``(N, m, 2)``) whose every point lies in cells of the class of
-        ``table``; a part of ``E`` beyond the grid counts as in the class when ``outside_counts``."""
+        ``table``; a part of ``E`` beyond the grid counts as in the class when ``outside_counts``.
+
+        Parameters
+        ----------
+        table : numpy.ndarray
+            A summed-area table of :meth:`prefix`.
+        E : numpy.ndarray
+            ``(N, m, 2)`` closed boxes.
+        outside_counts : bool
+            Whether the space beyond the grid belongs to the class.
+
+        Returns
+        -------
+        numpy.ndarray of bool
+            ``(N,)``: True where every cell the box meets is of the class (and it stays on the grid, unless
+            ``outside_counts``).
+        """
         first, last = self.span(E)
         ext = self.extent
         beyond = ((E[:, :, 0] < ext[:, 0]) | (E[:, :, 1] > ext[:, 1])).any(axis=1)
@@ -583,6 +857,45 @@ def critical_paving(image: ImageMap, width: float, *, rng=None, budget=None, cov
     (nothing decided yet), each round of proofs of the components, the marked cells (``chunk`` of them at a
     time; default: all at once).  Unmarked cells are connected through their faces (4-connected in the plane,
     6-connected in space).
+
+    Parameters
+    ----------
+    image : ImageMap
+        The map, with ``m`` 2 or 3.
+    width : float
+        The cells' width.
+    rng : numpy.random.Generator or None
+        The source of random cells and configurations (None: ``numpy.random.default_rng(0)``).
+    budget : callable or None
+        ``budget(evaluated)`` (optionally with ``ahead=``) returns a stop reason or ``""``, as above (None:
+        never stops).
+    cover_ratio : float
+        The critical cover's boxes are refined until their enclosures are at most ``cover_ratio * width``
+        wide (default 0.7).
+    cover : callable or None
+        ``cover(faces, target, clip)``, as above (None: here).
+    show : callable or None
+        ``show(share, evaluated)``, as above (None: nothing shown).
+    chunk : int or None
+        Marked cells tried at a time (None: all at once).
+
+    Returns
+    -------
+    grid : CellGrid
+        The grid.
+    classes : numpy.ndarray of int8
+        A verdict code per cell.
+    evaluated : int
+        Boxes examined: the cover's joint boxes, and each point or cell tested.
+    stopped : str
+        The budget's stop reason, ``""`` for a complete run.
+
+    Raises
+    ------
+    ValueError
+        For a map into neither the plane nor space.
+    CoverTooLarge
+        When a generation of the critical cover holds more than :data:`MAX_COVER_BOXES` joint boxes.
     """
     from scipy import ndimage
 

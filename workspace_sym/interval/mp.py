@@ -23,6 +23,13 @@ iv = mpmath.iv
 def precision(digits: int | None = None, *, bits: int | None = None):
     """Set ``mpmath.iv``'s precision inside a ``with`` block, restored afterwards.
 
+    Parameters
+    ----------
+    digits : int or None
+        Decimal digits (``iv.dps``).  None, with ``bits`` None too: the precision in force is kept.
+    bits : int or None
+        Binary digits (``iv.prec``); takes precedence over ``digits``.
+
     Examples
     --------
     >>> with precision(50):
@@ -43,16 +50,50 @@ def precision(digits: int | None = None, *, bits: int | None = None):
 
 
 def from_float_bounds(lo: float, hi: float):
-    """The exact interval ``[lo, hi]`` of two floats (floats are exact binary numbers)."""
+    """The exact interval ``[lo, hi]`` of two floats (floats are exact binary numbers).
+
+    Parameters
+    ----------
+    lo, hi : float
+        The endpoints, ``lo <= hi``.
+
+    Returns
+    -------
+    mpmath.iv.mpf
+        ``[lo, hi]``, rounded outward only when the precision in force is below 53 bits.
+    """
     return iv.mpf([lo, hi])
 
 
 def const_rational(p: int, q: int):
+    """Enclosure of the rational ``p / q`` at the precision in force.
+
+    Parameters
+    ----------
+    p, q : int
+        Numerator and denominator.  ``q = 0`` gives the whole line ``[-inf, +inf]`` (mpmath's quotient).
+
+    Returns
+    -------
+    mpmath.iv.mpf
+        An interval containing ``p / q``, rounded outward.
+    """
     return iv.mpf(p) / iv.mpf(q)
 
 
 def const_float(text: str):
-    """Enclosure of a decimal literal such as ``"0.1"`` (mpmath rounds the string outward)."""
+    """Enclosure of a decimal literal such as ``"0.1"`` (mpmath rounds the string outward).
+
+    Parameters
+    ----------
+    text : str
+        The decimal literal.
+
+    Returns
+    -------
+    mpmath.iv.mpf
+        An interval containing the decimal's value, at the precision in force.
+    """
     return iv.mpf(text)
 
 
@@ -62,6 +103,18 @@ def _undefined():
 
 
 def sqr(x):
+    """Enclosure of ``x**2``, never below 0 (``x * x`` alone would give ``[-2, 4]`` for ``[-1, 2]``).
+
+    Parameters
+    ----------
+    x : mpmath.iv.mpf
+        The interval.
+
+    Returns
+    -------
+    mpmath.iv.mpf
+        An interval containing ``t**2`` for every ``t`` in ``x``.
+    """
     a, b = x.a, x.b
     if a >= 0:
         return x * x
@@ -72,6 +125,21 @@ def sqr(x):
 
 
 def ipow(x, n: int):
+    """Enclosure of ``x**n``, never below 0 for an even ``n``.
+
+    Parameters
+    ----------
+    x : mpmath.iv.mpf
+        The interval.
+    n : int
+        The exponent, a positive integer (the expression graph's ``pow`` nodes; a negative power is a
+        reciprocal there).  A negative even ``n`` with ``x`` across 0 gives no enclosure: not for such use.
+
+    Returns
+    -------
+    mpmath.iv.mpf
+        An interval containing ``t**n`` for every ``t`` in ``x``.
+    """
     if n == 2:
         return sqr(x)
     if n % 2 == 0 and x.a < 0 < x.b:
@@ -81,26 +149,88 @@ def ipow(x, n: int):
 
 
 def sqrt(x):
+    """Enclosure of ``sqrt(x)``, or None when ``x`` reaches below 0.
+
+    Parameters
+    ----------
+    x : mpmath.iv.mpf
+        The interval.
+
+    Returns
+    -------
+    mpmath.iv.mpf or None
+        An interval containing ``sqrt(t)`` for every ``t`` in ``x``; None (a domain error, which decides nothing
+        for the box) when ``x.a < 0``.
+    """
     if x.a < 0:
         return None  # domain error: the caller decides nothing for this box
     return iv.sqrt(x)
 
 
 def sin(x):
+    """Enclosure of ``sin(x)`` (``mpmath.iv.sin``).
+
+    Parameters
+    ----------
+    x : mpmath.iv.mpf
+        The interval, radians.
+
+    Returns
+    -------
+    mpmath.iv.mpf
+        An interval containing ``sin(t)`` for every ``t`` in ``x``.
+    """
     return iv.sin(x)
 
 
 def cos(x):
+    """Enclosure of ``cos(x)`` (``mpmath.iv.cos``).
+
+    Parameters
+    ----------
+    x : mpmath.iv.mpf
+        The interval, radians.
+
+    Returns
+    -------
+    mpmath.iv.mpf
+        An interval containing ``cos(t)`` for every ``t`` in ``x``.
+    """
     return iv.cos(x)
 
 
 def div(x, y):
+    """Enclosure of ``x / y``; the whole line when ``y`` contains 0.
+
+    Parameters
+    ----------
+    x, y : mpmath.iv.mpf
+        Dividend and divisor.
+
+    Returns
+    -------
+    mpmath.iv.mpf
+        An interval containing ``s / t`` for every ``s`` in ``x`` and ``t`` in ``y``; ``[-inf, +inf]`` (which
+        decides nothing) when ``y`` contains 0.
+    """
     if y.a <= 0 <= y.b:
         return _undefined()
     return x / y
 
 
 def iabs(x):
+    """Enclosure of ``abs(x)``.
+
+    Parameters
+    ----------
+    x : mpmath.iv.mpf
+        The interval.
+
+    Returns
+    -------
+    mpmath.iv.mpf
+        ``{|t| : t in x}``, exactly (no rounding needed).
+    """
     if x.a >= 0:
         return x
     if x.b <= 0:

@@ -40,7 +40,19 @@ __all__ = ["Certificate", "Constraint", "parse_constraints", "certify_box", "pav
            "RunOn", "StopAt", "expand", "initial_boxes", "subdivide", "Decider"]
 
 class Certificate(enum.Enum):
-    """Outcome of a box test; only IN and OUT are proved statements (the codes of :mod:`.verdict`)."""
+    """Outcome of a box test; only IN and OUT are proved statements (the codes of :mod:`.verdict`).
+
+    ``bool(certificate)`` raises ``TypeError``: compare with the members instead.
+
+    Parameters
+    ----------
+    value : int
+        A verdict code: ``Certificate(1)`` is ``IN``, ``Certificate(-1)`` is ``OUT``, ``Certificate(0)`` is
+        ``UNDECIDED``; any other value raises ``ValueError``.
+    names, module, qualname, type, start, boundary
+        The rest of the signature of :class:`enum.Enum`'s functional API; a Certificate takes none of them
+        (an enumeration with members cannot be extended: ``TypeError``).
+    """
 
     IN = INSIDE
     OUT = OUTSIDE
@@ -52,7 +64,17 @@ class Certificate(enum.Enum):
 
 @dataclass(frozen=True, slots=True)
 class Constraint:
-    """``g(x) <= 0`` (or ``< 0`` when ``strict``)."""
+    """``g(x) <= 0`` (or ``< 0`` when ``strict``).
+
+    Parameters
+    ----------
+    g : sympy.Expr
+        The constraint's function.
+    strict : bool
+        ``g < 0`` rather than ``g <= 0`` (default False).
+    source : str
+        The text the constraint was read from (default ``""``: given as SymPy).
+    """
 
     g: sp.Expr
     strict: bool = False
@@ -69,6 +91,27 @@ def parse_constraints(constraints, variables) -> tuple[Constraint, ...]:
     names of ``variables`` as the only symbols, one comparison (``<``, ``<=``,
     ``>``, ``>=``), ``^`` as power and decimals as exact rationals; anything
     else raises :class:`ConstraintError`.
+
+    Parameters
+    ----------
+    constraints : str, sympy relational or bool, or a sequence of them
+        The inequalities; ``True`` (or a comparison SymPy evaluates to it, ``-6 <= 0``) always holds, ``False``
+        never.
+    variables : sequence of sympy.Symbol
+        The variables; a symbol of a SymPy inequality with a variable's name is that variable, whatever its
+        assumptions.
+
+    Returns
+    -------
+    tuple of Constraint
+        One ``g <= 0`` (or ``g < 0``) a given inequality, in order: ``a <= b`` gives ``g = a - b``, ``a >= b``
+        gives ``g = b - a``.
+
+    Raises
+    ------
+    ConstraintError
+        For text that is not one inequality in the variables, an equation or anything that is not an
+        inequality, a symbol that is not a variable, or no inequality at all.
 
     Examples
     --------
@@ -257,6 +300,18 @@ MIN_DIGITS = 15      # below double precision the mpmath backend only loses to t
 
 
 def check_digits(digits) -> None:
+    """Refuse a precision for the mpmath backend outside 15 to 100000 digits.
+
+    Parameters
+    ----------
+    digits : object
+        The value to check.
+
+    Raises
+    ------
+    InvalidParameterError
+        ``parameter="digits"``, unless ``digits`` is an int (not a bool) from :data:`MIN_DIGITS` to 100000.
+    """
     if not isinstance(digits, int) or isinstance(digits, bool) or not MIN_DIGITS <= digits <= 100_000:
         raise InvalidParameterError(f"digits (precision of the mpmath backend) must be a whole number from "
                                     f"{MIN_DIGITS} (double precision) to 100000; got {digits!r}", parameter="digits")
@@ -290,6 +345,37 @@ class _Separate:
 def certify_box(box, constraints, *, variables=None, backend: str = "numpy", digits: int = 30) -> Certificate:
     """IN if every constraint holds on the whole box, OUT if one fails on the whole box, else UNDECIDED.
 
+    Parameters
+    ----------
+    box : dict, Box or sequence of pairs
+        ``{variable: (lo, hi)}``, a :class:`Box`, or ``(lo, hi)`` pairs in the order of ``variables``.
+    constraints : str, sympy relational, or a sequence of them
+        The inequalities (:func:`parse_constraints`).
+    variables : sequence of str or sympy.Symbol, optional
+        The variables of a box given as pairs; when given with a dict or a Box, they must be the box's, by
+        name and in order.
+    backend : str
+        ``"numpy"`` (default) or ``"mpmath"``.
+    digits : int
+        Precision of the mpmath backend in decimal digits, 15 to 100000 (default 30); checked for either
+        backend.
+
+    Returns
+    -------
+    Certificate
+        The verdict on the whole box.
+
+    Raises
+    ------
+    BoxError
+        For bounds that do not make a box, or variables that are not the box's.
+    ConstraintError
+        For constraints that cannot be read (:func:`parse_constraints`).
+    UnknownNameError
+        For a backend other than ``"numpy"`` and ``"mpmath"``.
+    InvalidParameterError
+        For ``digits`` outside 15 to 100000.
+
     Examples
     --------
     >>> certify_box({"x": (0, 1), "y": (0, 1)}, ["x**2 + y**2 <= 4"])
@@ -311,16 +397,26 @@ def pave(constraints, box, *, delta: float, variables=None, backend: str = "nump
 
     Parameters
     ----------
-    constraints : inequalities (SymPy relationals or strings such as ``"x**2 + y**2 <= 144"``)
-    box : ``{variable: (lo, hi)}``, a :class:`Box`, or pairs with ``variables``
+    constraints : str, sympy relational, or a sequence of them
+        The inequalities, SymPy relationals or strings such as ``"x**2 + y**2 <= 144"``
+        (:func:`parse_constraints`).
+    box : dict, Box or sequence of pairs
+        ``{variable: (lo, hi)}``, a :class:`Box`, or ``(lo, hi)`` pairs with ``variables``.
     delta : float
         Undecided boxes whose size is at most ``delta`` become boundary boxes
         (with ``contract``, their size before the contraction).
+    variables : sequence of str or sympy.Symbol, optional
+        The variables of a box given as pairs; when given with a dict or a Box, they must be the box's, by
+        name and in order.
     backend : {"numpy", "mpmath"}
+        The arithmetic: numpy (default; whole generations of boxes, floats rounded outward) or the mpmath
+        reference (one box at a time, at ``digits``).
     size : {"diameter", "width"}
         How a box is measured against ``delta``: its diameter (the paper's
         ``d(P)``, default) or its largest edge (codac's convention).
-    digits : precision of the mpmath backend.
+    digits : int
+        Precision of the mpmath backend in decimal digits, 15 to 100000 (default 30); checked for either
+        backend.
     contract : bool
         Also cut inner and outer slices off every undecided box by
         forward-backward contraction of the constraints (numpy backend;
@@ -353,6 +449,24 @@ def pave(constraints, box, *, delta: float, variables=None, backend: str = "nump
     Returns
     -------
     Paving
+        The inner, boundary, outer and pending boxes with their measures; a
+        :class:`~workspace_sym.interval.boxes.StoredPaving` when the boxes are on disk.
+
+    Raises
+    ------
+    BoxError
+        For bounds that do not make a box, or variables that are not the box's.
+    ConstraintError
+        For constraints that cannot be read (:func:`parse_constraints`).
+    UnknownNameError
+        For a ``backend`` or ``size`` outside its set.
+    InvalidParameterError
+        For ``contract=True`` with the mpmath backend, a ``delta`` that is not a positive finite number,
+        ``digits`` outside 15 to 100000, or a ``run`` whose checkpoint or store is not this run's.
+    ExpressionError
+        For a constraint with an operation the interval compiler does not support.
+    WorkerResultError
+        When a worker of another process sends back something other than a step's result.
 
     Examples
     --------
@@ -380,6 +494,20 @@ def threaded(decide, workers: int | None = None, *, min_batch: int = 8192):
     The codes are those of ``decide`` on the whole batch; only the wall time
     changes.  ``workers`` defaults to the number of cores, at most 4; the
     threads come from one pool shared by every call.
+
+    Parameters
+    ----------
+    decide : Decider
+        The verdicts; each thread runs it in round-to-nearest.
+    workers : int or None
+        Threads (None or 0: the number of cores, at most 4).  Below 2, ``decide`` itself is returned.
+    min_batch : int
+        Batches of fewer boxes run in the caller's thread, whole (default 8192).
+
+    Returns
+    -------
+    callable
+        A decider giving the same codes as ``decide``.
     """
     import os
 
@@ -426,6 +554,19 @@ def hausdorff(A: np.ndarray, B: np.ndarray, *, block: int = 2048) -> tuple[float
     centre of ``P_i`` to ``Q_j``.  Both are equal when A's boxes are small
     against B's.  The symmetric Hausdorff distance is the max of both
     directions.
+
+    Parameters
+    ----------
+    A, B : numpy.ndarray
+        ``(N, n, 2)`` and ``(M, n, 2)`` boxes.
+    block : int
+        Boxes of each union taken at a time (default 2048; memory only, not the result).
+
+    Returns
+    -------
+    tuple of float
+        ``(lower, upper)``, computed in floats (not rounded outward); ``(0, 0)`` when ``A`` is empty,
+        ``(inf, inf)`` when only ``B`` is.
     """
     A, B = np.asarray(A, dtype=float), np.asarray(B, dtype=float)
     if len(A) == 0:

@@ -27,7 +27,18 @@ SPLITS = ("widest", "every", "given")
 
 
 def split_every_axis(boxes: np.ndarray) -> np.ndarray:
-    """The ``2^n`` halves-in-every-direction of each box of an ``(N, n, 2)`` array (children grouped by corner)."""
+    """The ``2^n`` halves-in-every-direction of each box of an ``(N, n, 2)`` array (children grouped by corner).
+
+    Parameters
+    ----------
+    boxes : numpy.ndarray
+        ``(N, n, 2)`` boxes.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(2^n N, n, 2)``: for each corner in turn, that corner's child of every box.
+    """
     mid = 0.5 * (boxes[:, :, 0] + boxes[:, :, 1])
     n = boxes.shape[1]
     parts = []
@@ -40,7 +51,20 @@ def split_every_axis(boxes: np.ndarray) -> np.ndarray:
 
 
 def bisect_along(boxes: np.ndarray, axis: np.ndarray) -> np.ndarray:
-    """Each box of an ``(N, n, 2)`` array cut in two at the middle of edge ``axis[i]``: lower halves, then upper."""
+    """Each box of an ``(N, n, 2)`` array cut in two at the middle of edge ``axis[i]``: lower halves, then upper.
+
+    Parameters
+    ----------
+    boxes : numpy.ndarray
+        ``(N, n, 2)`` boxes.
+    axis : numpy.ndarray of int
+        ``(N,)``: the edge to cut in each box.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(2 N, n, 2)``: the ``N`` lower halves, then the ``N`` upper ones.
+    """
     rows = np.arange(len(boxes))
     mid = 0.5 * (boxes[rows, axis, 0] + boxes[rows, axis, 1])
     lower, upper = boxes.copy(), boxes.copy()
@@ -50,7 +74,18 @@ def bisect_along(boxes: np.ndarray, axis: np.ndarray) -> np.ndarray:
 
 
 def split_widest(boxes: np.ndarray) -> np.ndarray:
-    """Each box cut in two across its widest edge."""
+    """Each box cut in two across its widest edge.
+
+    Parameters
+    ----------
+    boxes : numpy.ndarray
+        ``(N, n, 2)`` boxes.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(2 N, n, 2)``: the lower halves, then the upper ones (:func:`bisect_along`).
+    """
     return bisect_along(boxes, np.argmax(boxes[:, :, 1] - boxes[:, :, 0], axis=1))
 
 
@@ -65,23 +100,58 @@ def prove_all(boxes, test, *, min_width: float = 0.0, split: str = "widest", sto
     edge along which box ``i`` is bisected when undecided; ``"widest"``
     bisects across the widest edge, ``"every"`` halves every edge at once.
 
-    Returns ``(verdict, used)``: ``True`` when every box was proved, ``False``
-    as soon as one box is proved false, ``None`` when the next generation
-    would take the number of boxes evaluated past ``stop.max_boxes``, when
-    ``stop.time_limit`` seconds have passed before a generation, or when every
-    undecided box is narrower than ``min_width`` on all its edges; ``used`` is
-    the number of boxes evaluated.  Only the test proves anything: the search
-    never turns an undecided box into a verdict.  A search needs a bound: a
-    box budget, a time limit or ``min_width > 0`` (``run.progress`` does not
-    apply: the search shows no bar).
+    Only the test proves anything: the search never turns an undecided box
+    into a verdict.  A search needs a bound: a box budget, a time limit or
+    ``min_width > 0`` (``run.progress`` does not apply: the search shows no
+    bar).
 
     ``run`` (:class:`~workspace_sym.interval.driver.RunOn`): ``executor`` (a
     ``concurrent.futures.Executor`` or a ``dask.distributed.Client``)
     evaluates each generation in chunks of at most ``chunk`` boxes elsewhere
     (:func:`~workspace_sym.interval.executor.map_codes`); ``test`` must then
-    pickle.  The search and its verdict are unchanged.  The search keeps no
-    boxes: ``max_memory``, ``store`` and ``resume`` are refused.
-    ``executor=`` is the deprecated spelling of ``run=RunOn(executor=...)``.
+    pickle.  The search and its verdict are unchanged.  With
+    ``split="given"`` the test runs here all the same: the executor is not
+    used.  The search keeps no boxes: ``max_memory``, ``store`` and
+    ``resume`` are refused.  ``executor=`` is the deprecated spelling of
+    ``run=RunOn(executor=...)``.
+
+    Parameters
+    ----------
+    boxes : array_like
+        ``(N, n, 2)`` boxes.
+    test : callable
+        ``test(boxes)`` returns the codes (with ``split="given"``, ``(codes, axis)``), as above.
+    min_width : float
+        Give up when every edge of every undecided box is narrower than this (default 0: never), 0 or more.
+    split : {"widest", "every", "given"}
+        How an undecided box is bisected (default ``"widest"``).
+    stop : StopAt
+        ``max_boxes`` and ``time_limit`` (checked before each generation); ``section_boxes`` is not used.
+    run : RunOn
+        ``executor`` and ``chunk``; the others do not apply.
+    executor : object or None
+        Deprecated: ``run=RunOn(executor=...)``.
+
+    Returns
+    -------
+    verdict : bool or None
+        ``True`` when every box was proved, ``False`` as soon as one box is
+        proved false, ``None`` when the next generation would take the count
+        ``used`` past ``stop.max_boxes``, when ``stop.time_limit`` seconds
+        have passed before a generation, or when every undecided box is
+        narrower than ``min_width`` on all its edges.
+    used : int
+        The number of boxes evaluated; when the box budget stops the search,
+        it includes the generation that would have passed the budget (not
+        evaluated).
+
+    Raises
+    ------
+    InvalidParameterError
+        For ``min_width`` below 0 (or NaN), no bound at all, ``max_memory``, ``store`` or ``resume`` in
+        ``run``, or two different executors (``executor=`` and ``run``).
+    UnknownNameError
+        For a ``split`` outside :data:`SPLITS`.
 
     Examples
     --------

@@ -59,6 +59,14 @@ class ExactSum:
     summed with :func:`numpy.bincount` (float64 sums of fewer than ``2^26``
     integers below ``2^27`` are exact) and shifted into place.
 
+    Parameters
+    ----------
+    total : int
+        The starting sum, in units of ``2^-(1074 + 53)`` (default 0).
+    finite : float
+        0.0 while every value added was finite; otherwise the float sum of the non-finite ones (``inf``,
+        ``-inf`` or NaN), which is then the sum's value.
+
     Examples
     --------
     >>> s = ExactSum()
@@ -77,11 +85,30 @@ class ExactSum:
 
     @classmethod
     def of(cls, values) -> ExactSum:
+        """The exact sum of ``values``.
+
+        Parameters
+        ----------
+        values : array_like of float
+            The values, of any shape.
+
+        Returns
+        -------
+        ExactSum
+            A new sum holding them.
+        """
         s = cls()
         s.add(np.asarray(values, dtype=float))
         return s
 
     def add(self, values: np.ndarray) -> None:
+        """Add ``values`` to the sum, exactly.
+
+        Parameters
+        ----------
+        values : numpy.ndarray of float
+            The values, of any shape; non-finite ones go to ``finite``.
+        """
         values = np.ravel(values)
         if not len(values):
             return
@@ -102,6 +129,13 @@ class ExactSum:
                 self.total += int(sums_lo[k]) << (int(k) + base)
 
     def merge(self, other: ExactSum) -> None:
+        """Add another exact sum to this one (``other`` is unchanged).
+
+        Parameters
+        ----------
+        other : ExactSum
+            The sum to add.
+        """
         self.total += other.total
         self.finite = self.finite + other.finite
 
@@ -136,6 +170,18 @@ class ExactSum:
 
     @classmethod
     def parse(cls, text: str) -> ExactSum:
+        """The sum that ``str()`` wrote as ``text``.
+
+        Parameters
+        ----------
+        text : str
+            An integer (the exact total) or a float's repr (a non-finite sum: ``inf``, ``-inf``, ``nan``).
+
+        Returns
+        -------
+        ExactSum
+            The sum.  Text that is neither raises ``ValueError``.
+        """
         try:
             return cls(int(text))
         except ValueError:
@@ -149,6 +195,20 @@ def measures_of(boxes: np.ndarray, rounding: str = "nearest") -> np.ndarray:
     round every width and every product outward, so that the result is at
     most (at least) the exact measure of the box.
 
+    Parameters
+    ----------
+    boxes : numpy.ndarray
+        ``(N, n, 2)`` boxes.
+    rounding : str
+        ``"nearest"`` (default), ``"down"`` or ``"up"``; any other text rounds as ``"up"``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N,)`` measures; 0 for a box with an edge of width 0, never below 0.
+
+    Examples
+    --------
     >>> box = np.array([[[0.0, 0.1], [0.0, 0.3]]])          # 0.1 x 0.3 is not a float
     >>> lo, mid, hi = (measures_of(box, r)[0] for r in ("down", "nearest", "up"))
     >>> bool(lo <= mid <= hi and lo < hi), float(hi - lo)
@@ -210,6 +270,24 @@ _UNITS = {"": 1, "b": 1, "kb": 10**3, "mb": 10**6, "gb": 10**9, "tb": 10**12,
 def parse_memory(value, name: str = "max_memory") -> int:
     """Bytes from a number or text such as ``"2GB"``, ``"512 MiB"``.
 
+    Parameters
+    ----------
+    value : int, float or str
+        A number of bytes, or a number followed by a unit (``B``, ``kB``, ``MB``, ``GB``, ``TB`` in powers of
+        1000, ``KiB``, ``MiB``, ``GiB``, ``TiB`` in powers of 1024; any case, a space allowed before it).
+    name : str
+        The parameter's name for the error message (default ``"max_memory"``).
+
+    Returns
+    -------
+    int
+        The number of bytes, rounded toward zero.
+
+    Raises
+    ------
+    InvalidParameterError
+        For a value that is not such a size, or a size below 1 MiB.
+
     Examples
     --------
     >>> parse_memory("2GB"), parse_memory("1.5 GiB"), parse_memory(2**22)
@@ -241,6 +319,25 @@ class BoxStore:
     The exact sums of a store on disk are kept as the boxes arrive (its boxes leave memory); those of a
     store in memory are summed from its arrays when asked for (a paving run here asks only for a
     checkpoint), to the same bits since the sums are exact.
+
+    Parameters
+    ----------
+    n : int
+        Number of variables: the boxes are ``(N, n, 2)`` arrays.
+    directory : path or None
+        Where the parts are written (the class folders are made, and ``problem.json`` written, at once);
+        None (default): in memory.
+    flush_bytes : int
+        Bytes of a class buffered before they are written as one part (default 64 MiB; disk stores only).
+    problem : str
+        The digest of the run's :class:`~workspace_sym.interval.fingerprint.Fingerprint`, recorded in
+        ``problem.json`` (default ``""``).
+
+    Raises
+    ------
+    InvalidParameterError
+        Only from :meth:`restore`, for a checkpoint that does not match its store.  The constructor raises
+        ``OSError`` when the directory cannot be written.
     """
 
     def __init__(self, n: int, directory=None, *, flush_bytes: int = 64 * 2**20, problem: str = ""):
@@ -261,6 +358,15 @@ class BoxStore:
             _write_whole(self.directory / _MANIFEST, json.dumps({"problem": problem}).encode())
 
     def add(self, kind: str, boxes: np.ndarray) -> None:
+        """Keep decided boxes of one class (a disk store writes a part once ``flush_bytes`` are buffered).
+
+        Parameters
+        ----------
+        kind : str
+            The class: ``"inner"``, ``"boundary"`` or ``"outer"``.
+        boxes : numpy.ndarray
+            ``(N, n, 2)`` boxes; kept as given, not copied.
+        """
         if not len(boxes):
             return
         self.counts[kind] += len(boxes)
@@ -314,16 +420,46 @@ class BoxStore:
                 self._flush(k)
 
     def arrays(self, kind: str) -> np.ndarray:
-        """The boxes of a class held in memory (memory stores only)."""
+        """The boxes of a class held in memory (memory stores only).
+
+        Parameters
+        ----------
+        kind : str
+            ``"inner"``, ``"boundary"`` or ``"outer"``.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, n, 2)``: the boxes in the order they came; for a disk store, only those not yet written.
+        """
         parts = self._buffer[kind]
         return np.concatenate(parts) if parts else np.empty((0, self.n, 2))
 
     def files(self, kind: str) -> list[Path]:
+        """The parts of a class written so far (disk stores).
+
+        Parameters
+        ----------
+        kind : str
+            ``"inner"``, ``"boundary"`` or ``"outer"``.
+
+        Returns
+        -------
+        list of pathlib.Path
+            ``directory/<kind>/part-NNNNNN.npy`` in order; empty for a store in memory.
+        """
         return [self._part(kind, i) for i in range(1, self.parts[kind] + 1)]
 
     # ------------------------------------------------------------ checkpoints
     def state(self) -> dict:
-        """What a checkpoint records (after :meth:`flush`): counts, exact sums, parts and their SHA-256."""
+        """What a checkpoint records (after :meth:`flush`): counts, exact sums, parts and their SHA-256.
+
+        Returns
+        -------
+        dict
+            JSON-ready: ``counts``, ``sums``, ``sums_down``, ``sums_up`` (exact sums as text, by class),
+            ``parts``, ``hashes`` and ``directory`` (text, or None in memory).
+        """
         return {"counts": dict(self.counts), "sums": {k: str(s) for k, s in self.sums.items()},
                 "sums_down": {k: str(s) for k, s in self.sums_down.items()},
                 "sums_up": {k: str(s) for k, s in self.sums_up.items()},
@@ -334,7 +470,30 @@ class BoxStore:
     def restore(cls, n: int, state: dict, arrays: dict | None = None, *, problem: str = "") -> BoxStore:
         """The store a checkpoint describes; parts written after it (a crash) are removed.  A store on disk
         must name the problem ``problem`` (the digest of the run's fingerprint) and hold the parts the
-        checkpoint lists, byte for byte: another run's store, or a part changed since, is refused."""
+        checkpoint lists, byte for byte: another run's store, or a part changed since, is refused.
+
+        Parameters
+        ----------
+        n : int
+            Number of variables.
+        state : dict
+            The checkpoint's record, as :meth:`state` wrote it.
+        arrays : dict or None
+            For a store in memory: the boxes of each class, by class (None: none).
+        problem : str
+            The digest of this run's fingerprint.
+
+        Returns
+        -------
+        BoxStore
+            The store, ready to take more boxes.
+
+        Raises
+        ------
+        InvalidParameterError
+            ``parameter="resume"``: the store's ``problem.json`` names another problem, the record is damaged,
+            or a listed part is missing or changed.
+        """
         directory = state["directory"]
         if directory is not None:
             _check_manifest(Path(directory), problem)

@@ -31,7 +31,20 @@ _UPPER = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))
 
 def from_entries(entries) -> tuple[np.ndarray, np.ndarray]:
     """Stack the upper triangle ``{(i, j): interval}`` (``i <= j``; ``(lo, hi)`` pairs or
-    :class:`~workspace_sym.interval.arith.Interval`) into a symmetric pair of ``(N, 3, 3)`` arrays."""
+    :class:`~workspace_sym.interval.arith.Interval`) into a symmetric pair of ``(N, 3, 3)`` arrays.
+
+    Parameters
+    ----------
+    entries : dict
+        The six entries of the upper triangle, keyed ``(i, j)`` with ``0 <= i <= j <= 2``; each an ``(lo, hi)``
+        pair of arrays (or floats) or an :class:`~workspace_sym.interval.arith.Interval`.  The shape of entry
+        ``(0, 0)`` sets ``N``; the others broadcast to it.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(lo, hi)``, each of shape ``(N, 3, 3)``, with ``lo[..., j, i] = lo[..., i, j]`` (likewise ``hi``).
+    """
     pairs = {k: (v.pair if isinstance(v, arith.Interval) else v) for k, v in entries.items()}
     shape = np.broadcast(*pairs[0, 0]).shape + (3, 3)
     lo, hi = np.empty(shape), np.empty(shape)
@@ -49,12 +62,38 @@ def _point_times(q, a):
 
 
 def scale(c: float, a):
-    """``c * a`` for a float ``c``, outward."""
+    """``c * a`` for a float ``c``, outward.
+
+    Parameters
+    ----------
+    c : float or numpy.ndarray
+        The point factor (an array multiplies element by element).
+    a : pair of numpy.ndarray
+        The interval ``(lo, hi)``.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(lo, hi)``: an enclosure of ``c * a``, rounded outward.
+    """
     return _point_times(c, a)
 
 
 def congruence(Q: np.ndarray, S) -> tuple[np.ndarray, np.ndarray]:
-    """Enclosure of ``Q^T S Q`` for ``(N, 3, 3)`` float ``Q`` and interval ``S``."""
+    """Enclosure of ``Q^T S Q`` for ``(N, 3, 3)`` float ``Q`` and interval ``S``.
+
+    Parameters
+    ----------
+    Q : numpy.ndarray
+        ``(N, 3, 3)`` float matrices, taken as exact.
+    S : pair of numpy.ndarray
+        The interval matrix ``(lo, hi)``, each ``(N, 3, 3)``, as :func:`from_entries` gives it.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(lo, hi)``, each ``(N, 3, 3)``: an outward-rounded enclosure of ``Q^T M Q`` for every ``M`` in ``S``.
+    """
     lo, hi = S
     T = _point_times(Q[:, None, 0, :], (lo[:, :, 0, None], hi[:, :, 0, None]))   # T = S Q: T[i, l] = sum_j ...
     for j in (1, 2):
@@ -74,6 +113,16 @@ def positive_definite(S) -> np.ndarray:
 
     Sylvester's criterion on enclosures of the three leading minors; an entry
     that is NaN gives False.
+
+    Parameters
+    ----------
+    S : pair of numpy.ndarray
+        The interval matrix ``(lo, hi)``, each ``(N, 3, 3)``, symmetric.
+
+    Returns
+    -------
+    numpy.ndarray of bool
+        ``(N,)``: True where every member is proved positive definite; False means not proved (it may still be).
     """
     a, b, c = _entry(S, 0, 0), _entry(S, 1, 1), _entry(S, 2, 2)
     d, f, g = _entry(S, 0, 1), _entry(S, 0, 2), _entry(S, 1, 2)

@@ -26,7 +26,16 @@ VERDICTS = (INSIDE, OUTSIDE, UNDECIDED)
 class Decider(Protocol):
     """Boxes in, verdicts out: ``decide(boxes)`` with ``boxes`` an ``(N, n, 2)`` float array returns ``N``
     codes (:data:`INSIDE`, :data:`OUTSIDE`, :data:`UNDECIDED`).  Each box is decided on its own, so any
-    batching of the boxes gives the same codes; a decider sent to other processes must pickle."""
+    batching of the boxes gives the same codes; a decider sent to other processes must pickle.
+
+    Any callable of that shape is a decider (``isinstance(f, Decider)`` checks only that it is callable); the
+    protocol itself is never instantiated.
+
+    Parameters
+    ----------
+    *args, **kwargs
+        Not taken: calling ``Decider(...)`` raises ``TypeError`` (a protocol cannot be instantiated).
+    """
 
     def __call__(self, boxes: np.ndarray, /) -> np.ndarray: ...
 
@@ -36,6 +45,18 @@ def codes_from_masks(inside, outside) -> np.ndarray:
 
     A box in both masks gets :data:`UNDECIDED`: two proofs that contradict
     each other prove nothing.
+
+    Parameters
+    ----------
+    inside : array_like of bool
+        True where the box is proved inside.
+    outside : array_like of bool
+        True where the box is proved outside; broadcast against ``inside`` when the shapes differ.
+
+    Returns
+    -------
+    numpy.ndarray of int8
+        One code a box: :data:`INSIDE`, :data:`OUTSIDE` or :data:`UNDECIDED`.
 
     Examples
     --------
