@@ -9,20 +9,25 @@ OUT ?= demo-report
 
 .PHONY: demo test explore lint bench clean notebooks
 
+# The venv gets uv (from PyPI, like everything else) and uv installs the package and its extras into it: the
+# same packages as pip's, resolved and unpacked in parallel, in a fraction of pip's time (a fresh `make test`
+# spends seconds, not a minute and a half, installing).  pip stays in the venv for users who call it.
+INSTALL := $(BIN)/uv pip install --quiet --python $(BIN)/python
+
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
-	$(BIN)/python -m pip install --quiet --upgrade pip
+	$(BIN)/python -m pip install --quiet uv
 
 $(VENV)/.installed: pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install --quiet -e .
+	$(INSTALL) -e .
 	touch $@
 
 $(VENV)/.installed-test: pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install --quiet -e ".[test]"
+	$(INSTALL) -e ".[test]"
 	touch $@ $(VENV)/.installed
 
 $(VENV)/.installed-bench: pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install --quiet -e ".[test,bench]"
+	$(INSTALL) -e ".[test,bench]"
 	touch $@ $(VENV)/.installed $(VENV)/.installed-test
 
 demo: $(VENV)/.installed
