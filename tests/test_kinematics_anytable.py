@@ -314,11 +314,13 @@ THREE_JOINTS = {"joints": [{"type": "R", "theta": 120, "alpha": -25, "a": 0.425,
                 "tool": {"xyz": [0.1, 0.0, 0.05], "rpy": [-31, 7, -78]}}
 
 
-@pytest.mark.parametrize("data", [THREE_JOINTS, GENERIC_6, pytest.param(SEED_3, marks=pytest.mark.slow)],
-                         ids=["3 joints", "generic 6", "seed 3"])
+@pytest.mark.parametrize("data", [THREE_JOINTS, pytest.param(SEED_3, marks=pytest.mark.slow)],
+                         ids=["3 joints", "seed 3"])
 def test_textbook_fk_has_no_entry_longer_than_the_raw_product(data):
     """Issue 29: no entry of fk() has more operations (sympy.count_ops, the reference) than the same entry of the
-    raw DH product, however large the entry."""
+    raw DH product, however large the entry.  The generic 6-joint table of seed 3 (entries of thousands of
+    operations, the one that failed) stands for every generic 6-joint table: ``GENERIC_6`` took another 10 s
+    for no new case."""
     robot = DHRobot.from_dict(data)
     for ours, raw in zip(robot.fk(), robot.raw_fk()):
         assert sp.count_ops(ours) <= sp.count_ops(raw)

@@ -220,7 +220,7 @@ def test_pieces_of_cut_cells_count_for_the_volume_and_are_reached():
     an inverse kinematics at 50 digits (independent numerics)."""
     robot = swing_arm()
     turn = limited_turn(_section(robot, ()), _model(robot, ()))
-    grid, classes, pieces, _, reason = pave_limited(turn, 0.04, _Free())
+    grid, classes, pieces, _, reason = pave_limited(turn, 0.08, _Free())     # cells of 0.08: cut ones already
     assert reason == ""
     lo, hi = limited_volume(turn, grid, classes, pieces)
     F = pieces.shape[1] // grid.shape[0]

@@ -196,7 +196,7 @@ def _in_boxes(points, boxes, pad=0.0):
     return ((points[:, None, :] >= lo) & (points[:, None, :] <= hi)).all(axis=2).any(axis=1)
 
 
-@settings(max_examples=12, deadline=None, derandomize=True)
+@settings(max_examples=6, deadline=None, derandomize=True)      # 6 random chains (12 before: each is a paving)
 @given(lengths=st.lists(st.sampled_from([0.2, 0.3, 0.5, 0.75, 1.0]), min_size=2, max_size=3),
        limits=st.lists(st.tuples(st.integers(-170, 0), st.integers(10, 170)), min_size=3, max_size=3),
        seed=st.integers(0, 2**16))
