@@ -43,8 +43,9 @@ XDIST := --numprocesses=auto --maxprocesses=4 --dist=loadfile --no-loadscope-reo
 test: $(VENV)/.installed-test lint
 	$(BIN)/python -m pytest $(XDIST) $(PYTEST_ARGS)
 
-# The edit loop: the suite less the tests marked slow (the industrial arms, the notebooks, mypy, the largest
-# symbolic tables), on the same workers.  `make test` stays the whole suite: run it before committing.
+# The edit loop: the suite less the tests marked slow (the industrial arms, the notebooks, mypy, the longest
+# derivations and pavings that no property test draws), on the same workers.  `make test` stays the whole suite:
+# run it before committing.
 test-fast: $(VENV)/.installed-test lint
 	$(BIN)/python -m pytest $(XDIST) -m "not slow" $(PYTEST_ARGS)
 

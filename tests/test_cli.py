@@ -220,6 +220,7 @@ def test_demo_writes_the_report(demo):
     assert "Certified paving of Rybak" in md and "0 outside (must be 0)" in md
 
 
+@pytest.mark.slow
 def test_report_with_a_certified_workspace(tmp_path, capsys):
     """report --reach-delta adds the certified section; a run cut short by --reach-time-limit says so, lists its
     pending boxes and draws them."""

@@ -576,6 +576,7 @@ def test_attempt_sharing_the_enclosing_deadline_reports_that_budget_spent():
             pytest.fail("attempt returned although the enclosing budget was spent")
 
 
+@pytest.mark.slow
 def test_a_storm_of_nested_budgets_always_ends_and_leaves_no_state(tmp_path):
     """Nested budgets (a plain one, one held by a contextlib generator, a derivation, an attempt) with random
     deadlines of 0 to 50 ms around SymPy calls that swallow every Exception: every block ends with at most a

@@ -117,6 +117,7 @@ def test_limited_first_joint_gets_inner_boxes_and_a_bracket(limited_paving):
     assert 0 < vlo <= volume <= vhi
 
 
+@pytest.mark.slow
 def test_a_budget_of_boxes_stops_the_limited_section_at_its_shares(limited_paving):
     """``StopAt(section_boxes=...)`` on the swing arm: the section's stages stop at the shares of the budget
     that they take of a time limit (the proofs at the four directions at ``DIRECTIONS_SHARE``, the blocks at

@@ -251,6 +251,7 @@ def _glass_section_volume(n_r=300, n_z=600):
     return float(np.sum(R * angle) * (0.6 / n_r) * (1.2 / n_z))
 
 
+@pytest.mark.slow
 def test_glass_arm_bracket_holds_the_independent_volume():
     """Issue 14 item 4: the glass-handling arm's bracket holds the volume of its section turned through the
     theta1 range, computed independently (Bastien's boundary of the section, numerical integration)."""
@@ -263,6 +264,7 @@ def test_glass_arm_bracket_holds_the_independent_volume():
     assert (hi - lo) / volume < 0.3                 # 0.23 at delta 0.025; 0.035 at delta 0.005 (benchmark)
 
 
+@pytest.mark.slow
 def test_glass_arm_outer_boxes_meet_no_configuration():
     """Independent numerics: 50,000 random configurations of the glass arm within its limits land in no
     outer box; points drawn in inner boxes are reached within the limits (50 digits)."""
@@ -322,6 +324,7 @@ def test_delta_larger_than_the_workspace_is_a_clear_error():
         reach(planar_robot([sp.Integer(1), sp.Integer(1)]), delta=100)
 
 
+@pytest.mark.slow
 def test_the_two_methods_agree_where_both_prove():
     """The pair method and the critical method never contradict each other on the planar 3R arm."""
     robot = human_arm()
