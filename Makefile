@@ -1,42 +1,58 @@
 # Two commands on a fresh machine:
 #   make demo   -- create .venv, install workspace_sym, run the demo report
 #   make test   -- create .venv, install with the test extra, run the whole suite
+#   make test-fast -- the same less the tests marked slow, for the edit loop
 #   make notebooks -- execute the notebooks and export them to build/notebooks/*.html
 PYTHON ?= python3
 VENV ?= .venv
 BIN := $(VENV)/bin
 OUT ?= demo-report
 
-.PHONY: demo test explore lint bench clean notebooks
+.PHONY: demo test test-fast explore lint bench clean notebooks
+
+# The venv gets uv (from PyPI, like everything else) and uv installs the package and its extras into it: the
+# same packages as pip's, resolved and unpacked in parallel (the test extra in about 10 s where pip took about
+# 90 s; BENCHMARKS.md, "The test suite").  pip stays in the venv for users who call it.
+INSTALL := $(BIN)/uv pip install --quiet --python $(BIN)/python
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
-	$(BIN)/python -m pip install --quiet --upgrade pip
 
-$(VENV)/.installed: pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install --quiet -e .
+$(BIN)/uv: | $(BIN)/python
+	$(BIN)/python -m pip install --quiet uv
+
+$(VENV)/.installed: pyproject.toml | $(BIN)/uv
+	$(INSTALL) -e .
 	touch $@
 
-$(VENV)/.installed-test: pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install --quiet -e ".[test]"
+$(VENV)/.installed-test: pyproject.toml | $(BIN)/uv
+	$(INSTALL) -e ".[test]"
 	touch $@ $(VENV)/.installed
 
-$(VENV)/.installed-bench: pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install --quiet -e ".[test,bench]"
+$(VENV)/.installed-bench: pyproject.toml | $(BIN)/uv
+	$(INSTALL) -e ".[test,bench]"
 	touch $@ $(VENV)/.installed $(VENV)/.installed-test
 
 demo: $(VENV)/.installed
 	$(BIN)/workspace-sym demo --out $(OUT)
 
 # The suite runs its test files on every core (pytest-xdist, at most 4 workers; a file stays on one worker so its
-# module fixtures are built once).  Extra pytest options: make test PYTEST_ARGS="--basetemp=/tmp/x/pytest-0"
+# module fixtures are built once, the longest files first: conftest.py).  Extra pytest options:
+# make test PYTEST_ARGS="--basetemp=/tmp/x/pytest-0"
+XDIST := --numprocesses=auto --maxprocesses=4 --dist=loadfile --no-loadscope-reorder
 test: $(VENV)/.installed-test lint
-	$(BIN)/python -m pytest --numprocesses=auto --maxprocesses=4 --dist=loadfile $(PYTEST_ARGS)
+	$(BIN)/python -m pytest $(XDIST) $(PYTEST_ARGS)
+
+# The edit loop: the suite less the tests marked slow (the industrial arms, the notebooks, mypy, the longest
+# derivations and pavings that no property test draws), on the same workers.  `make test` stays the whole suite:
+# run it before committing.
+test-fast: $(VENV)/.installed-test lint
+	$(BIN)/python -m pytest $(XDIST) -m "not slow" $(PYTEST_ARGS)
 
 # Property tests with fresh random examples (the suite's own are the same on every run): a hunt, not a gate.
 explore: $(VENV)/.installed-test
-	HYPOTHESIS_PROFILE=explore $(BIN)/python -m pytest --numprocesses=auto --maxprocesses=4 --dist=loadfile \
-		-m "not slow" $(PYTEST_ARGS) $$(grep -l "@given" tests/*.py)
+	HYPOTHESIS_PROFILE=explore $(BIN)/python -m pytest $(XDIST) -m "not slow" $(PYTEST_ARGS) \
+		$$(grep -l "@given" tests/*.py)
 
 lint: $(VENV)/.installed-test
 	$(BIN)/ruff check .

@@ -14,3 +14,21 @@ settings.register_profile("explore", derandomize=False)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "reproducible"))
 
 collect_ignore = ["workspace_sym/__main__.py"]
+
+# The test files that take longest, longest first (measured with --durations on 2 cores): `make test` gives each
+# pytest-xdist worker whole files (--dist=loadfile), in the order collected (--no-loadscope-reorder), so the long
+# ones start at once and the short ones fill in around them; a long file handed out last would run alone at the
+# end.  Files not listed keep their order after these.  Only the order changes: no test depends on another.
+LONGEST_FIRST = [
+    "test_reach_real_arms.py", "test_serial_workspace.py", "test_symbolic.py", "test_notebooks.py",
+    "test_kinematics.py", "test_reach_section.py", "test_reach_shoulder.py", "test_boundary.py",
+    "test_cli.py", "test_reach_turn.py", "test_kinematics_anytable.py", "test_reach_critical3d.py",
+    "test_orientation.py", "test_exercise_keys.py", "test_reach_turn3d.py", "test_reach_store.py",
+    "test_orthoglide.py", "test_cli_report.py", "test_urdf.py", "test_report.py", "test_orientation_wrist.py",
+    "test_untrusted_input.py", "test_paving.py", "test_charpoly.py", "test_soundness.py", "test_typing.py",
+]
+
+
+def pytest_collection_modifyitems(config, items):
+    rank = {name: k for k, name in enumerate(LONGEST_FIRST)}
+    items.sort(key=lambda item: rank.get(item.path.name, len(rank)))   # stable: a file's tests keep their order

@@ -30,15 +30,23 @@ from workspace_sym.interval.store import ExactSum, parse_memory
 from workspace_sym.orthoglide import Orthoglide, cube
 
 distributed = pytest.importorskip("distributed")
+dask = pytest.importorskip("dask")
 
 BALL = (["x**2 + y**2 + z**2 <= 1"], {"x": (-1.2, 1.2), "y": (-1.2, 1.2), "z": (-1.2, 1.2)})
 
 
 @pytest.fixture(scope="module")
 def client():
-    """One 2-process LocalCluster for the whole module (start-up costs seconds)."""
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
-                                  silence_logs=40) as cluster, distributed.Client(cluster) as c:
+    """One 2-process LocalCluster for the whole module (start-up costs seconds).
+
+    A worker that dies is restarted by its nanny, but the cluster itself closes that nanny for good when no worker
+    of the same name has registered within ``distributed.deploy.lost-worker-timeout`` (15 s by default): on a
+    loaded machine a restarted worker process can take longer than that to start, and the cluster then stays at
+    one worker.  The timeout is raised to the 300 s the tests wait for their workers.
+    """
+    with dask.config.set({"distributed.deploy.lost-worker-timeout": "300s"}), \
+            distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+                                     silence_logs=40) as cluster, distributed.Client(cluster) as c:
         yield c
 
 

@@ -314,11 +314,13 @@ THREE_JOINTS = {"joints": [{"type": "R", "theta": 120, "alpha": -25, "a": 0.425,
                 "tool": {"xyz": [0.1, 0.0, 0.05], "rpy": [-31, 7, -78]}}
 
 
-@pytest.mark.parametrize("data", [THREE_JOINTS, GENERIC_6, pytest.param(SEED_3, marks=pytest.mark.slow)],
-                         ids=["3 joints", "generic 6", "seed 3"])
+@pytest.mark.parametrize("data", [THREE_JOINTS, pytest.param(SEED_3, marks=pytest.mark.slow)],
+                         ids=["3 joints", "seed 3"])
 def test_textbook_fk_has_no_entry_longer_than_the_raw_product(data):
     """Issue 29: no entry of fk() has more operations (sympy.count_ops, the reference) than the same entry of the
-    raw DH product, however large the entry."""
+    raw DH product, however large the entry.  The generic 6-joint table of seed 3 (entries of thousands of
+    operations, the one that failed) stands for every generic 6-joint table: ``GENERIC_6`` took another 10 s
+    for no new case."""
     robot = DHRobot.from_dict(data)
     for ours, raw in zip(robot.fk(), robot.raw_fk()):
         assert sp.count_ops(ours) <= sp.count_ops(raw)
@@ -574,6 +576,7 @@ def test_attempt_sharing_the_enclosing_deadline_reports_that_budget_spent():
             pytest.fail("attempt returned although the enclosing budget was spent")
 
 
+@pytest.mark.slow
 def test_a_storm_of_nested_budgets_always_ends_and_leaves_no_state(tmp_path):
     """Nested budgets (a plain one, one held by a contextlib generator, a derivation, an attempt) with random
     deadlines of 0 to 50 ms around SymPy calls that swallow every Exception: every block ends with at most a
@@ -623,3 +626,42 @@ def test_a_storm_of_nested_budgets_always_ends_and_leaves_no_state(tmp_path):
     '''))
     done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=240)
     assert done.returncode == 0 and done.stdout.strip() == "ended", done.stderr[-2000:]
+
+
+def test_the_timer_never_raises_inside_a_gc_callback_or_a_finaliser(monkeypatch):
+    """A budget's timer that falls due while the garbage collector runs a callback (hypothesis installs one) or
+    an object's ``__del__`` holds back there: raised inside, the interruption would only be printed ("Exception
+    ignored in ...", through ``sys.unraisablehook``: a warning under pytest, an error when its retry lands in the
+    hook) and lost for the callback.  It is raised once the callback has returned, in the budget's own code, so
+    the block still ends with SymbolicBudgetError.  Reference: the hook's own record of unraisable exceptions."""
+    import gc
+    import sys
+    import time
+
+    from workspace_sym.errors import SymbolicBudgetError
+
+    ignored = []
+    monkeypatch.setattr(sys, "unraisablehook", ignored.append)
+
+    def callback(phase, info):
+        if phase == "start":
+            time.sleep(0.05)            # the budget (10 ms) falls due in here, and its 20 ms retry too
+
+    class Slow:
+        def __del__(self):
+            time.sleep(0.05)
+
+    for make_garbage in (gc.collect, lambda: Slow()):
+        if make_garbage is gc.collect:
+            gc.callbacks.append(callback)
+        try:
+            with pytest.raises(SymbolicBudgetError), symbolic.symbolic_budget(0.01, "test"):
+                for _ in range(100):        # bounded: a lost interruption fails here instead of hanging
+                    make_garbage()
+                    start = time.monotonic()
+                    while time.monotonic() - start < 0.03:      # the budget's own work, where it raises
+                        pass
+        finally:
+            if callback in gc.callbacks:
+                gc.callbacks.remove(callback)
+        assert [u.exc_type.__name__ for u in ignored] == [], [u.object for u in ignored]

@@ -142,6 +142,7 @@ def test_witnessed_module_skips_only_undecidable_boxes(ortho):
     assert (full == 1).sum() > 1000 and (full == -1).sum() > 1000
 
 
+@pytest.mark.slow
 def test_certified_boxes_agree_with_50_digit_eigenvalues(ortho):
     """Points drawn from boxes certified inside have every eigenvalue in [1/4, 4] (mpmath, 50 digits);
     points from boxes certified outside (inside the cylinders) have one outside."""

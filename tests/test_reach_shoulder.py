@@ -91,6 +91,7 @@ def test_centred_enclosure_holds_the_values_of_its_box(centre, width):
     assert lo[0] <= values.min() + 1e-12 and values.max() <= hi[0] + 1e-12
 
 
+@pytest.mark.slow
 def test_paving_of_industrial_arms_is_sound_and_holds_pappus(arm):
     """A coarse paving of the section stopped after a fixed count of boxes (the same on any machine): every
     cell beyond the shoulder bound is declared outside, none beyond a tighter bound inside; independent

@@ -309,6 +309,7 @@ def test_cli_reach_max_memory_and_resume(whole, tmp_path, capsys):
     assert err.count("\n") == 0 and "planar critical method" in err
 
 
+@pytest.mark.slow
 def test_cli_reach_with_a_tool_constraint_resumes(cone_whole, tmp_path, capsys):
     """--max-memory and --resume with --approach/--cone (the section method): a checkpoint of another --delta
     is refused (exit 2, one line naming --resume); the resumed JSON has the counts, measures and bracket of the

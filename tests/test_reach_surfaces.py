@@ -104,8 +104,11 @@ def test_inner_depth_and_max_pairs_reach_the_constrained_pairs_method(monkeypatc
 
     calls = []
     monkeypatch.setattr(api, "_reach_pose", lambda robot, **kw: calls.append(kw) or None)
-    with pytest.warns(DeprecationWarning, match=r"inner_depth= is deprecated; pass tuning=Tuning\(pose_inner_depth"):
+    with pytest.warns(DeprecationWarning) as caught:
         reach(robots.build("scara"), delta=0.05, pose=Pose(**SCARA_CONE), inner_depth=0, max_pairs=500)
+    assert {str(w.message) for w in caught} == {
+        "reach: inner_depth= is deprecated; pass tuning=Tuning(pose_inner_depth=...)",
+        "reach: max_pairs= is deprecated; pass tuning=Tuning(pose_max_pairs=...)"}
     reach(robots.build("scara"), delta=0.05, pose=Pose(**SCARA_CONE))
     assert (calls[0]["tuning"].pose_inner_depth, calls[0]["tuning"].pose_max_pairs) == (0, 500)
     assert calls[1]["tuning"] == DEFAULT

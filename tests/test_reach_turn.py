@@ -118,6 +118,7 @@ def test_limited_first_joint_gets_inner_boxes_and_a_bracket(limited_paving):
     assert 0 < vlo <= volume <= vhi
 
 
+@pytest.mark.slow
 def test_a_budget_of_boxes_stops_the_limited_section_at_its_shares(limited_paving):
     """``StopAt(section_boxes=...)`` on the swing arm: the section's stages stop at the shares of the budget
     that they take of a time limit (the proofs at the four directions at ``DIRECTIONS_SHARE``, the blocks at
@@ -221,7 +222,7 @@ def test_pieces_of_cut_cells_count_for_the_volume_and_are_reached():
     an inverse kinematics at 50 digits (independent numerics)."""
     robot = swing_arm()
     turn = limited_turn(structure_of(robot, ()), reach_model(robot, ()))
-    grid, classes, pieces, _, reason = pave_limited(turn, 0.04, _Free())
+    grid, classes, pieces, _, reason = pave_limited(turn, 0.08, _Free())     # cells of 0.08: cut ones already
     assert reason == ""
     lo, hi = limited_volume(turn, grid, classes, pieces)
     F = pieces.shape[1] // grid.shape[0]

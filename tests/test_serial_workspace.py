@@ -198,7 +198,7 @@ def _in_boxes(points, boxes, pad=0.0):
     return ((points[:, None, :] >= lo) & (points[:, None, :] <= hi)).all(axis=2).any(axis=1)
 
 
-@settings(max_examples=12, deadline=None, derandomize=True)
+@settings(max_examples=6, deadline=None, derandomize=True)      # 6 random chains (12 before: each is a paving)
 @given(lengths=st.lists(st.sampled_from([0.2, 0.3, 0.5, 0.75, 1.0]), min_size=2, max_size=3),
        limits=st.lists(st.tuples(st.integers(-170, 0), st.integers(10, 170)), min_size=3, max_size=3),
        seed=st.integers(0, 2**16))
@@ -253,6 +253,7 @@ def _glass_section_volume(n_r=300, n_z=600):
     return float(np.sum(R * angle) * (0.6 / n_r) * (1.2 / n_z))
 
 
+@pytest.mark.slow
 def test_glass_arm_bracket_holds_the_independent_volume():
     """Issue 14 item 4: the glass-handling arm's bracket holds the volume of its section turned through the
     theta1 range, computed independently (Bastien's boundary of the section, numerical integration)."""
@@ -265,6 +266,7 @@ def test_glass_arm_bracket_holds_the_independent_volume():
     assert (hi - lo) / volume < 0.3                 # 0.23 at delta 0.025; 0.035 at delta 0.005 (benchmark)
 
 
+@pytest.mark.slow
 def test_glass_arm_outer_boxes_meet_no_configuration():
     """Independent numerics: 50,000 random configurations of the glass arm within its limits land in no
     outer box; points drawn in inner boxes are reached within the limits (50 digits)."""
@@ -324,6 +326,7 @@ def test_delta_larger_than_the_workspace_is_a_clear_error():
         reach(planar_robot([sp.Integer(1), sp.Integer(1)]), delta=100)
 
 
+@pytest.mark.slow
 def test_the_two_methods_agree_where_both_prove():
     """The pair method and the critical method never contradict each other on the planar 3R arm."""
     robot = human_arm()
@@ -343,11 +346,11 @@ def test_a_critical_set_of_full_dimension_falls_back_to_the_pair_method(monkeypa
     robot = DHRobot([DHJoint.revolute(1, a=1, limits=(-1, 1)), DHJoint.revolute(2, a=0, limits=(-1, 1)),
                      DHJoint.revolute(3, a=sp.Rational(1, 2), limits=(-1, 1))], name="coincident")
     monkeypatch.setattr(image, "MAX_COVER_BOXES", 2_000)
-    p = reach(robot, delta=0.05, tuning=Tuning(max_pairs=20_000))
-    q = reach(robot, delta=0.05, method="pairs", tuning=Tuning(max_pairs=20_000))
-    assert p.counts == q.counts and p.measure_bounds == q.measure_bounds
+    p = reach(robot, delta=0.1, tuning=Tuning(max_pairs=20_000))   # delta 0.1 passes the cap as 0.05 did, in a third
+    q = reach(robot, delta=0.1, method="pairs", tuning=Tuning(max_pairs=20_000))
+    assert p.method == "pairs" and p.counts == q.counts and p.measure_bounds == q.measure_bounds
     with pytest.raises(InvalidParameterError, match="parallel axes"):
-        reach(robot, delta=0.05, method="critical")
+        reach(robot, delta=0.1, method="critical")
 
 
 def test_a_time_limit_stops_the_pair_method_between_chunks():
@@ -523,7 +526,7 @@ EXACT_ARMS = {
     "joint 1 shifts along its axis": (SHIFTING_ARM, _reached(SHIFTING_ARM, _shifting_ik), ("auto",)),
 }
 _PAVED = [(name, method) for name, (_, _, methods) in sorted(EXACT_ARMS.items()) for method in methods]
-_OPTIONS = {"joint 1 shifts along its axis": {"delta": 0.3, "max_pairs": 4000},     # the critical method in 3D
+_OPTIONS = {"joint 1 shifts along its axis": {"delta": 0.3, "tuning": Tuning(max_pairs=4000)},  # critical, in 3D
             "coupled full turn": {"delta": 0.05}}          # where the false boxes of issue 23 appeared
 
 

@@ -174,7 +174,10 @@ def test_issue_19_reproduction_has_no_false_inner_box():
     check_sound(p.inner, p.outer, constraints, VARS, limit=10_000)
 
 
-@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+# 60 drawn cases (150 before: a minute and more): every one has its root on a face of its box (the strategy puts it
+# there), so each aims at the edge; `make explore` draws fresh ones on every run, and the cases found so far are
+# pinned below.
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(case=adversarial(), contract=st.booleans(), delta=st.sampled_from((0.3, 0.1, 0.05)))
 @example(case=(ISSUE_19[0], ISSUE_19[1]), contract=True, delta=0.1926379375927805)
 @example(case=OUTSIDE_TOGETHER, contract=True, delta=0.3)

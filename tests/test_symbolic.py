@@ -87,6 +87,7 @@ def _same_function(A, B, robot, points=4):
         np.testing.assert_allclose(a, b, atol=1e-12)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", CATALOG_DH + RTB_TABLES)
 def test_textbook_fk_no_longer_than_simplify(name):
     """Every entry of T_0^n in textbook form has at most the count_ops of sympy.simplify of the raw DH product
@@ -99,6 +100,7 @@ def test_textbook_fk_no_longer_than_simplify(name):
             assert sp.count_ops(T[i, j]) <= sp.count_ops(sp.simplify(raw[i, j])), (name, i, j, T[i, j])
 
 
+@pytest.mark.slow
 def test_textbook_panda_no_longer_than_simplify_on_the_approach_axis():
     """Panda (modified DH, tool): the whole T is shorter than the raw product, and the approach axis (third
     column; simplify of the full T takes over a minute, see benchmarks/bench_kinematics.py) is no longer than

@@ -9,6 +9,8 @@ import sys
 import tomllib
 from pathlib import Path
 
+import pytest
+
 import workspace_sym
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -20,6 +22,7 @@ def _mypy(*args: str) -> subprocess.CompletedProcess:
                           capture_output=True, text=True, timeout=600)
 
 
+@pytest.mark.slow                    # mypy on the whole package: half a minute (not in make test-fast)
 def test_mypy_is_clean_on_the_package():
     run = _mypy()
     assert run.returncode == 0, f"mypy found problems in workspace_sym:\n{run.stdout}{run.stderr}"

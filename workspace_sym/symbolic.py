@@ -33,6 +33,7 @@ for the joint variables of a robot.
 from __future__ import annotations
 
 import contextlib
+import gc
 import math
 import signal
 import threading
@@ -183,9 +184,13 @@ RETRY_SECONDS = 0.02      # a budget's interruption swallowed on its way out is 
 
 def _closing(frame) -> bool:
     """Whether ``frame`` runs inside the entry or exit of a budget block or the exit of a ``contextlib`` context
-    manager (there the timer does not raise: see :class:`symbolic_budget`)."""
+    manager (there the timer does not raise: see :class:`symbolic_budget`), or inside a garbage collector's
+    callback or an object's ``__del__``: an exception raised there is only printed (``sys.unraisablehook``) and
+    lost, so the timer holds back until the code of the block runs again."""
+    callbacks = {getattr(c, "__code__", None) for c in gc.callbacks}
     while frame is not None:
-        if frame.f_code in _CLOSING_CODES:
+        code = frame.f_code
+        if code in _CLOSING_CODES or code in callbacks or code.co_name == "__del__":
             return True
         frame = frame.f_back
     return False
@@ -204,8 +209,8 @@ def _arm_alarm(deadline: float):
     def expired(signum, frame):
         now = time.monotonic()
         if now >= deadline - 1e-3:
-            # raised again shortly if it is swallowed on the way (a gc callback or __del__ only prints it) or
-            # held back in a block's cleanup; the budget's block disarms the timer when it ends
+            # raised again shortly if it is swallowed on the way or held back (a block's cleanup, a gc callback,
+            # a __del__: see _closing); the budget's block disarms the timer when it ends
             signal.setitimer(signal.ITIMER_REAL, RETRY_SECONDS)
             if _closing(frame):
                 return
