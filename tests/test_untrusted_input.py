@@ -428,3 +428,27 @@ def test_every_catalog_entry_still_builds():
 
 def test_workspace_error_root():
     assert issubclass(ConstraintError, ExpressionError) and issubclass(ExpressionError, WorkspaceError)
+
+
+# The public helpers of the symbolic core, the characteristic polynomial, the float evaluators and the interval
+# images take SymPy objects; text given to them once went to sympy.sympify (or sympy.Matrix, which calls it), and
+# ran (found by the docstring review of issue 38).  Now each reads it through the safe reader.
+def _symbolic_helpers():
+    from workspace_sym import symbolic
+    from workspace_sym.charpoly import gram_characteristic_polynomial, maximal_minor_factors
+    from workspace_sym.interval.image import ImageMap
+    from workspace_sym.kinematics import numeric_function
+
+    t = sp.Symbol("t")
+    return [lambda text: symbolic.textbook_form(text, (t,)), lambda text: symbolic.op_counts([text]),
+            lambda text: symbolic.expansion_size(text, 10**6), lambda text: symbolic.numeric_atoms([text]),
+            lambda text: gram_characteristic_polynomial([[text, 1]]), lambda text: maximal_minor_factors([[text]]),
+            lambda text: numeric_function([text], (t,)), lambda text: ImageMap([text], [t], [(0, 1)], [False]),
+            lambda text: DHRobot([DHJoint.revolute(1, a=1)]).textbook(text)]
+
+
+@pytest.mark.parametrize("text", INJECTIONS[:8], ids=IDS[:8])
+def test_the_symbolic_helpers_read_text_and_never_run_it(text, in_tmp):
+    for call in _symbolic_helpers():
+        with pytest.raises(ExpressionError):
+            call(text)

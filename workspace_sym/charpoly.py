@@ -15,7 +15,7 @@ import numpy as np
 import sympy as sp
 
 from .errors import InvalidParameterError
-from .expressions import as_sympy
+from .expressions import as_matrix, as_sympy
 from .symbolic import (
     HalfAngleRing,
     algebraic_constants,
@@ -227,7 +227,7 @@ def gram_characteristic_polynomial(J, lam: sp.Symbol | None = None, *, simplify=
     >>> gram_characteristic_polynomial(sp.Matrix([[a * sp.cos(t), a * sp.sin(t), 1]]), sp.Symbol("x"))
     Poly(x - a**2 - 1, x, domain='EX')
     """
-    J = sp.Matrix(J)
+    J = as_matrix(J, "J")
     lam = lam if lam is not None else sp.Symbol("lambda")
     with symbolic_budget(None, f"the characteristic polynomial of J J^T ({J.rows} x {J.cols})"):
         done, ring_minors = attempt(lambda: _ring_minors(J), MINORS_SHARE * (remaining_budget() or 0.0),
@@ -432,7 +432,7 @@ def maximal_minor_factors(J: sp.Matrix, *, seed: int = 0, multiplicity: bool = F
     >>> maximal_minor_factors(sp.Matrix([[0, 1], [1, 0]]))
     []
     """
-    J = sp.Matrix(J)
+    J = as_matrix(J, "J")
     rng = np.random.default_rng(seed)
     point = {s: sp.Float(rng.uniform(0.3, 1.7)) for s in J.free_symbols}
     cols, seen = [], set()

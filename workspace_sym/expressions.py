@@ -30,7 +30,7 @@ from .errors import ExpressionError, JointLimitError, Refused
 
 __all__ = ["parse_expr", "parse_math", "subscript_name", "parse_angle", "read_symbol", "as_sympy", "is_finite_value",
            "check_joint_limits", "refuse_plus_minus", "refuse_decimal_comma", "FUNCTIONS", "CONSTANTS", "MAX_LENGTH",
-           "MAX_DEPTH", "PLUS_MINUS"]
+           "MAX_DEPTH", "PLUS_MINUS", "as_matrix"]
 
 #: Longest text accepted (characters); ``max_length=`` changes it per call.
 MAX_LENGTH = 2000
@@ -960,3 +960,45 @@ def is_finite_value(expr: sp.Expr) -> bool:
         return True
     value = complex(expr.evalf())
     return math.isfinite(value.real) and value.imag == 0
+
+
+def as_matrix(value, parameter: str = "matrix") -> sp.MatrixBase:
+    """A SymPy matrix for an internal value: a matrix passes through; a list of rows, a flat list (a column) or
+    one value is read entry by entry with :func:`as_sympy` (text through :func:`parse_expr`, never
+    :func:`sympy.sympify`, which ``sympy.Matrix`` would call on text).
+
+    Parameters
+    ----------
+    value : SymPy matrix, sequence of sequences, sequence, or one value
+        The matrix, its rows, a column, or a 1 x 1 matrix's entry.
+    parameter : str
+        What the value is, for the message (default ``"matrix"``).
+
+    Returns
+    -------
+    sympy.MatrixBase
+        The matrix.
+
+    Raises
+    ------
+    ExpressionError
+        An entry that :func:`as_sympy` refuses.
+
+    Examples
+    --------
+    >>> as_matrix([["x", 1], [0, "y^2"]])
+    Matrix([
+    [x,    1],
+    [0, y**2]])
+    >>> as_matrix(["__import__('os')"])
+    Traceback (most recent call last):
+    ...
+    workspace_sym.errors.ExpressionError: matrix: ...
+    """
+    if isinstance(value, sp.MatrixBase):
+        return value
+    if isinstance(value, (list, tuple)):
+        if value and all(isinstance(row, (list, tuple)) for row in value):
+            return sp.Matrix([[as_sympy(v, parameter) for v in row] for row in value])
+        return sp.Matrix([as_sympy(v, parameter) for v in value])
+    return sp.Matrix([as_sympy(value, parameter)])

@@ -32,7 +32,7 @@ from .errors import (
     InvalidParameterError,
     check_choice,
 )
-from .expressions import as_sympy, check_joint_limits, is_finite_value, parse_expr
+from .expressions import as_matrix, as_sympy, check_joint_limits, is_finite_value, parse_expr
 from .registry import declared, load
 from .snap import DEFAULT_TOL, chop
 from .symbolic import (
@@ -1403,7 +1403,7 @@ def numeric_function(expr, variables):
     >>> f(np.array([[0.0, 1.0], [np.pi, 0.0]]))[:, 0, 0]
     array([ 2., -1.])
     """
-    M = sp.Matrix(expr) if not isinstance(expr, sp.MatrixBase) else expr
+    M = as_matrix(expr, "expr")
     free = M.free_symbols - set(variables)
     if free:
         raise InvalidParameterError(

@@ -426,7 +426,7 @@ def expansion_size(expr, limit: int) -> int:
             return max(base, size(e.exp))
         return max(size(a) for a in e.args)   # a function: expand() works on its arguments
 
-    return size(sp.sympify(expr))
+    return size(as_sympy(expr))
 
 
 OPAQUE_TERMS = 64   # a power of a sum with more terms than this once expanded stays one symbol
@@ -458,7 +458,7 @@ def opaque_powers(exprs) -> tuple[list, dict]:
     >>> e.xreplace(back) == (l1 + 1) ** 1000 * sp.cos(t) + (l1 + 1) ** 2, len(back)
     (True, 1)
     """
-    exprs = [sp.sympify(e) for e in exprs]
+    exprs = [as_sympy(e) for e in exprs]
     found = set()
     for e in exprs:
         for p in _distinct_subexpressions(e):
@@ -705,7 +705,7 @@ def numeric_atoms(exprs, *, sums: bool = False) -> tuple:
                 walk(a)
 
     for e in exprs:
-        walk(sp.sympify(e))
+        walk(as_sympy(e))
     return tuple(sorted(out, key=sp.default_sort_key))
 
 
@@ -851,7 +851,7 @@ def op_counts(exprs) -> list[int]:
 
     out = []
     for expr in exprs:
-        expr = sp.sympify(expr)
+        expr = as_sympy(expr)
         out.append(sp.count_ops(expr) if not isinstance(expr, sp.Expr) or expr.is_Relational else count(expr))
     return out
 
@@ -1536,7 +1536,7 @@ def algebraic_constants(exprs) -> tuple:
     """
     out = set()
     for e in exprs:
-        for p in sp.sympify(e).atoms(sp.Pow):
+        for p in as_sympy(e).atoms(sp.Pow):
             if p.base.is_Rational and p.base > 0 and p.exp.is_Rational and not p.exp.is_Integer:
                 out.add(sp.Pow(p.base, sp.Rational(1, p.exp.q)))
     return tuple(sorted(out, key=sp.default_sort_key))
@@ -1562,7 +1562,7 @@ def generic_constants(exprs):
     tuple of (list, dict)
         The new expressions, and the substitution ``{symbol: constant}`` back.
     """
-    exprs = [sp.sympify(e) for e in exprs]
+    exprs = [as_sympy(e) for e in exprs]
     atoms = set()
     for e in exprs:
         atoms |= {a for a in e.atoms(sp.Float) if a != 0}
@@ -1944,7 +1944,7 @@ def textbook_form(expr, variables):
         return sp.Tuple(*(textbook_form(e, variables) for e in expr))
     if isinstance(expr, sp.Poly):
         expr = expr.as_expr()
-    expr = sp.sympify(expr) if not isinstance(expr, sp.MatrixBase) else expr
+    expr = as_sympy(expr) if not isinstance(expr, sp.MatrixBase) else expr
     swap = {sp.cos: cosine, sp.sin: sine}
 
     def short(e):

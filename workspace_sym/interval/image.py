@@ -55,6 +55,7 @@ import numpy as np
 import sympy as sp
 
 from ..errors import CoverStopped, CoverTooLarge
+from ..expressions import as_sympy
 from . import arith
 from .boxes import halves
 from .compiler import compile_expr
@@ -107,7 +108,7 @@ class ImageMap:
     INFLATIONS = 2         # epsilon-inflations of the Krawczyk box after a failed test (each a new test)
 
     def __init__(self, expressions, variables, limits, periodic):
-        expressions = [sp.sympify(e) for e in expressions]
+        expressions = [as_sympy(e) for e in expressions]    # text is read, never evaluated
         self.variables = tuple(variables)
         self.m, self.k = len(expressions), len(self.variables)
         pairs = [(_limit_floats(lo), _limit_floats(hi)) for lo, hi in limits]
