@@ -137,12 +137,12 @@ def reach_bound(robot: DHRobot, values: dict) -> sp.Expr:
 def reachability_point(robot: DHRobot, rng) -> tuple[list, bool, str, list | None]:
     """A point for a reachability question, with its certified answer: ``(point, reachable, why, witness)``.
 
-    Either the exact image of joint angles in multiples of 30 degrees within
-    the limits (``witness`` lists them, exact text) or a point beyond
-    :func:`reach_bound`, compared in exact rationals (``witness`` None).
-    A prismatic joint of the witness takes a multiple of 1/10 from 0 to 1/2,
-    not checked against its limits (those of the sheets' robots are
-    ``[0, 1/2]``); every joint needs limits.
+    Either the exact image of a configuration within the limits (``witness``
+    lists it, exact text: joint angles in multiples of 30 degrees, prismatic
+    joints in multiples of 1/10, each decided within its limits in exact
+    arithmetic, or the lower limit itself where no multiple lies within them)
+    or a point beyond :func:`reach_bound`, compared in exact rationals
+    (``witness`` None).
 
     Parameters
     ----------
@@ -163,14 +163,9 @@ def reachability_point(robot: DHRobot, rng) -> tuple[list, bool, str, list | Non
         config = {}
         shown = []
         for j in robot.joints:
-            lo, hi = j.limits
-            if j.kind == "R":
-                steps = [k for k in range(-6, 7) if lo <= k * sp.pi / 6 <= hi]
-                q = int(rng.choice(steps)) * sp.pi / 6
-                shown.append(f"{j.variable} = {int(q * 180 / sp.pi)} deg")
-            else:
-                q = sp.Rational(int(rng.integers(0, 6)), 10)
-                shown.append(f"{j.variable} = {q}")
+            q = _witness_value(j, rng)
+            shown.append(f"{j.variable} = {sp.nsimplify(q * 180 / sp.pi)} deg" if j.kind == "R" else
+                         f"{j.variable} = {q}")
             config[j.variable] = q
         # sines and cosines of multiples of 30 degrees evaluate to radicals: expanding gives the canonical form
         point = [sp.expand(position[i].subs(config)) for i in range(3)]
@@ -187,6 +182,20 @@ def reachability_point(robot: DHRobot, rng) -> tuple[list, bool, str, list | Non
         raise RuntimeError(f"point {point} is not beyond the reach bound {bound}")  # pragma: no cover
     return point, False, (f"|p|^2 = {sum(p * p for p in point)} > {bound**2} = (sum of |a_k| + max |d_k|)^2, "
                           "and no end point is farther than that sum (triangle inequality over the DH rows)"), None
+
+
+def _witness_value(joint, rng):
+    """A value of ``joint`` within its limits, decided exactly: a multiple of 30 degrees (revolute) or of 1/10
+    (prismatic) drawn among those the limits hold, else the lower limit itself (an unlimited revolute joint takes
+    the whole turn; an unlimited prismatic one the multiples of 1/10 from 0 to 1/2)."""
+    unit = sp.pi / 6 if joint.kind == "R" else sp.Rational(1, 10)
+    if joint.limits is None:
+        lo, hi = (-sp.pi, sp.pi) if joint.kind == "R" else (sp.S.Zero, sp.Rational(1, 2))
+    else:
+        lo, hi = joint.limits
+    first, last = int(sp.ceiling(lo / unit)), int(sp.floor(hi / unit))
+    steps = [k for k in range(max(first, -60), min(last, 60) + 1) if bool(lo <= k * unit) and bool(k * unit <= hi)]
+    return int(rng.choice(steps)) * unit if steps else lo
 
 
 def _chain_point(chain: PlanarChain, rng):
