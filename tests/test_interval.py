@@ -338,3 +338,32 @@ def test_square_bounds_at_the_edges_of_the_float_range(v):
         assert hi[0] == np.inf or Fraction(float(hi[0])) >= Fraction(v) ** 2
         if v > 0 and np.isfinite(v * v) and v * v > 2.0**-1022:
             assert lo[0] < v * v < hi[0]
+
+
+@given(lo=st.integers(-8, 8), width=st.integers(0, 8), n=st.integers(-5, 5).filter(lambda n: n != 0),
+       t=st.floats(0, 1))
+@settings(max_examples=200, deadline=None)
+@example(lo=-1, width=3, n=-2, t=0.75)          # [-1, 2]**-2 once gave [0, 0.25]: 4 = 0.5**-2 outside it
+def test_mp_integer_powers_enclose_every_point(lo, width, n, t):
+    """The mpmath reference's ``ipow`` encloses ``x**n`` for any integer ``n``, negative ones included, also across
+    0 (found by the docstring review: a negative even power across 0 was no enclosure).  Reference: the power of
+    a point of the interval in exact rationals."""
+    from fractions import Fraction
+
+    from mpmath import iv
+
+    from workspace_sym.interval import mp as imp
+
+    a, b = Fraction(lo, 4), Fraction(lo + width, 4)
+    point = a + (b - a) * Fraction(t)
+    if point == 0 and n < 0:
+        return
+    enclosure = imp.ipow(iv.mpf([float(a), float(b)]), n)
+    exact = point ** n
+    assert float(enclosure.a) <= exact <= float(enclosure.b)      # 53-bit ends: float() is exact
+
+
+def test_the_absolute_value_of_no_enclosure_is_no_enclosure():
+    """``iabs`` keeps a NaN bound NaN on both ends (the engine never turns a NaN into a finite bound)."""
+    lo, hi = arith.iabs((np.array([np.nan, -1.0, 2.0]), np.array([1.0, np.nan, 3.0])))
+    assert np.isnan(lo[:2]).all() and np.isnan(hi[:2]).all() and (lo[2], hi[2]) == (2.0, 3.0)

@@ -437,11 +437,13 @@ def iabs(a):
     Returns
     -------
     tuple of numpy.ndarray
-        ``(lo, hi)``, the absolute values' range; a NaN bound in ``a`` gives a NaN upper bound.
+        ``(lo, hi)``, the absolute values' range; a NaN bound in ``a`` gives NaN bounds (no enclosure is
+        never turned into a finite bound).
     """
     lo, hi = a
     low = np.where(lo >= 0, lo, np.where(hi <= 0, -hi, 0.0))
-    return low, np.maximum(np.abs(lo), np.abs(hi))
+    nan = np.isnan(lo) | np.isnan(hi)
+    return np.where(nan, np.nan, low), np.where(nan, np.nan, np.maximum(np.abs(lo), np.abs(hi)))
 
 
 def _contains_phase(lo, hi, phase):

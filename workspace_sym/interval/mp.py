@@ -132,8 +132,9 @@ def ipow(x, n: int):
     x : mpmath.iv.mpf
         The interval.
     n : int
-        The exponent, a positive integer (the expression graph's ``pow`` nodes; a negative power is a
-        reciprocal there).  A negative even ``n`` with ``x`` across 0 gives no enclosure: not for such use.
+        The exponent, an integer (the expression graph's ``pow`` nodes are positive; a negative power is a
+        reciprocal there).  A negative ``n`` with ``x`` holding 0 gives the whole line (``[0, +inf]`` for an even
+        ``n``): ``t**n`` is unbounded near 0.
 
     Returns
     -------
@@ -142,6 +143,9 @@ def ipow(x, n: int):
     """
     if n == 2:
         return sqr(x)
+    if n < 0 and x.a <= 0 <= x.b:
+        # t**n is unbounded near t = 0 (and undefined at it): the only enclosure is unbounded
+        return iv.mpf([0, mpmath.inf]) if n % 2 == 0 else iv.mpf([-mpmath.inf, mpmath.inf])
     if n % 2 == 0 and x.a < 0 < x.b:
         m = iv.mpf(max(-x.a, x.b))
         return iv.mpf([0, (m**n).b])
