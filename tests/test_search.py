@@ -35,6 +35,21 @@ def test_an_undecided_box_is_never_a_verdict():
     assert prove_all(UNIT, lambda b: np.where(b[:, 0, 0] > 0.9, -1, 0), stop=StopAt(max_boxes=1000))[0] is False
 
 
+def test_used_counts_the_boxes_the_test_saw():
+    """``used`` is the number of boxes handed to the test, also when the box budget stops the search (it once
+    counted the generation that was refused, never evaluated).  Reference: a test that counts its own calls."""
+    seen = []
+
+    def never(b):
+        seen.append(len(b))
+        return np.zeros(len(b), int)
+
+    for budget in (1, 2, 10, 100):
+        seen.clear()
+        verdict, used = prove_all(UNIT, never, stop=StopAt(max_boxes=budget), split="every")
+        assert verdict is None and used == sum(seen) <= budget
+
+
 def test_bad_options_name_the_parameter():
     with pytest.raises(WorkspaceError, match="split must be one of 'widest', 'every', 'given'; got 'thirds'"):
         prove_all(UNIT, lambda b: np.ones(len(b)), stop=StopAt(max_boxes=10), split="thirds")

@@ -141,9 +141,8 @@ def prove_all(boxes, test, *, min_width: float = 0.0, split: str = "widest", sto
         have passed before a generation, or when every undecided box is
         narrower than ``min_width`` on all its edges.
     used : int
-        The number of boxes evaluated; when the box budget stops the search,
-        it includes the generation that would have passed the budget (not
-        evaluated).
+        The number of boxes evaluated (a generation that would pass the
+        budget is not evaluated, nor counted).
 
     Raises
     ------
@@ -162,7 +161,7 @@ def prove_all(boxes, test, *, min_width: float = 0.0, split: str = "widest", sto
     >>> prove_all(box, lambda b: np.where(b[:, :, 1].sum(1) <= 2.0, 1, 0), stop=StopAt(max_boxes=100))
     (True, 1)
     >>> prove_all(box, lambda b: np.zeros(len(b), int), stop=StopAt(max_boxes=10))
-    (None, 15)
+    (None, 7)
     """
     stop, run = with_legacy_keywords("prove_all", stop, run, executor=executor)
     refuse_storage("prove_all", run)
@@ -181,9 +180,9 @@ def prove_all(boxes, test, *, min_width: float = 0.0, split: str = "widest", sto
     while len(work):
         if stop.time_limit is not None and time.perf_counter() - start > stop.time_limit:
             return None, used
-        used += len(work)
-        if used > max_boxes:
+        if used + len(work) > max_boxes:
             return None, used
+        used += len(work)
         if split == "given":
             codes, axis = test(work)
         else:
