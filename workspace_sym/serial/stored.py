@@ -162,6 +162,8 @@ def saved_section(where: RunOn, named: Fingerprint):
                 raise ValueError(f"{classes.shape} cells for a grid of {grid.shape}")
             return (grid, classes, proved if proved.size else None, Pieces(data["inner"], data["outer"]),
                     int(data["evaluated"]))
+    except InvalidParameterError:
+        raise                                     # another problem's section: check_fingerprint names what differs
     except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as exc:
         raise InvalidParameterError(f"resume: {str(path)!r} beside the checkpoint is not a section kept by "
                                     f"reach ({exc})", parameter="resume") from None
