@@ -1,15 +1,10 @@
-"""The critical method on one grid of task cells: a planar arm, or a spatial one without a structure to reduce it.
+"""The critical method's cover of faces, spread over an executor.
 
-A planar robot is the map ``q -> (x, y)`` of :func:`workspace_sym.interval.image.critical_paving`: the critical
-set of every face of the joint box is covered by joint boxes, whose enclosures mark a grid of cells of size
-``delta``; every connected region of unmarked cells misses the workspace boundary, so it is decided by one proof
-for one of its cells (Krawczyk inside, exhausted joint boxes outside); marked cells are tried one by one.  Any
-other spatial robot (a prismatic first joint, a first joint whose variable enters later rows, ...) is the map
-``q -> (x, y, z)`` of the same method in space: the critical set of every face (the position Jacobian's rank below
-3, or the tangent cone of the joint box not mapped onto ``R^3``) is covered, its enclosures mark a 3-D grid of
-cells, and every 6-connected region of unmarked cells is decided by one proof.  The cover of the faces may be
-spread over an executor (:func:`cover_with`, one task per group of faces); the sections of the section plans use
-the same cover (:func:`plane_map` names which map).
+The critical method (:func:`workspace_sym.interval.image.critical_paving`, run by the plans of
+:mod:`workspace_sym.serial.plans` on the cells of the task space and by the section plans on a section) covers
+the critical set of every face of the joint box by joint boxes.  That cover may be spread over an executor:
+:func:`cover_with` gives one task per group of faces (:class:`CoverStep`, picklable), and :func:`plane_map`
+names the map a task rebuilds where it runs (the reach model itself, or the section of a spatial arm).
 """
 
 from __future__ import annotations
@@ -18,17 +13,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..interval.boxes import Box
 from ..interval.executor import runner_for
-from ..interval.image import ImageMap, critical_cover, critical_paving
-from ..interval.verdict import INSIDE, OUTSIDE, UNDECIDED
+from ..interval.image import ImageMap, critical_cover
 from ..kinematics import DHRobot
-from .model import cell_width, reach_model
+from .model import reach_model
 from .section import RadialMap
 from .structure import structure_of
-from .tuning import DEFAULT, Tuning
 
-__all__ = ["plane_map", "CoverStep", "cover_with", "pave_cells"]
+__all__ = ["plane_map", "CoverStep", "cover_with"]
 
 
 def plane_map(robot: DHRobot, parameters: tuple, which: str) -> ImageMap | RadialMap:
@@ -122,46 +114,3 @@ def cover_with(executor, robot, parameters, which):
         finally:
             spread.close()
     return cover
-
-
-def pave_cells(robot, parameters, delta, size, run, *, executor, tuning: Tuning = DEFAULT):
-    """The ``"critical"`` method on one grid of task cells (:func:`critical_paving`): a planar robot, or a
-    spatial robot without a product or turned-section structure (cells in space).  Undecided cells are
-    boundary boxes, or pending when a budget stopped the run.
-
-    Parameters
-    ----------
-    robot : DHRobot
-        The robot.
-    parameters : tuple
-        Its parameter values as ``(name, value)`` pairs.
-    delta : float
-        The largest size of a cell (:func:`~workspace_sym.serial.model.cell_width`).
-    size : {"diameter", "width"}
-        How a cell's size is measured.
-    run : RunBudget
-        The run's budget: its ``stop_reason`` and ``show``.
-    executor : concurrent.futures.Executor or dask.distributed.Client or None
-        Where the critical cover runs (:func:`cover_with`).
-    tuning : Tuning
-        ``cell_chunk``: marked cells proved between two looks at the budget (cells in space).
-
-    Returns
-    -------
-    tuple
-        ``(box, inner, boundary, outer, pending, evaluated, reason)``: the grid's extent as a
-        :class:`~workspace_sym.interval.boxes.Box`; lists of ``(N, m, 2)`` arrays of inner, boundary (empty when
-        stopped) and outer cells; the undecided cells when stopped, else None; the boxes evaluated; why the
-        budget stopped it (``""``: it did not).
-    """
-    model = reach_model(robot, parameters)
-    grid, classes, evaluated, reason = critical_paving(model, cell_width(delta, size, model.m),
-                                                       budget=run.stop_reason,
-                                                       cover=cover_with(executor, robot, parameters, "model"),
-                                                       show=run.show, chunk=None if model.m == 2 else tuning.cell_chunk)
-    extent = grid.extent
-    box = Box(model.task_variables, tuple(extent[:, 0]), tuple(extent[:, 1]))
-    undecided = grid.boxes(classes, UNDECIDED, merge=bool(reason))
-    pending = undecided if reason else None
-    boundary = [] if reason else [undecided]
-    return box, [grid.boxes(classes, INSIDE)], boundary, [grid.boxes(classes, OUTSIDE)], pending, evaluated, reason
