@@ -402,6 +402,20 @@ def test_reach_time_limit_bounds_the_symbolic_model(tmp_path, capsys):
     assert out == "" and err.count("\n") == 1 and "--time-limit" in err and "no box was decided" in err
 
 
+def test_reach_time_limit_bounds_the_symbolic_model_with_a_tool_constraint():
+    """The same limit with a tool constraint: the wrist reduction and the pose plan are prepared within it too
+    (they ran past it, 2.6 s for a 1 ms limit on the UR5, before returning an empty paving)."""
+    from workspace_sym.serial import Pose, model, pose, reach, structure
+
+    for cached in (model.reach_model, pose.pose_structure, structure.structure_of):
+        cached.cache_clear()                    # cached per robot by value: an earlier test may have built them
+    path = Path(__file__).parent / "data" / "dh" / "ur5.json"
+    with pytest.raises(SymbolicBudgetError, match=r"not ready within the time limit of 0\.001 s") as info:
+        reach(DHRobot.from_file(path), delta=0.2, pose=Pose(approach=(0, 0, -1), cone=20),
+              stop=StopAt(time_limit=0.001))
+    assert info.value.parameter == "time_limit"
+
+
 def test_budget_timer_interrupts_sympy_and_keeps_an_enclosing_timer():
     """The budget's timer stops a SymPy call that has no budget check of ours inside, even one wrapped in
     ``except Exception`` (a swallowed timer ran on for minutes), and a timer armed before the block (a

@@ -628,8 +628,9 @@ def _reach_pose(robot: DHRobot, *, delta, size, parameters, method, stop: StopAt
     values = tuple(sorted((parameters or {}).items(), key=lambda item: str(item[0])))
     budget = RunBudget(stop, "reach", run.progress)
     try:
-        structure = pose_structure(robot, values, constraint, tuning)
-        plan = pose_plan(robot, values, constraint, structure, delta=delta, size=size, tuning=tuning, run=run)
+        with prepared_within(robot, stop.time_limit, budget.seconds):
+            structure = pose_structure(robot, values, constraint, tuning)
+            plan = pose_plan(robot, values, constraint, structure, delta=delta, size=size, tuning=tuning, run=run)
         section = plan.pave(budget, run)
         paving = plan.classify(section, budget, run)
         return ReachResult(paving, plan.method, plan.volume(section), constraint)
