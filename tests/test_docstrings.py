@@ -47,22 +47,26 @@ def _public() -> dict[str, object]:
 PUBLIC = _public()
 
 
+def _own_nodes(node):
+    """The nodes of a definition's own body: nested functions, lambdas and classes are not entered."""
+    for child in ast.iter_child_nodes(node):
+        if not isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef)):
+            yield child
+            yield from _own_nodes(child)
+
+
 def _raises_own_error(obj) -> bool:
-    """The function's own body (not a nested function's) raises one of the package's errors."""
+    """The function's own body (not a nested function's) raises one of the package's errors; for a class, the
+    body of its ``__init__`` or ``__post_init__`` (what its constructor documents)."""
+    if inspect.isclass(obj):
+        return any(_raises_own_error(vars(obj)[name]) for name in ("__init__", "__post_init__") if name in vars(obj))
     function = obj.fget if isinstance(obj, property) else getattr(obj, "__func__", obj)
     try:
         tree = ast.parse(textwrap.dedent(inspect.getsource(function)))
     except (OSError, TypeError):
         return False
-    body = tree.body[0]
-    nested = {id(n) for n in ast.walk(body) if isinstance(n, (ast.FunctionDef, ast.Lambda)) and n is not body}
-    for node in ast.walk(body):
-        if id(node) in nested:
-            continue
-        if isinstance(node, ast.Raise) and isinstance(node.exc, ast.Call) and isinstance(node.exc.func, ast.Name):
-            if node.exc.func.id in ERRORS:
-                return True
-    return False
+    return any(isinstance(node, ast.Raise) and isinstance(node.exc, ast.Call) and isinstance(node.exc.func, ast.Name)
+               and node.exc.func.id in ERRORS for node in _own_nodes(tree.body[0]))
 
 
 def test_the_public_api_is_large_enough_to_be_worth_counting():
