@@ -79,7 +79,7 @@ def _limit_floats(value) -> tuple[float, float]:
 
 class ImageMap:
     """A map from a joint box to ``R^m`` with what :func:`critical_paving` and the paving of
-    :func:`workspace_sym.serial_workspace.reach` need.
+    :func:`workspace_sym.serial.reach` need.
 
     Parameters
     ----------
@@ -411,7 +411,7 @@ class ImageMap:
     def admissible(self, box: np.ndarray) -> np.ndarray:
         """Mask of the joint boxes ``box`` (``(N, k, 2)``, fixed joints as points) on which a side condition
         of the inner test is proved; a test around a box outside the mask fails.  The plain map has none: a
-        constrained map (:mod:`workspace_sym.orientation`) proves its constraint over the Krawczyk box.
+        constrained map (:mod:`workspace_sym.serial.pose`) proves its constraint over the Krawczyk box.
 
         Parameters
         ----------

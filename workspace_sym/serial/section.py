@@ -1120,7 +1120,7 @@ def section_paving(image: RadialMap, width: float, *, budget=None, show=None, tu
         seed_of[tuple(index.T)] = seeds
         far_pieces = None
         if reach is not None:
-            def far_pieces(T, level):   # the bound sought within a fifth of a piece, as for the cells
+            def far_pieces(T, level):   # the bound sought within a tenth of a piece in distance, as for cells
                 return reach.far_boxes(T, reach.bound(tuning.reach_tolerance * width / 2 ** level * top))
         pieces, stopped = _refine(image, grid, classes, seed_of, far_pieces, depth, ask, pace, count,
                                   tuning.section_chunk)
