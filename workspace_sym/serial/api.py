@@ -500,9 +500,10 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     stop : :class:`~workspace_sym.interval.driver.StopAt`
         When to stop: ``max_boxes`` boxes evaluated, ``time_limit`` seconds for the whole call (what is left
         undecided is returned as ``pending``; a symbolic model, or with a pose its wrist reduction and plan, not
-        ready within ``time_limit`` raises :class:`~workspace_sym.errors.SymbolicBudgetError`), and ``section_boxes``, a budget of boxes for the
-        section of an arm turned by its first joint and moved by three joints or more (the same cells on every
-        machine where a time limit is not: its stages stop where they stop at their shares of a time limit).
+        ready within ``time_limit`` raises :class:`~workspace_sym.errors.SymbolicBudgetError`), and
+        ``section_boxes``, a budget of boxes for the section of an arm turned by its first joint and moved by
+        three joints or more (the same cells on every machine where a time limit is not: its stages stop where
+        they stop at their shares of a time limit).
     run : :class:`~workspace_sym.interval.driver.RunOn`
         Where and how: ``executor`` (None: this process; a :class:`concurrent.futures.Executor` or a
         ``dask.distributed.Client``): the critical covers (one task per group of faces) or the generations of
