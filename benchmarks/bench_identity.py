@@ -22,10 +22,9 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "tests"))
-from reach_checks import industrial_arm  # noqa: E402  (the tests' UR5 and KR16)
-
+sys.path.insert(0, str(ROOT / "tests" / "helpers"))
 import workspace_sym as ws  # noqa: E402
+from reach_checks import industrial_arm  # noqa: E402  (the tests' UR5 and KR16)
 
 
 def digest(boxes: np.ndarray) -> str:

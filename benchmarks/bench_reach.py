@@ -9,7 +9,7 @@ same run:
   (``PlanarChain``);
 * exact: the SCARA's volume, the area of its (x, y) region (Bastien's method) times its stroke;
 * independent: the glass-handling arm's volume, its section by Bastien's method turned
-  through the theta1 range (``tests/test_serial_workspace.py::_glass_section_volume``);
+  through the theta1 range (``tests/serial/test_serial_workspace.py::_glass_section_volume``);
 * sampled: the measure of the grid cells of side delta / sqrt(n) hit by 10^6 random
   configurations within the limits (no bound either way: the usual scatter-plot answer).
 
@@ -37,8 +37,9 @@ from workspace_sym.serial.model import cell_width
 from workspace_sym.serial.structure import structure_of
 from workspace_sym.serial.tuning import DEFAULT
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from test_serial_workspace import _glass_section_volume, human_arm
+TESTS = Path(__file__).resolve().parents[1] / "tests"
+sys.path[:0] = [str(TESTS / "helpers"), str(TESTS / "serial")]     # the tests' helpers and the glass arm's reference
+from test_serial_workspace import _glass_section_volume, human_arm  # noqa: E402
 
 HUMAN = ([0.186, 0.146, 0.108], [-60, 0, -10], [120, 130, 25])      # Bastien 2018, Table 1 case iii
 

@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "tests"))
+sys.path.insert(0, str(ROOT / "tests" / "helpers"))
 from reach_checks import industrial_arm, sampled_arcs_volume  # noqa: E402  (the tests' arms and reference)
 
 ARMS = {"ur5": [(0.2, 60), (0.1, 60)], "kr16": [(0.1, 120)], "glass": [(0.0125, 60)], "puma": [(0.02, 60)],

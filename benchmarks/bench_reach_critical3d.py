@@ -3,10 +3,10 @@
 Prints, per case: seconds, the joint boxes of the critical cover (``evaluated`` counts them with the proofs),
 proved inner / boundary / outer boxes, the volume bracket and its width in % of its upper bound:
 
-* the robot on a rail of ``tests/test_reach_critical3d.py`` (prismatic first joint, then two limited revolute
+* the robot on a rail of ``tests/serial/test_reach_critical3d.py`` (prismatic first joint, then two limited revolute
   joints and a full turn: no structure, so ``reach``'s own choice) at two deltas;
 * the oblique prism of the same file, whose exact volume is ``4 pi / 5``, at two deltas;
-* the three arms of ``tests/test_reach_turn3d.py`` turned by a limited first joint whose section proves no inner
+* the three arms of ``tests/serial/test_reach_turn3d.py`` turned by a limited first joint whose section proves no inner
   box (an elbow on a pedestal, a skew elbow, a turn of +-60 deg), on the section path they took before (outer
   boxes only) and on the 3-D cells ``reach`` now gives them, at two deltas;
 * the UR5 (``tests/data/dh/ur5.json``, every joint a full turn) forced through the 3-D method (its section
@@ -30,7 +30,7 @@ from workspace_sym.kinematics import DHRobot
 from workspace_sym.serial import model, plans, reach
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "tests"))
+sys.path[:0] = [str(ROOT / "tests" / "helpers"), str(ROOT / "tests" / "serial")]
 from test_reach_critical3d import OBLIQUE, OBLIQUE_VOLUME, RAIL  # noqa: E402
 from test_reach_turn3d import ARMS as TURNED  # noqa: E402
 

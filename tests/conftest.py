@@ -1,8 +1,6 @@
 """Shared fixtures (the Agg backend is set by the top-level conftest.py)."""
 
-import numpy as np
 import pytest
-import sympy as sp
 
 from workspace_sym import robots
 
@@ -21,35 +19,6 @@ def puma():
 @pytest.fixture(scope="session")
 def scara():
     return robots.build("scara")
-
-
-def dh_numpy(theta, d, a, alpha):
-    """Independent plain-numpy standard DH matrix (docs/methods.md section 1)."""
-    ct, st, ca, sa = np.cos(theta), np.sin(theta), np.cos(alpha), np.sin(alpha)
-    return np.array([[ct, -st * ca, st * sa, a * ct],
-                     [st, ct * ca, -ct * sa, a * st],
-                     [0, sa, ca, d],
-                     [0, 0, 0, 1.0]])
-
-
-def dh_numpy_modified(theta, d, a_prev, alpha_prev):
-    """Independent plain-numpy modified (Craig) DH matrix."""
-    ct, st, ca, sa = np.cos(theta), np.sin(theta), np.cos(alpha_prev), np.sin(alpha_prev)
-    return np.array([[ct, -st, 0, a_prev],
-                     [st * ca, ct * ca, -sa, -sa * d],
-                     [st * sa, ct * sa, ca, ca * d],
-                     [0, 0, 0, 1.0]])
-
-
-def fk_numpy(robot, q):
-    """Product of numeric DH matrices, built from the table rows only (no symbolic FK)."""
-    T = np.eye(4)
-    subs = {k: float(v) for k, v in robot.parameters.items()}
-    for joint, qk in zip(robot.joints, q):
-        vals = {joint.variable: qk, **{sp.Symbol(str(k)): v for k, v in subs.items()}}
-        row = [float(sp.sympify(e).subs(vals)) for e in (joint.theta, joint.d, joint.a, joint.alpha)]
-        T = T @ (dh_numpy(*row) if robot.convention == "standard" else dh_numpy_modified(*row))
-    return T
 
 
 # ---------------------------------------------------------------------- system tools (browser, TeX)

@@ -19,7 +19,7 @@ print products of single sines and cosines with grouped sums instead,
 
 On the catalog robots and the UR5, KR5, IRB140, Stanford, Panda and Cobra600
 tables every entry of ``T_0^n`` has at most the ``count_ops`` of
-:func:`sympy.simplify` applied to the raw product (``tests/test_symbolic.py``).
+:func:`sympy.simplify` applied to the raw product (``tests/kinematics/test_symbolic.py``).
 
 Singularity conditions need a finer normal form, since ``c2 s23 - s2 c23`` is
 ``s3``: :func:`factor_trig` expands every grouped angle, reduces, factors the

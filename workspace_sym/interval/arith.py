@@ -133,7 +133,7 @@ def down(x):
     a lower bound; on large arrays it is several times cheaper than
     ``numpy.nextafter``, which small arrays keep (call overhead dominates
     there).  Both are tested against exact rationals in
-    ``tests/test_interval.py``.  ``+inf`` (an overflow) becomes the largest
+    ``tests/interval/test_interval.py``.  ``+inf`` (an overflow) becomes the largest
     float, ``-inf`` and NaN stay.
 
     Parameters

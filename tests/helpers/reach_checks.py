@@ -1,0 +1,263 @@
+"""Arms and checks shared by the soundness tests of ``reach`` (tests/serial/, tests/interval/test_fingerprint.py)
+and the benchmarks: inverse kinematics at 50 digits from sampled seeds, the industrial arms of issue 24,
+configurations sampled within the limits and placed by the robot's own position, the reference volume of an arm
+turned by its first joint from them (the sampled section with its arcs, or Pappus's theorem on its cells), and
+small arms whose workspace is known (the offset arm, the swing arm, the shell arm with its exact annulus)."""
+
+from __future__ import annotations
+
+import functools
+import itertools
+from pathlib import Path
+
+import mpmath
+import numpy as np
+import rtbdata
+import sympy as sp
+from scipy.optimize import least_squares
+
+from paths import DATA
+from workspace_sym.interval.verdict import INSIDE
+from workspace_sym.kinematics import DHJoint, DHRobot
+from workspace_sym.serial import ReachModel
+from workspace_sym.serial.section import to_first_frame
+from workspace_sym.serial.structure import structure_of
+from workspace_sym.transforms import translation
+
+XACRO = Path(rtbdata.__file__).parent / "xacro"
+KR16 = XACRO / "kuka_description/kuka_kr16/urdf/kr16_2.urdf"
+IIWA = XACRO / "kuka_description/kuka_lbr_iiwa/urdf/lbr_iiwa_14_r820.urdf"
+
+
+@functools.cache
+def industrial_arm(name):
+    """The UR5 (``tests/data/dh/ur5.json``), the KUKA KR16 or the LBR iiwa 14 (rtb-data's URDFs, limits from the
+    files) or the Panda (``tests/data/dh/panda.json``), one object per process so that the symbolic section is
+    prepared once."""
+    if name in ("ur5", "panda"):
+        return DHRobot.from_file(DATA / "dh" / f"{name}.json")
+    return DHRobot.from_urdf({"kr16": KR16, "iiwa": IIWA}[name])
+
+
+def sampled_positions(robot, n, seed, chunk=100_000):
+    """Chunks ``(q, p)`` of ``n`` configurations uniform within the joint limits (``joint_limits``: the file's,
+    or a full turn for a joint without limits) and their positions by the robot's own numeric position
+    (``DHRobot.numeric(robot.position)``, not the reach model, which drops joints)."""
+    rng = np.random.default_rng(seed)
+    limits = robot.joint_limits()
+    position = robot.numeric(robot.position)
+    for start in range(0, n, chunk):
+        q = rng.uniform(limits[:, 0], limits[:, 1], size=(min(chunk, n - start), robot.n))
+        yield q, position(q)[:, :, 0]
+
+
+def first_axis(robot, rng):
+    """The first joint's axis (a point and a unit direction), found from the points alone: the points of one
+    configuration with the first joint turned by 0, 120 and 240 degrees lie on a circle about the axis (their
+    centroid its centre, the normal of their plane its direction, oriented so that the first joint turns them
+    counterclockwise about it)."""
+    q = rng.uniform(-1, 1, size=(1, robot.n)).repeat(3, axis=0)
+    q[:, 0] += np.array([0, 2, 4]) * np.pi / 3
+    p = robot.fk_numeric(q)[:, :3, 3]
+    a = np.cross(p[1] - p[0], p[2] - p[0])
+    return p.mean(axis=0), a / np.linalg.norm(a)
+
+
+def arcs_volume(robot, q1, points, h):
+    """Monte Carlo volume of the workspace of an arm turned by its revolute first joint, from the positions
+    ``points`` of sampled configurations whose first joint is at ``q1``: in cylindrical coordinates
+    ``(rho, z, psi)`` about the first joint's axis (:func:`first_axis`: from the points, not from the reach
+    model), each cell of side ``h`` of ``(rho, z)`` hit by a sample turns through the union of the arcs
+    ``psi - q1 + [lo, hi]`` of its samples (``[lo, hi]`` the first joint's limits), of measure ``2 pi`` less
+    the gaps between consecutive angles beyond ``hi - lo``: the sum of ``(rho_cell + h / 2) h^2`` times that
+    measure.  A first joint turning a full circle or more: Pappus's theorem on the sampled section.  An
+    estimate, no bound (the hit cells overlap the section's boundary by about half a cell; too few samples
+    leave cells, or arcs, unhit)."""
+    centre, axis = first_axis(robot, np.random.default_rng(0))
+    d = points - centre
+    z = d @ axis
+    radial = d - z[:, None] * axis
+    e1 = np.cross(axis, np.eye(3)[np.argmin(np.abs(axis))])
+    e1 /= np.linalg.norm(e1)
+    psi = np.remainder(np.arctan2(radial @ np.cross(axis, e1), radial @ e1) - q1, 2 * np.pi)
+    rho = np.floor(np.linalg.norm(radial, axis=1) / h).astype(np.int64)
+    row = np.floor(z / h).astype(np.int64)
+    order = np.lexsort((psi, row, rho))
+    rho, row, psi = rho[order], row[order], psi[order]
+    new = np.r_[True, (np.diff(rho) != 0) | (np.diff(row) != 0)]
+    start = np.flatnonzero(new)
+    group = np.cumsum(new) - 1
+    gap = np.r_[psi[1:], 0.0] - psi                     # to the next angle of the cell, the last round to the first
+    last = np.r_[start[1:], len(psi)] - 1
+    gap[last] = psi[start] + 2 * np.pi - psi[last]
+    lo, hi = robot.joint_limits()[0]
+    lost = np.bincount(group, weights=np.maximum(gap - (hi - lo), 0.0), minlength=len(start))
+    return float(np.sum((rho[start] + 0.5) * h ** 3 * (2 * np.pi - lost)))
+
+
+def sampled_arcs_volume(robot, n, h, seed=0):
+    """:func:`arcs_volume` of ``n`` configurations sampled by :func:`sampled_positions`."""
+    q, p = map(np.concatenate, zip(*sampled_positions(robot, n, seed)))
+    return arcs_volume(robot, q[:, 0], p, h)
+
+
+def paved_alike_twice(robot, delta, stop):
+    """``reach(robot, delta, stop)`` run twice, asserting both runs decide the same boxes (a budget of boxes, not of
+    seconds, stops it at the same cells on every run); the first paving."""
+    from workspace_sym.serial import reach
+
+    runs = [reach(robot, delta=delta, stop=stop) for _ in range(2)]
+    for kind in ("inner", "boundary", "outer"):
+        assert np.array_equal(getattr(runs[0], kind), getattr(runs[1], kind)), kind
+    return runs[0]
+
+
+def in_any_box(points, boxes, pad=0.0):
+    """Mask of the points lying in some closed box widened by ``pad`` (narrowed if negative), for many points and
+    boxes: the points sorted along x, each box looks only at those within its x range."""
+    order = np.argsort(points[:, 0])
+    xs = points[order, 0]
+    hit = np.zeros(len(points), dtype=bool)
+    for box in boxes:
+        lo, hi = box[:, 0] - pad, box[:, 1] + pad
+        a, b = np.searchsorted(xs, [lo[0], hi[0]])
+        rows = order[a:b]
+        hit[rows] |= ((points[rows] >= lo) & (points[rows] <= hi)).all(axis=1)
+    return hit
+
+
+def reached_at_50_digits(model, target, q, pos, tries=6):
+    """A configuration within the limits reaching ``target`` at 50 digits (:func:`solve_50_digits`), False if
+    none is found.  Started at the sampled configurations ``q`` (positions ``pos``) nearest to ``target``:
+    float Newton from each, then, where Newton stops or leaves the limits, least squares bounded by the
+    limits (a point near a limit is reached with a joint close to it, where Newton's steps overshoot)."""
+    lo, hi = model.limits[:, 0], model.limits[:, 1]
+    bounds = (np.where(model.periodic, -np.inf, lo), np.where(model.periodic, np.inf, hi))
+    near = np.argsort(np.linalg.norm(pos - target, axis=1))[:tries]
+    for seed in q[near]:
+        sol, ok = model.newton(np.array([target]), seed[None], steps=30)
+        starts = [sol[0]] if ok[0] else []
+        fit = least_squares(lambda x: model.position_float(x[None])[0] - target, np.clip(seed, *bounds),
+                            jac=lambda x: model.jacobian_float(x[None])[0], bounds=bounds, xtol=1e-15, ftol=1e-15,
+                            gtol=1e-15)
+        if np.max(np.abs(fit.fun)) < 1e-9:
+            starts.append(fit.x)
+        for start in starts:
+            exact = solve_50_digits(model, target, start, _solving_joints(model, start))
+            if exact is not None and all(model.periodic[j] or lo[j] <= float(exact[j]) <= hi[j]
+                                         for j in range(model.k)):
+                return True
+    return False
+
+
+def _solving_joints(model, q):
+    """The ``m`` joints the 50-digit solve moves: the best conditioned columns of the Jacobian at ``q``, among
+    joints clear of their limits where there are enough of those."""
+    J = model.jacobian_float(q[None])[0]
+    lo, hi = model.limits[:, 0], model.limits[:, 1]
+    clear = model.periodic | ((q - lo > 1e-6) & (hi - q > 1e-6))
+    choices = list(itertools.combinations(range(model.k), model.m))
+    return list(max(choices, key=lambda c: (all(clear[list(c)]), abs(np.linalg.det(J[:, list(c)])))))
+
+
+def solve_50_digits(model, target, q0, cols):
+    """Newton at 50 digits on the joints ``cols`` (the others fixed at q0): a configuration reaching
+    ``target`` exactly to 1e-40, or None."""
+    with mpmath.workdps(50):
+        fixed = {v: mpmath.mpf(float(x)) for v, x in zip(model.variables, q0)}
+        exprs = [sp.lambdify(model.variables, e - t, "mpmath") for e, t in zip(model.expressions, target)]
+
+        def f(*u):
+            vals = dict(fixed)
+            for c, x in zip(cols, u):
+                vals[model.variables[c]] = x
+            args = [vals[v] for v in model.variables]
+            return [g(*args) for g in exprs]
+        try:
+            u = mpmath.findroot(f, [fixed[model.variables[c]] for c in cols], tol=mpmath.mpf(10) ** -45)
+        except (ValueError, ZeroDivisionError):
+            return None
+        u = [u] if model.m == 1 else list(u)
+        q = [fixed[v] for v in model.variables]
+        for c, x in zip(cols, u):
+            q[c] = x
+        if max(abs(r) for r in f(*u)) > mpmath.mpf(10) ** -40:
+            return None
+        return q
+
+
+# ---------------------------------------------------------------------- small arms with known workspaces
+R = sp.Rational
+THIRD = R(2, 5)
+
+
+IIWA_LIKE = (-R(17, 18) * sp.pi, R(17, 18) * sp.pi)          # +-170 deg, the LBR iiwa's first joint
+
+
+def offset_arm(*, base=None, wrist=False, first=None, a3=THIRD):
+    """A spatial arm whose third link swings out of the arm's plane (alpha_2 = 90 deg): its lateral offset
+    ``c`` varies with theta2 and theta3; ``wrist`` adds a fourth joint (a three-joint section)."""
+    joints = [DHJoint.revolute(1, d=R(3, 10), alpha=sp.pi / 2, limits=first),
+              DHJoint.revolute(2, a=R(1, 2), alpha=sp.pi / 2),
+              DHJoint.revolute(3, a=a3, d=R(1, 10), alpha=sp.pi / 2 if wrist else 0)]
+    if wrist:
+        joints.append(DHJoint.revolute(4, a=R(1, 10)))
+    return DHRobot(joints, name="offset arm", base=base)
+
+
+def swing_arm(first=IIWA_LIKE):
+    """Three links swinging out of the first joint's plane (each alpha 90 deg, no joint offsets), the first joint
+    limited: its section, moved by three joints, is reached in the plane of the first link (c = 0) except near
+    the shoulder."""
+    return DHRobot([DHJoint.revolute(1, d=R(3, 10), alpha=sp.pi / 2, limits=first),
+                    DHJoint.revolute(2, a=R(1, 2), alpha=sp.pi / 2),
+                    DHJoint.revolute(3, a=R(2, 5), alpha=sp.pi / 2),
+                    DHJoint.revolute(4, a=R(1, 5))], name="swing arm")
+
+
+def shell_arm():
+    """A first joint turning three parallel revolute joints in a vertical plane, behind a shifted base (the
+    turned-section path): the section is the planar arm's annulus folded onto rho >= 0, so the workspace is
+    the spherical shell of radii ``2 max a_i - sum a_i = 3/10`` and ``sum a_i = 7/10`` about the shoulder."""
+    lengths = (R(1, 2), R(1, 10), R(1, 10))
+    joints = [DHJoint.revolute(1, alpha=sp.pi / 2)] + [DHJoint.revolute(i + 2, a=a) for i, a in enumerate(lengths)]
+    return DHRobot(joints, name="shell arm", base=translation(R(1, 10), R(-1, 5), R(3, 10)))
+
+
+def agrees_with_shell(r0, r1, z0, z1, kind):
+    """Exact rationals: a rectangle ``[r0, r1] x [z0, z1]`` of ``(rho, z)`` declared inner lies in the shell
+    arm's annulus (nearest point to the shoulder at least ``r``, farthest corner at most ``R``), one declared
+    outer misses it."""
+    r, big = R(3, 10), R(7, 10)
+    near = max(r0, 0) ** 2 + (0 if z0 <= 0 <= z1 else min(abs(z0), abs(z1))) ** 2
+    far = max(r0 ** 2, r1 ** 2) + max(z0 ** 2, z1 ** 2)
+    if kind == INSIDE:
+        return r0 >= 0 and near >= r ** 2 and far <= big ** 2
+    return r1 < 0 or near > big ** 2 or far < r ** 2
+
+
+def pappus_volume(robot, n=1_000_000, h=0.004, seed=0):
+    """Volume of the solid turned from the section sampled at ``n`` configurations: cells of side ``h`` of
+    (rho, z) hit by a sample, each turned through a full circle (2 pi rho_cell h^2)."""
+    model = ReachModel(robot)
+    rng = np.random.default_rng(seed)
+    q = model.random_configurations(n, rng)
+    p = model.position_float(q)
+    plan = structure_of(robot, ())
+    F = to_first_frame(plan.inverse, np.repeat(p[:, :, None], 2, axis=2))[:, :, 0]
+    rho, z = np.hypot(F[:, 0], F[:, 1]), F[:, 2]
+    cells = np.unique(np.stack([np.floor(rho / h), np.floor(z / h)], axis=1).astype(np.int64), axis=0)
+    return float(np.sum(2 * np.pi * (cells[:, 0] + 0.5) * h * h * h))
+
+
+def check_sampled_and_reached(robot, paving, *, samples: int, seed: int, chunk: int = 512):
+    """Soundness against sampling and inverse kinematics: ``samples`` configurations within the limits never
+    land in an outer box, and a random point of four random inner boxes is reached at 50 digits."""
+    model = ReachModel(robot)
+    rng = np.random.default_rng(seed)
+    q = model.random_configurations(samples, rng)
+    pos = model.position_float(q)
+    for k in range(0, len(paving.outer), chunk):
+        assert not in_any_box(pos, paving.outer[k:k + chunk]).any()
+    for box in paving.inner[rng.integers(len(paving.inner), size=4)]:
+        assert reached_at_50_digits(model, rng.uniform(box[:, 0], box[:, 1]), q, pos), box

@@ -1,0 +1,135 @@
+"""The characteristic polynomial of J J^T within a budget, the middle-frame Jacobian, and the jacobian command when
+a derivation runs out of budget (issues 26 item 4, 28 item 1, 29).
+
+References: numpy's eigenvalues of J J^T of the world-frame Jacobian at random configurations (an independent
+float computation), the rotation identity J_m = diag(R^T, R^T) J with R the orientation of frame m (numpy), and
+SymPy's own expanded determinant of a small submatrix.
+"""
+
+import json
+
+import numpy as np
+import pytest
+import sympy as sp
+from hypothesis import HealthCheck, example, given, settings
+
+from dh_reference import GENERIC_6, dummies, fk_numpy_with_tool, tables
+from workspace_sym import charpoly, kinematics
+from workspace_sym.cli import main
+from workspace_sym.errors import SymbolicBudgetError
+from workspace_sym.kinematics import DHRobot, eigenvalues_from_charpoly
+
+
+def _eigenvalues_agree(robot, p, kind, points=3, seed=4):
+    """Roots of ``p`` at random configurations against numpy's eigenvalues of J J^T (world frame)."""
+    Jf = robot.numeric(robot.jacobian(kind))
+    rng = np.random.default_rng(seed)
+    for _ in range(points):
+        q = rng.uniform(-np.pi, np.pi, robot.n)
+        J = Jf(q)
+        expected = np.linalg.eigvalsh(J @ J.T)
+        scale = max(1.0, expected.max())
+        ours = eigenvalues_from_charpoly(p, dict(zip(robot.q, q)))
+        assert np.allclose(ours, expected, atol=1e-9 * scale), (ours, expected)
+
+
+@pytest.mark.slow
+def test_generic_five_joint_charpoly_finishes_and_matches_numpy():
+    """Issues 28-29: the 3 x 5 characteristic polynomial of a generic table (the first five rows of the generic
+    6-joint table, its tool kept: no twist a multiple of 90 degrees, a prismatic joint, offsets everywhere; det J J^T
+    sums ten squared 3 x 3 minors) finishes within the library's default budget (its minors factored,
+    or kept as exact determinants) and its roots are numpy's eigenvalues of J J^T, J by central differences of the
+    plain numpy DH product.  The whole 6-joint table takes the same path with six minors more and about two
+    minutes: how long it takes is a benchmark's figure (``benchmarks/bench_symbolic_tables.py``), not this
+    test's."""
+    robot = DHRobot.from_dict({"joints": GENERIC_6["joints"][:5], "tool": GENERIC_6["tool"]})
+    p = robot.characteristic_polynomial("position")
+    assert p.degree() == 3 and not dummies(p)
+    rng = np.random.default_rng(4)
+    h = 1e-6
+    for _ in range(3):   # J of the plain numpy DH product by central differences: no symbolic world Jacobian
+        q = rng.uniform(-np.pi, np.pi, robot.n)
+        J = np.array([fk_numpy_with_tool(robot, q + h * e)[:3, 3] - fk_numpy_with_tool(robot, q - h * e)[:3, 3]
+                      for e in np.eye(robot.n)]).T / (2 * h)
+        expected = np.linalg.eigvalsh(J @ J.T)
+        assert np.allclose(eigenvalues_from_charpoly(p, dict(zip(robot.q, q))), expected, atol=1e-7 * expected.max())
+
+
+@pytest.mark.parametrize("shares", [(0.0, 0.6), (0.5, 0.0)], ids=["determinants", "unfactored minors"])
+def test_unexpanded_forms_are_exact(monkeypatch, shares):
+    """When the exact minors (first case) or their factoring (second) get no time, the coefficients are sums of
+    squared determinants of submatrices: still the characteristic polynomial (numpy's eigenvalues; a 3-joint
+    table with offsets of 97 and 20 degrees and a 45 degree twist, the 6 x 3 geometric Jacobian), no
+    placeholder, and each determinant expands to SymPy's own det of its submatrix."""
+    monkeypatch.setattr(charpoly, "MINORS_SHARE", shares[0])
+    monkeypatch.setattr(charpoly, "FACTOR_SHARE", shares[1])
+    robot = DHRobot.from_dict({"joints": [{"type": "R", "theta": 97, "alpha": 90, "a": 0.3, "d": 0.4},
+                                          {"type": "P", "theta": 20, "alpha": -90, "a": 0.25, "d": 0.1},
+                                          {"type": "R", "theta": 0, "alpha": 45, "a": 0.425, "d": 0.05}]})
+    p = robot.characteristic_polynomial("geometric")
+    dets = p.as_expr().atoms(sp.Determinant)
+    assert dets and not dummies(p)
+    _eigenvalues_agree(robot, p, "geometric")
+    d = min(dets, key=lambda d: d.arg.shape[0])
+    q = dict(zip(robot.q, (0.4, -1.1, 0.3)))
+    assert abs(sp.N((d.doit() - d.arg.as_mutable().det(method="berkowitz")).xreplace(q))) < 1e-12
+
+
+@settings(max_examples=2, deadline=None, derandomize=True, suppress_health_check=list(HealthCheck))
+@given(tables(n_max=2, tool=True))
+@example({"convention": "modified", "joints": [{"type": "R", "theta": 0, "alpha": 0, "a": 0.0, "d": 0.333},
+                                               {"type": "R", "theta": 0, "alpha": -90, "a": 0.0, "d": 0.0},
+                                               {"type": "P", "theta": 20, "alpha": 90, "a": 0.0825, "d": 0.316}],
+          "base": {"xyz": [0.1, 0.2, 0.0], "rpy": [0, 30, 45]}, "tool": {"xyz": [0, 0, 0.103], "rpy": [0, 0, -45]}})
+def test_middle_frame_jacobian_is_the_turned_world_jacobian(data):
+    """The Jacobian derived in frame m = n // 2 equals diag(R^T, R^T) J, R the orientation of frame m in the world
+    (numpy, random configurations; both conventions, base and tool): the same reference point, axes turned."""
+    robot = DHRobot.from_dict(data)
+    m = robot.n // 2
+    Jm, J, Fm = (robot.numeric(e) for e in (robot._middle_frame_jacobian("geometric"), robot.geometric_jacobian,
+                                            robot.fk(m)))
+    rng = np.random.default_rng(2)
+    for _ in range(3):
+        q = rng.uniform(-np.pi, np.pi, robot.n)
+        Rt = Fm(q)[:3, :3].T
+        assert np.allclose(Jm(q), np.vstack([Rt @ J(q)[:3], Rt @ J(q)[3:]]), atol=1e-10)
+
+
+def test_jacobian_command_prints_j_then_the_unfinished_factors(monkeypatch, capsys):
+    """The jacobian command with singular factors past the budget: the Jacobian is printed first, then one line
+    saying they were not factored within the budget, exit status 0; the JSON has singular null and the message
+    under "unfinished" (and an empty "unfinished" when everything was found)."""
+    def spent(self, *args, **kwargs):
+        raise SymbolicBudgetError("singular factors of the geometric Jacobian of planar-3r: a maximal minor not "
+                                  "finished within the budget of 120 s")
+
+    assert main(["jacobian", "planar-3r", "--json", "--no-singular"]) == 0
+    assert json.loads(capsys.readouterr().out)["unfinished"] == {}
+    monkeypatch.setattr(kinematics.DHRobot, "singular_factors", spent)
+    assert main(["jacobian", "planar-3r"]) == 0
+    out, err = capsys.readouterr()
+    lines = out.splitlines()
+    assert lines[1].startswith("  column 1:") and lines[3].startswith("  column 3:")
+    assert lines[4].startswith("  singular: not factored within the budget (") and "120 s" in lines[4]
+    assert len(lines) == 5 and err == ""
+    assert main(["jacobian", "planar-3r", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["singular"] is None and data["singularities"] is None and len(data["J"]) == 6
+    assert data["unfinished"]["singular"].startswith("not factored within the budget")
+
+
+def test_singular_factors_live_in_charpoly_without_a_cycle():
+    """Issue 26 item 4: the maximal minors' gcd is charpoly's (kinematics re-exports the same function), and
+    charpoly imports nothing of kinematics (checked in the module's import lines).  Reference: the 2R arm's
+    det J = l1 l2 sin(q2), an exact SymPy identity."""
+    import ast
+    import inspect
+
+    assert kinematics.maximal_minor_factors is charpoly.maximal_minor_factors
+    tree = ast.parse(inspect.getsource(charpoly))
+    imported = {node.module for node in ast.walk(tree) if isinstance(node, ast.ImportFrom)}
+    assert "kinematics" not in imported and "workspace_sym.kinematics" not in imported
+    q1, q2 = sp.symbols("q1 q2")
+    J = sp.Matrix([[-sp.sin(q1) - sp.sin(q1 + q2), -sp.sin(q1 + q2)], [sp.cos(q1) + sp.cos(q1 + q2), sp.cos(q1 + q2)]])
+    assert sp.simplify(J.det() - sp.sin(q2)) == 0
+    assert charpoly.maximal_minor_factors(J) == [sp.sin(q2)]
