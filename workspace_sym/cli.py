@@ -696,17 +696,22 @@ def cmd_report(args) -> int:
 
     start = time.perf_counter()
     command = " ".join(["workspace-sym"] + sys.argv[1:])
-    reach = {"reach_delta": args.reach_delta, "reach_time_limit": args.reach_time_limit}
+    from .interval.boxes import check_delta
+    from .interval.driver import StopAt
+
+    check_delta(args.reach_time_limit, "reach_time_limit")       # named by its flag, before StopAt names time_limit
+    reach = {"reach_delta": args.reach_delta, "stop": StopAt(time_limit=args.reach_time_limit)}
     constraint = _pose_options(args)
     if constraint:
         if args.reach_delta is None:
             raise InvalidParameterError("a tool constraint (approach, cone, every, orientation) is a constraint on "
                                         "the certified workspace section: give reach_delta too",
                                         parameter="reach_delta")
+        from .serial import Pose
         from .serial.pose import constraint_from
 
         constraint_from(**constraint)     # a bad constraint is refused before any section is written
-        reach["reach_constraint"] = constraint
+        reach["pose"] = Pose(**constraint)
     files = [f"--{dest} FILE" for dest in _ROBOT_FILES if getattr(args, dest) is not None]
     extra = {}
 

@@ -10,6 +10,7 @@ half-written report.
 
 from __future__ import annotations
 
+import dataclasses
 import datetime as _dt
 import math
 import platform
@@ -23,9 +24,12 @@ import numpy as np
 import sympy as sp
 
 from .document import Document, Equations, tex_escape
-from .errors import SymbolicBudgetError
+from .errors import InvalidParameterError, SymbolicBudgetError
 from .files import publish_dir
+from .interval.boxes import check_delta
+from .interval.driver import RunOn, StopAt, deprecated
 from .numbers import fmt, fmt_bound, fmt_bracket, md_escape, measure_text
+from .serial.api import Pose
 
 __all__ = ["Document", "dh_robot_report", "orthoglide_report", "paving_report", "planar_report", "reproducibility",
            "tex_escape", "md_escape", "number", "DEGREE", "Equations"]
@@ -190,10 +194,11 @@ def _pose_section(doc: Document, robot, paving, constraint, tmp: Path) -> None:
     _paving_section(doc, paving, tmp, units=robot.units, stem="reach")
 
 
-def _reach_not_started(doc: Document, time_limit: float) -> None:
+def _reach_not_started(doc: Document, time_limit: float | None) -> None:
     """The certified-workspace section of a run whose time limit passed while the model was being prepared."""
     doc.heading("Certified workspace (proved boxes)")
-    doc.para(f"Not computed: the time limit of {time_limit:g} s (reach_time_limit) passed while the symbolic model "
+    limit = "the time limit" if time_limit is None else f"the time limit of {time_limit:g} s"
+    doc.para(f"Not computed: {limit} (stop.time_limit) passed while the symbolic model "
              "(position, Jacobian, enclosures) was being prepared, so no box was decided. Allow more time.")
 
 
@@ -217,22 +222,38 @@ def _limits_cell(joint):
     return sp.Interval(lo, hi)
 
 
+def _report_legacy(legacy: dict, stop: StopAt, pose: Pose | None) -> tuple[StopAt, Pose | None]:
+    """``(stop, pose)`` with the keywords of earlier releases of :func:`dh_robot_report` folded in, each with a
+    :class:`DeprecationWarning` naming its new spelling; an unknown keyword is a ``TypeError`` as Python's."""
+    unknown = sorted(set(legacy) - {"reach_time_limit", "reach_constraint"})
+    if unknown:
+        raise TypeError(f"dh_robot_report() got an unexpected keyword argument {unknown[0]!r}")
+    if "reach_time_limit" in legacy:
+        deprecated("dh_robot_report", "reach_time_limit", "stop=StopAt(time_limit=...)", stacklevel=4)
+        check_delta(legacy["reach_time_limit"], "reach_time_limit")
+        stop = dataclasses.replace(stop, time_limit=legacy["reach_time_limit"])
+    if "reach_constraint" in legacy:
+        deprecated("dh_robot_report", "reach_constraint", "pose=Pose(...)", stacklevel=4)
+        if legacy["reach_constraint"]:
+            pose = Pose(**legacy["reach_constraint"])
+    return stop, pose
+
+
 def dh_robot_report(robot, out, *, samples: int = 20000, command: str | None = None,
-                    reach_delta: float | None = None, reach_time_limit: float = 60.0,
-                    reach_constraint: dict | None = None) -> Path:
+                    reach_delta: float | None = None, stop: StopAt = StopAt(time_limit=60.0),
+                    run: RunOn = RunOn(progress=False), pose: Pose | None = None, **legacy) -> Path:
     """Report of a DH robot: DH table (angles in degrees), forward kinematics, the 6 x n geometric Jacobian and
     its singular factors in textbook form, a sampled workspace picture (Markdown, HTML, LaTeX; ``out/report.md``
     and siblings).  Returns the path of the Markdown file.
 
     With ``reach_delta`` a section "Certified workspace (proved boxes)" adds
-    ``robot.reach(delta=reach_delta, stop=StopAt(time_limit=reach_time_limit))``: box counts
+    ``robot.reach(delta=reach_delta, stop=stop, run=run, pose=pose)``: box counts
     and measures, the certified bracket of the area (planar robot) or volume,
     whether the run completed, the boxes (3D: also three slices in z).
-    ``reach_constraint`` (the keywords ``approach``, ``cone``, ``every``,
-    ``orientation``, ``rpy`` of ``reach``) makes it the certified orientation
-    workspace under that constraint, with the constraint stated.  A symbolic
-    stage of ``reach`` that does not finish within the time limit leaves a
-    note in that section instead.
+    A ``pose`` makes it the certified orientation workspace under that tool
+    constraint, with the constraint stated.  A symbolic stage of ``reach``
+    that does not finish within the time limit leaves a note in that section
+    instead.
 
     Parameters
     ----------
@@ -246,10 +267,16 @@ def dh_robot_report(robot, out, *, samples: int = 20000, command: str | None = N
         The command line recorded in the Reproducibility section; by default this process's arguments.
     reach_delta : float or None, optional
         The ``delta`` of the certified section; None (default) leaves the section out.
-    reach_time_limit : float, default 60.0
-        Seconds given to ``reach``.
-    reach_constraint : dict or None, optional
-        Keywords of a tool constraint, as above.
+    stop : StopAt, default StopAt(time_limit=60.0)
+        When ``reach`` stops (its ``stop``).
+    run : RunOn, default RunOn(progress=False)
+        Where and how ``reach`` runs (its ``run``); no progress bar by default.
+    pose : Pose or None, optional
+        A tool constraint (:class:`~workspace_sym.serial.api.Pose`), as above.
+    **legacy
+        The keywords of earlier releases, each with a :class:`DeprecationWarning` naming its new spelling:
+        ``reach_time_limit=T`` (``stop=StopAt(time_limit=T)``) and ``reach_constraint={...}``
+        (``pose=Pose(...)``).  Any other keyword is a ``TypeError``.
 
     Returns
     -------
@@ -259,25 +286,26 @@ def dh_robot_report(robot, out, *, samples: int = 20000, command: str | None = N
     Raises
     ------
     InvalidParameterError
-        When ``reach_delta`` or ``reach_time_limit`` is not a positive finite number, or ``reach_constraint`` is
-        not a valid constraint (checked before the symbolic work).
+        When ``reach_delta`` or the time limit is not a positive finite number, ``stop``, ``run`` or ``pose`` is
+        not of its type, or ``pose`` is not a valid constraint (checked before the symbolic work).
     OutputError
         When ``out`` cannot be written.
     """
-    from .interval.boxes import check_delta
-    from .interval.driver import RunOn, StopAt
     from .plotting import save_figure, scatter_workspace_3d
     from .sampling import reach_points, sample_joint_box
-    from .serial import Pose
 
+    stop, pose = _report_legacy(legacy, stop, pose)
     constraint = None
     if reach_delta is not None:                  # checked before the long symbolic work
         check_delta(reach_delta, "reach_delta")
-        check_delta(reach_time_limit, "reach_time_limit")
-        if reach_constraint:
+        for value, name, kind in ((stop, "stop", StopAt), (run, "run", RunOn), (pose, "pose", Pose)):
+            if not isinstance(value, kind) and not (name == "pose" and value is None):
+                raise InvalidParameterError(f"{name} must be a {kind.__name__}; got {type(value).__name__}",
+                                            parameter=name)
+        if pose is not None:
             from .serial.pose import constraint_from
 
-            constraint = constraint_from(**reach_constraint)
+            constraint = constraint_from(pose.approach, pose.cone, pose.every, pose.orientation, pose.rpy)
     out = Path(out)
     start = time.perf_counter()
     T = robot.shorthand(robot.fk())
@@ -320,13 +348,11 @@ def dh_robot_report(robot, out, *, samples: int = 20000, command: str | None = N
         doc.figure(tmp / "workspace.png", f"{samples} random configurations")
         if reach_delta is not None:
             try:
-                pose = {"pose": Pose(**reach_constraint)} if reach_constraint else {}
-                paving = robot.reach(delta=reach_delta, stop=StopAt(time_limit=reach_time_limit),
-                                     run=RunOn(progress=False), **pose)
+                paving = robot.reach(delta=reach_delta, stop=stop, run=run, **({} if pose is None else {"pose": pose}))
             except SymbolicBudgetError as error:
                 if error.parameter != "time_limit":
                     raise
-                _reach_not_started(doc, reach_time_limit)
+                _reach_not_started(doc, stop.time_limit)
             else:
                 if constraint is None:
                     _reach_section(doc, robot, paving, tmp)

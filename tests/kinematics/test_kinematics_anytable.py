@@ -551,10 +551,10 @@ def test_attempt_sharing_the_enclosing_deadline_reports_that_budget_spent():
 @pytest.mark.slow
 def test_a_storm_of_nested_budgets_always_ends_and_leaves_no_state(tmp_path):
     """Nested budgets (a plain one, one held by a contextlib generator, a derivation, an attempt) with random
-    deadlines of 0 to 50 ms around SymPy calls that swallow every Exception: every block ends with at most a
-    SymbolicBudgetError, and after each the process has no deadline, the default handler and no timer.  Run
-    in a child process with a time limit, since the failure it guards against is a hang.  Reference: the
-    process's state before."""
+    deadlines of 0 to 20 ms (50 ms before: as many expiries at random points, in less time) around SymPy calls
+    that swallow every Exception: every block ends with at most a SymbolicBudgetError, and after each the process
+    has no deadline, the default handler and no timer.  Run in a child process with a time limit, since the
+    failure it guards against is a hang.  Reference: the process's state before."""
     import subprocess
     import sys
     import textwrap
@@ -584,9 +584,9 @@ def test_a_storm_of_nested_budgets_always_ends_and_leaves_no_state(tmp_path):
         rng = random.Random(1)
         for i in range(400):
             try:
-                with symbolic.symbolic_budget(rng.uniform(0, 0.05), "outer"), held(rng.uniform(0, 0.05)):
-                    with symbolic.derivation("derived", rng.uniform(0, 0.05)):
-                        symbolic.attempt(work, rng.uniform(0, 0.05), "attempted")
+                with symbolic.symbolic_budget(rng.uniform(0, 0.02), "outer"), held(rng.uniform(0, 0.02)):
+                    with symbolic.derivation("derived", rng.uniform(0, 0.02)):
+                        symbolic.attempt(work, rng.uniform(0, 0.02), "attempted")
                         work()
             except SymbolicBudgetError:
                 pass

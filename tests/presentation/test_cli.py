@@ -15,6 +15,7 @@ import sympy as sp
 
 import workspace_sym
 from paths import ROOT
+from workspace_sym import Pose, StopAt
 from workspace_sym.cli import main
 from workspace_sym.expressions import parse_expr
 
@@ -279,7 +280,8 @@ def test_report_passes_the_tool_constraint_to_its_certified_section(tmp_path, ca
     code, out, err = run(capsys, "report", "scara", "--reach-delta", "0.1", "--orientation", "rpy:180,0,0",
                          "--out", str(tmp_path / "r"))
     assert code == 0, err
-    assert seen["reach_delta"] == 0.1 and seen["reach_constraint"] == {"rpy": [180.0, 0.0, 0.0]}
+    assert seen["reach_delta"] == 0.1 and seen["pose"] == Pose(rpy=[180.0, 0.0, 0.0])
+    assert seen["stop"] == StopAt(time_limit=60.0)
 
 
 def test_report_reach_delta_not_a_number(tmp_path, capsys):

@@ -1,4 +1,4 @@
-"""The report section of an orientation workspace (``dh_robot_report(..., reach_constraint=...)``): the constraint
+"""The report section of an orientation workspace (``dh_robot_report(..., pose=Pose(...))``): the constraint
 stated, and the numbers those of the Paving ``reach`` returned under it (reference: that Paving)."""
 
 from __future__ import annotations

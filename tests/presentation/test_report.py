@@ -10,7 +10,7 @@ import pytest
 
 from paths import DATA
 from system_tools import assert_compiles, require_tool
-from workspace_sym import RunOn, StopAt, robots
+from workspace_sym import Pose, RunOn, StopAt, robots
 from workspace_sym.interval import pave
 from workspace_sym.numbers import fmt_bracket
 from workspace_sym.planar import PlanarChain
@@ -148,10 +148,9 @@ def _reach_report(robot, folder, **options):
 
 
 def test_scara_tool_down_report_states_the_constraint_and_the_pavings_numbers(tmp_path, scara):
-    """An orientation workspace's section (``reach_constraint``): the constraint stated, the numbers those of
+    """An orientation workspace's section (``pose=Pose(...)``): the constraint stated, the numbers those of
     the Paving ``reach`` returned under it (reference: that Paving)."""
-    path, _, paving, kwargs = _reach_report(scara, tmp_path / "r", reach_delta=0.1,
-                                            reach_constraint={"rpy": (180, 0, 0)})
+    path, _, paving, kwargs = _reach_report(scara, tmp_path / "r", reach_delta=0.1, pose=Pose(rpy=(180, 0, 0)))
     assert kwargs["pose"].rpy == (180, 0, 0) and kwargs["delta"] == 0.1
     md = path.read_text()
     text = md[md.index("## Certified orientation workspace (proved boxes)"):md.index("## Reproducibility")]
@@ -173,7 +172,7 @@ def reach2d(tmp_path_factory):
 @pytest.fixture(scope="module")
 def reach3d(tmp_path_factory, scara):
     """The SCARA of the catalog with its certified workspace at delta 0.1 (about 2 s of reach)."""
-    return _reach_report(scara, tmp_path_factory.mktemp("reach3d") / "r", reach_delta=0.1, reach_time_limit=30)
+    return _reach_report(scara, tmp_path_factory.mktemp("reach3d") / "r", reach_delta=0.1, stop=StopAt(time_limit=30))
 
 
 def _section(md: str) -> str:
@@ -257,11 +256,35 @@ def test_reach_report_refuses_a_bad_delta(tmp_path):
 
     arm = robots.build("planar-2r")
     for options, name in (({"reach_delta": -0.1}, "reach_delta"), ({"reach_delta": float("nan")}, "reach_delta"),
-                          ({"reach_delta": 0.2, "reach_time_limit": 0}, "reach_time_limit")):
+                          ({"reach_delta": 0.2, "stop": 60}, "stop"), ({"reach_delta": 0.2, "run": None}, "run"),
+                          ({"reach_delta": 0.2, "pose": {"rpy": (180, 0, 0)}}, "pose"),
+                          ({"reach_delta": 0.2, "pose": Pose(cone=20)}, "cone")):
         with pytest.raises(WorkspaceError) as err:
             dh_robot_report(arm, tmp_path / "x", **options)
         assert err.value.parameter == name and name in str(err.value)
+    with pytest.warns(DeprecationWarning, match="reach_time_limit= is deprecated"), \
+            pytest.raises(WorkspaceError) as err:
+        dh_robot_report(arm, tmp_path / "x", reach_delta=0.2, reach_time_limit=0)
+    assert err.value.parameter == "reach_time_limit"
+    with pytest.raises(TypeError, match="unexpected keyword argument 'reach_deltaa'"):
+        dh_robot_report(arm, tmp_path / "x", reach_deltaa=0.2)
     assert not (tmp_path / "x").exists()
+
+
+def test_the_earlier_reach_keywords_of_the_report_warn_and_call_reach_the_new_way(tmp_path, scara):
+    """Issue 38 item 3: ``reach_time_limit=`` and ``reach_constraint=`` still work for one release, each with a
+    DeprecationWarning naming its new spelling, and ``reach`` is called as ``stop=`` and ``pose=`` would call it
+    (reference: the keywords reach received, recorded)."""
+    with pytest.warns(DeprecationWarning) as caught:
+        _, _, _, old = _reach_report(scara, tmp_path / "old", reach_delta=0.25, reach_time_limit=30,
+                                     reach_constraint={"rpy": (180, 0, 0)})
+    assert sorted(str(w.message) for w in caught if w.category is DeprecationWarning) == [
+        "dh_robot_report: reach_constraint= is deprecated; pass pose=Pose(...)",
+        "dh_robot_report: reach_time_limit= is deprecated; pass stop=StopAt(time_limit=...)"]
+    _, _, _, new = _reach_report(scara, tmp_path / "new", reach_delta=0.25, stop=StopAt(time_limit=30),
+                                 pose=Pose(rpy=(180, 0, 0)))
+    assert old == new == {"delta": 0.25, "stop": StopAt(time_limit=30), "run": RunOn(progress=False),
+                          "pose": Pose(rpy=(180, 0, 0))}
 
 
 def test_dh_report(dh):

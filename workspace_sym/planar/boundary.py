@@ -44,9 +44,9 @@ from typing import Any
 import numpy as np
 import sympy as sp
 
-from ..errors import BoundaryError
+from ..errors import BoundaryError, InvalidParameterError
 from ..interval import arith
-from ..interval.driver import StopAt
+from ..interval.driver import RunOn, StopAt, deprecated, refuse_run, refuse_stop, with_legacy_keywords
 from ..interval.search import prove_all
 from ..numbers import clean, fmt, md_escape
 from ..progress import stage_bar
@@ -521,6 +521,11 @@ def prove_unreachable(chain, q, *, max_boxes: int = 200_000) -> bool | None:
         True when proved unreachable; None when the budget ran out first (never False: no box is proved to
         reach ``q``).  With one joint, True when ``|q|`` differs from the length by more than the margin.
     """
+    return _exclusion(chain, q, max_boxes)[0]
+
+
+def _exclusion(chain, q, max_boxes: int, time_limit: float | None = None) -> tuple[bool | None, int]:
+    """:func:`prove_unreachable` within ``max_boxes`` boxes and ``time_limit`` seconds: ``(proved, boxes used)``."""
     L = np.array(chain.lengths)
     q = np.asarray(q, dtype=float)
     rq = math.hypot(*q)
@@ -528,7 +533,7 @@ def prove_unreachable(chain, q, *, max_boxes: int = 200_000) -> bool | None:
     arc_start, arc_span = aq - chain.upper[0], chain.upper[0] - chain.lower[0]
     margin = 1e-9 * chain.reach
     if chain.p == 1:
-        return abs(rq - L[0]) > margin or None
+        return abs(rq - L[0]) > margin or None, 0
     boxes = np.stack([chain.lower[1:], chain.upper[1:]], axis=1)[None].astype(float)
 
     def test(boxes):
@@ -562,8 +567,8 @@ def prove_unreachable(chain, q, *, max_boxes: int = 200_000) -> bool | None:
         return np.where(dist > rad, 1, 0), np.argmax(weights, axis=1)
 
     with np.errstate(all="ignore"):
-        proved, _ = prove_all(boxes, test, split="given", stop=StopAt(max_boxes=max_boxes))
-    return proved
+        proved, used = prove_all(boxes, test, split="given", stop=StopAt(max_boxes=max_boxes, time_limit=time_limit))
+    return proved, used
 
 
 def _arc_arc_distance(a, b) -> float:
@@ -664,7 +669,7 @@ def unreachable_via_subchain(chain, q, *, margin: float = 1e-9):
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            w = sub.boundary(progress=False)
+            w = sub.boundary(run=RunOn(progress=False))
     except BoundaryError:                       # W itself is not reliable: no argument through it
         return None, None
     if w.undecided_area > 0 or not w.arcs:
@@ -816,7 +821,31 @@ def _merge_slivers(arr: Arrangement, status, evidence, slivers: dict) -> dict:
     return {"faces": len(slivers), "area": area, "width_tolerance": SLIVER_WIDTH, "into": into}
 
 
-def _classify(chain, arr: Arrangement, kept, samples, seed, max_boxes, slivers=()):
+@dataclass
+class _Proofs:
+    """The boxes and seconds the interval exclusions of one boundary may spend: ``per_proof`` boxes each
+    (``proof_boxes``), ``boxes_left`` over them all and a ``deadline`` (``stop``); ``spent`` names the budget
+    that ran out, when one did."""
+
+    per_proof: int
+    boxes_left: int | None
+    deadline: float | None
+    spent: str = ""
+
+    def excluded(self, chain, q) -> bool:
+        """Whether ``q`` is proved unreachable within what is left (False once a budget is spent)."""
+        allowed = self.per_proof if self.boxes_left is None else min(self.per_proof, self.boxes_left)
+        seconds = None if self.deadline is None else self.deadline - time.perf_counter()
+        if allowed <= 0 or (seconds is not None and seconds <= 0):
+            self.spent = self.spent or ("max_boxes" if allowed <= 0 else "time_limit")
+            return False
+        proved, used = _exclusion(chain, q, allowed, seconds)
+        if self.boxes_left is not None:
+            self.boxes_left -= used
+        return bool(proved)
+
+
+def _classify(chain, arr: Arrangement, kept, samples, seed, proofs: _Proofs, slivers=()):
     nf = len(arr.face_cycles)
     status = ["unknown"] * nf
     evidence = {}
@@ -864,7 +893,7 @@ def _classify(chain, arr: Arrangement, kept, samples, seed, max_boxes, slivers=(
             if decided is False and witness is not None:
                 status[f], evidence[f] = "inside", {"method": "witness through joints 2..p",
                                                     "configuration": witness.tolist()}
-            elif decided is not False and prove_unreachable(chain, q, max_boxes=max_boxes):
+            elif decided is not False and proofs.excluded(chain, q):
                 status[f], evidence[f] = "outside", {"method": "interval exclusion", "point": q.tolist()}
             elif decided:
                 status[f], evidence[f] = "outside", {"method": "workspace of joints 2..p", "point": q.tolist()}
@@ -873,7 +902,8 @@ def _classify(chain, arr: Arrangement, kept, samples, seed, max_boxes, slivers=(
     return status, evidence, notes
 
 
-def build_boundary(chain, *, samples: int = 4096, seed: int = 0, max_boxes: int = 4_000,
+def build_boundary(chain, *, samples: int = 4096, seed: int = 0, proof_boxes: int = 4_000,
+                   stop: StopAt = StopAt(), run: RunOn = RunOn(), max_boxes: int | None = None,
                    progress: bool | None = None) -> Boundary:
     """Step 2 for ``chain`` (see :meth:`workspace_sym.planar.chain.PlanarChain.boundary`).
 
@@ -885,11 +915,20 @@ def build_boundary(chain, *, samples: int = 4096, seed: int = 0, max_boxes: int 
         The number of random configurations drawn to find witnesses.
     seed : int, default 0
         Seed of that sample.
-    max_boxes : int, default 4000
+    proof_boxes : int, default 4000
         Box budget of the interval exclusion of each face.
-    progress : bool or None, default None
-        Show the stages: True always, False never, None on an interactive output once the run has lasted a
-        second.
+    stop : StopAt
+        When the interval exclusions stop: ``max_boxes`` boxes over all of them, ``time_limit`` seconds for the
+        call.  A face whose proof the budget cuts short stays undecided (a warning says which budget, and the
+        area becomes a lower bound).  ``section_boxes`` does not apply and is refused.
+    run : RunOn
+        ``progress``: show the stages (True always, False never, None on an interactive output once the run
+        has lasted a second).  The boundary is built in this process and keeps no boxes: the other fields are
+        refused.
+    max_boxes : int, optional
+        Deprecated spelling of ``proof_boxes`` (a :class:`DeprecationWarning`).
+    progress : bool, optional
+        Deprecated spelling of ``run=RunOn(progress=...)`` (a :class:`DeprecationWarning`).
 
     Returns
     -------
@@ -899,6 +938,8 @@ def build_boundary(chain, *, samples: int = 4096, seed: int = 0, max_boxes: int 
 
     Raises
     ------
+    InvalidParameterError
+        When ``proof_boxes`` is not a positive integer, or ``stop`` or ``run`` sets a field that does not apply.
     BoundaryError
         When the loops found contradict a property every chain has (an area larger than the annulus that holds
         every configuration, or a negative one).
@@ -907,9 +948,22 @@ def build_boundary(chain, *, samples: int = 4096, seed: int = 0, max_boxes: int 
     -----
     UserWarning
         When faces stay undecided, and for each note of the classification.
+    DeprecationWarning
+        For ``max_boxes=`` and ``progress=``.
     """
     t0 = time.perf_counter()
-    say = stage_bar(progress, "boundary", 4)
+    stop, run = with_legacy_keywords("build_boundary", stop, run, progress=progress)
+    if max_boxes is not None:
+        deprecated("build_boundary", "max_boxes", "proof_boxes=... (each face's proof; stop=StopAt(max_boxes=...) "
+                   "bounds them all)")
+        proof_boxes = max_boxes
+    if isinstance(proof_boxes, bool) or not isinstance(proof_boxes, int) or proof_boxes < 1:
+        raise InvalidParameterError(f"proof_boxes must be a positive integer; got {proof_boxes!r}",
+                                    parameter="proof_boxes")
+    refuse_stop("build_boundary", stop, ("max_boxes", "time_limit"), "stops on the boxes and seconds of its proofs")
+    refuse_run("build_boundary", run)
+    proofs = _Proofs(proof_boxes, stop.max_boxes, None if stop.time_limit is None else t0 + stop.time_limit)
+    say = stage_bar(run.progress if run.progress is not None else stop.progress, "boundary", 4)
     say("steps 0 and 1")
     step0 = len(chain.step0["free"])
     kept = chain.step1
@@ -917,12 +971,12 @@ def build_boundary(chain, *, samples: int = 4096, seed: int = 0, max_boxes: int 
     say(f"arrangement of {len(kept)} arcs")
     arr = Arrangement(rows, scale=chain.reach)
     try:
-        return _boundary_of(chain, kept, arr, step0, t0, say, samples=samples, seed=seed, max_boxes=max_boxes)
+        return _boundary_of(chain, kept, arr, step0, t0, say, samples=samples, seed=seed, proofs=proofs)
     finally:
         say(None)
 
 
-def _boundary_of(chain, kept, arr, step0, t0, say, *, samples, seed, max_boxes) -> Boundary:
+def _boundary_of(chain, kept, arr, step0, t0, say, *, samples, seed, proofs: _Proofs) -> Boundary:
     """Classification of the faces of ``arr`` and the walk along the boundary (:func:`build_boundary`)."""
     if chain.p == 1:
         a = kept[0] if kept else None
@@ -933,7 +987,7 @@ def _boundary_of(chain, kept, arr, step0, t0, say, *, samples, seed, max_boxes) 
                         time.perf_counter() - t0, arr)
     say(f"classifying {len(arr.face_cycles)} faces")
     slivers = _slivers(chain, arr)
-    status, evidence, notes = _classify(chain, arr, kept, samples, seed, max_boxes, slivers)
+    status, evidence, notes = _classify(chain, arr, kept, samples, seed, proofs, slivers)
     say("walking the loops")
     merged_slivers = _merge_slivers(arr, status, evidence, slivers)
     inside = np.array([s == "inside" for s in status] + [False])      # index -1: unbounded face
@@ -984,9 +1038,10 @@ def _boundary_of(chain, kept, arr, step0, t0, say, *, samples, seed, max_boxes) 
     undecided = float(sum(arr.face_area[f] for f, s in enumerate(status) if s == "undecided"))
     _check_consistent(chain, sum(loop.area for loop in loops), undecided)
     if undecided > 0:
+        cut = f"; the proofs stopped at stop.{proofs.spent}" if proofs.spent else ""
         warnings.warn(f"{sum(s == 'undecided' for s in status)} face(s) of total area {undecided:.3g} could not be "
-                      f"classified (no witness, interval exclusion within max_boxes={max_boxes} and the argument "
-                      f"through joints 2..p inconclusive); the area is a lower bound", stacklevel=4)
+                      f"classified (no witness, interval exclusion within proof_boxes={proofs.per_proof}{cut}, and "
+                      f"the argument through joints 2..p inconclusive); the area is a lower bound", stacklevel=4)
     for note in notes:
         warnings.warn(note, stacklevel=4)
     counts = {"step0": step0, "step1": len(kept), "step2": len(arcs)}

@@ -31,6 +31,7 @@ import sympy as sp
 
 from ..errors import ExpressionError, InvalidParameterError
 from ..expressions import check_joint_limits, parse_expr
+from ..interval.driver import RunOn, StopAt, deprecated, with_legacy_keywords
 from ..numbers import fmt
 from .arcs import RESOLUTION, Arc, degrees_text
 from .boundary import Boundary, build_boundary
@@ -415,8 +416,8 @@ class PlanarChain:
         return PlanarChain(self.lengths[1:], self.lower[1:], self.upper[1:], degrees=False)
 
     # ------------------------------------------------------------------ Step 2
-    def boundary(self, *, samples: int = 4096, seed: int = 0, max_boxes: int = 4_000,
-                 progress: bool | None = None) -> Boundary:
+    def boundary(self, *, samples: int = 4096, seed: int = 0, proof_boxes: int = 4_000, stop: StopAt = StopAt(),
+                 run: RunOn = RunOn(), max_boxes: int | None = None, progress: bool | None = None) -> Boundary:
         """Step 2: the workspace boundary as loops of arcs (:class:`~workspace_sym.planar.boundary.Boundary`).
 
         The kept arcs cut the plane into faces; every face lies wholly inside or
@@ -424,14 +425,13 @@ class PlanarChain:
         kept arc whose side points into it) or by a witness configuration that
         lands in it; a bounded face is proved outside by interval exclusion (no
         configuration of the joint box reaches a point of it).  A face that
-        resists both within ``max_boxes`` boxes is reported as undecided, with a
-        warning, and the area becomes a bracket.
+        resists both within ``proof_boxes`` boxes, or whose proof ``stop`` cuts
+        short, is reported as undecided, with a warning, and the area becomes a
+        bracket.
 
-        ``progress`` shows the stages of a long run (:mod:`workspace_sym.progress`;
-        by default on an interactive output once it has lasted a second).
-
-        The result is kept: a second call with the same ``samples``, ``seed`` and ``max_boxes`` returns the same
-        object.
+        The result is kept: a second call with the same ``samples``, ``seed``, ``proof_boxes`` and a ``stop``
+        of boxes only returns the same object (one with a time limit is built anew: where it stops depends on
+        the machine).
 
         Parameters
         ----------
@@ -439,11 +439,19 @@ class PlanarChain:
             The number of random configurations drawn (with the corners of the joint box) to find witnesses.
         seed : int, default 0
             Seed of that sample.
-        max_boxes : int, default 4000
+        proof_boxes : int, default 4000
             Box budget of the interval exclusion of each face.
-        progress : bool or None, default None
-            True shows the stages, False never; None shows them on an interactive output once the run has
-            lasted a second.
+        stop : StopAt
+            ``max_boxes`` boxes over all the exclusions, ``time_limit`` seconds for the call; ``section_boxes``
+            is refused.
+        run : RunOn
+            ``progress``: True shows the stages, False never; None (the default) shows them on an interactive
+            output once the run has lasted a second (:mod:`workspace_sym.progress`).  The other fields are
+            refused: the boundary is built in this process and keeps no boxes.
+        max_boxes : int, optional
+            Deprecated spelling of ``proof_boxes`` (a :class:`DeprecationWarning`).
+        progress : bool, optional
+            Deprecated spelling of ``run=RunOn(progress=...)`` (a :class:`DeprecationWarning`).
 
         Returns
         -------
@@ -452,6 +460,9 @@ class PlanarChain:
 
         Raises
         ------
+        InvalidParameterError
+            When ``proof_boxes`` is not a positive integer, or ``stop`` or ``run`` sets a field that does not
+            apply.
         BoundaryError
             When the loops found contradict a property every chain has (an area larger than the annulus that
             holds every configuration, or a negative one): limits a hair short of a full turn.
@@ -461,11 +472,20 @@ class PlanarChain:
         UserWarning
             When faces stay undecided (the area is then a lower bound, :attr:`Boundary.undecided_area` the
             rest), and for each note of the classification.
+        DeprecationWarning
+            For ``max_boxes=`` and ``progress=``.
         """
-        key = (samples, seed, max_boxes)
+        stop, run = with_legacy_keywords("boundary", stop, run, progress=progress)
+        if max_boxes is not None:
+            deprecated("boundary", "max_boxes", "proof_boxes=... (each face's proof; stop=StopAt(max_boxes=...) "
+                       "bounds them all)")
+            proof_boxes = max_boxes
+        if not isinstance(stop, StopAt) or stop.time_limit is not None:      # refused, or not to be kept
+            return build_boundary(self, samples=samples, seed=seed, proof_boxes=proof_boxes, stop=stop, run=run)
+        key = (samples, seed, proof_boxes, stop.max_boxes)
         if key not in self._boundaries:
-            self._boundaries[key] = build_boundary(self, samples=samples, seed=seed, max_boxes=max_boxes,
-                                                    progress=progress)
+            self._boundaries[key] = build_boundary(self, samples=samples, seed=seed, proof_boxes=proof_boxes,
+                                                    stop=stop, run=run)
         return self._boundaries[key]
 
 
