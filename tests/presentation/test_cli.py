@@ -569,3 +569,18 @@ def test_the_help_needs_no_engine_and_its_snap_default_is_the_readers():
             "print(sorted({m.split('.')[0] for m in sys.modules} & {'sympy', 'numpy', 'matplotlib', 'scipy'}))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "[]"
+
+
+@pytest.mark.parametrize(("typed", "meant"), [("glass_handling", "glass-handling"), ("PUMA560", "puma560"),
+                                              ("planar2r", "planar-2r")])
+def test_catalog_name_suggests_the_close_one(capsys, typed, meant):
+    # Issue 39 (notebook user): `fk glass_handling` listed the catalog without saying which name was meant.
+    code, out, err = run(capsys, "fk", typed)
+    assert code == 2 and out == ""
+    assert len(err.strip().splitlines()) == 1
+    assert f"did you mean {meant!r}" in err
+
+
+def test_catalog_name_far_from_every_entry_suggests_nothing(capsys):
+    code, _, err = run(capsys, "fk", "r2d2")
+    assert code == 2 and "did you mean" not in err and "known robots: glass-handling" in err
