@@ -584,3 +584,48 @@ def test_catalog_name_suggests_the_close_one(capsys, typed, meant):
 def test_catalog_name_far_from_every_entry_suggests_nothing(capsys):
     code, _, err = run(capsys, "fk", "r2d2")
     assert code == 2 and "did you mean" not in err and "known robots: glass-handling" in err
+
+
+def _interrupt_on_call(monkeypatch, n):
+    """Ctrl-C arriving in the n-th check of the run's budget (the paving driver asks it before each round)."""
+    from workspace_sym.interval import driver
+
+    asked = {"calls": 0}
+    original = driver.RunBudget.stop_reason
+
+    def stop_reason(self, evaluated, **kwargs):
+        asked["calls"] += 1
+        if asked["calls"] == n:
+            raise KeyboardInterrupt
+        return original(self, evaluated, **kwargs)
+
+    monkeypatch.setattr(driver.RunBudget, "stop_reason", stop_reason)
+    return asked
+
+
+@pytest.mark.parametrize("argv", [("reach", "planar-2r", "--delta", "0.2"), ("pave", "rpr2", "--delta", "0.5")])
+def test_ctrl_c_prints_the_partial_result_and_exits_130(capsys, monkeypatch, argv):
+    # Issue 39 (notebook user): Ctrl-C during reach printed the partial result and exited 0, as if it had finished.
+    asked = _interrupt_on_call(monkeypatch, 3)
+    code, out, err = run(capsys, *argv)
+    assert asked["calls"] >= 3                      # the interruption did happen inside the run
+    assert code == 130
+    assert "stopped early: interrupted" in out and "pending" in out
+    lines = err.strip().splitlines()
+    assert lines[-1].startswith(f"workspace-sym {argv[0]}: interrupted (Ctrl-C); the result above is partial")
+
+
+def test_ctrl_c_json_still_holds_the_partial_result(capsys, monkeypatch):
+    _interrupt_on_call(monkeypatch, 3)
+    code, out, err = run(capsys, "pave", "rpr2", "--delta", "0.5", "--json")
+    data = json.loads(out)
+    assert code == 130 and data["stop_reason"] == "interrupted" and data["pending"]["boxes"] > 0
+    assert "interrupted" in err
+
+
+def test_help_states_the_exit_statuses():
+    # docs/cli.md, "Exit status": 0, 2, and 130 when interrupted
+    from workspace_sym.cli import build_parser
+
+    text = " ".join(build_parser().format_help().split())
+    assert "130 when interrupted" in text
