@@ -629,3 +629,11 @@ def test_help_states_the_exit_statuses():
 
     text = " ".join(build_parser().format_help().split())
     assert "130 when interrupted" in text
+
+
+def test_boundary_exact_prints_the_short_area(capsys):
+    # Issue 39: `boundary --exact` printed `pi*(-2 + sqrt(3)) + pi*(sqrt(3) + 2)`; the annulus between
+    # 2 cos 15 deg and 2 cos 75 deg is pi (4 cos^2 15 - 4 cos^2 75) = 2*sqrt(3)*pi
+    code, out, _ = run(capsys, "boundary", "--lengths", "1,1", "--lower=-180,30", "--upper", "180,150", "--exact")
+    assert code == 0
+    assert "exact area = 2*sqrt(3)*pi\n" in out
