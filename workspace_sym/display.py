@@ -37,6 +37,7 @@ import sys
 
 import sympy as sp
 
+from .document import mathml_markup
 from .numbers import clean, fmt, fmt_bound, fmt_bracket, measure_text
 from .planar.arcs import degrees_text
 from .plotting import plot_boundary_loops, plot_paving, plot_paving_slices
@@ -70,7 +71,7 @@ def mathml(obj) -> str | None:
     True
     """
     try:
-        return f'<math display="block">{sp.mathml(obj, printer="presentation")}</math>'
+        return f'<math display="block">{mathml_markup(obj)}</math>'
     except Exception:         # an object SymPy's printer does not know: let the notebook show it otherwise
         return None
 

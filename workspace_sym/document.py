@@ -20,10 +20,93 @@ import re
 from pathlib import Path
 
 import sympy as sp
+from sympy.printing.latex import LatexPrinter
+from sympy.printing.mathml import MathMLPresentationPrinter
 
 from .numbers import md_escape
 
-__all__ = ["Document", "Equations", "tex_escape"]
+__all__ = ["Document", "Equations", "tex_escape", "latex_markup", "mathml_markup", "MINUS"]
+
+
+# ------------------------------------------------------------------ the package's printers of SymPy objects
+MINUS = "\u2212"     # the minus sign of typeset mathematics; a hyphen-minus "-" renders as a hyphen in MathML
+
+
+class _LatexPrinter(LatexPrinter):
+    """SymPy's LaTeX printer with ``atan2`` as the operator name, not ``\\operatorname{atan}_{2}``."""
+
+    def _print_atan2(self, expr, exp=None):
+        name = r"\operatorname{atan2}" + ("" if exp is None else f"^{{{exp}}}")
+        return name + r"{\left(" + ", ".join(self._print(a) for a in expr.args) + r" \right)}"
+
+
+class _MathMLPrinter(MathMLPresentationPrinter):
+    """SymPy's presentation MathML with ``atan2`` named as such (SymPy writes ``arctan(y, x)``) and a true minus
+    sign (U+2212) in every ``<mo>`` and before every negative ``<mn>``."""
+
+    def mathml_tag(self, e):
+        return "atan2" if isinstance(e, sp.atan2) else super().mathml_tag(e)
+
+    def doprint(self, expr):
+        text = super().doprint(expr)
+        text = text.replace("<mo>-</mo>", f"<mo>{MINUS}</mo>")
+        return re.sub(r"<mn>-([^<]*)</mn>", rf"<mrow><mo>{MINUS}</mo><mn>\1</mn></mrow>", text)
+
+
+def latex_markup(x, **settings) -> str:
+    r"""LaTeX of a SymPy object as the package prints it: :func:`sympy.latex` with ``atan2`` written
+    ``\operatorname{atan2}``.
+
+    Parameters
+    ----------
+    x : sympy.Basic or sympy.MatrixBase
+        What to print.
+    **settings
+        Settings of SymPy's LaTeX printer (``mat_str``, ``mat_delim``, ...).
+
+    Returns
+    -------
+    str
+        The LaTeX, without math delimiters.
+
+    Raises
+    ------
+    TypeError
+        For a setting SymPy's printer does not know.
+
+    Examples
+    --------
+    >>> latex_markup(sp.atan2(sp.Symbol("y"), 1))
+    '\\operatorname{atan2}{\\left(y, 1 \\right)}'
+    """
+    return _LatexPrinter(settings).doprint(x)
+
+
+def mathml_markup(x) -> str:
+    """Presentation MathML of a SymPy object as the package prints it: :func:`sympy.mathml` with ``atan2`` named
+    ``atan2`` and minus signs as U+2212 (MINUS SIGN), which a browser renders as a minus, not as a hyphen.
+
+    Parameters
+    ----------
+    x : sympy.Basic or sympy.MatrixBase
+        What to print.
+
+    Returns
+    -------
+    str
+        The MathML, without the enclosing ``<math>`` element.
+
+    Raises
+    ------
+    TypeError
+        When SymPy's MathML printer cannot print ``x``.
+
+    Examples
+    --------
+    >>> mathml_markup(-sp.Symbol("x"))
+    '<mrow><mo>\u2212</mo><mi>x</mi></mrow>'
+    """
+    return _MathMLPrinter().doprint(x)
 
 
 def tex_escape(text: str, *, math: bool = True) -> str:
@@ -75,12 +158,12 @@ def _breakable(tex: str) -> str:
 
 def _tex(x) -> str:
     if isinstance(x, sp.MatrixBase):
-        return sp.latex(x, mat_str="pmatrix", mat_delim="").replace("°", "^{\\circ}")
-    return sp.latex(x).replace("°", "^{\\circ}")
+        return latex_markup(x, mat_str="pmatrix", mat_delim="").replace("°", "^{\\circ}")
+    return latex_markup(x).replace("°", "^{\\circ}")
 
 
 def _mathml(x) -> str:
-    return sp.mathml(x, printer="presentation")
+    return mathml_markup(x)
 
 
 class _Word(sp.Symbol):
