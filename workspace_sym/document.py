@@ -471,6 +471,47 @@ class Document:
         return ('<math display="block"><mtable columnalign="right left" columnspacing="0.3em">'
                 + "".join(rows) + "</mtable></math>")
 
+    def _body(self, folder) -> list[str]:
+        """The blocks as HTML elements; figures read from ``folder`` (None: from their own paths, if there)."""
+        body = [f"<h1>{html.escape(self.title)}</h1>"]
+        figures = 0
+        for b in self.blocks:
+            if b[0] == "h":
+                body.append(f"<h{b[1]}>{html.escape(b[2])}</h{b[1]}>")
+            elif b[0] == "p":
+                body.append(f"<p>{_inline(b[1], html.escape, self._cell_html)}</p>")
+            elif b[0] == "eqs":
+                body.append(f"<div class='eq'>{self._html_equations(b[1])}</div>")
+            elif b[0] == "table":
+                head = "".join(f"<th>{self._cell_html(h)}</th>" for h in b[1])
+                rows = "".join("<tr>" + "".join(f"<td>{self._cell_html(c)}</td>" for c in r) + "</tr>" for r in b[2])
+                body.append(f"<div class='tab'><table><thead><tr>{head}</tr></thead><tbody>{rows}</tbody>"
+                            "</table></div>")
+            elif b[0] == "fig":
+                figures += 1
+                image = Path(b[1]) if folder is None else folder / b[1].name
+                if folder is None and not image.is_file():       # a notebook's view of a document not written
+                    body.append(f"<p><i>Figure {figures}: {html.escape(b[2])}</i></p>")
+                    continue
+                data = base64.b64encode(image.read_bytes()).decode()
+                body.append(f"<figure><img alt='{html.escape(b[2])}' src='data:image/png;base64,{data}'>"
+                            f"<figcaption>Figure {figures}: {html.escape(b[2])}</figcaption></figure>")
+            elif b[0] == "items":
+                body.append("<ul>" + "".join(f"<li><b>{html.escape(str(k))}</b>: {html.escape(str(v))}</li>"
+                                             for k, v in b[1]) + "</ul>")
+        return body
+
+    def _repr_html_(self) -> str:
+        """The document in a notebook: its HTML body, mathematics as MathML (an exported notebook shows it
+        without a network or MathJax; the Markdown form's ``$...$`` would stay plain text offline).
+
+        Returns
+        -------
+        str
+            The document's elements, without the page's head and style.
+        """
+        return "<div class='workspace-sym-document'>\n" + "\n".join(self._body(None)) + "\n</div>"
+
     def html(self, folder: Path) -> str:
         """The document as one HTML page, mathematics as MathML.
 
@@ -489,28 +530,7 @@ class Document:
         OSError
             When a figure's file cannot be read from ``folder``.
         """
-        body = [f"<h1>{html.escape(self.title)}</h1>"]
-        figures = 0
-        for b in self.blocks:
-            if b[0] == "h":
-                body.append(f"<h{b[1]}>{html.escape(b[2])}</h{b[1]}>")
-            elif b[0] == "p":
-                body.append(f"<p>{_inline(b[1], html.escape, self._cell_html)}</p>")
-            elif b[0] == "eqs":
-                body.append(f"<div class='eq'>{self._html_equations(b[1])}</div>")
-            elif b[0] == "table":
-                head = "".join(f"<th>{self._cell_html(h)}</th>" for h in b[1])
-                rows = "".join("<tr>" + "".join(f"<td>{self._cell_html(c)}</td>" for c in r) + "</tr>" for r in b[2])
-                body.append(f"<div class='tab'><table><thead><tr>{head}</tr></thead><tbody>{rows}</tbody>"
-                            "</table></div>")
-            elif b[0] == "fig":
-                figures += 1
-                data = base64.b64encode((folder / b[1].name).read_bytes()).decode()
-                body.append(f"<figure><img alt='{html.escape(b[2])}' src='data:image/png;base64,{data}'>"
-                            f"<figcaption>Figure {figures}: {html.escape(b[2])}</figcaption></figure>")
-            elif b[0] == "items":
-                body.append("<ul>" + "".join(f"<li><b>{html.escape(str(k))}</b>: {html.escape(str(v))}</li>"
-                                             for k, v in b[1]) + "</ul>")
+        body = self._body(folder)
         style = ("body{font-family:system-ui,sans-serif;max-width:70em;margin:2em auto;padding:0 1em;line-height:1.45}"
                  "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:.25em .5em;"
                  "text-align:left;vertical-align:top}img{max-width:100%}.eq,.tab{overflow-x:auto;margin:.8em 0}"

@@ -339,3 +339,30 @@ def test_latex_names_atan2_as_one_operator():
     assert latex_markup(sp.atan2(y, x)) == r"\operatorname{atan2}{\left(y, x \right)}"
     assert latex_markup(sp.atan2(y, x) ** 2).startswith(r"\operatorname{atan2}^{2}{\left(")
     assert "atan}_{2}" not in shorthand_latex(sp.atan2(y, x), [x, y])
+
+
+def test_a_sheet_displays_as_mathml_not_tex():
+    """Issue 39 (notebook user): teaching.ipynb showed the sheet through IPython's Markdown, whose $\\theta_{1}$ and
+    $$ ... $$ an exported page shows as text offline; a Document's own HTML form is MathML, with no $ left."""
+    from workspace_sym.exercises import make_exercises
+
+    sheet, key_doc, _ = make_exercises(seed=3, count=2, max_joints=3)   # as in notebooks/teaching.ipynb
+    for doc in (sheet, key_doc):
+        assert "$" in doc.markdown()                         # the Markdown form has TeX for MathJax ...
+        shown = doc._repr_html_()
+        assert "<math" in shown and "$" not in shown         # ... the notebook's form none
+        assert "<html" not in shown and "<style" not in shown    # a fragment: it restyles nothing of the notebook
+
+
+def test_typeset_shows_a_textbook_result_as_mathml():
+    # robot.textbook(expr) stays a SymPy expression; typeset gives it a left-hand side and MathML
+    from workspace_sym.display import typeset
+
+    robot = ws.robots.build("planar-2r")
+    x = robot.textbook(robot.position[0])
+    assert isinstance(x, sp.Expr)
+    shown = typeset(x, "x")
+    html = shown._repr_html_()
+    assert "<mtext>x</mtext>" in html or "<mi>x</mi>" in html
+    assert "<msub><mi>c</mi><mi>12</mi></msub>" in html and "$" not in html
+    assert repr(shown).startswith("x = ")
