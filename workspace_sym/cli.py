@@ -379,7 +379,22 @@ def cmd_pave(args) -> int:
 
         _wrote(save_figure(plot_paving(paving), args.plot))
     _show_paving(paving, args.json)
-    return 0
+    return _paving_status(args, paving)
+
+
+def _paving_status(args, answer) -> int:
+    """The exit status of a paving shown: 130, with one line on stderr, when Ctrl-C stopped the run.
+
+    A budget or time limit reached is an answer (status 0); Ctrl-C is the user's stop, so the partial result is
+    printed and the status says the command did not finish, as a shell expects of an interrupted program.
+    """
+    paving = getattr(answer, "paving", answer)
+    if paving.complete or paving.stop_reason != "interrupted":
+        return 0
+    left = len(paving.pending)
+    print(f"workspace-sym {args.command}: interrupted (Ctrl-C); the result above is partial, {left} "
+          f"box{'' if left == 1 else 'es'} pending", file=sys.stderr)
+    return 130
 
 
 def _stop_at(args):
@@ -486,7 +501,7 @@ def cmd_reach(args) -> int:
         print(f"{robot.name}: position workspace over ({', '.join(extra['variables'])}); joints subdivided: "
               f"{', '.join(extra['joints_subdivided'])}; method {extra['method']}")
     _show_paving(paving, args.json, extra)
-    return 0
+    return _paving_status(args, paving)
 
 
 def _numbers(text: str, parameter: str, count: int, what: str) -> list:
@@ -905,8 +920,9 @@ def build_parser() -> _Parser:
         subcommand's name to its own parser.
     """
     parser = _Parser(prog="workspace-sym", description="Robot workspaces, exactly or with proofs.",
-                     epilog=f"The options, the DH file format and the JSON keys are described in docs/cli.md, "
-                            f"installed with the package as {DOCS / 'cli.md'}.")
+                     epilog=f"Exit status: 0 on success, 2 for bad input, 130 when interrupted (Ctrl-C; reach and pave "
+                            f"print their partial result first). The options, the DH file format and the JSON keys "
+                            f"are described in docs/cli.md, installed with the package as {DOCS / 'cli.md'}.")
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     json_, progress, budget = _parent(_JSON), _parent(_PROGRESS), _parent(_MAX_BOXES, _TIME_LIMIT)

@@ -37,13 +37,15 @@ import sys
 
 import sympy as sp
 
+from .document import mathml_markup
 from .numbers import clean, fmt, fmt_bound, fmt_bracket, measure_text
 from .planar.arcs import degrees_text
 from .plotting import plot_boundary_loops, plot_paving, plot_paving_slices
 from .report import Equations
 from .symbolic import plain, textbook_form
 
-__all__ = ["textbook_form", "plain", "html_table", "figure_html", "expr_text", "mathml", "register_notebook_display",
+__all__ = ["textbook_form", "plain", "html_table", "figure_html", "expr_text", "mathml", "typeset",
+           "register_notebook_display",
            "to_html", "paving_html", "robot_html", "dextrous_html", "cube_html", "planar_chain_html", "boundary_html",
            "arc_table_html", "MAX_3D_BOXES_SHOWN"]
 
@@ -70,9 +72,44 @@ def mathml(obj) -> str | None:
     True
     """
     try:
-        return f'<math display="block">{sp.mathml(obj, printer="presentation")}</math>'
+        return f'<math display="block">{mathml_markup(obj)}</math>'
     except Exception:         # an object SymPy's printer does not know: let the notebook show it otherwise
         return None
+
+
+def typeset(expr, lhs=None) -> Equations:
+    """A SymPy result shown as mathematics in a notebook, MathML in its HTML form: ``typeset(robot.textbook(x),
+    "x")`` shows ``x = c1 (a1 + ...)`` in the textbook shorthand, and an exported notebook shows it offline.
+
+    ``robot.textbook`` itself returns a SymPy expression (to compute with); inside IPython it is shown as MathML
+    too (:func:`register_notebook_display`), but without a left-hand side; this wrapper is the same
+    :class:`~workspace_sym.document.Equations` the reports' equations use.
+
+    Parameters
+    ----------
+    expr : sympy.Basic or sympy.MatrixBase or number
+        What to show.
+    lhs : str or sympy.Basic, optional
+        The left-hand side (``"x"``, ``"T_0^3"``); none by default.
+
+    Returns
+    -------
+    Equations
+        An object with ``_repr_html_`` (MathML) and ``_repr_latex_``; its ``repr`` is the plain text.
+
+    Raises
+    ------
+    sympy.SympifyError
+        When ``expr`` is text or another object that is not mathematics.
+
+    Examples
+    --------
+    >>> t1 = sp.Symbol("theta1")
+    >>> shown = typeset(textbook_form(-sp.cos(t1), (t1,)), "x")
+    >>> "<msub><mi>c</mi><mi>1</mi></msub>" in shown._repr_html_(), shown
+    (True, x = -c1)
+    """
+    return Equations(expr) if lhs is None else Equations((lhs, expr))
 
 
 def register_notebook_display(shell=None) -> bool:

@@ -20,10 +20,93 @@ import re
 from pathlib import Path
 
 import sympy as sp
+from sympy.printing.latex import LatexPrinter
+from sympy.printing.mathml import MathMLPresentationPrinter
 
 from .numbers import md_escape
 
-__all__ = ["Document", "Equations", "tex_escape"]
+__all__ = ["Document", "Equations", "tex_escape", "latex_markup", "mathml_markup", "MINUS"]
+
+
+# ------------------------------------------------------------------ the package's printers of SymPy objects
+MINUS = "\u2212"     # the minus sign of typeset mathematics; a hyphen-minus "-" renders as a hyphen in MathML
+
+
+class _LatexPrinter(LatexPrinter):
+    """SymPy's LaTeX printer with ``atan2`` as the operator name, not ``\\operatorname{atan}_{2}``."""
+
+    def _print_atan2(self, expr, exp=None):
+        name = r"\operatorname{atan2}" + ("" if exp is None else f"^{{{exp}}}")
+        return name + r"{\left(" + ", ".join(self._print(a) for a in expr.args) + r" \right)}"
+
+
+class _MathMLPrinter(MathMLPresentationPrinter):
+    """SymPy's presentation MathML with ``atan2`` named as such (SymPy writes ``arctan(y, x)``) and a true minus
+    sign (U+2212) in every ``<mo>`` and before every negative ``<mn>``."""
+
+    def mathml_tag(self, e):
+        return "atan2" if isinstance(e, sp.atan2) else super().mathml_tag(e)
+
+    def doprint(self, expr):
+        text = super().doprint(expr)
+        text = text.replace("<mo>-</mo>", f"<mo>{MINUS}</mo>")
+        return re.sub(r"<mn>-([^<]*)</mn>", rf"<mrow><mo>{MINUS}</mo><mn>\1</mn></mrow>", text)
+
+
+def latex_markup(x, **settings) -> str:
+    r"""LaTeX of a SymPy object as the package prints it: :func:`sympy.latex` with ``atan2`` written
+    ``\operatorname{atan2}``.
+
+    Parameters
+    ----------
+    x : sympy.Basic or sympy.MatrixBase
+        What to print.
+    **settings
+        Settings of SymPy's LaTeX printer (``mat_str``, ``mat_delim``, ...).
+
+    Returns
+    -------
+    str
+        The LaTeX, without math delimiters.
+
+    Raises
+    ------
+    TypeError
+        For a setting SymPy's printer does not know.
+
+    Examples
+    --------
+    >>> latex_markup(sp.atan2(sp.Symbol("y"), 1))
+    '\\operatorname{atan2}{\\left(y, 1 \\right)}'
+    """
+    return _LatexPrinter(settings).doprint(x)
+
+
+def mathml_markup(x) -> str:
+    """Presentation MathML of a SymPy object as the package prints it: :func:`sympy.mathml` with ``atan2`` named
+    ``atan2`` and minus signs as U+2212 (MINUS SIGN), which a browser renders as a minus, not as a hyphen.
+
+    Parameters
+    ----------
+    x : sympy.Basic or sympy.MatrixBase
+        What to print.
+
+    Returns
+    -------
+    str
+        The MathML, without the enclosing ``<math>`` element.
+
+    Raises
+    ------
+    TypeError
+        When SymPy's MathML printer cannot print ``x``.
+
+    Examples
+    --------
+    >>> mathml_markup(-sp.Symbol("x"))
+    '<mrow><mo>\u2212</mo><mi>x</mi></mrow>'
+    """
+    return _MathMLPrinter().doprint(x)
 
 
 def tex_escape(text: str, *, math: bool = True) -> str:
@@ -75,12 +158,12 @@ def _breakable(tex: str) -> str:
 
 def _tex(x) -> str:
     if isinstance(x, sp.MatrixBase):
-        return sp.latex(x, mat_str="pmatrix", mat_delim="").replace("°", "^{\\circ}")
-    return sp.latex(x).replace("°", "^{\\circ}")
+        return latex_markup(x, mat_str="pmatrix", mat_delim="").replace("°", "^{\\circ}")
+    return latex_markup(x).replace("°", "^{\\circ}")
 
 
 def _mathml(x) -> str:
-    return sp.mathml(x, printer="presentation")
+    return mathml_markup(x)
 
 
 class _Word(sp.Symbol):
@@ -388,6 +471,47 @@ class Document:
         return ('<math display="block"><mtable columnalign="right left" columnspacing="0.3em">'
                 + "".join(rows) + "</mtable></math>")
 
+    def _body(self, folder) -> list[str]:
+        """The blocks as HTML elements; figures read from ``folder`` (None: from their own paths, if there)."""
+        body = [f"<h1>{html.escape(self.title)}</h1>"]
+        figures = 0
+        for b in self.blocks:
+            if b[0] == "h":
+                body.append(f"<h{b[1]}>{html.escape(b[2])}</h{b[1]}>")
+            elif b[0] == "p":
+                body.append(f"<p>{_inline(b[1], html.escape, self._cell_html)}</p>")
+            elif b[0] == "eqs":
+                body.append(f"<div class='eq'>{self._html_equations(b[1])}</div>")
+            elif b[0] == "table":
+                head = "".join(f"<th>{self._cell_html(h)}</th>" for h in b[1])
+                rows = "".join("<tr>" + "".join(f"<td>{self._cell_html(c)}</td>" for c in r) + "</tr>" for r in b[2])
+                body.append(f"<div class='tab'><table><thead><tr>{head}</tr></thead><tbody>{rows}</tbody>"
+                            "</table></div>")
+            elif b[0] == "fig":
+                figures += 1
+                image = Path(b[1]) if folder is None else folder / b[1].name
+                if folder is None and not image.is_file():       # a notebook's view of a document not written
+                    body.append(f"<p><i>Figure {figures}: {html.escape(b[2])}</i></p>")
+                    continue
+                data = base64.b64encode(image.read_bytes()).decode()
+                body.append(f"<figure><img alt='{html.escape(b[2])}' src='data:image/png;base64,{data}'>"
+                            f"<figcaption>Figure {figures}: {html.escape(b[2])}</figcaption></figure>")
+            elif b[0] == "items":
+                body.append("<ul>" + "".join(f"<li><b>{html.escape(str(k))}</b>: {html.escape(str(v))}</li>"
+                                             for k, v in b[1]) + "</ul>")
+        return body
+
+    def _repr_html_(self) -> str:
+        """The document in a notebook: its HTML body, mathematics as MathML (an exported notebook shows it
+        without a network or MathJax; the Markdown form's ``$...$`` would stay plain text offline).
+
+        Returns
+        -------
+        str
+            The document's elements, without the page's head and style.
+        """
+        return "<div class='workspace-sym-document'>\n" + "\n".join(self._body(None)) + "\n</div>"
+
     def html(self, folder: Path) -> str:
         """The document as one HTML page, mathematics as MathML.
 
@@ -406,28 +530,7 @@ class Document:
         OSError
             When a figure's file cannot be read from ``folder``.
         """
-        body = [f"<h1>{html.escape(self.title)}</h1>"]
-        figures = 0
-        for b in self.blocks:
-            if b[0] == "h":
-                body.append(f"<h{b[1]}>{html.escape(b[2])}</h{b[1]}>")
-            elif b[0] == "p":
-                body.append(f"<p>{_inline(b[1], html.escape, self._cell_html)}</p>")
-            elif b[0] == "eqs":
-                body.append(f"<div class='eq'>{self._html_equations(b[1])}</div>")
-            elif b[0] == "table":
-                head = "".join(f"<th>{self._cell_html(h)}</th>" for h in b[1])
-                rows = "".join("<tr>" + "".join(f"<td>{self._cell_html(c)}</td>" for c in r) + "</tr>" for r in b[2])
-                body.append(f"<div class='tab'><table><thead><tr>{head}</tr></thead><tbody>{rows}</tbody>"
-                            "</table></div>")
-            elif b[0] == "fig":
-                figures += 1
-                data = base64.b64encode((folder / b[1].name).read_bytes()).decode()
-                body.append(f"<figure><img alt='{html.escape(b[2])}' src='data:image/png;base64,{data}'>"
-                            f"<figcaption>Figure {figures}: {html.escape(b[2])}</figcaption></figure>")
-            elif b[0] == "items":
-                body.append("<ul>" + "".join(f"<li><b>{html.escape(str(k))}</b>: {html.escape(str(v))}</li>"
-                                             for k, v in b[1]) + "</ul>")
+        body = self._body(folder)
         style = ("body{font-family:system-ui,sans-serif;max-width:70em;margin:2em auto;padding:0 1em;line-height:1.45}"
                  "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:.25em .5em;"
                  "text-align:left;vertical-align:top}img{max-width:100%}.eq,.tab{overflow-x:auto;margin:.8em 0}"

@@ -29,14 +29,15 @@ def _pyplot():
 def _axes3d(ax):
     plt = _pyplot()
     if ax is None:
-        fig = plt.figure(figsize=(6, 5))
+        fig = plt.figure(figsize=(6, 5), layout="constrained")
         ax = fig.add_subplot(projection="3d")
     return ax
 
 
 def _axes(ax, figsize):
+    # constrained layout: a plain fig.savefig() keeps the legend beside the axes and the axis labels in the picture
     if ax is None:
-        _, ax = _pyplot().subplots(figsize=figsize)
+        _, ax = _pyplot().subplots(figsize=figsize, layout="constrained")
     return ax
 
 
@@ -131,7 +132,7 @@ def plot_sweeps(robot, joints, *, n=200, ax=None, parameters=None):
     units = getattr(robot, "units", "m")
     for setter, name in zip((ax.set_xlabel, ax.set_ylabel, ax.set_zlabel), "xyz"):
         setter(_label(name, units))
-    ax.legend(loc="upper left", fontsize="small")
+    ax.legend(fontsize="small", **_BESIDE)
     _equal_3d(ax, pts)
     return ax.figure
 
@@ -515,7 +516,7 @@ def plot_paving_slices(paving, *, axis: int = 2, values=(-0.4, 0.0, 0.3), refere
     others = [k for k in range(3) if k != axis]
     lo, hi = paving.box.lower, paving.box.upper
     if ax is None:
-        fig, axes = plt.subplots(1, len(values), figsize=(3.6 * len(values), 3.6), squeeze=False)
+        fig, axes = plt.subplots(1, len(values), figsize=(3.6 * len(values), 3.6), squeeze=False, layout="constrained")
         axes = list(axes[0])
     else:
         axes = list(np.atleast_1d(ax))
@@ -552,8 +553,6 @@ def plot_paving_slices(paving, *, axis: int = 2, values=(-0.4, 0.0, 0.3), refere
         a_.set_title(f"{paving.variables[axis]} = {v}", fontsize="medium")
     if title:
         fig.suptitle(title)
-    if ax is None:
-        fig.tight_layout()
     return fig
 
 
@@ -578,7 +577,7 @@ def _arc_legend(ax, types, *, extra=()):
 
     handles = [Line2D([], [], color=_ARC_COLOURS[t], lw=1.8, label=_ARC_NAMES[t]) for t in ("I", "II", "III")
                if t in types]
-    return ax.legend(handles=handles + list(extra), loc="best", fontsize="small")
+    return ax.legend(handles=handles + list(extra), fontsize="small", **_BESIDE)   # beside: it hides no arc
 
 
 def _planar_axes(ax, units):

@@ -7,6 +7,7 @@ listing the catalog costs nothing.  Other modules register their own models
 
 from __future__ import annotations
 
+import difflib
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -154,7 +155,20 @@ def get(name: str) -> CatalogEntry:
         return _CATALOG[name]
     except KeyError:
         known = ", ".join(sorted(_CATALOG))
-        raise UnknownNameError(f"robot {name!r} is not in the catalog; known robots: {known}") from None
+        hint = "".join(f"did you mean {guess!r}? " for guess in _close_names(name)[:1])
+        raise UnknownNameError(f"robot {name!r} is not in the catalog; {hint}known robots: {known}",
+                               parameter="robot") from None
+
+
+def _close_names(name) -> list[str]:
+    """Catalog names close to ``name``: case, underscores and spaces ignored, then difflib's closest ones."""
+    if not isinstance(name, str):
+        return []
+    by_key = {key.lower().replace("_", "-"): key for key in _CATALOG}
+    typed = name.strip().lower().replace("_", "-").replace(" ", "-")
+    if typed in by_key:
+        return [by_key[typed]]
+    return [by_key[key] for key in difflib.get_close_matches(typed, list(by_key), n=3, cutoff=0.6)]
 
 
 def build(name: str, **overrides):

@@ -45,6 +45,7 @@ from functools import lru_cache
 
 import sympy as sp
 
+from .document import latex_markup
 from .errors import BudgetExpired, SymbolicBudgetError, SymbolicError, WorkspaceError
 from .expressions import as_sympy
 
@@ -1858,7 +1859,7 @@ def shorthand_latex(expr, variables, *, short: bool = True) -> str:
     expr = as_sympy(expr)
     if short:
         expr = shorthand(expr, variables, latex=True)
-    return sp.latex(decimal_form(expr))
+    return latex_markup(decimal_form(expr))
 
 
 # ------------------------------------------------------------------ textbook shorthand as SymPy functions (notebooks)

@@ -123,3 +123,29 @@ def test_area_terms_match_the_float_green_integral(chain):
     assert float(sum(terms)) == pytest.approx(b.area, abs=1e-12)
     if chain is HUMAN_ARM:
         assert max(len(str(t)) for t in terms) <= 80
+
+
+# Issue 39 (notebook user): `boundary --exact` printed `-2*pi + pi*(sqrt(3) + 2)` for `sqrt(3)*pi`.  Two 2R arms with
+# 30-degree limits on the elbow; the areas by hand: the annulus between |p| = 2 cos(15 deg) and 2 cos(75 deg), whole
+# (the shoulder turning) or half of it (the shoulder over 0..180 deg): pi (4 cos^2 15 - 4 cos^2 75) = 2 sqrt(3) pi;
+@pytest.mark.parametrize(("lower", "upper", "simplest"), [([-180, 30], [180, 150], 2 * sp.sqrt(3) * PI),
+                                                          ([0, 30], [180, 150], sp.sqrt(3) * PI),
+                                                          ([-180, -150], [180, 150], PI * (2 + sp.sqrt(3)))])
+def test_exact_area_is_printed_in_its_short_form(lower, upper, simplest):
+    from workspace_sym.exact import exact_area
+
+    b = PlanarChain([1, 1], lower, upper).boundary()
+    printed, summed = exact_area(b), sp.Add(*area_terms(b))
+    assert sp.simplify(printed - summed) == 0                 # the same number as the sum of the arcs' terms
+    assert sp.simplify(printed - simplest) == 0               # ... and the one computed by hand above
+    assert len(str(printed)) <= len(str(simplest))
+    assert float(printed) == pytest.approx(b.area, rel=1e-9)  # the float boundary's area agrees
+
+
+def test_exact_area_of_the_human_arm_is_no_longer_than_its_sum(arm):
+    from workspace_sym.exact import exact_area
+
+    b, rows = arm
+    printed, summed = exact_area(b, rows), sp.Add(*area_terms(b, rows))
+    assert len(str(printed)) <= len(str(summed))
+    assert abs(sp.N(printed - summed, 50)) < 1e-40            # Bastien (2018) Table 1 iii: same area

@@ -571,3 +571,71 @@ def test_the_help_needs_no_engine_and_its_snap_default_is_the_readers():
             "print(sorted({m.split('.')[0] for m in sys.modules} & {'sympy', 'numpy', 'matplotlib', 'scipy'}))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "[]"
+
+
+@pytest.mark.parametrize(("typed", "meant"), [("glass_handling", "glass-handling"), ("PUMA560", "puma560"),
+                                              ("planar2r", "planar-2r")])
+def test_catalog_name_suggests_the_close_one(capsys, typed, meant):
+    # Issue 39 (notebook user): `fk glass_handling` listed the catalog without saying which name was meant.
+    code, out, err = run(capsys, "fk", typed)
+    assert code == 2 and out == ""
+    assert len(err.strip().splitlines()) == 1
+    assert f"did you mean {meant!r}" in err
+
+
+def test_catalog_name_far_from_every_entry_suggests_nothing(capsys):
+    code, _, err = run(capsys, "fk", "r2d2")
+    assert code == 2 and "did you mean" not in err and "known robots: glass-handling" in err
+
+
+def _interrupt_on_call(monkeypatch, n):
+    """Ctrl-C arriving in the n-th check of the run's budget (the paving driver asks it before each round)."""
+    from workspace_sym.interval import driver
+
+    asked = {"calls": 0}
+    original = driver.RunBudget.stop_reason
+
+    def stop_reason(self, evaluated, **kwargs):
+        asked["calls"] += 1
+        if asked["calls"] == n:
+            raise KeyboardInterrupt
+        return original(self, evaluated, **kwargs)
+
+    monkeypatch.setattr(driver.RunBudget, "stop_reason", stop_reason)
+    return asked
+
+
+@pytest.mark.parametrize("argv", [("reach", "planar-2r", "--delta", "0.2"), ("pave", "rpr2", "--delta", "0.5")])
+def test_ctrl_c_prints_the_partial_result_and_exits_130(capsys, monkeypatch, argv):
+    # Issue 39 (notebook user): Ctrl-C during reach printed the partial result and exited 0, as if it had finished.
+    asked = _interrupt_on_call(monkeypatch, 3)
+    code, out, err = run(capsys, *argv)
+    assert asked["calls"] >= 3                      # the interruption did happen inside the run
+    assert code == 130
+    assert "stopped early: interrupted" in out and "pending" in out
+    lines = err.strip().splitlines()
+    assert lines[-1].startswith(f"workspace-sym {argv[0]}: interrupted (Ctrl-C); the result above is partial")
+
+
+def test_ctrl_c_json_still_holds_the_partial_result(capsys, monkeypatch):
+    _interrupt_on_call(monkeypatch, 3)
+    code, out, err = run(capsys, "pave", "rpr2", "--delta", "0.5", "--json")
+    data = json.loads(out)
+    assert code == 130 and data["stop_reason"] == "interrupted" and data["pending"]["boxes"] > 0
+    assert "interrupted" in err
+
+
+def test_help_states_the_exit_statuses():
+    # docs/cli.md, "Exit status": 0, 2, and 130 when interrupted
+    from workspace_sym.cli import build_parser
+
+    text = " ".join(build_parser().format_help().split())
+    assert "130 when interrupted" in text
+
+
+def test_boundary_exact_prints_the_short_area(capsys):
+    # Issue 39: `boundary --exact` printed `pi*(-2 + sqrt(3)) + pi*(sqrt(3) + 2)`; the annulus between
+    # 2 cos 15 deg and 2 cos 75 deg is pi (4 cos^2 15 - 4 cos^2 75) = 2*sqrt(3)*pi
+    code, out, _ = run(capsys, "boundary", "--lengths", "1,1", "--lower=-180,30", "--upper", "180,150", "--exact")
+    assert code == 0
+    assert "exact area = 2*sqrt(3)*pi\n" in out

@@ -315,3 +315,54 @@ def test_boundary_table_displays_as_a_table(arm_boundary):
     exact = arm_boundary.table(exact=True)
     assert len(exact) == 8 and to_html(exact).count("<tr>") == 1 + 8
     assert "-60" in exact._repr_markdown_() and "atan" in exact._repr_markdown_()
+
+
+def test_mathml_writes_a_minus_sign_and_names_atan2():
+    """Issue 39 (notebook user): MathML minus signs rendered as hyphens and atan2(y, x) as arctan(y, x).  MathML
+    Core: the minus of an operator is U+2212 MINUS SIGN; "-" (U+002D) is a hyphen."""
+    from workspace_sym.display import mathml
+
+    x, y = sp.symbols("x y")
+    out = mathml(sp.atan2(y, x) - 2 * x + sp.Matrix([[-1, sp.Rational(-1, 2)]])[0] * y)
+    assert "<mi>atan2</mi>" in out and "arctan" not in out
+    assert "<mo>-</mo>" not in out and "<mn>-" not in out and "<mo>\u2212</mo>" in out
+    matrix = mathml(sp.Matrix([[-1, 2], [sp.Float(-0.5), x]]))
+    assert matrix.count("<mrow><mo>\u2212</mo><mn>1</mn></mrow>") == 1 and "<mn>0.5</mn>" in matrix
+
+
+def test_latex_names_atan2_as_one_operator():
+    """sympy.latex writes \\operatorname{atan}_{2}; the package's printer \\operatorname{atan2}, powers included."""
+    from workspace_sym.document import latex_markup
+    from workspace_sym.symbolic import shorthand_latex
+
+    x, y = sp.symbols("x y")
+    assert latex_markup(sp.atan2(y, x)) == r"\operatorname{atan2}{\left(y, x \right)}"
+    assert latex_markup(sp.atan2(y, x) ** 2).startswith(r"\operatorname{atan2}^{2}{\left(")
+    assert "atan}_{2}" not in shorthand_latex(sp.atan2(y, x), [x, y])
+
+
+def test_a_sheet_displays_as_mathml_not_tex():
+    """Issue 39 (notebook user): teaching.ipynb showed the sheet through IPython's Markdown, whose $\\theta_{1}$ and
+    $$ ... $$ an exported page shows as text offline; a Document's own HTML form is MathML, with no $ left."""
+    from workspace_sym.exercises import make_exercises
+
+    sheet, key_doc, _ = make_exercises(seed=3, count=2, max_joints=3)   # as in notebooks/teaching.ipynb
+    for doc in (sheet, key_doc):
+        assert "$" in doc.markdown()                         # the Markdown form has TeX for MathJax ...
+        shown = doc._repr_html_()
+        assert "<math" in shown and "$" not in shown         # ... the notebook's form none
+        assert "<html" not in shown and "<style" not in shown    # a fragment: it restyles nothing of the notebook
+
+
+def test_typeset_shows_a_textbook_result_as_mathml():
+    # robot.textbook(expr) stays a SymPy expression; typeset gives it a left-hand side and MathML
+    from workspace_sym.display import typeset
+
+    robot = ws.robots.build("planar-2r")
+    x = robot.textbook(robot.position[0])
+    assert isinstance(x, sp.Expr)
+    shown = typeset(x, "x")
+    html = shown._repr_html_()
+    assert "<mtext>x</mtext>" in html or "<mi>x</mi>" in html
+    assert "<msub><mi>c</mi><mi>12</mi></msub>" in html and "$" not in html
+    assert repr(shown).startswith("x = ")

@@ -138,3 +138,64 @@ def test_catalog_refuses_unknown_parameters():
     with pytest.raises(UnknownNameError, match=expected):
         ws.robots.build("planar-3r", banana=2)
     assert 2.0 in ws.robots.build("planar-3r", l1=2.0).parameters.values()
+
+
+# ---------------------------------------------------------------------- what a plain fig.savefig() keeps
+def _outside_the_figure(fig):
+    """The legends, axis labels and titles drawn outside the figure's extent after ``fig.savefig`` to PNG
+    (matplotlib's renderer gives each artist's window extent; 0.5 px of slack)."""
+    import io
+
+    fig.savefig(io.BytesIO(), format="png")                 # a plain savefig: no bbox_inches="tight"
+    renderer, frame = fig.canvas.get_renderer(), fig.bbox
+    out = []
+    for ax in fig.axes:
+        for name, artist in (("legend", ax.get_legend()), ("x label", ax.xaxis.label), ("y label", ax.yaxis.label),
+                             ("title", ax.title)):
+            if artist is None or (hasattr(artist, "get_text") and not artist.get_text()):
+                continue
+            e = artist.get_window_extent(renderer)
+            if e.x0 < frame.x0 - 0.5 or e.y0 < frame.y0 - 0.5 or e.x1 > frame.x1 + 0.5 or e.y1 > frame.y1 + 0.5:
+                out.append(name)
+    return out
+
+
+def test_plot_reach_savefig_keeps_its_legend_and_labels():
+    """Issue 39 (notebook user): plot_reach(p).savefig() clipped the legend (beside the axes) and the x label."""
+    import matplotlib.pyplot as plt
+
+    result = ws.reach(ws.robots.build("planar-2r"), delta=0.3)
+    fig = plot_reach(result)
+    try:
+        assert fig.axes[0].get_legend() is not None and fig.axes[0].get_xlabel()
+        assert _outside_the_figure(fig) == []
+    finally:
+        plt.close(fig)
+
+
+def test_planar_figures_keep_their_legend_beside_the_arcs():
+    """Issue 39: the arc legend (loc="best") sat over the arcs; beside the axes it meets none, and a plain savefig
+    keeps it (Bastien 2018, Table 1 iii)."""
+    import matplotlib.pyplot as plt
+
+    from workspace_sym.plotting import plot_boundary_loops, plot_planar_step
+
+    chain = ws.PlanarChain(["0.186", "0.146", "0.108"], [-60, 0, -10], [120, 130, 25])
+    for fig in (plot_boundary_loops(chain.boundary()), plot_planar_step(chain, 1)):
+        try:
+            assert _outside_the_figure(fig) == []
+            ax = fig.axes[0]
+            legend, frame = ax.get_legend().get_window_extent(), ax.get_window_extent()
+            assert legend.x0 >= frame.x1                    # right of the axes: over no arc
+        finally:
+            plt.close(fig)
+
+
+def test_slices_savefig_keeps_every_panel_legend():
+    import matplotlib.pyplot as plt
+
+    fig = plot_paving_slices(_row_of_cubes([0, 1], [2]), axis=2, values=[0.5, 0.9])
+    try:
+        assert len(fig.axes) == 2 and _outside_the_figure(fig) == []
+    finally:
+        plt.close(fig)

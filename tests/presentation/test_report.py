@@ -92,7 +92,7 @@ def test_planar_report(planar):
     folder = md_path.parent
     # the Table-2-style table: eight arcs, decimals and exact expressions (LaTeX)
     assert md.count("| III |") + md.count("| II |") >= 16
-    assert "[-60.0000, -55.1005]" in md and "\\operatorname{atan}_{2}" in md and "\\frac{93}{500}" in md
+    assert "[-60.0000, -55.1005]" in md and "\\operatorname{atan2}" in md and "\\frac{93}{500}" in md
     assert "## Verification" in md and "0 outside (must be 0)" in md and "## Reproducibility" in md
     for name in ("step0.png", "step1.png", "step2.png", "boundary.png"):
         assert f"]({name})" in md and (folder / name).stat().st_size > 1000
@@ -103,6 +103,22 @@ def test_planar_report(planar):
     tex = (folder / "report.tex").read_text()
     assert latex_is_balanced(tex) and "\\includegraphics" in tex and "\\caption*" not in tex
     assert "\\begin{align*}" in tex and "\\begin{pmatrix}" in tex
+
+
+def test_planar_report_math_has_minus_signs_and_atan2(planar):
+    """Issue 39 (notebook user): the demo's HTML showed minus signs as hyphens (``<mo>-</mo>``), atan2 as
+    ``arctan(y, x)``, and the LaTeX ``\\operatorname{atan}_{2}``; MathML's minus is U+2212 (MathML Core, section
+    on operators) and the function is named atan2 in both."""
+    md_path, _ = planar
+    html = md_path.with_suffix(".html").read_text(encoding="utf-8")
+    maths = re.findall(r"<math.*?</math>", html, flags=re.S)
+    assert maths and "<mi>atan2</mi>" in html and "arctan" not in html
+    assert not any("<mo>-</mo>" in m or "<mn>-" in m for m in maths)
+    assert sum(m.count("<mo>\u2212</mo>") for m in maths) >= 8          # the -60 deg limits, the negative terms
+    tex = md_path.with_suffix(".tex").read_text()
+    assert "\\operatorname{atan2}" in tex and "atan}_{2}" not in tex and "atan_2" not in tex
+    require_tool("pdflatex")
+    assert_compiles(md_path.with_suffix(".tex"))
 
 
 def _sympy_cells(doc):

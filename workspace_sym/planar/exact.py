@@ -16,7 +16,9 @@ import math
 import mpmath
 import sympy as sp
 
-__all__ = ["closed_forms", "exact_arcs", "exact_area", "area_terms", "short_atan2", "short_sqrt",
+from ..symbolic import attempt
+
+__all__ = ["closed_forms", "exact_arcs", "exact_area", "area_terms", "shortest_form", "short_atan2", "short_sqrt",
            "polar_angle", "norm2", "link_direction", "is_zero"]
 
 
@@ -574,6 +576,59 @@ def exact_area(boundary, rows=None) -> sp.Expr:
     Returns
     -------
     sympy.Expr
-        The area, as an unsimplified sum (``sympy.simplify`` may shorten it).
+        The area, written in the shortest of a few forms SymPy proves equal to the sum of the terms (see
+        :func:`shortest_form`): ``2*sqrt(3)*pi``, not ``pi*(-2 + sqrt(3)) + pi*(sqrt(3) + 2)``.
     """
-    return sp.Add(*area_terms(boundary, rows))
+    return shortest_form(sp.Add(*area_terms(boundary, rows)))
+
+
+SIMPLIFY_SECONDS = 2.0   # sympy.simplify of an area, tried on small sums only
+SIMPLIFY_OPS = 80        # ... of at most this many operations (count_ops of the expanded sum)
+
+
+def shortest_form(expr) -> sp.Expr:
+    """``expr`` (one of this module's exact closed forms) in the shortest printed of a few equal forms.
+
+    The candidates are the expression itself, its expansion, the expansion collected in ``pi`` and with its common
+    factors out, :func:`sympy.together`, :func:`sympy.factor` and, for a small expression, :func:`sympy.simplify`
+    within :data:`SIMPLIFY_SECONDS` (:func:`~workspace_sym.symbolic.attempt`); each is a rewriting SymPy proves
+    equal, and one whose value differs from ``expr``'s at 40 digits is dropped all the same.  Meant for our own
+    exact expressions (lengths and angles already read), never for user text.
+
+    Parameters
+    ----------
+    expr : sympy.Expr
+        A closed form without free symbols.
+
+    Returns
+    -------
+    sympy.Expr
+        The shortest candidate by printed length; ``expr`` itself when none is shorter.
+
+    Raises
+    ------
+    SymbolicBudgetError
+        When an enclosing :class:`~workspace_sym.symbolic.symbolic_budget` runs out during the attempts.
+
+    Examples
+    --------
+    >>> shortest_form(sp.pi * (sp.sqrt(3) - 2) + sp.pi * (sp.sqrt(3) + 2))
+    2*sqrt(3)*pi
+    """
+    expr = sp.sympify(expr)
+    value = sp.N(expr, 40)
+    if not (value.is_number and value.is_real):
+        return expr
+    expanded = sp.expand(expr)
+    forms = [expr, expanded, sp.collect(expanded, sp.pi), sp.factor_terms(expanded)]
+    for rewrite in (sp.together, sp.factor):
+        done, form = attempt(lambda f=rewrite: f(expanded), SIMPLIFY_SECONDS / 4, "rewriting an area")
+        if done:
+            forms.append(form)
+    if sp.count_ops(expanded) <= SIMPLIFY_OPS:
+        done, form = attempt(lambda: sp.simplify(expr), SIMPLIFY_SECONDS, "simplifying an area")
+        if done:
+            forms.append(form)
+    scale = max(1.0, abs(float(value)))
+    kept = [f for f in forms if f is expr or (f.is_number and abs(sp.N(f - value, 40)) <= 1e-30 * scale)]
+    return _shortest(*kept)
