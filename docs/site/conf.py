@@ -34,6 +34,8 @@ autosummary_generate = True
 autosummary_imported_members = False
 autodoc_member_order = "bysource"
 autodoc_typehints = "signature"
+# defaults as written in the source (``tuning=DEFAULT``), not the repr of a frozen dataclass with 25 fields
+autodoc_preserve_defaults = True
 autodoc_default_options = {"members": True, "show-inheritance": False}
 
 # numpydoc renders the Parameters / Returns / Raises sections; class members are listed by autodoc itself
@@ -48,6 +50,8 @@ myst_heading_anchors = 3
 html_theme = "alabaster"
 html_title = f"workspace_sym {release}"
 html_static_path: list[str] = []
+# signatures run long (keyword-only options): a wider page than alabaster's 940 px
+html_theme_options = {"page_width": "1240px", "sidebar_width": "280px"}
 
 
 def _readme_links(app, relative_path, parent_docname, content):
