@@ -41,8 +41,8 @@ def _build(tmp_path):
 
 @pytest.mark.slow      # about 30 s: the build (20-25 s on two cores), then Chromium
 def test_site_builds_and_shows_the_api_of_reach(tmp_path):
-    """The build passes with warnings as errors; the index says the docstring examples are doctests; the guides
-    are pages of the site; in Chromium, the page of ``workspace_sym.reach`` shows the signature (the function's
+    """The build passes with warnings as errors; the index says the docstring examples are doctests; every guide
+    of docs/ is a page of the site; in Chromium, the page of ``workspace_sym.reach`` shows the signature (the function's
     name and each parameter's name, as ``inspect.signature`` gives them) and a Parameters section that lists them."""
     require_tool("chromium", "chromedriver")
     from selenium import webdriver
@@ -54,7 +54,8 @@ def test_site_builds_and_shows_the_api_of_reach(tmp_path):
     html = _build(tmp_path)
     index = re.sub(r"<[^>]+>", "", (html / "index.html").read_text(encoding="utf-8"))
     assert "make test runs them" in index and "pytest --doctest-modules" in index
-    for guide in ("readme", "cli", "architecture", "distributed", "methods"):
+    # every guide of docs/ is a page of the site (a new one must be added to docs/site), and the README too
+    for guide in ["readme", *(page.stem for page in (ROOT / "docs").glob("*.md"))]:
         assert (html / f"{guide}.html").stat().st_size > 10_000, guide
     for module in ("serial", "interval", "planar", "readers", "teaching", "orthoglide", "kinematics", "symbolic",
                    "report"):
