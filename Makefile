@@ -3,12 +3,13 @@
 #   make test   -- create .venv, install with the test extra, run the whole suite
 #   make test-fast -- the same less the tests marked slow, for the edit loop
 #   make notebooks -- execute the notebooks and export them to build/notebooks/*.html
+#   make docs  -- build the documentation site (API reference and guides) into build/docs/html
 PYTHON ?= python3
 VENV ?= .venv
 BIN := $(VENV)/bin
 OUT ?= demo-report
 
-.PHONY: demo test test-fast explore lint bench clean notebooks
+.PHONY: demo test test-fast explore lint bench clean notebooks docs
 
 # The venv gets uv (from PyPI, like everything else) and uv installs the package and its extras into it: the
 # same packages as pip's, resolved and unpacked in parallel (the test extra in about 10 s where pip took about
@@ -27,6 +28,10 @@ $(VENV)/.installed: pyproject.toml | $(BIN)/uv
 
 $(VENV)/.installed-test: pyproject.toml | $(BIN)/uv
 	$(INSTALL) -e ".[test]"
+	touch $@ $(VENV)/.installed
+
+$(VENV)/.installed-docs: pyproject.toml | $(BIN)/uv
+	$(INSTALL) -e ".[docs]"
 	touch $@ $(VENV)/.installed
 
 $(VENV)/.installed-bench: pyproject.toml | $(BIN)/uv
@@ -66,5 +71,11 @@ notebooks: $(VENV)/.installed-test
 	$(BIN)/jupyter nbconvert --to html --execute --ExecutePreprocessor.timeout=600 \
 		--output-dir build/notebooks notebooks/*.ipynb
 
+# The documentation site: the API reference from the numpydoc docstrings (autodoc, autosummary) and the guides of
+# docs/ and the README (myst-parser), warnings as errors.  The notebooks are not part of it (`make notebooks`).
+# About 20 s on two cores; open build/docs/html/index.html.
+docs: $(VENV)/.installed-docs
+	$(BIN)/python -m sphinx -W --keep-going -b html docs/site build/docs/html
+
 clean:
-	rm -rf $(VENV) $(OUT) build *.egg-info .pytest_cache .hypothesis
+	rm -rf $(VENV) $(OUT) build *.egg-info .pytest_cache .hypothesis docs/site/api/generated

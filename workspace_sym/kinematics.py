@@ -663,7 +663,7 @@ class DHRobot:
 
     # ------------------------------------------------------------------ forward kinematics
     def raw_fk(self) -> sp.Matrix:
-        """``base A_1 ... A_n tool`` multiplied out with no simplification (a reference for :meth:`fk`).
+        """The product of base, ``A_1`` to ``A_n`` and tool, unsimplified (a reference for :meth:`fk`).
 
         Returns
         -------
@@ -686,7 +686,7 @@ class DHRobot:
 
     @cached_property
     def transforms(self) -> tuple[sp.Matrix, ...]:
-        """``(T_0^1, ..., T_0^n)`` of the DH table alone (no base, no tool), in textbook form."""
+        """The transforms ``T_0^1`` to ``T_0^n`` of the DH table alone (no base, no tool), in textbook form."""
         out = []
         T = sp.eye(4)
         with derivation(f"forward kinematics of {self.name}"):
