@@ -1066,6 +1066,41 @@ class DHRobot:
         return poly if lam is None else sp.Poly.from_list(poly.all_coeffs(), lam, domain="EX")
 
     # ------------------------------------------------------------------ printing
+    def placement(self) -> dict:
+        """The constant transforms around the DH table that :meth:`fk` multiplies in, those that are not the
+        identity: ``fk() = base T_0^n tool``.
+
+        Returns
+        -------
+        dict
+            ``{"base": matrix, "tool": matrix}`` with only the transforms the robot has and that are not the
+            identity (empty for a bare DH table), base first.
+        """
+        identity = sp.eye(4)
+        return {name: M for name, M in (("base", self.base), ("tool", self.tool))
+                if M is not None and M != identity}
+
+    def fk_name(self, *, latex: bool = False) -> str:
+        """What :meth:`fk` is, as a label: ``T_0^6`` for a bare DH table, ``base · T_0^6 · tool`` (or the part
+        of it the robot has) when a base or tool transform (:meth:`placement`) is multiplied in.
+
+        Parameters
+        ----------
+        latex : bool, default False
+            LaTeX (``\\mathrm{base}\\, T_0^{6}\\, \\mathrm{tool}``) instead of text.
+
+        Returns
+        -------
+        str
+            The label.
+        """
+        parts = self.placement()
+        chain = f"T_0^{{{self.n}}}" if latex else f"T_0^{self.n}"
+        words = (["base"] if "base" in parts else []) + [chain] + (["tool"] if "tool" in parts else [])
+        if latex:
+            return r"\,".join(w if w == chain else rf"\mathrm{{{w}}}" for w in words)
+        return " · ".join(words)
+
     def shorthand(self, expr) -> sp.Expr:
         """``expr`` as printed: ``c_i``, ``s_ij`` symbols for this robot's joint variables, lengths given as
         decimals shown as decimals (:func:`~workspace_sym.symbolic.decimal_form`).
