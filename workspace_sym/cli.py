@@ -256,6 +256,10 @@ def cmd_jacobian(args) -> int:
     pairs = None if args.no_singular else _within_budget(
         lambda: robot.singular_factors("geometric", multiplicity=True), "singular", unfinished)
     singular = None if pairs is None else [f for f, _ in pairs]
+    # each factor is defined up to a constant: printed (textbook, latex, text) in the robot's own lengths,
+    # 0.425*c2 + 0.39225*c23 - ..., not as the gcd returns it, 8500*c2 + 7845*c23 - ...; "singular" and
+    # "factor" keep the exact primitive factor that code compares
+    shown = None if pairs is None else [robot.in_lengths(f) for f in singular]
     charpoly = None if not args.charpoly else _within_budget(
         lambda: robot.characteristic_polynomial(args.charpoly).all_coeffs(), "charpoly", unfinished)
     seconds = time.perf_counter() - start
@@ -266,11 +270,12 @@ def cmd_jacobian(args) -> int:
             "J": _matrix_strings(J),
             "singular": None if singular is None else [sp.sstr(f) for f in singular],
             "singularities": None if pairs is None else [{"factor": sp.sstr(f), "multiplicity": m,
-                                                          "textbook": robot.to_str(f)} for f, m in pairs],
+                                                          "textbook": robot.to_str(g)}
+                                                         for (f, m), g in zip(pairs, shown)],
             "textbook": {"J": [[robot.to_str(J[i, j]) for j in range(J.cols)] for i in range(J.rows)],
-                         "singular": None if singular is None else [robot.to_str(f) for f in singular]},
+                         "singular": None if shown is None else [robot.to_str(g) for g in shown]},
             "latex": {"J": robot.to_latex(J),
-                      "singular": None if singular is None else [robot.to_latex(f) for f in singular]},
+                      "singular": None if shown is None else [robot.to_latex(g) for g in shown]},
             "charpoly": None if charpoly is None else {
                 "kind": args.charpoly, "variable": "lambda",
                 "coefficients": [sp.sstr(c) for c in charpoly],
@@ -343,6 +348,7 @@ def _product(robot, pairs, *, latex: bool = False) -> str:
     """``f1 * (f2)**m * ...``: the singular factors with their multiplicities as one product that reads back as
     written (a sum is bracketed, so is a product raised to a power); LaTeX with ``\\cdot``."""
     def factor(f, m):
+        f = robot.in_lengths(f)                  # in the robot's lengths, a positive multiple of the factor
         text = robot.to_latex(f) if latex else robot.to_str(f)
         if f.is_Add or (m > 1 and not (f.is_Symbol or f.is_Function)):
             text = f"\\left({text}\\right)" if latex else f"({text})"

@@ -40,6 +40,7 @@ from .symbolic import (
     check_budget,
     decimal_form,
     derivation,
+    in_lengths,
     op_counts,
     shorthand,
     shorthand_latex,
@@ -1079,6 +1080,36 @@ class DHRobot:
         identity = sp.eye(4)
         return {name: M for name, M in (("base", self.base), ("tool", self.tool))
                 if M is not None and M != identity}
+
+    def lengths(self) -> tuple:
+        """The robot's numeric lengths: the ``d`` and ``a`` of its table and the translations of its base and tool,
+        without sign, zeros and repeats (what :meth:`in_lengths` scales a factor to).
+
+        Returns
+        -------
+        tuple of sympy.Rational
+            The distinct positive lengths, smallest first (symbolic ones left out).
+        """
+        values = [v for j in self.joints for v in (j.d, j.a)]
+        values += [M[i, 3] for M in self.placement().values() for i in range(3)]
+        return tuple(sorted({abs(v) for v in map(sp.sympify, values) if v.is_Rational and v != 0}))
+
+    def in_lengths(self, factor):
+        """A singular factor (defined up to a constant) printed in this robot's lengths: the UR5's
+        ``8500*c2 + 7845*c23 - 1893*s234`` as ``0.425 c2 + 0.39225 c23 - 0.09465 s234``
+        (:func:`~workspace_sym.symbolic.in_lengths` with :meth:`lengths`).  For printing; compute with the factor.
+
+        Parameters
+        ----------
+        factor : SymPy expression
+            A factor such as one of :meth:`singular_factors`.
+
+        Returns
+        -------
+        SymPy expression
+            A positive rational multiple of ``factor`` (``factor`` itself when no multiple reads in lengths).
+        """
+        return in_lengths(factor, self.lengths())
 
     def fk_name(self, *, latex: bool = False) -> str:
         """What :meth:`fk` is, as a label: ``T_0^6`` for a bare DH table, ``base · T_0^6 · tool`` (or the part

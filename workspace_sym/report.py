@@ -322,7 +322,7 @@ def dh_robot_report(robot, out, *, samples: int = 20000, command: str | None = N
     doc.math(sp.Symbol("J"), J)
     if singular:
         doc.para("Rank is lost where one of these factors vanishes:")
-        doc.equations([(sp.Symbol(f"f_{k}"), robot.shorthand(f)) for k, f in enumerate(singular, 1)])
+        doc.equations([(sp.Symbol(f"f_{k}"), robot.shorthand(robot.in_lengths(f))) for k, f in enumerate(singular, 1)])
     else:
         doc.para("No hypersurface of rank loss.")
     with tempfile.TemporaryDirectory() as tmpdir:

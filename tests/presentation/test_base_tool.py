@@ -8,7 +8,6 @@ base ``diag(1, -1, -1)`` and tool (``-79/500`` along z, x and z turned) as the U
 """
 
 import json
-import re
 from pathlib import Path
 
 import numpy as np
@@ -16,7 +15,7 @@ import pytest
 import rtbdata
 import sympy as sp
 
-from dh_reference import fk_numpy
+from dh_reference import fk_numpy, unshorthand
 from workspace_sym import DHRobot
 from workspace_sym.cli import main
 from workspace_sym.report import dh_robot_report
@@ -43,18 +42,6 @@ def _fk_json(capsys, *argv):
 
 def _matrix(rows):
     return sp.Matrix([[sp.sympify(e) for e in row] for row in rows])
-
-
-def _unshorthand(expr, q):
-    """``c23`` -> ``cos(q2 + q3)``, ``s1`` -> ``sin(q1)``, decimals back to the exact fractions they print."""
-    expr = sp.nsimplify(expr, rational=True)
-    subs = {}
-    for s in expr.free_symbols:
-        m = re.fullmatch(r"([cs])(\d+)", s.name)
-        if m:
-            angle = sum(q[int(k) - 1] for k in m.group(2))
-            subs[s] = (sp.cos if m.group(1) == "c" else sp.sin)(angle)
-    return expr.xreplace(subs)
 
 
 def _rebuilds(data, robot):
@@ -138,9 +125,9 @@ def test_dh_report_shows_base_and_tool_and_they_rebuild_T(arm_file, tmp_path):
     tex = (md_path.parent / "report.tex").read_text()
     assert "\\text{tool} &= \\begin{pmatrix}" in tex
     shown = {str(lhs): e for block in doc.blocks if block[0] == "eqs" for lhs, e in block[1]}
-    base, tool = (_unshorthand(shown[k], robot.q) for k in ("base", "tool"))
-    T = sp.Matrix(4, 4, lambda i, j: _unshorthand(shown[f"r_{i + 1}{j + 1}"], robot.q) if i < 3 and j < 3 else
-                  _unshorthand(shown["p_" + "xyz"[i]], robot.q) if i < 3 else int(j == 3))
+    base, tool = (unshorthand(shown[k], robot.q) for k in ("base", "tool"))
+    T = sp.Matrix(4, 4, lambda i, j: unshorthand(shown[f"r_{i + 1}{j + 1}"], robot.q) if i < 3 and j < 3 else
+                  unshorthand(shown["p_" + "xyz"[i]], robot.q) if i < 3 else int(j == 3))
     chain = sp.eye(4)
     for k in range(1, robot.n + 1):            # the table's rows, as the report's DH table lists them
         chain = chain * robot.row_matrix(k)
