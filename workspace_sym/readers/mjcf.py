@@ -8,7 +8,11 @@ is the constant transform ``Trans(pos) R`` followed, for each joint, by
 ``Trans(p) Motion(axis, q) Rot/Trans(axis, -ref) Trans(-p)``: a URDF chain of
 fixed and moving joints, and :mod:`.chain` turns that into a
 standard DH table with base and tool transforms, exactly as for a URDF file
-(same snapping of floats, same notes).  Angles are degrees unless
+(same snapping of floats, same notes).  A quaternion written to 6 decimals
+or more that rounds an exact turn (``0.9659258 0.258819 0 0``: 30 degrees
+about x) is read as that turn, with a note, and ``Rot(axis, -ref)`` and
+``Trans(-p)`` stay two transforms, so that neither leaves float dust or a
+16-digit decimal in the exact kinematics.  Angles are degrees unless
 ``<compiler angle="radian">``; ``eulerseq`` is honoured; joint attributes
 come from ``<default>`` classes (``class``, ``childclass``) as in MuJoCo; a
 joint is limited when ``limited="true"``, or ``"auto"`` (the default) with a
