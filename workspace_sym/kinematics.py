@@ -704,7 +704,12 @@ class DHRobot:
         with derivation(f"forward kinematics of {self.name} (base)"):
             if self.base is not None:
                 frames = tuple(textbook_matrix(matrix_product(self.base, T)) for T in frames)
-            return tuple(_no_longer(T, raw) for T, raw in zip(frames, self._raw_frames))
+            return tuple(self._dusted(_no_longer(T, raw)) for T, raw in zip(frames, self._raw_frames))
+
+    def _dusted(self, T: sp.Matrix) -> sp.Matrix:
+        """``T`` without the float coefficients below ``chop_tol`` that products of floats leave (``1.7e-17``
+        where two float terms should cancel); ``T`` itself for a robot without one."""
+        return T if self.chop_tol is None else chop(T, self.chop_tol)
 
     @cached_property
     def _tip(self) -> sp.Matrix:
@@ -712,7 +717,7 @@ class DHRobot:
         if self.tool is None:
             return T
         with derivation(f"forward kinematics of {self.name} (tool)"):
-            return _no_longer(textbook_matrix(matrix_product(T, self.tool)), self.raw_fk())
+            return self._dusted(_no_longer(textbook_matrix(matrix_product(T, self.tool)), self.raw_fk()))
 
     def fk(self, k=None, *, parameters: dict | None = None) -> sp.Matrix:
         """``base T_0^k``, with the tool transform appended for ``k = n`` (the default).

@@ -383,3 +383,24 @@ def test_a_quaternion_of_few_digits_is_read_as_written(tmp_path):
     path = tmp_path / "q.xml"
     path.write_text(MODELS["quat"])
     assert not [n for n in DHRobot.from_mjcf(path).input_notes if " quat " in n]
+
+
+def test_turns_off_the_grid_leave_no_float_dust(tmp_path):
+    """Quaternions of 0.4 and 0.7 rad turns (on no grid) stay floats: the DH offsets that are pi/2 and pi to the
+    last bit print as exact (``c1``, not ``cos(theta1 - 1.5707963267949)``), no float coefficient below tol is left
+    (``1.7e-17`` where two float terms cancel), a note says so, and T is still MuJoCo's pose (to 1e-8)."""
+    text = f"""<mujoco model="generic"><worldbody>
+      <body name="upper" pos="0 0 0.3" quat="0.9393727 0.3428978 0 0">{GEOM}<joint axis="0 0 1"/>
+        <body name="fore" pos="0.4 0 0" quat="0.9800666 0 0.1986693 0">{GEOM}<joint axis="0 0 1"/>
+          <body name="tip" pos="0.3 0 0">{GEOM}<joint axis="1 0 0"/></body></body></body></worldbody></mujoco>"""
+    path = tmp_path / "generic.xml"
+    path.write_text(text)
+    robot = DHRobot.from_mjcf(path)
+    T = robot.fk()
+    assert not [f for e in T for f in e.atoms(sp.Float) if abs(f) < 1e-9]
+    assert "1.5707963" not in robot.to_str(T) and "3.1415926" not in robot.to_str(T)
+    assert any(n.startswith("floats kept") for n in robot.input_notes)
+    model = mujoco.MjModel.from_xml_string(text)
+    for q in (np.zeros(3), np.array([0.4, -1.3, 2.2])):
+        np.testing.assert_allclose(robot.fk_numeric(q), _mujoco_pose(model, [0, 1, 2], 0, model.body("tip").id, q),
+                                   rtol=0, atol=1e-8)
