@@ -187,22 +187,45 @@ def cmd_fk(args) -> int:
     robot = _robot_from_args(args)
     start = time.perf_counter()
     T = robot.fk()
+    placement = robot.placement()          # base and tool, when not the identity: T = base · T_0^n · tool
+    chain = robot.transforms[-1]           # T_0^n of the DH table alone
     seconds = time.perf_counter() - start
     if args.json:
+        # "T" is what fk() gives (base and tool included); "base", "tool" (null when absent or the identity) and
+        # "dh_product" (T_0^n of the table alone) let a reader rebuild it: T = base · dh_product · tool
         _emit_json({
             "robot": robot.name,
             "T": _matrix_strings(T),
             "position": [sp.sstr(e) for e in robot.position],
+            "T_is": "T = " + robot.fk_name(),
+            "base": _matrix_strings(placement["base"]) if "base" in placement else None,
+            "tool": _matrix_strings(placement["tool"]) if "tool" in placement else None,
+            "dh_product": _matrix_strings(chain),
             "textbook": {"T": [[robot.to_str(T[i, j]) for j in range(4)] for i in range(4)],
-                         "position": [robot.to_str(e) for e in robot.position]},
-            "latex": {"T": robot.to_latex(T), "position": [robot.to_latex(e) for e in robot.position]},
+                         "position": [robot.to_str(e) for e in robot.position],
+                         **{k: [[robot.to_str(M[i, j]) for j in range(4)] for i in range(4)]
+                            for k, M in placement.items()}},
+            "latex": {"T": robot.to_latex(T), "position": [robot.to_latex(e) for e in robot.position],
+                      **{k: robot.to_latex(M) for k, M in placement.items()}},
             "seconds": seconds,
         })
         return 0
     if args.latex:
-        print(f"T_0^{robot.n} = {robot.to_latex(T)}")
+        for name, M in placement.items():
+            print(rf"\mathrm{{{name}}} = {robot.to_latex(M)}")
+        if placement:
+            print(rf"T_0^{{{robot.n}}} = {robot.to_latex(chain)}")
+            print(rf"T = {robot.fk_name(latex=True)} = {robot.to_latex(T)}")
+        else:
+            print(f"T_0^{robot.n} = {robot.to_latex(T)}")
         return 0
-    print(f"{robot.name}: T_0^{robot.n} ({robot.convention} DH), c1 = cos(theta1), s23 = sin(theta2 + theta3)")
+    label = f"T = {robot.fk_name()}" if placement else f"T_0^{robot.n}"
+    print(f"{robot.name}: {label} ({robot.convention} DH), c1 = cos(theta1), s23 = sin(theta2 + theta3)")
+    for name, M in placement.items():
+        print(f"  {name}: " + "; ".join(" | ".join(robot.to_str(M[i, j]) for j in range(4)) for i in range(3))
+              + " (last row 0 | 0 | 0 | 1)")
+    if placement:
+        print(f"  T_0^{robot.n}: the DH table's product A_1 ... A_{robot.n} (--json: dh_product); T:")
     for i in range(3):
         print(f"  row {i + 1}: " + " | ".join(robot.to_str(T[i, j]) for j in range(4)))
     for name, e in zip("xyz", robot.position):
@@ -233,6 +256,10 @@ def cmd_jacobian(args) -> int:
     pairs = None if args.no_singular else _within_budget(
         lambda: robot.singular_factors("geometric", multiplicity=True), "singular", unfinished)
     singular = None if pairs is None else [f for f, _ in pairs]
+    # each factor is defined up to a constant: printed (textbook, latex, text) in the robot's own lengths,
+    # 0.425*c2 + 0.39225*c23 - ..., not as the gcd returns it, 8500*c2 + 7845*c23 - ...; "singular" and
+    # "factor" keep the exact primitive factor that code compares
+    shown = None if pairs is None else [robot.in_lengths(f) for f in singular]
     charpoly = None if not args.charpoly else _within_budget(
         lambda: robot.characteristic_polynomial(args.charpoly).all_coeffs(), "charpoly", unfinished)
     seconds = time.perf_counter() - start
@@ -243,11 +270,12 @@ def cmd_jacobian(args) -> int:
             "J": _matrix_strings(J),
             "singular": None if singular is None else [sp.sstr(f) for f in singular],
             "singularities": None if pairs is None else [{"factor": sp.sstr(f), "multiplicity": m,
-                                                          "textbook": robot.to_str(f)} for f, m in pairs],
+                                                          "textbook": robot.to_str(g)}
+                                                         for (f, m), g in zip(pairs, shown)],
             "textbook": {"J": [[robot.to_str(J[i, j]) for j in range(J.cols)] for i in range(J.rows)],
-                         "singular": None if singular is None else [robot.to_str(f) for f in singular]},
+                         "singular": None if shown is None else [robot.to_str(g) for g in shown]},
             "latex": {"J": robot.to_latex(J),
-                      "singular": None if singular is None else [robot.to_latex(f) for f in singular]},
+                      "singular": None if shown is None else [robot.to_latex(g) for g in shown]},
             "charpoly": None if charpoly is None else {
                 "kind": args.charpoly, "variable": "lambda",
                 "coefficients": [sp.sstr(c) for c in charpoly],
@@ -320,6 +348,7 @@ def _product(robot, pairs, *, latex: bool = False) -> str:
     """``f1 * (f2)**m * ...``: the singular factors with their multiplicities as one product that reads back as
     written (a sum is bracketed, so is a product raised to a power); LaTeX with ``\\cdot``."""
     def factor(f, m):
+        f = robot.in_lengths(f)                  # in the robot's lengths, a positive multiple of the factor
         text = robot.to_latex(f) if latex else robot.to_str(f)
         if f.is_Add or (m > 1 and not (f.is_Symbol or f.is_Function)):
             text = f"\\left({text}\\right)" if latex else f"({text})"

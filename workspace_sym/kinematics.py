@@ -40,6 +40,7 @@ from .symbolic import (
     check_budget,
     decimal_form,
     derivation,
+    in_lengths,
     op_counts,
     shorthand,
     shorthand_latex,
@@ -703,7 +704,12 @@ class DHRobot:
         with derivation(f"forward kinematics of {self.name} (base)"):
             if self.base is not None:
                 frames = tuple(textbook_matrix(matrix_product(self.base, T)) for T in frames)
-            return tuple(_no_longer(T, raw) for T, raw in zip(frames, self._raw_frames))
+            return tuple(self._dusted(_no_longer(T, raw)) for T, raw in zip(frames, self._raw_frames))
+
+    def _dusted(self, T: sp.Matrix) -> sp.Matrix:
+        """``T`` without the float coefficients below ``chop_tol`` that products of floats leave (``1.7e-17``
+        where two float terms should cancel); ``T`` itself for a robot without one."""
+        return T if self.chop_tol is None else chop(T, self.chop_tol)
 
     @cached_property
     def _tip(self) -> sp.Matrix:
@@ -711,7 +717,7 @@ class DHRobot:
         if self.tool is None:
             return T
         with derivation(f"forward kinematics of {self.name} (tool)"):
-            return _no_longer(textbook_matrix(matrix_product(T, self.tool)), self.raw_fk())
+            return self._dusted(_no_longer(textbook_matrix(matrix_product(T, self.tool)), self.raw_fk()))
 
     def fk(self, k=None, *, parameters: dict | None = None) -> sp.Matrix:
         """``base T_0^k``, with the tool transform appended for ``k = n`` (the default).
@@ -1066,6 +1072,71 @@ class DHRobot:
         return poly if lam is None else sp.Poly.from_list(poly.all_coeffs(), lam, domain="EX")
 
     # ------------------------------------------------------------------ printing
+    def placement(self) -> dict:
+        """The constant transforms around the DH table that :meth:`fk` multiplies in, those that are not the
+        identity: ``fk() = base T_0^n tool``.
+
+        Returns
+        -------
+        dict
+            ``{"base": matrix, "tool": matrix}`` with only the transforms the robot has and that are not the
+            identity (empty for a bare DH table), base first.
+        """
+        identity = sp.eye(4)
+        return {name: M for name, M in (("base", self.base), ("tool", self.tool))
+                if M is not None and M != identity}
+
+    def lengths(self) -> tuple:
+        """The robot's numeric lengths: the ``d`` and ``a`` of its table and the translations of its base and tool,
+        without sign, zeros and repeats (what :meth:`in_lengths` scales a factor to).
+
+        Returns
+        -------
+        tuple of sympy.Rational
+            The distinct positive lengths, smallest first (symbolic ones left out).
+        """
+        values = [v for j in self.joints for v in (j.d, j.a)]
+        values += [M[i, 3] for M in self.placement().values() for i in range(3)]
+        return tuple(sorted({abs(v) for v in map(sp.sympify, values) if v.is_Rational and v != 0}))
+
+    def in_lengths(self, factor):
+        """A singular factor (defined up to a constant) printed in this robot's lengths: the UR5's
+        ``8500*c2 + 7845*c23 - 1893*s234`` as ``0.425 c2 + 0.39225 c23 - 0.09465 s234``
+        (:func:`~workspace_sym.symbolic.in_lengths` with :meth:`lengths`).  For printing; compute with the factor.
+
+        Parameters
+        ----------
+        factor : SymPy expression
+            A factor such as one of :meth:`singular_factors`.
+
+        Returns
+        -------
+        SymPy expression
+            A positive rational multiple of ``factor`` (``factor`` itself when no multiple reads in lengths).
+        """
+        return in_lengths(factor, self.lengths())
+
+    def fk_name(self, *, latex: bool = False) -> str:
+        """What :meth:`fk` is, as a label: ``T_0^6`` for a bare DH table, ``base · T_0^6 · tool`` (or the part
+        of it the robot has) when a base or tool transform (:meth:`placement`) is multiplied in.
+
+        Parameters
+        ----------
+        latex : bool, default False
+            LaTeX (``\\mathrm{base}\\, T_0^{6}\\, \\mathrm{tool}``) instead of text.
+
+        Returns
+        -------
+        str
+            The label.
+        """
+        parts = self.placement()
+        chain = f"T_0^{{{self.n}}}" if latex else f"T_0^{self.n}"
+        words = (["base"] if "base" in parts else []) + [chain] + (["tool"] if "tool" in parts else [])
+        if latex:
+            return r"\,".join(w if w == chain else rf"\mathrm{{{w}}}" for w in words)
+        return " · ".join(words)
+
     def shorthand(self, expr) -> sp.Expr:
         """``expr`` as printed: ``c_i``, ``s_ij`` symbols for this robot's joint variables, lengths given as
         decimals shown as decimals (:func:`~workspace_sym.symbolic.decimal_form`).

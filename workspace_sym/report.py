@@ -326,10 +326,23 @@ def dh_robot_report(robot, out, *, samples: int = 20000, command: str | None = N
     if robot.parameters:
         doc.para("Parameters (" + robot.units + "): "
                  + ", ".join(f"{k} = {v}" for k, v in robot.parameters.items()) + ".")
-    doc.heading(f"Forward kinematics T_0^{robot.n}")
     names = sp.Matrix(4, 4, lambda i, j: sp.Symbol(f"r_{i + 1}{j + 1}") if i < 3 and j < 3 else
                       (sp.Symbol("p_" + "xyz"[i]) if i < 3 else sp.Integer(int(j == 3))))
-    doc.math(sp.Symbol(f"T_0^{robot.n}"), names)
+    placement = robot.placement()
+    if placement:                                 # T = base · T_0^n · tool: each factor shown, T rebuilt from them
+        doc.heading(f"Forward kinematics T = {robot.fk_name()}")
+        parts = " and ".join(f"the constant {w} transform" for w in placement)
+        doc.para(f"T = {robot.fk_name()}: the pose of the tool frame in the world frame is the product of "
+                 f"{parts} with the DH table's T_0^{robot.n} = A_1 ... A_{robot.n} (A_i from row i of the table "
+                 "above), in that order:")
+        doc.equations([(name, robot.shorthand(M)) for name, M in placement.items()])
+        doc.para("Multiplied out:")
+        doc.math(sp.Symbol("T"), names)
+    else:
+        doc.heading(f"Forward kinematics T_0^{robot.n}")
+        doc.para(f"T_0^{robot.n} = A_1 ... A_{robot.n}, each A_i from row i of the table above (no base or tool "
+                 "transform):")
+        doc.math(sp.Symbol(f"T_0^{robot.n}"), names)
     doc.equations([(names[i, j], T[i, j]) for j in range(4) for i in range(3)])
     doc.heading("Geometric Jacobian")
     doc.para(f"J is {J.rows} x {J.cols}: rows 1-3 the linear velocity, rows 4-6 the angular velocity, "
@@ -337,7 +350,7 @@ def dh_robot_report(robot, out, *, samples: int = 20000, command: str | None = N
     doc.math(sp.Symbol("J"), J)
     if singular:
         doc.para("Rank is lost where one of these factors vanishes:")
-        doc.equations([(sp.Symbol(f"f_{k}"), robot.shorthand(f)) for k, f in enumerate(singular, 1)])
+        doc.equations([(sp.Symbol(f"f_{k}"), robot.shorthand(robot.in_lengths(f))) for k, f in enumerate(singular, 1)])
     else:
         doc.para("No hypersurface of rank loss.")
     with tempfile.TemporaryDirectory() as tmpdir:

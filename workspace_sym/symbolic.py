@@ -81,6 +81,7 @@ __all__ = [
     "shorthand_str",
     "shorthand_latex",
     "decimal_form",
+    "in_lengths",
 ]
 
 
@@ -1970,3 +1971,77 @@ def plain(expr):
     if isinstance(expr, sp.Tuple):
         return sp.Tuple(*(plain(e) for e in expr))
     return expr.replace(lambda e: isinstance(e, _Shorthand), lambda e: e.__class__.__mro__[2](e.args[0]))
+
+
+def in_lengths(factor, lengths):
+    """``factor`` times the positive constant that makes its coefficients the robot's own lengths, for printing.
+
+    A singular factor is defined up to a non-zero constant, and the gcd that
+    finds it returns it primitive, with integer coefficients
+    (``8500*c2 + 7845*c23 - 1893*s234`` for the UR5).  Multiplied by
+    ``1/20000`` it reads in the table's lengths, ``0.425 c2 + 0.39225 c23 -
+    0.09465 s234``.  The constant is found from the coefficients themselves:
+    each ``length / |coefficient|`` is a candidate, and the one that turns the
+    most coefficients into lengths wins (ties: the shortest decimals), provided
+    every coefficient then is a terminating decimal.  A factor that is not a
+    sum of terms with rational coefficients, whose coefficients are all
+    ``+-1`` (``c2 + c3``: nothing says it holds a length), or that no candidate
+    fits, is returned as it is.  The result is the same factor (a positive
+    constant multiple of it), for printing; keep ``factor`` for computing.
+
+    Parameters
+    ----------
+    factor : SymPy expression
+        A factor defined up to a constant, such as one of :func:`~workspace_sym.charpoly.maximal_minor_factors`.
+    lengths : iterable of numbers or SymPy numbers
+        The robot's lengths (its table's ``d`` and ``a``); zero, symbolic and irrational ones are ignored, signs
+        do not matter, a float counts as the decimal it prints.
+
+    Returns
+    -------
+    SymPy expression
+        ``c * factor`` with ``c > 0`` rational (``factor`` itself when ``c = 1`` or when none fits).
+
+    Raises
+    ------
+    ExpressionError
+        When a length is neither a number nor a SymPy object (:func:`~workspace_sym.expressions.as_sympy`).
+
+    Examples
+    --------
+    >>> c2, c23, s234 = sp.symbols("c2 c23 s234")
+    >>> in_lengths(8500*c2 + 7845*c23 - 1893*s234, [-0.425, -0.39225, 0.09465])
+    17*c2/40 + 1569*c23/4000 - 1893*s234/20000
+    >>> in_lengths(c2 + c23, [0.425])
+    c2 + c23
+    """
+    if not isinstance(factor, sp.Add):
+        return factor
+    known = set()
+    for value in lengths:
+        value = as_sympy(value)
+        if value.is_Rational and value != 0:
+            known.add(abs(value))
+        elif value.is_Float and value != 0:
+            known.add(abs(sp.Rational(str(value))))
+    coefficients = []
+    for term in sp.Add.make_args(sp.expand(factor)):
+        k, _ = term.as_coeff_Mul()
+        if not k.is_Rational:
+            return factor
+        coefficients.append(abs(k))
+    if not known or all(k == 1 for k in coefficients):
+        return factor
+
+    def digits(r):
+        return len(str(r.p)) + len(str(r.q))
+
+    best, best_key = None, None
+    for scale in {length / k for length in known for k in coefficients}:
+        scaled = [k * scale for k in coefficients]
+        if not all(r.is_Integer or _is_decimal(r, 2) for r in scaled):
+            continue
+        key = (sum(r in known for r in scaled), -sum(digits(r) for r in scaled))
+        if best_key is None or key > best_key:
+            best, best_key = scale, key
+    return factor if best is None or best == 1 else best * factor

@@ -79,3 +79,17 @@ def tables(draw, n_max=3, tool=False):
     if tool:
         data["tool"] = {"xyz": [0.1, 0.0, 0.05], "rpy": [draw(integers(-90, 90)) for _ in range(3)]}
     return data
+
+
+def unshorthand(expr, q):
+    """A printed textbook expression read back: ``c23`` -> ``cos(q2 + q3)``, ``s1`` -> ``sin(q1)``, and each
+    decimal to the exact fraction it prints (``0.425`` -> ``17/40``); ``q`` the joint variables, from joint 1."""
+    import re
+
+    expr = sp.nsimplify(expr, rational=True)
+    subs = {}
+    for s in expr.free_symbols:
+        m = re.fullmatch(r"([cs])(\d+)", s.name)
+        if m:
+            subs[s] = (sp.cos if m.group(1) == "c" else sp.sin)(sum(q[int(k) - 1] for k in m.group(2)))
+    return expr.xreplace(subs)

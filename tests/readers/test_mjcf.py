@@ -302,3 +302,105 @@ def test_each_reader_names_the_other_format(tmp_path, capsys):
     sdf.write_text('<sdf version="1.6"><model name="arm"/></sdf>')
     assert main(["fk", "--urdf", str(sdf)]) == 2
     assert "is not a URDF file (root element <sdf>, expected <robot>)" in capsys.readouterr().err
+
+
+# A 4-joint arm as files write it (issue 39, Engineer item 3): quaternions of 30, 90 and 45 degree turns rounded to
+# 7 significant digits, and a hinge off its body's origin with a reference angle (pos and ref).
+ROUNDED = f"""<mujoco model="rounded"><worldbody>
+  <body name="upper" pos="0 0 0.3" quat="0.9659258 0.258819 0 0">{GEOM}<joint name="j1" axis="0 0 1"/>
+    <body name="fore" pos="0.4 0 0" quat="0.7071068 0 0.7071068 0">{GEOM}
+      <joint name="j2" axis="0 0 1" pos="0.1 0 0" ref="10"/>
+      <body name="wrist" pos="0.3 0 0" quat="0.9238795 0 0 0.3826834">{GEOM}<joint name="j3" axis="0 1 0"/>
+        <body name="tip" pos="0.1 0 0">{GEOM}<joint name="j4" axis="1 0 0"/></body></body></body></body>
+</worldbody></mujoco>"""
+
+
+def _exact_quaternions(text: str) -> str:
+    """``ROUNDED`` with each quaternion written to full double precision (the turns it rounds)."""
+    c15, s15, h = (repr(float(v)) for v in (np.cos(np.pi / 12), np.sin(np.pi / 12), np.sqrt(0.5)))
+    c22, s22 = (repr(float(v)) for v in (np.cos(np.pi / 8), np.sin(np.pi / 8)))
+    for old, new in (("0.9659258 0.258819 0 0", f"{c15} {s15} 0 0"), ("0.7071068 0 0.7071068 0", f"{h} 0 {h} 0"),
+                     ("0.9238795 0 0 0.3826834", f"{c22} 0 0 {s22}")):
+        text = text.replace(old, new)
+    return text
+
+
+@pytest.fixture(scope="module")
+def rounded(tmp_path_factory):
+    path = tmp_path_factory.mktemp("rounded") / "arm.xml"
+    path.write_text(ROUNDED)
+    return path, DHRobot.from_mjcf(path)
+
+
+def _pose_of(text: str, q) -> np.ndarray:
+    model = mujoco.MjModel.from_xml_string(text)
+    return _mujoco_pose(model, list(range(4)), 0, model.body("tip").id, q)
+
+
+def test_rounded_quaternions_read_as_the_exact_turns(rounded):
+    """No float is left in T (no 4e-17*s1, no 8e-35*c4); T is MuJoCo's pose of the exact turns (to 1e-12) and of
+    the file as written within what its 7 digits allow; each quaternion read so has a note."""
+    _, robot = rounded
+    T = robot.fk()
+    assert not T.has(sp.Float) and "e-" not in robot.to_str(T)
+    for q in (np.zeros(4), np.array([0.3, -1.2, 2.0, 0.7]), np.array([-2.5, 0.4, -0.9, 3.0])):
+        np.testing.assert_allclose(robot.fk_numeric(q), _pose_of(_exact_quaternions(ROUNDED), q), rtol=0, atol=1e-12)
+        np.testing.assert_allclose(robot.fk_numeric(q), _pose_of(ROUNDED, q), rtol=0, atol=2e-6)
+    notes = [n for n in robot.input_notes if " quat " in n]
+    assert notes[0] == ("<body name='upper'> quat '0.9659258 0.258819 0 0' (its digits within 5e-07): read as a turn "
+                        "of 30 deg about (1, 0, 0)") and len(notes) == 3
+
+
+def test_hinge_with_pos_and_ref_gives_short_exact_numbers(tmp_path):
+    """The turn by -ref and the shift by -pos stay two transforms: no 16-digit decimal (3472963553338607/10^18)
+    beside cos(pi/18); every rational in T has a denominator of at most 1000, and T is MuJoCo's pose."""
+    text = f"""<mujoco model="ref"><worldbody>
+      <body name="upper" pos="0 0 0.3">{GEOM}<joint axis="0 0 1"/>
+        <body name="fore" pos="0.4 0 0">{GEOM}<joint axis="0 0 1" pos="0.3 0 0" ref="10"/>
+          <body name="tip" pos="0.3 0.1 0">{GEOM}</body></body></body></worldbody></mujoco>"""
+    path = tmp_path / "ref.xml"
+    path.write_text(text)
+    robot = DHRobot.from_mjcf(path)
+    rationals = {r for e in robot.fk() for r in e.atoms(sp.Rational)}
+    assert max(r.q for r in rationals) <= 1000, sorted(rationals, key=lambda r: r.q)[-3:]
+    model = mujoco.MjModel.from_xml_string(text)
+    for q in (np.zeros(2), np.array([0.4, -1.3])):
+        np.testing.assert_allclose(robot.fk_numeric(q), _mujoco_pose(model, [0, 1], 0, model.body("tip").id, q),
+                                   rtol=0, atol=1e-12)
+
+
+def test_exact_form_is_not_longer_than_the_floats(rounded):
+    """Every printed entry of the exact T is no longer than the same entry read with --keep-floats."""
+    path, robot = rounded
+    floats = DHRobot.from_mjcf(path, exact=False)
+    exact_lengths = [len(robot.to_str(e)) for e in robot.fk()]
+    float_lengths = [len(floats.to_str(e)) for e in floats.fk()]
+    assert all(a <= b for a, b in zip(exact_lengths, float_lengths)), (exact_lengths, float_lengths)
+
+
+def test_a_quaternion_of_few_digits_is_read_as_written(tmp_path):
+    """``0.9 0.1 -0.3 0.2`` (one decimal) is no rounded turn: no note, and T is MuJoCo's (the chains above)."""
+    path = tmp_path / "q.xml"
+    path.write_text(MODELS["quat"])
+    assert not [n for n in DHRobot.from_mjcf(path).input_notes if " quat " in n]
+
+
+def test_turns_off_the_grid_leave_no_float_dust(tmp_path):
+    """Quaternions of 0.4 and 0.7 rad turns (on no grid) stay floats: the DH offsets that are pi/2 and pi to the
+    last bit print as exact (``c1``, not ``cos(theta1 - 1.5707963267949)``), no float coefficient below tol is left
+    (``1.7e-17`` where two float terms cancel), a note says so, and T is still MuJoCo's pose (to 1e-8)."""
+    text = f"""<mujoco model="generic"><worldbody>
+      <body name="upper" pos="0 0 0.3" quat="0.9393727 0.3428978 0 0">{GEOM}<joint axis="0 0 1"/>
+        <body name="fore" pos="0.4 0 0" quat="0.9800666 0 0.1986693 0">{GEOM}<joint axis="0 0 1"/>
+          <body name="tip" pos="0.3 0 0">{GEOM}<joint axis="1 0 0"/></body></body></body></worldbody></mujoco>"""
+    path = tmp_path / "generic.xml"
+    path.write_text(text)
+    robot = DHRobot.from_mjcf(path)
+    T = robot.fk()
+    assert not [f for e in T for f in e.atoms(sp.Float) if abs(f) < 1e-9]
+    assert "1.5707963" not in robot.to_str(T) and "3.1415926" not in robot.to_str(T)
+    assert any(n.startswith("floats kept") for n in robot.input_notes)
+    model = mujoco.MjModel.from_xml_string(text)
+    for q in (np.zeros(3), np.array([0.4, -1.3, 2.2])):
+        np.testing.assert_allclose(robot.fk_numeric(q), _mujoco_pose(model, [0, 1, 2], 0, model.body("tip").id, q),
+                                   rtol=0, atol=1e-8)

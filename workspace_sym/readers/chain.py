@@ -43,7 +43,7 @@ import sympy as sp
 from ..errors import URDFError
 from ..expressions import check_joint_limits
 from ..kinematics import DHJoint, DHRobot
-from ..snap import Snapper, chop
+from ..snap import Snapper, chop, snap_angle
 from ..transforms import xyz_rpy
 
 __all__ = ["dh_robot"]
@@ -172,8 +172,21 @@ def dh_robot(name: str, chain, snapper: Snapper, base_link: str, tip_link: str) 
         notes.insert(0, f"DH table (standard) from {base_link!r} with a base transform: joint 1's axis is not "
                         "the base link's z axis through its origin")
     notes.insert(1, f"joints {', '.join(names)}; tool transform to {tip_link!r}")
+    chop_tol = None if snapper.exact else snapper.tol
+    if chop_tol is None and snapper.tol > 0 and _has_floats(joints, base, tool):
+        # angles off the grid stay floats even when reading exactly, and their products leave 1e-17 dust
+        chop_tol = snapper.tol
+        notes.append(f"floats kept (angles that snap to no exact value): float coefficients below {snapper.tol:g} "
+                     "that their products leave are dropped")
     return DHRobot(joints, name=name, units="m", base=base, tool=tool, input_notes=notes + snapper.notes,
-                   chop_tol=None if snapper.exact else snapper.tol)
+                   chop_tol=chop_tol)
+
+
+def _has_floats(joints, base, tool) -> bool:
+    """Whether a float is left in the table, the base or the tool."""
+    values = [v for j in joints for v in (j.theta, j.d, j.a, j.alpha)]
+    values += [e for M in (base, tool) if M is not None for e in M]
+    return any(sp.sympify(v).has(sp.Float) for v in values)
 
 
 def _rigid_inverse(F: sp.Matrix) -> sp.Matrix:
@@ -190,7 +203,10 @@ def _angle(sin_, cos_) -> sp.Expr:
     """``atan2(sin, cos)`` exactly (``pi/2``, ``atan(4/3)``), as a float when either is one."""
     sin_, cos_ = _clean(sin_), _clean(cos_)
     if sin_.has(sp.Float) or cos_.has(sp.Float):
-        return sp.Float(math.atan2(float(sin_), float(cos_)))
+        value = math.atan2(float(sin_), float(cos_))
+        # float dust: atan2(1e-17, -1) is pi to the last bit, and printed as theta2 + 3.14159265358979
+        exact = snap_angle(value, _DUST)
+        return exact if exact is not None else sp.Float(value)
     return _clean(sp.atan2(sin_, cos_))
 
 

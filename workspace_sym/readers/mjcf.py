@@ -8,7 +8,11 @@ is the constant transform ``Trans(pos) R`` followed, for each joint, by
 ``Trans(p) Motion(axis, q) Rot/Trans(axis, -ref) Trans(-p)``: a URDF chain of
 fixed and moving joints, and :mod:`.chain` turns that into a
 standard DH table with base and tool transforms, exactly as for a URDF file
-(same snapping of floats, same notes).  Angles are degrees unless
+(same snapping of floats, same notes).  A quaternion written to 6 decimals
+or more that rounds an exact turn (``0.9659258 0.258819 0 0``: 30 degrees
+about x) is read as that turn, with a note, and ``Rot(axis, -ref)`` and
+``Trans(-p)`` stay two transforms, so that neither leaves float dust or a
+16-digit decimal in the exact kinematics.  Angles are degrees unless
 ``<compiler angle="radian">``; ``eulerseq`` is honoured; joint attributes
 come from ``<default>`` classes (``class``, ``childclass``) as in MuJoCo; a
 joint is limited when ``limited="true"``, or ``"auto"`` (the default) with a
@@ -32,11 +36,12 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+import sympy as sp
 
 from ..errors import MJCFError
 from ..files import read_xml
 from ..kinematics import DHRobot
-from ..snap import DEFAULT_TOL, Snapper
+from ..snap import DEFAULT_TOL, Snapper, snap_angle
 from .chain import dh_robot
 
 __all__ = ["read_mjcf"]
@@ -129,12 +134,12 @@ def read_mjcf(path, *, base_link: str | None = None, tip_link: str | None = None
     if not re.fullmatch(r"[xyzXYZ]{3}", seq):
         raise MJCFError(f"path: <compiler eulerseq> must be three of x, y, z, X, Y, Z; got {seq!r}",
                         parameter="path")
-    model = _Model(root, degrees=angle == "degree", eulerseq=seq)
+    snapper = Snapper(exact=exact, tol=tol)
+    model = _Model(root, degrees=angle == "degree", eulerseq=seq, snapper=snapper)
     base = model.body(base_link or "world", "base_link")
     tip = model.body(tip_link, "tip_link") if tip_link is not None else model.leaf(base)
     chain = model.chain(base, tip)
-    robot = dh_robot(root.get("model") or path.stem, chain, Snapper(exact=exact, tol=tol), model.name(base),
-                      model.name(tip))
+    robot = dh_robot(root.get("model") or path.stem, chain, snapper, model.name(base), model.name(tip))
     return _without_placeholder_limits(robot, chain)
 
 
@@ -207,8 +212,8 @@ def _homogeneous(R=None, p=(0.0, 0.0, 0.0)) -> np.ndarray:
 class _Model:
     """The body tree, the default classes and the compiler settings of one MJCF file."""
 
-    def __init__(self, root: ET.Element, *, degrees: bool, eulerseq: str):
-        self.degrees, self.eulerseq = degrees, eulerseq
+    def __init__(self, root: ET.Element, *, degrees: bool, eulerseq: str, snapper: Snapper | None = None):
+        self.degrees, self.eulerseq, self.snapper = degrees, eulerseq, snapper
         self.defaults: dict[str, dict] = {}
         for d in root.findall("default"):
             self._read_defaults(d, {}, top=True)
@@ -301,7 +306,7 @@ class _Model:
                             parameter="path")
         R = np.eye(3)
         if given == ["quat"]:
-            w, x, y, z = _unit(_given(body, "quat", 4), body, "quat")
+            w, x, y, z = self._quaternion(body, _unit(_given(body, "quat", 4), body, "quat"))
             R = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
                           [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
                           [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
@@ -324,6 +329,47 @@ class _Model:
             R = (_rotation(c / s, math.atan2(s, z[2])) if s > 1e-12 else
                  (np.eye(3) if z[2] > 0 else _rotation((1.0, 0.0, 0.0), math.pi)))
         return _homogeneous(R, _numbers(body, "pos", 3) or (0.0, 0.0, 0.0))
+
+    def _quaternion(self, body: ET.Element, q: np.ndarray) -> np.ndarray:
+        """The unit quaternion ``q`` of ``body``, replaced by the exact turn it was clearly written from.
+
+        A file writes ``cos 15 deg`` as ``0.9659258``: to 7 decimals, so its
+        angle is known to about 1e-7 only, far beyond the 1e-9 at which the
+        chain's Euler angles snap, and the rounding would leave ``4e-17*s1``
+        and ``8e-35*c4`` terms in every product.  When the turn's angle lies,
+        within what the digits written allow (``8 * 0.5e-d`` for ``d``
+        decimals), on the ``pi/360`` grid, and each component of its axis on
+        ``0, 1/2, sqrt(2)/2, sqrt(3)/2, sqrt(3)/3, 1`` (or a 15-degree cosine)
+        with an exactly unit axis, the quaternion of that exact turn (in full
+        double precision, which the chain snaps) replaces the written one, and
+        a note says so; otherwise ``q`` is kept.  Only a quaternion written to
+        6 decimals or more is read so (``0.9 0.1 -0.3 0.2`` is what it says),
+        and ``exact=False`` or ``tol = 0`` keeps every quaternion as written.
+        """
+        eps = _written_precision(body.get("quat", ""))
+        if self.snapper is None or not self.snapper.exact or self.snapper.tol == 0 or not 0 < eps <= _ROUNDED:
+            return q            # 0.9 0.1 -0.3 0.2 says nothing of a rounded value: it is what is meant
+        w, v = float(q[0]), np.asarray(q[1:], dtype=float)
+        if w < 0:                                   # q and -q are the same turn
+            w, v = -w, -v
+        s = float(np.linalg.norm(v))
+        tol = 8 * eps
+        angle = snap_angle(2 * math.atan2(s, w), tol)
+        if angle is None:
+            return q
+        if angle == 0:
+            exact, words = np.array([1.0, 0.0, 0.0, 0.0]), "no turn"
+        else:
+            axis = [_exact_cosine(c, tol / max(s, 1e-300)) for c in v / s]
+            if any(c is None for c in axis) or sp.nsimplify(sum(c ** 2 for c in axis)) != 1:
+                return q
+            half = float(angle) / 2
+            exact = np.array([math.cos(half)] + [math.sin(half) * float(c) for c in axis])
+            words = f"a turn of {sp.sstr(angle * 180 / sp.pi)} deg about ({', '.join(map(sp.sstr, axis))})"
+        if float(np.abs(exact - np.concatenate([[w], v])).max()) > 0:
+            self.snapper.notes.append(f"{_where(body)} quat {body.get('quat')!r} (its digits within {eps:.0e}): "
+                                      f"read as {words}")
+        return exact
 
     def _joint(self, body: ET.Element, element: ET.Element, k: int) -> list[_Joint]:
         cls = element.get("class", self.childclass[body])
@@ -355,8 +401,38 @@ class _Model:
         else:
             motion, undo = "prismatic", _homogeneous(p=-ref * axis)
             limit = limit or _Limit(-1.0, 1.0, placeholder=True)
+        # the turn by -ref and the shift back by -p are two transforms: multiplied here in floats, p - R p would
+        # snap to a 16-digit decimal (3472963553338607/10^18) beside the exact cos(pi/18) of the next origin
         return [_Joint(name, motion, _homogeneous(p=p), tuple(axis), limit),
-                _Joint(f"{name} (anchor)", "fixed", undo @ _homogeneous(p=-p))]
+                _Joint(f"{name} (ref)", "fixed", undo), _Joint(f"{name} (anchor)", "fixed", _homogeneous(p=-p))]
+
+
+def _written_precision(text: str) -> float:
+    """Half a unit of the last decimal written among numbers with decimals (``"0.9659258 0.258819 0 0"``: 5e-8);
+    0 when every number is written whole."""
+    exponents = []
+    for token in text.split():
+        mantissa, _, power = token.lower().partition("e")
+        decimals = len(mantissa.partition(".")[2]) if "." in mantissa else 0
+        if decimals:
+            exponents.append(int(power or 0) - decimals)
+    return 0.5 * 10.0 ** max(exponents) if exponents else 0.0
+
+
+def _exact_cosine(value: float, tol: float):
+    """The value among ``0, +-1/2, +-sqrt(2)/2, +-sqrt(3)/2, +-sqrt(3)/3, +-1`` and the 15-degree cosines within
+    ``tol`` of ``value``, or None."""
+    for candidate in _AXIS_VALUES:
+        if abs(float(candidate) - value) <= tol:
+            return candidate
+    return None
+
+
+# a quaternion whose coarsest component is written to 6 decimals or more may be a rounded exact turn
+_ROUNDED = 5e-7
+_AXIS_VALUES = [sign * c for c in (sp.Integer(0), sp.Rational(1, 2), sp.sqrt(2) / 2, sp.sqrt(3) / 2,
+                                   sp.sqrt(3) / 3, sp.Integer(1), (sp.sqrt(6) + sp.sqrt(2)) / 4,
+                                   (sp.sqrt(6) - sp.sqrt(2)) / 4) for sign in (1, -1)]
 
 
 def _without_placeholder_limits(robot, chain):
