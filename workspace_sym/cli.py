@@ -255,11 +255,14 @@ def cmd_jacobian(args) -> int:
     unfinished: dict[str, str] = {}
     pairs = None if args.no_singular else _within_budget(
         lambda: robot.singular_factors("geometric", multiplicity=True), "singular", unfinished)
-    singular = None if pairs is None else [f for f, _ in pairs]
     # each factor is defined up to a constant: printed (textbook, latex, text) in the robot's own lengths,
     # 0.425*c2 + 0.39225*c23 - ..., not as the gcd returns it, 8500*c2 + 7845*c23 - ...; "singular" and
     # "factor" keep the exact primitive factor that code compares
-    shown = None if pairs is None else [robot.in_lengths(f) for f in singular]
+    singular: list | None = None
+    shown: list | None = None
+    if pairs is not None:
+        singular = [f for f, _ in pairs]
+        shown = [robot.in_lengths(f) for f in singular]
     charpoly = None if not args.charpoly else _within_budget(
         lambda: robot.characteristic_polynomial(args.charpoly).all_coeffs(), "charpoly", unfinished)
     seconds = time.perf_counter() - start
@@ -271,7 +274,7 @@ def cmd_jacobian(args) -> int:
             "singular": None if singular is None else [sp.sstr(f) for f in singular],
             "singularities": None if pairs is None else [{"factor": sp.sstr(f), "multiplicity": m,
                                                           "textbook": robot.to_str(g)}
-                                                         for (f, m), g in zip(pairs, shown)],
+                                                         for (f, m), g in zip(pairs, shown or [])],
             "textbook": {"J": [[robot.to_str(J[i, j]) for j in range(J.cols)] for i in range(J.rows)],
                          "singular": None if shown is None else [robot.to_str(g) for g in shown]},
             "latex": {"J": robot.to_latex(J),
