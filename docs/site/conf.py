@@ -1,15 +1,21 @@
 """Sphinx configuration of the documentation site (``make docs``; issue 39).
 
 The site is built from the package's numpydoc docstrings (autodoc, autosummary, numpydoc) and from the Markdown
-guides of docs/ and the README (myst-parser), which each page of this folder includes.  Notebooks are left out:
-they are executed and exported by ``make notebooks`` instead.  Warnings are errors (``sphinx-build -W``).
+guides of docs/ and the README (MyST, through myst-nb), which each page of this folder includes, and from the
+notebooks of notebooks/: copied into docs/site/notebooks/ (a generated folder, ignored by git) when the build starts,
+executed by myst-nb (cached: a notebook whose code did not change is not run again) and shown with their outputs.
+Warnings are errors (``sphinx-build -W``), and so is a notebook that fails (``nb_execution_raise_on_error``).
 """
 
+import os
+import shutil
 import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))          # the worktree's package, before any installed copy
+# the notebooks' kernels are other processes: they import the worktree's package too
+os.environ["PYTHONPATH"] = os.pathsep.join(p for p in (str(ROOT), os.environ.get("PYTHONPATH", "")) if p)
 
 from workspace_sym.version import __version__  # noqa: E402
 
@@ -23,11 +29,20 @@ extensions = [
     "sphinx.ext.autosummary",
     "sphinx.ext.mathjax",
     "numpydoc",
-    "myst_parser",
+    "myst_nb",  # MyST Markdown (myst-parser) and the notebooks
 ]
-source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
+source_suffix = {".rst": "restructuredtext", ".md": "myst-nb", ".ipynb": "myst-nb"}
 root_doc = "index"
-exclude_patterns = ["_build"]
+exclude_patterns = ["_build", "**/.ipynb_checkpoints"]
+
+# myst-nb: the notebooks are executed when their code changed since the last build (a jupyter-cache next to the
+# output folder), each within 300 s; an error in a cell fails the build.  The test suite builds with
+# ``-D nb_execution_mode=off`` (the pages then show the code without outputs).
+nb_execution_mode = "cache"
+nb_execution_timeout = 300
+nb_execution_raise_on_error = True
+NOTEBOOKS = ROOT / "notebooks"
+SITE_NOTEBOOKS = Path(__file__).resolve().parent / "notebooks"
 
 # autodoc and autosummary: one page per name of the flat API (api/index), members in source order
 autosummary_generate = True
@@ -60,5 +75,20 @@ def _readme_links(app, relative_path, parent_docname, content):
         content[0] = content[0].replace("](docs/", "](")
 
 
+def _copy_notebooks(app, config):
+    """notebooks/*.ipynb into docs/site/notebooks/, where Sphinx reads its sources; an unchanged copy is left alone
+    (its date would make Sphinx read it again) and a notebook no longer in notebooks/ is removed."""
+    SITE_NOTEBOOKS.mkdir(exist_ok=True)
+    sources = {path.name: path for path in NOTEBOOKS.glob("*.ipynb")}
+    for stale in SITE_NOTEBOOKS.glob("*.ipynb"):
+        if stale.name not in sources:
+            stale.unlink()
+    for name, source in sources.items():
+        copy = SITE_NOTEBOOKS / name
+        if not copy.exists() or copy.read_bytes() != source.read_bytes():
+            shutil.copyfile(source, copy)
+
+
 def setup(app):
+    app.connect("config-inited", _copy_notebooks)
     app.connect("include-read", _readme_links)
