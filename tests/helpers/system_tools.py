@@ -39,3 +39,16 @@ def assert_compiles(tex_path, *, min_pdf_bytes: int = 10_000) -> None:
     assert "Undefined control sequence" not in log
     over = [float(x) for x in re.findall(r"Overfull \\[hv]box \(([\d.]+)pt too", log)]
     assert all(x <= 10 for x in over), over
+
+
+def headless_chromium(*flags: str):
+    """A selenium driver of the system's headless Chromium and chromedriver (call :func:`require_tool` first);
+    ``flags`` are added to the usual ones (``--window-size=W,H``).  The caller quits it."""
+    from selenium import webdriver
+    from selenium.webdriver.chrome.service import Service
+
+    options = webdriver.ChromeOptions()
+    options.binary_location = shutil.which("chromium")
+    for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", *flags):
+        options.add_argument(flag)
+    return webdriver.Chrome(service=Service(shutil.which("chromedriver")), options=options)

@@ -16,6 +16,7 @@ import rtbdata
 import sympy as sp
 
 from dh_reference import fk_numpy, unshorthand
+from reports import report_with_document
 from workspace_sym import DHRobot
 from workspace_sym.cli import main
 from workspace_sym.report import dh_robot_report
@@ -97,26 +98,9 @@ def test_fk_of_the_kr16_urdf_shows_its_base_and_tool(capsys):
     assert data["T_is"] == "T = base · T_0^6 · tool"
 
 
-def _report_document(make, folder):
-    """Run a report function and keep the Document it rendered (to read its equations as SymPy objects)."""
-    import workspace_sym.report as report
-
-    seen = []
-    write = report.Document.write
-
-    def keep(self, *args, **kwargs):
-        seen.append(self)
-        return write(self, *args, **kwargs)
-
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(report.Document, "write", keep)
-        path = make(folder)
-    return path, seen[0]
-
-
 def test_dh_report_shows_base_and_tool_and_they_rebuild_T(arm_file, tmp_path):
     robot = DHRobot.from_file(arm_file)
-    md_path, doc = _report_document(lambda f: dh_robot_report(robot, f, samples=200), tmp_path / "r")
+    md_path, doc = report_with_document(lambda f: dh_robot_report(robot, f, samples=200), tmp_path / "r")
     md = md_path.read_text()
     assert "## Forward kinematics T = base · T\\_0^2 · tool" in md
     assert "\\text{base} = \\begin{pmatrix}" in md and "\\text{tool} = \\begin{pmatrix}" in md

@@ -21,7 +21,7 @@ import sys
 import pytest
 
 from paths import ROOT
-from system_tools import require_tool
+from system_tools import headless_chromium, require_tool
 
 
 def _copy_sources(into):
@@ -80,8 +80,6 @@ def test_site_builds_and_shows_the_api_of_reach(tmp_path):
     of ``workspace_sym.reach`` shows the signature (the function's name and each parameter's name, as
     ``inspect.signature`` gives them) and a Parameters section that lists them."""
     require_tool("chromium", "chromedriver")
-    from selenium import webdriver
-    from selenium.webdriver.chrome.service import Service
     from selenium.webdriver.common.by import By
 
     from workspace_sym import reach
@@ -99,11 +97,7 @@ def test_site_builds_and_shows_the_api_of_reach(tmp_path):
     page = html / "api" / "generated" / "workspace_sym.reach.html"
     names = list(inspect.signature(reach).parameters)
 
-    options = webdriver.ChromeOptions()
-    options.binary_location = shutil.which("chromium")
-    for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage"):
-        options.add_argument(flag)
-    driver = webdriver.Chrome(service=Service(shutil.which("chromedriver")), options=options)
+    driver = headless_chromium()
     try:
         driver.get(page.as_uri())
         signature = driver.find_element(By.CSS_SELECTOR, "dl.py.function > dt.sig")

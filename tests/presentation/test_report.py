@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 from paths import DATA
-from system_tools import assert_compiles, require_tool
+from reports import report_with_document
+from system_tools import assert_compiles, headless_chromium, require_tool
 from workspace_sym import Pose, RunOn, StopAt, robots
 from workspace_sym.interval import pave
 from workspace_sym.numbers import fmt_bracket
@@ -53,36 +54,19 @@ def check_html(text: str, figures: int):
 HUMAN_ARM = (["0.186", "0.146", "0.108"], [-60, 0, -10], [120, 130, 25])     # Bastien 2018, Table 1 case iii
 
 
-def _report_with_document(make, folder):
-    """Run a report function and keep the Document it rendered (to read its cells as SymPy objects)."""
-    import workspace_sym.report as report
-
-    seen = []
-    write = report.Document.write
-
-    def keep(self, *args, **kwargs):
-        seen.append(self)
-        return write(self, *args, **kwargs)
-
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(report.Document, "write", keep)
-        path = make(folder)
-    return path, seen[0]
-
-
 @pytest.fixture(scope="module")
 def planar(tmp_path_factory):
     """The Table 1 iii report, written once for the tests below."""
     # a long command line with $ and ~ (it goes into the LaTeX verbatim-escaped and must break across lines)
     command = ("workspace-sym report chain --lengths=0.186,0.146,0.108 --lower=-60,0,-10 --upper=120,130,25 --out "
                + "/".join(["~/$HOME_long_directory_name"] * 6))
-    return _report_with_document(lambda f: planar_report(PlanarChain(*HUMAN_ARM), f, command=command),
+    return report_with_document(lambda f: planar_report(PlanarChain(*HUMAN_ARM), f, command=command),
                                  tmp_path_factory.mktemp("planar") / "r")
 
 
 @pytest.fixture(scope="module")
 def dh(tmp_path_factory):
-    return _report_with_document(lambda f: dh_robot_report(robots.build("glass-handling"), f, samples=2000),
+    return report_with_document(lambda f: dh_robot_report(robots.build("glass-handling"), f, samples=2000),
                                  tmp_path_factory.mktemp("dh") / "d")
 
 
@@ -158,7 +142,7 @@ def _reach_report(robot, folder, **options):
 
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(DHRobot, "reach", keep)
-        path, doc = _report_with_document(lambda f: dh_robot_report(robot, f, samples=500, **options), folder)
+        path, doc = report_with_document(lambda f: dh_robot_report(robot, f, samples=500, **options), folder)
     assert len(calls) == 1
     return path, doc, calls[0][1], calls[0][0]
 
@@ -344,14 +328,8 @@ def test_html_report_renders_in_chromium(planar, dh, reach2d, reach3d):
     """Headless Chromium loads each HTML report: every figure decodes (naturalWidth > 0) and every MathML
     element is laid out with a non-zero size."""
     require_tool("chromium", "chromedriver")
-    from selenium import webdriver
-    from selenium.webdriver.chrome.service import Service
 
-    options = webdriver.ChromeOptions()
-    options.binary_location = shutil.which("chromium")
-    for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage"):
-        options.add_argument(flag)
-    driver = webdriver.Chrome(service=Service(shutil.which("chromedriver")), options=options)
+    driver = headless_chromium()
     try:
         for md_path, figures in ((planar[0], 4), (dh[0], 1), (reach2d[0], 2), (reach3d[0], 3)):
             driver.get(md_path.with_suffix(".html").as_uri())

@@ -9,6 +9,7 @@ pdflatex's / chromium's own rendering of the files.
 import pytest
 
 from paths import DATA
+from system_tools import headless_chromium
 from workspace_sym.exercises import AREA_DIGITS, make_exercises
 from workspace_sym.grading import AnswerKey, accepted_range, tolerance_rule
 
@@ -247,17 +248,7 @@ def test_names_that_differ_in_case_or_blanks_are_reported(tmp_path, capsys):
 
 # ------------------------------------------------------------------------------ keys and reports that typeset
 def _chromium():
-    import shutil
-
-    from selenium import webdriver
-    from selenium.webdriver.chrome.service import Service
-
-    options = webdriver.ChromeOptions()
-    options.binary_location = shutil.which("chromium")
-    for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
-                 "--window-size=1000,1400"):
-        options.add_argument(flag)
-    return webdriver.Chrome(service=Service(shutil.which("chromedriver")), options=options)
+    return headless_chromium("--window-size=1000,1400")
 
 
 def test_the_key_typesets_its_mathematics(tmp_path):
