@@ -551,7 +551,8 @@ def test_attempt_sharing_the_enclosing_deadline_reports_that_budget_spent():
 @pytest.mark.slow
 def test_a_storm_of_nested_budgets_always_ends_and_leaves_no_state(tmp_path):
     """Nested budgets (a plain one, one held by a contextlib generator, a derivation, an attempt) with random
-    deadlines of 0 to 20 ms (50 ms before: as many expiries at random points, in less time) around SymPy calls
+    deadlines of 0 to 20 ms (50 ms before: as many expiries at random points, in less time), 200 blocks (400
+    before: each block is a fresh draw of four deadlines, so as many expiry orders in half the time), around SymPy calls
     that swallow every Exception: every block ends with at most a SymbolicBudgetError, and after each the process
     has no deadline, the default handler and no timer.  Run in a child process with a time limit, since the
     failure it guards against is a hang.  Reference: the process's state before."""
@@ -582,7 +583,7 @@ def test_a_storm_of_nested_budgets_always_ends_and_leaves_no_state(tmp_path):
                     pass
 
         rng = random.Random(1)
-        for i in range(400):
+        for i in range(200):
             try:
                 with symbolic.symbolic_budget(rng.uniform(0, 0.02), "outer"), held(rng.uniform(0, 0.02)):
                     with symbolic.derivation("derived", rng.uniform(0, 0.02)):
