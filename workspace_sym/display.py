@@ -46,7 +46,8 @@ from .symbolic import plain, textbook_form
 
 __all__ = ["textbook_form", "plain", "html_table", "figure_html", "expr_text", "mathml", "typeset",
            "register_notebook_display",
-           "to_html", "paving_html", "reach_map_html", "robot_html", "dextrous_html", "cube_html", "planar_chain_html", "boundary_html",
+           "to_html", "paving_html",
+           "reach_map_html", "robot_html", "dextrous_html", "cube_html", "planar_chain_html", "boundary_html",
            "arc_table_html", "MAX_3D_BOXES_SHOWN"]
 
 

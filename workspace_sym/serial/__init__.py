@@ -25,8 +25,8 @@ The engine builds on :mod:`workspace_sym.kinematics`, which does not import it: 
 from ..kinematics import ENGINES
 from .api import METHODS, Pose, ReachResult, reach, resolve_method
 from .model import ReachModel
-from .reachmap import ReachMap, reach_map
 from .pose import PoseConstraint, approach_constraint, orientation_constraint
+from .reachmap import ReachMap, reach_map
 from .stored import reach_problem
 from .tuning import DEFAULT, Tuning
 
