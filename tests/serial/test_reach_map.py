@@ -13,7 +13,7 @@ import pytest
 from reach_checks import wrist_arm_in_cone_at_50_digits
 from workspace_sym import robots
 from workspace_sym.errors import InvalidParameterError, WorkspaceError
-from workspace_sym.interval.driver import RunOn
+from workspace_sym.interval.driver import RunOn, StopAt
 from workspace_sym.kinematics import numeric_function
 from workspace_sym.serial.reachmap import (
     MAP_FORMAT,
@@ -87,6 +87,23 @@ def test_a_cell_covered_only_up_to_one_ulp_is_not_covered():
     gap[1, 0, 0] = np.nextafter(1.5, 2)
     covered = covered_cells(e, gap)
     assert covered[0].all() and not covered[1].any()
+
+
+def test_the_outside_of_the_root_counts_open_so_a_cell_touching_its_face_needs_the_face_covered():
+    # Reference: by construction: the root box [0.5, 2] x [0, 2] x [0, 2] (a point on its face x = 0.5 may be
+    # reached); the cells x in [0, 1] are covered by the open outside and an outer box [0.5, 1] x ..., which holds
+    # the face; an outer box from the next float after 0.5 leaves the face uncovered; a cell wholly below 0.5
+    # (x in [0, 0.25]) is covered by the open outside alone.
+    e = [np.array([0.0, 1.0, 2.0])] * 3
+    root = np.array([[0.5, 2.0], [0.0, 2.0], [0.0, 2.0]])
+    outer = np.array([[[0.5, 1.0], [0, 2], [0, 2]]], dtype=float)
+    assert covered_cells(e, outer, exterior=root)[0].all()
+    shifted = outer.copy()
+    shifted[0, 0, 0] = np.nextafter(0.5, 1)
+    assert not covered_cells(e, shifted, exterior=root)[0].any()
+    assert not covered_cells(e, np.zeros((0, 3, 2)), exterior=root)[0].any()
+    low = [np.array([0.0, 0.25, 2.0]), e[1], e[2]]
+    assert covered_cells(low, np.zeros((0, 3, 2)), exterior=root)[0].all()
 
 
 # soundness --------------------------------------------------------------------------------------------------------
@@ -193,9 +210,9 @@ def test_a_corrupted_or_truncated_map_is_refused(scara_map, tmp_path):
 
 
 def test_a_resumed_map_takes_its_finished_directions_and_refuses_another_problem(scara_map, tmp_path):
-    # Reference: the map built in one go; a checkpoint of another cone is refused naming it.
+    # Reference: the map built in one go (no time limit); a checkpoint of another cone is refused naming it.
     check = tmp_path / "run.ckpt.npz"
-    first = _quiet(robots.build("scara"), **SCARA, run=RunOn(resume=check))
+    first = _quiet(robots.build("scara"), **SCARA, run=RunOn(resume=check), stop=StopAt(time_limit=120))
     assert np.array_equal(first.codes, scara_map.codes) and check.is_file()
     again = _quiet(robots.build("scara"), **SCARA, run=RunOn(resume=check))
     assert np.array_equal(again.codes, scara_map.codes)

@@ -183,8 +183,9 @@ def _check_cone(cone) -> float:
 # the exact covering test
 
 
-def covered_cells(edges, boxes: np.ndarray) -> np.ndarray:
-    """Which cells of the grid ``edges`` are subsets of the union of the closed ``boxes``, decided exactly.
+def covered_cells(edges, boxes: np.ndarray, exterior: np.ndarray | None = None) -> np.ndarray:
+    """Which cells of the grid ``edges`` are subsets of the union of the closed ``boxes`` (and, with
+    ``exterior``, of the open outside of that box), decided exactly.
 
     The test compares floats and never computes one: a cell inside one box (``lo <= e_i``, ``e_{i+1} <= hi``
     on every axis) is covered; a cell overlapped by several boxes is split at the boxes' faces that cross it
@@ -198,6 +199,9 @@ def covered_cells(edges, boxes: np.ndarray) -> np.ndarray:
         The increasing cell edges on each axis (``n_a + 1`` floats).
     boxes : numpy.ndarray
         ``(N, 3, 2)`` closed boxes (infinite bounds allowed).
+    exterior : numpy.ndarray, optional
+        A closed ``(3, 2)`` box whose open outside counts as covered too (a point on its faces does not: a piece
+        touching a face is covered only when that face is, by the closed boxes).
 
     Returns
     -------
@@ -213,6 +217,9 @@ def covered_cells(edges, boxes: np.ndarray) -> np.ndarray:
     """
     shape = tuple(len(e) - 1 for e in edges)
     out = np.zeros(shape, dtype=bool)
+    if exterior is not None:                 # cells strictly outside the closed box: e_{i+1} < lo or e_i > hi
+        away = [(e[1:] < exterior[a, 0]) | (e[:-1] > exterior[a, 1]) for a, e in enumerate(edges)]
+        out |= away[0][:, None, None] | away[1][None, :, None] | away[2][None, None, :]
     boxes = np.asarray(boxes, dtype=float).reshape(-1, 3, 2)
     if not len(boxes):
         return out
@@ -256,6 +263,9 @@ def covered_cells(edges, boxes: np.ndarray) -> np.ndarray:
     overlap = np.prod(np.clip(np.minimum(cells[:, :, 1], boxes[owner, :, 1])
                               - np.maximum(cells[:, :, 0], boxes[owner, :, 0]), 0, None), axis=1)
     volume = np.prod(cells[:, :, 1] - cells[:, :, 0], axis=1)
+    if exterior is not None:                 # the part of the cell outside the box counts in the filter
+        overlap = overlap + (volume - np.prod(np.clip(np.minimum(cells[:, :, 1], exterior[:, 1])
+                                                      - np.maximum(cells[:, :, 0], exterior[:, 0]), 0, None), axis=1))
     order = np.argsort(flat, kind="stable")
     flat, owner, overlap, volume, cells = flat[order], owner[order], overlap[order], volume[order], cells[order]
     firsts = np.flatnonzero(np.r_[True, flat[1:] != flat[:-1]])
@@ -264,22 +274,38 @@ def covered_cells(edges, boxes: np.ndarray) -> np.ndarray:
     for begin, end, total in zip(firsts, ends, sums):
         if total < volume[begin] * (1 - 1e-9):      # the boxes miss a part of the cell (floats: only a filter)
             continue
-        if _split_covered(cells[begin], boxes[owner[begin:end]]):
+        if _split_covered(cells[begin], boxes[owner[begin:end]], exterior):
             out.ravel()[flat[begin]] = True
     return out
 
 
-def _split_covered(cell: np.ndarray, boxes: np.ndarray) -> bool:
-    """Whether the closed ``cell`` is a subset of the union of the closed ``boxes``: split at faces, no rounding."""
+def _split_covered(cell: np.ndarray, boxes: np.ndarray, exterior: np.ndarray | None = None) -> bool:
+    """Whether the closed ``cell`` is a subset of the union of the closed ``boxes`` and of the open outside of
+    ``exterior``: split at faces, no rounding.  A piece may be degenerate (a face, ``lo == hi`` on an axis)."""
     stack, pieces = [cell], 0
     while stack:
         c = stack.pop()
         pieces += 1
         if pieces > MAX_PIECES:
             return False
-        meet = ((boxes[:, :, 0] < c[:, 1]) & (boxes[:, :, 1] > c[:, 0])).all(axis=1)
+        if exterior is not None:
+            face = None
+            for a in range(3):
+                if c[a, 1] < exterior[a, 0] or c[a, 0] > exterior[a, 1]:
+                    face = "out"                 # strictly outside: covered
+                    break
+                if c[a, 1] == exterior[a, 0] or c[a, 0] == exterior[a, 1]:
+                    face = a                     # in the closed outside, touching the face: the face must be covered
+            if face == "out":
+                continue
+            if face is not None:
+                c = c.copy()
+                c[face] = exterior[face, 0] if c[face, 1] == exterior[face, 0] else exterior[face, 1]
+        flat = c[:, 0] == c[:, 1]
+        meet = (np.where(flat, boxes[:, :, 0] <= c[:, 1], boxes[:, :, 0] < c[:, 1])
+                & np.where(flat, boxes[:, :, 1] >= c[:, 0], boxes[:, :, 1] > c[:, 0])).all(axis=1)
         if not meet.any():
-            return False            # a piece of positive volume in no box
+            return False            # a piece in no box (of positive volume, or a face outside every box)
         near = boxes[meet]
         if ((near[:, :, 0] <= c[:, 0]) & (near[:, :, 1] >= c[:, 1])).all(axis=1).any():
             continue
@@ -298,17 +324,6 @@ def _split_covered(cell: np.ndarray, boxes: np.ndarray) -> bool:
     return True
 
 
-def _outside(root: np.ndarray) -> np.ndarray:
-    """The six closed slabs outside the box ``root`` (``(3, 2)``), as boxes with infinite bounds."""
-    slabs = []
-    for a in range(3):
-        for side in (0, 1):
-            slab = np.array([[-np.inf, np.inf]] * 3)
-            slab[a] = (-np.inf, root[a, 0]) if side == 0 else (root[a, 1], np.inf)
-            slabs.append(slab)
-    return np.array(slabs)
-
-
 # ---------------------------------------------------------------------------------------------------------------
 # one direction
 
@@ -320,7 +335,7 @@ def direction_codes(task, *, robot: DHRobot, parameters: tuple, cone: float, rea
     Parameters
     ----------
     task : numpy.ndarray
-        ``(1, 4)``: a direction's index and its unit vector.
+        ``(1, 4)``: a direction's index and its unit vector; ``(1, 5)``: also the paving's time limit.
     robot : DHRobot
         The robot.
     parameters : tuple
@@ -340,14 +355,14 @@ def direction_codes(task, *, robot: DHRobot, parameters: tuple, cone: float, rea
         ``index``, ``codes`` (``int8`` of the grid's shape), ``inside_root`` (the paving's root box inside the
         grid's box), ``seconds``, ``method`` and ``complete``.
     """
-    index, d = int(task[0, 0]), tuple(float(v) for v in task[0, 1:])
+    index, d = int(task[0, 0]), tuple(float(v) for v in task[0, 1:4])
     started = time.perf_counter()
     stop = StopAt(max_boxes=max_boxes, time_limit=None if task.shape[1] < 5 else float(task[0, 4]))
     result = reach(robot, delta=reach_delta, parameters=dict(parameters), pose=Pose(approach=d, cone=cone),
                    stop=stop, run=RunOn(progress=False))
     root = np.array([result.box.lower, result.box.upper], dtype=float).T
     inner = covered_cells(edges, result.inner)
-    outer = covered_cells(edges, np.concatenate([result.outer.reshape(-1, 3, 2), _outside(root)]))
+    outer = covered_cells(edges, result.outer.reshape(-1, 3, 2), exterior=root)
     codes = codes_from_masks(inner.ravel(), outer.ravel()).reshape(inner.shape)
     inside = bool(all(edges[a][0] <= root[a, 0] and root[a, 1] <= edges[a][-1] for a in range(3)))
     return {"index": index, "codes": codes, "inside_root": inside, "seconds": time.perf_counter() - started,
