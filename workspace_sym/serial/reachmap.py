@@ -156,7 +156,7 @@ def covering_angle(directions) -> float:
 def _directions(directions) -> np.ndarray:
     """``directions`` as ``(K, 3)`` unit vectors (a count, or an array of nonzero vectors)."""
     if isinstance(directions, (int, np.integer)) and not isinstance(directions, bool):
-        return sphere_directions(directions)
+        return sphere_directions(int(directions))
     try:
         d = np.array(directions, dtype=float)
     except (TypeError, ValueError):
@@ -289,14 +289,15 @@ def _split_covered(cell: np.ndarray, boxes: np.ndarray, exterior: np.ndarray | N
         if pieces > MAX_PIECES:
             return False
         if exterior is not None:
-            face = None
+            face: int | None = None
+            away = False
             for a in range(3):
                 if c[a, 1] < exterior[a, 0] or c[a, 0] > exterior[a, 1]:
-                    face = "out"                 # strictly outside: covered
+                    away = True                  # strictly outside: covered
                     break
                 if c[a, 1] == exterior[a, 0] or c[a, 0] == exterior[a, 1]:
                     face = a                     # in the closed outside, touching the face: the face must be covered
-            if face == "out":
+            if away:
                 continue
             if face is not None:
                 c = c.copy()
@@ -560,7 +561,7 @@ class ReachMap:
         if not (norms > 0).all():
             raise InvalidParameterError(f"approach: vector {int(np.argmin(norms))} is the zero vector; expected "
                                         "nonzero approach vectors", parameter="approach")
-        out = np.empty(len(p), dtype=CODE)
+        answer = np.empty(len(p), dtype=CODE)
         cos_c = math.cos(math.radians(self.cone))
         d32 = self.directions.astype(np.float32)
         outside_code = OUTSIDE if self.outside_proved else UNDECIDED
@@ -574,8 +575,8 @@ class ReachMap:
             held = best - ns * cos_c >= _RIM * ns
             index, inside = self.cells_of(p[at:at + _CHUNK])
             codes = self.codes[index[:, 0], index[:, 1], index[:, 2], k]
-            out[at:at + _CHUNK] = np.where(held, np.where(inside, codes, outside_code), UNDECIDED)
-        return out
+            answer[at:at + _CHUNK] = np.where(held, np.where(inside, codes, outside_code), UNDECIDED)
+        return answer
 
     def bounding_mask(self, box=None) -> np.ndarray:
         """The cells inside ``box`` (default: the arm's certified bounding box, ``info['root']``).
