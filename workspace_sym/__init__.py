@@ -47,7 +47,7 @@ _API: dict[str, tuple[str, str | None]] = {
                                                "numeric_function")},
     **{name: ("interval", name) for name in ("Box", "Certificate", "Paving", "certify_box", "hausdorff", "pave",
                                              "StopAt", "RunOn")},
-    **{name: ("serial", name) for name in ("reach", "Pose", "ReachResult", "Tuning")},
+    **{name: ("serial", name) for name in ("reach", "Pose", "ReachResult", "Tuning", "reach_map", "ReachMap")},
     **{name: ("planar", name) for name in ("Arc", "Boundary", "PlanarChain", "exact_arcs", "exact_area")},
     "Orthoglide": ("orthoglide", "Orthoglide"),
     "ConstraintModel": ("parallel", "ConstraintModel"), "rpr2": ("parallel", "rpr2"),
@@ -94,7 +94,7 @@ if TYPE_CHECKING:                       # what the names are, for type checkers 
     from .parallel import ConstraintModel, rpr2
     from .planar import Arc, Boundary, PlanarChain, exact_arcs, exact_area
     from .sampling import extent, reach_points, sample_joint_box, sweep_joints
-    from .serial import Pose, ReachResult, Tuning, reach
+    from .serial import Pose, ReachMap, ReachResult, Tuning, reach, reach_map
     from .symbolic import factor_trig, shorthand, textbook
     from .teaching import answers, exercises, grading
     from .teaching import checks as verify
@@ -113,7 +113,7 @@ __all__ = [
     "Boundary", "exact_arcs", "exact_area", "Arc", "PlanarChain",
     "Box", "Certificate", "Paving", "certify_box", "hausdorff", "pave", "StopAt", "RunOn",
     "Orthoglide", "ConstraintModel", "rpr2",
-    "reach", "Pose", "ReachResult", "Tuning",
+    "reach", "Pose", "ReachResult", "Tuning", "reach_map", "ReachMap",
     "verify", "answers", "grading", "exercises",
     "extent", "reach_points", "sample_joint_box", "sweep_joints",
     "factor_trig", "shorthand", "textbook",

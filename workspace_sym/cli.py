@@ -12,6 +12,7 @@ import json
 import os
 import sys
 import time
+import warnings
 from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -536,6 +537,90 @@ def cmd_reach(args) -> int:
     return _paving_status(args, paving)
 
 
+def cmd_reach_map(args) -> int:
+    from .files import check_output_file
+    from .interval.driver import StopAt
+    from .serial.reachmap import reach_map
+
+    robot = _robot_from_args(args)
+    out = check_output_file(args.map_out, "map_out")
+    stop = StopAt(max_boxes=args.max_boxes, time_limit=args.time_limit)
+    with _distributed(args) as run:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", UserWarning)
+            made = reach_map(robot, delta=args.delta, directions=args.directions, cone=args.cone,
+                             reach_delta=args.reach_delta, stop=stop, run=run)
+    for warning in caught:
+        print(f"workspace-sym reach-map: warning: {warning.message}", file=sys.stderr)
+    made.save(out)
+    summary = {**made.summary(), "out": str(out)}
+    if args.json:
+        _emit_json(summary)
+    else:
+        print(f"{robot.name}: {' x '.join(map(str, made.shape))} cells of side {made.delta:g} x "
+              f"{summary['directions']} directions (cones of {made.cone:g} deg, covering angle "
+              f"{summary['covering_angle']:.4g} deg) in {summary['seconds']:.1f} s")
+        print(f"pairs: {summary['reachable']} proved reachable, {summary['unreachable']} proved unreachable, "
+              f"{summary['undecided']} undecided; decided {100 * summary['decided_fraction']:.1f} % "
+              f"({100 * summary['decided_fraction_in_box']:.1f} % inside the bounding box)")
+    _wrote(out)
+    return 0
+
+
+def _vectors_csv(text_or_path: str, parameter: str):
+    """An (N, 3) array from a CSV file (x,y,z a line; a header line and # comments allowed) or one "X,Y,Z"."""
+    import numpy as np
+
+    from .files import read_text
+
+    if Path(text_or_path).is_file():
+        text = read_text(text_or_path, parameter, error=InvalidParameterError)
+    elif parameter == "approach":
+        text = text_or_path
+    else:
+        raise InvalidParameterError(f"{parameter}: {text_or_path!r} is not a file", parameter=parameter)
+    rows = []
+    for number, line in enumerate(text.splitlines(), 1):
+        line = line.split("#")[0].strip()
+        if not line:
+            continue
+        try:
+            rows.append([float(v) for v in line.split(",")])
+        except ValueError:
+            if rows or number > 1:
+                raise InvalidParameterError(f"{parameter}: line {number} ({line[:40]!r}) is not three numbers",
+                                            parameter=parameter) from None
+    if not rows or any(len(r) != 3 for r in rows):
+        raise InvalidParameterError(f"{parameter} must hold three numbers a line (x,y,z); got "
+                                    f"{len(rows)} lines", parameter=parameter)
+    return np.array(rows, dtype=float)
+
+
+def cmd_query(args) -> int:
+    from .serial.reachmap import ReachMap
+
+    try:
+        made = ReachMap.load(args.map)
+    except InvalidParameterError as exc:          # the file named by the positional argument, not a robot file
+        raise InvalidParameterError(str(exc).replace("path: ", "map: ", 1), parameter="map") from None
+    points = _vectors_csv(args.points, "points")
+    approach = None if args.approach is None else _vectors_csv(args.approach, "approach")
+    answer = made.query(points, approach=approach)
+    if args.json:
+        key = "codes" if approach is not None else "capability"
+        _emit_json({"map": str(args.map), "robot": made.info.get("robot"), "points": len(points),
+                    key: answer.tolist()})
+    elif approach is not None:
+        print("x,y,z,code")
+        for p, code in zip(points, answer):
+            print(f"{float(p[0])!r},{float(p[1])!r},{float(p[2])!r},{int(code)}")
+    else:
+        print("x,y,z,capability_lower,capability_upper")
+        for p, (lo, hi) in zip(points, answer):
+            print(f"{float(p[0])!r},{float(p[1])!r},{float(p[2])!r},{float(lo)!r},{float(hi)!r}")
+    return 0
+
+
 def _numbers(text: str, parameter: str, count: int, what: str) -> list:
     try:
         values = [float(v) for v in text.split(",")]
@@ -1021,6 +1106,27 @@ def build_parser() -> _Parser:
     p.add_argument("--plot", metavar="FILE", help="draw the boxes to an image file")
     p.set_defaults(func=cmd_reach)
 
+    p = sub.add_parser("reach-map", help="certified reachability map: cells x approach directions, each pair proved "
+                                         "reachable, proved unreachable or undecided",
+                       parents=[dh_robot, budget, progress, json_, spread])
+    p.add_argument("--delta", type=float, required=True, help="the cells' side, in the robot's units")
+    p.add_argument("--directions", type=int, default=26,
+                   help="number of approach directions (26: the cube's faces, edges and corners; default 26)")
+    p.add_argument("--cone", type=float, default=30.0, help="half-angle of each direction's cone, degrees (default 30)")
+    p.add_argument("--reach-delta", type=float, default=None, metavar="D",
+                   help="the delta of each direction's pose paving (default delta / 2)")
+    p.add_argument("--out", dest="map_out", required=True, metavar="FILE", help="the map's file (.npz)")
+    p.set_defaults(func=cmd_reach_map)
+
+    p = sub.add_parser("query", help="what a reachability map proved at points (with approach vectors or not)",
+                       parents=[json_])
+    p.add_argument("map", help="a map written by reach-map (.npz)")
+    p.add_argument("--points", required=True, metavar="FILE", help="CSV of points, x,y,z a line")
+    p.add_argument("--approach", metavar="FILE|AX,AY,AZ",
+                   help="CSV of approach vectors (one a point) or one vector for all: the code of each point's "
+                        "pair; without: the capability bracket")
+    p.set_defaults(func=cmd_query)
+
     p = sub.add_parser("dextrous", help="certified dextrous workspace (Orthoglide)",
                        parents=[sigma, progress, json_, spread])
     p.add_argument("robot", help="catalog model (orthoglide)")
@@ -1096,6 +1202,7 @@ _FLAGS: dict[str | None, str] = {
     "rpy": "--orientation",
     "base_link": "--base", "tip_link": "--tip", "out": "--out", "plot": "--plot", "slices": "--slices",
     "report": "--report", "prefix": "--prefix", "packages": "--package", "xacro_args": "--xacro-arg",
+    "directions": "--directions", "points": "--points", "map_out": "--out",
 }
 # Options naming a file to write (a figure) and a directory to fill (a report); checked before any work.
 _FIGURE_OPTIONS = ("plot", "slices")
@@ -1108,7 +1215,7 @@ def _error_line(args, exc: WorkspaceError) -> str:
     flag = _FLAGS.get(exc.parameter)
     if exc.parameter == "path":         # a DH, URDF or MJCF file: the option that named it (one at most is given)
         flag = next((f"--{dest}" for dest in _ROBOT_FILES if getattr(args, dest, None) is not None), None)
-    if flag is not None and flag[2:].replace("-", "_") in vars(args):
+    if flag is not None and (flag[2:].replace("-", "_") in vars(args) or exc.parameter in vars(args)):
         # "path: 'x.json' is not valid JSON" becomes "--dh: 'x.json' is not valid JSON"
         message = f"{flag}: {message.removeprefix(f'{exc.parameter}: ')}"
     return f"workspace-sym {args.command}: error: {message}"

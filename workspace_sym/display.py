@@ -40,13 +40,14 @@ import sympy as sp
 from .document import mathml_markup
 from .numbers import clean, fmt, fmt_bound, fmt_bracket, measure_text
 from .planar.arcs import degrees_text
-from .plotting import plot_boundary_loops, plot_paving, plot_paving_slices
+from .plotting import plot_boundary_loops, plot_paving, plot_paving_slices, plot_reach_map
 from .report import Equations
 from .symbolic import plain, textbook_form
 
 __all__ = ["textbook_form", "plain", "html_table", "figure_html", "expr_text", "mathml", "typeset",
            "register_notebook_display",
-           "to_html", "paving_html", "robot_html", "dextrous_html", "cube_html", "planar_chain_html", "boundary_html",
+           "to_html", "paving_html",
+           "reach_map_html", "robot_html", "dextrous_html", "cube_html", "planar_chain_html", "boundary_html",
            "arc_table_html", "MAX_3D_BOXES_SHOWN"]
 
 
@@ -287,6 +288,36 @@ def paving_html(result) -> str:
             + html_table(("boxes", "number", "measure"), rows) + picture)
 
 
+def reach_map_html(reach_map) -> str:
+    """What a notebook shows of a :class:`~workspace_sym.serial.reachmap.ReachMap`: its figures (pairs of each
+    verdict, the decided fractions, the cover of the sphere) and the capability's lower bound on the layer
+    ``z = 0`` (or the middle layer when 0 is outside the grid).
+
+    Parameters
+    ----------
+    reach_map : ReachMap
+        The map.
+
+    Returns
+    -------
+    str
+        HTML: the summary lines, the table of pairs, the picture.
+    """
+    s = reach_map.summary()
+    rows = [("proved reachable", s["reachable"]), ("proved unreachable", s["unreachable"]),
+            ("undecided", s["undecided"])]
+    lines = [f"{s['robot']}: {' x '.join(map(str, s['grid']['shape']))} cells of side {s['delta']} {s['units'] or ''}"
+             f" x {s['directions']} approach directions, cones of {s['cone']} deg (covering angle "
+             f"{fmt(s['covering_angle'] or 0, 4)} deg), built in {fmt(s['seconds'] or 0, 3)} s",
+             f"decided: {100 * s['decided_fraction']:.1f} % of the pairs, {100 * s['decided_fraction_in_box']:.1f} % "
+             f"inside the arm's bounding box; method {s['method']}"]
+    e = reach_map.edges[2]
+    z = 0.0 if e[0] <= 0.0 <= e[-1] else float((e[0] + e[-1]) / 2)
+    picture = figure_html(plot_reach_map(reach_map, axis="z", value=z), alt="reach map")
+    return ("<p>" + "<br/>".join(html.escape(t) for t in lines) + "</p>" + html_table(("pairs", "number"), rows)
+            + picture)
+
+
 def robot_html(robot) -> str:
     """A DH robot's table, limits in degrees, and its parameters (what a notebook shows of a ``DHRobot``).
 
@@ -443,6 +474,7 @@ _RESULTS = [("workspace_sym.kinematics", "DHRobot", robot_html),
             ("workspace_sym.interval.boxes", "Paving", paving_html),
             ("workspace_sym.interval.boxes", "StoredPaving", paving_html),
             ("workspace_sym.serial.api", "ReachResult", paving_html),
+            ("workspace_sym.serial.reachmap", "ReachMap", reach_map_html),
             ("workspace_sym.planar.chain", "PlanarChain", planar_chain_html),
             ("workspace_sym.planar.boundary", "Boundary", boundary_html),
             ("workspace_sym.planar.boundary", "ArcTable", arc_table_html)]

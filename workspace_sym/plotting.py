@@ -15,7 +15,8 @@ import numpy as np
 from .numbers import fmt, fmt_bracket
 
 __all__ = ["scatter_workspace_3d", "plot_reach", "plot_sweeps", "plot_paving", "plot_paving_slices", "save_figure",
-           "plot_planar_step", "plot_boundary_loops", "arc_label_positions", "paving_voxels", "slice_heights"]
+           "plot_planar_step", "plot_boundary_loops", "arc_label_positions", "paving_voxels", "slice_heights",
+           "plot_reach_map"]
 
 
 def _pyplot():
@@ -740,4 +741,54 @@ def plot_boundary_loops(boundary, *, ax=None, labels: bool = True, title=None, u
     _planar_axes(ax, units)
     _arc_legend(ax, {a.type for a in boundary.arcs})
     ax.set_title(title or f"boundary: {len(boundary.arcs)} arcs, area {fmt(boundary.area, 6, 'g')}")
+    return ax.figure
+
+
+def plot_reach_map(reach_map, *, axis: str = "z", value: float = 0.0, direction: int | None = None, ax=None,
+                   title=None):
+    """A layer of a :class:`~workspace_sym.serial.reachmap.ReachMap`: one direction's verdicts (green proved
+    reachable, grey undecided, white proved unreachable), or the lower bound of the certified capability index.
+
+    Parameters
+    ----------
+    reach_map : ReachMap
+        The map.
+    axis : {"x", "y", "z"}
+        The axis cut.
+    value : float
+        Where (within the grid).
+    direction : int, optional
+        A direction's index; None: the capability's lower bound (proved directions / K).
+    ax : matplotlib.axes.Axes, optional
+        Where to draw.
+    title : str, optional
+        The title (default: what is drawn).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure; its image is ``fig.axes[0].images[0]``.
+    """
+    layer = reach_map.slice(axis, value, direction)
+    a = "xyz".index(axis)
+    others = [i for i in range(3) if i != a]
+    edges = reach_map.edges
+    ax = _axes(ax, (5.5, 4.5))
+    extent = (edges[others[0]][0], edges[others[0]][-1], edges[others[1]][0], edges[others[1]][-1])
+    units = reach_map.units
+    if direction is None:
+        image = ax.imshow(layer.T, origin="lower", extent=extent, vmin=0, vmax=1, cmap="viridis",
+                          interpolation="nearest")
+        ax.figure.colorbar(image, ax=ax, label="proved directions / K")
+        what = "certified capability (lower bound)"
+    else:
+        from matplotlib.colors import ListedColormap
+
+        ax.imshow(layer.T.astype(float), origin="lower", extent=extent, vmin=-1, vmax=1, interpolation="nearest",
+                  cmap=ListedColormap(["#ffffff", "#bbbbbb", "#2ca02c"]))
+        d = reach_map.directions[direction]
+        what = f"approach within {fmt(reach_map.cone, 3)} deg of ({', '.join(fmt(v, 3) for v in d)})"
+    ax.set_xlabel(_label("xyz"[others[0]], units))
+    ax.set_ylabel(_label("xyz"[others[1]], units))
+    ax.set_title(title or f"{what}, {axis} = {fmt(value, 4)}", fontsize="medium")
     return ax.figure

@@ -261,3 +261,54 @@ def check_sampled_and_reached(robot, paving, *, samples: int, seed: int, chunk: 
         assert not in_any_box(pos, paving.outer[k:k + chunk]).any()
     for box in paving.inner[rng.integers(len(paving.inner), size=4)]:
         assert reached_at_50_digits(model, rng.uniform(box[:, 0], box[:, 1]), q, pos), box
+
+
+def wrist_arm_in_cone_at_50_digits(robot, target, direction, cone_deg, rng, starts=300):
+    """A configuration of an arm whose last three joints do not move the tool point (the Puma 560) putting the
+    tool point at ``target`` with the approach axis (z of the tool frame) within ``cone_deg`` of ``direction``, at
+    50 digits and within the limits; None if none is found.  Float search: the position by least squares in the
+    first three joints from random starts, then a wrist among random ones whose approach is in the cone (a
+    margin of 1e-6); then mpmath ``findroot`` on the position in the three arm joints at 50 digits, the wrist
+    kept, and every condition checked again at 50 digits."""
+    T = robot.substitute(robot.fk())
+    q = robot.q
+    position = sp.lambdify(q, list(T[:3, 3]), modules="mpmath")
+    approach = sp.lambdify(q, list(T[:3, 2]), modules="mpmath")
+    p_float = sp.lambdify(q, list(T[:3, 3]), modules="numpy")
+    j_float = sp.lambdify(q, T[:3, 3].jacobian(q), modules="numpy")
+    a_float = sp.lambdify(q, list(T[:3, 2]), modules="numpy")
+    d = np.asarray(direction, dtype=float) / np.linalg.norm(direction)
+    cos_c = np.cos(np.radians(cone_deg))
+    lim = robot.joint_limits()
+    for _ in range(starts):
+        q0 = rng.uniform(lim[:, 0], lim[:, 1])
+        for _ in range(30):
+            J = np.array(j_float(*q0), dtype=float)
+            q0 = np.clip(q0 - np.linalg.lstsq(J, np.array(p_float(*q0), dtype=float) - target, rcond=None)[0],
+                         lim[:, 0], lim[:, 1])
+        if np.linalg.norm(np.array(p_float(*q0), dtype=float) - target) > 1e-8:
+            continue
+        wrists = rng.uniform(lim[3:, 0], lim[3:, 1], size=(2000, 3))
+        a = np.stack([np.broadcast_to(np.asarray(c, dtype=float), (2000,))
+                      for c in a_float(*q0[:3], *wrists.T)], 1)
+        good = np.nonzero(a @ d >= cos_c + 1e-6)[0]
+        if not len(good):
+            continue
+        q0[3:] = wrists[good[0]]
+        with mpmath.workdps(50):
+            wrist = [mpmath.mpf(float(v)) for v in q0[3:]]
+            goal = [mpmath.mpf(float(v)) for v in target]
+            try:
+                arm = mpmath.findroot(lambda *x, w=wrist, y=goal: [p - g for p, g in zip(position(*x, *w), y)],
+                                      [mpmath.mpf(float(v)) for v in q0[:3]])
+            except (ValueError, ZeroDivisionError):
+                continue
+            full = [arm[i] for i in range(3)] + wrist
+            residual = max(abs(p - g) for p, g in zip(position(*full), goal))
+            within = all(mpmath.mpf(float(lim[i, 0])) <= full[i] <= mpmath.mpf(float(lim[i, 1])) for i in range(6))
+            dd = [mpmath.mpf(float(v)) for v in direction]
+            dot = sum(x * y for x, y in zip(approach(*full), dd))
+            if residual < mpmath.mpf(10) ** -40 and within and dot >= mpmath.sqrt(sum(v * v for v in dd)) * mpmath.cos(
+                    mpmath.radians(mpmath.mpf(float(cone_deg)))):
+                return full
+    return None

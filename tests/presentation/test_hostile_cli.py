@@ -82,6 +82,10 @@ CASES = [
     (["demo", "--out", "{file}/d"], "--out: cannot write '{file}/d': '{file}' is not a directory"),
     (["codegen", "planar-3r", "--out", "{file}"], "--out: cannot write into '{file}': it is a file, not a directory"),
     (["codegen", "--dh", "{deep}", "--out", "{tmp}/c"], "--dh: '{deep}' is not valid JSON (nested too deeply)"),
+    (["reach-map", "scara", "--delta", "0.2", "--out", "{file}/m.npz"], "--out: cannot write '{file}/m.npz'"),
+    (["reach-map", "--dh", "{deep}", "--delta", "0.2", "--out", "{tmp}/m.npz"], "--dh: '{deep}' is not valid JSON"),
+    (["query", "{deep}", "--points", "{answers}"], "map: '{deep}' is not a reach map"),
+    (["query", "{tmp}/missing.npz", "--points", "{answers}"], "map: '{tmp}/missing.npz' is not a reach map"),
 ]
 
 

@@ -15,7 +15,8 @@ steps: pave a section or cells, decide the task boxes, prove the volume.  The ro
 * :mod:`.pose`: constraints on the tool frame (an approach cone, a constant orientation) and their models;
 * :mod:`.stored`: the fingerprint of a run's whole problem, and the section kept beside a checkpoint;
 * :mod:`.plans`: the plans, and which a robot gets;
-* :mod:`.api`: :func:`reach`, :class:`Pose`, :class:`ReachResult`.
+* :mod:`.api`: :func:`reach`, :class:`Pose`, :class:`ReachResult`;
+* :mod:`.reachmap`: certified reachability maps (:func:`reach_map`, :class:`ReachMap`), one pose run a direction.
 
 The engine builds on :mod:`workspace_sym.kinematics`, which does not import it: importing this package registers
 :func:`reach` in :data:`workspace_sym.kinematics.ENGINES`, where ``DHRobot.reach`` finds it.
@@ -25,10 +26,12 @@ from ..kinematics import ENGINES
 from .api import METHODS, Pose, ReachResult, reach, resolve_method
 from .model import ReachModel
 from .pose import PoseConstraint, approach_constraint, orientation_constraint
+from .reachmap import ReachMap, reach_map
 from .stored import reach_problem
 from .tuning import DEFAULT, Tuning
 
 __all__ = ["reach", "Pose", "ReachResult", "Tuning", "DEFAULT", "resolve_method", "METHODS", "ReachModel",
-           "PoseConstraint", "approach_constraint", "orientation_constraint", "reach_problem"]
+           "PoseConstraint", "approach_constraint", "orientation_constraint", "reach_problem",
+           "reach_map", "ReachMap"]
 
 ENGINES["reach"] = reach
