@@ -57,7 +57,7 @@ test-fast: $(VENV)/.installed-test lint
 # Property tests with fresh random examples (the suite's own are the same on every run): a hunt, not a gate.
 explore: $(VENV)/.installed-test
 	HYPOTHESIS_PROFILE=explore $(BIN)/python -m pytest $(XDIST) -m "not slow" $(PYTEST_ARGS) \
-		$$(grep -l "@given" tests/*.py)
+		$$(grep -rl "@given" tests)
 
 lint: $(VENV)/.installed-test
 	$(BIN)/ruff check .
