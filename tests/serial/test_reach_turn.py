@@ -120,9 +120,9 @@ def test_a_budget_of_boxes_stops_the_limited_section_at_its_shares(limited_pavin
     """``StopAt(section_boxes=...)`` on the swing arm: the section's stages stop at the shares of the budget
     that they take of a time limit (the proofs at the four directions at ``DIRECTIONS_SHARE``, the blocks at
     ``Tuning.blocks_end``, the step under way ending first: ``pave_limited`` with 3000 boxes evaluates between 92 %
-    of them and one chunk more), on the same cells every run (two runs of reach stopped at 300 give the same
-    boxes, 2500 of them on the cells a budget picks, ``turn.budgeted_width``); fewer cells are proved than without the budget and what is
-    proved is still sound: sampled configurations never in an outer box, inner points reached at 50 digits,
+    of them and one chunk more), on the same cells every run (two runs of reach stopped at 2500 give the same
+    boxes, on the cells a budget picks: ``turn.budgeted_width``); fewer cells are proved than without the budget
+    and what is proved is still sound: sampled configurations never in an outer box, inner points reached at 50 digits,
     the bracket holds the Monte Carlo volume with arcs (second method)."""
     robot, free = limited_paving
     turn = limited_turn(structure_of(robot, ()), reach_model(robot, ()))
