@@ -869,7 +869,7 @@ class ElbowReach:
         out[:, 1] = E[:, 2]
         return out
 
-    def cover(self, width: float, max_boxes: int = 4096) -> np.ndarray:
+    def cover(self, width: float, max_boxes: int = 512) -> np.ndarray:
         """Rectangles of ``(rho_E, z_E)`` over a cover of the joint box of ``q_E`` by boxes halved (along the
         joint that moves ``E`` most, from the Jacobian's enclosure) until each rectangle is at most ``width``
         wide or the boxes would be more than ``max_boxes``; kept per width.  Any cover of the joint box keeps
