@@ -517,8 +517,8 @@ def pieces_upper(reach, grid, classes: np.ndarray, pieces: int = DEFAULT.shoulde
         rest = np.nonzero(kept.any(axis=(1, 2)) & ~elbow.within(*edges, grid.width))[0]
         if len(rest):
             shape = kept[rest].shape
-            far = elbow.outside(*(np.broadcast_to(x[rest], shape) for x in (r0, r1, z0, z1)), grid.width,
-                                tolerance)
+            b0, b1, c0, c1 = (np.broadcast_to(x[rest], shape) for x in (r0, r1, z0, z1))
+            far = elbow.outside(b0, b1, c0, c1, grid.width, tolerance)
             kept[rest] &= ~far
     shape = kept.shape
     vol = solid_volumes(*(np.broadcast_to(x, shape)[kept] for x in (r0, r1, z0, z1)))[1]
