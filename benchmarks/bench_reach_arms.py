@@ -10,10 +10,13 @@ estimate, no bound).
 
 Arms: UR5 (``tests/data/dh/ur5.json``), KUKA KR16 (rtb-data's ``kr16_2.urdf``, limits from the file), the
 glass-handling arm and the Puma 560 of the catalog (the constant-offset section, for the before/after check);
-named only: ``iiwa`` (rtb-data's ``lbr_iiwa_14_r820.urdf``) and ``panda`` (``tests/data/dh/panda.json``), whose
-first joint is limited (reach_turn): their reference is the sampled section with the arcs of theta_1 (``arcs``).
+named only: ``iiwa`` (rtb-data's ``lbr_iiwa_14_r820.urdf``), ``panda`` (``tests/data/dh/panda.json``) and
+``panda8`` (rtb-data's ``panda_arm.urdf.xacro`` to ``panda_link8``; its loading, about 10 s, is not counted),
+whose first joint is limited (reach_turn): their reference is the sampled section with the arcs of theta_1
+(``arcs``); each at delta 0.1, 0.05 and 0.025 within 120 s (issue 41 item 2: a finer delta never wider).
 
-Run: python benchmarks/bench_reach_arms.py [--quick] [ARM ...]   (e.g. ``iiwa panda``)
+Run: python benchmarks/bench_reach_arms.py [--quick] [ARM ...]   (e.g. ``iiwa panda``), or one line:
+python benchmarks/bench_reach_arms.py ARM DELTA LIMIT
 """
 
 import datetime
@@ -29,8 +32,11 @@ sys.path.insert(0, str(ROOT / "tests" / "helpers"))
 from reach_checks import industrial_arm, sampled_arcs_volume  # noqa: E402  (the tests' arms and reference)
 
 ARMS = {"ur5": [(0.2, 60), (0.1, 60)], "kr16": [(0.1, 120)], "glass": [(0.0125, 60)], "puma": [(0.02, 60)],
-        "iiwa": [(0.1, 60), (0.1, 300)], "panda": [(0.1, 60), (0.1, 300)]}
-LIMITED = ("iiwa", "panda")     # first joint limited (340 and 332 deg): run only when named
+        "iiwa": [(0.1, 120), (0.05, 120), (0.025, 120)], "panda": [(0.1, 120), (0.05, 120), (0.025, 120)],
+        "panda8": [(0.1, 120), (0.05, 120)]}
+LIMITED = ("iiwa", "panda", "panda8")     # first joint limited (340 and 332 deg): run only when named
+# Issue 41 item 2: the Panda as rtb-data's xacro describes it, to the flange (tip panda_link8, no hand)
+PANDA_XACRO = ("qut_frankie_description", "robots/panda_arm.urdf.xacro")
 
 
 def load(name):
@@ -38,6 +44,13 @@ def load(name):
 
     if name in ("ur5", "kr16", "iiwa", "panda"):
         return industrial_arm(name)
+    if name == "panda8":
+        import rtbdata
+
+        from workspace_sym.kinematics import DHRobot
+
+        package = Path(rtbdata.__file__).parent / "xacro" / PANDA_XACRO[0]
+        return DHRobot.from_urdf(package / PANDA_XACRO[1], tip_link="panda_link8", packages={PANDA_XACRO[0]: package})
     return robots.build({"glass": "glass-handling", "puma": "puma560"}[name])
 
 
@@ -116,7 +129,7 @@ def one(name, delta, limit):
 
 def main():
     args = [a for a in sys.argv[1:] if not a.startswith("--")]
-    if len(args) == 3 and args[0] in ARMS:              # child process: one arm
+    if len(args) == 3 and args[0] in ARMS and args[1].replace(".", "", 1).isdigit():     # child: one arm
         one(args[0], float(args[1]), float(args[2]))
         return
     from _common import machine

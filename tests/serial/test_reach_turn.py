@@ -120,9 +120,9 @@ def test_a_budget_of_boxes_stops_the_limited_section_at_its_shares(limited_pavin
     """``StopAt(section_boxes=...)`` on the swing arm: the section's stages stop at the shares of the budget
     that they take of a time limit (the proofs at the four directions at ``DIRECTIONS_SHARE``, the blocks at
     ``Tuning.blocks_end``, the step under way ending first: ``pave_limited`` with 3000 boxes evaluates between 92 %
-    of them and one chunk more), on the same cells every run (two runs of reach stopped at 300 give the same
-    boxes: the first chunk of proofs runs whole); fewer cells are proved than without the budget and what is
-    proved is still sound: sampled configurations never in an outer box, inner points reached at 50 digits,
+    of them and one chunk more), on the same cells every run (two runs of reach stopped at 2500 give the same
+    boxes, on the cells a budget picks: ``turn.budgeted_width``); fewer cells are proved than without the budget
+    and what is proved is still sound: sampled configurations never in an outer box, inner points reached at 50 digits,
     the bracket holds the Monte Carlo volume with arcs (second method)."""
     robot, free = limited_paving
     turn = limited_turn(structure_of(robot, ()), reach_model(robot, ()))
@@ -130,7 +130,7 @@ def test_a_budget_of_boxes_stops_the_limited_section_at_its_shares(limited_pavin
     width = DEFAULT.section_ratio * cell_width(0.25, "diameter", 3)
     _, _, pieces, evaluated, reason = pave_limited(turn, width, _Free(), boxes=budget)
     assert reason == "" and DEFAULT.blocks_end * budget <= evaluated < budget + DEFAULT.direction_chunk
-    cut = paved_alike_twice(robot, 0.25, StopAt(section_boxes=300))
+    cut = paved_alike_twice(robot, 0.25, StopAt(section_boxes=2500))      # cells of budgeted_width
     assert cut.complete and 0 < len(cut.inner) < len(free.inner) and len(cut.outer)
     lo, hi = cut.measure_bounds
     assert lo < free.measure_bounds[0] and lo <= sampled_arcs_volume(robot, 400_000, 0.01) <= hi
@@ -261,3 +261,73 @@ def test_directions_resume_where_they_stopped():
     again, total, stopped = prove_directions(section.lateral, grid, every, sampled=sampled, state=state,
                                              evaluated=first, depth=1)
     assert stopped == "" and np.array_equal(again, whole) and total == tests
+
+
+def _short_shoulder_arm():
+    """The swing arm with its shoulder (joint 2) within +-60 deg: the elbow sweeps an arc of the circle of
+    radius 1/2 about the shoulder, so the distance from the elbow (at most 0.6 to the tool) cuts the section
+    where the distance from the shoulder (0.3 to 1.1) does not."""
+    return DHRobot([DHJoint.revolute(1, d=R(3, 10), alpha=sp.pi / 2, limits=IIWA_LIKE),
+                    DHJoint.revolute(2, a=R(1, 2), alpha=sp.pi / 2, limits=(-sp.pi / 3, sp.pi / 3)),
+                    DHJoint.revolute(3, a=R(2, 5), alpha=sp.pi / 2),
+                    DHJoint.revolute(4, a=R(1, 5))], name="swing arm, shoulder +-60 deg")
+
+
+def _at_limits(model, n, rng):
+    """``n`` configurations within the limits, each joint at one of its limits with probability 1/3 (the
+    section's boundary comes from the limits: the edge the elbow's bound must not cross)."""
+    q = model.random_configurations(n, rng)
+    limits = model.limits
+    for j in range(q.shape[1]):
+        if not model.periodic[j]:
+            pick = rng.integers(3, size=n)
+            q[pick == 0, j], q[pick == 1, j] = limits[j, 0], limits[j, 1]
+    return q
+
+
+def test_the_elbow_s_distance_proves_outside_only_what_no_configuration_reaches():
+    """The distance from the elbow (``section.ElbowReach``, docs/methods.md section 5): on the swing arm with a
+    shoulder of +-60 deg, the elbow is the origin of the frame on joint 3's axis (a function of theta2 only), the
+    squared distance from it to the tool of theta4 only (joint 3 turns about an axis through the elbow), at most
+    0.36 (0.4 + 0.2 squared, exact, within 0.01).  Independent
+    numerics, aimed at the edge: 10^5 configurations, a third of their joints at a limit, never lie in a
+    rectangle (a point, or a square of side 10^-3 around it) the bound proves outside, nor in a cell of the
+    section that ``pave_limited`` makes outer; and the bound proves cells outside that the shoulder's distance
+    leaves (the side the shoulder cannot turn to)."""
+    robot = _short_shoulder_arm()
+    model = reach_model(robot, ())
+    turn = limited_turn(structure_of(robot, ()), model)
+    elbow = turn.elbow
+    assert elbow is not None and [str(v) for v in elbow.map.variables] == ["theta2"]
+    assert [str(v) for v in elbow.distance.map.variables] == ["theta4"]
+    assert 0.36 <= elbow.distance.bound(1e-3) <= 0.37
+    section = turn.plan.section
+    w = section.lateral.position_float(_at_limits(section.lateral, 100_000, np.random.default_rng(21)))
+    rho, z = np.hypot(w[:, 0], w[:, 1]), w[:, 2]
+    for pad in (0.0, 5e-4):
+        assert not elbow.outside(rho - pad, rho + pad, z - pad, z + pad, 0.02).any()
+    grid, classes, _, _, reason = pave_limited(turn, 0.02, _Stopped())
+    assert reason == "stopped"
+    cells, _ = grid.span(np.stack([np.stack([rho, rho], axis=1), np.stack([z, z], axis=1)], axis=1))
+    assert not (classes[cells[:, 0], cells[:, 1]] == OUTER).any()
+    e0, e1 = grid.edges
+    shoulder = section.reach.outside_cells(grid)
+    by_elbow = elbow.outside(e0[:-1, None], e0[1:, None], e1[None, :-1], e1[None, 1:], grid.width)
+    assert (by_elbow & ~shoulder).sum() > 100 and np.all(classes[by_elbow] == OUTER)
+
+
+def test_a_finer_delta_within_the_same_budget_gives_the_same_section_bracket():
+    """A budget of section boxes (``StopAt(section_boxes=...)``, the same cells on every machine) picks the
+    section's cells whatever ``delta`` (``turn.budgeted_width``): the short-shoulder swing arm at delta 0.25 and
+    0.125 proves the same volume bracket, so the finer run's bracket is never wider; it holds the Monte Carlo
+    volume of the sampled section with its arcs (second method) and 3 10^4 sampled configurations never land
+    in an outer box of the finer run (independent numerics)."""
+    robot = _short_shoulder_arm()
+    stop = StopAt(section_boxes=800)
+    coarse, fine = (reach(robot, delta=delta, stop=stop) for delta in (0.25, 0.125))
+    assert coarse.volume_bounds == fine.volume_bounds
+    (a, b), (c, d) = coarse.measure_bounds, fine.measure_bounds
+    assert d - c <= b - a
+    volume = sampled_arcs_volume(robot, 200_000, 0.01)
+    assert a <= volume <= b and c <= volume <= d
+    check_sampled_and_reached(robot, fine, samples=30_000, seed=17)

@@ -41,7 +41,7 @@ from .section import Turned, TurnedTest, section_bar, section_paving, turned_vol
 from .stored import reach_problem, save_section, saved_section
 from .structure import Product, Revolved, structure_of
 from .tuning import DEFAULT, Tuning
-from .turn import LimitedTurnTest, limited_turn, limited_volume, pave_limited
+from .turn import LimitedTurnTest, budgeted_width, limited_turn, limited_volume, pave_limited
 
 __all__ = ["Section", "Plan", "CellsPlan", "SectionPlan", "PairsPlan", "PoseSectionPlan", "PosePairsPlan",
            "choose_plans", "pose_plan", "on_cells", "POSE_CHUNK_PAIRS"]
@@ -335,6 +335,8 @@ class SectionPlan(Plan):
         model, plan, tuning = self.model, self.structure, self.tuning
         _, box = _root_box(model)
         width = tuning.section_ratio * cell_width(self.delta, self.size, 3)
+        if self.limited is not None and (budget.time_limit is not None or budget.section_boxes is not None):
+            width = budgeted_width(self.limited, tuning)    # the same section whatever delta (reach.turn)
         grid, classes, evaluated, reason = None, None, 0, ""
         volume, pieces, proved = None, None, None
         self.problem = {**self.problem, "method": f"critical ({type(plan).__name__})",

@@ -72,7 +72,7 @@ from .tuning import DEFAULT, Tuning
 
 __all__ = ["Pieces", "RadialMap", "SquareMap", "ShoulderReach", "Turned", "turned", "first_joint_turn",
            "shoulder_distance", "to_first_frame", "TurnedTest", "section_bar", "section_paving", "in_chunks", "blocks",
-           "solid_volumes", "turned_volume", "REACH_SIMPLIFY_OPS"]
+           "solid_volumes", "turned_volume", "REACH_SIMPLIFY_OPS", "ElbowReach", "elbow_reach"]
 
 
 def _square_boxes(T: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -811,6 +811,225 @@ def _shoulder_reach(model, B, at_zero, joint: int) -> ShoulderReach | None:
     rows = [model.variables.index(q) for q in variables]
     return ShoulderReach(h, variables, [model.exact_limits[r] for r in rows], model.periodic[rows],
                          (sp.sqrt(S[0] ** 2 + S[1] ** 2), S[2]))
+
+
+class ElbowReach:
+    """An outer bound of the section from the distance to the elbow ``E``, a point that moves with the joints
+    before it (docs/methods.md section 5, "the elbow's reach").
+
+    ``E(q_E)`` is the origin of the frame on the axis of the elbow joint (the first joint after the shoulder
+    whose axis misses ``S``), in the frame of the first joint at ``theta_1 = 0``, a function of the joints
+    ``q_E`` before the elbow; ``h_E = |w - E|^2`` is the squared distance from it to the tool point, a function
+    of the joints after it (:func:`shoulder_distance` at the elbow joint), bounded above by ``H_E``
+    (:meth:`ShoulderReach.bound`).  A configuration whose point has section coordinates ``(rho, z)`` has
+    ``(rho - rho_E)^2 + (z - z_E)^2 <= |w - E|^2 <= H_E`` with ``rho_E = |E_xy|`` (the triangle inequality in
+    the plane ``xy``: ``|w_xy - E_xy| >= | |w_xy| - |E_xy| |``).  So a rectangle of ``(rho, z)`` farther than
+    ``sqrt(H_E)`` from every rectangle enclosing ``(rho_E, z_E)`` over the boxes of a cover of the joint box of
+    ``q_E`` (:meth:`cover`: outward-rounded enclosures) holds no point of the section.
+
+    Parameters
+    ----------
+    point : sequence of sympy.Expr
+        ``E = (E_x, E_y, E_z)`` in ``point_variables``.
+    point_variables : sequence of sympy.Symbol
+        The joints ``E`` depends on.
+    point_limits, point_periodic : sequence
+        Their limits and periodicity (as for :class:`~workspace_sym.interval.image.ImageMap`).
+    distance : ShoulderReach
+        ``h_E`` (only its :meth:`~ShoulderReach.bound` is used).
+    """
+
+    def __init__(self, point, point_variables, point_limits, point_periodic, distance: ShoulderReach):
+        self.map = ImageMap(list(point), point_variables, point_limits, point_periodic)
+        self.distance = distance
+        self._cover: dict = {}
+
+    def rectangles(self, Q: np.ndarray) -> np.ndarray:
+        """``(N, 2, 2)`` rectangles enclosing ``(rho_E, z_E)`` over the joint boxes ``Q`` (outward-rounded).
+
+        Parameters
+        ----------
+        Q : numpy.ndarray
+            ``(N, k, 2)`` boxes of the joints ``E`` depends on.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, 2, 2)``: ``rho_E`` then ``z_E`` (``[-inf, inf]``, or ``[0, inf]`` for ``rho_E``, where an
+            enclosure fails).
+        """
+        E = self.map.enclose(Q)
+        with np.errstate(all="ignore"):
+            x2, y2 = arith.sqr((E[:, 0, 0], E[:, 0, 1])), arith.sqr((E[:, 1, 0], E[:, 1, 1]))
+            r2 = arith.add(x2, y2)
+            rho = arith.sqrt((np.maximum(r2[0], 0.0), r2[1]))      # rho_E^2 >= 0: clipping is exact
+        out = np.empty((len(Q), 2, 2))
+        out[:, 0, 0] = np.where(np.isnan(rho[0]), 0.0, rho[0])
+        out[:, 0, 1] = np.where(np.isnan(rho[1]), np.inf, rho[1])
+        out[:, 1] = E[:, 2]
+        return out
+
+    def cover(self, width: float, max_boxes: int = 512) -> np.ndarray:
+        """Rectangles of ``(rho_E, z_E)`` over a cover of the joint box of ``q_E`` by boxes halved (along the
+        joint that moves ``E`` most, from the Jacobian's enclosure) until each rectangle is at most ``width``
+        wide or the boxes would be more than ``max_boxes``; kept per width.  Any cover of the joint box keeps
+        the bound sound; a finer one makes it tighter.
+
+        Parameters
+        ----------
+        width : float
+            The widest rectangle sought.
+        max_boxes : int
+            Boxes at most.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, 2, 2)`` rectangles.
+        """
+        if width in self._cover:
+            return self._cover[width]
+        Q = self.map.limits[None].copy()
+        done = np.empty((0,) + Q.shape[1:])
+        while len(Q):
+            R = self.rectangles(Q)
+            wide = np.max(R[:, :, 1] - R[:, :, 0], axis=1) > width
+            done, Q = np.concatenate([done, Q[~wide]]), Q[wide]
+            if not len(Q) or len(done) + 2 * len(Q) > max_boxes:
+                break
+            J = self.map.jacobian_enclosure(Q)
+            effect = np.zeros(Q.shape[:2])
+            for row in J:
+                for j, (lo, hi) in enumerate(row):
+                    slope = np.nan_to_num(np.maximum(np.abs(lo), np.abs(hi)), nan=np.inf)
+                    effect[:, j] += slope * (Q[:, j, 1] - Q[:, j, 0])
+            children, ok = halves(Q, np.argmax(effect, axis=1))
+            done = np.concatenate([done, Q[~ok]])
+            Q = children.reshape(-1, 2, *Q.shape[1:])[ok].reshape(-1, *Q.shape[1:])
+        self._cover[width] = self.rectangles(np.concatenate([done, Q]))
+        return self._cover[width]
+
+    def outside(self, r0, r1, z0, z1, width: float, tolerance: float = DEFAULT.reach_tolerance,
+                chunk: int = 2_000_000) -> np.ndarray:
+        """Mask of the rectangles ``[r0, r1] x [z0, z1]`` (arrays broadcast together) proved outside the section
+        by the distance from the elbow (class docstring): the squared distance from each to every rectangle of
+        :meth:`cover` (at ``width``), bounded below with outward rounding, exceeds ``H_E`` (sought within
+        ``tolerance`` times ``width`` times the greatest distance, as :meth:`ShoulderReach.outside`).
+
+        Parameters
+        ----------
+        r0, r1, z0, z1 : numpy.ndarray
+            The rectangles' edges.
+        width : float
+            The width the tolerance and the cover are counted in (a cell's, or a piece's).
+        tolerance : float
+            The tolerance, in widths.
+        chunk : int
+            Rectangle-and-cover pairs compared at once.
+
+        Returns
+        -------
+        numpy.ndarray
+            Booleans of the broadcast shape.
+        """
+        root = self.distance.enclose(self.distance.map.limits[None])[1][0]
+        bound = self.distance.bound(tolerance * width * math.sqrt(max(root, 0.0)))
+        shape = np.broadcast_shapes(*(np.shape(x) for x in (r0, r1, z0, z1)))
+        r0, r1, z0, z1 = (np.broadcast_to(x, shape).ravel() for x in (r0, r1, z0, z1))
+        E = self.cover(width)
+        out = np.zeros(len(r0), dtype=bool)
+        step = max(1, chunk // max(1, len(E)))
+        a, b, c, d = E[None, :, 0, 0], E[None, :, 0, 1], E[None, :, 1, 0], E[None, :, 1, 1]
+        with np.errstate(all="ignore"):
+            for s in range(0, len(r0), step):
+                R0, R1, Z0, Z1 = (x[s:s + step, None] for x in (r0, r1, z0, z1))
+                dr = np.maximum(0.0, np.maximum(arith.sub((R0, R0), (b, b))[0], arith.sub((a, a), (R1, R1))[0]))
+                dz = np.maximum(0.0, np.maximum(arith.sub((Z0, Z0), (d, d))[0], arith.sub((c, c), (Z1, Z1))[0]))
+                near = arith.add(arith.sqr((dr, dr)), arith.sqr((dz, dz)))[0]
+                out[s:s + step] = np.min(np.where(np.isnan(near), -np.inf, near), axis=1) > bound
+        return out.reshape(shape)
+
+
+    def within(self, r0, r1, z0, z1, width: float) -> np.ndarray:
+        """Mask of the rectangles (arrays of one shape) every piece of which :meth:`outside` would leave: some
+        rectangle of the cover lies within ``sqrt(H_E)`` of all of it (the farthest pair of points, floats).
+        Only a filter of where the proofs are tried (a rectangle it passes is kept undecided).
+
+        Parameters
+        ----------
+        r0, r1, z0, z1 : numpy.ndarray
+            The rectangles' edges, ``(N,)``.
+        width : float
+            As for :meth:`outside`.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N,)`` booleans.
+        """
+        bound = self.distance.bound(DEFAULT.reach_tolerance * width * math.sqrt(max(
+            self.distance.enclose(self.distance.map.limits[None])[1][0], 0.0)))
+        E = self.cover(width)
+        a, b, c, d = E[None, :, 0, 0], E[None, :, 0, 1], E[None, :, 1, 0], E[None, :, 1, 1]
+        out = np.zeros(len(r0), dtype=bool)
+        step = max(1, 2_000_000 // max(1, len(E)))
+        with np.errstate(all="ignore"):
+            for s in range(0, len(r0), step):
+                R0, R1, Z0, Z1 = (np.asarray(x)[s:s + step, None] for x in (r0, r1, z0, z1))
+                dr, dz = np.maximum(R1 - a, b - R0), np.maximum(Z1 - c, d - Z0)
+                out[s:s + step] = np.min(dr * dr + dz * dz, axis=1) < bound
+        return out
+
+
+def elbow_reach(model) -> ElbowReach | None:
+    """The :class:`ElbowReach` of a turned arm (:func:`turned`), or None: no shoulder, no joint after it whose
+    axis misses the shoulder, an elbow that moves with ``q_1`` at ``theta_1 = 0`` (impossible for the structure
+    of :func:`turned`, checked all the same), or a distance that moves with no joint.
+
+    Parameters
+    ----------
+    model : ReachModel
+        The robot's reach model (its first joint a turn, :func:`first_joint_turn`).
+
+    Returns
+    -------
+    ElbowReach or None
+        The bound, or None.
+    """
+    turn = first_joint_turn(model)
+    if turn is None or len(model.joints) < 3:
+        return None
+    robot = model.robot
+    q1, theta, slope = turn
+    at_zero = {q1: -theta.subs(q1, 0) / slope}
+    B = _first_frame(robot, model.parameters)
+    R, t = B[:3, :3], B[:3, 3]
+    shoulder = model.joints[1]
+    # The walk of shoulder_distance from the shoulder: the first row whose joint moves S is the elbow's.
+    frame = shoulder + (robot.convention == "modified")
+    joints = set(robot.q)
+    s = sp.zeros(3, 1)
+    while frame < robot.n:
+        inverse = inverse_transform(robot.substitute(robot.row_matrix(frame + 1), model.parameters))
+        moved = (inverse[:3, :3] * s + inverse[:3, 3]).applyfunc(sp.simplify)
+        if any(e.free_symbols & joints for e in moved):
+            break
+        s, frame = moved, frame + 1
+    elbow = frame - (robot.convention == "modified")
+    if frame >= robot.n or elbow <= shoulder:
+        return None
+    origin = robot.substitute(robot._parameter_twists(elbow)["theta"][2], model.parameters)
+    E = [sp.simplify(e) for e in (R.T * (sp.Matrix(origin) - t)).subs(at_zero)]
+    point_vars = [q for q in model.variables[1:] if any(q in e.free_symbols for e in E)]
+    if q1 in set().union(*(e.free_symbols for e in E)) or not point_vars:
+        return None
+    h, variables = shoulder_distance(robot, model.parameters, elbow)
+    if not variables or any(q not in model.variables for q in variables):
+        return None
+    rows = [model.variables.index(q) for q in variables]
+    distance = ShoulderReach(h, variables, [model.exact_limits[r] for r in rows], model.periodic[rows], (0, 0))
+    prow = [model.variables.index(q) for q in point_vars]
+    return ElbowReach(E, point_vars, [model.exact_limits[r] for r in prow], model.periodic[prow], distance)
 
 
 def to_first_frame(inverse, X: np.ndarray) -> np.ndarray:

@@ -67,6 +67,12 @@ class Tuning:
         With a time limit (or a budget of section boxes), the cells are tried at the four directions until
         ``directions_share`` of the time left after the symbolic preparation, then outside blocks until
         ``blocks_end`` of it.
+    budget_cells : int
+        With a budget (a time limit or ``section_boxes``), a limited turn's section cells are as wide as the
+        greatest distance from the shoulder (half the section's enclosure without a shoulder) over this many,
+        whatever ``delta``: the section, and so its volume bracket, no longer depends on the task boxes' size
+        (:func:`~workspace_sym.serial.turn.budgeted_width`; 66 gives the LBR iiwa and the Panda the cells of
+        ``delta = 0.1``).
     shoulder_pieces : int
         The undecided cells of a limited turn are cut this many times along each axis for the volume's upper
         bound.
@@ -115,6 +121,7 @@ class Tuning:
     timed_depth: int = 3
     directions_share: float = 0.75
     blocks_end: float = 0.92
+    budget_cells: int = 66
     shoulder_pieces: int = 8
     cells_max_joints: int = 3
     cell_chunk: int = 2_000

@@ -27,7 +27,8 @@ one direction ``k`` proved holds the sector ``psi in k pi / 2 + [a, b]``.
 
 **Outside.**  A cell proved outside the section (beyond the greatest distance from the shoulder or within the
 least, :meth:`~workspace_sym.serial.section.ShoulderReach.outside_cells`; blocks of cells, stage 2 of
-:func:`~workspace_sym.serial.section.section_paving`) is outside
+:func:`~workspace_sym.serial.section.section_paving`), or beyond the greatest distance from every place the
+elbow can take (:class:`~workspace_sym.serial.section.ElbowReach`), is outside
 the workspace at every polar angle, whatever the limits of ``theta_1``.
 
 **Boxes and volume.**  A world box is mapped to the first joint's frame (``B^-1`` in interval arithmetic); it is
@@ -60,9 +61,11 @@ from ..interval.verdict import OUTSIDE as OUTER
 from ..interval.verdict import UNDECIDED
 from .angles import arc_within, polar_angles
 from .section import (
+    ElbowReach,
     Turned,
     TurnedTest,
     blocks,
+    elbow_reach,
     first_joint_turn,
     in_chunks,
     solid_volumes,
@@ -73,7 +76,7 @@ from .tuning import DEFAULT, Tuning
 
 __all__ = ["DIRECTIONS", "LimitedTurn", "limited_turn", "covering_pairs", "DirectionMap", "direction_seeds",
            "prove_directions", "full_turn_cells", "limited_volume", "pieces_upper", "cell_level", "LimitedTurnTest",
-           "pave_limited"]
+           "pave_limited", "budgeted_width"]
 
 DIRECTIONS = 4                   # the axis directions k pi / 2 of the first joint's frame (not a tuning: the
                                  # covering pairs and the proofs are written for these four)
@@ -95,12 +98,15 @@ class LimitedTurn:
         The pairs ``(j, k)`` of axis directions whose arcs cover the circle (:func:`covering_pairs`).
     share : float
         At most ``(b - a) / 2 pi``.
+    elbow : ElbowReach, optional
+        The outer bound from the distance to the elbow (:func:`~workspace_sym.serial.section.elbow_reach`).
     """
 
     plan: Turned
     inner_range: tuple
     pairs: tuple
     share: float
+    elbow: ElbowReach | None = None
 
 
 def limited_turn(plan, model) -> LimitedTurn | None:
@@ -134,7 +140,7 @@ def limited_turn(plan, model) -> LimitedTurn | None:
         return None
     a_f, b_f = numpy_constant(a), numpy_constant(b)
     share = arith.div(numpy_constant(length), numpy_constant(2 * sp.pi))[0]
-    return LimitedTurn(plan, (float(a_f[1]), float(b_f[0])), tuple(pairs), float(share))
+    return LimitedTurn(plan, (float(a_f[1]), float(b_f[0])), tuple(pairs), float(share), elbow_reach(model))
 
 
 def covering_pairs(length) -> tuple:
@@ -438,7 +444,7 @@ def limited_volume(limited: LimitedTurn, grid, full: np.ndarray, pieces: np.ndar
     high = turned_volume(grid, full)[1]
     if limited.plan.section.reach is not None:
         high = min(high, pieces_upper(limited.plan.section.reach, grid, full, tuning.shoulder_pieces,
-                                       tuning.reach_tolerance))
+                                       tuning.reach_tolerance, elbow=limited.elbow))
     F = pieces.shape[-2] // grid.shape[0]
     both = np.zeros(pieces.shape[1:], dtype=bool)
     for j, k in limited.pairs:
@@ -461,7 +467,7 @@ def limited_volume(limited: LimitedTurn, grid, full: np.ndarray, pieces: np.ndar
 
 
 def pieces_upper(reach, grid, classes: np.ndarray, pieces: int = DEFAULT.shoulder_pieces,
-                 tolerance: float = DEFAULT.reach_tolerance) -> float:
+                 tolerance: float = DEFAULT.reach_tolerance, elbow: ElbowReach | None = None) -> float:
     """An upper bound of the volume of the solid of revolution of the section from its classes and the distance
     from the shoulder (:class:`~workspace_sym.serial.section.ShoulderReach`): the solids of the inner cells, plus
     those of the pieces of the undecided cells (each cut ``pieces`` times along both axes, the cell's own edges
@@ -481,6 +487,9 @@ def pieces_upper(reach, grid, classes: np.ndarray, pieces: int = DEFAULT.shoulde
         Cuts along each axis of an undecided cell.
     tolerance : float
         The tolerance of the distance bounds, in pieces' widths (:meth:`ShoulderReach.outside`).
+    elbow : ElbowReach, optional
+        The distance from the elbow: the pieces it proves outside are dropped too (those of the cells it
+        proves outside whole first, then the pieces of the others).
 
     Returns
     -------
@@ -501,6 +510,16 @@ def pieces_upper(reach, grid, classes: np.ndarray, pieces: int = DEFAULT.shoulde
     r0, r1 = r[:, :-1, None], r[:, 1:, None]
     z0, z1 = z[:, None, :-1], z[:, None, 1:]
     kept = ~reach.outside(r0, r1, z0, z1, grid.width / pieces, tolerance)
+    if elbow is not None and len(at):
+        edges = (e0[at[:, 0]], e0[at[:, 0] + 1], e1[at[:, 1]], e1[at[:, 1] + 1])
+        whole = elbow.outside(*edges, grid.width, tolerance)
+        kept[whole] = False
+        rest = np.nonzero(kept.any(axis=(1, 2)) & ~elbow.within(*edges, grid.width))[0]
+        if len(rest):
+            shape = kept[rest].shape
+            b0, b1, c0, c1 = (np.broadcast_to(x[rest], shape) for x in (r0, r1, z0, z1))
+            far = elbow.outside(b0, b1, c0, c1, grid.width, tolerance)
+            kept[rest] &= ~far
     shape = kept.shape
     vol = solid_volumes(*(np.broadcast_to(x, shape)[kept] for x in (r0, r1, z0, z1)))[1]
     inner = turned_volume(grid, np.where(classes == INNER, INNER, OUTER).astype(np.int8))[1]
@@ -549,6 +568,39 @@ class LimitedTurnTest(TurnedTest):
                 cells = self.grid.all_in_class(table, F[rest], outside_counts=False)
                 inner[rest[within & cells]] = True
         return inner, outer & ~inner
+
+
+def budgeted_width(limited: LimitedTurn, tuning: Tuning = DEFAULT) -> float:
+    """The section cells' width of a run with a budget (a time limit or a budget of section boxes), whatever its
+    ``delta``: the greatest distance from the shoulder (its bound within a hundredth of the root enclosure of
+    the squared distance) over ``tuning.budget_cells``, or half the longest side of the section's enclosure over
+    it without a shoulder.  A finer ``delta`` then paves the same section within the same budget (the proved
+    volume bracket does not depend on the task boxes), where a section tied to ``delta`` would spend the same
+    time on four times the cells.  Floats: the width only chooses where proofs are tried.
+
+    Parameters
+    ----------
+    limited : LimitedTurn
+        The structure.
+    tuning : Tuning
+        ``budget_cells``.
+
+    Returns
+    -------
+    float
+        The width.
+    """
+    section = limited.plan.section
+    if section.reach is not None:
+        root = float(section.reach.enclose(section.reach.map.limits[None])[1][0])
+        radius = math.sqrt(max(section.reach.bound(0.01 * max(root, 0.0)), 0.0))
+    else:
+        box = section.enclose(section.limits[None])[0]
+        radius = 0.5 * float(np.max(box[:, 1] - box[:, 0]))
+    if not (radius > 0 and math.isfinite(radius)):
+        box = section.enclose(section.limits[None])[0]
+        radius = 0.5 * float(np.max(box[:, 1] - box[:, 0]))
+    return radius / tuning.budget_cells
 
 
 def pave_limited(limited: LimitedTurn, width: float, run, *, show=None, boxes: int | None = None,
@@ -601,6 +653,11 @@ def pave_limited(limited: LimitedTurn, width: float, run, *, show=None, boxes: i
     # The cells beyond the greatest distance from the shoulder, or within the least: outside, in two proofs.
     outside = (np.zeros(grid.shape, dtype=bool) if section.reach is None
                else section.reach.outside_cells(grid, tuning.reach_tolerance))
+    if limited.elbow is not None:       # the distance from the elbow, on the cells the shoulder left
+        e0, e1 = grid.edges
+        at = np.argwhere(~outside)
+        outside[tuple(at.T)] = limited.elbow.outside(e0[at[:, 0]], e0[at[:, 0] + 1], e1[at[:, 1]],
+                                                     e1[at[:, 1] + 1], grid.width, tuning.reach_tolerance)
     sampled = direction_seeds(section.lateral, grid, tuning.direction_samples)
     reached = np.zeros(grid.shape, dtype=np.int8)
     for index in sampled[0]:
