@@ -134,19 +134,22 @@ def reached_at_50_digits(model, target, q, pos, tries=6):
     lo, hi = model.limits[:, 0], model.limits[:, 1]
     bounds = (np.where(model.periodic, -np.inf, lo), np.where(model.periodic, np.inf, hi))
     near = np.argsort(np.linalg.norm(pos - target, axis=1))[:tries]
+
+    def reaches(start):
+        exact = solve_50_digits(model, target, start, _solving_joints(model, start))
+        return exact is not None and all(model.periodic[j] or lo[j] <= float(exact[j]) <= hi[j]
+                                         for j in range(model.k))
+
     for seed in q[near]:
         sol, ok = model.newton(np.array([target]), seed[None], steps=30)
-        starts = [sol[0]] if ok[0] else []
+        if ok[0] and reaches(sol[0]):
+            return True
+        # Least squares only where Newton's start did not give the answer (it is most of the time of a check).
         fit = least_squares(lambda x: model.position_float(x[None])[0] - target, np.clip(seed, *bounds),
                             jac=lambda x: model.jacobian_float(x[None])[0], bounds=bounds, xtol=1e-15, ftol=1e-15,
                             gtol=1e-15)
-        if np.max(np.abs(fit.fun)) < 1e-9:
-            starts.append(fit.x)
-        for start in starts:
-            exact = solve_50_digits(model, target, start, _solving_joints(model, start))
-            if exact is not None and all(model.periodic[j] or lo[j] <= float(exact[j]) <= hi[j]
-                                         for j in range(model.k)):
-                return True
+        if np.max(np.abs(fit.fun)) < 1e-9 and reaches(fit.x):
+            return True
     return False
 
 
@@ -165,14 +168,15 @@ def solve_50_digits(model, target, q0, cols):
     ``target`` exactly to 1e-40, or None."""
     with mpmath.workdps(50):
         fixed = {v: mpmath.mpf(float(x)) for v, x in zip(model.variables, q0)}
-        exprs = [sp.lambdify(model.variables, e - t, "mpmath") for e, t in zip(model.expressions, target)]
+        aim = [mpmath.mpf(float(t)) for t in target]          # the float target, exactly
+        exprs = _mpmath_position(model)
 
         def f(*u):
             vals = dict(fixed)
             for c, x in zip(cols, u):
                 vals[model.variables[c]] = x
             args = [vals[v] for v in model.variables]
-            return [g(*args) for g in exprs]
+            return [g(*args) - t for g, t in zip(exprs, aim)]
         try:
             u = mpmath.findroot(f, [fixed[model.variables[c]] for c in cols], tol=mpmath.mpf(10) ** -45)
         except (ValueError, ZeroDivisionError):
@@ -184,6 +188,13 @@ def solve_50_digits(model, target, q0, cols):
         if max(abs(r) for r in f(*u)) > mpmath.mpf(10) ** -40:
             return None
         return q
+
+
+@functools.lru_cache(maxsize=32)
+def _mpmath_position(model):
+    """The model's position expressions lambdified for mpmath, once per model (the models are compared by
+    identity): lambdify took as long as the 50-digit solve itself."""
+    return [sp.lambdify(model.variables, e, "mpmath") for e in model.expressions]
 
 
 # ---------------------------------------------------------------------- small arms with known workspaces

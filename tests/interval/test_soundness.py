@@ -14,6 +14,7 @@ backends.  Issue 19's reproduction is pinned as an example.
 
 from __future__ import annotations
 
+import functools
 import itertools
 from fractions import Fraction
 
@@ -41,34 +42,54 @@ def _mp(v):
 
 def exact(expr, point: dict):
     """``expr`` at ``point`` (floats taken as exact binary numbers): a Fraction, or an mpf at 100 digits."""
+    return _evaluator(expr)(point)
+
+
+@functools.cache
+def _evaluator(expr):
+    """:func:`exact` of ``expr`` as a function of the point: the SymPy tree is walked once, when the evaluator is
+    built, instead of at every point (the same arithmetic node by node: Fractions while every operand is one,
+    mpmath at the working precision of the call otherwise)."""
     if expr.is_Symbol:
-        return Fraction(point[expr])
-    if expr.is_Rational:
-        return Fraction(int(expr.p), int(expr.q))
-    if expr.is_Float:                      # the binary number the Float holds
+        return lambda point: Fraction(point[expr])
+    if expr.is_Rational or expr.is_Float:  # a Float: the binary number it holds
         r = sp.Rational(expr)
-        return Fraction(int(r.p), int(r.q))
+        value = Fraction(int(r.p), int(r.q))
+        return lambda point: value
     if expr is sp.pi:
-        return +mpmath.pi
-    args = [exact(a, point) for a in expr.args]
+        return lambda point: +mpmath.pi
+    parts = [_evaluator(a) for a in expr.args]
     if expr.is_Add:
-        if all(isinstance(a, Fraction) for a in args):
-            return sum(args, Fraction(0))
-        return mpmath.fsum(_mp(a) for a in args)
+        def add(point):
+            args = [f(point) for f in parts]
+            if all(isinstance(a, Fraction) for a in args):
+                return sum(args, Fraction(0))
+            return mpmath.fsum(_mp(a) for a in args)
+        return add
     if expr.is_Mul:
-        if all(isinstance(a, Fraction) for a in args):
-            out = Fraction(1)
-            for a in args:
-                out *= a
-            return out
-        return mpmath.fprod(_mp(a) for a in args)
+        def mul(point):
+            args = [f(point) for f in parts]
+            if all(isinstance(a, Fraction) for a in args):
+                out = Fraction(1)
+                for a in args:
+                    out *= a
+                return out
+            return mpmath.fprod(_mp(a) for a in args)
+        return mul
     if expr.is_Pow:
-        base, e = args
-        if isinstance(base, Fraction) and isinstance(e, Fraction) and e.denominator == 1:
-            return base ** int(e)
-        return mpmath.power(_mp(base), _mp(e))
-    fn = {sp.sin: mpmath.sin, sp.cos: mpmath.cos, sp.Abs: abs}[type(expr)]
-    return fn(_mp(args[0])) if fn is not abs else abs(args[0])
+        fbase, fexp = parts
+
+        def power(point):
+            base, e = fbase(point), fexp(point)
+            if isinstance(base, Fraction) and isinstance(e, Fraction) and e.denominator == 1:
+                return base ** int(e)
+            return mpmath.power(_mp(base), _mp(e))
+        return power
+    (arg,) = parts
+    if type(expr) is sp.Abs:
+        return lambda point: abs(arg(point))
+    fn = {sp.sin: mpmath.sin, sp.cos: mpmath.cos}[type(expr)]
+    return lambda point: fn(_mp(arg(point)))
 
 
 def _points(box: np.ndarray, rng, k: int = 2):

@@ -145,7 +145,11 @@ def test_witnessed_module_skips_only_undecidable_boxes(ortho):
 @pytest.mark.slow
 def test_certified_boxes_agree_with_50_digit_eigenvalues(ortho):
     """Points drawn from boxes certified inside have every eigenvalue in [1/4, 4] (mpmath, 50 digits);
-    points from boxes certified outside (inside the cylinders) have one outside."""
+    points from boxes certified outside (inside the cylinders) have one outside.  Six points in each of 150
+    outer boxes (about 600 inside the cylinders, 20 a box before: 2,600 eigenvalue problems at 50 digits, most
+    of the test's time): a box falsely certified outside is one whose points mostly meet the bound (its
+    interval test failed, not an ulp at a corner), so a handful of its points shows it; every box is still
+    visited."""
     r = ortho.dextrous(eps=0.125)
     rng = np.random.default_rng(9)
     inner, outer = r.paving.inner, r.paving.outer
@@ -156,13 +160,13 @@ def test_certified_boxes_agree_with_50_digit_eigenvalues(ortho):
         assert ev[0] >= mpmath.mpf(1) / 4 and ev[-1] <= 4
     checked = 0
     for b in outer[rng.choice(len(outer), min(len(outer), 150), replace=False)]:
-        for p in b[:, 0] + rng.random((20, 3)) * (b[:, 1] - b[:, 0]):
+        for p in b[:, 0] + rng.random((6, 3)) * (b[:, 1] - b[:, 0]):
             if max(p[1]**2 + p[2]**2, p[0]**2 + p[2]**2, p[0]**2 + p[1]**2) >= 1:
                 continue  # outside the cylinders: not part of the workspace at all
             ev = _mp_eigenvalues(p)
             assert ev[0] < mpmath.mpf(1) / 4 or ev[-1] > 4
             checked += 1
-    assert checked >= 5  # at eps = 0.125 few certified-outside boxes reach inside the cylinders
+    assert checked >= 500  # most certified-outside boxes at eps = 0.125 lie inside the cylinders
 
 
 def test_volume_bracket_contains_monte_carlo(ortho):

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import sympy as sp
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from reach_checks import (
@@ -122,9 +122,18 @@ def test_a_budget_of_boxes_stops_the_section_at_the_same_cells_on_every_run(wris
             StopAt(section_boxes=bad)
 
 
-@settings(max_examples=8, deadline=None, derandomize=True)
+# The edges are pinned (an example's cost is mostly its arm's symbolic derivation and plan, not its paving, so each
+# one counts): a full turn with a zero third link (the point on joint 3's axis), a full turn given as limits with an
+# ordinary link (inner boxes), far less than a full turn with a tiny link (outer boxes only) and with a long one
+# (inner boxes of the limited turn).  One draw on top; `make explore` hunts the rest of the grid (a hair short of a
+# full turn among them).
+@settings(max_examples=1, deadline=None, derandomize=True)
 @given(first=st.sampled_from([None, (-sp.pi, sp.pi), (-R(314, 100), R(314, 100)), (-1, 2)]),
        a3=st.sampled_from([R(0), R(1, 100), R(2, 5), R(1, 2)]))
+@example(first=None, a3=R(0))
+@example(first=(-sp.pi, sp.pi), a3=R(2, 5))
+@example(first=(-1, 2), a3=R(1, 100))
+@example(first=(-1, 2), a3=R(1, 2))
 def test_edges_never_give_a_wrong_box(first, a3):
     """Edges: a first joint turning a full turn, a hair short of it, or far less (a two-joint section turned less
     than a full turn proves no inner box: the arm, moved by three joints, is paved on 3-D cells instead, and by the
