@@ -51,6 +51,7 @@ from .expressions import as_sympy
 
 __all__ = [
     "textbook",
+    "simplified",
     "textbook_form",
     "plain",
     "trig_pair",
@@ -1092,6 +1093,32 @@ def _least_flat_ops(terms: list) -> int:
         left = [(b, e - least.get(b, 0)) for b, e in powers.items() if e > least.get(b, 0)]
         ops += max(len(left) - 1, 0) + sum(own[b] + (e >= 2) for b, e in left)
     return ops
+
+
+@lru_cache(maxsize=512)
+def simplified(expr: sp.Expr) -> sp.Expr:
+    """``sympy.simplify(expr)``, kept for the process: the reach engine reads the same position at the first
+    joint's zero in several structures (the revolved section, the turned section, the shoulder and the elbow), and
+    each ``simplify`` of a seven-joint arm's entry takes seconds.  The same expression gives the same result.
+
+    Parameters
+    ----------
+    expr : sympy.Expr
+        The expression.
+
+    Returns
+    -------
+    sympy.Expr
+        ``sympy.simplify(expr)``.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> x = sp.Symbol("x")
+    >>> simplified(sp.sin(x) ** 2 + sp.cos(x) ** 2)
+    1
+    """
+    return sp.simplify(expr)
 
 
 @lru_cache(maxsize=4096)

@@ -67,6 +67,7 @@ from ..interval.verdict import INSIDE as INNER
 from ..interval.verdict import OUTSIDE as OUTER
 from ..interval.verdict import UNDECIDED
 from ..progress import progress_bar
+from ..symbolic import simplified
 from ..transforms import inverse_transform, matrix_product, rot_x, translation
 from .tuning import DEFAULT, Tuning
 
@@ -720,7 +721,7 @@ def turned(model) -> Turned | None:
         return None                                     # not rigid: the structure is not there
     # w = Rz(-theta_1) B^-1 p, read at theta_1 = 0.
     at_zero = {q1: -theta.subs(q1, 0) / slope}
-    w = [sp.simplify(e) for e in (R.T * (model.position - t)).subs(at_zero)]
+    w = [simplified(e) for e in (R.T * (model.position - t)).subs(at_zero)]
     if any(q1 in e.free_symbols for e in w):
         return None
     rho2 = w[0] ** 2 + w[1] ** 2        # its floats only (enclosures come from u, c, v: SquareMap)
@@ -802,7 +803,7 @@ def _shoulder_reach(model, B, at_zero, joint: int) -> ShoulderReach | None:
     robot = model.robot
     R, t = B[:3, :3], B[:3, 3]
     origin = robot.substitute(robot._parameter_twists(joint)["theta"][2], model.parameters)
-    S = [sp.simplify(e) for e in (R.T * (sp.Matrix(origin) - t)).subs(at_zero)]
+    S = [simplified(e) for e in (R.T * (sp.Matrix(origin) - t)).subs(at_zero)]
     if any(e.free_symbols for e in S):
         return None
     h, variables = shoulder_distance(robot, model.parameters, joint)
@@ -1019,7 +1020,7 @@ def elbow_reach(model) -> ElbowReach | None:
     if frame >= robot.n or elbow <= shoulder:
         return None
     origin = robot.substitute(robot._parameter_twists(elbow)["theta"][2], model.parameters)
-    E = [sp.simplify(e) for e in (R.T * (sp.Matrix(origin) - t)).subs(at_zero)]
+    E = [simplified(e) for e in (R.T * (sp.Matrix(origin) - t)).subs(at_zero)]
     point_vars = [q for q in model.variables[1:] if any(q in e.free_symbols for e in E)]
     if q1 in set().union(*(e.free_symbols for e in E)) or not point_vars:
         return None

@@ -17,11 +17,11 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
-import sympy as sp
 
 from ..interval.graph import numpy_constant
 from ..interval.image import ImageMap
 from ..kinematics import DHRobot
+from ..symbolic import simplified
 from .model import ReachModel, reach_model
 from .section import Turned, first_joint_turn, turned
 
@@ -77,7 +77,7 @@ def revolved(model: ReachModel) -> Revolved | None:
     q1, theta, slope = turn
     offset = theta.subs(q1, 0)
     # Standard DH without base: T = Rz(theta_1) Tz(d_1) Tx(a_1) Rx(alpha_1) ..., so p = Rz(theta_1) p(theta_1 = 0).
-    p1 = [sp.simplify(e.subs(q1, -offset / slope)) for e in model.position]
+    p1 = [simplified(e.subs(q1, -offset / slope)) for e in model.position]
     if p1[1].free_symbols & set(robot.q):
         return None
     variables = [q for q in robot.q[1:] if q in (p1[0].free_symbols | p1[2].free_symbols)]
