@@ -1224,7 +1224,7 @@ def squared_volume_bracket(grid: CellGrid, classes: np.ndarray) -> tuple[float, 
     >>> classes[1, 1], classes[2, 1] = INNER, UNDECIDED       # t in [0, 1] and [1, 2], z in [0, 1]
     >>> lo, hi = squared_volume_bracket(grid, classes)        # a cylinder of radius 1, then of radius sqrt(2)
     >>> bool(lo <= math.pi <= lo + 1e-14), bool(2 * math.pi <= hi <= 2 * math.pi + 1e-13)
-    True, True
+    (True, True)
     """
     e0, e1 = grid.edges
     pi_lo, pi_hi = numpy_constant(sp.pi)
