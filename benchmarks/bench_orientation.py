@@ -16,7 +16,13 @@ in the cell, or the centre for the IK map), else at its centre: the certificate 
 certificate is wrong, so it must be 0; or not reachable but inner: a cell the sampling missed), or leaves it
 undecided (boundary or pending box).
 
-Run: python benchmarks/bench_orientation.py [--quick]
+Session 16 (issue 40 item 1): ``--arms`` runs the UR5 and KR16 rows alone at the issue's budget (300 s) with an
+independent sampled reference volume beside each bracket: for the cone, configurations uniform within the limits
+whose approach lies in the cone; for the tool down, uniform configurations whose joints 4 and 5 are then solved
+by Newton (floats) for the approach (0, 0, -1); their tool points binned in (rho, z) cells of side ``REF_CELL``
+and turned by Pappus (``tests/helpers/reach_checks.py`` ``arcs_volume``: an estimate, no bound).
+
+Run: python benchmarks/bench_orientation.py [--quick | --arms]
 """
 
 import datetime
@@ -28,6 +34,9 @@ import numpy as np
 import sympy as sp
 
 from _common import machine
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "helpers"))
+from reach_checks import admissible_configurations, arcs_volume, in_any_box, industrial_arm
 from workspace_sym import StopAt, robots
 from workspace_sym.interval.image import ImageMap
 from workspace_sym.kinematics import DHRobot
@@ -47,6 +56,49 @@ def cases(quick: bool):
     return [("Puma 560", puma, down, (0.05,) if quick else (0.03, 0.02)),
             ("Puma 560", puma, tool_down, (0.1,) if quick else (0.07, 0.03)),
             ("UR5", ur5, down, (0.2,)), ("UR5", ur5, tool_down, (0.2,))]
+
+
+REF_CELL = 0.01
+REF_SAMPLES = 4_000_000
+
+
+def arm_cases():
+    """The issue 40 rows: (name, robot, options, deltas, time limit)."""
+    ur5, kr16 = industrial_arm("ur5"), industrial_arm("kr16")
+    down = dict(approach=(0, 0, -1), cone=20)
+    tool_down = dict(rpy=(180, 0, 0))
+    return [("UR5", ur5, down, (0.05, 0.03), 300), ("UR5", ur5, tool_down, (0.05, 0.03), 300),
+            ("KR16 (URDF)", kr16, down, (0.15,), 300), ("KR16 (URDF)", kr16, tool_down, (0.15,), 300)]
+
+
+def reference_volume(robot, options, n=REF_SAMPLES):
+    """The sampled reference volume (module docstring) and the admissible samples' tool points."""
+    q, _, points = admissible_configurations(robot, n, 0, approach=options.get("approach", (0, 0, -1)),
+                                             cone=options.get("cone"))
+    return arcs_volume(robot, q[:, 0], points, REF_CELL), points
+
+
+def arms():
+    """Session 16 rows: bracket, width, the sampled reference and whether the bracket holds it."""
+    print(f"# orientation of the arms (issue 40), {datetime.date.today()}, {machine()}")
+    print("| robot | constraint | method | delta | seconds | inner / boundary / outer | bracket (m³) | width / upper "
+          "| sampled reference (admissible samples) | inside | samples in outer boxes (must be 0) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    for name, robot, options, deltas, limit in arm_cases():
+        constraint = constraint_from(**options)
+        reach(robot, delta=0.4, stop=StopAt(time_limit=60), pose=Pose(**options))   # compile once
+        reference, points = reference_volume(robot, options)
+        for delta in deltas:
+            start = time.perf_counter()
+            p = reach(robot, delta=delta, stop=StopAt(time_limit=limit), pose=Pose(**options))
+            seconds = time.perf_counter() - start
+            lo, hi = p.measure_bounds
+            done = "" if p.complete else f" ({p.stop_reason})"
+            rel = f"{(hi - lo) / hi:.1%}" if hi > 0 else "—"
+            print(f"| {name} | {constraint} | {p.method} | {delta} | {seconds:.1f}{done} | {p.counts['inner']} / "
+                  f"{p.counts['boundary']} / {p.counts['outer']} | [{lo:.4f}, {hi:.4f}] | {rel} | {reference:.4f} "
+                  f"({len(points):,}) | {'yes' if lo <= reference <= hi else '**no**'} "
+                  f"| {int(in_any_box(points, p.outer, pad=-1e-9).sum())} |", flush=True)
 
 
 def capability_map(robot, options, box, rng):
@@ -111,6 +163,8 @@ def lookup(paving, points):
 
 
 def main():
+    if "--arms" in sys.argv:
+        return arms()
     quick = "--quick" in sys.argv
     rng = np.random.default_rng(0)
     print(f"# orientation benchmark, {datetime.date.today()}, {machine()}")
@@ -120,7 +174,7 @@ def main():
     print("|---|---|---|---|---|---|---|---|---|")
     for name, robot, options, deltas in cases(quick):
         constraint = constraint_from(**options)
-        reach(robot, delta=0.4, stop=StopAt(time_limit=5), pose=Pose(**options))   # compile once, as a session would
+        reach(robot, delta=0.4, stop=StopAt(time_limit=60), pose=Pose(**options))   # compile once, as a session would
         for delta in deltas:
             start = time.perf_counter()
             p = reach(robot, delta=delta, stop=StopAt(time_limit=120), pose=Pose(**options))

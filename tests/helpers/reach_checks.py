@@ -101,6 +101,47 @@ def sampled_arcs_volume(robot, n, h, seed=0):
     return arcs_volume(robot, q[:, 0], p, h)
 
 
+
+def admissible_configurations(robot, n, seed, *, approach=None, cone=None, wrist=(3, 4), chunk=200_000):
+    """Configurations uniform within the limits that satisfy a tool constraint, and their rotations and
+    positions ``(q, R, p)``: with ``cone`` (degrees), those whose approach axis (``z`` of the tool frame, by the
+    robot's own ``fk_numeric``) lies within ``cone`` of ``approach`` (a margin of 1e-9 for float rounding); with
+    ``cone=None``, the approach made exactly ``approach`` (a unit axis, to 1e-10) by Newton on the two ``wrist``
+    joints (central differences, floats) from each sample, kept when within the limits.  No proof: a sample of
+    the admissible set, for the soundness tests and the sampled reference volumes."""
+    rng = np.random.default_rng(seed)
+    limits = robot.joint_limits()
+    d = np.asarray(approach, dtype=float)
+    d = d / np.linalg.norm(d)
+    # Two unit vectors normal to d: the approach is d when its components along them vanish and a . d > 0.
+    e1 = np.cross(d, np.eye(3)[np.argmin(np.abs(d))])
+    e1 /= np.linalg.norm(e1)
+    normal = np.stack([e1, np.cross(d, e1)])
+    out = []
+    for start in range(0, n, chunk):
+        q = rng.uniform(limits[:, 0], limits[:, 1], size=(min(chunk, n - start), robot.n))
+        if cone is not None:
+            T = robot.fk_numeric(q)
+            ok = T[:, :3, 2] @ d >= np.cos(np.radians(cone)) + 1e-9
+        else:
+            for _ in range(12):
+                g = robot.fk_numeric(q)[:, :3, 2] @ normal.T
+                J = np.empty((len(q), 2, 2))
+                for c, j in enumerate(wrist):
+                    dq = np.zeros(robot.n)
+                    dq[j] = 1e-7
+                    turned = robot.fk_numeric(q + dq)[:, :3, 2] - robot.fk_numeric(q - dq)[:, :3, 2]
+                    J[:, :, c] = turned @ normal.T / 2e-7
+                with np.errstate(all="ignore"):
+                    step = np.linalg.solve(J + 1e-12 * np.eye(2), g[:, :, None])[:, :, 0]
+                q[:, list(wrist)] -= np.where(np.isfinite(step), step, 0.0)
+            T = robot.fk_numeric(q)
+            within = ((q >= limits[:, 0]) & (q <= limits[:, 1])).all(axis=1)
+            ok = within & (np.abs(T[:, :3, 2] @ normal.T).max(axis=1) < 1e-10) & (T[:, :3, 2] @ d > 0)
+        out.append((q[ok], T[ok, :3, :3], T[ok, :3, 3]))
+    return tuple(np.concatenate(parts) for parts in zip(*out))
+
+
 def paved_alike_twice(robot, delta, stop):
     """``reach(robot, delta, stop)`` run twice, asserting both runs decide the same boxes (a budget of boxes, not of
     seconds, stops it at the same cells on every run); the first paving."""

@@ -36,7 +36,15 @@ from .cells import cover_with
 from .classify import ProductTest, RevolvedTest, classify_task_boxes, section_digest
 from .model import TASK, cell_width, check_root, reach_model
 from .pairs import CHUNK_PAIRS, PositionStep, pave_pairs
-from .pose import PoseConstraint, PoseStep, PoseStructure, section_classes, section_volume_bracket
+from .pose import (
+    PoseConstraint,
+    PoseStep,
+    PoseStructure,
+    SquaredTest,
+    section_classes,
+    section_volume_bracket,
+    squared_volume_bracket,
+)
 from .section import Turned, TurnedTest, section_bar, section_paving, turned_volume
 from .stored import reach_problem, save_section, saved_section
 from .structure import Product, Revolved, structure_of
@@ -595,8 +603,13 @@ class PoseSectionPlan(Plan):
         check_root(root, self.delta, self.size, self.robot)
         box = Box(TASK, tuple(root[:, 0]), tuple(root[:, 1]))
         width = self.tuning.section_ratio * cell_width(self.delta, self.size, 3)
+        squared = self.structure.turned is not None         # the section (rho^2, z) of a varying offset
         grid, classes, evaluated, reason = section_classes(self.structure.model, width, budget, tuning=self.tuning,
-                                                           chunk=POSE_CHUNK_PAIRS)
+                                                           chunk=POSE_CHUNK_PAIRS, symmetric=not squared)
+        if squared:
+            test = SquaredTest(grid, classes, self.structure.turned.inverse)
+            return Section(box, grid, classes, evaluated, reason, test, squared_volume_bracket(grid, classes),
+                           section_digest(grid, classes))
         revolved = self.structure.revolved
         return Section(box, grid, classes, evaluated, reason, RevolvedTest(revolved, grid, classes),
                        section_volume_bracket(grid, classes, revolved), section_digest(grid, classes))
@@ -867,7 +880,7 @@ def pose_plan(robot: DHRobot, values: tuple, constraint: PoseConstraint, structu
     """
     problem = reach_problem(robot, values, delta, size, tuning, constraint=constraint.to_dict())
     args = (robot, values, delta, size, tuning, problem)
-    if structure.revolved is None:
+    if not structure.sectioned:
         refuse_storage(f"reach with {constraint} on {robot.name} (the pairs method)", run,
                        why="keeps its boxes in memory",
                        supported="the section method (a constraint whose section the first joint turns, "

@@ -108,13 +108,14 @@ from ..transforms import rot_x, rot_y, rot_z
 from .angles import ANGLE_PAD
 from .model import TASK, joint_range, reach_model
 from .pairs import caps, pave_pairs, prove_in_pieces, split_pairs
-from .section import section_bar
+from .section import SquareMap, Turned, section_bar, to_first_frame, turned
 from .structure import Revolved, revolved
 from .tuning import DEFAULT, Tuning
 
 __all__ = ["PoseConstraint", "approach_constraint", "orientation_constraint", "constraint_from", "PoseModel",
            "PoseStructure", "pose_structure", "wrist_reduction", "PoseStep", "section_classes",
-           "section_volume_bracket", "ORTHOGONAL_TOL"]
+           "section_volume_bracket", "SquaredTest", "squared_volume_bracket",
+           "ORTHOGONAL_TOL"]
 
 ORTHOGONAL_TOL = 1e-9            # a matrix farther than this from a rotation (entrywise) is refused
 
@@ -551,10 +552,14 @@ class PoseModel:
         reduction with ``every``); None: the constraint's.
     tuning : Tuning
         ``wrist_cells``, ``wrist_grid``.
+    square : sequence of sympy.Expr, optional
+        ``w = (u, c, v)`` when ``position`` is ``(u^2 + c^2, v)``: its enclosures then come from those of ``u``,
+        ``c``, ``v`` (:class:`~workspace_sym.serial.section.SquareMap`, tighter than the expanded square's).
     """
 
     def __init__(self, position, approach, rotation, constraint: PoseConstraint, variables, limits, periodic,
-                 task_variables, *, proof_cone: sp.Expr | None = None, tuning: Tuning = DEFAULT):
+                 task_variables, *, proof_cone: sp.Expr | None = None, tuning: Tuning = DEFAULT,
+                 square=None):
         self.constraint = constraint
         self.wrist_cells, self.wrist_grid = tuning.wrist_cells, tuning.wrist_grid
         variables, limits, periodic = list(variables), list(limits), list(periodic)
@@ -573,7 +578,10 @@ class PoseModel:
         order = sorted(range(len(variables)), key=lambda j: variables[j] not in moving)
         variables, limits, periodic = ([seq[j] for j in order] for seq in (variables, limits, periodic))
         self.ka = sum(q in moving for q in variables)
-        self.position = ImageMap(position, variables[:self.ka], limits[:self.ka], periodic[:self.ka])
+        if square is None:
+            self.position = ImageMap(position, variables[:self.ka], limits[:self.ka], periodic[:self.ka])
+        else:
+            self.position = SquareMap(position[0], square, variables[:self.ka], limits[:self.ka], periodic[:self.ka])
         self.wrist = ImageMap([], variables[self.ka:], limits[self.ka:], periodic[self.ka:])
         self.variables = tuple(variables)
         self.task_variables = tuple(task_variables)
@@ -692,6 +700,8 @@ class PoseModel:
             holds, value = self.solver.prove(A, best, self.wrist)
             sure[holds], witness[holds] = True, value[holds]
             plausible = self.solver.solves(centre, value, self.wrist)
+        elif self.constraint.kind == "cone" and self.constraint.cone == 0:
+            best, plausible = self._best_wrist(centre), np.zeros(n, dtype=bool)
         else:
             best, plausible = witness, np.zeros(n, dtype=bool)
         keep = plausible & ~sure
@@ -726,6 +736,10 @@ class PoseModel:
             survives[row[split][~ok]] = True
             W = children.reshape(-1, 2, kw, 2)[ok].reshape(-1, kw, 2)
             row = np.repeat(row[split][ok], 2)
+        if self.solver is None and self.constraint.kind == "cone" and self.constraint.cone == 0:
+            # The seed of the inner test: the wrist value of a grid aiming the axis nearest d (floats), not a
+            # box centre, which may sit where the constraint's equations are singular (cos q5 at q5 = 0).
+            witness[~sure] = best[~sure]
         return ~alive & ~sure & ~survives, sure, witness
 
     def _best_wrist(self, arm: np.ndarray) -> np.ndarray:
@@ -987,6 +1001,67 @@ def _joints_of(robot, expressions, params):
     return [robot.q[k] for k in joints], [r for r, _ in ranges], [p for _, p in ranges]
 
 
+
+def _turns_freely(robot: DHRobot, k: int, params, limits, periodic) -> bool:
+    """Joint ``k`` is revolute with ``theta_k = q_k + constant``, ``q_k`` in no other entry of the table (nor the
+    base or tool), and its range is one whole turn: every expression of the kinematics is then ``2 pi``-periodic
+    in ``q_k`` and every angle is reached."""
+    joint = robot.joints[k]
+    q = joint.variable
+    if joint.kind != "R" or not periodic:
+        return False
+    theta = robot.substitute(joint.theta, params)
+    if sp.diff(theta, q) != 1 or q in sp.diff(theta, q).free_symbols:
+        return False
+    others = [joint.d, joint.a, joint.alpha] + [e for i, j in enumerate(robot.joints) if i != k
+                                                for e in (j.theta, j.d, j.a, j.alpha)]
+    others += [e for M in (robot.base, robot.tool) if M is not None for e in M]
+    if not _free_of(others, q):
+        return False
+    lo, hi = limits
+    return bool(sp.simplify(hi - lo - 2 * sp.pi) == 0)
+
+
+def _summed_angles(robot: DHRobot, params, expressions, variables, limits, periodic):
+    """The expressions in the partial sums of the longest chain of joints whose angles enter them summed
+    (``sin(q2 + q3 + q4)``: parallel axes, the UR5's joints 2, 3, 4), or the inputs unchanged.
+
+    With the chain ``q_a, q_b, ...`` (robot order) and ``phi_1 = q_a``, ``phi_k = phi_(k-1) + q_k``, the map
+    ``(q_a, q_b, ...) -> (phi_1, phi_2, ...)`` is a bijection modulo ``2 pi`` when every joint of the chain but the
+    first turns freely (:func:`_turns_freely`): ``phi_1`` keeps ``q_a``'s range, each later ``phi_k`` ranges over
+    one whole turn (periodic), and the expressions, ``2 pi``-periodic in each joint, take the same values on the
+    new box as on the old one.  So the image, and the admissible set, are the same: inner and outer proofs in the
+    new variables hold for the robot.  It matters for the inner proofs: a Krawczyk box in ``(q2, q3, q4)`` is wide
+    in ``q2 + q3 + q4`` (the widths add) where the solutions keep the sum nearly constant (the tool down), so the
+    enclosures of ``sin(q2 + q3 + q4)`` over it are loose and the test fails at all but the smallest boxes.
+
+    Returns ``(expressions, variables, limits, periodic)``."""
+    index = {q: i for i, q in enumerate(variables)}
+    sums = set()
+    for e in expressions:
+        for node in sp.preorder_traversal(sp.sympify(e)):
+            if isinstance(node, (sp.sin, sp.cos)) and isinstance(node.args[0], sp.Add):
+                terms = node.args[0].args
+                if all(t in index for t in terms):
+                    sums.add(frozenset(terms))
+    if not sums:
+        return expressions, variables, limits, periodic
+    longest = max(sums, key=lambda s: (len(s), sorted(index[t] for t in s)))
+    chain = sorted(longest, key=lambda t: robot.q.index(t))
+    ks = [robot.q.index(t) for t in chain]
+    if len(chain) < 2 or not all(_turns_freely(robot, k, params, limits[index[q]], periodic[index[q]])
+                                 for k, q in zip(ks[1:], chain[1:])):
+        return expressions, variables, limits, periodic
+    partial = [chain[0]] + [sp.Symbol("+".join(str(t) for t in chain[:i + 1])) for i in range(1, len(chain))]
+    back = {chain[i]: partial[i] - partial[i - 1] for i in range(1, len(chain))}
+    out = [sp.sympify(e).subs(back, simultaneous=True) for e in expressions]
+    variables, limits, periodic = list(variables), list(limits), list(periodic)
+    for i in range(1, len(chain)):
+        j = index[chain[i]]
+        variables[j], limits[j], periodic[j] = partial[i], (-sp.pi, sp.pi), True
+    return out, variables, limits, periodic
+
+
 @dataclass(frozen=True)
 class PoseStructure:
     """How the constrained workspace is paved: ``model`` over ``(x, y, z)``, or over the section ``(u, v)`` of
@@ -999,10 +1074,25 @@ class PoseStructure:
         The model paved.
     revolved : Revolved, optional
         The position's section structure; None: ``model`` is over ``(x, y, z)``.
+    turned : Turned, optional
+        The position's section structure when the lateral offset varies (the UR5): ``model`` is then over
+        ``(t, z) = (rho^2, z)`` (:func:`squared_volume_bracket`, :class:`SquaredTest`).
     """
 
     model: PoseModel
     revolved: Revolved | None = None
+    turned: Turned | None = None
+
+    @property
+    def sectioned(self) -> bool:
+        """Whether ``model`` is over a section turned by the first joint (either structure).
+
+        Returns
+        -------
+        bool
+            ``revolved`` or ``turned`` is set.
+        """
+        return self.revolved is not None or self.turned is not None
 
 
 def _section_structure(robot: DHRobot, parameters: tuple, constraint: PoseConstraint, axis, proof_cone,
@@ -1017,7 +1107,7 @@ def _section_structure(robot: DHRobot, parameters: tuple, constraint: PoseConstr
         return None
     turn = revolved(reach_model(section_robot, parameters))
     if turn is None:
-        return None
+        return _squared_structure(robot, parameters, constraint, axis, proof_cone, section_robot, tuning)
     params = dict(parameters) or None
     q1 = robot.q[0]
     theta = robot.substitute(robot.joints[0].theta, params)
@@ -1027,10 +1117,124 @@ def _section_structure(robot: DHRobot, parameters: tuple, constraint: PoseConstr
     variables, limits, periodic = _joints_of(robot, position + approach, params)
     if q1 in variables:
         return None
+    exprs, variables, limits, periodic = _summed_angles(robot, params, position + approach, variables, limits,
+                                                        periodic)
+    position, approach = exprs[:len(position)], exprs[len(position):]
     model = PoseModel(position, approach, None, constraint, variables, limits, periodic, (sp.Symbol("u"),
                                                                                          sp.Symbol("v")),
                       proof_cone=proof_cone, tuning=tuning)
     return PoseStructure(model, turn)
+
+
+
+def _squared_structure(robot: DHRobot, parameters: tuple, constraint: PoseConstraint, axis, proof_cone,
+                       section_robot: DHRobot, tuning: Tuning) -> PoseStructure | None:
+    """The section ``(t, z) = (rho^2, z)`` of an arm turned by its first joint with a lateral offset that varies
+    (:func:`~workspace_sym.serial.section.turned`: ``p = Rz(theta_1) w(q')``, ``w = (u, c, v)``, no base
+    transform, a whole turn), for a cone about the vertical: ``a = Rz(theta_1) a'`` and ``a . d = a' . d``, so a
+    point of cylindrical coordinates ``(rho, psi, z)`` is reached with the constraint iff some admissible ``q'``
+    has ``u^2 + c^2 = rho^2`` and ``v = z`` (then ``theta_1`` turns ``(u, c)`` to the point's polar angle).  The
+    section is paved in ``t = rho^2``, where the solid's volume is ``pi`` times the area
+    (:func:`squared_volume_bracket`).  None when the structure is not there."""
+    params = dict(parameters) or None
+    turn = turned(reach_model(section_robot, parameters))
+    if turn is None or not turn.full:
+        return None
+    if section_robot.base is not None:
+        # The first joint's axis is B's z: the cone's (vertical) axis must be along it, so that turning the
+        # first joint keeps a . d (then a . d = a(theta_1 = 0) . d, as without a base).
+        z_axis = sp.Matrix(section_robot.base)[:3, 2]
+        if z_axis[0] != 0 or z_axis[1] != 0:
+            return None
+    w = list(turn.section.lateral.expressions)
+    q1 = robot.q[0]
+    theta = robot.substitute(robot.joints[0].theta, params)
+    zero = {q1: -theta.subs(q1, 0) / sp.diff(theta, q1)}
+    approach = [e.subs(zero) for e in axis]
+    variables, limits, periodic = _joints_of(robot, w + approach, params)
+    if q1 in variables:
+        return None
+    exprs, variables, limits, periodic = _summed_angles(robot, params, w + approach, variables, limits, periodic)
+    w, approach = exprs[:3], exprs[3:]
+    position = [w[0] ** 2 + w[1] ** 2, w[2]]
+    model = PoseModel(position, approach, None, constraint, variables, limits, periodic,
+                      (sp.Symbol("t"), sp.Symbol("v")), proof_cone=proof_cone, tuning=tuning, square=w)
+    return PoseStructure(model, turned=turn)
+
+
+class SquaredTest:
+    """Classify boxes of ``(x, y, z)`` from a paving of the section ``(t, z) = (rho^2, z)``
+    (:func:`_squared_structure`): the box in the first joint's frame (``B^-1``, outward-rounded), then the
+    rectangle of ``(x^2 + y^2, z)`` over it (outward-rounded): in cells proved inside it makes the box inner (the
+    first joint turns a whole turn), in cells proved outside (or beyond the grid, which covers the section's
+    enclosure) outer.
+
+    Called with ``(N, 3, 2)`` boxes, it returns the masks ``(is_in, is_out)`` (never both).
+
+    Parameters
+    ----------
+    grid : CellGrid
+        The grid of the section ``(t, z)``.
+    classes : numpy.ndarray
+        The verdict code of each cell of ``grid``.
+    inverse : tuple, optional
+        ``B^-1`` as :attr:`~workspace_sym.serial.section.Turned.inverse` holds it; None for no base transform.
+    """
+
+    def __init__(self, grid: CellGrid, classes: np.ndarray, inverse=None):
+        self.grid, self.inverse = grid, inverse
+        self.inside = grid.prefix(classes, INNER)
+        self.outside = grid.prefix(classes, OUTER)
+
+    def __call__(self, X: np.ndarray):
+        X = to_first_frame(self.inverse, X)
+        with np.errstate(all="ignore"):
+            t = arith.add(arith.sqr((X[:, 0, 0], X[:, 0, 1])), arith.sqr((X[:, 1, 0], X[:, 1, 1])))
+        rect = np.stack([np.stack(t, axis=1), X[:, 2]], axis=1)
+        finite = np.isfinite(rect).all(axis=(1, 2))
+        inner = finite & self.grid.all_in_class(self.inside, rect, outside_counts=False)
+        outer = finite & self.grid.all_in_class(self.outside, rect, outside_counts=True)
+        return inner, outer & ~inner
+
+
+def squared_volume_bracket(grid: CellGrid, classes: np.ndarray) -> tuple[float, float]:
+    """Certified bracket of the volume of the solid of revolution (a whole turn) of a section paved in
+    ``(t, z) = (rho^2, z)``: ``dV = 2 pi rho drho dz = pi dt dz``, so a cell ``[t0, t1] x [z0, z1]`` (``t``
+    clipped at 0) turns into ``pi (t1 - t0) (z1 - z0)``; the cells proved inside give the lower bound, those not
+    proved outside the upper one (outward-rounded, summed exactly).
+
+    Parameters
+    ----------
+    grid : CellGrid
+        The grid of the section ``(t, z)``.
+    classes : numpy.ndarray
+        The verdict code of each cell.
+
+    Returns
+    -------
+    lo : float
+        A lower bound of the volume.
+    hi : float
+        An upper bound.
+
+    Examples
+    --------
+    >>> grid = CellGrid(np.array([[0.5, 1.5], [0.5, 1.5]]), 1.0)      # edges -1, 0, 1, 2, 3
+    >>> classes = np.full(grid.shape, OUTER, dtype=np.int8)
+    >>> classes[1, 1], classes[2, 1] = INNER, UNDECIDED       # t in [0, 1] and [1, 2], z in [0, 1]
+    >>> lo, hi = squared_volume_bracket(grid, classes)        # a cylinder of radius 1, then of radius sqrt(2)
+    >>> bool(lo <= math.pi <= lo + 1e-14), bool(2 * math.pi <= hi <= 2 * math.pi + 1e-13)
+    (True, True)
+    """
+    e0, e1 = grid.edges
+    pi_lo, pi_hi = numpy_constant(sp.pi)
+    t0, t1 = np.maximum(e0[:-1], 0.0), np.maximum(e0[1:], 0.0)
+    dt = arith.sub((t1, t1), (t0, t0))
+    dz = arith.sub((e1[1:], e1[1:]), (e1[:-1], e1[:-1]))
+    area = arith.mul((dt[0][:, None], dt[1][:, None]), (dz[0][None, :], dz[1][None, :]))
+    volume = arith.mul((np.float64(pi_lo), np.float64(pi_hi)), area)
+    low, high = volume[0][classes == INNER], volume[1][classes != OUTER]
+    return ExactSum.of(low[low > 0]).value_down, ExactSum.of(high[high > 0]).value_up
 
 
 @lru_cache(maxsize=8)
@@ -1088,11 +1292,14 @@ def pose_structure(robot: DHRobot, parameters: tuple, constraint: PoseConstraint
         # The chain to o_k with the offset's vertical part in d_1 (a translation along z_0, the turn's axis):
         # its section is that of o_k + R t when R t is vertical, the only case a vertical cone's section needs.
         lift = sp.Matrix(position) - robot.substitute(robot.fk(k), params)[:3, 3]
-        if lift[0] == 0 and lift[1] == 0 and robot.base is None:
+        # With a base transform B, d_1 translates along B's z: the lift in B's frame (B's rotation transposed).
+        if robot.base is not None and robot.convention == "standard":
+            lift = (sp.Matrix(robot.base)[:3, :3].T * lift).applyfunc(sp.simplify)
+        if lift[0] == 0 and lift[1] == 0 and (robot.base is None or robot.convention == "standard"):
             joints = list(robot.joints[:k])
             joints[0] = replace(joints[0], d=joints[0].d + lift[2])
             section_robot = DHRobot(joints, convention=robot.convention, name=f"{robot.name} (wrist centre)",
-                                    parameters=robot.parameters, units=robot.units)
+                                    parameters=robot.parameters, units=robot.units, base=robot.base)
         else:
             section_robot = None
     reduced = _spin_reduction(robot, params, constraint, T)
@@ -1216,7 +1423,8 @@ def constraint_from(approach=None, cone=None, every: bool = False, orientation=N
 
 
 
-def section_classes(model: PoseModel, width: float, run, *, tuning: Tuning = DEFAULT, chunk: int = 200_000):
+def section_classes(model: PoseModel, width: float, run, *, tuning: Tuning = DEFAULT, chunk: int = 200_000,
+                    symmetric: bool = True):
     """A :class:`CellGrid` over the constrained section and the class of each cell, from a pairs paving whose
     boxes are unions of cells (cells of a power-of-two width on a grid of its multiples: every edge and every
     midpoint is a float exactly); ``(grid, classes, evaluated, reason)``.  ``run`` is the run's budget.
@@ -1233,6 +1441,9 @@ def section_classes(model: PoseModel, width: float, run, *, tuning: Tuning = DEF
         ``pose_inner_depth``, ``pose_max_pairs``, ``min_pairs``.
     chunk : int
         About this many pairs in one chunk of the pairs loop.
+    symmetric : bool
+        The first axis's range symmetric about 0 (the section ``(u, v)``, :func:`section_volume_bracket`);
+        False: from the enclosure's lower end (the section ``(t, z)``, :func:`squared_volume_bracket`).
 
     Returns
     -------
@@ -1246,7 +1457,8 @@ def section_classes(model: PoseModel, width: float, run, *, tuning: Tuning = DEF
     # The u range is made symmetric about 0 (edges at odd multiples of w / 2 both ways) so that each cell's
     # mirror, the other branch of the turn, is a cell (section_volume_bracket).
     reach_u = math.ceil(max(-root[0, 0], root[0, 1]) / w) * w
-    corner = np.array([[-reach_u, reach_u], [math.floor(root[1, 0] / w) * w, root[1, 1]]])
+    first = [-reach_u, reach_u] if symmetric else [math.floor(root[0, 0] / w) * w, root[0, 1]]
+    corner = np.array([first, [math.floor(root[1, 0] / w) * w, root[1, 1]]])
     grid = CellGrid(corner, w)
     lo = np.array([e[0] for e in grid.edges])
     side = w * 2 ** math.ceil(math.log2(max(len(e) - 1 for e in grid.edges)))
