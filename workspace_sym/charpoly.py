@@ -281,8 +281,10 @@ def gram_characteristic_polynomial(J, lam: sp.Symbol | None = None, *, simplify=
     is the sum of the squares of all ``k x k`` minors of ``J``.  The minors are
     computed exactly (sines, cosines and constants as generators of a
     polynomial ring, each minor built once by Laplace expansion from the
-    smaller ones), factored in that ring, each factor brought to textbook
-    form by ``simplify``, and equal minors (up to sign) are
+    smaller ones), factored in that ring (shortest first, by exact division by
+    the factors of the shorter minors: ``_FactorPool``), each factor brought to
+    textbook form by ``simplify`` (straight from the ring,
+    :func:`~workspace_sym.symbolic.textbook_polynomial`, for the default), and equal minors (up to sign) are
     counted once: ``c_k = (-1)^k sum_i n_i m_i^2``.  The
     coefficients keep that structure (the polynomial's domain is ``EX``);
     ``sympy.expand`` gives the monomial form.
