@@ -132,3 +132,45 @@ def test_singular_factors_live_in_charpoly_without_a_cycle():
     J = sp.Matrix([[-sp.sin(q1) - sp.sin(q1 + q2), -sp.sin(q1 + q2)], [sp.cos(q1) + sp.cos(q1 + q2), sp.cos(q1 + q2)]])
     assert sp.simplify(J.det() - sp.sin(q2)) == 0
     assert charpoly.maximal_minor_factors(J) == [sp.sin(q2)]
+
+
+PANDA_4 = {"convention": "modified", "joints": [
+    {"type": "R", "theta": 0, "alpha": 0, "a": 0, "d": "0.333"},
+    {"type": "R", "theta": 0, "alpha": "-pi/2", "a": 0, "d": 0},
+    {"type": "R", "theta": 0, "alpha": "pi/2", "a": 0, "d": "0.316"},
+    {"type": "R", "theta": 0, "alpha": "pi/2", "a": "0.0825", "d": 0}],
+    "angles": "radians", "tool": {"xyz": [0, 0, "0.107"], "rpy": [0, 0, 0]}}
+
+
+def test_minors_factored_by_the_pool_are_sympys_factorisations_and_the_charpoly_is_exact():
+    """Issue 41 item 3: the minors of J are factored by exact division by the factors of shorter minors
+    (``charpoly._FactorPool``) instead of SymPy's ``factor_list``.  On the first four rows of the Panda's table (6 x 4
+    geometric Jacobian, middle frame) each minor is the product of its pool factors (exact ring identity) and
+    the factors are SymPy's own ``factor_list`` ones; the polynomial's roots are numpy's eigenvalues of J J^T, and
+    each coefficient equals the sum of the principal minors of J J^T exactly (SymPy, sines and cosines at rational
+    points of the unit circle)."""
+    robot = DHRobot.from_dict(PANDA_4)
+    J = robot._middle_frame_jacobian("geometric")
+    minors, _ = charpoly._ring_minors(J)
+    distinct = {-m if m.LC < 0 else m for m in minors.values() if m}
+    pool = charpoly._FactorPool(next(iter(distinct)).ring)
+    for m in sorted(distinct, key=len):
+        content, factors = pool.factor(m)
+        product = m.ring.ground_new(content)
+        for f, e in factors:
+            product *= f**e
+        assert product == m
+        ours = sorted((str(f.monic()), e) for f, e in factors)
+        assert ours == sorted((str(f.monic()), e) for f, e in m.factor_list()[1])
+    p = robot.characteristic_polynomial("geometric")
+    assert not p.as_expr().has(sp.Determinant) and not dummies(p)
+    _eigenvalues_agree(robot, p, "geometric")
+    t = {q: sp.Rational(k + 2, 7) for k, q in enumerate(robot.q)}     # sin, cos at (2t, 1 - t^2) / (1 + t^2)
+    circle = {f(q): v for q, u in t.items()
+              for f, v in ((sp.sin, 2 * u / (1 + u**2)), (sp.cos, (1 - u**2) / (1 + u**2)))}
+    Jq = sp.expand_trig(J).xreplace(circle)
+    G = Jq * Jq.T
+    lam = sp.Symbol("lambda")
+    expected = G.charpoly(lam).all_coeffs()
+    for c, e in zip(p.all_coeffs(), expected):
+        assert sp.expand(sp.expand_trig(c).xreplace(circle)) == e
