@@ -300,6 +300,33 @@ def _can_create(directory: Path) -> bool:
         return True
 
 
+def write_npz(path, **arrays) -> Path:
+    """Write ``arrays`` to ``path`` as one ``.npz`` (no pickle needed to read it), whole or not at all: under
+    ``path.part`` first, then renamed over ``path``, so a reader never meets a half-written file (checkpoints,
+    stored sections, reach maps).
+
+    Parameters
+    ----------
+    path : str or path
+        The file.
+    **arrays : array_like
+        The arrays, by name.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
+    import numpy as np
+
+    path = Path(path)
+    part = path.with_name(path.name + ".part")
+    with open(part, "wb") as out:
+        np.savez(out, **arrays)
+    os.replace(part, path)
+    return path
+
+
 def check_output_file(path, parameter: str, *, formats=None) -> Path:
     """``path`` as a Path, once its directory exists and is writable and its extension is one of ``formats``.
 

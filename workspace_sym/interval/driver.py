@@ -49,6 +49,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import InvalidParameterError, check_choice
+from ..files import write_npz
 from ..progress import progress_bar
 from . import arith
 from .boxes import SIZES, Box, Paving, StoredPaving, bisect, box_measure, box_sizes, check_delta
@@ -710,10 +711,7 @@ def write_checkpoint(path: Path, meta: dict, pending: np.ndarray, store: BoxStor
         store.flush()
     meta = {**meta, "fingerprint": meta["fingerprint"].to_json(), "store": store.state(),
             "arrays": {k: _array_digest(v) for k, v in arrays.items()}}
-    tmp = path.with_name(path.name + ".tmp")
-    with open(tmp, "wb") as f:
-        np.savez(f, meta=np.array(json.dumps(meta)), **arrays)
-    os.replace(tmp, path)
+    write_npz(path, meta=np.array(json.dumps(meta)), **arrays)
 
 
 def _array_digest(array: np.ndarray) -> str:

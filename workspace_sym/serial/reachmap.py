@@ -22,7 +22,6 @@ from __future__ import annotations
 import hashlib
 import json
 import math
-import os
 import time
 import warnings
 import zipfile
@@ -33,6 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InvalidParameterError, WorkspaceError
+from ..files import write_npz
 from ..interval import arith
 from ..interval.boxes import check_delta
 from ..interval.driver import RunOn, StopAt
@@ -679,15 +679,9 @@ class ReachMap:
         OutputError
             A directory that cannot hold the file.
         """
-        from ..files import check_output_file
+        from ..files import check_output_file, write_npz
 
-        path = check_output_file(path, "path")
-        arrays = _arrays(self)
-        part = path.with_name(path.name + ".part")
-        with open(part, "wb") as out:
-            np.savez(out, **arrays)
-        os.replace(part, path)
-        return path
+        return write_npz(check_output_file(path, "path"), **_arrays(self))
 
     @classmethod
     def load(cls, path, *, expect: Fingerprint | None = None) -> ReachMap:
@@ -978,15 +972,11 @@ def _finish(answer: dict, codes: np.ndarray, done: dict, resume, named: Fingerpr
     bar.update(1)
     if resume is None:
         return
-    path = Path(resume)
-    part = path.with_name(path.name + ".part")
     finished = sorted(done)
     meta = {str(j): {key: done[j][key] for key in ("inside_root", "seconds", "method", "complete")} for j in finished}
-    with open(part, "wb") as out:
-        np.savez(out, format=np.array(MAP_FORMAT), fingerprint=np.array(json.dumps(named.to_json(), sort_keys=True)),
-                 finished=np.array(finished, dtype=np.int64), codes=np.stack([done[j]["codes"] for j in finished], -1),
-                 meta=np.array(json.dumps(meta)))
-    os.replace(part, path)
+    write_npz(resume, format=np.array(MAP_FORMAT), fingerprint=np.array(json.dumps(named.to_json(), sort_keys=True)),
+              finished=np.array(finished, dtype=np.int64), codes=np.stack([done[j]["codes"] for j in finished], -1),
+              meta=np.array(json.dumps(meta)))
 
 
 def _resumed(resume, named: Fingerprint, shape: tuple, count: int) -> dict:

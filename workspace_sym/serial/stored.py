@@ -10,13 +10,13 @@ may refine differently on another run, so it is kept beside the checkpoint (:fun
 from __future__ import annotations
 
 import json
-import os
 import zipfile
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import InvalidParameterError
+from ..files import write_npz
 from ..interval import image
 from ..interval.driver import RunOn
 from ..interval.fingerprint import Fingerprint, check_fingerprint
@@ -116,13 +116,9 @@ def save_section(where: RunOn, named: Fingerprint, grid, classes, proved, pieces
     if path is None or classes is None:
         return
     pieces = pieces or Pieces.none()
-    part = path.with_name(path.name + ".part")
-    with open(part, "wb") as out:
-        np.savez(out, named=np.array(json.dumps(named.to_json())), box=grid.box, width=np.array(grid.width),
-                 classes=classes,
-                 proved=np.zeros(0, dtype=bool) if proved is None else proved, inner=pieces.inner,
-                 outer=pieces.outer, evaluated=np.array(evaluated))
-    os.replace(part, path)
+    write_npz(path, named=np.array(json.dumps(named.to_json())), box=grid.box, width=np.array(grid.width),
+              classes=classes, proved=np.zeros(0, dtype=bool) if proved is None else proved, inner=pieces.inner,
+              outer=pieces.outer, evaluated=np.array(evaluated))
 
 
 def saved_section(where: RunOn, named: Fingerprint):
