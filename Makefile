@@ -5,6 +5,13 @@
 #   make notebooks -- execute the notebooks and export them to build/notebooks/*.html
 #   make docs  -- build the documentation site (API reference and guides) into build/docs/html
 PYTHON ?= python3
+
+# Every Python process the recipes start (pytest's workers, the CLI and notebook kernels the tests start, Dask's
+# workers) keeps the bytecode of what it imports, in __pycache__ beside the sources (the venv's, the package's; git
+# ignores them).  A machine that sets PYTHONDONTWRITEBYTECODE (as CI images often do) would otherwise compile SymPy
+# and the rest from source in each of those processes: 2.3 s for `import sympy` against 0.6 s, and the suite's CPU
+# time 959 s against 691 s (BENCHMARKS.md, "The test suite").
+unexport PYTHONDONTWRITEBYTECODE
 VENV ?= .venv
 BIN := $(VENV)/bin
 OUT ?= demo-report
