@@ -414,8 +414,21 @@ def _squared(form: sp.Expr) -> sp.Expr:
     """``form**2``, a product squared factor by factor: the expression SymPy builds, without its Pow of a Mul
     asking each long factor's assumptions (a third of the Panda's 6 x 7 sums)."""
     if not form.is_Mul:
-        return form**2
-    return sp.Mul(*(b ** (2 * e) for b, e in (a.as_base_exp() for a in form.args)))
+        return _power(form, 2)
+    return sp.Mul(*(_power(b, 2 * e) for b, e in (a.as_base_exp() for a in form.args)))
+
+
+_INFINITIES = (sp.S.Infinity, sp.S.NegativeInfinity, sp.S.ComplexInfinity)
+
+
+def _power(base: sp.Expr, exp) -> sp.Expr:
+    """``base**exp``, the same object SymPy builds.  For a sum of symbolic terms SymPy's evaluation ends in the
+    plain ``Pow(base, exp)`` after asking whether a sum of two terms holds an infinite one, which walks the
+    assumptions of each long term (seconds on the Panda's minors); here that sum is built without the question
+    when a walk of its tree (no assumptions) shows no infinity.  A number or an infinity goes to SymPy."""
+    if base.is_Add and base.free_symbols and not base.has(*_INFINITIES):
+        return sp.Pow(base, exp, evaluate=False)
+    return base**exp
 
 
 def _determinant(J: sp.Matrix, rows, cols) -> sp.Expr:

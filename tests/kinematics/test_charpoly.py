@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 import sympy as sp
 from hypothesis import HealthCheck, example, given, settings
+from hypothesis import strategies as st
 
 from dh_reference import GENERIC_6, dummies, fk_numpy_with_tool, tables
 from workspace_sym import charpoly, kinematics
@@ -174,3 +175,29 @@ def test_minors_factored_by_the_pool_are_sympys_factorisations_and_the_charpoly_
     expected = G.charpoly(lam).all_coeffs()
     for c, e in zip(p.all_coeffs(), expected):
         assert sp.expand(sp.expand_trig(c).xreplace(circle)) == e
+
+
+_x, _y, _t = sp.symbols("x y theta1")
+_TERMS = st.sampled_from([_x, _y, sp.cos(_t), sp.sin(_t), _x * sp.cos(_t), sp.sin(_t) ** 2, sp.I * _y, sp.pi,
+                          sp.sqrt(2), sp.I, sp.Integer(1), sp.oo, -sp.oo, sp.zoo,
+                          sp.Integer(0)])
+
+
+@settings(max_examples=150, deadline=None)
+@given(terms=st.lists(_TERMS, min_size=1, max_size=4),
+       coefficients=st.lists(st.fractions(min_value=-3, max_value=3, max_denominator=4), min_size=4, max_size=4),
+       exp=st.sampled_from([2, 4, -1, -2, sp.Rational(1, 2)]))
+@example(terms=[_x, sp.oo], coefficients=[1, 1, 1, 1], exp=2)          # a sum of two terms, one infinite
+@example(terms=[sp.sqrt(2), sp.Integer(1)], coefficients=[1, 1, 1, 1], exp=2)   # a number: SymPy expands it
+@example(terms=[_x, _y], coefficients=[-1, -1, 1, 1], exp=2)           # a sum whose sign could be taken out
+@example(terms=[sp.Integer(1), sp.I], coefficients=[3, 4, 1, 1], exp=-1)     # 1/(3 + 4i) = (3 - 4i)/25
+@example(terms=[sp.Integer(1), sp.I], coefficients=[3, 4, 1, 1], exp=sp.Rational(1, 2))   # sqrt(3 + 4i) = 2 + i
+def test_the_squared_minors_are_the_powers_sympy_builds(terms, coefficients, exp):
+    """The powers of the squared-minor sums are built without SymPy's question whether a two-term sum holds an
+    infinite term (seconds on the Panda), and a product is squared factor by factor; reference: SymPy's own
+    ``base**exp`` and ``product**2``, compared by ``srepr`` (the same object, not only an equal value), over sums with
+    numbers, infinities and imaginary terms."""
+    base = sp.Add(*(sp.Rational(c.numerator, c.denominator) * t for c, t in zip(coefficients, terms)))
+    assert sp.srepr(charpoly._power(base, exp)) == sp.srepr(base**exp)
+    product = base * _x ** 3 * sp.cos(_t)
+    assert sp.srepr(charpoly._squared(product)) == sp.srepr(product**2)
