@@ -41,7 +41,7 @@ import time
 from contextlib import contextmanager
 from contextvars import ContextVar
 from decimal import Decimal, localcontext
-from functools import lru_cache
+from functools import lru_cache, partial
 
 import sympy as sp
 
@@ -54,6 +54,7 @@ __all__ = [
     "simplified",
     "textbook_polynomial",
     "textbook_form",
+    "canonical_sstr",
     "plain",
     "trig_pair",
     "symbolic_budget",
@@ -1881,9 +1882,23 @@ def decimal_form(expr):
     return _spread_decimals(expr)
 
 
-def _spread_decimals(expr):
+def _spread_decimals(expr, seen: dict | None = None):
+    """:func:`decimal_form`'s rewriting, each distinct subexpression once (``seen``: its results; the long
+    coefficients of a characteristic polynomial repeat their factors)."""
+    if seen is None:
+        seen = {}
+    if isinstance(expr, sp.Basic):
+        found = seen.get(expr)
+        if found is None:
+            found = seen[expr] = _spread_once(expr, seen)
+        return found
+    return _spread_once(expr, seen)
+
+
+def _spread_once(expr, seen: dict):
+    spread = partial(_spread_decimals, seen=seen)
     if isinstance(expr, sp.MatrixBase):
-        return expr.applyfunc(_spread_decimals)
+        return expr.applyfunc(spread)
     if not isinstance(expr, sp.Basic) or expr.is_Atom:
         return _decimal(expr) if isinstance(expr, sp.Rational) and _is_decimal(expr, 2) else expr
     if expr.is_Mul:
@@ -1893,14 +1908,14 @@ def _spread_decimals(expr):
             sums = [f for f in factors if f.is_Add]
             if len(sums) == 1:
                 inner = sp.Add(*(coeff * t for t in sums[0].args))
-                return sp.Mul(*(_spread_decimals(f) for f in factors if f is not sums[0]), _spread_decimals(inner))
+                return sp.Mul(*(spread(f) for f in factors if f is not sums[0]), spread(inner))
             if any(f.is_number for f in factors):
                 # sqrt(18686333)/10000: a float times sqrt(...) is evaluated at the float's few digits (0.43)
-                return sp.Mul(coeff, *(_spread_decimals(f) for f in factors))
-            return sp.Mul(_decimal(coeff), *(_spread_decimals(f) for f in factors))
+                return sp.Mul(coeff, *(spread(f) for f in factors))
+            return sp.Mul(_decimal(coeff), *(spread(f) for f in factors))
     if expr.is_Pow:       # an exponent is no length: sqrt(x) keeps its 1/2 (a float 0.5 would evaluate it)
-        return sp.Pow(_spread_decimals(expr.base), expr.exp)
-    return expr.func(*(_spread_decimals(a) for a in expr.args))
+        return sp.Pow(spread(expr.base), expr.exp)
+    return expr.func(*(spread(a) for a in expr.args))
 
 
 def shorthand_str(expr, variables) -> str:
@@ -1924,7 +1939,158 @@ def shorthand_str(expr, variables) -> str:
     ExpressionError
         When ``expr`` is text that cannot be read, or of another type.
     """
-    return sp.sstr(decimal_form(shorthand(expr, variables)), full_prec=False)
+    return canonical_sstr(decimal_form(shorthand(expr, variables)), full_prec=False)
+
+
+def canonical_sstr(expr, **settings) -> str:
+    """``sympy.sstr(expr, **settings)``, the same string, with SymPy's canonical order of the terms of each sum
+    found once per sum.
+
+    SymPy's printer orders the terms of each sum (``Expr.as_ordered_terms``) by sort keys of their factors, and a
+    factor's sort key orders the sums inside it again; its caches are too small for a long expression, so the
+    order of a sum deep in it is found again at each level above it.  Here the order of each sum and the sort key
+    of each factor are kept for the whole printing (:class:`_CanonicalOrder`): half the time on the Panda's
+    characteristic polynomial (222 kB for one coefficient).  The string is SymPy's, character for character (the
+    order of terms is the ``lex`` one SymPy's printer uses when none is set; a sum with non-commutative or
+    ``Order`` terms is left to SymPy).
+
+    Parameters
+    ----------
+    expr : SymPy expression or matrix
+        What to print.
+    **settings
+        :class:`sympy.printing.str.StrPrinter` settings (``full_prec=False``, ...).
+
+    Returns
+    -------
+    str
+        The string ``sympy.sstr`` gives.
+
+    Examples
+    --------
+    >>> x, y = sp.symbols("x y")
+    >>> canonical_sstr(sp.cos(x) ** 2 * y + 3 * x / 4 - 1)
+    '3*x/4 + y*cos(x)**2 - 1'
+    """
+    return _CanonicalStrPrinter(settings).doprint(expr)
+
+
+class _CanonicalStrPrinter(sp.printing.str.StrPrinter):
+    """SymPy's string printer whose order of the terms of a sum comes from one :class:`_CanonicalOrder`."""
+
+    def __init__(self, settings=None):
+        super().__init__(settings)
+        self._canonical = _CanonicalOrder()
+
+    def _as_ordered_terms(self, expr, order=None):
+        if (order or self.order) is None:
+            return self._canonical.terms(expr)
+        return super()._as_ordered_terms(expr, order=order)
+
+
+class _CanonicalOrder:
+    """``Expr.as_ordered_terms()`` and ``default_sort_key`` as SymPy computes them (with ``order=None``), each
+    kept once found."""
+
+    def __init__(self):
+        self._keys: dict = {}
+        self._terms: dict = {}
+
+    def key(self, e):
+        """``default_sort_key(e)``."""
+        found = self._keys.get(e)
+        if found is None:
+            if isinstance(e, sp.Expr) and type(e).sort_key is sp.Expr.sort_key:
+                found = self._expr_key(e)
+            else:       # atoms, numbers, non-expressions: their own (cached) keys
+                found = sp.core.sorting.default_sort_key(e)
+            self._keys[e] = found
+        return found
+
+    def _expr_key(self, e):
+        """``Expr.sort_key``, with the keys of the arguments and the orders of the sums from this object."""
+        coeff, expr = e.as_coeff_Mul()
+        if expr.is_Pow:
+            base, exp = expr.as_base_exp()
+            if base is sp.S.Exp1:
+                base, exp = sp.Function("exp")(exp), sp.S.One
+            expr = base
+        else:
+            exp = sp.S.One
+        if expr.is_Dummy:
+            args: tuple = (expr.sort_key(),)
+        elif expr.is_Atom:
+            args = (str(expr),)
+        else:
+            if expr.is_Add:
+                parts = self.terms(expr)
+            elif expr.is_Mul:
+                commutative, others = expr.args_cnc()
+                parts = sorted(commutative, key=self.key) + others
+            else:
+                parts = expr.args
+            args = tuple([self.key(a) for a in parts])
+        return expr.class_key(), (len(args), args), self.key(exp), coeff
+
+    def terms(self, e):
+        """``e.as_ordered_terms()``."""
+        found = self._terms.get(e)
+        if found is None:
+            found = self._terms[e] = self._ordered_terms(e)
+        return found
+
+    def _ordered_terms(self, e):
+        if not e.is_Add:
+            return e.as_ordered_terms()
+        # SymPy's special case: 1 - 2*x stays in that order
+        not_number = lambda a: not isinstance(a, sp.Number | sp.NumberSymbol)   # noqa: E731
+        args = sorted(e.args, key=not_number)
+        if len(args) == 2 and not not_number(args[0]) and isinstance(args[1], sp.Mul):
+            factors = sorted(args[1].args, key=not_number)
+            if (len(factors) == 2 and isinstance(factors[0], sp.Number) and args[0].is_positive
+                    and factors[0].is_negative):
+                return args
+        generators: set = set()
+        terms = []
+        for term in e.args:
+            if term.is_Order:
+                return e.as_ordered_terms()
+            coeff, rest = term.as_coeff_Mul()
+            value = _complex(coeff)
+            powers = {}
+            if rest is not sp.S.One:
+                for factor in sp.Mul.make_args(rest):
+                    if factor.is_number:
+                        try:
+                            value *= _complex(factor)
+                        except (TypeError, ValueError):
+                            pass
+                        else:
+                            continue
+                    if not factor.is_commutative:
+                        return e.as_ordered_terms()
+                    base, exp = sp.core.exprtools.decompose_power(factor)
+                    powers[base] = exp
+                    generators.add(base)
+            terms.append((term, value, powers))
+        index = {g: i for i, g in enumerate(sorted(generators, key=self.key))}
+
+        def lex(item):     # Expr._parse_order(None): the exponents in lex order, largest first, then the coefficient
+            _, value, powers = item
+            monomial = [0] * len(index)
+            for base, exp in powers.items():
+                monomial[index[base]] = -exp
+            return tuple(monomial), (), ((bool(value.imag), value.imag), (value.real, value.imag))
+
+        return [term for term, _, _ in sorted(terms, key=lex)]
+
+
+def _complex(number) -> complex:
+    """``complex(number)`` as SymPy's ``as_terms`` takes it, without its evalf for a rational or a float."""
+    if number.is_Rational or number.is_Float:
+        with contextlib.suppress(OverflowError):
+            return complex(float(number))
+    return complex(number)
 
 
 def shorthand_latex(expr, variables, *, short: bool = True) -> str:

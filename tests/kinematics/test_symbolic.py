@@ -240,3 +240,49 @@ def test_cross_is_sympys_cross(entries):
 
     u, v = sp.Matrix(entries[:3]), sp.Matrix(entries[3:])
     assert _cross(u, v) == u.cross(v)
+
+
+_P, _Q, _T1, _T2 = sp.symbols("x y theta1 theta2")
+_ATOMS = st.sampled_from([_P, _Q, sp.cos(_T1), sp.sin(_T1 + _T2), sp.cos(_T1 - 2 * _T2), sp.Rational(3, 4),
+                          sp.Rational(-17, 40), sp.Float("0.39225"), sp.Integer(-1), sp.Integer(2), sp.sqrt(2),
+                          sp.pi, sp.I, sp.exp(_P), sp.Symbol("c23"), sp.Integer(10) ** 400])
+_EXPRESSIONS = st.recursive(
+    _ATOMS,
+    lambda inner: st.one_of(st.lists(inner, min_size=2, max_size=5).map(lambda a: sp.Add(*a)),
+                            st.lists(inner, min_size=2, max_size=4).map(lambda a: sp.Mul(*a)),
+                            st.tuples(inner, st.sampled_from([2, 3, -1, -2, sp.Rational(1, 2)]))
+                            .map(lambda p: p[0] ** p[1])),
+    max_leaves=40)
+
+
+@settings(max_examples=300, deadline=None)
+@given(expr=_EXPRESSIONS)
+@example(expr=1 - 2 * _P)                                   # SymPy's special case: a number first, then -2*x
+@example(expr=_P + sp.O(_P**2))                             # an Order term: left to SymPy
+@example(expr=sp.Symbol("A", commutative=False) * sp.Symbol("B", commutative=False) + _P)   # non-commutative
+@example(expr=sp.Integer(10) ** 400 * _P + sp.Float("1e300") * _Q ** 2 + sp.I * _P * _Q)    # huge coefficients
+@example(expr=sp.Matrix([[_P + 1, sp.cos(_T1) ** 2 * _Q - _P], [0, (_P + _Q) ** 2]]))
+def test_canonical_sstr_is_sympys_string(expr):
+    """The textbook printer keeps the order of each sum once found; reference: ``sympy.sstr`` itself, character
+    for character, with and without ``full_prec``, over random nested sums, products and powers of symbols,
+    sines and cosines of sums, rationals, floats, surds, pi, i and a 400-digit integer; and SymPy's
+    ``default_sort_key`` of each of their nodes."""
+    from workspace_sym.symbolic import _CanonicalOrder, canonical_sstr
+
+    assert canonical_sstr(expr) == sp.sstr(expr)
+    assert canonical_sstr(expr, full_prec=False) == sp.sstr(expr, full_prec=False)
+    order = _CanonicalOrder()              # and the sort keys behind the order are SymPy's, at every node
+    for node in sp.preorder_traversal(expr) if isinstance(expr, sp.Expr) else ():
+        assert order.key(node) == sp.default_sort_key(node)
+
+
+def test_the_textbook_strings_of_arms_are_sympys(glass):
+    """The same on real results: the glass arm's forward kinematics and Jacobian and the UR5's fk, as textbook
+    strings (shorthand and decimal lengths), against ``sympy.sstr`` of the same expressions."""
+    from workspace_sym.symbolic import decimal_form
+
+    ur5 = DHRobot.from_file(DATA / "dh" / "ur5.json")
+    for robot, matrices in ((glass, (glass.fk(), glass.geometric_jacobian)), (ur5, (ur5.fk(),))):
+        for matrix in matrices:
+            for entry in matrix:
+                assert robot.to_str(entry) == sp.sstr(decimal_form(shorthand(entry, robot.q)), full_prec=False)
