@@ -105,8 +105,11 @@ def test_pieces_of_the_ur5_are_sound():
         assert reached_at_50_digits(model, np.array([rho * np.cos(psi), rho * np.sin(psi), z]), q, pos)
     h = 0.008
     sampled = image.position_float(image.random_configurations(1_000_000, np.random.default_rng(3)))
-    cells = np.unique(np.floor(sampled / h).astype(np.int64), axis=0)
-    volume = float(np.sum(2 * np.pi * (cells[:, 0] + 0.5) * h ** 3))
+    # the hit cells (i, j) as one integer each (a 1-D unique is several times cheaper than the rows' unique)
+    i, j = np.floor(sampled / h).astype(np.int64).T
+    span = j.max() - j.min() + 1
+    rows = np.unique((i - i.min()) * span + (j - j.min())) // span + i.min()
+    volume = float(np.sum(2 * np.pi * (rows + 0.5) * h ** 3))
     lo, hi = turned_volume(grid, classes, pieces)
     whole_lo, whole_hi = turned_volume(grid, classes)
     assert lo <= volume <= hi, (lo, volume, hi)
