@@ -249,8 +249,9 @@ def _glass_section_volume(n_r=300, n_z=600):
 @pytest.mark.slow
 def test_glass_arm_bracket_holds_the_independent_volume(glass):
     """Issue 14 item 4: the glass-handling arm's bracket holds the volume of its section turned through the
-    theta1 range, computed independently (Bastien's boundary of the section, numerical integration)."""
-    volume = _glass_section_volume()
+    theta1 range, computed independently (Bastien's boundary of the section, numerical integration on a grid of
+    150 x 300 midpoints: 0.73097, within 3e-4 of the 300 x 600 grid's 0.73117, in a bracket [0.616, 0.780])."""
+    volume = _glass_section_volume(150, 300)
     robot = glass
     paving = reach(robot, delta=0.025)
     lo, hi = paving.measure_bounds
