@@ -19,13 +19,13 @@ volume bracket holds the sampled volume of the section turned through the arcs o
 
 from __future__ import annotations
 
+import functools
 import itertools
 
 import numpy as np
 import pytest
 import sympy as sp
 
-import workspace_sym as ws
 import workspace_sym.interval.image as image
 from reach_checks import reached_at_50_digits, sampled_arcs_volume, sampled_positions
 from workspace_sym import RunOn, StopAt
@@ -68,11 +68,13 @@ def arm(request):
     return robot, reach(robot, delta=DELTA, stop=STOP)
 
 
-def _section_path(robot, **options):
-    """``reach`` on the section path (what it was before the 3-D cells took these arms)."""
+@functools.cache
+def _section_path(robot):
+    """``reach`` on the section path (what it was before the 3-D cells took these arms), once per arm (the
+    pedestal's is the reference of two tests)."""
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr("workspace_sym.serial.plans.on_cells", lambda robot, values, stored=False, tuning=None: False)
-        return reach(robot, delta=DELTA, stop=STOP, **options)
+        return reach(robot, delta=DELTA, stop=STOP)
 
 
 def test_the_section_path_proves_no_inner_box_and_the_3d_cells_do(arm):
@@ -141,7 +143,7 @@ def test_storage_and_a_cover_too_large_keep_the_section_path(monkeypatch, tmp_pa
         assert fallback.method == "critical" and fallback.counts == before.counts
 
 
-def test_the_rule_counts_the_joints_that_move_the_position():
+def test_the_rule_counts_the_joints_that_move_the_position(glass, puma):
     """Up to Tuning.cells_max_joints moving joints (three: a two-joint section turned +-60 deg) the 3-D cells take
     the arm; one more joint moving the point (four: a three-joint section, the 3-D cover ten times the section's
     time) keeps the section path; the constant-offset arms of the catalog (glass arm, Puma: ``Revolved``, whose
@@ -158,7 +160,6 @@ def test_the_rule_counts_the_joints_that_move_the_position():
         plan, model = structure_of(robot, ()), reach_model(robot, ())
         assert isinstance(plan, Turned) and not plan.full and limited_turn(plan, model) is None and model.k == k
         assert on_cells(robot, ()) is cells and resolve_method(robot) == "critical"
-    for name in ("glass-handling", "puma560"):
-        robot = ws.robots.build(name)
+    for robot in (glass, puma):                 # the session's objects: their sections are prepared once
         assert isinstance(structure_of(robot, ()), Revolved) and not on_cells(robot, ())
         assert resolve_method(robot) == "critical"

@@ -944,9 +944,10 @@ class ElbowReach:
         with np.errstate(all="ignore"):
             for s in range(0, len(r0), step):
                 R0, R1, Z0, Z1 = (x[s:s + step, None] for x in (r0, r1, z0, z1))
-                dr = np.maximum(0.0, np.maximum(arith.sub((R0, R0), (b, b))[0], arith.sub((a, a), (R1, R1))[0]))
-                dz = np.maximum(0.0, np.maximum(arith.sub((Z0, Z0), (d, d))[0], arith.sub((c, c), (Z1, Z1))[0]))
-                near = arith.add(arith.sqr((dr, dr)), arith.sqr((dz, dz)))[0]
+                # Lower bounds only (the lower ends of arith.sub and arith.add, without their upper ends)
+                dr = np.maximum(0.0, np.maximum(arith.down(R0 - b), arith.down(a - R1)))
+                dz = np.maximum(0.0, np.maximum(arith.down(Z0 - d), arith.down(c - Z1)))
+                near = arith.down(arith.sqr((dr, dr))[0] + arith.sqr((dz, dz))[0])
                 out[s:s + step] = np.min(np.where(np.isnan(near), -np.inf, near), axis=1) > bound
         return out.reshape(shape)
 
