@@ -832,7 +832,11 @@ def cmd_report(args) -> int:
     from .interval.driver import StopAt
 
     check_delta(args.reach_time_limit, "reach_time_limit")       # named by its flag, before StopAt names time_limit
-    reach = {"reach_delta": args.reach_delta, "stop": StopAt(time_limit=args.reach_time_limit)}
+    if args.reach_max_boxes is not None and args.reach_max_boxes < 1:     # likewise before StopAt names max_boxes
+        raise InvalidParameterError(f"reach_max_boxes must be at least 1; got {args.reach_max_boxes}",
+                                    parameter="reach_max_boxes")
+    reach = {"reach_delta": args.reach_delta,
+             "stop": StopAt(time_limit=args.reach_time_limit, max_boxes=args.reach_max_boxes)}
     constraint = _pose_options(args)
     if constraint:
         if args.reach_delta is None:
@@ -1163,6 +1167,9 @@ def build_parser() -> _Parser:
                    help="DH robot: add a certified workspace section (reach with boxes down to size D)")
     p.add_argument("--reach-time-limit", type=float, default=60.0, metavar="SECONDS",
                    help="with --reach-delta: stop reach after this many seconds (default 60; the rest is pending)")
+    p.add_argument("--reach-max-boxes", type=int, default=None, metavar="N",
+                   help="with --reach-delta: stop reach after this many boxes evaluated (default: no budget; the rest "
+                        "is pending)")
     p.add_argument("--out", required=True, help="output directory")
     p.set_defaults(func=cmd_report)
 
@@ -1197,7 +1204,7 @@ _FLAGS: dict[str | None, str] = {
     "eps": "--eps", "sigma": "--sigma", "alpha": "--alpha",
     "seed": "--seed", "count": "--count", "max_joints": "--max-joints",
     "scheduler": "--scheduler", "max_memory": "--max-memory", "store": "--store", "resume": "--resume",
-    "reach_delta": "--reach-delta", "reach_time_limit": "--reach-time-limit",
+    "reach_delta": "--reach-delta", "reach_time_limit": "--reach-time-limit", "reach_max_boxes": "--reach-max-boxes",
     "approach": "--approach", "cone": "--cone", "every": "--every", "orientation": "--orientation",
     "rpy": "--orientation",
     "base_link": "--base", "tip_link": "--tip", "out": "--out", "plot": "--plot", "slices": "--slices",

@@ -224,8 +224,9 @@ def test_demo_writes_the_report(demo):
 
 @pytest.mark.slow
 def test_report_with_a_certified_workspace(tmp_path, capsys):
-    """report --reach-delta adds the certified section; a run cut short by --reach-time-limit says so, lists its
-    pending boxes and draws them."""
+    """report --reach-delta adds the certified section; a time limit (--reach-time-limit) that passes before any box
+    is decided says so; a run cut short (here by --reach-max-boxes, a budget that costs its boxes and not a fixed
+    number of seconds) says why, lists its pending boxes and draws them."""
     out_dir = tmp_path / "arm"
     code, out, err = run(capsys, "report", "planar-2r", "--reach-delta", "0.2", "--out", str(out_dir))
     assert code == 0 and f"report: {out_dir / 'report.md'}" in out and f"{out_dir / 'reach.png'}" in err
@@ -238,19 +239,21 @@ def test_report_with_a_certified_workspace(tmp_path, capsys):
     md = (tmp_path / "early" / "report.md").read_text()
     assert code == 0 and "Not computed: the time limit of 0.001 s" in md and "so no box was decided" in md
     assert not (tmp_path / "early" / "reach.png").exists()
-    # 6 s hold the Puma's model (about 1 s) but not a paving down to 2 mm: pending boxes, drawn.
-    code, out, err = run(capsys, "report", "puma560", "--reach-delta", "0.002", "--reach-time-limit", "6",
-                         "--out", str(tmp_path / "puma"))
-    md = (tmp_path / "puma" / "report.md").read_text()
-    assert code == 0 and re.search(r"The run did not complete \(time limit of 6(\.0)? s reached\)", md)
+    # 500 boxes do not pave the SCARA's workspace down to 2 mm: pending boxes, drawn (3D: volume and slices).
+    code, out, err = run(capsys, "report", "scara", "--reach-delta", "0.002", "--reach-max-boxes", "500",
+                         "--out", str(tmp_path / "scara"))
+    md = (tmp_path / "scara" / "report.md").read_text()
+    assert code == 0 and "The run did not complete (budget of 500 boxes reached)" in md
     assert re.search(r"^\| pending \| [1-9]\d* \| ", md, re.M) and "pending (blue)" in md
-    assert "| volume (m³) |" in md and (tmp_path / "puma" / "reach-slices.png").stat().st_size > 10_000
+    assert "| volume (m³) |" in md and (tmp_path / "scara" / "reach-slices.png").stat().st_size > 10_000
 
 
 @pytest.mark.parametrize(("argv", "needle"), [
     (["planar-2r", "--reach-delta", "-0.1"], "--reach-delta: reach_delta must be a positive finite number; got -0.1"),
     (["planar-2r", "--reach-delta", "nan"], "--reach-delta: reach_delta must be a positive finite number; got nan"),
     (["planar-2r", "--reach-delta", "0.2", "--reach-time-limit", "-1"], "--reach-time-limit: reach_time_limit"),
+    (["planar-2r", "--reach-delta", "0.2", "--reach-max-boxes", "0"],
+     "--reach-max-boxes: reach_max_boxes must be at least 1; got 0"),
     (["rpr2", "--reach-delta", "0.2"], "--reach-delta: the certified workspace section needs a DH robot"),
     (["chain", "--lengths", "1,1", "--lower=-90,0", "--upper=90,90", "--reach-delta", "0.2"], "'chain' is not one"),
     (["scara", "--approach", "0,0,-1", "--cone", "20"], "--reach-delta: a tool constraint (approach, cone, every"),
@@ -282,6 +285,11 @@ def test_report_passes_the_tool_constraint_to_its_certified_section(tmp_path, ca
     assert code == 0, err
     assert seen["reach_delta"] == 0.1 and seen["pose"] == Pose(rpy=[180.0, 0.0, 0.0])
     assert seen["stop"] == StopAt(time_limit=60.0)
+    # --reach-time-limit and --reach-max-boxes become the StopAt of reach
+    code, out, err = run(capsys, "report", "scara", "--reach-delta", "0.1", "--reach-time-limit", "5",
+                         "--reach-max-boxes", "100", "--out", str(tmp_path / "budget"))
+    assert code == 0, err
+    assert seen["stop"] == StopAt(time_limit=5.0, max_boxes=100)
 
 
 def test_report_reach_delta_not_a_number(tmp_path, capsys):

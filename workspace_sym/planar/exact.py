@@ -509,10 +509,14 @@ def exact_arcs(boundary) -> list[dict]:
     return boundary.exact
 
 
-def _shortest(*forms):
+def _printed_length(e) -> int:
     # Printed length without ordering the terms: the str printer orders an Add by evaluating its terms numerically,
     # which for the nested radicals of a six-link chain costs minutes; the order changes no length.
-    return min(forms, key=lambda e: len(sp.sstr(e, order="none")))
+    return len(sp.sstr(e, order="none"))
+
+
+def _shortest(*forms):
+    return min(forms, key=_printed_length)
 
 
 def area_terms(boundary, rows=None) -> list[sp.Expr]:
@@ -630,5 +634,10 @@ def shortest_form(expr) -> sp.Expr:
         if done:
             forms.append(form)
     scale = max(1.0, abs(float(value)))
-    kept = [f for f in forms if f is expr or (f.is_number and abs(sp.N(f - value, 40)) <= 1e-30 * scale)]
-    return _shortest(*kept)
+    # The shortest of the forms that pass the check, checking the shortest first (a stable sort keeps min's choice
+    # among equal lengths): each check evaluates a form at 40 digits, as long as a rewriting for a sum of sines of
+    # arctangents, and the longer forms need none once a shorter one passed.
+    for form in sorted(forms, key=_printed_length):
+        if form is expr or (form.is_number and abs(sp.N(form - value, 40)) <= 1e-30 * scale):
+            return form
+    return expr         # not reached: expr is among the forms
