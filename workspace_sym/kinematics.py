@@ -261,10 +261,14 @@ def _homogeneous(M, parameter: str) -> sp.Matrix:
     R = M[:3, :3]
     if R.free_symbols:
         raise DHTableError(f"{parameter}: the rotation must be numeric; got symbols {sorted(map(str, R.free_symbols))}")
-    err = np.abs(np.array((R * R.T - sp.eye(3)).evalf(), dtype=float)).max()
-    if err > 1e-9 or float(R.det()) < 0:
+    # In floats: evalf of the exact R R^T - I, whose entries are exactly 0, raised its precision until it gave up
+    # (4 s for a tool turned by rpy angles in degrees).
+    Rn = np.array(R.evalf(), dtype=float)
+    err = np.abs(Rn @ Rn.T - np.eye(3)).max()
+    det = float(np.linalg.det(Rn))
+    if err > 1e-9 or det < 0:
         raise DHTableError(f"{parameter}: the 3 x 3 block must be a rotation (R R^T = I, det R = +1); "
-                           f"got |R R^T - I| = {err:.3g}, det R = {float(R.det()):.6g}")
+                           f"got |R R^T - I| = {err:.3g}, det R = {det:.6g}")
     return M
 
 

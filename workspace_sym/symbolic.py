@@ -1482,7 +1482,9 @@ def _full_angle(f: sp.Expr, pairs) -> sp.Expr:
 
 def _odd_set(f: sp.Expr, pairs) -> frozenset:
     gens = [g for _, S, C in pairs for g in (S, C)]
-    P = sp.Poly(f, *gens)
+    # f divides a polynomial homogeneous in every (S_k, C_k), so it is homogeneous too and one term shows the
+    # parities: a Poly of all of f (a 3-joint table's gcd of thousands of terms) took a second, paid on each call.
+    P = sp.Poly(sp.Add.make_args(f)[0], *gens)
     monom = P.monoms()[0]
     return frozenset(k for k in range(len(pairs)) if (monom[2 * k] + monom[2 * k + 1]) % 2)
 

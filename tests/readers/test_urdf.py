@@ -7,6 +7,7 @@ the exact Puma tables, and substitution of configurations into the Jacobian.
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 from pathlib import Path
@@ -46,10 +47,18 @@ def _library_fk(path, tip, qs):
     return np.array(out)
 
 
+@functools.cache
+def _read(name):
+    """The URDF of ``name`` read with the default options, once per module (the tests only read it: its fk,
+    Jacobian and factors are derived once and kept)."""
+    path, tip = URDFS[name]
+    return DHRobot.from_urdf(path, tip_link=tip)
+
+
 @pytest.mark.parametrize("name", sorted(URDFS))
 def test_fk_equals_the_urdf_library(name):
     path, tip = URDFS[name]
-    robot = DHRobot.from_urdf(path, tip_link=tip)
+    robot = _read(name)
     qs = np.random.default_rng(7).uniform(-3.0, 3.0, size=(12, robot.n))
     reference = _library_fk(path, tip or "tool0", qs)
     # nothing snapped (tol = 0: only angles that are exactly 0 or a multiple of pi/360 as floats): the DH
@@ -62,8 +71,7 @@ def test_fk_equals_the_urdf_library(name):
 
 
 def test_irb140_table_limits_and_notes():
-    path, _ = URDFS["irb140"]
-    robot = DHRobot.from_urdf(path)
+    robot = _read("irb140")
     assert robot.name == "abb_irb140" and robot.n == 6 and robot.base is None
     # joint_2 sits 0.28 out and 1.38 up: a1 = 7/25, d1 = 69/50 exactly (decimals of the file)
     assert (robot.joints[0].a, robot.joints[0].d, robot.joints[0].alpha) == (sp.Rational(7, 25), sp.Rational(69, 50),
@@ -81,8 +89,7 @@ def test_irb140_table_limits_and_notes():
 
 
 def test_kuka_limits_snap_to_whole_degrees_and_base_transform():
-    path, _ = URDFS["kr16"]
-    robot = DHRobot.from_urdf(path)
+    robot = _read("kr16")
     # KUKA writes 185 deg as 3.22885911619 (37*pi/36 to 5e-13): snapped
     assert robot.joints[0].limits == (-37 * sp.pi / 36, 37 * sp.pi / 36)
     assert robot.joints[1].limits == (-31 * sp.pi / 36, 7 * sp.pi / 36)
@@ -98,8 +105,7 @@ def _jacobian_singular_values(robot, q):
 @pytest.mark.parametrize("name", ["kr16", "irb140"])
 def test_singular_factors_checked_by_substitution(name):
     """Each factor's zero set makes J lose rank; away from them det J is a constant times their product."""
-    path, _ = URDFS[name]
-    robot = DHRobot.from_urdf(path)
+    robot = _read(name)
     factors = robot.singular_factors(multiplicity=True)
     if name == "kr16":   # wrist-partitioned: wrist s5, an elbow and a shoulder factor (theta2, theta3 only)
         assert len(factors) == 3 and factors[0] == (sp.sin(robot.q[4]), 1)
