@@ -153,9 +153,9 @@ def _report_summary(path, start: float, **extra) -> dict:
 
 
 def _matrix_strings(M) -> list:
-    import sympy as sp
+    from .symbolic import canonical_sstr  # sympy.sstr's strings, each sum ordered once (long entries)
 
-    return [[sp.sstr(M[i, j]) for j in range(M.cols)] for i in range(M.rows)]
+    return [[canonical_sstr(M[i, j]) for j in range(M.cols)] for i in range(M.rows)]
 
 
 # ------------------------------------------------------------------------------ subcommands
@@ -237,6 +237,8 @@ def cmd_fk(args) -> int:
 def cmd_jacobian(args) -> int:
     import sympy as sp
 
+    from .symbolic import canonical_sstr
+
     robot = _robot_from_args(args)
     start = time.perf_counter()
     extra = {}
@@ -282,7 +284,7 @@ def cmd_jacobian(args) -> int:
                       "singular": None if shown is None else [robot.to_latex(g) for g in shown]},
             "charpoly": None if charpoly is None else {
                 "kind": args.charpoly, "variable": "lambda",
-                "coefficients": [sp.sstr(c) for c in charpoly],
+                "coefficients": [canonical_sstr(c) for c in charpoly],   # sympy.sstr's, each sum ordered once
                 "textbook": [robot.to_str(c) for c in charpoly],
                 "latex": [robot.to_latex(c) for c in charpoly]},
             "unfinished": unfinished,
