@@ -344,7 +344,31 @@ class ImageMap:
         numpy.ndarray of bool
             ``(N,)``: True where the box is proved inside.
         """
+        return self.prove_inside_boxes(T, q)[0]
+
+    def prove_inside_boxes(self, T: np.ndarray, q: np.ndarray, *, inflations: int | None = None):
+        """:meth:`prove_inside_at` with the joint box of each proof: for every ``y`` in ``T[i]`` the equation
+        ``f(q) = y`` has a solution in ``U[i]`` (the joints that varied in their proved ranges, the others at
+        ``q[i]``).
+
+        Parameters
+        ----------
+        T : numpy.ndarray
+            ``(N, m, 2)`` task boxes.
+        q : numpy.ndarray
+            ``(N, k)`` configurations, one per box.
+        inflations : int, optional
+            Epsilon-inflations after a failed test (default :attr:`INFLATIONS`).
+
+        Returns
+        -------
+        proved : numpy.ndarray of bool
+            ``(N,)``.
+        U : numpy.ndarray
+            ``(N, k, 2)`` joint boxes, meaningful where ``proved``.
+        """
         N, m, k = len(T), self.m, self.k
+        inflations = self.INFLATIONS if inflations is None else inflations
         with np.errstate(all="ignore"):
             J = self.jacobian_float(q)
         ok = np.isfinite(J).all(axis=(1, 2)) & np.isfinite(q).all(axis=1)
@@ -356,14 +380,16 @@ class ImageMap:
         dets = np.where(np.isfinite(dets) & ok[:, None], dets, 0.0)
         order = np.argsort(-dets, axis=1)
         proved = np.zeros(N, dtype=bool)
+        U = np.repeat(np.asarray(q, dtype=float)[:, :, None], 2, axis=2)
         for rank in range(min(len(combos), self.COMBOS_TRIED)):
             choice = order[:, rank]
             usable = ~proved & (dets[np.arange(N), choice] > 1e-12)
             for c_index, cols in enumerate(combos):
                 rows = np.nonzero(usable & (choice == c_index))[0]
                 if len(rows):
-                    proved[rows] = self._krawczyk(T[rows], q[rows], list(cols), 1.5, inflations=self.INFLATIONS)
-        return proved
+                    proved[rows], U[rows] = self._krawczyk_boxes(T[rows], q[rows], list(cols), 1.5,
+                                                                 inflations=inflations)
+        return proved, U
 
     def prove_inside_multistart(self, T: np.ndarray, rng, *, starts: int = 6, seeds: np.ndarray | None = None,
                                 reached: bool = False):
@@ -433,6 +459,11 @@ class ImageMap:
         (epsilon-inflation) and tried again, ``inflations`` times.  Each try
         is a complete, independent test.
         """
+        return self._krawczyk_boxes(T, q, cols, factor, inflations=inflations)[0]
+
+    def _krawczyk_boxes(self, T, q, cols, factor, *, inflations: int = 2):
+        """:meth:`_krawczyk`, with the box ``U`` of each successful try (``(N, k, 2)``; ``q`` as points where
+        the test failed)."""
         N = len(T)
         sub = np.array(cols)
         with np.errstate(all="ignore"):
@@ -441,6 +472,7 @@ class ImageMap:
         radius = factor * np.einsum("nij,nj->ni", np.abs(C), half) + 1e-12 * (1 + np.abs(q[:, sub]))
         usable = np.isfinite(C).all(axis=(1, 2)) & np.isfinite(radius).all(axis=1)
         proved = np.zeros(N, dtype=bool)
+        proofs = np.repeat(np.asarray(q, dtype=float)[:, :, None], 2, axis=2)
         rows = np.nonzero(usable)[0]
         for _ in range(inflations + 1):
             if not len(rows):
@@ -453,11 +485,12 @@ class ImageMap:
             K = self._krawczyk_image(T[rows], q[rows], C[rows], box, sub)
             ok = allowed & (K[:, :, 0] > box[:, sub, 0]).all(axis=1) & (K[:, :, 1] < box[:, sub, 1]).all(axis=1)
             proved[rows[ok]] = True
+            proofs[rows[ok]] = box[ok]
             grow = np.maximum(np.abs(K[:, :, 0] - q[rows][:, sub]), np.abs(K[:, :, 1] - q[rows][:, sub]))
             retry = ~ok & allowed & np.isfinite(grow).all(axis=1)
             radius[rows[retry]] = np.maximum(radius[rows[retry]], 1.2 * grow[retry])
             rows = rows[retry]
-        return proved
+        return proved, proofs
 
     def _krawczyk_image(self, T, q, C, box, sub):
         """``K = q - C (f(q) - T) + (I - C J(U)) (U - q)`` over the joints ``sub``, outward-rounded: ``(N, m, 2)``."""
