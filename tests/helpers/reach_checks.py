@@ -364,3 +364,55 @@ def wrist_arm_in_cone_at_50_digits(robot, target, direction, cone_deg, rng, star
                     mpmath.radians(mpmath.mpf(float(cone_deg)))):
                 return full
     return None
+
+
+def arm_in_cone_at_50_digits(robot, target, direction, cone_deg, rng, starts=60):
+    """A configuration of any 6- or 7-joint arm putting the tool point at ``target`` with the approach axis within
+    ``cone_deg`` of ``direction``, at 50 digits and within the limits; None if none is found.  Float search:
+    least squares on the position and on the approach aimed at ``direction`` (scipy, within the limits) from
+    random starts; then mpmath ``findroot`` on the position in the three joints of the best-conditioned minor,
+    the others kept, and every condition checked again at 50 digits."""
+    T = robot.substitute(robot.fk())
+    q = robot.q
+    position = sp.lambdify(q, list(T[:3, 3]), modules="mpmath")
+    approach = sp.lambdify(q, list(T[:3, 2]), modules="mpmath")
+    pose_float = sp.lambdify([q], list(T[:3, 3]) + list(T[:3, 2]), modules="numpy")
+    j_float = sp.lambdify(q, T[:3, 3].jacobian(q), modules="numpy")
+    d = np.asarray(direction, dtype=float) / np.linalg.norm(direction)
+    lim = robot.joint_limits()
+    inner = np.stack([lim[:, 0] + 1e-9, lim[:, 1] - 1e-9], 1)
+    for _ in range(starts):
+        q0 = rng.uniform(inner[:, 0], inner[:, 1])
+        fit = least_squares(lambda x: np.r_[np.array(pose_float(x)[:3], dtype=float) - target,
+                                            0.3 * (np.array(pose_float(x)[3:], dtype=float) - d)],
+                            q0, bounds=(inner[:, 0], inner[:, 1]), xtol=1e-15, ftol=1e-15, gtol=1e-15)
+        x = fit.x
+        if np.linalg.norm(np.array(pose_float(x)[:3], dtype=float) - target) > 1e-8:
+            continue
+        J = np.array(j_float(*x), dtype=float)
+        cols = max(itertools.combinations(range(len(q)), 3), key=lambda c: abs(np.linalg.det(J[:, list(c)])))
+        with mpmath.workdps(50):
+            goal = [mpmath.mpf(float(v)) for v in target]
+            fixed = [mpmath.mpf(float(v)) for v in x]
+
+            def residual(*y, cols=cols, fixed=fixed, goal=goal):
+                full = list(fixed)
+                for i, c in enumerate(cols):
+                    full[c] = y[i]
+                return [p - g for p, g in zip(position(*full), goal)]
+
+            try:
+                sol = mpmath.findroot(residual, [fixed[c] for c in cols])
+            except (ValueError, ZeroDivisionError):
+                continue
+            full = list(fixed)
+            for i, c in enumerate(cols):
+                full[c] = sol[i]
+            error = max(abs(p - g) for p, g in zip(position(*full), goal))
+            within = all(mpmath.mpf(float(lim[i, 0])) <= full[i] <= mpmath.mpf(float(lim[i, 1])) for i in range(len(q)))
+            dd = [mpmath.mpf(float(v)) for v in direction]
+            dot = sum(a * b for a, b in zip(approach(*full), dd))
+            if error < mpmath.mpf(10) ** -40 and within and dot >= mpmath.sqrt(sum(v * v for v in dd)) * mpmath.cos(
+                    mpmath.radians(mpmath.mpf(float(cone_deg)))):
+                return full
+    return None

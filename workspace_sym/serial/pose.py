@@ -1002,6 +1002,26 @@ def _joints_of(robot, expressions, params):
 
 
 
+def joints_of(robot, expressions, params):
+    """The joints moving ``expressions``, their exact limits and periodicity (``(variables, limits, periodic)``).
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot.
+    expressions : sequence of sympy.Expr
+        The expressions.
+    params : dict or None
+        Parameter values.
+
+    Returns
+    -------
+    tuple
+        ``(variables, limits, periodic)``.
+    """
+    return _joints_of(robot, expressions, params)
+
+
 def _turns_freely(robot: DHRobot, k: int, params, limits, periodic) -> bool:
     """Joint ``k`` is revolute with ``theta_k = q_k + constant``, ``q_k`` in no other entry of the table (nor the
     base or tool), and its range is one whole turn: every expression of the kinematics is then ``2 pi``-periodic

@@ -47,13 +47,24 @@ from .stored import reach_problem
 from .tuning import DEFAULT
 
 __all__ = ["ReachMap", "reach_map", "sphere_directions", "covering_angle", "covered_cells", "map_problem",
-           "MAP_FORMAT", "MAP_METHOD"]
+           "MAP_FORMAT", "MAP_METHOD", "SECTION_METHOD", "METHODS"]
 
 MAP_FORMAT = 1
 """The version of the files :meth:`ReachMap.save` writes (a file of another version is refused)."""
 
 MAP_METHOD = "union of pose pavings"
 """How the pairs are proved: each direction's certified pose paving, its boxes' union tested cell by cell."""
+
+SECTION_METHOD = "section proofs and the position paving"
+"""The other way (``method="section"``): pairs proved reachable from certified solutions of the section of an arm
+turned by its first joint (:mod:`workspace_sym.serial.mapsection`), cells proved unreachable from its position
+paving."""
+
+METHODS = {"pavings": MAP_METHOD, "section": SECTION_METHOD}
+"""The values of ``reach_map(method=...)`` and what each records as the map's method."""
+
+SECTION_OPTIONS: dict[str, int | None] = {"cell": None, "local": 64, "samples": 400_000, "split": 2}
+"""The section method's defaults (``cell``: the section cells' side, None for ``delta / 10``)."""
 
 MAX_PIECES = 4096
 """The most pieces the exact union test splits one cell into before it leaves the cell undecided."""
@@ -788,7 +799,7 @@ def _content_digest(arrays: dict) -> str:
 
 
 def map_problem(robot: DHRobot, *, delta: float, directions=26, cone: float = 30.0, parameters=None,
-                reach_delta: float | None = None) -> Fingerprint:
+                reach_delta: float | None = None, method: str = "pavings") -> Fingerprint:
     """The fingerprint of a map's whole problem: the robot (DH table, limits, base, tool, parameters), ``delta``,
     the directions, the cone, the pose paving's ``delta``, the engine's tuning, the method and the file format.
 
@@ -806,6 +817,8 @@ def map_problem(robot: DHRobot, *, delta: float, directions=26, cone: float = 30
         Values of the robot's symbolic lengths.
     reach_delta : float, optional
         The pose pavings' ``delta`` (default ``delta / 2``).
+    method : str
+        ``"pavings"`` or ``"section"`` (:data:`METHODS`).
 
     Returns
     -------
@@ -815,9 +828,10 @@ def map_problem(robot: DHRobot, *, delta: float, directions=26, cone: float = 30
     Raises
     ------
     InvalidParameterError
-        A bad ``delta``, ``directions`` or ``cone``.
+        A bad ``delta``, ``directions``, ``cone`` or ``method``.
     """
     check_delta(delta)
+    _check_method(method)
     d = _directions(directions)
     cone = _check_cone(cone)
     reach_delta = float(delta) / 2 if reach_delta is None else float(reach_delta)
@@ -825,8 +839,17 @@ def map_problem(robot: DHRobot, *, delta: float, directions=26, cone: float = 30
     values = tuple(sorted((parameters or {}).items(), key=lambda item: str(item[0])))
     fields = reach_problem(robot, values, float(delta), "diameter", DEFAULT,
                            directions=[[float(v) for v in row] for row in d], cone=cone, reach_delta=reach_delta,
-                           method=MAP_METHOD, map_format=MAP_FORMAT)
+                           method=METHODS[method], map_format=MAP_FORMAT)
+    if method == "section":
+        fields["section"] = {**SECTION_OPTIONS, "cell": float(delta) / 10}
     return Fingerprint(fields)
+
+
+def _check_method(method) -> str:
+    if method not in METHODS:
+        raise InvalidParameterError(f"method must be one of {', '.join(map(repr, METHODS))}; got {method!r}",
+                                    parameter="method")
+    return method
 
 
 def _grid(robot: DHRobot, values: tuple, delta: float):
@@ -847,7 +870,8 @@ def _grid(robot: DHRobot, values: tuple, delta: float):
 
 @arith.nearest_rounding
 def reach_map(robot: DHRobot, *, delta: float, directions=26, cone: float = 30.0, parameters: dict | None = None,
-              reach_delta: float | None = None, stop: StopAt = StopAt(), run: RunOn = RunOn()) -> ReachMap:
+              reach_delta: float | None = None, method: str = "pavings", stop: StopAt = StopAt(),
+              run: RunOn = RunOn()) -> ReachMap:
     """The certified reachability map of ``robot`` (module docstring; docs/methods.md section 9).
 
     Parameters
@@ -865,7 +889,14 @@ def reach_map(robot: DHRobot, *, delta: float, directions=26, cone: float = 30.0
         Values of the symbolic lengths.
     reach_delta : float, optional
         The ``delta`` of each direction's pose paving (default ``delta / 2``: its boundary boxes smaller than a
-        cell).
+        cell); with ``method="section"``, of the position paving.
+    method : {"pavings", "section"}
+        ``"pavings"`` (default): one certified pose paving per direction, reachable and unreachable pairs from its
+        boxes.  ``"section"``, for an arm turned by its first joint without a base transform (the Puma 560, the
+        UR5, the Panda): reachable pairs from certified solutions of the arm's section, solved once for all the
+        directions (:mod:`~workspace_sym.serial.mapsection`), unreachable cells from the position paving (no
+        point of the cell is reached at all); faster and far more pairs proved reachable on such arms, but no
+        direction-specific unreachable pair (docs/methods.md section 9).
     stop : StopAt
         ``time_limit``: seconds for the whole map, shared among the directions not yet built (each gets what is
         left divided by their number); ``max_boxes``: a budget of each direction's paving.  What a stopped paving
@@ -874,7 +905,8 @@ def reach_map(robot: DHRobot, *, delta: float, directions=26, cone: float = 30.0
         ``executor``: directions sent to a ``concurrent.futures`` executor or a Dask client (a task a direction,
         each answer checked); ``resume``: a checkpoint file of the finished directions, written after each one and
         taken again (refused when it names another problem); ``progress``: a bar over the directions;
-        ``max_memory``, ``store``, ``chunk`` are refused (a map keeps one byte a pair in memory).
+        ``max_memory``, ``store``, ``chunk`` are refused (a map keeps one byte a pair in memory); with
+        ``method="section"`` (built in one process, in one piece), ``executor`` and ``resume`` too.
 
     Returns
     -------
@@ -884,8 +916,8 @@ def reach_map(robot: DHRobot, *, delta: float, directions=26, cone: float = 30.0
     Raises
     ------
     InvalidParameterError
-        A bad ``delta``, ``directions``, ``cone``, ``reach_delta`` or option, a planar robot, a checkpoint of
-        another problem.
+        A bad ``delta``, ``directions``, ``cone``, ``reach_delta``, ``method`` or option, a planar robot, a
+        checkpoint of another problem, ``method="section"`` for an arm without the structure (the reason named).
 
     Examples
     --------
@@ -914,11 +946,16 @@ def reach_map(robot: DHRobot, *, delta: float, directions=26, cone: float = 30.0
                       f"covering angle is {angle:.4g} deg): approach vectors farther than {cone:g} deg from every "
                       "direction are held by no cone and queried as undecided", UserWarning, stacklevel=3)
     values = tuple(sorted((parameters or {}).items(), key=lambda item: str(item[0])))
-    named = map_problem(robot, delta=delta, directions=d, cone=cone, parameters=parameters, reach_delta=reach_delta)
+    _check_method(method)
+    named = map_problem(robot, delta=delta, directions=d, cone=cone, parameters=parameters, reach_delta=reach_delta,
+                        method=method)
     reach_delta = float(delta) / 2 if reach_delta is None else float(reach_delta)
     started = time.perf_counter()
     origin, shape, root = _grid(robot, values, float(delta))
     edges = tuple(origin[a] + np.arange(shape[a] + 1) * float(delta) for a in range(3))
+    if method == "section":
+        return _section_map(robot, values, d, cone, float(delta), reach_delta, origin, shape, root, edges, named,
+                            angle, stop, run, started)
     codes = np.zeros((*shape, len(d)), dtype=CODE)
     done: dict[int, dict] = _resumed(run.resume, named, shape, len(d))
     for k, answer in done.items():
@@ -962,6 +999,49 @@ def reach_map(robot: DHRobot, *, delta: float, directions=26, cone: float = 30.0
     outside = all(done[k].get("inside_root", False) for k in range(len(d)))
     return ReachMap(directions=d, cone=cone, delta=float(delta), origin=origin, shape=shape, codes=codes,
                     outside_proved=outside, fingerprint=named, info=info)
+
+
+def _section_map(robot, values, d, cone, delta, reach_delta, origin, shape, root, edges, named, angle,  # noqa: PLR0913
+                 stop, run, started) -> ReachMap:
+    """``reach_map(method="section")``: the position paving's outer cells for every direction, the section's
+    proofs for the reachable pairs (:mod:`~workspace_sym.serial.mapsection`)."""
+    from .mapsection import section_prover, section_reachable
+
+    for name in ("executor", "resume"):
+        if getattr(run, name) is not None:
+            raise InvalidParameterError(f"run: method='section' builds the map in one process, in one piece, so "
+                                        f"{name} does not apply; got {name}={getattr(run, name)!r}; use "
+                                        "method='pavings' for directions sent to an executor or resumed",
+                                        parameter=name)
+    prover = section_prover(robot, values, cone)
+    if isinstance(prover, str):
+        raise InvalidParameterError(f"method: 'section' needs an arm turned by its first joint about a fixed "
+                                    f"vertical axis; {robot.name} is not: {prover}; use method='pavings'",
+                                    parameter="method")
+    deadline = None if stop.time_limit is None else started + stop.time_limit
+    with progress_bar(run.progress, total=2, desc=f"reach map of {robot.name}", unit="stage") as bar:
+        position_stop = StopAt(max_boxes=stop.max_boxes,
+                               time_limit=None if deadline is None else max(1e-3, 0.3 * stop.time_limit))
+        position = reach(robot, delta=reach_delta, parameters=dict(values), stop=position_stop,
+                         run=RunOn(progress=False))
+        bar.update(1)
+        box = np.array([position.box.lower, position.box.upper], dtype=float).T
+        outer = covered_cells(edges, position.outer.reshape(-1, 3, 2), exterior=box)
+        options = {**SECTION_OPTIONS, "cell": delta / 10}
+        inner = section_reachable(prover, edges, ~outer, d, cell=options["cell"],
+                                  local=sphere_directions(options["local"]), samples=options["samples"],
+                                  split=options["split"], deadline=deadline)
+        bar.update(1)
+    codes = codes_from_masks(inner.ravel(), np.repeat(outer[..., None], len(d), axis=-1).ravel()).reshape(inner.shape)
+    complete = bool(position.complete) and (deadline is None or time.perf_counter() <= deadline)
+    info = {"robot": robot.name, "units": robot.units, "method": SECTION_METHOD,
+            "seconds": time.perf_counter() - started,
+            "reach_delta": reach_delta, "covering_angle": angle, "root": root.tolist(),
+            "direction_seconds": [None] * len(d), "direction_methods": [position.method] * len(d),
+            "complete": complete, "section": options, "proved_axis": prover.axis}
+    inside = bool(all(edges[a][0] <= box[a, 0] and box[a, 1] <= edges[a][-1] for a in range(3)))
+    return ReachMap(directions=d, cone=cone, delta=delta, origin=origin, shape=shape, codes=codes,
+                    outside_proved=inside, fingerprint=named, info=info)
 
 
 def _finish(answer: dict, codes: np.ndarray, done: dict, resume, named: Fingerprint, bar) -> None:

@@ -1,0 +1,145 @@
+"""Reach maps by the section method (workspace_sym/serial/mapsection.py, reach_map(method="section")): every
+proved-reachable pair checked by a 50-digit inverse kinematics, unreachable pairs against sampled configurations,
+the same cone's pose paving as a second method, the cell geometry's bounds at the edges, files and bad input."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from paths import DATA
+from reach_checks import arm_in_cone_at_50_digits, wrist_arm_in_cone_at_50_digits
+from workspace_sym import Pose, reach, robots
+from workspace_sym.errors import InvalidParameterError
+from workspace_sym.interval.driver import RunOn
+from workspace_sym.kinematics import DHRobot, numeric_function
+from workspace_sym.serial.mapsection import _cell_geometry, section_prover, section_reachable
+from workspace_sym.serial.reachmap import (
+    ReachMap,
+    _grid,
+    covered_cells,
+    map_problem,
+    reach_map,
+    sphere_directions,
+)
+from workspace_sym.transforms import translation
+
+PUMA = dict(delta=0.1, directions=6, cone=45, method="section")
+
+
+@pytest.fixture(scope="module")
+def puma_map():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)            # six cones of 45 deg do not cover the sphere
+        return reach_map(robots.build("puma560"), **PUMA)
+
+
+def _cell(m, i, j, k):
+    return np.array([[m.edges[a][c], m.edges[a][c + 1]] for a, c in enumerate((i, j, k))])
+
+
+def test_points_of_section_proved_pairs_are_reached_in_the_cone_at_50_digits(puma_map):
+    # Reference: an inverse kinematics at 50 digits (tests/helpers/reach_checks.py), within the limits, with the
+    # approach axis within the cone, at random points (corners included) of proved-reachable cells.
+    robot = robots.build("puma560")
+    rng = np.random.default_rng(7)
+    pairs = np.argwhere(puma_map.codes == 1)
+    assert len(pairs) > 500 and puma_map.method == "section proofs and the position paving"
+    for i, j, l, k in pairs[rng.choice(len(pairs), size=4, replace=False)]:
+        cell = _cell(puma_map, i, j, l)
+        for target in (rng.uniform(cell[:, 0], cell[:, 1]), cell[:, 1]):
+            found = wrist_arm_in_cone_at_50_digits(robot, target, puma_map.directions[k], puma_map.cone, rng)
+            assert found is not None, f"{target} of a proved-reachable cell, direction {puma_map.directions[k]}"
+
+
+def test_sampled_configurations_never_fall_in_a_section_map_s_unreachable_pair(puma_map):
+    # Reference: forward kinematics of 200,000 configurations within the limits (floats): each point is reached,
+    # so its cell is not proved unreachable for any direction, and it lies in the grid.
+    robot = robots.build("puma560")
+    T = numeric_function(robot.substitute(robot.fk()), robot.q)
+    lim = robot.joint_limits()
+    M = T(np.random.default_rng(3).uniform(lim[:, 0], lim[:, 1], size=(200_000, len(lim))))
+    index, inside = puma_map.cells_of(M[:, :3, 3])
+    assert inside.all() and puma_map.outside_proved
+    assert not (puma_map.codes[index[:, 0], index[:, 1], index[:, 2]] == -1).any()
+    assert (puma_map.codes == -1).sum() > 1000
+
+
+def test_section_proved_pairs_are_never_outer_in_the_pose_paving_of_the_same_cone(puma_map):
+    # Reference: a second method, the certified pose paving of the vertical cone (the section of docs/methods.md
+    # section 8): no cell proved reachable here lies in the union of its outer boxes and the outside of its root.
+    up = int(np.argmax(puma_map.directions[:, 2]))
+    paving = reach(robots.build("puma560"), delta=0.05, pose=Pose(approach=tuple(puma_map.directions[up]), cone=45))
+    root = np.array([paving.box.lower, paving.box.upper]).T
+    outer = covered_cells(puma_map.edges, paving.outer.reshape(-1, 3, 2), exterior=root)
+    assert outer.sum() > 1000 and (puma_map.codes[..., up] == 1).sum() > 50
+    assert not (outer & (puma_map.codes[..., up] == 1)).any()
+
+
+def test_an_arm_whose_section_aims_the_approach_is_proved_at_50_digits_too():
+    # Reference: the 50-digit inverse kinematics of any arm (reach_checks.arm_in_cone_at_50_digits) at random
+    # points of UR5 cells proved reachable by the aimed section (four section joints: Newton aims the approach).
+    robot = DHRobot.from_file(DATA / "dh" / "ur5.json")
+    prover = section_prover(robot, (), 30.0)
+    assert not isinstance(prover, str) and prover.aims and prover.theta_range is None
+    origin, shape, _ = _grid(robot, (), 0.1)
+    edges = tuple(origin[a] + np.arange(shape[a] + 1) * 0.1 for a in range(3))
+    centres = [0.5 * (e[1:] + e[:-1]) for e in edges]
+    X, Y, Z = np.meshgrid(*centres, indexing="ij")
+    candidates = (X > 0.25) & (X < 0.55) & (np.abs(Y - 0.15) < 0.1) & (np.abs(Z - 0.2) < 0.1)
+    directions = sphere_directions(6)
+    proved = section_reachable(prover, edges, candidates, directions, cell=0.01, local=sphere_directions(16),
+                                samples=40_000)
+    assert not proved[~candidates].any()
+    pairs = np.argwhere(proved)
+    assert len(pairs) >= 6
+    rng = np.random.default_rng(11)
+    for i, j, l, k in pairs[rng.choice(len(pairs), size=3, replace=False)]:
+        cell = np.array([[edges[a][c], edges[a][c + 1]] for a, c in enumerate((i, j, l))])
+        target = rng.uniform(cell[:, 0], cell[:, 1])
+        assert arm_in_cone_at_50_digits(robot, target, directions[k], 30.0, rng) is not None, (target, k)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.floats(-1, 1), st.floats(-1, 1), st.sampled_from([1e-9, 1e-4, 0.01, 0.05, 0.3]),
+       st.sampled_from([1e-9, 1e-4, 0.01, 0.05, 0.3]), st.integers(0, 2**32 - 1))
+def test_the_cell_geometry_bounds_radius_and_polar_angle_of_every_point(x0, y0, wx, wy, seed):
+    # Reference: points drawn in the rectangle (its corners and edges included, rectangles touching the axes or
+    # tiny): their radius lies in [rmin, rmax] and their polar angle within gamma of the centre's, whenever the
+    # rectangle does not hold the axis (rmin > 0).
+    X, Y = np.array([[x0, x0 + wx]]), np.array([[y0, y0 + wy]])
+    rmin, rmax, psi, gamma = _cell_geometry(X, Y)
+    if rmin[0] <= 0:
+        return
+    rng = np.random.default_rng(seed)
+    px = np.r_[X[0], rng.uniform(X[0, 0], X[0, 1], 200)]
+    py = np.r_[Y[0, ::-1], rng.uniform(Y[0, 0], Y[0, 1], 200)]
+    rho = np.hypot(px, py)
+    assert (rho >= rmin[0]).all() and (rho <= rmax[0]).all()
+    spread = np.abs(np.angle(np.exp(1j * (np.arctan2(py, px) - psi[0]))))
+    assert (spread <= gamma[0]).all()
+
+
+def test_a_section_map_saves_and_is_refused_as_another_method(puma_map, tmp_path):
+    path = puma_map.save(tmp_path / "puma.npz")
+    again = ReachMap.load(path, expect=map_problem(robots.build("puma560"), **PUMA))
+    assert np.array_equal(again.codes, puma_map.codes) and again.method == puma_map.method
+    with pytest.raises(InvalidParameterError, match="method"):
+        ReachMap.load(path, expect=map_problem(robots.build("puma560"), **{**PUMA, "method": "pavings"}))
+
+
+@pytest.mark.filterwarnings("ignore:reach_map. the cones")
+def test_bad_section_options_are_one_clear_error(tmp_path):
+    puma = robots.build("puma560")
+    with pytest.raises(InvalidParameterError, match="method must be one of"):
+        reach_map(puma, delta=0.2, directions=6, method="sampled")
+    with pytest.raises(InvalidParameterError, match="resume"):
+        reach_map(puma, delta=0.2, directions=6, method="section", run=RunOn(resume=tmp_path / "c.npz"))
+    based = DHRobot(list(puma.joints), convention="standard", name="raised puma", base=translation(z=0.5),
+                    parameters=puma.parameters, units=puma.units)
+    with pytest.raises(InvalidParameterError, match="base transform"):
+        reach_map(based, delta=0.2, directions=6, method="section")
