@@ -551,7 +551,7 @@ def cmd_reach_map(args) -> int:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", UserWarning)
             made = reach_map(robot, delta=args.delta, directions=args.directions, cone=args.cone,
-                             reach_delta=args.reach_delta, stop=stop, run=run)
+                             reach_delta=args.reach_delta, method=args.method, stop=stop, run=run)
     for warning in caught:
         print(f"workspace-sym reach-map: warning: {warning.message}", file=sys.stderr)
     made.save(out)
@@ -1120,7 +1120,12 @@ def build_parser() -> _Parser:
                    help="number of approach directions (26: the cube's faces, edges and corners; default 26)")
     p.add_argument("--cone", type=float, default=30.0, help="half-angle of each direction's cone, degrees (default 30)")
     p.add_argument("--reach-delta", type=float, default=None, metavar="D",
-                   help="the delta of each direction's pose paving (default delta / 2)")
+                   help="the delta of each direction's pose paving (default delta / 2); with --method section, "
+                        "of the position paving")
+    p.add_argument("--method", choices=("pavings", "section"), default="pavings",
+                   help="pavings: one pose paving a direction (default); section: reachable pairs from certified "
+                        "solutions of the section of an arm turned by its first joint, for all the directions at "
+                        "once (no base transform; docs/methods.md section 9)")
     p.add_argument("--out", dest="map_out", required=True, metavar="FILE", help="the map's file (.npz)")
     p.set_defaults(func=cmd_reach_map)
 

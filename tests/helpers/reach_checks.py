@@ -367,8 +367,8 @@ def wrist_arm_in_cone_at_50_digits(robot, target, direction, cone_deg, rng, star
 
 
 def arm_in_cone_at_50_digits(robot, target, direction, cone_deg, rng, starts=60):
-    """A configuration of any 6- or 7-joint arm putting the tool point at ``target`` with the approach axis within
-    ``cone_deg`` of ``direction``, at 50 digits and within the limits; None if none is found.  Float search:
+    """A configuration of any arm of three joints or more putting the tool point at ``target`` with the approach
+    axis within ``cone_deg`` of ``direction``, at 50 digits and within the limits; None if none is found.  Float search:
     least squares on the position and on the approach aimed at ``direction`` (scipy, within the limits) from
     random starts; then mpmath ``findroot`` on the position in the three joints of the best-conditioned minor,
     the others kept, and every condition checked again at 50 digits."""

@@ -84,3 +84,23 @@ def test_a_map_displays_in_a_notebook_and_draws_a_slice(built):
     image = fig.axes[0].images[0].get_array()
     assert image.shape == (made.shape[1], made.shape[0])
     assert set(np.unique(image)) <= {-1.0, 0.0, 1.0}
+
+
+def test_reach_map_by_the_section_method_writes_a_map_of_its_problem(tmp_path, capsys):
+    # Reference: the map loaded in Python against the fingerprint of the section method's problem; the SCARA's
+    # approach is straight down at every configuration (its DH table), so no other direction is proved.
+    path = tmp_path / "section.npz"
+    code, out, _ = run(capsys, "reach-map", "scara", "--delta", "0.05", "--directions", "6", "--cone", "30",
+                       "--method", "section", "--out", str(path), "--json")
+    assert code == 0 and json.loads(out)["method"] == "section proofs and the position paving"
+    scara = robots.build("scara")
+    section = ReachMap.load(path, expect=map_problem(scara, delta=0.05, directions=6, cone=30, method="section"))
+    down = int(np.argmax(section.directions @ [0.0, 0.0, -1.0]))
+    assert set(np.argwhere(section.codes == 1)[:, 3]) == {down}
+
+
+def test_the_section_method_refuses_a_checkpoint_with_status_2(tmp_path, capsys):
+    code, out, err = run(capsys, "reach-map", "scara", "--delta", "0.2", "--method", "section",
+                         "--resume", str(tmp_path / "c.npz"), "--out", str(tmp_path / "m.npz"))
+    assert code == 2 and out == "" and len(err.strip().splitlines()) == 1 and "error: --resume: method=" in err
+    assert not (tmp_path / "m.npz").exists()

@@ -104,6 +104,25 @@ def test_an_arm_whose_section_aims_the_approach_is_proved_at_50_digits_too():
         assert arm_in_cone_at_50_digits(robot, target, directions[k], 30.0, rng) is not None, (target, k)
 
 
+def test_a_section_that_cannot_aim_with_a_limited_first_joint_is_proved_at_50_digits_too():
+    # Reference: the 50-digit inverse kinematics (reach_checks.arm_in_cone_at_50_digits) at a corner and a random
+    # point of SCARA cells proved reachable: two section joints (no aim: the seeds are the solution branches) and
+    # a first joint of limited range (the polar condition of docs/methods.md section 9).
+    scara = robots.build("scara")
+    prover = section_prover(scara, (), 30.0)
+    assert not isinstance(prover, str) and not prover.aims and prover.theta_range is not None
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)            # six cones of 30 deg do not cover the sphere
+        made = reach_map(scara, delta=0.05, directions=6, cone=30, method="section")
+    pairs = np.argwhere(made.codes == 1)
+    assert len(pairs) >= 50
+    rng = np.random.default_rng(5)
+    for i, j, k, d in pairs[rng.choice(len(pairs), size=4, replace=False)]:
+        cell = _cell(made, i, j, k)
+        for target in (cell[np.arange(3), rng.integers(0, 2, 3)], rng.uniform(cell[:, 0], cell[:, 1])):
+            assert arm_in_cone_at_50_digits(scara, target, made.directions[d], 30.0, rng) is not None, (target, d)
+
+
 @settings(max_examples=300, deadline=None)
 @given(st.floats(-1, 1), st.floats(-1, 1), st.sampled_from([1e-9, 1e-4, 0.01, 0.05, 0.3]),
        st.sampled_from([1e-9, 1e-4, 0.01, 0.05, 0.3]), st.integers(0, 2**32 - 1))

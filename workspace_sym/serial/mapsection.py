@@ -330,6 +330,9 @@ def section_reachable(prover: SectionProver, edges: tuple, candidates: np.ndarra
     order = np.argsort(owner, kind="stable")
     q, owner = q[order], owner[order]
     b = _columns(prover.b_float, q)
+    if not prover.aims:     # b and (cos beta, sin beta) = (u, c) / rho, a unit vector of R^5
+        w = square.lateral.position_float(q)
+        feature = np.concatenate([b, w[:, :2] / np.hypot(w[:, 0], w[:, 1])[:, None]], axis=1) / math.sqrt(2)
     firsts = np.searchsorted(owner, np.arange(S), side="left")
     lasts = np.searchsorted(owner, np.arange(S), side="right")
     seeds = np.full((S, L, square.k), np.nan)
@@ -337,15 +340,15 @@ def section_reachable(prover: SectionProver, edges: tuple, candidates: np.ndarra
         rows = np.arange(firsts[s], lasts[s])
         if prover.aims:
             seeds[s] = q[rows[np.argmax(b[rows] @ ells.T, axis=0)]]
-        else:           # the samples farthest apart in b, one after the other: different branches of the solutions
+        else:           # the samples farthest apart in (b, beta), one after the other: the solutions' branches
             pick = [rows[0]]
-            closest = b[rows] @ b[rows[0]]
+            closest = feature[rows] @ feature[rows[0]]
             for _ in range(min(L, len(rows)) - 1):
                 far = int(np.argmin(closest))
                 if closest[far] > 0.999:
                     break
                 pick.append(rows[far])
-                closest = np.maximum(closest, b[rows] @ b[rows[far]])
+                closest = np.maximum(closest, feature[rows] @ feature[rows[far]])
             seeds[s, :len(pick)] = q[pick]
     s_all, l_all = np.nonzero(np.isfinite(seeds[:, :, 0]))
     todo = (s_all, l_all, seeds[s_all, l_all])

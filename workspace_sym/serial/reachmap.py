@@ -1009,7 +1009,7 @@ def _section_map(robot, values, d, cone, delta, reach_delta, origin, shape, root
 
     for name in ("executor", "resume"):
         if getattr(run, name) is not None:
-            raise InvalidParameterError(f"run: method='section' builds the map in one process, in one piece, so "
+            raise InvalidParameterError(f"method='section' builds the map in one process, in one piece, so "
                                         f"{name} does not apply; got {name}={getattr(run, name)!r}; use "
                                         "method='pavings' for directions sent to an executor or resumed",
                                         parameter=name)
