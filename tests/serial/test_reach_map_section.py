@@ -8,15 +8,16 @@ import warnings
 
 import numpy as np
 import pytest
+import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from paths import DATA
-from reach_checks import arm_in_cone_at_50_digits, wrist_arm_in_cone_at_50_digits
+from reach_checks import arm_in_cone_at_50_digits, industrial_arm, wrist_arm_in_cone_at_50_digits
 from workspace_sym import Pose, reach, robots
 from workspace_sym.errors import InvalidParameterError
 from workspace_sym.interval.driver import RunOn
-from workspace_sym.kinematics import DHRobot, numeric_function
+from workspace_sym.kinematics import DHJoint, DHRobot, numeric_function
 from workspace_sym.serial.mapsection import _cell_geometry, section_prover, section_reachable
 from workspace_sym.serial.reachmap import (
     ReachMap,
@@ -26,7 +27,7 @@ from workspace_sym.serial.reachmap import (
     reach_map,
     sphere_directions,
 )
-from workspace_sym.transforms import translation
+from workspace_sym.transforms import rot_x, translation
 
 PUMA = dict(delta=0.1, directions=6, cone=45, method="section")
 
@@ -123,6 +124,39 @@ def test_a_section_that_cannot_aim_with_a_limited_first_joint_is_proved_at_50_di
             assert arm_in_cone_at_50_digits(scara, target, made.directions[d], 30.0, rng) is not None, (target, d)
 
 
+@pytest.mark.parametrize("name", ["kr16 (URDF, base upside down)", "ur5 on a tilted base"])
+def test_a_section_under_a_base_transform_is_proved_at_50_digits_too(name):
+    # Reference: the 50-digit inverse kinematics of the whole arm, base included (reach_checks.
+    # arm_in_cone_at_50_digits), at random points of cells proved reachable in the first joint's frame: the
+    # KR16 of rtb-data's URDF (base rpy pi 0 0: z down) and the UR5 on a base turned 0.4 rad about x and moved
+    # (the world pieces enter the first joint's frame as outward boxes); a corner and a random point a cell.
+    if name.startswith("kr16"):
+        robot, box = industrial_arm("kr16"), ((0.6, 1.0), (0.05, 0.25), (0.6, 1.0))
+    else:
+        ur5 = DHRobot.from_file(DATA / "dh" / "ur5.json")
+        robot = DHRobot(list(ur5.joints), convention=ur5.convention, name="tilted ur5", units=ur5.units,
+                        base=translation(x=sp.Rational(1, 10), y=sp.Rational(-1, 5), z=sp.Rational(3, 10))
+                        * rot_x(sp.Rational(2, 5)))
+        box = ((0.35, 0.65), (-0.2, 0.0), (0.3, 0.6))
+    prover = section_prover(robot, (), 30.0)
+    assert not isinstance(prover, str) and prover.inverse is not None
+    origin, shape, _ = _grid(robot, (), 0.1)
+    edges = tuple(origin[a] + np.arange(shape[a] + 1) * 0.1 for a in range(3))
+    centres = np.meshgrid(*[0.5 * (e[1:] + e[:-1]) for e in edges], indexing="ij")
+    candidates = np.logical_and.reduce([(lo < c) & (c < hi) for c, (lo, hi) in zip(centres, box)])
+    directions = sphere_directions(6)
+    proved = section_reachable(prover, edges, candidates, directions, cell=0.01, local=sphere_directions(16),
+                                samples=40_000)
+    assert not proved[~candidates].any()
+    pairs = np.argwhere(proved)
+    assert len(pairs) >= 6
+    rng = np.random.default_rng(3)
+    for i, j, l, k in pairs[rng.choice(len(pairs), size=3, replace=False)]:
+        cell = np.array([[edges[a][c], edges[a][c + 1]] for a, c in enumerate((i, j, l))])
+        for target in (cell[np.arange(3), rng.integers(0, 2, 3)], rng.uniform(cell[:, 0], cell[:, 1])):
+            assert arm_in_cone_at_50_digits(robot, target, directions[k], 30.0, rng) is not None, (target, k)
+
+
 @settings(max_examples=300, deadline=None)
 @given(st.floats(-1, 1), st.floats(-1, 1), st.sampled_from([1e-9, 1e-4, 0.01, 0.05, 0.3]),
        st.sampled_from([1e-9, 1e-4, 0.01, 0.05, 0.3]), st.integers(0, 2**32 - 1))
@@ -158,7 +192,9 @@ def test_bad_section_options_are_one_clear_error(tmp_path):
         reach_map(puma, delta=0.2, directions=6, method="sampled")
     with pytest.raises(InvalidParameterError, match="resume"):
         reach_map(puma, delta=0.2, directions=6, method="section", run=RunOn(resume=tmp_path / "c.npz"))
-    based = DHRobot(list(puma.joints), convention="standard", name="raised puma", base=translation(z=0.5),
-                    parameters=puma.parameters, units=puma.units)
-    with pytest.raises(InvalidParameterError, match="base transform"):
-        reach_map(based, delta=0.2, directions=6, method="section")
+    q1, q2, q3 = sp.symbols("q1:4")
+    coupled = DHRobot([DHJoint("R", q1, sp.Rational(3, 10), 0, sp.pi / 2, q1),
+                       DHJoint("R", q2 - q1, 0, sp.Rational(1, 2), 0, q2), DHJoint.revolute(3, a=sp.Rational(2, 5))],
+                      name="coupled arm")
+    with pytest.raises(InvalidParameterError, match="does not turn the rest of the arm"):
+        reach_map(coupled, delta=0.2, directions=6, method="section")

@@ -1,9 +1,10 @@
 """Reach-map pairs proved reachable from the section of an arm turned by its first joint.
 
-For an arm whose first joint turns everything after it about the vertical (``p = Rz(theta_1) w(q')``,
-``w = (u, c, v)``, no base transform: :func:`~workspace_sym.serial.section.turned`), the approach axis turns
-with it, ``a = Rz(theta_1) a'(q')``.  At a point of cylindrical coordinates ``(rho, psi, z)`` reached by ``q'``
-(``u^2 + c^2 = rho^2``, ``v = z``) with ``theta_1 = psi - beta``, ``beta = atan2(c, u)``,
+For an arm whose first joint turns everything after it (``p = B Rz(theta_1) w(q')``, ``w = (u, c, v)``,
+:func:`~workspace_sym.serial.section.turned`), the approach axis turns with it, ``a = R Rz(theta_1) a'(q')``
+(``R`` the rotation of ``B``); in the first joint's frame (world boxes enter it as outward boxes, directions
+as ``R^T d``), at a point of cylindrical coordinates ``(rho, psi, z)`` reached by ``q'`` (``u^2 + c^2 =
+rho^2``, ``v = z``) with ``theta_1 = psi - beta``, ``beta = atan2(c, u)``,
 
     ``a . d = b(q') . e(psi)``,  ``b = ((u a'_x + c a'_y) / rho, (u a'_y - c a'_x) / rho, a'_z)``,
     ``e(psi) = Rz(-psi) d``:
@@ -21,7 +22,7 @@ from __future__ import annotations
 import itertools
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import sympy as sp
@@ -31,7 +32,7 @@ from ..interval.compiler import compile_expr
 from ..kinematics import DHRobot
 from .model import reach_model
 from .pose import constraint_from, joints_of, wrist_reduction
-from .section import SquareMap, first_joint_turn, turned
+from .section import SquareMap, first_frame, first_joint_turn, to_first_frame, turned
 
 __all__ = ["SectionProver", "section_prover", "section_reachable"]
 
@@ -58,6 +59,11 @@ class SectionProver:
         Floats within ``theta_1``'s range; None when the first joint turns fully.
     axis : str
         What ``a'`` is: ``"approach"`` or the roll axis of the wrist.
+    inverse : tuple or None
+        ``B^-1`` (:attr:`~workspace_sym.serial.section.Turned.inverse`): world boxes to the first joint's frame,
+        where ``u, c, v`` and ``a'`` are written; None when ``B`` is the identity.
+    rotation : numpy.ndarray
+        Floats of ``R^T`` (``3 x 3``): world directions to that frame.
     """
 
     square: SquareMap
@@ -67,6 +73,8 @@ class SectionProver:
     cone: float
     theta_range: tuple | None
     axis: str
+    inverse: tuple | None = None
+    rotation: np.ndarray = field(default_factory=lambda: np.eye(3))
 
     @property
     def aims(self) -> bool:
@@ -95,15 +103,13 @@ def section_prover(robot: DHRobot, values: tuple, cone_degrees: float) -> Sectio
     Returns
     -------
     SectionProver or str
-        The prover, or the reason (no turned structure, a base transform, a joint turning ``q_1``'s axis).
+        The prover, or the reason (no turned structure, a joint turning ``q_1``'s axis).
     """
     params = dict(values) or None
     model = reach_model(robot, values)
     turn = turned(model)
     if turn is None:
         return "its first joint does not turn the rest of the arm about a fixed axis"
-    if turn.inverse is not None:
-        return "it has a base transform (the section method reads the first joint's axis as the vertical)"
     q1, theta, slope = first_joint_turn(model)
     at_zero = {q1: -theta.subs(q1, 0) / slope}
     u, c, v = turn.section.lateral.expressions
@@ -114,7 +120,8 @@ def section_prover(robot: DHRobot, values: tuple, cone_degrees: float) -> Sectio
     else:
         axis, reduced, _ = wrist
         cone, what = float(reduced.cone), "roll axis of the wrist"
-    a = [sp.sympify(e).subs(at_zero) for e in axis]
+    R = first_frame(robot, params)[:3, :3]
+    a = [sp.sympify(e).subs(at_zero) for e in R.T * sp.Matrix(axis)]       # a' in the first joint's frame
     variables, limits, periodic = joints_of(robot, [u, c, v] + a, params)
     if q1 in variables:
         return "its approach axis depends on the first joint other than by the turn"
@@ -131,7 +138,9 @@ def section_prover(robot: DHRobot, values: tuple, cone_degrees: float) -> Sectio
         ends = sorted(float(sp.N(slope * x + theta.subs(q1, 0), 30)) for x in (lo, hi))
         theta_range = (float(np.nextafter(np.nextafter(ends[0], np.inf), np.inf)),
                        float(np.nextafter(np.nextafter(ends[1], -np.inf), -np.inf)))
-    return SectionProver(square, quantities, b_float, b_jacobian, cone, theta_range, what)
+    rotation = np.eye(3) if turn.inverse is None else np.array([[0.5 * (lo + hi) for lo, hi in row]
+                                                                 for row in turn.inverse[0]])
+    return SectionProver(square, quantities, b_float, b_jacobian, cone, theta_range, what, turn.inverse, rotation)
 
 
 def _columns(f, q: np.ndarray) -> np.ndarray:
@@ -290,11 +299,18 @@ def section_reachable(prover: SectionProver, edges: tuple, candidates: np.ndarra
     # the pieces: split points computed once, so that neighbouring pieces share their edge (one float)
     xe = [X[:, 0]] + [X[:, 0] + (X[:, 1] - X[:, 0]) * (i / split) for i in range(1, split)] + [X[:, 1]]
     ye = [Y[:, 0]] + [Y[:, 0] + (Y[:, 1] - Y[:, 0]) * (j / split) for j in range(1, split)] + [Y[:, 1]]
-    pieces = [_cell_geometry(np.stack([xe[i], xe[i + 1]], 1), np.stack([ye[j], ye[j + 1]], 1))
-              for i, j in itertools.product(range(split), repeat=2)]
-    h, z0 = float(cell), float(edges[2][0])
-    n_rho = math.ceil(max(np.abs(edges[0]).max(), np.abs(edges[1]).max()) * math.sqrt(2) / h) + 2
-    n_z = math.ceil((edges[2][-1] - z0) / h) + 2
+    # each piece in the frame of the first joint (an outward box: B^-1 of the world piece), its polar geometry
+    # there and its z range
+    pieces = []
+    for i, j in itertools.product(range(split), repeat=2):
+        F = to_first_frame(prover.inverse, np.stack([np.stack([xe[i], xe[i + 1]], 1),
+                                                     np.stack([ye[j], ye[j + 1]], 1), Z], 1))
+        pieces.append((*_cell_geometry(F[:, 0], F[:, 1]), F[:, 2]))
+    h = float(cell)
+    z0 = float(min(piece[4][:, 0].min() for piece in pieces))
+    z1 = float(max(piece[4][:, 1].max() for piece in pieces))
+    n_rho = math.ceil(float(max(piece[1].max() for piece in pieces)) / h) + 2
+    n_z = math.ceil((z1 - z0) / h) + 2
     rho_edges = np.arange(n_rho + 1) * h
     z_edges = z0 + np.arange(n_z + 1) * h
 
@@ -306,11 +322,11 @@ def section_reachable(prover: SectionProver, edges: tuple, candidates: np.ndarra
 
     spans = []
     needed = np.zeros((n_rho, n_z), dtype=bool)
-    j0, j1, zok = span(Z[:, 0], Z[:, 1], z_edges)
-    for rmin, rmax, _psi, gamma in pieces:
+    for rmin, rmax, _psi, gamma, zs in pieces:
         i0, i1, rok = span(rmin, rmax, rho_edges)
-        usable = rok & zok & (rmin > 1e-3 * h) & (gamma < prover.cone)
-        spans.append((i0, i1, usable))
+        j0, j1, zok = span(zs[:, 0], zs[:, 1], z_edges)
+        usable = rok & zok & np.isfinite(gamma) & (rmin > 1e-3 * h) & (gamma < prover.cone)
+        spans.append((i0, i1, j0, j1, usable))
         for piece in np.nonzero(usable)[0]:
             needed[i0[piece]:i1[piece] + 1, j0[piece]:j1[piece] + 1] = True
     ells = np.asarray(local, dtype=float) if prover.aims else np.zeros((BRANCHES, 3))
@@ -392,7 +408,7 @@ def section_reachable(prover: SectionProver, edges: tuple, candidates: np.ndarra
         todo = (cs[first], cl[first], cq[first])
     # the map cells: every piece, every section cell it meets, some proof serving the direction (of the local
     # directions nearest e = Rz(-psi) d, the others being too far to pass: choosing fewer only proves less)
-    D = np.asarray(directions, dtype=float)
+    D = np.asarray(directions, dtype=float) @ prover.rotation.T        # the directions in the first joint's frame
     tried = min(NEAREST, L)
     limited = prover.theta_range
     if limited is not None:
@@ -400,7 +416,7 @@ def section_reachable(prover: SectionProver, edges: tuple, candidates: np.ndarra
         centre, cos_h = 0.5 * (lo + hi) + math.pi, math.cos(math.pi - 0.5 * (hi - lo))
     for n in range(len(idx)):
         good = np.ones(len(D), dtype=bool)
-        for (_rmin, _rmax, psi, gamma), (i0, i1, usable) in zip(pieces, spans):
+        for (_rmin, _rmax, psi, gamma, _zs), (i0, i1, j0, j1, usable) in zip(pieces, spans):
             if not usable[n]:
                 good[:] = False
                 break

@@ -892,8 +892,8 @@ def reach_map(robot: DHRobot, *, delta: float, directions=26, cone: float = 30.0
         cell); with ``method="section"``, of the position paving.
     method : {"pavings", "section"}
         ``"pavings"`` (default): one certified pose paving per direction, reachable and unreachable pairs from its
-        boxes.  ``"section"``, for an arm turned by its first joint without a base transform (the Puma 560, the
-        UR5, the Panda): reachable pairs from certified solutions of the arm's section, solved once for all the
+        boxes.  ``"section"``, for an arm turned by its first joint (the Puma 560, the UR5, the KR16, the
+        iiwa 14, the Panda): reachable pairs from certified solutions of the arm's section, solved once for all the
         directions (:mod:`~workspace_sym.serial.mapsection`), unreachable cells from the position paving (no
         point of the cell is reached at all); faster and far more pairs proved reachable on such arms, but no
         direction-specific unreachable pair (docs/methods.md section 9).
@@ -1015,9 +1015,8 @@ def _section_map(robot, values, d, cone, delta, reach_delta, origin, shape, root
                                         parameter=name)
     prover = section_prover(robot, values, cone)
     if isinstance(prover, str):
-        raise InvalidParameterError(f"method: 'section' needs an arm turned by its first joint about a fixed "
-                                    f"vertical axis; {robot.name} is not: {prover}; use method='pavings'",
-                                    parameter="method")
+        raise InvalidParameterError(f"method: 'section' needs an arm turned by its first joint; {robot.name} is "
+                                    f"not: {prover}; use method='pavings'", parameter="method")
     deadline = None if stop.time_limit is None else started + stop.time_limit
     with progress_bar(run.progress, total=2, desc=f"reach map of {robot.name}", unit="stage") as bar:
         position_stop = StopAt(max_boxes=stop.max_boxes,

@@ -72,7 +72,8 @@ from ..transforms import inverse_transform, matrix_product, rot_x, translation
 from .tuning import DEFAULT, Tuning
 
 __all__ = ["Pieces", "RadialMap", "SquareMap", "ShoulderReach", "Turned", "turned", "first_joint_turn",
-           "shoulder_distance", "to_first_frame", "TurnedTest", "section_bar", "section_paving", "in_chunks", "blocks",
+           "shoulder_distance", "to_first_frame", "first_frame", "TurnedTest", "section_bar", "section_paving",
+           "in_chunks", "blocks",
            "solid_volumes", "turned_volume", "REACH_SIMPLIFY_OPS", "ElbowReach", "elbow_reach"]
 
 
@@ -653,8 +654,22 @@ class Turned:
     full: bool
 
 
-def _first_frame(robot, parameters) -> sp.Matrix:
-    """``B``: the base transform, times ``Rx(alpha_0) Tx(a_0)`` of the first row in modified DH."""
+def first_frame(robot, parameters) -> sp.Matrix:
+    """``B``: the base transform, times ``Rx(alpha_0) Tx(a_0)`` of the first row in modified DH: the frame whose
+    ``z`` axis is the first joint's.
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot.
+    parameters : dict or None
+        Values of its symbolic lengths.
+
+    Returns
+    -------
+    sympy.Matrix
+        The exact ``4 x 4`` transform.
+    """
     B = robot.base if robot.base is not None else sp.eye(4)
     if robot.convention == "modified":
         joint = robot.joints[0]
@@ -715,7 +730,7 @@ def turned(model) -> Turned | None:
     if turn is None:
         return None
     q1, theta, slope = turn
-    B = _first_frame(robot, model.parameters)
+    B = first_frame(robot, model.parameters)
     R, t = B[:3, :3], B[:3, 3]
     if B[3, :] != sp.Matrix([[0, 0, 0, 1]]) or sp.simplify(R.T * R - sp.eye(3)) != sp.zeros(3, 3):
         return None                                     # not rigid: the structure is not there
@@ -1004,7 +1019,7 @@ def elbow_reach(model) -> ElbowReach | None:
     robot = model.robot
     q1, theta, slope = turn
     at_zero = {q1: -theta.subs(q1, 0) / slope}
-    B = _first_frame(robot, model.parameters)
+    B = first_frame(robot, model.parameters)
     R, t = B[:3, :3], B[:3, 3]
     shoulder = model.joints[1]
     # The walk of shoulder_distance from the shoulder: the first row whose joint moves S is the elbow's.
