@@ -14,7 +14,8 @@ cone``, floats); a (cell, direction) pair is "reached" when one sample lands in 
 * the build time of each, and the query throughput of ours (10^6 points with approach vectors, best of 3).
 
 Run: python benchmarks/bench_reach_map.py [--robot puma560] [--delta 0.05] [--directions 26] [--cone 30]
-     [--time-limit 1200] [--samples 1000000,10000000] [--reach-delta D]
+     [--time-limit 1200] [--samples 1000000,10000000] [--reach-delta D] [--method pavings|section]
+     (--robot: a name of ``robots.build``, of a table in tests/data/dh (ur5, panda), or kr16, iiwa: rtb-data's URDFs)
 """
 
 from __future__ import annotations
@@ -26,12 +27,13 @@ import math
 import os
 import time
 import warnings
+from pathlib import Path
 
 import numpy as np
 
 from _common import machine
 from workspace_sym import StopAt, robots
-from workspace_sym.kinematics import numeric_function
+from workspace_sym.kinematics import DHRobot, numeric_function
 from workspace_sym.serial.reachmap import reach_map
 
 
@@ -56,6 +58,20 @@ def sampled_map(robot, made, n, seed=0, chunk=500_000):
     return reached, firmly, time.perf_counter() - started
 
 
+URDFS = {"kr16": "kuka_description/kuka_kr16/urdf/kr16_2.urdf",
+         "iiwa": "kuka_description/kuka_lbr_iiwa/urdf/lbr_iiwa_14_r820.urdf"}
+
+
+def _robot(name):
+    """A catalogue robot, a table of tests/data/dh, or the KR16 / iiwa 14 of rtb-data's URDFs (their limits)."""
+    if name in URDFS:
+        import rtbdata
+
+        return DHRobot.from_urdf(Path(rtbdata.__file__).parent / "xacro" / URDFS[name])
+    table = Path(__file__).resolve().parent.parent / "tests" / "data" / "dh" / f"{name}.json"
+    return DHRobot.from_file(table) if table.is_file() else robots.build(name)
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--robot", default="puma560")
@@ -65,17 +81,18 @@ def main():
     parser.add_argument("--time-limit", type=float, default=1200.0)
     parser.add_argument("--reach-delta", type=float, default=None)
     parser.add_argument("--samples", default="1000000,10000000")
+    parser.add_argument("--method", default="pavings", choices=("pavings", "section"))
     args = parser.parse_args()
-    robot = robots.build(args.robot)
+    robot = _robot(args.robot)
     load = os.getloadavg()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)
         made = reach_map(robot, delta=args.delta, directions=args.directions, cone=args.cone,
-                         reach_delta=args.reach_delta, stop=StopAt(time_limit=args.time_limit))
+                         reach_delta=args.reach_delta, method=args.method, stop=StopAt(time_limit=args.time_limit))
     s = made.summary()
     codes = made.codes
     out = {"date": datetime.datetime.now(datetime.UTC).isoformat(timespec="minutes"), "machine": machine(),
-           "load_before": [round(v, 2) for v in load], "robot": args.robot, "summary": s,
+           "load_before": [round(v, 2) for v in load], "robot": args.robot, "method": args.method, "summary": s,
            "direction_seconds": [round(v or 0, 1) for v in made.info["direction_seconds"]],
            "direction_methods": made.info["direction_methods"], "sampled": []}
     for n in (int(v) for v in args.samples.split(",")):
