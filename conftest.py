@@ -23,11 +23,11 @@ collect_ignore = ["workspace_sym/__main__.py"]
 LONGEST_FIRST = [
     "test_serial_workspace.py", "test_kinematics.py", "test_reach_turn.py", "test_boundary.py", "test_notebooks.py",
     "test_reach_real_arms.py", "test_docs_site.py", "test_kinematics_anytable.py", "test_reach_section.py",
-    "test_typing.py", "test_orientation_arms.py", "test_cli.py", "test_reach_shoulder.py", "test_report.py",
-    "test_exercise_keys.py", "test_reach_store.py", "test_orthoglide.py", "test_executor.py", "test_charpoly.py",
-    "test_orientation.py", "test_reach_critical3d.py", "test_grading_teacher.py", "test_symbolic.py",
-    "test_untrusted_input.py", "test_mjcf.py", "test_urdf.py", "test_reach_map.py", "test_fingerprint.py",
-    "test_reach_turn3d.py", "test_soundness.py",
+    "test_typing.py", "test_orientation_arms.py", "test_reach_map_section.py", "test_cli.py", "test_reach_shoulder.py",
+    "test_report.py", "test_exercise_keys.py", "test_reach_store.py", "test_orthoglide.py", "test_executor.py",
+    "test_charpoly.py", "test_orientation.py", "test_reach_critical3d.py", "test_grading_teacher.py",
+    "test_symbolic.py", "test_untrusted_input.py", "test_mjcf.py", "test_urdf.py", "test_reach_map.py",
+    "test_fingerprint.py", "test_reach_turn3d.py", "test_soundness.py",
 ]
 
 
