@@ -81,30 +81,6 @@ def test_section_proved_pairs_are_never_outer_in_the_pose_paving_of_the_same_con
     assert not (outer & (puma_map.codes[..., up] == 1)).any()
 
 
-def test_an_arm_whose_section_aims_the_approach_is_proved_at_50_digits_too():
-    # Reference: the 50-digit inverse kinematics of any arm (reach_checks.arm_in_cone_at_50_digits) at random
-    # points of UR5 cells proved reachable by the aimed section (four section joints: Newton aims the approach).
-    robot = DHRobot.from_file(DATA / "dh" / "ur5.json")
-    prover = section_prover(robot, (), 30.0)
-    assert not isinstance(prover, str) and prover.aims and prover.theta_range is None
-    origin, shape, _ = _grid(robot, (), 0.1)
-    edges = tuple(origin[a] + np.arange(shape[a] + 1) * 0.1 for a in range(3))
-    centres = [0.5 * (e[1:] + e[:-1]) for e in edges]
-    X, Y, Z = np.meshgrid(*centres, indexing="ij")
-    candidates = (X > 0.25) & (X < 0.55) & (np.abs(Y - 0.15) < 0.1) & (np.abs(Z - 0.2) < 0.1)
-    directions = sphere_directions(6)
-    proved = section_reachable(prover, edges, candidates, directions, cell=0.01, local=sphere_directions(16),
-                                samples=40_000)
-    assert not proved[~candidates].any()
-    pairs = np.argwhere(proved)
-    assert len(pairs) >= 6
-    rng = np.random.default_rng(11)
-    for i, j, l, k in pairs[rng.choice(len(pairs), size=3, replace=False)]:
-        cell = np.array([[edges[a][c], edges[a][c + 1]] for a, c in enumerate((i, j, l))])
-        target = rng.uniform(cell[:, 0], cell[:, 1])
-        assert arm_in_cone_at_50_digits(robot, target, directions[k], 30.0, rng) is not None, (target, k)
-
-
 def test_a_section_that_cannot_aim_with_a_limited_first_joint_is_proved_at_50_digits_too():
     # Reference: the 50-digit inverse kinematics (reach_checks.arm_in_cone_at_50_digits) at a corner and a random
     # point of SCARA cells proved reachable: two section joints (no aim: the seeds are the solution branches) and
@@ -124,22 +100,26 @@ def test_a_section_that_cannot_aim_with_a_limited_first_joint_is_proved_at_50_di
             assert arm_in_cone_at_50_digits(scara, target, made.directions[d], 30.0, rng) is not None, (target, d)
 
 
-@pytest.mark.parametrize("name", ["kr16 (URDF, base upside down)", "ur5 on a tilted base"])
-def test_a_section_under_a_base_transform_is_proved_at_50_digits_too(name):
+@pytest.mark.parametrize("name", ["ur5", "kr16 (URDF, base upside down)", "ur5 on a tilted base"])
+def test_points_of_aimed_section_pairs_are_reached_in_the_cone_at_50_digits(name):
     # Reference: the 50-digit inverse kinematics of the whole arm, base included (reach_checks.
-    # arm_in_cone_at_50_digits), at random points of cells proved reachable in the first joint's frame: the
-    # KR16 of rtb-data's URDF (base rpy pi 0 0: z down) and the UR5 on a base turned 0.4 rad about x and moved
-    # (the world pieces enter the first joint's frame as outward boxes); a corner and a random point a cell.
-    if name.startswith("kr16"):
+    # arm_in_cone_at_50_digits), at a corner and a random point of cells proved reachable by the aimed section
+    # (four section joints or more: Newton aims the approach): the UR5; the KR16 of rtb-data's URDF (base rpy
+    # pi 0 0: z down); the UR5 on a base turned 0.4 rad about x and moved (the world pieces enter the first
+    # joint's frame as outward boxes).
+    ur5 = DHRobot.from_file(DATA / "dh" / "ur5.json")
+    if name == "ur5":
+        robot, box = ur5, ((0.25, 0.55), (0.05, 0.25), (0.1, 0.3))
+    elif name.startswith("kr16"):
         robot, box = industrial_arm("kr16"), ((0.6, 1.0), (0.05, 0.25), (0.6, 1.0))
     else:
-        ur5 = DHRobot.from_file(DATA / "dh" / "ur5.json")
         robot = DHRobot(list(ur5.joints), convention=ur5.convention, name="tilted ur5", units=ur5.units,
                         base=translation(x=sp.Rational(1, 10), y=sp.Rational(-1, 5), z=sp.Rational(3, 10))
                         * rot_x(sp.Rational(2, 5)))
         box = ((0.35, 0.65), (-0.2, 0.0), (0.3, 0.6))
     prover = section_prover(robot, (), 30.0)
-    assert not isinstance(prover, str) and prover.inverse is not None
+    assert not isinstance(prover, str) and prover.aims and (prover.inverse is None) == (name == "ur5")
+    assert name != "ur5" or prover.theta_range is None
     origin, shape, _ = _grid(robot, (), 0.1)
     edges = tuple(origin[a] + np.arange(shape[a] + 1) * 0.1 for a in range(3))
     centres = np.meshgrid(*[0.5 * (e[1:] + e[:-1]) for e in edges], indexing="ij")
