@@ -178,3 +178,5 @@ def test_bad_section_options_are_one_clear_error(tmp_path):
                       name="coupled arm")
     with pytest.raises(InvalidParameterError, match="does not turn the rest of the arm"):
         reach_map(coupled, delta=0.2, directions=6, method="section")
+    with pytest.raises(InvalidParameterError, match="needs a spatial robot"):
+        reach_map(robots.build("planar-2r"), delta=0.2, directions=6, method="section")

@@ -937,6 +937,7 @@ def reach_map(robot: DHRobot, *, delta: float, directions=26, cone: float = 30.0
     check_delta(delta)
     d = _directions(directions)
     cone = _check_cone(cone)
+    _check_method(method)
     if not isinstance(stop, StopAt) or not isinstance(run, RunOn):
         raise InvalidParameterError("stop and run must be a StopAt and a RunOn", parameter="run")
     for name in ("max_memory", "store", "chunk"):
@@ -951,14 +952,13 @@ def reach_map(robot: DHRobot, *, delta: float, directions=26, cone: float = 30.0
                       f"covering angle is {angle:.4g} deg): approach vectors farther than {cone:g} deg from every "
                       "direction are held by no cone and queried as undecided", UserWarning, stacklevel=3)
     values = tuple(sorted((parameters or {}).items(), key=lambda item: str(item[0])))
-    _check_method(method)
     named = map_problem(robot, delta=delta, directions=d, cone=cone, parameters=parameters, reach_delta=reach_delta,
                         method=method)
     reach_delta = float(delta) / 2 if reach_delta is None else float(reach_delta)
     started = time.perf_counter()
-    if method == "section":
+    origin, shape, root = _grid(robot, values, float(delta))     # a spatial robot with a finite enclosure
+    if method == "section":         # its own grid, from the position paving
         return _section_map(robot, values, d, cone, float(delta), reach_delta, named, angle, stop, run, started)
-    origin, shape, root = _grid(robot, values, float(delta))
     edges = tuple(origin[a] + np.arange(shape[a] + 1) * float(delta) for a in range(3))
     codes = np.zeros((*shape, len(d)), dtype=CODE)
     done: dict[int, dict] = _resumed(run.resume, named, shape, len(d))
