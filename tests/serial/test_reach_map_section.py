@@ -5,11 +5,13 @@ the same cone's pose paving as a second method, the cell geometry's bounds at th
 from __future__ import annotations
 
 import warnings
+from fractions import Fraction
 
+import mpmath
 import numpy as np
 import pytest
 import sympy as sp
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from paths import DATA
@@ -140,21 +142,25 @@ def test_points_of_aimed_section_pairs_are_reached_in_the_cone_at_50_digits(name
 @settings(max_examples=300, deadline=None)
 @given(st.floats(-1, 1), st.floats(-1, 1), st.sampled_from([1e-9, 1e-4, 0.01, 0.05, 0.3]),
        st.sampled_from([1e-9, 1e-4, 0.01, 0.05, 0.3]), st.integers(0, 2**32 - 1))
+@example(2.2250738585e-313, 2.2250738585e-313, 1e-9, 1e-9, 0)     # a subnormal corner: hypot's ulp is not relative
 def test_the_cell_geometry_bounds_radius_and_polar_angle_of_every_point(x0, y0, wx, wy, seed):
-    # Reference: points drawn in the rectangle (its corners and edges included, rectangles touching the axes or
-    # tiny): their radius lies in [rmin, rmax] and their polar angle within gamma of the centre's, whenever the
-    # rectangle does not hold the axis (rmin > 0).
+    # Reference: the four corners and points drawn in the rectangle (rectangles touching the axes or tiny),
+    # whenever it does not hold the axis (rmin > 0): their squared radius in [rmin^2, rmax^2] in exact rationals
+    # (the floats as Fractions), their polar angle within gamma of the centre's at 50 digits (mpmath).
     X, Y = np.array([[x0, x0 + wx]]), np.array([[y0, y0 + wy]])
     rmin, rmax, psi, gamma = _cell_geometry(X, Y)
     if rmin[0] <= 0:
         return
     rng = np.random.default_rng(seed)
-    px = np.r_[X[0], rng.uniform(X[0, 0], X[0, 1], 200)]
-    py = np.r_[Y[0, ::-1], rng.uniform(Y[0, 0], Y[0, 1], 200)]
-    rho = np.hypot(px, py)
-    assert (rho >= rmin[0]).all() and (rho <= rmax[0]).all()
-    spread = np.abs(np.angle(np.exp(1j * (np.arctan2(py, px) - psi[0]))))
-    assert (spread <= gamma[0]).all()
+    px = np.r_[X[0, [0, 1, 0, 1]], rng.uniform(X[0, 0], X[0, 1], 60)]
+    py = np.r_[Y[0, [0, 0, 1, 1]], rng.uniform(Y[0, 0], Y[0, 1], 60)]
+    lo, hi = Fraction(float(rmin[0])) ** 2, Fraction(float(rmax[0])) ** 2
+    with mpmath.workdps(50):
+        for x, y in zip(px.tolist(), py.tolist()):
+            assert lo <= Fraction(x) ** 2 + Fraction(y) ** 2 <= hi, (x, y)
+            turn = mpmath.atan2(mpmath.mpf(y), mpmath.mpf(x)) - mpmath.mpf(float(psi[0]))
+            spread = abs(turn - 2 * mpmath.pi * mpmath.nint(turn / (2 * mpmath.pi)))
+            assert spread <= mpmath.mpf(float(gamma[0])), (x, y)
 
 
 def test_a_section_map_saves_and_is_refused_as_another_method(puma_map, tmp_path):

@@ -246,8 +246,11 @@ def _cell_geometry(X: np.ndarray, Y: np.ndarray):
     def away(A):
         return np.where((A[:, 0] <= 0) & (A[:, 1] >= 0), 0.0, np.minimum(np.abs(A[:, 0]), np.abs(A[:, 1])))
 
-    rmin = np.hypot(away(X), away(Y)) * (1 - 1e-12)
-    rmax = np.hypot(np.abs(X).max(axis=1), np.abs(Y).max(axis=1)) * (1 + 1e-12)
+    # hypot within an ulp, the factor for its relative error; two floats more each way for subnormal radii,
+    # where the factor rounds back to the same float
+    rmin = np.nextafter(np.nextafter(np.hypot(away(X), away(Y)) * (1 - 1e-12), 0.0), 0.0)
+    rmax = np.nextafter(np.nextafter(np.hypot(np.abs(X).max(axis=1), np.abs(Y).max(axis=1)) * (1 + 1e-12), np.inf),
+                        np.inf)
     xc, yc = X.mean(axis=1), Y.mean(axis=1)
     psi = np.arctan2(yc, xc)
     cx = np.stack([X[:, 0], X[:, 1], X[:, 0], X[:, 1]], 1)
