@@ -356,12 +356,7 @@ def wrist_arm_in_cone_at_50_digits(robot, target, direction, cone_deg, rng, star
             except (ValueError, ZeroDivisionError):
                 continue
             full = [arm[i] for i in range(3)] + wrist
-            residual = max(abs(p - g) for p, g in zip(position(*full), goal))
-            within = all(mpmath.mpf(float(lim[i, 0])) <= full[i] <= mpmath.mpf(float(lim[i, 1])) for i in range(6))
-            dd = [mpmath.mpf(float(v)) for v in direction]
-            dot = sum(x * y for x, y in zip(approach(*full), dd))
-            if residual < mpmath.mpf(10) ** -40 and within and dot >= mpmath.sqrt(sum(v * v for v in dd)) * mpmath.cos(
-                    mpmath.radians(mpmath.mpf(float(cone_deg)))):
+            if _holds_at_50_digits(position, approach, full, goal, lim, direction, cone_deg):
                 return full
     return None
 
@@ -408,11 +403,17 @@ def arm_in_cone_at_50_digits(robot, target, direction, cone_deg, rng, starts=60)
             full = list(fixed)
             for i, c in enumerate(cols):
                 full[c] = sol[i]
-            error = max(abs(p - g) for p, g in zip(position(*full), goal))
-            within = all(mpmath.mpf(float(lim[i, 0])) <= full[i] <= mpmath.mpf(float(lim[i, 1])) for i in range(len(q)))
-            dd = [mpmath.mpf(float(v)) for v in direction]
-            dot = sum(a * b for a, b in zip(approach(*full), dd))
-            if error < mpmath.mpf(10) ** -40 and within and dot >= mpmath.sqrt(sum(v * v for v in dd)) * mpmath.cos(
-                    mpmath.radians(mpmath.mpf(float(cone_deg)))):
+            if _holds_at_50_digits(position, approach, full, goal, lim, direction, cone_deg):
                 return full
     return None
+
+
+def _holds_at_50_digits(position, approach, full, goal, lim, direction, cone_deg):
+    """At the working precision (50 digits): ``full`` puts the tool point within 1e-40 of ``goal``, lies within the
+    limits, and turns the approach within ``cone_deg`` of ``direction``."""
+    residual = max(abs(p - g) for p, g in zip(position(*full), goal))
+    within = all(mpmath.mpf(float(lim[i, 0])) <= full[i] <= mpmath.mpf(float(lim[i, 1])) for i in range(len(full)))
+    dd = [mpmath.mpf(float(v)) for v in direction]
+    dot = sum(x * y for x, y in zip(approach(*full), dd))
+    return residual < mpmath.mpf(10) ** -40 and within and dot >= mpmath.sqrt(sum(v * v for v in dd)) * mpmath.cos(
+        mpmath.radians(mpmath.mpf(float(cone_deg))))
