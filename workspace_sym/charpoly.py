@@ -9,6 +9,7 @@ with no knowledge of DH tables.
 from __future__ import annotations
 
 import time
+from functools import cmp_to_key
 from itertools import combinations
 
 import numpy as np
@@ -168,14 +169,12 @@ def _factored(p, back: dict, simplify, cache: dict, pool: _FactorPool | None = N
     :meth:`_FactorPool.factor` when a ``pool`` is given, else SymPy's ``factor_list`` (irreducible factors)."""
     check_budget("factoring a minor")
     content, factors = pool.factor(p) if pool is not None else p.factor_list()
-    out = p.ring.domain.to_sympy(content)
     atoms = _textbook_atoms(p.ring, back) if simplify is textbook else None
-    for f, m in factors:
+    for f, _ in factors:
         if f not in cache:
             # a ring element's textbook form straight from the ring (as SymPy sums: two minutes of the Panda's)
             cache[f] = textbook_polynomial(f, atoms) if atoms is not None else simplify(f.as_expr().xreplace(back))
-        out *= cache[f] ** m
-    return out
+    return _product(p.ring.domain.to_sympy(content), [(cache[f], m) for f, m in factors])
 
 
 def _textbook_atoms(ring, back: dict) -> list | None:
@@ -400,22 +399,85 @@ def _squared_minor_sums(J: sp.Matrix, minors: dict, back: dict, simplify, factor
         # Each form is that of a minor whose sign is already fixed (positive leading coefficient), so equal
         # minors were counted in the ring; nothing here walks the long forms again (could_extract_minus_sign and
         # count_ops on them cost seconds past the factoring deadline).
-        total = sp.Add(*(n * _squared(forms[minor]) for minor, n in distinct.items()))
+        sign = (-1) ** k
+        total = _sum([_product(sign * n, [(forms[minor], 2)]) for minor, n in distinct.items()])
         if distinct and sum(len(p) ** 2 for p in distinct) <= RING_TOTAL_PRODUCTS:
             ring_total = sum((n * minor**2 for minor, n in distinct.items()), next(iter(distinct)).ring.zero)
             if len(ring_total) <= SHORT_SUM_TERMS:   # a^2 c^2 + a^2 s^2 + 1 is a^2 + 1
-                reduced = simplify(ring_total.as_expr().xreplace(back))
+                reduced = sign * simplify(ring_total.as_expr().xreplace(back))
                 total = reduced if sp.count_ops(reduced) < sp.count_ops(total) else total
-        coeffs.append((-1) ** k * total)
+        coeffs.append(total)
     return coeffs
 
 
-def _squared(form: sp.Expr) -> sp.Expr:
-    """``form**2``, a product squared factor by factor: the expression SymPy builds, without its Pow of a Mul
-    asking each long factor's assumptions (a third of the Panda's 6 x 7 sums)."""
-    if not form.is_Mul:
-        return _power(form, 2)
-    return sp.Mul(*(_power(b, 2 * e) for b, e in (a.as_base_exp() for a in form.args)))
+_ORDER = cmp_to_key(sp.Basic.compare)   # the order of the arguments of SymPy's sums and products
+
+
+def _plain(base: sp.Expr) -> bool:
+    """Whether SymPy leaves every positive integer power of ``base`` as the plain ``Pow``: a symbol, a sine or
+    cosine of a symbolic argument, or a sum of symbolic terms holding no infinity (:func:`_power`)."""
+    if base.is_Symbol:
+        return True
+    if isinstance(base, (sp.sin, sp.cos)):
+        return not base.args[0].is_number
+    return bool(base.is_Add and base.free_symbols and not base.has(*_INFINITIES))
+
+
+def _product(coeff, powers: list) -> sp.Expr:
+    """``coeff * prod(f**m for f, m in powers)``, the object SymPy's ``Mul`` builds.
+
+    SymPy's product takes every power apart and builds it again, asking of each sum of two terms whether one of
+    them is infinite: a walk of the assumptions of its long terms (a third of the Panda's 6 x 7 polynomial).  When
+    each ``f`` is a plain base (:func:`_plain`) or a product of plain bases and a rational, all bases distinct,
+    ``coeff`` rational and each ``m`` a positive integer, the product is the sorted powers behind the coefficient,
+    built here without the question; anything else goes to SymPy."""
+    given = coeff = sp.sympify(coeff)
+    pieces: dict = {}
+    for f, m in powers:
+        c, rest = f.as_coeff_Mul() if f.is_Mul else (sp.S.One, f)
+        if not (int(m) == m and m > 0 and c.is_Rational and coeff.is_Rational):
+            return _sympy_product(given, powers)
+        coeff *= c ** m
+        for b, e in (a.as_base_exp() for a in sp.Mul.make_args(rest)):
+            if not (e.is_Integer and e > 0 and _plain(b)) or b in pieces:
+                return _sympy_product(given, powers)
+            pieces[b] = e * m
+    if coeff.is_zero:
+        return _sympy_product(given, powers)
+    args = sorted((b if e == 1 else sp.Pow(b, e, evaluate=False) for b, e in pieces.items()), key=_ORDER)
+    if coeff is not sp.S.One:
+        if len(args) == 1 and args[0].is_Add:   # SymPy distributes a number over a sum: 2 (a + b) = 2 a + 2 b
+            return _sympy_product(given, powers)
+        args.insert(0, coeff)
+    return args[0] if len(args) == 1 else sp.Mul(*args, evaluate=False) if args else coeff
+
+
+def _sympy_product(coeff, powers: list) -> sp.Expr:
+    """SymPy's own ``coeff * prod(f**m)`` (:func:`_product` when its shortcut does not apply)."""
+    return sp.Mul(coeff, *(_power(f, m) for f, m in powers))
+
+
+def _sum(terms: list) -> sp.Expr:
+    """``Add(*terms)``, the object SymPy builds.  SymPy collects the terms by what multiplies their rational
+    coefficient and multiplies each sum of coefficients back in, which for a number times one power is a whole
+    product again (:func:`_product`).  When every such rest is a product, a plain base or a positive integer power
+    of one, and no term is a number or a sum, the collected terms are put back here without that, in SymPy's
+    order."""
+    collected: dict = {}
+    for t in terms:
+        c, rest = t.as_coeff_Mul()
+        if t.is_Number or t.is_Add or not c.is_Rational or not (rest.is_Mul or _plain_power(rest)):
+            return sp.Add(*terms)
+        collected[rest] = collected.get(rest, 0) + c
+    out = [rest if c == 1 else sp.Mul(c, *sp.Mul.make_args(rest), evaluate=False)
+           for rest, c in collected.items() if c != 0]
+    return sp.Add(*sorted(out, key=_ORDER), evaluate=False) if len(out) > 1 else sp.Add(*out)
+
+
+def _plain_power(f: sp.Expr) -> bool:
+    """A plain base (:func:`_plain`) or a positive integer power of one."""
+    base, e = f.as_base_exp()
+    return bool(e.is_Integer and e > 0 and _plain(base))
 
 
 _INFINITIES = (sp.S.Infinity, sp.S.NegativeInfinity, sp.S.ComplexInfinity)

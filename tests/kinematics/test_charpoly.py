@@ -214,11 +214,20 @@ _TERMS = st.sampled_from([_x, _y, sp.cos(_t), sp.sin(_t), _x * sp.cos(_t), sp.si
 @example(terms=[sp.Integer(1), sp.I], coefficients=[3, 4, 1, 1], exp=-1)     # 1/(3 + 4i) = (3 - 4i)/25
 @example(terms=[sp.Integer(1), sp.I], coefficients=[3, 4, 1, 1], exp=sp.Rational(1, 2))   # sqrt(3 + 4i) = 2 + i
 def test_the_squared_minors_are_the_powers_sympy_builds(terms, coefficients, exp):
-    """The powers of the squared-minor sums are built without SymPy's question whether a two-term sum holds an
-    infinite term (seconds on the Panda), and a product is squared factor by factor; reference: SymPy's own
-    ``base**exp`` and ``product**2``, compared by ``srepr`` (the same object, not only an equal value), over sums with
-    numbers, infinities and imaginary terms."""
-    base = sp.Add(*(sp.Rational(c.numerator, c.denominator) * t for c, t in zip(coefficients, terms)))
+    """The powers, products and sums of the squared-minor sums are built without SymPy's question whether a
+    two-term sum holds an infinite term (seconds on the Panda); reference: SymPy's own ``base**exp``,
+    ``Mul(c, *(f**m))`` and ``Add(*terms)``, compared by ``srepr`` (the same object, not only an equal value), over
+    sums with numbers, infinities and imaginary terms, equal bases, and terms equal up to a rational factor."""
+    rationals = [sp.Rational(c.numerator, c.denominator) for c in coefficients]
+    base = sp.Add(*(c * t for c, t in zip(rationals, terms)))
     assert sp.srepr(charpoly._power(base, exp)) == sp.srepr(base**exp)
-    product = base * _x ** 3 * sp.cos(_t)
-    assert sp.srepr(charpoly._squared(product)) == sp.srepr(product**2)
+    if not (sp.sympify(exp).is_Integer and exp > 0):
+        return
+    for coeff in (sp.Integer(1), rationals[0], -rationals[1]):
+        for powers in ([(base, exp)], [(base * _x**3 * sp.cos(_t), exp), (_y, 1)], [(base, 1), (_x, exp)],
+                       [(base, exp), (base, 1)], [(rationals[2] * _x * base, exp), (sp.sin(_t), 3)]):
+            built = charpoly._product(coeff, powers)
+            assert sp.srepr(built) == sp.srepr(sp.Mul(coeff, *(f**m for f, m in powers)))
+    products = [charpoly._product(c, [(base, exp), (_y, 2)]) for c in rationals] + [
+        charpoly._product(rationals[3], [(t, exp)]) for t in terms]
+    assert sp.srepr(charpoly._sum(products)) == sp.srepr(sp.Add(*products))
