@@ -1978,11 +1978,23 @@ def canonical_sstr(expr, **settings) -> str:
 
 
 class _CanonicalStrPrinter(sp.printing.str.StrPrinter):
-    """SymPy's string printer whose order of the terms of a sum comes from one :class:`_CanonicalOrder`."""
+    """SymPy's string printer whose order of the terms of a sum comes from one :class:`_CanonicalOrder`, and
+    which prints each distinct subexpression once (the squared minors of a characteristic polynomial repeat their
+    factors hundreds of times).  A subexpression's string depends only on it and the settings, except a float's at
+    the top level under ``full_prec="auto"``: only nested ones are kept."""
 
     def __init__(self, settings=None):
         super().__init__(settings)
         self._canonical = _CanonicalOrder()
+        self._printed: dict = {}
+
+    def _print(self, expr, **kwargs) -> str:
+        if kwargs or self._print_level < 1 or not isinstance(expr, sp.Basic) or expr.is_Atom:
+            return super()._print(expr, **kwargs)
+        found = self._printed.get(expr)
+        if found is None:
+            found = self._printed[expr] = super()._print(expr)
+        return found
 
     def _as_ordered_terms(self, expr, order=None):
         if (order or self.order) is None:
