@@ -488,7 +488,7 @@ def _power(base: sp.Expr, exp) -> sp.Expr:
     plain ``Pow(base, exp)`` after asking whether a sum of two terms holds an infinite one, which walks the
     assumptions of each long term (seconds on the Panda's minors); here that sum is built without the question
     when a walk of its tree (no assumptions) shows no infinity.  A number or an infinity goes to SymPy."""
-    if base.is_Add and base.free_symbols and not base.has(*_INFINITIES):
+    if base.is_Add and _plain(base):
         return sp.Pow(base, exp, evaluate=False)
     return base**exp
 
