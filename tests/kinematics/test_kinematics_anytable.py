@@ -348,8 +348,10 @@ def test_reach_time_limit_bounds_the_symbolic_model(tmp_path, capsys):
     interrupted).  A limit the symbolic preparation cannot meet (1 ms: the UR5's fk alone takes far longer
     anywhere) ends with one SymbolicBudgetError naming time_limit, from the library and the command line
     (one line, exit 2, --time-limit named); nothing is reported as proved."""
-    from workspace_sym.serial import reach
+    from workspace_sym.serial import model, reach, structure
 
+    for cached in (model.reach_model, structure.structure_of):
+        cached.cache_clear()                    # cached per robot by value: an earlier test may have built them
     path = DATA / "dh" / "ur5.json"
     with pytest.raises(SymbolicBudgetError, match=r"time_limit: the symbolic model of UR5 .* not ready within the "
                                                   r"time limit of 0\.001 s") as info:
@@ -358,6 +360,21 @@ def test_reach_time_limit_bounds_the_symbolic_model(tmp_path, capsys):
     assert main(["reach", "--dh", str(path), "--delta", "0.1", "--time-limit", "0.001", "--json"]) == 2
     out, err = capsys.readouterr()
     assert out == "" and err.count("\n") == 1 and "--time-limit" in err and "no box was decided" in err
+
+
+def test_reach_time_limit_bounds_a_cached_symbolic_model():
+    """A model already in the process's cache is prepared without any symbolic step to interrupt; a limit it
+    still cannot meet (a microsecond: the cache lookups alone take longer) is refused the same way, by the check
+    when the preparation ends, so the outcome does not depend on the machine's speed (a report test that relied on
+    the timer alone failed in CI on a fast moment)."""
+    from workspace_sym.serial import reach
+
+    arm = DHRobot([DHJoint.revolute(1, a=1, limits=(-1, 1)), DHJoint.revolute(2, a="1/2")])
+    assert reach(arm, delta=0.2).paving.complete                            # builds and caches the model
+    for limit in (1e-6, 1e-9):
+        with pytest.raises(SymbolicBudgetError, match="not ready within the time limit") as info:
+            reach(arm, delta=0.2, stop=StopAt(time_limit=limit))
+        assert info.value.parameter == "time_limit"
 
 
 def test_reach_time_limit_bounds_the_symbolic_model_with_a_tool_constraint():

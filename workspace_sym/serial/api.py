@@ -373,16 +373,23 @@ class ReachResult:
 
 
 @contextmanager
-def prepared_within(robot: DHRobot, time_limit: float | None, spent: float = 0.0):
-    """The symbolic preparation of the reach model (kinematics, enclosures) within what is left of the time
+def prepared_within(robot: DHRobot, budget: RunBudget):
+    """The symbolic preparation of the reach model (kinematics, enclosures) within what is left of the run's time
     limit: past it, one :class:`SymbolicBudgetError` naming ``time_limit`` (no task box is known yet, so there
-    is no paving to return: nothing was decided)."""
+    is no paving to return: nothing was decided).
+
+    The limit is checked twice: by the symbolic steps themselves while they run (their budget, with its timer),
+    and once more when the block ends, so that a preparation found in a cache (no symbolic step run, nothing to
+    interrupt) and finished after the limit is refused the same way whatever the machine's speed."""
+    time_limit = budget.time_limit
     if time_limit is None:
         yield
         return
     try:
-        with symbolic_budget(max(time_limit - spent, 0.0), f"the symbolic model of {robot.name}"):
+        with symbolic_budget(max(time_limit - budget.seconds, 0.0), f"the symbolic model of {robot.name}"):
             yield
+        if budget.seconds > time_limit:
+            raise SymbolicBudgetError(f"the symbolic model of {robot.name}: finished after the limit")
     except SymbolicBudgetError as exc:
         raise SymbolicBudgetError(f"time_limit: the symbolic model of {robot.name} (position, Jacobian, "
                                   f"enclosures) was not ready within the time limit of {time_limit:g} s, so no "
@@ -570,12 +577,12 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     budget = RunBudget(stop, "reach", run.progress)
     model = root = None
     try:
-        with prepared_within(robot, stop.time_limit, budget.seconds):
+        with prepared_within(robot, budget):
             model = reach_model(robot, values)
             root = model.enclose(model.limits[None])[0]
         check_root(root, delta, size, robot)
         problem = reach_problem(robot, values, delta, size, tuning)
-        with prepared_within(robot, stop.time_limit, budget.seconds):
+        with prepared_within(robot, budget):
             kind = resolve_method(robot, method, values)
             plans = choose_plans(robot, values, kind, method, delta=delta, size=size, tuning=tuning,
                                  problem=problem, run=run)
@@ -629,7 +636,7 @@ def _reach_pose(robot: DHRobot, *, delta, size, parameters, method, stop: StopAt
     values = tuple(sorted((parameters or {}).items(), key=lambda item: str(item[0])))
     budget = RunBudget(stop, "reach", run.progress)
     try:
-        with prepared_within(robot, stop.time_limit, budget.seconds):
+        with prepared_within(robot, budget):
             structure = pose_structure(robot, values, constraint, tuning)
             plan = pose_plan(robot, values, constraint, structure, delta=delta, size=size, tuning=tuning, run=run)
         section = plan.pave(budget, run)
