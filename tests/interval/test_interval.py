@@ -367,3 +367,76 @@ def test_the_absolute_value_of_no_enclosure_is_no_enclosure():
     """``iabs`` keeps a NaN bound NaN on both ends (the engine never turns a NaN into a finite bound)."""
     lo, hi = arith.iabs((np.array([np.nan, -1.0, 2.0]), np.array([1.0, np.nan, 3.0])))
     assert np.isnan(lo[:2]).all() and np.isnan(hi[:2]).all() and (lo[2], hi[2]) == (2.0, 3.0)
+
+
+# ---------------------------------------------------------------------- batches: one sweep, the same floats
+_X, _Y, _Z = sp.symbols("x y z")
+_ATOMS = [_X, _Y, _Z, sp.sin(_X), sp.cos(_Y), sp.sin(_X + _Y), sp.cos(_Y - _Z), sp.Rational(3, 7), sp.pi / 5]
+
+
+@st.composite
+def shared_expressions(draw):
+    """Expressions over x, y, z that share subexpressions (sines and cosines of joints and their sums, products
+    of them), as a map's coordinates and its Jacobian's entries do; constants with exact ends and without."""
+    def one(depth):
+        if depth == 0 or draw(st.booleans()):
+            return draw(st.sampled_from(_ATOMS))
+        op = draw(st.sampled_from(["+", "*", "-", "sq"]))
+        a = one(depth - 1)
+        if op == "sq":
+            return a**2
+        b = one(depth - 1)
+        return a + b if op == "+" else (a * b if op == "*" else a - b)
+    return [one(3) for _ in range(draw(st.integers(1, 6)))]
+
+
+@settings(max_examples=120, deadline=None)
+@given(shared_expressions(), st.lists(st.tuples(finite, st.floats(0, 10), st.booleans()), min_size=3, max_size=3))
+@example([_X * sp.sin(_X) + _Y, sp.sin(_X) * _Y, (_X - _Y) ** 2], [(0.5, 0.0, False), (1.0, 2.0, False),
+                                                                 (0.0, 1.0, True)])
+def test_a_batch_gives_the_floats_of_each_expression_alone(expressions, intervals):
+    """:func:`compile_batch` evaluates several expressions in one sweep over their shared graph; each result
+    must be, float for float, what the expression's own evaluator (:func:`compile_expr`, natural form intersected
+    with the mean-value form) gives, on wide, narrow and point intervals (the joints a Krawczyk test holds
+    fixed are points).  Reference: the evaluators one by one."""
+    from workspace_sym.interval.compiler import compile_batch
+
+    variables = (_X, _Y, _Z)
+    X = [(np.array([lo, lo - 1.0]), np.array([lo + (0.0 if point else w), lo + 1.0])) for lo, w, point in intervals]
+    batch = compile_batch(expressions, variables)
+    for e, got in zip(expressions, batch(X)):
+        want = compile_expr(e, variables)(X)
+        for g, w in zip(got, want):
+            assert np.array_equal(np.broadcast_to(g, (2,)), np.broadcast_to(w, (2,)), equal_nan=True), e
+
+
+def test_an_image_map_encloses_as_its_entries_do():
+    """:class:`~workspace_sym.interval.image.ImageMap` encloses its coordinates and the columns of its Jacobian
+    a batch at a time; the floats are those of each entry's own evaluator (a spatial 3R arm, boxes with some
+    joints fixed as a Krawczyk test has them).  Reference: the entries compiled one by one."""
+    from workspace_sym.interval.image import ImageMap
+
+    q = sp.symbols("q1:4")
+    p = [sp.cos(q[0]) * (1 + sp.cos(q[1]) + sp.cos(q[1] + q[2]) / 2),
+         sp.sin(q[0]) * (1 + sp.cos(q[1]) + sp.cos(q[1] + q[2]) / 2),
+         sp.sin(q[1]) + sp.sin(q[1] + q[2]) / 2]
+    image = ImageMap(p, q, [(-3, 3)] * 3, [False] * 3)
+    rng = np.random.default_rng(7)
+    mid = rng.uniform(-3, 3, (50, 3))
+    half = rng.uniform(0, 0.3, (50, 3)) * (rng.random((50, 3)) < 0.6)
+    Q = np.stack([mid - half, mid + half], axis=2)
+    X = [(Q[:, j, 0], Q[:, j, 1]) for j in range(3)]
+    E = image.enclose(Q)
+    for i, e in enumerate(p):
+        lo, hi = compile_expr(e, q)(X)
+        assert np.array_equal(E[:, i, 0], lo) and np.array_equal(E[:, i, 1], hi)
+    for columns in (None, (2, 0), (1,)):
+        J = image.jacobian_enclosure(Q, columns)
+        for i, e in enumerate(p):
+            for j in range(3):
+                if columns is not None and j not in columns:
+                    assert J[i][j] is None
+                    continue
+                lo, hi = compile_expr(sp.diff(e, q[j]), q)(X)
+                assert np.array_equal(J[i][j][0], np.broadcast_to(lo, (50,)))
+                assert np.array_equal(J[i][j][1], np.broadcast_to(hi, (50,)))

@@ -58,7 +58,7 @@ from ..errors import CoverStopped, CoverTooLarge
 from ..expressions import as_sympy
 from . import arith
 from .boxes import halves
-from .compiler import compile_expr
+from .compiler import CompiledBatch, compile_batch, compile_expr
 from .graph import numpy_constant
 from .verdict import CODE, INSIDE, OUTSIDE, UNDECIDED
 
@@ -118,9 +118,10 @@ class ImageMap:
         self.inner_limits = np.array([(lo[1], hi[0]) for lo, hi in pairs], dtype=float)
         self.periodic = np.array(periodic, dtype=bool)
         self.expressions = expressions
-        self._position = [compile_expr(e, self.variables) for e in expressions]
+        self._position = compile_batch(expressions, self.variables)
         jac = [[sp.diff(e, q) for q in self.variables] for e in expressions]
         self._jacobian = [[compile_expr(entry, self.variables) for entry in row] for row in jac]
+        self._columns: dict = {}        # the batches of the Jacobian's entries, by the columns asked for
         self._p_float = sp.lambdify([self.variables], expressions, modules="numpy")
         self._j_float = sp.lambdify([self.variables], jac, modules="numpy")
         self._jac_symbolic = jac
@@ -143,8 +144,7 @@ class ImageMap:
         X = [(Q[:, j, 0], Q[:, j, 1]) for j in range(self.k)]
         out = np.empty((len(Q), self.m, 2))
         with np.errstate(all="ignore"):
-            for i, f in enumerate(self._position):
-                lo, hi = f(X)
+            for i, (lo, hi) in enumerate(self._position(X)):
                 out[:, i, 0], out[:, i, 1] = lo, hi
         return np.where(np.isnan(out), np.inf * np.array([-1.0, 1.0]), out)
 
@@ -166,10 +166,18 @@ class ImageMap:
         """
         X = [(Q[:, j, 0], Q[:, j, 1]) for j in range(self.k)]
         shape = (len(Q),)
-        wanted = range(self.k) if columns is None else set(int(j) for j in columns)
+        wanted = tuple(range(self.k)) if columns is None else tuple(sorted(set(int(j) for j in columns)))
+        batch = self._columns.get(wanted)
+        if batch is None:       # the entries of those columns, row by row, in one sweep
+            batch = self._columns[wanted] = CompiledBatch([self._jacobian[i][j] for i in range(self.m)
+                                                           for j in wanted])
         with np.errstate(all="ignore"):
-            return [[tuple(np.broadcast_to(v, shape) for v in f(X)) if j in wanted else None
-                     for j, f in enumerate(row)] for row in self._jacobian]
+            values = iter(batch(X))
+            out: list[list] = [[None] * self.k for _ in range(self.m)]
+            for i in range(self.m):
+                for j in wanted:
+                    out[i][j] = tuple(np.broadcast_to(v, shape) for v in next(values))
+            return out
 
     @property
     def minors(self) -> dict:
