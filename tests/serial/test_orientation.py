@@ -302,6 +302,87 @@ def test_puma_cone_section_bracket_meets_the_box_bracket(puma_cone):
     assert p.to_dict()["volume_bounds"] == [lo, hi]
 
 
+# ---------------------------------------------------------------------- a time limit: the section's cells, not delta's
+COARSE_TIMED = Tuning(pose_timed_cells=128)     # cells of 2^-6 m on the Puma's section (delta 0.3: 2^-5)
+
+
+def test_under_a_time_limit_the_section_and_its_bracket_do_not_depend_on_delta(puma_cone):
+    """Issue 40 / 41: with a time limit the constrained section is paved toward cells set by its enclosure
+    (``Tuning.pose_timed_cells``), not by delta, so two deltas give the same section and the same Pappus bracket
+    (here the section completes well within its share, so the clock does not enter).  Reference: the untimed run
+    of the fixture (cells of delta 0.3), which the timed runs must meet and never contradict, and whose cells
+    are coarser than the timed ones (so its bracket is the wider)."""
+    runs = [reach(robots.build("puma560"), delta=delta, stop=StopAt(time_limit=600), tuning=COARSE_TIMED,
+                  pose=Pose(approach=(0, 0, -1), cone=20)) for delta in (0.5, 0.3)]
+    assert runs[0].volume_bounds == runs[1].volume_bounds and runs[0].method == runs[1].method == "section"
+    lo, hi = runs[1].volume_bounds
+    full_lo, full_hi = puma_cone.volume_bounds
+    assert full_lo <= lo <= hi <= full_hi and hi - lo < 0.8 * (full_hi - full_lo)
+    for run in runs:
+        assert run.complete
+        assert not _overlap(run.outer, puma_cone.inner).any() and not _overlap(run.inner, puma_cone.outer).any()
+
+
+def test_a_section_cut_by_its_share_of_the_time_keeps_a_sound_bracket(monkeypatch, puma_cone):
+    """The section stops when its share of the time limit is spent (here: made to stop at its third look, so the
+    test does not depend on the clock); the task boxes are then classified from the cells it proved, the run is
+    complete (its share is not the run's limit) and its bracket holds the untimed run's (reference: the fixture,
+    from another section: they must meet and never contradict)."""
+    from workspace_sym.serial import plans
+
+    looks = []
+
+    def stop_at_the_third_look(self, evaluated, *, ahead=0.0):
+        looks.append(evaluated)
+        return self.REASON if len(looks) >= 3 else ""
+
+    monkeypatch.setattr(plans.SectionShare, "stop_reason", stop_at_the_third_look)
+    cut = reach(robots.build("puma560"), delta=0.3, stop=StopAt(time_limit=600), tuning=COARSE_TIMED,
+                pose=Pose(approach=(0, 0, -1), cone=20))
+    assert len(looks) == 3 and cut.complete and cut.stop_reason in ("", None)
+    lo, hi = cut.measure_bounds
+    full_lo, full_hi = puma_cone.measure_bounds
+    assert lo <= full_hi and full_lo <= hi
+    assert not _overlap(cut.outer, puma_cone.inner).any() and not _overlap(cut.inner, puma_cone.outer).any()
+
+
+def test_the_share_of_a_section_stops_it_before_a_step_that_would_end_late():
+    """:class:`~workspace_sym.serial.plans.SectionShare`: the run's own reason first, then the share's when the
+    step expected (times the reserve) would end past its end (reference: the arithmetic of a clock held still)."""
+    from types import SimpleNamespace
+
+    from workspace_sym.serial.plans import SectionShare
+
+    clock = SimpleNamespace(seconds=10.0, showing=False, reason="",
+                            stop_reason=lambda evaluated, ahead=0.0: clock.reason)
+    share = SectionShare(clock, end=12.0, reserve=1.5)
+    assert share.stop_reason(5) == "" and share.stop_reason(5, ahead=1.0) == ""        # 10 + 1.5 <= 12
+    assert share.stop_reason(5, ahead=1.4) == SectionShare.REASON                       # 10 + 2.1 > 12
+    clock.reason = "time limit of 20 s reached"
+    assert share.stop_reason(5) == "time limit of 20 s reached" and not share.showing
+
+
+def test_a_timed_section_is_kept_beside_the_checkpoint_and_taken_back(tmp_path, monkeypatch):
+    """A time-limited run may pave its section differently each time (the clock), so it keeps the section beside
+    its checkpoint and a resumed run classifies from that one (reference: the first run's boxes; the resumed
+    run must not pave a section at all)."""
+    from workspace_sym.interval.driver import RunOn
+    from workspace_sym.serial import plans
+
+    checkpoint = tmp_path / "cone.ckpt"
+    options = dict(delta=0.3, stop=StopAt(time_limit=600), tuning=COARSE_TIMED,
+                   pose=Pose(approach=(0, 0, -1), cone=20))
+    first = reach(robots.build("puma560"), run=RunOn(resume=checkpoint), **options)
+    assert (tmp_path / "cone.ckpt.section.npz").is_file()
+
+    def no_section(*args, **kwargs):
+        raise AssertionError("the resumed run paved its section again")
+
+    monkeypatch.setattr(plans, "section_classes", no_section)
+    again = reach(robots.build("puma560"), run=RunOn(resume=checkpoint), **options)
+    assert again.volume_bounds == first.volume_bounds and again.counts == first.counts
+
+
 def test_the_section_bar_moves_while_the_section_is_paved(monkeypatch, puma_cone):
     """Issue 24 item 4 (a progress bar that moves during the long phases): the section of a constrained arm,
     most of the run, reports its share decided chunk by chunk on the section's bar, growing from 0 to below 1,

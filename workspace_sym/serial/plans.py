@@ -52,7 +52,7 @@ from .tuning import DEFAULT, Tuning
 from .turn import LimitedTurnTest, budgeted_width, limited_turn, limited_volume, pave_limited
 
 __all__ = ["Section", "Plan", "CellsPlan", "SectionPlan", "PairsPlan", "PoseSectionPlan", "PosePairsPlan",
-           "choose_plans", "pose_plan", "on_cells", "POSE_CHUNK_PAIRS"]
+           "SectionShare", "choose_plans", "pose_plan", "on_cells", "POSE_CHUNK_PAIRS"]
 
 POSE_CHUNK_PAIRS = 200_000       # pairs in one chunk of the pose methods' pairs loop (RunOn.chunk is refused there)
 
@@ -602,10 +602,32 @@ class PoseSectionPlan(Plan):
         root, _ = _root_box(position)
         check_root(root, self.delta, self.size, self.robot)
         box = Box(TASK, tuple(root[:, 0]), tuple(root[:, 1]))
-        width = self.tuning.section_ratio * cell_width(self.delta, self.size, 3)
+        tuning, model = self.tuning, self.structure.model
+        width = tuning.section_ratio * cell_width(self.delta, self.size, 3)
         squared = self.structure.turned is not None         # the section (rho^2, z) of a varying offset
-        grid, classes, evaluated, reason = section_classes(self.structure.model, width, budget, tuning=self.tuning,
-                                                           chunk=POSE_CHUNK_PAIRS, symmetric=not squared)
+        saved, section_run, named = None, budget, None
+        if budget.time_limit is not None:
+            # Under a time limit the section is paved generation by generation (coarse cells first) toward cells
+            # as fine as its enclosure over tuning.pose_timed_cells, whatever delta, until its share of the time
+            # left: the Pappus bracket then depends on the time given, not on delta, and a finer delta never
+            # costs it its cells (docs/methods.md section 8).  A resumed run takes the section kept beside its
+            # checkpoint (the clock may refine it differently).
+            enclosure = model.position.enclose(model.position.limits[None])[0]
+            width = min(width, float(np.max(enclosure[:, 1] - enclosure[:, 0])) / tuning.pose_timed_cells)
+            end = budget.seconds + tuning.pose_section_share * max(budget.time_limit - budget.seconds, 0.0)
+            section_run = SectionShare(budget, end, tuning.section_reserve)
+            named = Fingerprint({**self.problem, "method": self.method, "section cell": width})
+            saved = saved_section(run, named)
+        if saved is not None:
+            grid, classes, _, _, evaluated = saved
+            reason = ""
+        else:
+            grid, classes, evaluated, reason = section_classes(model, width, section_run, tuning=tuning,
+                                                               chunk=POSE_CHUNK_PAIRS, symmetric=not squared)
+            if reason == SectionShare.REASON:       # the section's share of the time is spent: not the run's
+                reason = ""
+            if not reason and named is not None:
+                save_section(run, named, grid, classes, None, None, evaluated)
         if squared:
             test = SquaredTest(grid, classes, self.structure.turned.inverse)
             return Section(box, grid, classes, evaluated, reason, test, squared_volume_bracket(grid, classes),
@@ -652,6 +674,56 @@ class PoseSectionPlan(Plan):
         budget.spent = section.evaluated
         paving = classify_task_boxes(section.test, section.box, self.delta, self.size, budget, run, describe=what)
         return _with(paving, evaluated=section.evaluated + paving.evaluated, units=self.robot.units)
+
+
+class SectionShare:
+    """The run's budget as a section paved under a time limit sees it: the run's own reasons to stop, and
+    :attr:`REASON` once a step would end past ``end`` seconds of the run (its expected seconds times
+    ``reserve``), so that the rest of the limit is left to the task boxes.
+
+    Parameters
+    ----------
+    budget : RunBudget
+        The run's budget.
+    end : float
+        The run's seconds at which the section's share ends.
+    reserve : float
+        The margin on a step's expected seconds.
+    """
+
+    REASON = "section share"
+
+    def __init__(self, budget: RunBudget, end: float, reserve: float):
+        self.budget, self.end, self.reserve = budget, end, reserve
+
+    @property
+    def showing(self) -> bool:
+        """Whether the run's bar draws.
+
+        Returns
+        -------
+        bool
+            The run budget's :attr:`~workspace_sym.interval.driver.RunBudget.showing`.
+        """
+        return self.budget.showing
+
+    def stop_reason(self, evaluated: int, *, ahead: float = 0.0) -> str:
+        """The run's reason to stop, else :attr:`REASON` past the share, else ``""``.
+
+        Parameters
+        ----------
+        evaluated : int
+            Boxes the section has evaluated.
+        ahead : float
+            Seconds the next step is expected to take.
+
+        Returns
+        -------
+        str
+            Why the section stops now (``""``: it goes on).
+        """
+        late = self.budget.seconds + self.reserve * ahead > self.end
+        return self.budget.stop_reason(evaluated, ahead=ahead) or (self.REASON if late else "")
 
 
 class PosePairsPlan(Plan):
