@@ -12,6 +12,7 @@ registry of readers), never by an import.  Reference: the module graph read from
 from __future__ import annotations
 
 import ast
+import functools
 from pathlib import Path
 
 import pytest
@@ -42,7 +43,9 @@ def _module_name(path: Path) -> str:
     return ".".join(parts)
 
 
+@functools.cache
 def _modules() -> dict[str, Path]:
+    """The package's modules by dotted name (read once: ``_resolve`` asks at every import)."""
     return {_module_name(p): p for p in sorted(PACKAGE.rglob("*.py"))}
 
 
@@ -69,8 +72,14 @@ def _resolve(importer: str, node: ast.ImportFrom) -> list[str]:
     return out
 
 
-def _edges():
-    """``(importer, imported, names)`` for every import of a package module by another, at any depth."""
+@functools.cache
+def _edges() -> tuple:
+    """``(importer, imported, names)`` for every import of a package module by another, at any depth (the sources
+    parsed once for the three tests of the graph)."""
+    return tuple(_each_edge())
+
+
+def _each_edge():
     modules = _modules()
     for name, path in modules.items():
         for node in ast.walk(ast.parse(path.read_text())):
