@@ -485,7 +485,9 @@ def _reached(robot, ik):
                 if within and max(abs(a - b) for a, b in zip(position(*q), target)) < tiny:
                     return True
             return False
-    return member
+    # Each point once: boxes share corners, and the two methods' pavings of one arm share boxes (exact Fractions
+    # as keys, the same answer every time).
+    return functools.cache(member)
 
 
 def _dh(joints):
