@@ -103,7 +103,8 @@ def limited_paving():
 @functools.cache
 def _arcs_volume(robot):
     """The Monte Carlo volume with arcs of 4 10^5 sampled configurations (cells of 0.01), once per arm object
-    (the free and the budgeted pavings of the fixture's arm are held to the same reference)."""
+    (the free and the budgeted pavings of the fixture's arm and the pieces of its cut cells are held to the same
+    reference)."""
     return sampled_arcs_volume(robot, 400_000, 0.01)
 
 
@@ -220,20 +221,20 @@ class _Free:
         return ""
 
 
-def test_pieces_of_cut_cells_count_for_the_volume_and_are_reached():
+def test_pieces_of_cut_cells_count_for_the_volume_and_are_reached(limited_paving):
     """The cells of the swing arm's section that fail whole (cut by its boundary) keep the pieces proved at two
     directions of a covering pair (or one, for the share of the circle): the lower bound of the volume gains on
     the cells' (all pieces or none), the bracket still holds the Monte Carlo volume of the sampled section with
     its arcs (second method), and points of such pieces at random polar angles are reached within every limit by
     an inverse kinematics at 50 digits (independent numerics)."""
-    robot = swing_arm()
+    robot, _ = limited_paving                   # the swing arm, its section prepared once for the module
     turn = limited_turn(structure_of(robot, ()), reach_model(robot, ()))
     grid, classes, pieces, _, reason = pave_limited(turn, 0.08, _Free())     # cells of 0.08: cut ones already
     assert reason == ""
     lo, hi = limited_volume(turn, grid, classes, pieces)
     F = pieces.shape[1] // grid.shape[0]
     whole = np.repeat(np.repeat(cell_level(pieces, grid), F, axis=1), F, axis=2)
-    assert limited_volume(turn, grid, classes, whole)[0] < lo <= sampled_arcs_volume(robot, 400_000, 0.01) <= hi
+    assert limited_volume(turn, grid, classes, whole)[0] < lo <= _arcs_volume(robot) <= hi
     both = np.zeros(pieces.shape[1:], dtype=bool)
     for j, k in turn.pairs:
         both |= pieces[j] & pieces[k]
@@ -251,12 +252,12 @@ def test_pieces_of_cut_cells_count_for_the_volume_and_are_reached():
         assert reached_at_50_digits(model, np.array([rho * np.cos(psi), rho * np.sin(psi), z]), q, pos), (rho, z)
 
 
-def test_directions_resume_where_they_stopped():
+def test_directions_resume_where_they_stopped(limited_paving):
     """A run of the proofs at the four directions stopped after a third of its tests and resumed from its state
     proves the same pieces as one run with the same tests in all (the cells tried at a level are not tried again:
     the time a stopped stage leaves goes to new cells), on the swing arm's section (cells of width 0.08, one
     level of pieces)."""
-    robot = swing_arm()
+    robot, _ = limited_paving
     section = limited_turn(structure_of(robot, ()), reach_model(robot, ())).plan.section
     grid = CellGrid(section.enclose(section.limits[None])[0], 0.08)
     sampled = direction_seeds(section.lateral, grid, n=20_000)
@@ -272,10 +273,12 @@ def test_directions_resume_where_they_stopped():
     assert stopped == "" and np.array_equal(again, whole) and total == tests
 
 
+@functools.cache
 def _short_shoulder_arm():
     """The swing arm with its shoulder (joint 2) within +-60 deg: the elbow sweeps an arc of the circle of
     radius 1/2 about the shoulder, so the distance from the elbow (at most 0.6 to the tool) cuts the section
-    where the distance from the shoulder (0.3 to 1.1) does not."""
+    where the distance from the shoulder (0.3 to 1.1) does not.  One object for the two tests that read it: its
+    section is prepared once."""
     return DHRobot([DHJoint.revolute(1, d=R(3, 10), alpha=sp.pi / 2, limits=IIWA_LIKE),
                     DHJoint.revolute(2, a=R(1, 2), alpha=sp.pi / 2, limits=(-sp.pi / 3, sp.pi / 3)),
                     DHJoint.revolute(3, a=R(2, 5), alpha=sp.pi / 2),
