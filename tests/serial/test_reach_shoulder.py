@@ -14,21 +14,17 @@ from __future__ import annotations
 import contextlib
 import functools
 import itertools
-from pathlib import Path
 
 import numpy as np
 import pytest
-import rtbdata
 import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from paths import DATA
 from reach_checks import industrial_arm
 from workspace_sym.interval.image import CellGrid
 from workspace_sym.interval.verdict import INSIDE as INNER
 from workspace_sym.interval.verdict import OUTSIDE as OUTER
-from workspace_sym.kinematics import DHRobot
 from workspace_sym.serial.section import ShoulderReach, section_paving, shoulder_distance, turned_volume
 from workspace_sym.serial.structure import structure_of
 
@@ -149,15 +145,11 @@ def _centred(reach, centre):
 
 # --- 7-joint arms: the joints turning about the shoulder dropped (shoulder_distance) -----------------------------
 
-IIWA = Path(rtbdata.__file__).parent / "xacro/kuka_description/kuka_lbr_iiwa/urdf/lbr_iiwa_14_r820.urdf"
-PANDA = DATA / "dh" / "panda.json"
-
-
 @functools.cache
 def _seven(name):
     """``(robot, h, variables, reach)`` of the LBR iiwa 14 (URDF) or the Panda: the squared distance from the
     origin of the second joint's frame, and its :class:`ShoulderReach` over the joints' limits."""
-    robot = DHRobot.from_urdf(IIWA) if name == "iiwa" else DHRobot.from_file(PANDA)
+    robot = industrial_arm(name)        # reach_checks: the objects the other files prepare too
     h, variables = shoulder_distance(robot, None, 1)
     limits = [robot.joints[robot.q.index(v)].limits for v in variables]
     return robot, h, variables, ShoulderReach(h, variables, limits, [False] * len(variables), (0, 0))
