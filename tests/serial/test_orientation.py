@@ -35,18 +35,18 @@ from workspace_sym.serial.pose import constraint_from, orientation_constraint, p
     (dict(approach=(0, 0, -1), cone=20, rpy=(0, 0, 0)), "approach", "not both"),
     (dict(cone=20, rpy=(0, 0, 0)), "cone", "need approach"),
 ])
-def test_bad_constraints_name_the_parameter_value_and_expectation(options, parameter, fragment):
+def test_bad_constraints_name_the_parameter_value_and_expectation(options, parameter, fragment, scara):
     with pytest.raises(InvalidParameterError) as caught:
-        reach(robots.build("scara"), delta=0.05, pose=Pose(**options))
+        reach(scara, delta=0.05, pose=Pose(**options))
     assert caught.value.parameter == parameter
     assert fragment in str(caught.value)
 
 
-def test_a_budget_of_section_boxes_is_refused_with_a_pose():
+def test_a_budget_of_section_boxes_is_refused_with_a_pose(scara):
     """A tool constraint paves its own section, without a budget of boxes: ``StopAt(section_boxes=...)`` is
     refused by name, never ignored."""
     with pytest.raises(InvalidParameterError) as caught:
-        reach(robots.build("scara"), delta=0.05, pose=Pose(rpy=(180, 0, 0)), stop=StopAt(section_boxes=10))
+        reach(scara, delta=0.05, pose=Pose(rpy=(180, 0, 0)), stop=StopAt(section_boxes=10))
     assert caught.value.parameter == "section_boxes" and "got 10, expected None" in str(caught.value)
 
 
@@ -76,16 +76,16 @@ def _overlap(A, B, pad=1e-9):
 
 
 @pytest.fixture(scope="module")
-def scara_tool_down():
-    return reach(robots.build("scara"), delta=0.05, pose=Pose(rpy=(180, 0, 0)))
+def scara_tool_down(scara):
+    return reach(scara, delta=0.05, pose=Pose(rpy=(180, 0, 0)))
 
 
-def test_scara_tool_down_is_its_position_workspace(scara_tool_down):
+def test_scara_tool_down_is_its_position_workspace(scara_tool_down, scara):
     # Reference: the SCARA's approach axis is always straight down and its last joint spins the tool through
     # a full turn, so tool down is reached wherever the position is: its constant-orientation workspace is the
     # position workspace of reach (an independent method, the critical section), checked both ways, and holds
     # the exact volume (Bastien's area of the x, y region times the 0.21 m stroke).
-    position = reach(robots.build("scara"), delta=0.05)
+    position = reach(scara, delta=0.05)
     oriented = scara_tool_down
     assert not _overlap(oriented.inner, position.outer).any()
     assert not _overlap(position.inner, oriented.outer).any()
@@ -95,16 +95,16 @@ def test_scara_tool_down_is_its_position_workspace(scara_tool_down):
     assert oriented.method == "pairs"
 
 
-def test_an_unreachable_direction_is_proved_outer_everywhere():
+def test_an_unreachable_direction_is_proved_outer_everywhere(scara):
     # Reference: the SCARA's approach axis is (0, 0, -1) for every configuration: 90 degrees from x.
-    p = reach(robots.build("scara"), delta=0.05, pose=Pose(approach=(1, 0, 0), cone=30))
+    p = reach(scara, delta=0.05, pose=Pose(approach=(1, 0, 0), cone=30))
     assert p.counts["inner"] == 0 and p.complete
     assert p.measures["outer"] == pytest.approx(p.box.measure)
 
 
 @pytest.fixture(scope="module")
-def puma_cone():
-    return reach(robots.build("puma560"), delta=0.3, pose=Pose(approach=(0, 0, -1), cone=20))
+def puma_cone(puma):
+    return reach(puma, delta=0.3, pose=Pose(approach=(0, 0, -1), cone=20))
 
 
 def _fk(robot):
@@ -112,10 +112,10 @@ def _fk(robot):
     return sp.lambdify([robot.q], T, modules="numpy"), T
 
 
-def test_puma_configurations_in_the_cone_never_land_in_an_outer_box(puma_cone):
+def test_puma_configurations_in_the_cone_never_land_in_an_outer_box(puma_cone, puma):
     # Reference: random configurations within the limits whose approach axis is in the cone (with a margin of
     # 1e-9 for float rounding): none may be the position of a point of an outer box.
-    robot = robots.build("puma560")
+    robot = puma
     f, _ = _fk(robot)
     rng = np.random.default_rng(7)
     lim = robot.joint_limits()
@@ -138,10 +138,10 @@ def _solve_pose_50_digits(robot, target, q0, equations):
         return [root[i] for i in range(len(q0))]
 
 
-def test_points_of_puma_inner_boxes_are_reached_in_the_cone_at_50_digits(puma_cone):
+def test_points_of_puma_inner_boxes_are_reached_in_the_cone_at_50_digits(puma_cone, puma):
     # Reference: an inverse kinematics at 50 digits (mpmath findroot on the position in three joints, the
     # wrist kept where a float search put it), within the limits, with the approach in the cone.
-    robot = robots.build("puma560")
+    robot = puma
     _, T = _fk(robot)
     q = robot.q
     position = sp.lambdify(q, list(T[:3, 3]), modules="mpmath")
@@ -220,12 +220,11 @@ def test_errors_are_workspace_errors():
         reach(robots.build("planar-2r"), delta=0.1, pose=Pose(approach=(0, 0, 1), cone=10))
 
 
-def test_reach_pose_of_earlier_releases_still_works_with_a_deprecation_warning():
+def test_reach_pose_of_earlier_releases_still_works_with_a_deprecation_warning(scara):
     """The entry point of earlier releases, ``orientation.reach_pose``, gives the boxes of ``reach(pose=...)``
     (reference: the same call spelt the new way) and says how to spell it."""
     from workspace_sym.orientation import reach_pose
 
-    scara = robots.build("scara")
     with pytest.warns(DeprecationWarning, match=r"reach_pose is deprecated; pass reach\(robot, delta=\.\.\., "
                                                 r"pose=Pose"):
         old = reach_pose(scara, delta=0.2, approach=(1, 0, 0), cone=30, max_boxes=400, inner_depth=0)
@@ -279,9 +278,9 @@ def test_spherical_wrist_with_a_tool_length_is_the_shifted_wrist_centre_workspac
     assert lo <= c_hi and c_lo <= hi
 
 
-def test_a_section_cut_by_the_budget_keeps_a_sound_bracket(puma_cone):
+def test_a_section_cut_by_the_budget_keeps_a_sound_bracket(puma_cone, puma):
     # Reference: the complete run (fixture); a run stopped early proves less, never something else.
-    cut = reach(robots.build("puma560"), delta=0.3, stop=StopAt(max_boxes=40), pose=Pose(approach=(0, 0, -1), cone=20))
+    cut = reach(puma, delta=0.3, stop=StopAt(max_boxes=40), pose=Pose(approach=(0, 0, -1), cone=20))
     assert not cut.complete and "budget" in cut.stop_reason
     assert not _overlap(cut.outer, puma_cone.inner).any() and not _overlap(cut.inner, puma_cone.outer).any()
     lo, hi = cut.measure_bounds
@@ -306,13 +305,13 @@ def test_puma_cone_section_bracket_meets_the_box_bracket(puma_cone):
 COARSE_TIMED = Tuning(pose_timed_cells=128)     # cells of 2^-6 m on the Puma's section (delta 0.3: 2^-5)
 
 
-def test_under_a_time_limit_the_section_and_its_bracket_do_not_depend_on_delta(puma_cone):
+def test_under_a_time_limit_the_section_and_its_bracket_do_not_depend_on_delta(puma_cone, puma):
     """Issue 40 / 41: with a time limit the constrained section is paved toward cells set by its enclosure
     (``Tuning.pose_timed_cells``), not by delta, so two deltas give the same section and the same Pappus bracket
     (here the section completes well within its share, so the clock does not enter).  Reference: the untimed run
     of the fixture (cells of delta 0.3), which the timed runs must meet and never contradict, and whose cells
     are coarser than the timed ones (so its bracket is the wider)."""
-    runs = [reach(robots.build("puma560"), delta=delta, stop=StopAt(time_limit=600), tuning=COARSE_TIMED,
+    runs = [reach(puma, delta=delta, stop=StopAt(time_limit=600), tuning=COARSE_TIMED,
                   pose=Pose(approach=(0, 0, -1), cone=20)) for delta in (0.5, 0.3)]
     assert runs[0].volume_bounds == runs[1].volume_bounds and runs[0].method == runs[1].method == "section"
     lo, hi = runs[1].volume_bounds
@@ -323,7 +322,7 @@ def test_under_a_time_limit_the_section_and_its_bracket_do_not_depend_on_delta(p
         assert not _overlap(run.outer, puma_cone.inner).any() and not _overlap(run.inner, puma_cone.outer).any()
 
 
-def test_a_section_cut_by_its_share_of_the_time_keeps_a_sound_bracket(monkeypatch, puma_cone):
+def test_a_section_cut_by_its_share_of_the_time_keeps_a_sound_bracket(monkeypatch, puma_cone, puma):
     """The section stops when its share of the time limit is spent (here: made to stop at its third look, so the
     test does not depend on the clock); the task boxes are then classified from the cells it proved, the run is
     complete (its share is not the run's limit) and its bracket holds the untimed run's (reference: the fixture,
@@ -337,7 +336,7 @@ def test_a_section_cut_by_its_share_of_the_time_keeps_a_sound_bracket(monkeypatc
         return self.REASON if len(looks) >= 3 else ""
 
     monkeypatch.setattr(plans.SectionShare, "stop_reason", stop_at_the_third_look)
-    cut = reach(robots.build("puma560"), delta=0.3, stop=StopAt(time_limit=600), tuning=COARSE_TIMED,
+    cut = reach(puma, delta=0.3, stop=StopAt(time_limit=600), tuning=COARSE_TIMED,
                 pose=Pose(approach=(0, 0, -1), cone=20))
     assert len(looks) == 3 and cut.complete and cut.stop_reason in ("", None)
     lo, hi = cut.measure_bounds
@@ -362,7 +361,7 @@ def test_the_share_of_a_section_stops_it_before_a_step_that_would_end_late():
     assert share.stop_reason(5) == "time limit of 20 s reached" and not share.showing
 
 
-def test_a_timed_section_is_kept_beside_the_checkpoint_and_taken_back(tmp_path, monkeypatch):
+def test_a_timed_section_is_kept_beside_the_checkpoint_and_taken_back(tmp_path, monkeypatch, puma):
     """A time-limited run may pave its section differently each time (the clock), so it keeps the section beside
     its checkpoint and a resumed run classifies from that one (reference: the first run's boxes; the resumed
     run must not pave a section at all)."""
@@ -372,18 +371,18 @@ def test_a_timed_section_is_kept_beside_the_checkpoint_and_taken_back(tmp_path, 
     checkpoint = tmp_path / "cone.ckpt"
     options = dict(delta=0.3, stop=StopAt(time_limit=600), tuning=COARSE_TIMED,
                    pose=Pose(approach=(0, 0, -1), cone=20))
-    first = reach(robots.build("puma560"), run=RunOn(resume=checkpoint), **options)
+    first = reach(puma, run=RunOn(resume=checkpoint), **options)
     assert (tmp_path / "cone.ckpt.section.npz").is_file()
 
     def no_section(*args, **kwargs):
         raise AssertionError("the resumed run paved its section again")
 
     monkeypatch.setattr(plans, "section_classes", no_section)
-    again = reach(robots.build("puma560"), run=RunOn(resume=checkpoint), **options)
+    again = reach(puma, run=RunOn(resume=checkpoint), **options)
     assert again.volume_bounds == first.volume_bounds and again.counts == first.counts
 
 
-def test_the_section_bar_moves_while_the_section_is_paved(monkeypatch, puma_cone):
+def test_the_section_bar_moves_while_the_section_is_paved(monkeypatch, puma_cone, puma):
     """Issue 24 item 4 (a progress bar that moves during the long phases): the section of a constrained arm,
     most of the run, reports its share decided chunk by chunk on the section's bar, growing from 0 to below 1,
     before the task boxes are classified (reference: the boxes the complete run evaluated)."""
@@ -398,7 +397,7 @@ def test_the_section_bar_moves_while_the_section_is_paved(monkeypatch, puma_cone
         yield lambda share, evaluated: seen.append((share, evaluated))
 
     monkeypatch.setattr(pose, "section_bar", recorder)
-    p = reach(robots.build("puma560"), delta=0.3, stop=StopAt(), pose=Pose(approach=(0, 0, -1),
+    p = reach(puma, delta=0.3, stop=StopAt(), pose=Pose(approach=(0, 0, -1),
                                                                                          cone=20))
     assert p.counts == puma_cone.counts
     shares, counts = np.array([s for s, _ in seen]), np.array([n for _, n in seen])
