@@ -17,7 +17,7 @@ from hypothesis import strategies as st
 from scipy.optimize import least_squares
 
 from reach_checks import admissible_configurations, arcs_volume, in_any_box, industrial_arm, offset_arm
-from workspace_sym import Pose, robots
+from workspace_sym import Pose
 from workspace_sym.interval.image import CellGrid
 from workspace_sym.interval.verdict import INSIDE as INNER
 from workspace_sym.interval.verdict import OUTSIDE as OUTER
@@ -69,10 +69,9 @@ def test_the_cone_section_in_summed_angles_is_the_robots_own_kinematics(ur5, q):
     assert a1 ** 2 + a2 ** 2 == pytest.approx(T[0, 2] ** 2 + T[1, 2] ** 2, abs=1e-12)
 
 
-def test_joints_that_do_not_turn_fully_keep_their_own_variables():
+def test_joints_that_do_not_turn_fully_keep_their_own_variables(puma):
     # Reference: the Puma 560's joint 3 is limited (-225..45 degrees, not a whole turn), so q2 + q3 is no free
     # variable: its models keep the robot's joints (and its results of issue 25 stay as they were).
-    puma = robots.build("puma560")
     for options in (CONE, TOOL_DOWN):
         model = pose_structure(puma, (), constraint_from(**options)).model
         assert not any("+" in str(v) for v in model.variables)
