@@ -16,19 +16,21 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "reproducible"))
 
 collect_ignore = ["workspace_sym/__main__.py"]
 
-# The test files that take longest, longest first (their summed test times in a fresh clone's `make test` on 2
-# cores, session 17): `make test` gives each pytest-xdist worker whole files (--dist=loadfile), in the order
-# collected (--no-loadscope-reorder), so the long ones start at once and the short ones fill in around them; a long
-# file handed out last would run alone at the end.  Files not listed keep their order after these.  Only the order
-# changes: no test depends on another.
+# The test files that take longest, longest first (their summed test times in `make test` on 2 cores, session 18;
+# the group of SAME_WORKER below counted as one): `make test` gives each pytest-xdist worker whole files
+# (--dist=loadfile), in the order collected (--no-loadscope-reorder), so the long ones start at once and the short
+# ones fill in around them; a long file handed out last would run alone at the end.  Files not listed keep their
+# order after these.  Only the order changes: no test depends on another.
 LONGEST_FIRST = [
-    "test_serial_workspace.py", "test_kinematics.py", "test_reach_turn.py", "test_boundary.py", "test_notebooks.py",
-    "test_reach_real_arms.py", "test_docs_site.py", "test_kinematics_anytable.py", "test_reach_section.py",
-    "test_typing.py", "test_orientation_arms.py", "test_reach_map_section.py", "test_cli.py", "test_reach_shoulder.py",
-    "test_report.py", "test_exercise_keys.py", "test_reach_store.py", "test_orthoglide.py", "test_executor.py",
-    "test_charpoly.py", "test_orientation.py", "test_reach_critical3d.py", "test_grading_teacher.py",
-    "test_symbolic.py", "test_untrusted_input.py", "test_mjcf.py", "test_urdf.py", "test_reach_map.py",
-    "test_fingerprint.py", "test_reach_turn3d.py", "test_soundness.py",
+    # the industrial arms' group (SAME_WORKER), about 80 s on one worker
+    "test_serial_workspace.py", "test_reach_map_section.py", "test_reach_real_arms.py", "test_orientation_arms.py",
+    "test_reach_shoulder.py", "test_reach_pieces.py",
+    "test_kinematics.py", "test_reach_turn.py", "test_boundary.py", "test_notebooks.py", "test_kinematics_anytable.py",
+    "test_docs_site.py", "test_reach_section.py", "test_typing.py", "test_report.py", "test_grading_teacher.py",
+    "test_cli.py", "test_orthoglide.py", "test_exercise_keys.py", "test_reach_store.py", "test_executor.py",
+    "test_reach_critical3d.py", "test_charpoly.py", "test_symbolic.py", "test_orientation.py", "test_reach_turn3d.py",
+    "test_urdf.py", "test_orientation_wrist.py", "test_fingerprint.py", "test_mjcf.py", "test_codegen.py",
+    "test_untrusted_input.py", "test_reach_map.py", "test_soundness.py",
 ]
 
 
