@@ -472,7 +472,8 @@ class CompiledBatch:
         """The enclosures of the expressions over ``X`` (a list of ``(lo, hi)`` arrays, one per variable): a
         list of ``(lo, hi)`` pairs, NaN meaning no enclosure, as each expression's own evaluator gives them."""
         values = self._graph.evaluate(X)
-        mids = at_mids = None
+        mids: list = []
+        at_mids: list = []
         if self._at_point is not None:
             mids = [0.5 * lo + 0.5 * hi for lo, hi in X]
             at_mids = self._at_point.evaluate([arith.point(m) for m in mids])
