@@ -300,7 +300,9 @@ def mul(a, b):
         hi = np.fmax(np.fmax(p1, p2), np.fmax(p3, p4))
         # A NaN input (or an unbounded [-inf, inf], whose sum is NaN too) leaves no enclosure.
         bad = np.isnan(al + ah + bl + bh)
-    return np.where(bad, np.nan, down(lo)), np.where(bad, np.nan, up(hi))
+    if bad.any() or not np.ndim(bad):          # (np.where keeps 0-d results arrays)
+        return np.where(bad, np.nan, down(lo)), np.where(bad, np.nan, up(hi))
+    return down(lo), up(hi)
 
 
 def div(a, b):
@@ -446,30 +448,30 @@ def iabs(a):
     return np.where(nan, np.nan, low), np.where(nan, np.nan, np.maximum(np.abs(lo), np.abs(hi)))
 
 
-def _contains_phase(lo, hi, phase):
-    """Whether ``[lo, hi]`` may contain ``phase + 2 k pi`` for some integer k.
-
-    Decided with a generous tolerance: answering yes when unsure only loosens
-    the enclosure (an extremum of +-1 is included), never breaks it.
-    """
-    tol = 1e-9 * (1.0 + np.abs(lo) + np.abs(hi))
-    k_lo = np.ceil((lo - tol - phase) / _TWO_PI)
-    k_hi = np.floor((hi + tol - phase) / _TWO_PI)
-    return k_hi >= k_lo
-
-
 def _trig(a, fn, phase_max, phase_min):
     lo, hi = a
     with np.errstate(invalid="ignore"):
         fl, fh = fn(lo), fn(hi)
-    # numpy's sin / cos are faithful (error below one ulp) on this range: widen by 2 ulps.
-    low = _down_ulps(np.minimum(fl, fh), 2)
-    high = _up_ulps(np.maximum(fl, fh), 2)
-    wide = ~((hi - lo) < _TWO_PI) | (np.maximum(np.abs(lo), np.abs(hi)) > 2.0**20)
-    high = np.where(wide | _contains_phase(lo, hi, phase_max), 1.0, np.minimum(high, 1.0))
-    low = np.where(wide | _contains_phase(lo, hi, phase_min), -1.0, np.maximum(low, -1.0))
+        # numpy's sin / cos are faithful (error below one ulp) on this range: widen by 2 ulps.  The values are
+        # within [-1, 1] or NaN, so the ulps are finite wherever the value is: the widening needs no mask.
+        low = np.minimum(fl, fh)
+        low -= 2 * np.abs(np.spacing(low))
+        high = np.maximum(fl, fh)
+        high += 2 * np.abs(np.spacing(high))
+        magnitude = np.maximum(np.abs(lo), np.abs(hi))
+        wide = ~((hi - lo) < _TWO_PI) | (magnitude > 2.0**20)
+        # Whether [lo, hi] may contain phase + 2 k pi for some integer k, for both phases (one tolerance),
+        # decided generously: yes when unsure only loosens the enclosure (an extremum of +-1 is included).
+        tol = 1e-9 * (1.0 + np.abs(lo) + np.abs(hi))
+        below, above = lo - tol, hi + tol
+        top = np.floor((above - phase_max) / _TWO_PI) >= np.ceil((below - phase_max) / _TWO_PI)
+        bottom = np.floor((above - phase_min) / _TWO_PI) >= np.ceil((below - phase_min) / _TWO_PI)
+    high = np.where(wide | top, 1.0, np.minimum(high, 1.0))
+    low = np.where(wide | bottom, -1.0, np.maximum(low, -1.0))
     bad = np.isnan(lo) | np.isnan(hi)
-    return np.where(bad, np.nan, low), np.where(bad, np.nan, high)
+    if bad.any() or not np.ndim(bad):          # (np.where keeps 0-d results arrays)
+        return np.where(bad, np.nan, low), np.where(bad, np.nan, high)
+    return low, high
 
 
 def sin(a):
