@@ -36,6 +36,7 @@ become it, and the axis is normalised exactly.
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 import sympy as sp
@@ -93,6 +94,13 @@ def _clean(e):
         return e
     if e.has(sp.Float):   # exactness is lost already: one float, not a tree of sqrt(2) times floats
         return e.evalf(17)
+    return _simplest(e)
+
+
+@lru_cache(maxsize=4096)
+def _simplest(e: sp.Expr) -> sp.Expr:
+    """``radsimp(simplify(e))`` of an exact constant, once per constant (the entries of a chain's frames repeat
+    the same few: sines and cosines of the snapped angles and their products)."""
     return sp.radsimp(sp.simplify(e))
 
 
