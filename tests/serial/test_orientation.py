@@ -322,6 +322,33 @@ def test_under_a_time_limit_the_section_and_its_bracket_do_not_depend_on_delta(p
         assert not _overlap(run.outer, puma_cone.inner).any() and not _overlap(run.inner, puma_cone.outer).any()
 
 
+def test_a_short_time_limit_paves_a_coarser_section(monkeypatch, puma, puma_cone):
+    """The grid of a timed section is counted, classified and summed after its paving, outside its share: a short
+    limit gets fewer cells (``pose_timed_cells`` times the square root of the share of ``pose_timed_seconds`` left),
+    so that it is not overshot by a grid it had no time to refine (a review found a 1 s limit taking 7 s and 2 GB
+    on a 17-million-cell grid).  Reference: the width asked of the section, against the enclosure's longest
+    side (the model is in the cache: the fixture's run built it)."""
+    from workspace_sym.serial import plans
+
+    asked = []
+
+    class Asked(Exception):
+        pass
+
+    def record(model, width, run, **kwargs):
+        enclosure = model.position.enclose(model.position.limits[None])[0]
+        asked.append(float(np.max(enclosure[:, 1] - enclosure[:, 0])) / width)
+        raise Asked
+
+    monkeypatch.setattr(plans, "section_classes", record)
+    for limit in (600.0, 30.0, 1.2):
+        with pytest.raises(Asked):
+            reach(puma, delta=0.3, stop=StopAt(time_limit=limit), pose=Pose(approach=(0, 0, -1), cone=20))
+    long, medium, short = asked
+    assert long == pytest.approx(4096) and 0.5 * 4096 - 50 < medium < 0.5 * 4096 + 1
+    assert short <= 4096 * (1.2 / 120) ** 0.5 + 1e-9
+
+
 def test_a_section_cut_by_its_share_of_the_time_keeps_a_sound_bracket(monkeypatch, puma_cone, puma):
     """The section stops when its share of the time limit is spent (here: made to stop at its third look, so the
     test does not depend on the clock); the task boxes are then classified from the cells it proved, the run is

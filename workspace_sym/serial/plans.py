@@ -612,9 +612,14 @@ class PoseSectionPlan(Plan):
             # left: the Pappus bracket then depends on the time given, not on delta, and a finer delta never
             # costs it its cells (docs/methods.md section 8).  A resumed run takes the section kept beside its
             # checkpoint (the clock may refine it differently).
+            # The cells along the longest side: pose_timed_cells for pose_timed_seconds left, as the square root
+            # of the time below that (the grid's cells are counted, classified and summed after the paving: a
+            # short limit must not pay for a grid it has no time to refine).
+            left = max(budget.time_limit - budget.seconds, 0.0)
+            cells = tuning.pose_timed_cells * min(1.0, (left / tuning.pose_timed_seconds) ** 0.5)
             enclosure = model.position.enclose(model.position.limits[None])[0]
-            width = min(width, float(np.max(enclosure[:, 1] - enclosure[:, 0])) / tuning.pose_timed_cells)
-            end = budget.seconds + tuning.pose_section_share * max(budget.time_limit - budget.seconds, 0.0)
+            width = min(width, float(np.max(enclosure[:, 1] - enclosure[:, 0])) / max(cells, 1.0))
+            end = budget.seconds + tuning.pose_section_share * left
             section_run = SectionShare(budget, end, tuning.section_reserve)
             named = Fingerprint({**self.problem, "method": self.method, "section cell": width})
             saved = saved_section(run, named)

@@ -84,9 +84,11 @@ class Tuning:
     wrist_cells, wrist_grid : int
         With a tool constraint: wrist boxes examined per arm box at once, and wrist values per joint tried
         first for a witness of the cone.
-    pose_timed_cells : int
-        With a tool constraint and a time limit, the constrained section is paved toward cells as wide as the
-        longest side of its enclosure over this many (or those of ``delta``, when finer), whatever ``delta``.
+    pose_timed_cells, pose_timed_seconds : int, float
+        With a tool constraint and a time limit of ``pose_timed_seconds`` or more left after the symbolic
+        preparation, the constrained section is paved toward cells as wide as the longest side of its enclosure
+        over ``pose_timed_cells`` (or those of ``delta``, when finer), whatever ``delta``; with less time, over
+        that many times the square root of the share of ``pose_timed_seconds`` left (a grid of fewer cells).
     pose_section_share : float
         ... and until this share of the time left after the symbolic preparation; the task boxes take the rest.
 
@@ -133,6 +135,7 @@ class Tuning:
     wrist_cells: int = 64
     wrist_grid: int = 9
     pose_timed_cells: int = 4096
+    pose_timed_seconds: float = 120.0
     pose_section_share: float = 0.8
 
     def __post_init__(self):
