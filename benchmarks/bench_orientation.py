@@ -17,10 +17,10 @@ certificate is wrong, so it must be 0; or not reachable but inner: a cell the sa
 undecided (boundary or pending box).
 
 Session 16 (issue 40 item 1): ``--arms`` runs the Puma 560 (120 s), UR5 and KR16 (300 s) rows alone at the issue's
-budgets with an independent sampled reference volume beside each bracket: for the cone, configurations uniform within the limits
-whose approach lies in the cone; for the tool down, uniform configurations whose joints 4 and 5 are then solved
-by Newton (floats) for the approach (0, 0, -1); their tool points binned in (rho, z) cells of side ``REF_CELL``
-and turned by Pappus (``tests/helpers/reach_checks.py`` ``arcs_volume``: an estimate, no bound).
+budgets with an independent sampled reference volume beside each bracket: for the cone, configurations uniform
+within the limits whose approach lies in the cone; for the tool down, uniform configurations whose joints 4 and 5
+are then solved by Newton (floats) for the approach (0, 0, -1); their tool points binned in (rho, z) cells of side
+``REF_CELL`` and turned by Pappus (``tests/helpers/reach_checks.py`` ``arcs_volume``: an estimate, no bound).
 
 Run: python benchmarks/bench_orientation.py [--quick | --arms]
 """
