@@ -22,6 +22,7 @@ from __future__ import annotations
 import itertools
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -69,8 +70,8 @@ class SectionProver:
 
     square: SquareMap
     quantities: list
-    b_float: object
-    b_jacobian: object
+    b_float: Callable[[np.ndarray], np.ndarray]
+    b_jacobian: Callable[[np.ndarray], np.ndarray]
     cone: float
     theta_range: tuple | None
     axis: str
