@@ -1210,6 +1210,7 @@ class SquaredTest:
         X = to_first_frame(self.inverse, X)
         with np.errstate(all="ignore"):
             t = arith.add(arith.sqr((X[:, 0, 0], X[:, 0, 1])), arith.sqr((X[:, 1, 0], X[:, 1, 1])))
+        t = (np.maximum(t[0], 0.0), t[1])      # x^2 + y^2 >= 0 (exact): a box touching the axis rounds 0 down
         rect = np.stack([np.stack(t, axis=1), X[:, 2]], axis=1)
         finite = np.isfinite(rect).all(axis=(1, 2))
         inner = finite & self.grid.all_in_class(self.inside, rect, outside_counts=False)

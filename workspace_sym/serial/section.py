@@ -1115,7 +1115,9 @@ class TurnedTest:
         F = to_first_frame(self.plan.inverse, X)
         with np.errstate(all="ignore"):
             r2 = arith.add(arith.sqr((F[:, 0, 0], F[:, 0, 1])), arith.sqr((F[:, 1, 0], F[:, 1, 1])))
-            rho = arith.sqrt(r2)
+            # x^2 + y^2 >= 0: clipping the lower bound is exact (a box touching the axis rounds 0 + 0 down to
+            # -5e-324, whose root would be NaN and the box never classified)
+            rho = arith.sqrt((np.maximum(r2[0], 0.0), r2[1]))
         return np.stack([np.stack(rho, axis=1), F[:, 2]], axis=1)
 
     def __call__(self, X: np.ndarray):
