@@ -28,7 +28,6 @@ from reach_checks import (
     paved_alike_twice,
     reached_at_50_digits,
     shell_arm,
-    swing_arm,
 )
 from workspace_sym import StopAt
 from workspace_sym.errors import InvalidParameterError, JointLimitError
@@ -246,19 +245,3 @@ def test_section_bar_draws_the_share_of_cells(capsys):
     err = capsys.readouterr().err
     assert "of the cells decided" in err and "75.0%" in err
 
-
-@pytest.mark.parametrize("make", [offset_arm, swing_arm], ids=["full turn", "limited first joint"])
-def test_boxes_on_the_first_axis_beyond_the_arm_are_outer(make):
-    """Boxes touching the first joint's axis are classified like any other (their x^2 + y^2 starts at 0, which
-    outward rounding once turned into -5e-324 and a NaN radius: such boxes stayed boundary up to the enclosure's
-    ends, 1.7 m above and below the Panda).  Reference: the triangle inequality, |tool - S| <= sum of the link
-    lengths after the shoulder S = (0, 0, 3/10); no box touching the axis may lie wholly beyond it undecided."""
-    robot = make()
-    paving = reach(robot, delta=0.1)
-    reach_bound = sum(float(abs(j.a) + abs(j.d)) for j in robot.joints[1:])
-    kept = np.concatenate([paving.boundary.reshape(-1, 3, 2), paving.pending.reshape(-1, 3, 2)])
-    on_axis = (kept[:, 0, 0] <= 0) & (kept[:, 0, 1] >= 0) & (kept[:, 1, 0] <= 0) & (kept[:, 1, 1] >= 0)
-    gap = np.maximum(np.maximum(kept[:, 2, 0] - 0.3, 0.3 - kept[:, 2, 1]), 0.0)
-    beyond = on_axis & (gap > reach_bound + 1e-9)
-    assert on_axis.any()                  # the axis is crossed near the shoulder: the test looks where it should
-    assert not beyond.any(), kept[beyond][:3]

@@ -125,6 +125,21 @@ def test_limited_first_joint_gets_inner_boxes_and_a_bracket(limited_paving):
     assert 0 < vlo <= volume <= vhi
 
 
+def test_boxes_on_the_first_axis_beyond_the_arm_are_outer(limited_paving):
+    """Boxes touching the first joint's axis are classified like any other (their x^2 + y^2 starts at 0, which
+    outward rounding once turned into -5e-324 and a NaN radius: such boxes stayed boundary up to the enclosure's
+    ends, 1.7 m above and below the Panda).  Reference: the triangle inequality, |tool - S| <= the sum of the
+    link lengths after the shoulder S = (0, 0, 3/10); no box touching the axis lies wholly beyond it undecided."""
+    robot, paving = limited_paving
+    reach_bound = sum(float(abs(j.a) + abs(j.d)) for j in robot.joints[1:])
+    kept = np.concatenate([paving.boundary.reshape(-1, 3, 2), paving.pending.reshape(-1, 3, 2)])
+    on_axis = (kept[:, 0, 0] <= 0) & (kept[:, 0, 1] >= 0) & (kept[:, 1, 0] <= 0) & (kept[:, 1, 1] >= 0)
+    gap = np.maximum(np.maximum(kept[:, 2, 0] - 0.3, 0.3 - kept[:, 2, 1]), 0.0)
+    assert on_axis.any()                  # the axis is crossed near the shoulder: the test looks where it should
+    beyond = on_axis & (gap > reach_bound + 1e-9)
+    assert not beyond.any(), kept[beyond][:3]
+
+
 @pytest.mark.slow
 def test_a_budget_of_boxes_stops_the_limited_section_at_its_shares(limited_paving):
     """``StopAt(section_boxes=...)`` on the swing arm: the section's stages stop at the shares of the budget
