@@ -22,7 +22,8 @@ within the limits whose approach lies in the cone; for the tool down, uniform co
 are then solved by Newton (floats) for the approach (0, 0, -1); their tool points binned in (rho, z) cells of side
 ``REF_CELL`` and turned by Pappus (``tests/helpers/reach_checks.py`` ``arcs_volume``: an estimate, no bound).
 
-Run: python benchmarks/bench_orientation.py [--quick | --arms]
+Run: python benchmarks/bench_orientation.py [--quick | --arms [NAME ...] [--cone]]   (e.g. ``--arms iiwa panda``: the
+rows whose robot's name holds one of the names; ``--cone``: the cone rows only)
 """
 
 import datetime
@@ -68,9 +69,14 @@ def arm_cases():
     ur5, kr16, puma = industrial_arm("ur5"), industrial_arm("kr16"), robots.build("puma560")
     down = dict(approach=(0, 0, -1), cone=20)
     tool_down = dict(rpy=(180, 0, 0))
-    return [("Puma 560", puma, down, (0.05, 0.02), 120), ("Puma 560", puma, tool_down, (0.05, 0.02), 120),
+    rows = [("Puma 560", puma, down, (0.05, 0.02), 120), ("Puma 560", puma, tool_down, (0.05, 0.02), 120),
             ("UR5", ur5, down, (0.05,), 300), ("UR5", ur5, tool_down, (0.05,), 300),
             ("KR16 (URDF)", kr16, down, (0.15, 0.1), 300), ("KR16 (URDF)", kr16, tool_down, (0.15,), 300)]
+    # The seven-joint arms (first joint limited: the 3-D pairs, docs/methods.md section 8): the cone only, whose
+    # sampled reference needs no solve (a tool down would need the spin of a last joint that turns less than a turn).
+    iiwa, panda = industrial_arm("iiwa"), industrial_arm("panda")
+    rows += [("LBR iiwa 14 (URDF)", iiwa, down, (0.1,), 300), ("Panda", panda, down, (0.1,), 300)]
+    return rows
 
 
 def reference_volume(robot, options, n=REF_SAMPLES):
@@ -86,7 +92,10 @@ def arms():
     print("| robot | constraint | method | delta | seconds | inner / boundary / outer | bracket (m³) | width / upper "
           "| sampled reference (admissible samples) | inside | samples in outer boxes (must be 0) |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
+    chosen = [a.lower() for a in sys.argv[sys.argv.index("--arms") + 1:] if not a.startswith("--")]
     for name, robot, options, deltas, limit in arm_cases():
+        if (chosen and not any(c in name.lower() for c in chosen)) or ("--cone" in sys.argv and "cone" not in options):
+            continue
         constraint = constraint_from(**options)
         reach(robot, delta=0.4, stop=StopAt(time_limit=60), pose=Pose(**options))   # compile once
         reference, points = reference_volume(robot, options)

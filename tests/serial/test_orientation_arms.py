@@ -207,3 +207,41 @@ def test_flipped_arm_configurations_in_the_cone_never_land_in_an_outer_box(flipp
     assert not in_any_box(points, flipped_cone.outer, pad=-1e-9).any()
     lo, hi = flipped_cone.measure_bounds
     assert lo <= arcs_volume(robot, q[:, 0], points, 0.02) <= hi
+
+
+# ---------------------------------------------------------------- the admissible positions' enclosure
+@settings(derandomize=True, max_examples=40, deadline=None)
+@given(arm=st.sampled_from(["ur5", "kr16"]), width=st.sampled_from([1.0, 0.5, 0.1, 1e-3, 0.0]),
+       at=st.lists(st.sampled_from([0.0, 1.0]) | st.floats(0, 1), min_size=6, max_size=6),
+       seed=st.integers(0, 2**16))
+@example(arm="kr16", width=1.0, at=[0.5] * 6, seed=0)
+@example(arm="ur5", width=0.0, at=[1.0] * 6, seed=1)
+def test_every_admissible_position_lies_in_the_enclosure_of_the_admissible_positions(arm, width, at, seed):
+    # Reference: the model's own position and approach in floats (the first test above ties them to fk_numeric) at
+    # 2000 configurations sampled in an arm box (from the whole limits to a point, at the limits or anywhere
+    # within) times the wrist limits, kept when their approach lies 1e-9 inside the 20 degree cone: each position
+    # lies in the enclosure of the admissible positions (``o + L (a & C)`` for the tool point at L along the
+    # approach from the wrist, intersected with the plain enclosure), which is never empty when one of them is
+    # admissible.  Both arms have the offset (the UR5's flange, the KR16's 0.158 m), and it narrows the root.
+    model = pose_structure(industrial_arm(arm), (), constraint_from(**CONE)).model
+    assert model.offset is not None
+    limits = model.position.limits
+    span = limits[:, 1] - limits[:, 0]
+    centre = limits[:, 0] + np.array(at[:model.ka]) * span
+    A = np.stack([np.maximum(limits[:, 0], centre - width * span / 2),
+                  np.minimum(limits[:, 1], centre + width * span / 2)], axis=1)[None]
+    plain = model.position.enclose(A)
+    E = model._admissible(plain, A)[0]
+    rng = np.random.default_rng(seed)
+    wrist = np.reshape(model.wrist.limits, (-1, 2))
+    q = np.concatenate([rng.uniform(A[0, :, 0], A[0, :, 1], size=(2000, model.ka)),
+                        rng.uniform(wrist[:, 0], wrist[:, 1], size=(2000, len(wrist)))], axis=1)
+    lead = np.broadcast_to(np.asarray(model._lead_float(q.T), dtype=float), (len(q),))
+    admissible = lead >= model.bound[1] + 1e-9
+    P = model.position.position_float(q[admissible, :model.ka])
+    tol = 1e-9 * (1 + np.abs(P))
+    assert ((P >= E[:, 0] - tol) & (P <= E[:, 1] + tol)).all(), (E, P.min(axis=0), P.max(axis=0))
+    if admissible.any():
+        assert (E[:, 0] <= E[:, 1]).all()
+    if width == 1.0:
+        assert ((E[:, 1] - E[:, 0]) < (plain[0, :, 1] - plain[0, :, 0]) - 1e-3).any(), (E, plain)

@@ -522,6 +522,93 @@ class _WristSolver:
         return proved, w
 
 
+class _OffsetEnclosure:
+    """Enclosures of the position over the configurations that satisfy a cone, for a tool point at a constant
+    length ``L`` along the approach from a point ``o`` that the last joints do not move (``p = o + L a``: a flange
+    or tool offset along the approach, the KR16's 0.158 m).
+
+    For any constant ``L`` and any rotation ``M``, ``w = (w - L M a) + L M a`` is an identity; on a configuration
+    whose approach lies in the cone, ``M a`` lies in the cap of unit vectors within the cone's half-angle of
+    ``M d``, hence in the cap's bounding box ``C``.  So ``enclosure(w - L M a) + L (enclosure(M a) & C)`` encloses
+    the position of every admissible configuration of a joint box: intersected with the plain enclosure, it
+    drops (arm box, task box) pairs sooner, which is only ever used to drop a pair (an outer proof), never to
+    prove a box inner.  ``L`` and ``M`` only decide how tight it is: ``M`` is the candidate (the identity, or a
+    base's rotation transposed, which takes the approach into the frame of ``w``) for which ``w - L M a`` expands
+    free of the most joints.
+
+    Parameters
+    ----------
+    w : sequence of sympy.Expr
+        The three coordinates the task coordinates are built from (``(u, c, v)`` of a squared section, or
+        ``(x, y, z)``).
+    approach : sequence of sympy.Expr
+        The approach axis, in the same variables.
+    direction : sequence of sympy.Expr
+        The cone's axis ``d``.
+    cone : sympy.Expr
+        The half-angle (radians).
+    length : sympy.Expr
+        ``L``.
+    turns : sequence of sympy.Matrix
+        The candidate rotations ``M``.
+    variables : sequence of sympy.Symbol
+        The model's joints (arm, then wrist).
+    """
+
+    MARGIN = 1e-12          # the cap's box is widened by this each way (its float bounds err by about 1e-16)
+
+    def __init__(self, w, approach, direction, cone, length, turns, variables):
+        best = None
+        moving = set().union(*(sp.sympify(e).free_symbols for e in w))
+        for M in turns:
+            turned_axis = list(sp.Matrix(M) * sp.Matrix(approach))
+            base = [sp.expand(wi - length * ai) for wi, ai in zip(w, turned_axis)]
+            free = set().union(*(e.free_symbols for e in base)) & moving
+            if best is None or len(free) < len(best[0]):
+                best = (free, base, turned_axis, sp.Matrix(M) * sp.Matrix(direction))
+        free, base, turned_axis, axis = best
+        self.useful = len(free) < len(moving)
+        self._base = [compile_expr(e, tuple(variables)) for e in base]
+        self._axis = [compile_expr(e, tuple(variables)) for e in turned_axis]
+        self.length = numpy_constant(length)
+        d = np.array([float(e) for e in axis])
+        d /= np.linalg.norm(d)
+        c = float(cone)
+        angles = np.arccos(np.clip(d, -1.0, 1.0))
+        lo = np.cos(np.minimum(angles + c, np.pi)) - self.MARGIN
+        hi = np.cos(np.maximum(angles - c, 0.0)) + self.MARGIN
+        self.cap = (np.maximum(lo, -1.0), np.minimum(hi, 1.0))
+
+    def enclose(self, Q: np.ndarray) -> np.ndarray:
+        """``(N, 3, 2)`` enclosures of ``w`` over the admissible configurations of the joint boxes ``Q`` (all the
+        model's joints); a coordinate whose cap and axis enclosures do not meet is returned empty (``lo > hi``):
+        no configuration of the box satisfies the cone; NaN where the arithmetic gives none.
+
+        Parameters
+        ----------
+        Q : numpy.ndarray
+            ``(N, k, 2)`` joint boxes.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, 3, 2)``, rounded outward.
+        """
+        X = [(Q[:, j, 0], Q[:, j, 1]) for j in range(Q.shape[1])]
+        out = np.empty((len(Q), 3, 2))
+        with np.errstate(all="ignore"):
+            for i in range(3):
+                o = self._base[i](X)
+                a = self._axis[i](X)
+                a = arith.intersect(tuple(np.broadcast_to(v, (len(Q),)) for v in a),
+                                    (np.full(len(Q), self.cap[0][i]), np.full(len(Q), self.cap[1][i])))
+                empty = a[0] > a[1]
+                lo, hi = arith.add(tuple(np.broadcast_to(v, (len(Q),)) for v in o), arith.mul(self.length, a))
+                out[:, i, 0] = np.where(empty, np.inf, lo)
+                out[:, i, 1] = np.where(empty, -np.inf, hi)
+        return out
+
+
 class PoseModel:
     """A position map (``m`` task coordinates) over the joints that move the position or the constrained
     quantity, the constraint's enclosures, and the square system of the inner test (module docstring).
@@ -555,11 +642,15 @@ class PoseModel:
     square : sequence of sympy.Expr, optional
         ``w = (u, c, v)`` when ``position`` is ``(u^2 + c^2, v)``: its enclosures then come from those of ``u``,
         ``c``, ``v`` (:class:`~workspace_sym.serial.section.SquareMap`, tighter than the expanded square's).
+    offset : tuple, optional
+        ``(L, turns)`` for a cone with a tool point at the length ``L`` along the approach from a point the last
+        joints do not move: pairs are dropped on the enclosure of the admissible positions too
+        (:class:`_OffsetEnclosure`, ``turns`` its candidate rotations).
     """
 
     def __init__(self, position, approach, rotation, constraint: PoseConstraint, variables, limits, periodic,
                  task_variables, *, proof_cone: sp.Expr | None = None, tuning: Tuning = DEFAULT,
-                 square=None):
+                 square=None, offset=None):
         self.constraint = constraint
         self.wrist_cells, self.wrist_grid = tuning.wrist_cells, tuning.wrist_grid
         variables, limits, periodic = list(variables), list(limits), list(periodic)
@@ -610,6 +701,13 @@ class PoseModel:
             M = constraint.matrix.T * rotation
             skew = [M[2, 1] - M[1, 2], M[0, 2] - M[2, 0], M[1, 0] - M[0, 1]]
             self.proof = _ConstrainedMap(position, skew, M.trace(), -1.0, False, variables, limits, periodic)
+        self.offset: _OffsetEnclosure | None = None
+        w = list(square) if square is not None else position
+        if offset is not None and constraint.kind == "cone" and proof_cone is None and len(w) == 3:
+            tightened = _OffsetEnclosure(w, list(approach), list(constraint.direction), constraint.cone, offset[0],
+                                         offset[1], self.variables)
+            self.offset = tightened if tightened.useful else None
+        self._squared = square is not None
         root = self.position.enclose(self.position.limits[None])[0]
         length = 0.5 * float(np.max(root[:, 1] - root[:, 0]))
         # How much a joint moves the position (largest Jacobian entry over the limits) and the constrained
@@ -794,7 +892,9 @@ class PoseModel:
                 Q[rows, ka:ka + kw] = witness[:, :, None]
                 Q[rows, -1] = np.where(sure, 2.0, np.where(dead, -1.0, 1.0))[:, None]
             E = self.position.enclose(Q[:, :ka])
-            keep = meets(E, T[owner]) & (Q[:, -1, 0] > 0)
+            if self.offset is not None:
+                E = self._admissible(E, Q[:, :ka])
+            keep = meets(E, T[owner]) & (E[:, :, 0] <= E[:, :, 1]).all(axis=1) & (Q[:, -1, 0] > 0)
             Q, owner, E = Q[keep], owner[keep], E[keep]
             if r == rounds:
                 break
@@ -811,6 +911,24 @@ class PoseModel:
             Q = np.concatenate([Q[~split], Q[split][~ok], children])
             owner = np.concatenate([owner[~split], owner[split][~ok], np.repeat(owner[split][ok], 2)])
         return Q, owner
+
+    def _admissible(self, E: np.ndarray, A: np.ndarray) -> np.ndarray:
+        """``E`` (the position's enclosures over the arm boxes ``A``) intersected with the enclosures of the
+        admissible positions (:class:`_OffsetEnclosure`, the wrist joints over their limits); an empty result
+        (``lo > hi``) means no admissible configuration in the box."""
+        assert self.offset is not None
+        wrist = np.repeat(np.reshape(self.wrist.limits, (-1, 2))[None], len(A), axis=0)
+        W = self.offset.enclose(np.concatenate([A, wrist], axis=1))
+        if self._squared:
+            with np.errstate(all="ignore"):
+                lo, hi = arith.add(arith.sqr((W[:, 0, 0], W[:, 0, 1])), arith.sqr((W[:, 1, 0], W[:, 1, 1])))
+            empty = (W[:, 0, 0] > W[:, 0, 1]) | (W[:, 1, 0] > W[:, 1, 1])
+            lo, hi = np.where(empty, np.inf, np.maximum(lo, 0.0)), np.where(empty, -np.inf, hi)
+            W = np.stack([np.stack([lo, hi], axis=1), W[:, 2]], axis=1)
+        # NaN (no enclosure) leaves E's bound; an empty coordinate stays empty.
+        lo = np.where(np.isnan(W[:, :, 0]), E[:, :, 0], np.maximum(E[:, :, 0], W[:, :, 0]))
+        hi = np.where(np.isnan(W[:, :, 1]), E[:, :, 1], np.minimum(E[:, :, 1], W[:, :, 1]))
+        return np.stack([lo, hi], axis=2)
 
     def root_pairs(self) -> np.ndarray:
         """The one pair of the root: the arm limits, a wrist value, status 0.
@@ -969,6 +1087,17 @@ def _tool_offset(robot: DHRobot, params, constraint: PoseConstraint, T):
     depend on the last joint."""
     if constraint.kind != "orientation":
         return None
+    found = _tail_offset(robot, params)
+    if found is None:
+        return None
+    k, t = found
+    origin = robot.substitute(robot.fk(k), params)[:3, 3]
+    return k, [sp.sympify(e) for e in origin + constraint.matrix * t]
+
+
+def _tail_offset(robot: DHRobot, params):
+    """``(k, t)``: the first frame ``k`` whose origin ``o_k`` holds the tool point at a constant offset ``t`` in
+    the tool frame (``t = R(q)^T (p(q) - o_k(q))`` free of the joints), or None."""
     # R(q)^T (p - o_k) = (R_k^n)^T p_k^n: the offset from the tail of the chain alone (frames k..n, tool).
     tails = [sp.eye(4) if robot.tool is None else sp.Matrix(robot.tool)]
     for i in range(robot.n, 0, -1):
@@ -987,11 +1116,20 @@ def _tool_offset(robot: DHRobot, params, constraint: PoseConstraint, T):
         if t.free_symbols & set(robot.q):
             break
         found = k, t
-    if found is None:
+    return found
+
+
+def _approach_offset(robot: DHRobot, params, constraint: PoseConstraint):
+    """For a cone: ``(L, turns)`` when the tool point is ``o_k + L a`` (a tail offset ``(0, 0, L)``, ``L != 0``),
+    ``turns`` the rotations that may take the approach into the frame of a section (:class:`_OffsetEnclosure`);
+    else None."""
+    if constraint.kind != "cone":
         return None
-    k, t = found
-    origin = robot.substitute(robot.fk(k), params)[:3, 3]
-    return k, [sp.sympify(e) for e in origin + constraint.matrix * t]
+    found = _tail_offset(robot, params)
+    if found is None or found[1][0] != 0 or found[1][1] != 0 or found[1][2] == 0:
+        return None
+    turns = [sp.eye(3)] + ([] if robot.base is None else [sp.Matrix(robot.base)[:3, :3].T])
+    return found[1][2], turns
 
 
 def _joints_of(robot, expressions, params):
@@ -1116,7 +1254,7 @@ class PoseStructure:
 
 
 def _section_structure(robot: DHRobot, parameters: tuple, constraint: PoseConstraint, axis, proof_cone,
-                       section_robot: DHRobot, tuning: Tuning) -> PoseStructure | None:
+                       section_robot: DHRobot, tuning: Tuning, offset=None) -> PoseStructure | None:
     """The section structure when the robot is turned by its first joint (the position's
     :class:`~workspace_sym.serial.structure.Revolved`: standard DH, no base, ``q_1`` only in ``theta_1``) and the
     cone's axis is vertical:
@@ -1127,7 +1265,7 @@ def _section_structure(robot: DHRobot, parameters: tuple, constraint: PoseConstr
         return None
     turn = revolved(reach_model(section_robot, parameters))
     if turn is None:
-        return _squared_structure(robot, parameters, constraint, axis, proof_cone, section_robot, tuning)
+        return _squared_structure(robot, parameters, constraint, axis, proof_cone, section_robot, tuning, offset)
     params = dict(parameters) or None
     q1 = robot.q[0]
     theta = robot.substitute(robot.joints[0].theta, params)
@@ -1148,7 +1286,7 @@ def _section_structure(robot: DHRobot, parameters: tuple, constraint: PoseConstr
 
 
 def _squared_structure(robot: DHRobot, parameters: tuple, constraint: PoseConstraint, axis, proof_cone,
-                       section_robot: DHRobot, tuning: Tuning) -> PoseStructure | None:
+                       section_robot: DHRobot, tuning: Tuning, offset=None) -> PoseStructure | None:
     """The section ``(t, z) = (rho^2, z)`` of an arm turned by its first joint with a lateral offset that varies
     (:func:`~workspace_sym.serial.section.turned`: ``p = Rz(theta_1) w(q')``, ``w = (u, c, v)``, no base
     transform, a whole turn), for a cone about the vertical: ``a = Rz(theta_1) a'`` and ``a . d = a' . d``, so a
@@ -1178,7 +1316,8 @@ def _squared_structure(robot: DHRobot, parameters: tuple, constraint: PoseConstr
     w, approach = exprs[:3], exprs[3:]
     position = [w[0] ** 2 + w[1] ** 2, w[2]]
     model = PoseModel(position, approach, None, constraint, variables, limits, periodic,
-                      (sp.Symbol("t"), sp.Symbol("v")), proof_cone=proof_cone, tuning=tuning, square=w)
+                      (sp.Symbol("t"), sp.Symbol("v")), proof_cone=proof_cone, tuning=tuning, square=w,
+                      offset=offset)
     return PoseStructure(model, turned=turn)
 
 
@@ -1336,15 +1475,17 @@ def pose_structure(robot: DHRobot, parameters: tuple, constraint: PoseConstraint
             "second (pitch) tilting the approach from the roll axis, such as joints 4 and 5 of the Puma 560 "
             f"(docs/methods.md section 8), and {robot.name} has none: {wrist}; no certified answer is given: use "
             "every=False (some direction of the cone) or cone=0", parameter="every")
+    # A tool point at a length along the approach: pairs dropped on the admissible positions too (_OffsetEnclosure)
+    along = _approach_offset(robot, params, reduced) if offset is None else None
     structure = None if section_robot is None else _section_structure(robot, parameters, reduced, axis, proof_cone,
-                                                                       section_robot, tuning)
+                                                                       section_robot, tuning, along)
     if structure is not None:
         return structure
     rotation = T[:3, :3]
     quantities = axis if reduced.kind == "cone" else list(rotation)
     variables, limits, periodic = _joints_of(robot, position + quantities, params)
     return PoseStructure(PoseModel(position, axis, rotation, reduced, variables, limits, periodic, TASK,
-                                   proof_cone=proof_cone, tuning=tuning))
+                                   proof_cone=proof_cone, tuning=tuning, offset=along))
 
 
 @dataclass(frozen=True)
