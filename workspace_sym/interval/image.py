@@ -62,7 +62,7 @@ from .compiler import CompiledBatch, compile_batch, compile_expr
 from .graph import numpy_constant
 from .verdict import CODE, INSIDE, OUTSIDE, UNDECIDED
 
-__all__ = ["ImageMap", "critical_paving", "CellGrid", "CoverTooLarge"]
+__all__ = ["ImageMap", "critical_paving", "CellGrid", "CoverTooLarge", "batch_enclosures"]
 OUTSIDE_PAIRS = 20_000            # joint boxes a component's cell may hold while proved outside
 MAX_COVER_BOXES = 4_000_000      # joint boxes of one face's cover in flight: more means a critical set of full
                                  # dimension (parallel joint axes, say); CoverTooLarge is raised
@@ -144,12 +144,7 @@ class ImageMap:
         numpy.ndarray
             ``(N, m, 2)``, rounded outward; a coordinate with no enclosure (NaN) is ``[-inf, inf]``.
         """
-        X = [(Q[:, j, 0], Q[:, j, 1]) for j in range(self.k)]
-        out = np.empty((len(Q), self.m, 2))
-        with np.errstate(all="ignore"):
-            for i, (lo, hi) in enumerate(self._position(X)):
-                out[:, i, 0], out[:, i, 1] = lo, hi
-        return np.where(np.isnan(out), np.inf * np.array([-1.0, 1.0]), out)
+        return batch_enclosures(self._position, Q, self.k, self.m)
 
     def jacobian_enclosure(self, Q: np.ndarray, columns=None):
         """``J[i][j] = (lo, hi)`` arrays enclosing ``d f_i / d q_j`` over ``Q``; with ``columns``, only those
@@ -555,6 +550,32 @@ def dot(c, v):
     for ci, vi in zip(c[1:], v[1:]):
         acc = arith.add(acc, arith.mul(ci, vi))
     return acc
+
+
+def batch_enclosures(batch: CompiledBatch, Q: np.ndarray, k: int, m: int) -> np.ndarray:
+    """``(N, m, 2)`` enclosures of the ``m`` expressions of a compiled batch over the first ``k`` columns of the joint
+    boxes ``Q`` (``(N, >= k, 2)``), rounded outward; a coordinate with no enclosure (NaN) is ``[-inf, inf]``.
+
+    Parameters
+    ----------
+    batch : CompiledBatch
+        The expressions, compiled (:func:`~workspace_sym.interval.compiler.compile_batch`).
+    Q : numpy.ndarray
+        Joint boxes.
+    k, m : int
+        The number of joints read and of expressions.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N, m, 2)``.
+    """
+    X = [(Q[:, j, 0], Q[:, j, 1]) for j in range(k)]
+    out = np.empty((len(Q), m, 2))
+    with np.errstate(all="ignore"):
+        for i, (lo, hi) in enumerate(batch(X)):
+            out[:, i, 0], out[:, i, 1] = lo, hi
+    return np.where(np.isnan(out), np.inf * np.array([-1.0, 1.0]), out)
 
 
 def meets(E: np.ndarray, T: np.ndarray) -> np.ndarray:

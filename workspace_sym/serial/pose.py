@@ -94,9 +94,9 @@ from ..errors import InvalidParameterError
 from ..expressions import parse_angle
 from ..interval import arith
 from ..interval.boxes import box_sizes, halves
-from ..interval.compiler import compile_expr
+from ..interval.compiler import compile_batch, compile_expr
 from ..interval.graph import exact_constants, numpy_constant
-from ..interval.image import CellGrid, ImageMap, dot, meets
+from ..interval.image import CellGrid, ImageMap, batch_enclosures, dot, meets
 from ..interval.store import BoxStore, ExactSum
 from ..interval.verdict import INSIDE as INNER
 from ..interval.verdict import OUTSIDE as OUTER
@@ -108,7 +108,7 @@ from ..transforms import rot_x, rot_y, rot_z
 from .angles import ANGLE_PAD
 from .model import TASK, joint_range, reach_model
 from .pairs import caps, pave_pairs, prove_in_pieces, split_pairs
-from .section import SquareMap, Turned, section_bar, to_first_frame, turned
+from .section import SquareMap, Turned, section_bar, squared_enclosures, to_first_frame, turned
 from .structure import Revolved, revolved
 from .tuning import DEFAULT, Tuning
 
@@ -568,8 +568,8 @@ class _OffsetEnclosure:
                 best = (free, base, turned_axis, sp.Matrix(M) * sp.Matrix(direction))
         free, base, turned_axis, axis = best
         self.useful = len(free) < len(moving)
-        self._base = [compile_expr(e, tuple(variables)) for e in base]
-        self._axis = [compile_expr(e, tuple(variables)) for e in turned_axis]
+        self.k = len(variables)
+        self._batch = compile_batch(base + turned_axis, tuple(variables))   # o, then M a
         self.length = numpy_constant(length)
         d = np.array([float(e) for e in axis])
         d /= np.linalg.norm(d)
@@ -581,8 +581,8 @@ class _OffsetEnclosure:
 
     def enclose(self, Q: np.ndarray) -> np.ndarray:
         """``(N, 3, 2)`` enclosures of ``w`` over the admissible configurations of the joint boxes ``Q`` (all the
-        model's joints); a coordinate whose cap and axis enclosures do not meet is returned empty (``lo > hi``):
-        no configuration of the box satisfies the cone; NaN where the arithmetic gives none.
+        model's joints), rounded outward; a coordinate whose cap and axis enclosures do not meet is returned empty
+        (``lo > hi``): no configuration of the box satisfies the cone.
 
         Parameters
         ----------
@@ -592,21 +592,14 @@ class _OffsetEnclosure:
         Returns
         -------
         numpy.ndarray
-            ``(N, 3, 2)``, rounded outward.
+            ``(N, 3, 2)``.
         """
-        X = [(Q[:, j, 0], Q[:, j, 1]) for j in range(Q.shape[1])]
-        out = np.empty((len(Q), 3, 2))
+        E = batch_enclosures(self._batch, Q, self.k, 6)
+        a = np.maximum(E[:, 3:, 0], self.cap[0]), np.minimum(E[:, 3:, 1], self.cap[1])
+        empty = a[0] > a[1]
         with np.errstate(all="ignore"):
-            for i in range(3):
-                o = self._base[i](X)
-                a = self._axis[i](X)
-                a = arith.intersect(tuple(np.broadcast_to(v, (len(Q),)) for v in a),
-                                    (np.full(len(Q), self.cap[0][i]), np.full(len(Q), self.cap[1][i])))
-                empty = a[0] > a[1]
-                lo, hi = arith.add(tuple(np.broadcast_to(v, (len(Q),)) for v in o), arith.mul(self.length, a))
-                out[:, i, 0] = np.where(empty, np.inf, lo)
-                out[:, i, 1] = np.where(empty, -np.inf, hi)
-        return out
+            lo, hi = arith.add((E[:, :3, 0], E[:, :3, 1]), arith.mul(self.length, a))
+        return np.stack([np.where(empty, np.inf, lo), np.where(empty, -np.inf, hi)], axis=2)
 
 
 class PoseModel:
@@ -678,7 +671,8 @@ class PoseModel:
         self.task_variables = tuple(task_variables)
         self._quantities = [compile_expr(e, self.variables) for e in quantities]
         self.solver = None
-        self._lead_float = sp.lambdify([self.variables], quantities[0], modules="numpy")
+        self.lead = quantities[0]           # a . d for a cone (the first entry of R(q) for an orientation)
+        self._lead_float = sp.lambdify([self.variables], self.lead, modules="numpy")
         if constraint.kind == "cone":
             norm = sp.sqrt(d.dot(d))
             self.bound = numpy_constant(norm * sp.cos(constraint.cone))
@@ -707,7 +701,6 @@ class PoseModel:
             tightened = _OffsetEnclosure(w, list(approach), list(constraint.direction), constraint.cone, offset[0],
                                          offset[1], self.variables)
             self.offset = tightened if tightened.useful else None
-        self._squared = square is not None
         root = self.position.enclose(self.position.limits[None])[0]
         length = 0.5 * float(np.max(root[:, 1] - root[:, 0]))
         # How much a joint moves the position (largest Jacobian entry over the limits) and the constrained
@@ -919,16 +912,10 @@ class PoseModel:
         assert self.offset is not None
         wrist = np.repeat(np.reshape(self.wrist.limits, (-1, 2))[None], len(A), axis=0)
         W = self.offset.enclose(np.concatenate([A, wrist], axis=1))
-        if self._squared:
-            with np.errstate(all="ignore"):
-                lo, hi = arith.add(arith.sqr((W[:, 0, 0], W[:, 0, 1])), arith.sqr((W[:, 1, 0], W[:, 1, 1])))
-            empty = (W[:, 0, 0] > W[:, 0, 1]) | (W[:, 1, 0] > W[:, 1, 1])
-            lo, hi = np.where(empty, np.inf, np.maximum(lo, 0.0)), np.where(empty, -np.inf, hi)
-            W = np.stack([np.stack([lo, hi], axis=1), W[:, 2]], axis=1)
-        # NaN (no enclosure) leaves E's bound; an empty coordinate stays empty.
-        lo = np.where(np.isnan(W[:, :, 0]), E[:, :, 0], np.maximum(E[:, :, 0], W[:, :, 0]))
-        hi = np.where(np.isnan(W[:, :, 1]), E[:, :, 1], np.minimum(E[:, :, 1], W[:, :, 1]))
-        return np.stack([lo, hi], axis=2)
+        if isinstance(self.position, SquareMap):
+            W = squared_enclosures(W)
+        # fmax / fmin: a NaN bound (no enclosure) leaves E's; an empty coordinate stays empty.
+        return np.stack([np.fmax(E[:, :, 0], W[:, :, 0]), np.fmin(E[:, :, 1], W[:, :, 1])], axis=2)
 
     def root_pairs(self) -> np.ndarray:
         """The one pair of the root: the arm limits, a wrist value, status 0.

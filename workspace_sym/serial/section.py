@@ -74,7 +74,7 @@ from .tuning import DEFAULT, Tuning
 __all__ = ["Pieces", "RadialMap", "SquareMap", "ShoulderReach", "Turned", "turned", "first_joint_turn",
            "shoulder_distance", "to_first_frame", "first_frame", "TurnedTest", "section_bar", "section_paving",
            "in_chunks", "blocks",
-           "solid_volumes", "turned_volume", "REACH_SIMPLIFY_OPS", "ElbowReach", "elbow_reach"]
+           "solid_volumes", "turned_volume", "REACH_SIMPLIFY_OPS", "ElbowReach", "elbow_reach", "squared_enclosures"]
 
 
 def _square_boxes(T: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -85,6 +85,30 @@ def _square_boxes(T: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         lo, hi = arith.sqr((np.maximum(T[:, 0, 0], 0.0), np.maximum(T[:, 0, 1], 0.0)))
     T2[:, 0, 0], T2[:, 0, 1] = lo, hi
     return T2, T[:, 0, 0] >= 0
+
+
+def squared_enclosures(W: np.ndarray) -> np.ndarray:
+    """Enclosures of ``(u^2 + c^2, v)`` from those of ``(u, c, v)`` (``(N, 3, 2)``), rounded outward: ``(N, 2, 2)``,
+    the first coordinate clipped at 0, infinite where the arithmetic gives NaN; empty (``lo > hi``) where ``u`` or
+    ``c`` is.
+
+    Parameters
+    ----------
+    W : numpy.ndarray
+        ``(N, 3, 2)`` enclosures of ``(u, c, v)``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(N, 2, 2)``.
+    """
+    E = np.empty((len(W), 2, 2))
+    with np.errstate(all="ignore"):
+        lo, hi = arith.add(arith.sqr((W[:, 0, 0], W[:, 0, 1])), arith.sqr((W[:, 1, 0], W[:, 1, 1])))
+    empty = (W[:, 0, 0] > W[:, 0, 1]) | (W[:, 1, 0] > W[:, 1, 1])
+    E[:, 0, 0], E[:, 0, 1] = np.where(empty, np.inf, np.maximum(lo, 0.0)), np.where(empty, -np.inf, hi)
+    E[:, 1] = W[:, 2]
+    return np.where(np.isnan(E), np.inf * np.array([-1.0, 1.0]), E)
 
 
 class SquareMap(ImageMap):
@@ -130,13 +154,7 @@ class SquareMap(ImageMap):
             ``(N, 2, 2)`` outward-rounded enclosures (the first coordinate clipped at 0; infinite where the
             arithmetic gives NaN).
         """
-        W = self.lateral.enclose(Q)
-        E = np.empty((len(Q), 2, 2))
-        with np.errstate(all="ignore"):
-            lo, hi = arith.add(arith.sqr((W[:, 0, 0], W[:, 0, 1])), arith.sqr((W[:, 1, 0], W[:, 1, 1])))
-        E[:, 0, 0], E[:, 0, 1] = np.maximum(lo, 0.0), hi
-        E[:, 1] = W[:, 2]
-        return np.where(np.isnan(E), np.inf * np.array([-1.0, 1.0]), E)
+        return squared_enclosures(self.lateral.enclose(Q))
 
     def jacobian_enclosure(self, Q: np.ndarray, columns=None):
         """Enclosures of the Jacobian of ``(u^2 + c^2, v)``: ``2 (u u_j + c c_j)`` and ``v_j``.
