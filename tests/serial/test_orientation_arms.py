@@ -6,6 +6,7 @@ exact volumes of turned rectangles."""
 
 from __future__ import annotations
 
+import functools
 import math
 
 import mpmath
@@ -210,6 +211,13 @@ def test_flipped_arm_configurations_in_the_cone_never_land_in_an_outer_box(flipp
 
 
 # ---------------------------------------------------------------- the admissible positions' enclosure
+@functools.lru_cache(maxsize=4)
+def _exact_model(model):
+    """The model's position (arm joints) and ``a . d`` (all joints) as mpmath functions, made once per model."""
+    return (sp.lambdify([model.variables[:model.ka]], model.position.expressions, modules="mpmath"),
+            sp.lambdify([model.variables], model.lead, modules="mpmath"))
+
+
 @settings(derandomize=True, max_examples=40, deadline=None)
 @given(arm=st.sampled_from(["ur5", "kr16"]), width=st.sampled_from([1.0, 0.5, 0.1, 1e-3, 0.0]),
        at=st.lists(st.sampled_from([0.0, 1.0]) | st.floats(0, 1), min_size=6, max_size=6),
@@ -241,6 +249,21 @@ def test_every_admissible_position_lies_in_the_enclosure_of_the_admissible_posit
     P = model.position.position_float(q[admissible, :model.ka])
     tol = 1e-9 * (1 + np.abs(P))
     assert ((P >= E[:, 0] - tol) & (P <= E[:, 1] + tol)).all(), (E, P.min(axis=0), P.max(axis=0))
+    # And exactly, for up to 40 of the sampled configurations (each float joint value read as the exact binary
+    # number it is): the approach and the position at 50 digits, no tolerance.
+    position, exact_lead = _exact_model(model)
+    checked = 0
+    with mpmath.workdps(50):
+        cos_cone = mpmath.cos(mpmath.pi / 9)                  # the cone of 20 degrees
+        for row in q[lead >= model.bound[1] - 1e-6][:40]:
+            values = [mpmath.mpf(float(v)) for v in row]
+            if exact_lead(values) < cos_cone:
+                continue
+            checked += 1
+            for (lo, hi), p in zip(E, position(values[:model.ka])):
+                assert mpmath.mpf(float(lo)) <= p <= mpmath.mpf(float(hi)), (arm, row, lo, p, hi)
+    if width == 1.0:
+        assert checked > 0                          # the whole limits hold admissible configurations
     if admissible.any():
         assert (E[:, 0] <= E[:, 1]).all()
     if width == 1.0:
