@@ -136,9 +136,9 @@ def test_interval_trig_constraint_is_sound():
 
     p = pave(["sin(x1) + cos(3*x2) <= 0.5"], {x1: (-3, 3), x2: (-2, 2)}, delta=0.2)
     rng = np.random.default_rng(0)
-    mpmath.mp.dps = 50
-    for pt in _sample(p.inner, rng, k=30):
-        assert mpmath.sin(mpmath.mpf(pt[0])) + mpmath.cos(3 * mpmath.mpf(pt[1])) <= mpmath.mpf("0.5")
+    with mpmath.workdps(50):
+        for pt in _sample(p.inner, rng, k=30):
+            assert mpmath.sin(mpmath.mpf(pt[0])) + mpmath.cos(3 * mpmath.mpf(pt[1])) <= mpmath.mpf("0.5")
     assert len(p.inner) > 0 and len(p.outer) > 0
 
 

@@ -2,13 +2,16 @@
 
 ``mpmath.iv`` rounds outward at its working precision.  Two traps are avoided
 here: it has no ``workprec`` (:func:`precision` restores the precision in
-``finally``), and its comparisons of overlapping intervals return ``None``,
-which ``if`` would read as False; every decision compares endpoints
-(``x.a``, ``x.b``) explicitly.
+``finally``, holding a lock: ``iv``'s precision is one global of the process,
+and two threads setting and restoring it unguarded could leave it raised for
+good), and its comparisons of overlapping intervals return ``None``, which
+``if`` would read as False; every decision compares endpoints (``x.a``,
+``x.b``) explicitly.
 """
 
 from __future__ import annotations
 
+import threading
 from contextlib import contextmanager
 
 import mpmath
@@ -18,10 +21,18 @@ __all__ = ["precision", "iv", "from_float_bounds", "sqrt", "sqr", "ipow", "sin",
 
 iv = mpmath.iv
 
+# One precision for the whole process: a thread saving 15 digits, another saving the first one's 60 and both
+# restoring in the wrong order left ``iv`` at 60 digits (found by CI: a later test's 53-bit ends were no longer
+# floats).  Reentrant, so a ``precision`` block may call code that opens another.
+_PRECISION_LOCK = threading.RLock()
+
 
 @contextmanager
 def precision(digits: int | None = None, *, bits: int | None = None):
     """Set ``mpmath.iv``'s precision inside a ``with`` block, restored afterwards.
+
+    The block holds a process-wide lock: threads that change the precision run their blocks one at a time, so each
+    restores what it found.  Code inside a block must not wait for another thread that opens one.
 
     Parameters
     ----------
@@ -38,15 +49,16 @@ def precision(digits: int | None = None, *, bits: int | None = None):
     >>> iv.dps
     15
     """
-    old = iv.prec
-    try:
-        if bits is not None:
-            iv.prec = bits
-        elif digits is not None:
-            iv.dps = digits
-        yield
-    finally:
-        iv.prec = old
+    with _PRECISION_LOCK:
+        old = iv.prec
+        try:
+            if bits is not None:
+                iv.prec = bits
+            elif digits is not None:
+                iv.dps = digits
+            yield
+        finally:
+            iv.prec = old
 
 
 def from_float_bounds(lo: float, hi: float):
