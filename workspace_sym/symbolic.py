@@ -38,6 +38,7 @@ import math
 import signal
 import threading
 import time
+import weakref
 from contextlib import contextmanager
 from contextvars import ContextVar
 from decimal import Decimal, localcontext
@@ -190,8 +191,8 @@ RETRY_SECONDS = 0.02      # a budget's interruption swallowed on its way out is 
 def _closing(frame) -> bool:
     """Whether ``frame`` runs inside the entry or exit of a budget block or the exit of a ``contextlib`` context
     manager (there the timer does not raise: see :class:`symbolic_budget`), or inside a garbage collector's
-    callback or an object's ``__del__``: an exception raised there is only printed (``sys.unraisablehook``) and
-    lost, so the timer holds back until the code of the block runs again."""
+    callback, a weak reference's finaliser or an object's ``__del__``: an exception raised there is only printed
+    (``sys.unraisablehook``) and lost, so the timer holds back until the code of the block runs again."""
     callbacks = {getattr(c, "__code__", None) for c in gc.callbacks}
     while frame is not None:
         code = frame.f_code
@@ -268,7 +269,10 @@ def _disarm_alarm(alarm) -> None:
 
 _CLOSING_CODES = frozenset({symbolic_budget.__enter__.__code__, symbolic_budget.__exit__.__code__,
                             _disarm_alarm.__code__, _arm_alarm.__code__,
-                            contextlib._GeneratorContextManager.__exit__.__code__})
+                            contextlib._GeneratorContextManager.__exit__.__code__,
+                            # a weak reference's finaliser runs when its object dies: raised there, it is lost
+                            # (seen in the suite as an "Exception ignored in: <finalize object>" warning)
+                            weakref.finalize.__call__.__code__})
 
 
 @contextmanager

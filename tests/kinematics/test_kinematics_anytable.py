@@ -619,14 +619,16 @@ def test_a_storm_of_nested_budgets_always_ends_and_leaves_no_state(tmp_path):
 
 
 def test_the_timer_never_raises_inside_a_gc_callback_or_a_finaliser(monkeypatch):
-    """A budget's timer that falls due while the garbage collector runs a callback (hypothesis installs one) or
-    an object's ``__del__`` holds back there: raised inside, the interruption would only be printed ("Exception
-    ignored in ...", through ``sys.unraisablehook``: a warning under pytest, an error when its retry lands in the
-    hook) and lost for the callback.  It is raised once the callback has returned, in the budget's own code, so
-    the block still ends with SymbolicBudgetError.  Reference: the hook's own record of unraisable exceptions."""
+    """A budget's timer that falls due while the garbage collector runs a callback (hypothesis installs one), an
+    object's ``__del__`` or a ``weakref.finalize`` holds back there: raised inside, the interruption would only be
+    printed ("Exception ignored in ...", through ``sys.unraisablehook``: a warning under pytest, an error when its
+    retry lands in the hook) and lost for the callback.  It is raised once the callback has returned, in the
+    budget's own code, so the block still ends with SymbolicBudgetError.  Reference: the hook's own record of
+    unraisable exceptions."""
     import gc
     import sys
     import time
+    import weakref
 
     from workspace_sym.errors import SymbolicBudgetError
 
@@ -641,7 +643,13 @@ def test_the_timer_never_raises_inside_a_gc_callback_or_a_finaliser(monkeypatch)
         def __del__(self):
             time.sleep(0.05)
 
-    for make_garbage in (gc.collect, lambda: Slow()):
+    class Plain:
+        pass
+
+    def finalised():                    # a weak reference's finaliser (the suite once printed one, session 24)
+        weakref.finalize(Plain(), time.sleep, 0.05)
+
+    for make_garbage in (gc.collect, lambda: Slow(), finalised):
         if make_garbage is gc.collect:
             gc.callbacks.append(callback)
         try:
