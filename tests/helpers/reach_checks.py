@@ -14,7 +14,6 @@ import mpmath
 import numpy as np
 import rtbdata
 import sympy as sp
-from scipy.optimize import least_squares
 
 from paths import DATA
 from workspace_sym.interval.verdict import INSIDE
@@ -37,6 +36,13 @@ def industrial_arm(name):
     if name in ("ur5", "panda"):
         return DHRobot.from_file(DATA / "dh" / f"{name}.json")
     return DHRobot.from_urdf({"kr16": KR16, "iiwa": IIWA}[name])
+
+
+def _least_squares():
+    """scipy's least_squares, imported when a fit runs (not by every test module that imports this one)."""
+    from scipy.optimize import least_squares
+
+    return least_squares
 
 
 def sampled_positions(robot, n, seed, chunk=100_000):
@@ -186,7 +192,7 @@ def reached_at_50_digits(model, target, q, pos, tries=6):
         if ok[0] and reaches(sol[0]):
             return True
         # Least squares only where Newton's start did not give the answer (it is most of the time of a check).
-        fit = least_squares(lambda x: model.position_float(x[None])[0] - target, np.clip(seed, *bounds),
+        fit = _least_squares()(lambda x: model.position_float(x[None])[0] - target, np.clip(seed, *bounds),
                             jac=lambda x: model.jacobian_float(x[None])[0], bounds=bounds, xtol=1e-15, ftol=1e-15,
                             gtol=1e-15)
         if np.max(np.abs(fit.fun)) < 1e-9 and reaches(fit.x):
@@ -378,7 +384,7 @@ def arm_in_cone_at_50_digits(robot, target, direction, cone_deg, rng, starts=60)
     inner = np.stack([lim[:, 0] + 1e-9, lim[:, 1] - 1e-9], 1)
     for _ in range(starts):
         q0 = rng.uniform(inner[:, 0], inner[:, 1])
-        fit = least_squares(lambda x: np.r_[np.array(pose_float(x)[:3], dtype=float) - target,
+        fit = _least_squares()(lambda x: np.r_[np.array(pose_float(x)[:3], dtype=float) - target,
                                             0.3 * (np.array(pose_float(x)[3:], dtype=float) - d)],
                             q0, bounds=(inner[:, 0], inner[:, 1]), xtol=1e-15, ftol=1e-15, gtol=1e-15)
         x = fit.x

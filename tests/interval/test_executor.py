@@ -7,6 +7,8 @@ checkpoint): a distributed, streamed or resumed run must give exactly its
 boxes (as sets), counts and measures.
 """
 
+import importlib
+import importlib.util
 import json
 import os
 import sys
@@ -29,8 +31,24 @@ from workspace_sym.interval.paving import _decider, _setup
 from workspace_sym.interval.store import ExactSum, parse_memory
 from workspace_sym.orthoglide import Orthoglide, cube
 
-distributed = pytest.importorskip("distributed")
-dask = pytest.importorskip("dask")
+
+class _OnFirstUse:
+    """A module imported when one of its names is first read: both pytest workers collect this file and only one
+    runs it, so the other does not pay for importing Dask's distributed scheduler."""
+
+    def __init__(self, name):
+        self._name = name
+
+    def __getattr__(self, attribute):
+        if attribute.startswith("_"):        # pytest reads attributes such as _pytestfixturefunction at collection
+            raise AttributeError(attribute)
+        return getattr(importlib.import_module(self._name), attribute)
+
+
+# [distributed] is part of the test extra; looked up here, imported by the first test that uses it
+pytestmark = pytest.mark.skipif(importlib.util.find_spec("distributed") is None,
+                                reason="the [distributed] extra is not installed")
+distributed, dask = _OnFirstUse("distributed"), _OnFirstUse("dask")
 
 BALL = (["x**2 + y**2 + z**2 <= 1"], {"x": (-1.2, 1.2), "y": (-1.2, 1.2), "z": (-1.2, 1.2)})
 

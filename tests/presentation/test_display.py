@@ -12,7 +12,6 @@ import pytest
 import sympy as sp
 from hypothesis import example, given
 from hypothesis import strategies as st
-from matplotlib.figure import Figure
 
 import workspace_sym as ws
 from workspace_sym import RunOn
@@ -214,6 +213,8 @@ def test_no_hand_written_progress_bar_left():
 
 # ------------------------------------------------------------------ plots
 def test_boundary_plot_returns_figure_with_legend_and_apart_labels(arm_boundary):
+    from matplotlib.figure import Figure
+
     from workspace_sym.plotting import arc_label_positions, plot_boundary_loops
 
     fig = plot_boundary_loops(arm_boundary)

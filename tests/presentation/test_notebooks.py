@@ -3,10 +3,7 @@ in a form an exported page renders without a network, and uses no private name."
 
 import re
 
-import nbformat
 import pytest
-from nbclient import NotebookClient
-from nbconvert import HTMLExporter
 
 from paths import ROOT
 
@@ -20,6 +17,10 @@ def test_there_are_notebooks():
 @pytest.mark.slow                    # a kernel per notebook and their computations: a minute (not in make test-fast)
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.name)
 def test_notebook_executes(path):
+    import nbformat  # here: only the worker that runs the notebooks imports Jupyter's libraries
+    from nbclient import NotebookClient
+    from nbconvert import HTMLExporter
+
     nb = nbformat.read(path, as_version=4)
     assert all(not cell.get("outputs") for cell in nb.cells if cell.cell_type == "code")  # stored clean
     code = "\n".join(c.source for c in nb.cells if c.cell_type == "code")

@@ -16,7 +16,6 @@ import numpy as np
 import pytest
 import rtbdata
 import sympy as sp
-import yourdfpy
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
@@ -39,6 +38,8 @@ SNAP_GAP = {"irb140": 4.9e-12, "kr16": 4.9e-12, "kr210": 0.0, "iiwa14": 0.0}
 
 def _library_fk(path, tip, qs):
     """Tip poses from yourdfpy itself (scene graph without meshes)."""
+    import yourdfpy  # here, not at the top: only the worker that runs this file imports it (and trimesh)
+
     model = yourdfpy.URDF.load(str(path), build_scene_graph=True, load_meshes=False)
     out = []
     for q in qs:

@@ -15,7 +15,6 @@ import pytest
 import sympy as sp
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
-from scipy.optimize import least_squares
 
 from reach_checks import admissible_configurations, arcs_volume, in_any_box, industrial_arm, offset_arm
 from workspace_sym import Pose
@@ -132,6 +131,8 @@ def _fk50(robot):
 
 @pytest.mark.parametrize("options", [CONE, TOOL_DOWN], ids=["cone", "tool down"])
 def test_points_of_ur5_inner_boxes_are_reached_at_50_digits(ur5, ur5_cone, ur5_down, options):
+    from scipy.optimize import least_squares
+
     # Reference: an inverse kinematics at 50 digits from a float least-squares start: the cone fixes q4, q5, q6
     # and solves the position in q1, q2, q3 (then checks a . (0, 0, -1) >= cos 20 deg at 50 digits); tool down
     # solves position and the three skew entries of Rx(pi)^T R(q) in all six joints (then checks every entry of
@@ -214,6 +215,7 @@ def test_flipped_arm_configurations_in_the_cone_never_land_in_an_outer_box(flipp
 @functools.lru_cache(maxsize=4)
 def _exact_model(model):
     """The model's position (arm joints) and ``a . d`` (all joints) as mpmath functions, made once per model."""
+
     return (sp.lambdify([model.variables[:model.ka]], model.position.expressions, modules="mpmath"),
             sp.lambdify([model.variables], model.lead, modules="mpmath"))
 
