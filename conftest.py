@@ -31,7 +31,7 @@ gc.set_threshold(50_000, 20, 100)
 LONGEST_FIRST = [
     # the industrial arms' group (SAME_WORKER), about 80 s on one worker
     "test_serial_workspace.py", "test_reach_map_section.py", "test_reach_real_arms.py", "test_orientation_arms.py",
-    "test_reach_shoulder.py", "test_reach_pieces.py",
+    "test_reach_shoulder.py", "test_reach_pieces.py", "test_orientation_centre.py",
     "test_kinematics.py", "test_reach_turn.py", "test_boundary.py", "test_notebooks.py", "test_kinematics_anytable.py",
     "test_docs_site.py", "test_reach_section.py", "test_typing.py", "test_report.py", "test_grading_teacher.py",
     "test_cli.py", "test_orthoglide.py", "test_exercise_keys.py", "test_reach_store.py", "test_executor.py",
@@ -47,7 +47,8 @@ LONGEST_FIRST = [
 # time against 90 s one file per process.  The group is handed out where its first file comes in LONGEST_FIRST.
 SAME_WORKER = {
     "industrial arms": ["test_serial_workspace.py", "test_reach_map_section.py", "test_reach_real_arms.py",
-                        "test_orientation_arms.py", "test_reach_shoulder.py", "test_reach_pieces.py"],
+                        "test_orientation_arms.py", "test_reach_shoulder.py", "test_reach_pieces.py",
+                        "test_orientation_centre.py"],
 }
 _GROUP_OF = {name: group for group, names in SAME_WORKER.items() for name in names}
 

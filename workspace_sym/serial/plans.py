@@ -49,7 +49,15 @@ from .section import Turned, TurnedTest, section_bar, section_paving, turned_vol
 from .stored import reach_problem, save_section, saved_section
 from .structure import Product, Revolved, structure_of
 from .tuning import DEFAULT, Tuning
-from .turn import LimitedTurnTest, budgeted_width, limited_turn, limited_volume, pave_limited
+from .turn import (
+    LimitedTurnTest,
+    ToolSectionTest,
+    budgeted_width,
+    limited_turn,
+    limited_volume,
+    pave_limited,
+    tool_section,
+)
 
 __all__ = ["Section", "Plan", "CellsPlan", "SectionPlan", "PairsPlan", "PoseSectionPlan", "PosePairsPlan",
            "SectionShare", "choose_plans", "pose_plan", "on_cells", "POSE_CHUNK_PAIRS"]
@@ -603,6 +611,7 @@ class PoseSectionPlan(Plan):
         check_root(root, self.delta, self.size, self.robot)
         box = Box(TASK, tuple(root[:, 0]), tuple(root[:, 1]))
         tuning, model = self.tuning, self.structure.model
+        assert model is not None                    # a section plan has its model (pose_plan)
         width = tuning.section_ratio * cell_width(self.delta, self.size, 3)
         squared = self.structure.turned is not None         # the section (rho^2, z) of a varying offset
         saved, section_run, named = None, budget, None
@@ -679,6 +688,94 @@ class PoseSectionPlan(Plan):
         budget.spent = section.evaluated
         paving = classify_task_boxes(section.test, section.box, self.delta, self.size, budget, run, describe=what)
         return _with(paving, evaluated=section.evaluated + paving.evaluated, units=self.robot.units)
+
+
+CENTRE_SECONDS = 15.0      # seconds a tilt's section takes at Tuning.budget_cells on the LBR iiwa (session 24)
+
+
+class _Until:
+    """The run's budget as one tilt's section sees it under a time limit: the limit moved to ``end`` (its share
+    of the time), the run's own reasons to stop kept."""
+
+    def __init__(self, budget: RunBudget, end: float):
+        self.budget, self.time_limit = budget, end
+
+    @property
+    def seconds(self) -> float:
+        return self.budget.seconds
+
+    def stop_reason(self, evaluated: int, *, ahead: float = 0.0) -> str:
+        return self.budget.stop_reason(evaluated, ahead=ahead)
+
+
+class WristCentrePlan(PoseSectionPlan):
+    """A cone about the vertical through the wrist centre (:class:`~workspace_sym.serial.pose.WristCentre`, the
+    LBR iiwa): the section of the chain to the wrist centre paved as a limited turn (its directions proved with
+    the roll axis within ``psi - c`` of ``d``), the tool points' section derived from it
+    (:func:`~workspace_sym.serial.turn.tool_section`), the task boxes classified from that by the driver and the
+    volume by Pappus's theorem on the tool's section (docs/methods.md section 8).
+
+    Parameters
+    ----------
+    *args
+        Those of :class:`Plan`.
+    structure : PoseStructure
+        Its ``centre``.
+    """
+
+    def pave(self, budget, run):
+        """The wrist centre's section (:func:`~workspace_sym.serial.turn.pave_limited`, its cells as wide as a
+        time-limited position run's whatever delta), then the tool's.
+
+        Parameters
+        ----------
+        budget : RunBudget
+            The run's budget (clock, box budget, bar).
+        run : RunOn
+            Not read (storage options are refused by :func:`pose_plan`).
+
+        Returns
+        -------
+        Section
+            The root task box (the tool's section turned a full circle), the tool's grid and classes, their test,
+            the volume bracket (:func:`~workspace_sym.serial.section.turned_volume`) and the digest of the cells.
+
+        Raises
+        ------
+        InvalidParameterError
+            ``delta`` exceeds the size of the root task box.
+        """
+        centre, tuning = self.structure.centre, self.tuning
+        assert centre is not None                   # pose_plan chooses this plan for a centre only
+        # The section's cells do not follow delta (as a time-limited position run's): budget_cells along the
+        # shoulder's reach, finer when the time limit leaves each tilt's section more than its calibration
+        # (CENTRE_SECONDS for budget_cells, the cost growing as the cells' count), with seeds in proportion.
+        width = budgeted_width(centre.limited, tuning)
+        levels = centre.levels()
+        start, ends = budget.seconds, None
+        if budget.time_limit is not None:
+            share = tuning.pose_section_share * max(budget.time_limit - start, 0.0) / len(levels)
+            finer = min(3.0, max(1.0, (share / CENTRE_SECONDS) ** 0.5))
+            width /= finer
+            tuning = dataclasses.replace(tuning, direction_samples=int(tuning.direction_samples * finer ** 2))
+            ends = [start + share * (i + 1) for i in range(len(levels))]
+        sections, evaluated, reason = [], 0, ""
+        for i, (tilt, limited) in enumerate(levels):
+            level = budget if ends is None else _Until(budget, ends[i])
+            with section_bar(budget.showing) as show:
+                grid, classes, _, count, reason = pave_limited(limited, width, level, show=show, tuning=tuning)
+            evaluated += count
+            sections.append((grid, classes, tilt))
+            if reason:
+                break
+        tool, codes = tool_section(sections, centre.length, centre.cone, centre.sign)
+        rho, z = tool.box
+        root = np.array([[-rho[1], rho[1]], [-rho[1], rho[1]], [z[0], z[1]]])
+        check_root(root, self.delta, self.size, self.robot)
+        box = Box(TASK, tuple(root[:, 0]), tuple(root[:, 1]))
+        budget.show(0.0, evaluated)
+        return Section(box, tool, codes, evaluated, reason, ToolSectionTest(centre.limited.plan, tool, codes),
+                       turned_volume(tool, codes), section_digest(tool, codes))
 
 
 class SectionShare:
@@ -770,6 +867,7 @@ class PosePairsPlan(Plan):
             The position has no finite enclosure, or ``delta`` exceeds the size of the root task box.
         """
         model = self.structure.model
+        assert model is not None                    # a pairs plan has its model (pose_plan)
         root = model.position.enclose(model.position.limits[None])[0]
         check_root(root, self.delta, self.size, self.robot)
         return Section(Box(TASK, tuple(root[:, 0]), tuple(root[:, 1])))
@@ -793,6 +891,7 @@ class PosePairsPlan(Plan):
             Its pending boxes are the task boxes left when the budget stopped the loop.
         """
         model, tuning = self.structure.model, self.tuning
+        assert model is not None
         root = section.box.array
         step = PoseStep(model, self.delta, self.size, tuning.pose_inner_depth, tuning.pose_max_pairs,
                         tuning.min_pairs, float(np.prod(root[:, 1] - root[:, 0])))
@@ -957,6 +1056,12 @@ def pose_plan(robot: DHRobot, values: tuple, constraint: PoseConstraint, structu
     """
     problem = reach_problem(robot, values, delta, size, tuning, constraint=constraint.to_dict())
     args = (robot, values, delta, size, tuning, problem)
+    if structure.centre is not None:
+        refuse_storage(f"reach with {constraint} on {robot.name} (through the wrist centre)", run,
+                       why="derives its section from the wrist centre's in memory",
+                       supported="the section method of a cone about the vertical on an arm turned by a whole turn "
+                                 "and reach without a pose")
+        return WristCentrePlan(*args, structure=structure)
     if not structure.sectioned:
         refuse_storage(f"reach with {constraint} on {robot.name} (the pairs method)", run,
                        why="keeps its boxes in memory",

@@ -86,6 +86,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 from functools import lru_cache
+from typing import Any
 
 import numpy as np
 import sympy as sp
@@ -104,7 +105,7 @@ from ..interval.verdict import UNDECIDED
 from ..kinematics import DHRobot
 from ..numbers import fmt
 from ..snap import snap_angle
-from ..transforms import rot_x, rot_y, rot_z
+from ..transforms import rot_x, rot_y, rot_z, translation
 from .angles import ANGLE_PAD
 from .model import TASK, joint_range, reach_model
 from .pairs import caps, pave_pairs, prove_in_pieces, split_pairs
@@ -1008,6 +1009,50 @@ def wrist_reduction(robot: DHRobot, params, constraint: PoseConstraint, T):
     """
     if constraint.kind != "cone":
         return "the constraint is not a cone"
+    cap = wrist_cap(robot, params, T)
+    if isinstance(cap, str):
+        return cap
+    axis, psi, wrist = cap
+    c = constraint.cone
+    if constraint.every and c != 0:
+        if not bool(psi - c >= 0):
+            names = ", ".join(f"joint {i + 1} ({robot.q[i]})" for i in wrist)
+            return (f"its wrist ({names}) reaches directions up to {fmt(float(psi * 180 / sp.pi), 6, 'g')} "
+                    f"degrees from its roll axis, less than the cone's {fmt(constraint.degrees, 6, 'g')}")
+        reduced = PoseConstraint("cone", constraint.direction, psi, float(psi * 180 / sp.pi), True)
+        return axis, reduced, psi - c
+    angle = sp.Min(sp.pi, psi + c)
+    return axis, PoseConstraint("cone", constraint.direction, angle, float(angle * 180 / sp.pi)), None
+
+
+def wrist_cap(robot: DHRobot, params, T, *, half_turn: bool = False):
+    """The roll axis ``z`` of a roll-pitch wrist and the angle ``psi`` such that, from any arm configuration, the
+    wrist reaches exactly (or, with ``half_turn``, at least) the directions within ``psi`` of ``z``; or why there is
+    none (:func:`wrist_reduction`'s conditions).
+
+    With ``half_turn``, a roll joint turning at least half a turn (not a whole one) qualifies when the wrist's two
+    solutions are checked symbolically, ``a(q_j + pi, -q_k - 2 phi) = a(q_j, q_k)``: the directions at the angle
+    ``beta`` from ``z`` reached with the pitch at ``-phi + beta`` form an arc of azimuths as long as the roll's
+    range, those reached at ``-phi - beta`` the same arc turned by ``pi``, and the two cover the circle.  ``psi``
+    is then the smaller of the pitch's reaches on either side of ``-phi`` (both signs are needed), at most ``pi``.
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot.
+    params : dict or None
+        Values of its symbolic parameters.
+    T : sympy.Matrix
+        The robot's forward kinematics with ``params`` substituted (4 x 4).
+    half_turn : bool
+        Accept a roll joint turning half a turn or more (default False: a whole turn).
+
+    Returns
+    -------
+    tuple or str
+        ``(z, psi, (j, k))``: the roll axis (three expressions in the arm joints), ``psi`` (exact, radians) and
+        the roll and pitch joints' indices; or why there is no such wrist.
+    """
     if robot.convention != "standard":
         return f"its table is in {robot.convention} DH (the wrist is recognised in standard DH only)"
     approach, position = list(T[:3, 2]), list(T[:3, 3])
@@ -1034,12 +1079,18 @@ def wrist_reduction(robot: DHRobot, params, constraint: PoseConstraint, T):
     others += [e for M in (robot.base, robot.tool) if M is not None for e in M]
     if not _free_of(others, roll):
         return f"the roll joint {named([j])} enters the table other than through its angle theta"
-    if not joint_range(robot, j, params)[1]:
+    full = joint_range(robot, j, params)[1]
+    if not full and not half_turn:
         return f"the roll joint {named([j])} does not turn through a full turn within its limits"
     axis = list(robot.substitute(robot.fk(j), params)[:3, 2])
     if not _free_of(axis, roll) or not _free_of(axis, pitch):
         return f"the axis of the roll joint {named([j])} moves with the wrist"
-    cosine = sp.simplify(sp.Matrix(approach).dot(sp.Matrix(axis)))
+    # a = R_0^j (A_(j+1) ... A_n tool) z and z = R_0^j e_z, the rotation R_0^j free of the wrist: a . z is the
+    # tail's own z component (a small expression; the whole chain's took 26 s to simplify on the LBR iiwa)
+    tail = sp.eye(4) if robot.tool is None else sp.Matrix(robot.tool)
+    for row in range(robot.n, j, -1):
+        tail = robot.substitute(robot.row_matrix(row), params) * tail
+    cosine = sp.simplify(tail[2, 2])
     phi = sp.atan2(-sp.diff(cosine, pitch).subs(pitch, 0), cosine.subs(pitch, 0))
     if cosine.free_symbols != {pitch} or sp.simplify(sp.expand_trig(cosine - sp.cos(pitch + phi))) != 0:
         return (f"the angle of the approach axis from the roll axis of {named([j])} is not set by {named([k])} "
@@ -1050,16 +1101,20 @@ def wrist_reduction(robot: DHRobot, params, constraint: PoseConstraint, T):
         # the cap's centre is not reached: an annulus, not a cap
         return (f"the pitch joint {named([k])} cannot bring the approach axis onto the roll axis within its "
                 "limits (the wrist reaches a ring of directions, not a cap)")
-    psi = sp.Min(sp.pi, sp.Max(2 * sp.pi * turns - lo - phi, hi + phi - 2 * sp.pi * turns))
-    c = constraint.cone
-    if constraint.every and c != 0:
-        if not bool(psi - c >= 0):
-            return (f"its wrist ({named(wrist)}) reaches directions up to {fmt(float(psi * 180 / sp.pi), 6, 'g')} "
-                    f"degrees from its roll axis, less than the cone's {fmt(constraint.degrees, 6, 'g')}")
-        reduced = PoseConstraint("cone", constraint.direction, psi, float(psi * 180 / sp.pi), True)
-        return axis, reduced, psi - c
-    angle = sp.Min(sp.pi, psi + c)
-    return axis, PoseConstraint("cone", constraint.direction, angle, float(angle * 180 / sp.pi)), None
+    below, above = 2 * sp.pi * turns - lo - phi, hi + phi - 2 * sp.pi * turns    # the pitch's reach either side
+    if full:
+        return axis, sp.Min(sp.pi, sp.Max(below, above)), (j, k)
+    (r_lo, r_hi), _ = joint_range(robot, j, params)
+    slope = sp.diff(robot.substitute(sp.Matrix([robot.joints[j].theta]), params)[0], roll)
+    if slope.free_symbols or abs(slope) != 1 or not bool(r_hi - r_lo >= sp.pi):
+        return f"the roll joint {named([j])} turns less than half a turn within its limits"
+    direction = list(tail[:3, 2])
+    flipped = [sp.sympify(e).subs({roll: roll + sp.pi, pitch: -pitch - 2 * phi}, simultaneous=True)
+               for e in direction]
+    if any(sp.simplify(sp.expand_trig(f - e)) != 0 for f, e in zip(flipped, direction)):
+        return (f"the roll joint {named([j])} turns less than a full turn and the wrist's second solution "
+                f"(roll + pi, pitch mirrored) does not give the same approach axis")
+    return axis, sp.Min(sp.pi, below, above), (j, k)
 
 
 def _tool_offset(robot: DHRobot, params, constraint: PoseConstraint, T):
@@ -1208,6 +1263,122 @@ def _summed_angles(robot: DHRobot, params, expressions, variables, limits, perio
 
 
 @dataclass(frozen=True)
+class WristCentre:
+    """A cone about the vertical for a tool point at the length ``L`` along the approach from a wrist centre
+    ``o_k`` (the LBR iiwa: 0.126 m), with a roll-pitch wrist at ``o_k`` reaching every direction within ``psi`` of
+    its roll axis (:func:`wrist_cap`, a half turn of roll or more), on an arm turned by a limited first joint
+    (docs/methods.md section 8, "A cone through the wrist centre").
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The chain to the wrist centre (its tool point ``o_k``).
+    limited : LimitedTurn
+        Its section (a limited turn).
+    side : sympy.Expr
+        ``z . d``, the roll axis's component along ``d``, in the section's joints.
+    length : sympy.Expr
+        ``L``: the tool point is ``o_k + L a``.
+    cone : sympy.Expr
+        The cone's half-angle (radians).
+    sign : int
+        ``d = (0, 0, sign)``.
+    psi : sympy.Expr
+        The wrist's reach from its roll axis (radians).
+    """
+
+    robot: DHRobot
+    limited: Any
+    side: sp.Expr
+    length: sp.Expr
+    cone: sp.Expr
+    sign: int
+    psi: sp.Expr
+
+    def levels(self, count: int = 3) -> list:
+        """``(tilt, LimitedTurn)`` pairs: the tilts ``0, c / (count - 1), ..., c`` of the approach from ``d``
+        and the section whose direction proofs also prove the roll axis within ``psi - tilt`` of ``d``
+        (:func:`~workspace_sym.serial.turn.constrained_turn`): from its wrist centres the wrist reaches every
+        approach tilted by at most ``tilt`` from ``d``.
+
+        Parameters
+        ----------
+        count : int
+            Number of tilts (default 3).
+
+        Returns
+        -------
+        list
+            The pairs, the tilt exact.
+        """
+        from .turn import constrained_turn
+
+        tilts = [self.cone * sp.Rational(i, count - 1) for i in range(count)]
+        return [(tilt, constrained_turn(self.limited, self.side, numpy_constant(sp.cos(self.psi - tilt))[1]))
+                for tilt in tilts]
+
+
+def wrist_centre(robot: DHRobot, parameters: tuple, constraint: PoseConstraint) -> WristCentre | None:
+    """The structure of :class:`WristCentre` when ``robot`` and ``constraint`` have it, else None (the pairs
+    method then paves the constraint).
+
+    Conditions, each checked (symbolically where it matters): a cone of positive half-angle ``c`` about
+    ``(0, 0, +-1)`` (not ``every``); standard DH without a base; the tool point at ``o_k + L a`` (tail offset
+    ``(0, 0, L)``, :func:`_tail_offset`); with the tool point moved to ``o_k``, a roll-pitch wrist
+    (:func:`wrist_cap` with ``half_turn``) reaching ``psi > c`` from its roll axis ``z``; ``z . d`` free of the
+    first joint and of every joint outside the section of the chain to ``o_k``, which is a turn of a limited
+    first joint (:func:`~workspace_sym.serial.turn.limited_turn`).
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot.
+    parameters : tuple
+        Its parameter values as ``(name, value)`` pairs.
+    constraint : PoseConstraint
+        The constraint.
+
+    Returns
+    -------
+    WristCentre or None
+        The structure, or None.
+    """
+    from .structure import structure_of
+    from .turn import limited_turn
+
+    if constraint.kind != "cone" or constraint.cone == 0 or constraint.every:
+        return None
+    d = [sp.sympify(e) for e in constraint.direction]
+    if d[0] != 0 or d[1] != 0 or robot.base is not None or robot.convention != "standard":
+        return None
+    params = dict(parameters) or None
+    found = _tail_offset(robot, params)
+    if found is None or found[1][0] != 0 or found[1][1] != 0 or found[1][2] == 0:
+        return None
+    k, t = found
+    tool = (sp.eye(4) if robot.tool is None else sp.Matrix(robot.tool)) * translation(0, 0, -t[2])
+    moved = DHRobot(list(robot.joints), convention=robot.convention, name=robot.name, parameters=robot.parameters,
+                    units=robot.units, tool=tool)
+    cap = wrist_cap(moved, params, moved.substitute(moved.fk(), params), half_turn=True)
+    if isinstance(cap, str):
+        return None
+    axis, psi, _ = cap
+    c = constraint.cone
+    if not bool(psi - c > 0):
+        return None
+    chain = DHRobot(list(robot.joints[:k]), convention=robot.convention, name=f"{robot.name} (wrist centre)",
+                    parameters=robot.parameters, units=robot.units)
+    limited = limited_turn(structure_of(chain, parameters), reach_model(chain, parameters))
+    if limited is None or limited.plan.inverse is not None:
+        return None
+    sign = 1 if d[2] > 0 else -1
+    side = sp.simplify(sign * axis[2])                 # z . d / |d|, which the first joint's turn leaves alone
+    if not side.free_symbols <= set(limited.plan.section.lateral.variables):
+        return None
+    return WristCentre(chain, limited, side, t[2], c, sign, psi)
+
+
+@dataclass(frozen=True)
 class PoseStructure:
     """How the constrained workspace is paved: ``model`` over ``(x, y, z)``, or over the section ``(u, v)`` of
     a robot turned by its first joint (``revolved``, the position's section structure) when the constraint is
@@ -1222,11 +1393,15 @@ class PoseStructure:
     turned : Turned, optional
         The position's section structure when the lateral offset varies (the UR5): ``model`` is then over
         ``(t, z) = (rho^2, z)`` (:func:`squared_volume_bracket`, :class:`SquaredTest`).
+    centre : WristCentre, optional
+        A cone about the vertical through the wrist centre's section (:class:`WristCentre`); ``model`` is then
+        None.
     """
 
-    model: PoseModel
+    model: PoseModel | None
     revolved: Revolved | None = None
     turned: Turned | None = None
+    centre: WristCentre | None = None
 
     @property
     def sectioned(self) -> bool:
@@ -1468,6 +1643,9 @@ def pose_structure(robot: DHRobot, parameters: tuple, constraint: PoseConstraint
                                                                        section_robot, tuning, along)
     if structure is not None:
         return structure
+    centre = None if along is None else wrist_centre(robot, parameters, reduced)
+    if centre is not None:
+        return PoseStructure(None, centre=centre)
     rotation = T[:3, :3]
     quantities = axis if reduced.kind == "cone" else list(rotation)
     variables, limits, periodic = _joints_of(robot, position + quantities, params)

@@ -46,12 +46,13 @@ from __future__ import annotations
 
 import itertools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import sympy as sp
 
 from ..interval import arith
+from ..interval.compiler import compile_expr
 from ..interval.graph import numpy_constant
 from ..interval.image import CellGrid, ImageMap
 from ..interval.search import split_every_axis
@@ -62,6 +63,7 @@ from ..interval.verdict import UNDECIDED
 from .angles import arc_within, polar_angles
 from .section import (
     ElbowReach,
+    RadialMap,
     Turned,
     TurnedTest,
     blocks,
@@ -76,7 +78,7 @@ from .tuning import DEFAULT, Tuning
 
 __all__ = ["DIRECTIONS", "LimitedTurn", "limited_turn", "covering_pairs", "DirectionMap", "direction_seeds",
            "prove_directions", "full_turn_cells", "limited_volume", "pieces_upper", "cell_level", "LimitedTurnTest",
-           "pave_limited", "budgeted_width"]
+           "pave_limited", "budgeted_width", "SideMap", "constrained_turn", "tool_section", "ToolSectionTest"]
 
 DIRECTIONS = 4                   # the axis directions k pi / 2 of the first joint's frame (not a tuning: the
                                  # covering pairs and the proofs are written for these four)
@@ -681,3 +683,195 @@ def pave_limited(limited: LimitedTurn, width: float, run, *, show=None, boxes: i
                                                      chunk=tuning.direction_chunk)
         classes = full_turn_cells(limited, classes, proved)
     return grid, classes, proved, evaluated, "" if reason == "share" else reason
+
+
+# ----------------------------------------------------------------------------------------------- a tool along the
+# approach from a wrist centre (docs/methods.md section 8, "A cone through the wrist centre")
+class SideMap(ImageMap):
+    """The section map ``q' -> (u, c, v)`` of a limited turn whose inner proofs also prove a side condition
+    ``s(q') >= bound`` over each Krawczyk box (the hook :meth:`~workspace_sym.interval.image.ImageMap.admissible`);
+    it shares the compiled map of ``lateral``.  Its random configurations satisfy the condition in floats (they
+    only choose where proofs start).
+
+    Parameters
+    ----------
+    lateral : ImageMap
+        The section map.
+    side : sympy.Expr
+        ``s``, in ``lateral``'s variables.
+    bound : float
+        A float at least the exact bound (an outward enclosure's upper end): ``s >= bound`` proves the condition.
+    """
+
+    def __init__(self, lateral: ImageMap, side, bound: float):
+        self.__dict__.update(lateral.__dict__)        # the same compiled map: no second symbolic preparation
+        self.side_expression = side
+        self._side = compile_expr(side, self.variables)
+        self._side_float = sp.lambdify([self.variables], side, modules="numpy")
+        self.bound = float(bound)
+
+    def admissible(self, box: np.ndarray) -> np.ndarray:
+        """Mask of the joint boxes on which ``s >= bound`` is proved (outward-rounded; NaN: not proved).
+
+        Parameters
+        ----------
+        box : numpy.ndarray
+            ``(N, k, 2)`` joint boxes.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N,)`` booleans.
+        """
+        X = [(box[:, j, 0], box[:, j, 1]) for j in range(box.shape[1])]
+        with np.errstate(all="ignore"):
+            lo, _ = self._side(X)
+        return np.broadcast_to(lo, (len(box),)) >= self.bound
+
+    def random_configurations(self, n: int, rng) -> np.ndarray:
+        """Up to ``n`` configurations uniform within the limits on which ``s > bound`` in floats.
+
+        Parameters
+        ----------
+        n : int
+            Number of configurations wanted.
+        rng : numpy.random.Generator
+            The source of the draws.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(M, k)`` joint values, ``M <= n`` (fewer when the condition is rarely met).
+        """
+        kept: list = []
+        for _ in range(8):
+            q = super().random_configurations(n, rng)
+            with np.errstate(all="ignore"):
+                side = np.broadcast_to(np.asarray(self._side_float(q.T), dtype=float), (len(q),))
+            kept.append(q[side > self.bound])
+            if sum(map(len, kept)) >= n:
+                break
+        return np.concatenate(kept)[:n]
+
+
+def constrained_turn(limited: LimitedTurn, side, bound: float) -> LimitedTurn:
+    """``limited`` whose direction proofs also prove ``side >= bound`` (:class:`SideMap`); its outer proofs are
+    unchanged (the distances from the shoulder and the elbow, the blocks: outside the section is outside any part
+    of it).
+
+    Parameters
+    ----------
+    limited : LimitedTurn
+        The structure.
+    side : sympy.Expr
+        The side condition's expression, in the section's joints.
+    bound : float
+        Its bound (see :class:`SideMap`).
+
+    Returns
+    -------
+    LimitedTurn
+        The same structure with the constrained section map.
+    """
+    section = limited.plan.section
+    radial = RadialMap(section.square, SideMap(section.lateral, side, bound), section.reach)
+    return replace(limited, plan=replace(limited.plan, section=radial))
+
+
+def tool_section(sections, length, cone, sign: int, *, offsets: int = 8):
+    """The ``(rho, z)`` section of the tool points ``p = w + L a`` of a wrist centre ``w`` and an approach ``a``
+    within ``cone`` of ``d = (0, 0, sign)``, from full-turn classes of the wrist centre's section: ``sections``
+    holds ``(grid, classes, tilt)`` triples, all on one grid, whose inner cells are wrist centres reached at every
+    polar angle from which the wrist reaches every approach tilted by at most ``tilt`` from ``d``
+    (``tilt <= cone``), and whose outer cells hold no wrist centre at all.  On a grid of the same width:
+
+    * **outer**: every ``w = p - L a`` of the cell lies in outer cells or beyond the grid (``rho_w`` within
+      ``|L| sin(cone)`` of ``rho_p``, ``z_w = z_p - L a_z`` with ``sign a_z`` in ``[cos(cone), 1]``);
+    * **inner**: for one triple and one of ``2 offsets + 1`` approaches ``a = s e_rho + sign sqrt(1 - s^2) e_z``
+      in the plane of ``p`` and the axis (``|s| < sin(tilt)``; ``s = 0`` for a tilt of 0), every ``w = p - L a``
+      of the cell lies in its inner cells at ``rho_w >= 0``: ``w`` is then a wrist centre at ``p``'s polar angle
+      from which the wrist points the tool along ``a`` exactly, and the tool point is ``p``.
+
+    Every bound is rounded outward (the exact ``L``, ``sin``, ``cos`` and ``sqrt`` enclosed).
+
+    Parameters
+    ----------
+    sections : sequence of tuple
+        ``(grid, classes, tilt)``: the wrist centre's section grid ``(rho, z)`` (the same for all), its full-turn
+        verdict codes (:func:`full_turn_cells`) and the tilt (exact, radians).
+    length : sympy.Expr
+        ``L``, exact.
+    cone : sympy.Expr
+        The cone's half-angle, exact (radians, in ``(0, pi/2)``).
+    sign : int
+        ``d``'s vertical sign, 1 or -1.
+    offsets : int
+        Approaches tried on each side of ``d`` for the inner cells (default 8).
+
+    Returns
+    -------
+    tool_grid : CellGrid
+        The tool points' section grid.
+    tool_classes : numpy.ndarray
+        Their verdict codes.
+    """
+    grid, classes, _ = sections[0]
+    L = numpy_constant(length)
+    sin_c, cos_c = numpy_constant(sp.sin(cone)), numpy_constant(sp.cos(cone))
+    reach = arith.mul(arith.iabs(L), sin_c)[1]                       # |L| sin(cone), rounded up
+    along = arith.mul(L, (cos_c[0], 1.0) if sign > 0 else (-1.0, -cos_c[0]))     # L a_z
+    box = grid.box
+    tool_box = np.array([[0.0, float(arith.up(box[0, 1] + reach))],
+                         [float(arith.down(box[1, 0] + along[0])), float(arith.up(box[1, 1] + along[1]))]])
+    tool = CellGrid(tool_box, grid.width)
+    e0, e1 = tool.edges
+    rows, cols = np.meshgrid(np.arange(tool.shape[0]), np.arange(tool.shape[1]), indexing="ij")
+    i, j = rows.ravel(), cols.ravel()
+    r = (e0[i], e0[i + 1])
+    z = (e1[j], e1[j + 1])
+    outside = grid.prefix(classes, OUTER)
+    # outer: rho_w in [rho_p - reach, rho_p + reach] (clipped at 0), z_w = z_p - L a_z
+    wide = arith.add(r, (-reach, reach))
+    rect = np.stack([np.stack([np.maximum(wide[0], 0.0), wide[1]], axis=1),
+                     np.stack(arith.sub(z, along), axis=1)], axis=1)
+    outer = grid.all_in_class(outside, rect, outside_counts=True)
+    inner = np.zeros(len(i), dtype=bool)
+    for level, level_classes, tilt in sections:
+        inside = level.prefix(level_classes, INNER)
+        sin_t = float(numpy_constant(sp.sin(tilt))[0])
+        for s in np.unique(np.linspace(-sin_t, sin_t, 2 * offsets + 1) * (1 - 1e-9)):
+            k = arith.sqrt(arith.sub((1.0, 1.0), arith.sqr((s, s))))
+            if not k[0] > cos_c[1] and s != 0:
+                continue                               # a not strictly inside the cone: not used
+            shift = arith.mul(L, (s, s))
+            vertical = arith.mul(L, k if sign > 0 else (-k[1], -k[0]))
+            rho_w = arith.sub(r, shift)
+            rect = np.stack([np.stack(rho_w, axis=1), np.stack(arith.sub(z, vertical), axis=1)], axis=1)
+            inner |= (rho_w[0] >= 0) & level.all_in_class(inside, rect, outside_counts=False)
+    codes = np.full(len(i), UNDECIDED, dtype=np.int8)
+    codes[outer] = OUTER
+    codes[inner & ~outer] = INNER
+    return tool, codes.reshape(tool.shape)
+
+
+class ToolSectionTest(TurnedTest):
+    """Classify world boxes of ``(x, y, z)`` from the tool's section cells (:func:`tool_section`), each proved at
+    every polar angle (inner) or outside: a box is inner when its ``(rho, z)`` rectangle lies in inner cells, outer
+    when in outer cells or beyond the grid.
+
+    Parameters
+    ----------
+    plan : Turned
+        The wrist centre's structure (for its base, the identity here).
+    grid : CellGrid
+        The tool's section grid.
+    classes : numpy.ndarray
+        Its verdict codes.
+    """
+
+    def __call__(self, X: np.ndarray):
+        rect = self.rectangles(X)
+        finite = np.isfinite(rect).all(axis=(1, 2))
+        inner = finite & self.grid.all_in_class(self.inside, rect, outside_counts=False)
+        outer = finite & self.grid.all_in_class(self.outside, rect, outside_counts=True)
+        return inner, outer & ~inner

@@ -1,0 +1,187 @@
+"""Issue 40: the cone of the LBR iiwa 14 (rtb-data URDF) through its wrist centre (docs/methods.md section 8, "A cone
+through the wrist centre"): the tool point is the wrist centre plus 0.126 m along the approach, the wrist (joints 5
+and 6, roll over 340 deg, pitch within +-120 deg) reaches every approach within 120 deg of its roll axis, so the
+workspace of a cone about straight down is paved on the section of the chain to the wrist centre, its direction
+proofs also proving the roll axis within 120 deg less the approach's tilt of straight down, and the tool's section
+derived from it (turn.tool_section).
+
+References: configurations sampled within the limits whose approach lies in the cone (the robot's own fk_numeric),
+an inverse kinematics at 50 digits (mpmath), a least-squares wrist solution for the wrist's reach (scipy), and for
+the tool's section a brute-force check of its claims on random wrist-centre sections.
+"""
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+import sympy as sp
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from reach_checks import admissible_configurations, arcs_volume, arm_in_cone_at_50_digits, in_any_box, industrial_arm
+from workspace_sym.interval.image import CellGrid
+from workspace_sym.interval.verdict import INSIDE as INNER
+from workspace_sym.interval.verdict import OUTSIDE as OUTER
+from workspace_sym.interval.verdict import UNDECIDED
+from workspace_sym.kinematics import DHRobot
+from workspace_sym.serial import Pose, reach
+from workspace_sym.serial.pose import constraint_from, pose_structure, wrist_cap
+from workspace_sym.serial.tuning import DEFAULT
+from workspace_sym.serial.turn import tool_section
+
+CONE = dict(approach=(0, 0, -1), cone=20)
+# Coarse cells and few seeds: a bracket in seconds (about [1.09, 2.87] m^3; 300 s give [1.86, 2.35], BENCHMARKS.md)
+TUNING = dataclasses.replace(DEFAULT, budget_cells=24, direction_samples=40_000)
+
+
+@pytest.fixture(scope="module")
+def iiwa():
+    return industrial_arm("iiwa")
+
+
+@pytest.fixture(scope="module")
+def paving(iiwa):
+    return reach(iiwa, delta=0.2, pose=Pose(**CONE), tuning=TUNING)
+
+
+@pytest.mark.slow
+def test_the_iiwa_cone_goes_through_its_wrist_centre(iiwa, paving):
+    """The structure is recognised with the URDF's own numbers (flange 63/500 m, pitch limit 2.0942 rad) and the
+    run proves boxes of both kinds."""
+    structure = pose_structure(iiwa, (), constraint_from(**CONE))
+    centre = structure.centre
+    assert centre is not None and structure.model is None
+    assert centre.length == sp.Rational(63, 500) and centre.sign == -1
+    assert float(centre.psi) == pytest.approx(2.0942, abs=1e-12)
+    assert paving.method == "section" and paving.counts["inner"] > 0 and paving.counts["outer"] > 0
+
+
+@pytest.mark.slow
+def test_admissible_configurations_never_land_in_an_outer_box_and_the_bracket_holds_their_volume(iiwa, paving):
+    """Sampled configurations within the limits with the approach in the cone: their tool points never lie in an
+    outer box (narrowed by 1e-9 for float rounding), and their volume estimate (cells of 0.04 turned by Pappus,
+    ``arcs_volume``: no bound, 2.19 m^3 at 0.01 with 4.7e5 points, session 24) lies in the bracket."""
+    q, _, points = admissible_configurations(iiwa, 2_000_000, 7, **CONE)
+    assert len(points) > 20_000
+    assert not in_any_box(points, paving.outer, pad=-1e-9).any()
+    lo, hi = paving.measure_bounds
+    assert 0 < lo <= arcs_volume(iiwa, q[:, 0], points, 0.04) <= hi
+
+
+@pytest.mark.slow
+def test_points_of_inner_boxes_are_reached_in_the_cone_at_50_digits(iiwa, paving):
+    """A point drawn in each of 6 inner boxes is the tool point of a configuration within the limits whose approach
+    lies within 20 deg of straight down, found by least squares and refined at 50 digits (checked there)."""
+    rng = np.random.default_rng(4)
+    boxes = paving.inner[rng.choice(len(paving.inner), 6, replace=False)]
+    for box in boxes:
+        point = rng.uniform(box[:, 0], box[:, 1])
+        assert arm_in_cone_at_50_digits(iiwa, point, (0, 0, -1), 20, rng) is not None, point
+
+
+@pytest.mark.slow
+def test_the_wrist_reaches_every_approach_within_its_reach_of_the_roll_axis(iiwa):
+    """Second method for the half-turn roll (wrist_cap's symbolic identity): at random arm configurations, random
+    approaches within 119 deg of the roll axis are reached by joints 5 and 6 within their limits (least squares on
+    the two wrist joints, the arm fixed; joint 7 does not turn the approach)."""
+    from scipy.optimize import least_squares
+
+    rng = np.random.default_rng(2)
+    limits = iiwa.joint_limits()
+    chain = DHRobot(list(iiwa.joints[:4]), convention=iiwa.convention)
+    for _ in range(20):
+        q = rng.uniform(limits[:, 0], limits[:, 1])
+        z = chain.fk_numeric(q[None, :4])[0][:3, 2]                         # the roll joint's axis
+        beta = math.radians(rng.uniform(0, 119))
+        u = np.cross(z, rng.normal(size=3))
+        u /= np.linalg.norm(u)
+        target = math.cos(beta) * z + math.sin(beta) * u
+
+        def residual(w, q=q, target=target):
+            full = np.r_[q[:4], w, q[6]]
+            return iiwa.fk_numeric(full[None])[0][:3, 2] - target
+
+        best = min((least_squares(residual, rng.uniform(limits[4:6, 0], limits[4:6, 1]),
+                                  bounds=(limits[4:6, 0], limits[4:6, 1]), xtol=1e-15, ftol=1e-15, gtol=1e-15)
+                    for _ in range(8)), key=lambda fit: np.abs(fit.fun).max())
+        assert np.abs(best.fun).max() < 1e-9, (q, target)
+
+
+def test_a_roll_of_less_than_half_a_turn_is_no_wrist():
+    """The half-turn reduction needs the roll to turn at least pi: the iiwa's chain with joint 5 limited to +-80
+    deg is refused by name (reference: the condition itself)."""
+    iiwa = industrial_arm("iiwa")
+    joints = list(iiwa.joints)
+    joints[4] = dataclasses.replace(joints[4], limits=(-sp.pi * 4 / 9, sp.pi * 4 / 9))
+    tool = sp.Matrix(iiwa.tool) * sp.Matrix([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, -sp.Rational(63, 500)],
+                                             [0, 0, 0, 1]])
+    moved = DHRobot(joints, convention=iiwa.convention, tool=tool)
+    why = wrist_cap(moved, None, moved.substitute(moved.fk()), half_turn=True)
+    assert isinstance(why, str) and "less than half a turn" in why
+
+
+@st.composite
+def centre_sections(draw):
+    """A random wrist-centre section on a grid of cells 0.05 wide over [0, 1] x [-1, 1]: a blob of inner cells
+    (a disc of random centre and radius), a ring of undecided cells around it, outer cells beyond; a tool length
+    and a cone."""
+    grid = CellGrid(np.array([[0.0, 1.0], [-1.0, 1.0]]), 0.05)
+    e0, e1 = grid.edges
+    rc = draw(st.floats(0.0, 0.8))
+    zc = draw(st.floats(-0.6, 0.6))
+    radius = draw(st.floats(0.05, 0.5))
+    ring = draw(st.floats(0.0, 0.2))
+    mid0, mid1 = np.meshgrid(0.5 * (e0[:-1] + e0[1:]), 0.5 * (e1[:-1] + e1[1:]), indexing="ij")
+    distance = np.hypot(mid0 - rc, mid1 - zc)
+    classes = np.full(grid.shape, OUTER, dtype=np.int8)
+    classes[distance < radius + ring] = UNDECIDED
+    classes[distance < radius] = INNER
+    classes[e0[1:] <= 0.0, :] = OUTER                   # no wrist centre at rho < 0
+    length = sp.Rational(draw(st.integers(-200, 200)), 1000)
+    cone = sp.pi * sp.Rational(draw(st.integers(1, 40)), 180)
+    sign = draw(st.sampled_from([-1, 1]))
+    return grid, classes, length, cone, sign
+
+
+def _cell_of(grid, rho, z):
+    e0, e1 = grid.edges
+    return np.searchsorted(e0, rho, side="right") - 1, np.searchsorted(e1, z, side="right") - 1
+
+
+@settings(max_examples=40, deadline=None)
+@given(centre_sections(), st.integers(0, 2**32 - 1))
+def test_the_tool_section_claims_only_what_its_wrist_centres_give(section, seed):
+    """Brute force on random sections: a point of an inner tool cell is ``w + L a`` for a wrist centre ``w`` in an
+    inner cell and some ``a`` within the cone (searched among 2001 in-plane approaches, with a margin of 1e-9 for
+    float rounding); a point of an outer tool cell is ``w + L a`` for no ``a`` of 400 random approaches of the cone
+    (any azimuth) with ``w`` in a cell that is not outer."""
+    grid, classes, length, cone, sign = section
+    tool, codes = tool_section([(grid, classes, cone)], length, cone, sign, offsets=4)
+    rng = np.random.default_rng(seed)
+    L, c = float(length), float(cone)
+    e0, e1 = tool.edges
+    for code in (INNER, OUTER):
+        cells = np.argwhere(codes == code)
+        for i, j in cells[rng.choice(len(cells), min(len(cells), 15), replace=False)] if len(cells) else []:
+            rho = rng.uniform(max(e0[i], 0.0), max(e0[i + 1], 0.0))
+            z = rng.uniform(e1[j], e1[j + 1])
+            if code == INNER:
+                # the offsets tool_section tries (offsets=4), and 2001 more between them
+                s = np.r_[np.linspace(-math.sin(c), math.sin(c), 9) * (1 - 1e-9),
+                          np.linspace(-math.sin(c), math.sin(c), 2001)]
+                rw, zw = rho - L * s, z - L * sign * np.sqrt(1 - s * s)
+                a, b = _cell_of(grid, rw, zw)
+                ok = (rw >= 0) & (a >= 0) & (a < grid.shape[0]) & (b >= 0) & (b < grid.shape[1])
+                inner = np.zeros(len(s), dtype=bool)
+                inner[ok] = classes[a[ok], b[ok]] == INNER
+                assert inner.any(), (rho, z)
+            else:
+                tilt = np.arccos(rng.uniform(math.cos(c), 1.0, 400))
+                turn = rng.uniform(0, 2 * math.pi, 400)
+                a3 = np.stack([np.sin(tilt) * np.cos(turn), np.sin(tilt) * np.sin(turn), sign * np.cos(tilt)], 1)
+                w = np.array([rho, 0.0, z]) - L * a3
+                rw, zw = np.hypot(w[:, 0], w[:, 1]), w[:, 2]
+                a, b = _cell_of(grid, rw, zw)
+                on = (a >= 0) & (a < grid.shape[0]) & (b >= 0) & (b < grid.shape[1])
+                assert (classes[a[on], b[on]] == OUTER).all(), (rho, z)
