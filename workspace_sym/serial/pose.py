@@ -63,7 +63,14 @@ the solution the Krawczyk operator proves lies in ``U``, inside the limits.
 A cone on an arm with a roll-pitch wrist (two joints moving the approach
 and not the position, the first turning fully, ``a . z = cos(q_k + phi)``
 about its axis ``z``) is paved as a cone on ``z`` over the arm joints alone
-(:func:`wrist_reduction`, docs/methods.md section 8).
+(:func:`wrist_reduction`, docs/methods.md section 8).  With a tool point at a
+length ``L`` along the approach from such a wrist (a half turn of roll suffices
+there, :func:`wrist_cap`) on an arm turned by a limited first joint (the LBR
+iiwa), a cone about the vertical is paved through the wrist centre: its section
+with the roll axis proved within ``psi - t`` of ``d``, the tool's section derived
+from it (:class:`WristCentre`, :func:`~workspace_sym.serial.turn.tool_section`).
+For a cone through a tool point along the approach, outer proofs also drop
+pairs on the enclosure of the admissible positions (:class:`_OffsetEnclosure`).
 
 ``every=True`` (positions from which every direction of the cone is
 reachable, the dextrous workspace of Kumar and Waldron) is proved with a
