@@ -139,7 +139,9 @@ def centre_sections(draw):
     classes[distance < radius] = INNER
     classes[e0[1:] <= 0.0, :] = OUTER                   # no wrist centre at rho < 0
     length = sp.Rational(draw(st.integers(-200, 200)), 1000)
-    cone = sp.pi * sp.Rational(draw(st.integers(1, 40)), 180)
+    # up to 179 deg: a cone of a quarter turn or more holds horizontal approaches (a review found outer cells
+    # claimed with the sideways reach |L| sin(cone) there, fewer than |L|)
+    cone = sp.pi * sp.Rational(draw(st.one_of(st.integers(1, 40), st.integers(85, 179))), 180)
     sign = draw(st.sampled_from([-1, 1]))
     return grid, classes, length, cone, sign
 
@@ -157,7 +159,8 @@ def test_the_tool_section_claims_only_what_its_wrist_centres_give(section, seed)
     float rounding); a point of an outer tool cell is ``w + L a`` for no ``a`` of 400 random approaches of the cone
     (any azimuth) with ``w`` in a cell that is not outer."""
     grid, classes, length, cone, sign = section
-    tool, codes = tool_section([(grid, classes, cone)], length, cone, sign, offsets=4)
+    tilt = min(cone, sp.pi / 2)                     # the in-plane approaches of the inner cells
+    tool, codes = tool_section([(grid, classes, tilt)], length, cone, sign, offsets=4)
     rng = np.random.default_rng(seed)
     L, c = float(length), float(cone)
     e0, e1 = tool.edges
@@ -168,8 +171,9 @@ def test_the_tool_section_claims_only_what_its_wrist_centres_give(section, seed)
             z = rng.uniform(e1[j], e1[j + 1])
             if code == INNER:
                 # the offsets tool_section tries (offsets=4), and 2001 more between them
-                s = np.r_[np.linspace(-math.sin(c), math.sin(c), 9) * (1 - 1e-9),
-                          np.linspace(-math.sin(c), math.sin(c), 2001)]
+                t = min(c, math.pi / 2)
+                s = np.r_[np.linspace(-math.sin(t), math.sin(t), 9) * (1 - 1e-9),
+                          np.linspace(-math.sin(t), math.sin(t), 2001)]
                 rw, zw = rho - L * s, z - L * sign * np.sqrt(1 - s * s)
                 a, b = _cell_of(grid, rw, zw)
                 ok = (rw >= 0) & (a >= 0) & (a < grid.shape[0]) & (b >= 0) & (b < grid.shape[1])
@@ -185,3 +189,32 @@ def test_the_tool_section_claims_only_what_its_wrist_centres_give(section, seed)
                 a, b = _cell_of(grid, rw, zw)
                 on = (a >= 0) & (a < grid.shape[0]) & (b >= 0) & (b < grid.shape[1])
                 assert (classes[a[on], b[on]] == OUTER).all(), (rho, z)
+
+
+def test_an_asymmetric_pitch_reaches_the_smaller_of_its_two_sides():
+    """With half a turn of roll, both signs of the pitch are needed: the iiwa's chain with joint 6 limited to [-60,
+    120] deg reaches 60 deg from the roll axis, not 120 (reference: the two wrist solutions of the docstring)."""
+    iiwa = industrial_arm("iiwa")
+    joints = list(iiwa.joints)
+    joints[5] = dataclasses.replace(joints[5], limits=(-sp.pi / 3, 2 * sp.pi / 3))
+    tool = sp.Matrix(iiwa.tool) * sp.Matrix([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, -sp.Rational(63, 500)],
+                                             [0, 0, 0, 1]])
+    moved = DHRobot(joints, convention=iiwa.convention, tool=tool)
+    _, psi, wrist = wrist_cap(moved, None, moved.substitute(moved.fk()), half_turn=True)
+    assert wrist == (4, 5) and sp.simplify(psi - sp.pi / 3) == 0
+
+
+def test_a_side_map_proves_its_condition_or_nothing():
+    """SideMap's hook: a joint box on which the side condition holds everywhere is admissible, one reaching below
+    the bound is not, and its seeds satisfy the condition (reference: the condition q1 >= 1/2 itself)."""
+    from workspace_sym.interval.image import ImageMap
+    from workspace_sym.serial.turn import SideMap
+
+    q = sp.symbols("q1:4")
+    lateral = ImageMap([q[0] + q[1], q[1] * q[2], q[2]], q, [(-1, 1)] * 3, [False] * 3)
+    side = SideMap(lateral, q[0], 0.5)
+    boxes = np.array([[[0.6, 0.7], [0, 0], [0, 0]], [[0.4, 0.7], [0, 0], [0, 0]], [[0.5, 0.5], [-1, 1], [0, 1]]])
+    assert side.admissible(boxes).tolist() == [True, False, True]
+    seeds = side.random_configurations(500, np.random.default_rng(0))
+    assert len(seeds) > 100 and (seeds[:, 0] > 0.5).all()
+    assert side.position_float(seeds).shape == (len(seeds), 3)          # the same compiled map

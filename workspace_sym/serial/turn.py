@@ -786,7 +786,8 @@ def tool_section(sections, length, cone, sign: int, *, offsets: int = 8):
     (``tilt <= cone``), and whose outer cells hold no wrist centre at all.  On a grid of the same width:
 
     * **outer**: every ``w = p - L a`` of the cell lies in outer cells or beyond the grid (``rho_w`` within
-      ``|L| sin(cone)`` of ``rho_p``, ``z_w = z_p - L a_z`` with ``sign a_z`` in ``[cos(cone), 1]``);
+      ``|L| sin(cone)`` of ``rho_p``, ``|L|`` for a cone of a quarter turn or more, ``z_w = z_p - L a_z`` with
+      ``sign a_z`` in ``[cos(cone), 1]``);
     * **inner**: for one triple and one of ``2 offsets + 1`` approaches ``a = s e_rho + sign sqrt(1 - s^2) e_z``
       in the plane of ``p`` and the axis (``|s| < sin(tilt)``; ``s = 0`` for a tilt of 0), every ``w = p - L a``
       of the cell lies in its inner cells at ``rho_w >= 0``: ``w`` is then a wrist centre at ``p``'s polar angle
@@ -802,11 +803,12 @@ def tool_section(sections, length, cone, sign: int, *, offsets: int = 8):
     length : sympy.Expr
         ``L``, exact.
     cone : sympy.Expr
-        The cone's half-angle, exact (radians, in ``(0, pi/2)``).
+        The cone's half-angle, exact (radians, in ``(0, pi]``).
     sign : int
         ``d``'s vertical sign, 1 or -1.
     offsets : int
-        Approaches tried on each side of ``d`` for the inner cells (default 8).
+        Approaches tried on each side of ``d`` for the inner cells (default 8; the in-plane approaches tilt at
+        most a quarter turn).
 
     Returns
     -------
@@ -818,7 +820,9 @@ def tool_section(sections, length, cone, sign: int, *, offsets: int = 8):
     grid, classes, _ = sections[0]
     L = numpy_constant(length)
     sin_c, cos_c = numpy_constant(sp.sin(cone)), numpy_constant(sp.cos(cone))
-    reach = arith.mul(arith.iabs(L), sin_c)[1]                       # |L| sin(cone), rounded up
+    # |L| sin(cone) sideways, rounded up; a cone of a quarter turn or more holds horizontal approaches: |L|
+    wide_cone = bool(sp.sympify(cone) >= sp.pi / 2)
+    reach = arith.mul(arith.iabs(L), (1.0, 1.0) if wide_cone else sin_c)[1]
     along = arith.mul(L, (cos_c[0], 1.0) if sign > 0 else (-1.0, -cos_c[0]))     # L a_z
     box = grid.box
     tool_box = np.array([[0.0, float(arith.up(box[0, 1] + reach))],
