@@ -693,21 +693,6 @@ class PoseSectionPlan(Plan):
 CENTRE_SECONDS = 15.0      # seconds a tilt's section takes at Tuning.budget_cells on the LBR iiwa (session 24)
 
 
-class _Until:
-    """The run's budget as one tilt's section sees it under a time limit: the limit moved to ``end`` (its share
-    of the time), the run's own reasons to stop kept."""
-
-    def __init__(self, budget: RunBudget, end: float):
-        self.budget, self.time_limit = budget, end
-
-    @property
-    def seconds(self) -> float:
-        return self.budget.seconds
-
-    def stop_reason(self, evaluated: int, *, ahead: float = 0.0) -> str:
-        return self.budget.stop_reason(evaluated, ahead=ahead)
-
-
 class WristCentrePlan(PoseSectionPlan):
     """A cone about the vertical through the wrist centre (:class:`~workspace_sym.serial.pose.WristCentre`, the
     LBR iiwa): the section of the chain to the wrist centre paved as a limited turn (its directions proved with
@@ -761,9 +746,11 @@ class WristCentrePlan(PoseSectionPlan):
             ends = [start + share * (i + 1) for i in range(len(levels))]
         sections, evaluated, reason = [], 0, ""
         for i, (tilt, limited) in enumerate(levels):
-            level = budget if ends is None else _Until(budget, ends[i])
+            level = budget if ends is None else SectionShare(budget, ends[i], tuning.section_reserve)
             with section_bar(budget.showing) as show:
                 grid, classes, _, count, reason = pave_limited(limited, width, level, show=show, tuning=tuning)
+            if reason == SectionShare.REASON:       # this tilt's share of the time is spent: not the run's
+                reason = ""
             evaluated += count
             sections.append((grid, classes, tilt))
             if reason:
@@ -797,6 +784,29 @@ class SectionShare:
 
     def __init__(self, budget: RunBudget, end: float, reserve: float):
         self.budget, self.end, self.reserve = budget, end, reserve
+
+    @property
+    def time_limit(self) -> float:
+        """The share's end, as a limit for the stages that divide the time left among themselves
+        (:func:`~workspace_sym.serial.turn.pave_limited`).
+
+        Returns
+        -------
+        float
+            :attr:`end`, in seconds of the run.
+        """
+        return self.end
+
+    @property
+    def seconds(self) -> float:
+        """Seconds since the run began.
+
+        Returns
+        -------
+        float
+            The run budget's :attr:`~workspace_sym.interval.driver.RunBudget.seconds`.
+        """
+        return self.budget.seconds
 
     @property
     def showing(self) -> bool:

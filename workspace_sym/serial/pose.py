@@ -93,7 +93,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 from functools import lru_cache
-from typing import Any
 
 import numpy as np
 import sympy as sp
@@ -117,8 +116,9 @@ from .angles import ANGLE_PAD
 from .model import TASK, joint_range, reach_model
 from .pairs import caps, pave_pairs, prove_in_pieces, split_pairs
 from .section import SquareMap, Turned, section_bar, squared_enclosures, to_first_frame, turned
-from .structure import Revolved, revolved
+from .structure import Revolved, revolved, structure_of
 from .tuning import DEFAULT, Tuning
+from .turn import LimitedTurn, constrained_turn, limited_turn
 
 __all__ = ["PoseConstraint", "approach_constraint", "orientation_constraint", "constraint_from", "PoseModel",
            "PoseStructure", "pose_structure", "wrist_reduction", "PoseStep", "section_classes",
@@ -1295,7 +1295,7 @@ class WristCentre:
     """
 
     robot: DHRobot
-    limited: Any
+    limited: LimitedTurn
     side: sp.Expr
     length: sp.Expr
     cone: sp.Expr
@@ -1318,8 +1318,6 @@ class WristCentre:
         list
             The pairs, the tilt exact.
         """
-        from .turn import constrained_turn
-
         tilts = [self.cone * sp.Rational(i, count - 1) for i in range(count)]
         return [(tilt, constrained_turn(self.limited, self.side, numpy_constant(sp.cos(self.psi - tilt))[1]))
                 for tilt in tilts]
@@ -1350,9 +1348,6 @@ def wrist_centre(robot: DHRobot, parameters: tuple, constraint: PoseConstraint) 
     WristCentre or None
         The structure, or None.
     """
-    from .structure import structure_of
-    from .turn import limited_turn
-
     if constraint.kind != "cone" or constraint.cone == 0 or constraint.every:
         return None
     d = [sp.sympify(e) for e in constraint.direction]
