@@ -12,6 +12,7 @@ the tool's section a brute-force check of its claims on random wrist-centre sect
 
 import dataclasses
 import math
+from fractions import Fraction
 
 import numpy as np
 import pytest
@@ -20,6 +21,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from reach_checks import admissible_configurations, arcs_volume, arm_in_cone_at_50_digits, in_any_box, industrial_arm
+from workspace_sym.interval.graph import numpy_constant
 from workspace_sym.interval.image import CellGrid
 from workspace_sym.interval.verdict import INSIDE as INNER
 from workspace_sym.interval.verdict import OUTSIDE as OUTER
@@ -189,6 +191,84 @@ def test_the_tool_section_claims_only_what_its_wrist_centres_give(section, seed)
                 a, b = _cell_of(grid, rw, zw)
                 on = (a >= 0) & (a < grid.shape[0]) & (b >= 0) & (b < grid.shape[1])
                 assert (classes[a[on], b[on]] == OUTER).all(), (rho, z)
+
+
+def _closed_cells(edges, at_least, at_most):
+    """Indices ``i`` of the closed cells ``[e_i, e_(i+1)]`` holding a point, given the exact tests ``at_least(e)``
+    (point >= e) and ``at_most(e)`` (point <= e) against float edges read as exact rationals."""
+    return [i for i in range(len(edges) - 1)
+            if at_least(Fraction(float(edges[i]))) and at_most(Fraction(float(edges[i + 1])))]
+
+
+def _ge_root(x, m, r):
+    """``x >= m sqrt(r)`` exactly (``x``, ``m``, ``r >= 0`` rationals)."""
+    if m == 0 or r == 0:
+        return x >= 0
+    if m > 0:
+        return x >= 0 and x * x >= m * m * r
+    return x >= 0 or x * x <= m * m * r
+
+
+@settings(max_examples=12, deadline=None)
+@given(centre_sections(), st.integers(0, 2**32 - 1))
+def test_the_tool_section_claims_hold_in_exact_rationals(section, seed):
+    """The same claims decided exactly (rationals, square roots by squaring; the cone's cosine at 50 digits, a
+    margin of 1e-30): a rational point of an inner tool cell is ``w + L a`` for one of the in-plane approaches
+    tool_section tries (``s`` its floats read exactly, ``a = (s, 0, sign sqrt(1 - s^2))`` within the cone) with
+    ``w`` in a closed inner cell at ``rho_w >= 0``; for 60 rational unit approaches of the cone (any azimuth,
+    ``(2u, 2v, sign (1 - u^2 - v^2)) / (1 + u^2 + v^2)``) a rational point of an outer tool cell minus ``L a`` lies
+    in a closed outer cell or beyond the grid.  (It fails when tool_section reads its inner cells wrongly; the float
+    test above, with more approaches, is the one that catches a too narrow outer widening.)"""
+    import mpmath
+
+    grid, classes, length, cone, sign = section
+    tilt = min(cone, sp.pi / 2)
+    tool, codes = tool_section([(grid, classes, tilt)], length, cone, sign, offsets=4)
+    rng = np.random.default_rng(seed)
+    L = Fraction(int(length.p), int(length.q))
+    g0, g1 = grid.edges
+    e0, e1 = tool.edges
+    with mpmath.workdps(50):
+        cos_c = mpmath.cos(mpmath.pi * mpmath.mpf(int((cone / sp.pi).p)) / int((cone / sp.pi).q))
+        half_tan = Fraction(float(mpmath.tan(mpmath.pi * mpmath.mpf(int((cone / sp.pi).p))
+                                              / (2 * int((cone / sp.pi).q))))) * Fraction(999_999, 1_000_000)
+    sin_t = float(numpy_constant(sp.sin(tilt))[0])
+    offsets = [Fraction(float(v)) for v in np.unique(np.linspace(-sin_t, sin_t, 9) * (1 - 1e-9))]
+    for code in (INNER, OUTER):
+        cells = np.argwhere((codes == code) & (e0[1:, None] > 0))     # cells holding points at rho >= 0
+        for i, j in cells[rng.choice(len(cells), min(len(cells), 15), replace=False)] if len(cells) else []:
+            rho = Fraction(float(rng.uniform(max(e0[i], 0.0), max(e0[i + 1], 0.0))))
+            z = Fraction(float(rng.uniform(e1[j], e1[j + 1])))
+            if code == INNER:
+                found = False
+                for s_ in offsets:
+                    k2 = 1 - s_ * s_
+                    with mpmath.workdps(50):
+                        if mpmath.sqrt(mpmath.mpf(k2.numerator) / k2.denominator) < cos_c + mpmath.mpf("1e-30"):
+                            continue
+                    rw = rho - L * s_
+                    if rw < 0:
+                        continue
+                    rows = _closed_cells(g0, lambda e, x=rw: x >= e, lambda e, x=rw: x <= e)
+                    # z_w = z - L sign sqrt(k2): z_w >= e iff z - e >= L sign sqrt(k2)
+                    cols = _closed_cells(g1, lambda e, r=k2, y=z: _ge_root(y - e, L * sign, r),
+                                         lambda e, r=k2, y=z: _ge_root(e - y, -L * sign, r))
+                    found |= any(classes[a, b] == INNER for a in rows for b in cols)
+                assert found, (rho, z)
+            else:
+                for _ in range(60):            # toward the cap's rim, where the widest reach sideways is
+                    r, turn = 1 - rng.uniform(0, 1) ** 3, rng.uniform(0, 2 * math.pi)
+                    u, v = (Fraction(float(x)) * half_tan for x in (r * math.cos(turn), r * math.sin(turn)))
+                    n = 1 + u * u + v * v
+                    approach = (2 * u / n, 2 * v / n, sign * (1 - u * u - v * v) / n)
+                    wx, wy, wz = rho - L * approach[0], -L * approach[1], z - L * approach[2]
+                    r2 = wx * wx + wy * wy
+                    rows = _closed_cells(g0, lambda e, x=r2: e <= 0 or x >= e * e,
+                                         lambda e, x=r2: e >= 0 and x <= e * e)
+                    cols = _closed_cells(g1, lambda e, x=wz: x >= e, lambda e, x=wz: x <= e)
+                    # a point on an edge is in both closed cells: one proved empty of wrist centres is enough
+                    assert not rows or not cols or any(classes[a, b] == OUTER for a in rows for b in cols), \
+                        (rho, z, approach)
 
 
 def test_an_asymmetric_pitch_reaches_the_smaller_of_its_two_sides():
