@@ -14,7 +14,13 @@ the approach seen in the frame that turns with the point.  So one certified solu
 with the enclosure of ``b`` over its box, serves every map cell whose ``(rho, z)`` meets ``s``, for every map
 direction whose ``e(psi)`` it is near.  The section cells are solved for ``L`` local directions (Newton aims
 ``b`` at each), the map cells tested by comparisons of those enclosures (docs/methods.md section 9 gives the
-argument and its margins).  Nothing here proves a pair unreachable.
+argument and its margins).
+
+Pairs proved unreachable for one direction come from the wrist point ``w = p - L a`` (:func:`wrist_offset`: the
+foot of the common normal of the last two axes, where they meet for the UR5 and a spherical wrist): a
+configuration with its tool point in a cell and its approach in a cone has ``w`` in the cell moved by ``-L``
+times the cone's cap, so a cell and cone whose moved boxes lie in the outer boxes of ``w``'s own position paving
+are reached by none (:func:`wrist_unreachable`).
 """
 
 from __future__ import annotations
@@ -35,7 +41,8 @@ from .model import reach_model
 from .pose import constraint_from, joints_of, wrist_reduction
 from .section import SquareMap, first_frame, first_joint_turn, to_first_frame, turned
 
-__all__ = ["SectionProver", "section_prover", "section_reachable"]
+__all__ = ["SectionProver", "section_prover", "section_reachable", "wrist_offset", "wrist_robot", "cap_patches",
+           "wrist_unreachable"]
 
 BRANCHES = 8           # seeds per section cell when Newton cannot aim (fewer than four section joints)
 NEAREST = 6            # local directions tried per map direction and piece: the nearest to it
@@ -445,4 +452,225 @@ def section_reachable(prover: SectionProver, edges: tuple, candidates: np.ndarra
             if not good.any():
                 break
         out[tuple(idx[n])] = good
+    return out
+
+
+# ------------------------------------------------------------------ unreachable pairs: the wrist point
+def wrist_offset(robot: DHRobot, values: tuple, *, probes: int = 6) -> sp.Rational | None:
+    """``L`` such that the point ``w = p - L a`` (``p`` the tool point, ``a`` the approach) is the foot of the
+    common normal of the last joint's axis on the one before it, or None when the arm has no such point.
+
+    Any ``L`` is sound for :func:`wrist_unreachable` (``w`` is then a point of the arm, and its workspace is
+    paved over all the joints); this one makes ``w`` independent of the last joint and, where the last two axes
+    meet (the UR5's ``o_5``, a spherical wrist's centre), of the one before it: its workspace is then the
+    smallest.  Found from floats of the geometric Jacobian at ``probes`` random configurations (the last joint
+    revolute about the approach through the tool point; the one before it revolute and not parallel), the same
+    ``L`` at each within ``1e-9``; read as the rational of its decimal rounded to 10 digits.
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot.
+    values : tuple
+        Its parameter values as ``(name, value)`` pairs.
+    probes : int
+        Random configurations checked.
+
+    Returns
+    -------
+    sympy.Rational or None
+        ``L`` (lengths of the robot's unit), None when the structure is missing or ``L`` is 0 (``w`` would be
+        the tool point itself, already paved).
+    """
+    if robot.n < 2 or any(j.kind != "R" for j in robot.joints[-2:]):
+        return None
+    params = dict(values) or None
+    T = robot.substitute(robot.fk(), params)
+    J = robot.substitute(robot.jacobian("geometric"), params)
+    zero = [0, 0, 0]
+    f = numeric_function(sp.Matrix([list(T[:3, 2]) + zero, list(T[:3, 3]) + zero, list(J[:, -2]), list(J[:, -1])]),
+                         robot.q)
+    q = np.random.default_rng(7).uniform(-math.pi, math.pi, size=(probes, robot.n))
+    with np.errstate(all="ignore"):
+        rows = f(q)                                 # (probes, 4, 6): a, p (first 3 of rows 0, 1), then J columns
+    a, p = rows[:, 0, :3], rows[:, 1, :3]
+    v_last, w_last = rows[:, 3, :3], rows[:, 3, 3:]
+    v, omega = rows[:, 2, :3], rows[:, 2, 3:]
+    if not (np.isfinite(rows[:, :, :3]).all() and np.isfinite(rows[:, 2:, 3:]).all()):
+        return None
+    # the last joint turns about the approach, through the tool point (it moves neither)
+    if np.abs(v_last).max() > 1e-9 or np.abs(np.abs(np.einsum("ni,ni->n", w_last, a)) - 1).max() > 1e-9:
+        return None
+    r = p - (p + np.cross(omega, v))                 # p + omega x v: a point of the axis before it
+    b = np.einsum("ni,ni->n", a, omega)
+    if (1 - b * b).min() < 1e-6:
+        return None
+    s = (b * np.einsum("ni,ni->n", omega, r) - np.einsum("ni,ni->n", a, r)) / (1 - b * b)
+    if np.ptp(s) > 1e-9 * (1 + np.abs(s).max()):
+        return None
+    offset = sp.nsimplify(round(-float(s.mean()), 10), rational=True)
+    return None if offset == 0 else offset
+
+
+def wrist_robot(robot: DHRobot, offset) -> DHRobot:
+    """``robot`` with its tool point moved by ``-offset`` along the approach: the point ``w = p - offset a``.
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot.
+    offset : sympy.Rational
+        ``L`` (:func:`wrist_offset`).
+
+    Returns
+    -------
+    DHRobot
+        The same table, limits, base and parameters; the tool ``tool Trans(0, 0, -L)``.
+    """
+    shift = sp.eye(4)
+    shift[2, 3] = -offset
+    tool = shift if robot.tool is None else sp.Matrix(robot.tool) * shift
+    return DHRobot(robot.joints, convention=robot.convention, name=f"{robot.name} (wrist point)",
+                   parameters=robot.parameters, units=robot.units, base=robot.base, tool=tool)
+
+
+def cap_patches(directions: np.ndarray, cone: float, bands: int = 3) -> np.ndarray:
+    """Outward boxes ``(K, P, 3, 2)`` whose union holds the unit vectors within ``cone`` degrees of each
+    direction: ``P = 1 + 6 + ... + 6 (bands - 1)`` patches of the cap.
+
+    A unit vector within ``c`` of ``d`` is ``cos t d + sin t (cos f u + sin f v)`` with ``t`` in ``[0, c]`` and
+    ``f`` in ``[0, 2 pi]`` (``u, v`` completing ``d`` to an orthonormal frame): band ``j`` of ``t``
+    (``[j c / bands, (j + 1) c / bands]``) is cut into ``max(1, 6 j)`` arcs of ``f``, every interval widened by
+    ``1e-12`` (the floats of ``c``, ``2 pi`` and the frame, errors of about ``1e-16``), and each patch's box is
+    the outward interval evaluation of that formula, widened by ``1e-12`` too.
+
+    Parameters
+    ----------
+    directions : numpy.ndarray
+        ``(K, 3)`` nonzero vectors.
+    cone : float
+        The half-angle, degrees, in ``(0, 180]``.
+    bands : int
+        Bands of the polar angle.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(K, P, 3, 2)``.
+
+    Examples
+    --------
+    >>> box = cap_patches(np.array([[0.0, 0.0, 1.0]]), 30.0, bands=1)[0, 0]
+    >>> bool(np.allclose(box, [[-0.5, 0.5], [-0.5, 0.5], [np.cos(np.radians(30)), 1.0]]))
+    True
+    """
+    d = np.asarray(directions, dtype=float)
+    d = d / np.linalg.norm(d, axis=1, keepdims=True)
+    u = np.cross(d, np.where(np.abs(d[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]]))
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    v = np.cross(d, u)
+    c = math.radians(cone)
+    t_lo, t_hi, f_lo, f_hi = [], [], [], []
+    for j in range(bands):
+        arcs = max(1, 6 * j)
+        for i in range(arcs):
+            t_lo.append(c * j / bands - 1e-12)
+            t_hi.append(c * (j + 1) / bands + 1e-12)
+            f_lo.append(2 * math.pi * i / arcs - 1e-12)
+            f_hi.append(2 * math.pi * (i + 1) / arcs + 1e-12)
+    t = (np.array(t_lo), np.array(t_hi))
+    f = (np.array(f_lo), np.array(f_hi))
+    ct, st, cf, sf = arith.cos(t), arith.sin(t), arith.cos(f), arith.sin(f)
+    out = np.empty((len(d), len(t_lo), 3, 2))
+    for a in range(3):
+        for k in range(len(d)):
+            side = arith.add(arith.mul(cf, (u[k, a], u[k, a])), arith.mul(sf, (v[k, a], v[k, a])))
+            lo, hi = arith.add(arith.mul(ct, (d[k, a], d[k, a])), arith.mul(st, side))
+            out[k, :, a, 0] = np.maximum(lo - 1e-12, -1.0)
+            out[k, :, a, 1] = np.minimum(hi + 1e-12, 1.0)
+    return out
+
+
+def wrist_unreachable(edges: tuple, candidates: np.ndarray, directions: np.ndarray, cone: float, offset,
+                      outside: np.ndarray, outside_edges: tuple, *, split: int = 2) -> np.ndarray:
+    """The pairs (map cell, direction) proved unreachable by the wrist point (docs/methods.md section 9).
+
+    A configuration putting the tool point ``p`` in the cell with its approach ``a`` in the cone puts its point
+    ``w = p - L a`` in the box ``piece - L patch`` for some piece of the cell (``split^3`` pieces) and patch of
+    the cap (:func:`cap_patches`), products and sums rounded outward.  No configuration puts ``w`` in a cell of
+    ``outside`` (cells of the grid ``outside_edges`` proved out of ``w``'s workspace): a pair is proved
+    unreachable when every such box lies in the union of those cells (the run of cells from the edge at or
+    below its lower end to the edge at or above its upper end, at least one, found by comparisons and counted in
+    a prefix table).
+
+    Parameters
+    ----------
+    edges : tuple of numpy.ndarray
+        The map's cell edges.
+    candidates : numpy.ndarray
+        ``bool`` of shape ``(*grid, K)``: the pairs to try.
+    directions : numpy.ndarray
+        ``(K, 3)`` the map's directions.
+    cone : float
+        The cones' half-angle, degrees.
+    offset : sympy.Rational
+        ``L``.
+    outside : numpy.ndarray
+        ``bool`` cells of the grid ``outside_edges`` proved free of ``w``.
+    outside_edges : tuple of numpy.ndarray
+        That grid's edges.
+    split : int
+        Pieces per axis of each map cell.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``bool`` of the shape of ``candidates``.
+    """
+    out = np.zeros(candidates.shape, dtype=bool)
+    caps = cap_patches(directions, cone)
+    L = float(offset)
+    L_iv = (np.array(float(np.nextafter(L, -np.inf))), np.array(float(np.nextafter(L, np.inf))))
+    table = np.zeros(tuple(s + 1 for s in outside.shape), dtype=np.int64)
+    table[1:, 1:, 1:] = outside.cumsum(0).cumsum(1).cumsum(2)
+
+    def span(lo, hi, e):        # cells i0 .. i1 - 1 of one axis: e_i0 <= lo, hi <= e_i1, at least one; ok: in e
+        i0 = np.searchsorted(e, lo, side="right") - 1
+        i1 = np.maximum(np.searchsorted(e, hi, side="left"), i0 + 1)
+        ok = (i0 >= 0) & (i1 <= len(e) - 1)
+        return np.clip(i0, 0, len(e) - 1), np.clip(i1, 0, len(e) - 1), ok
+
+    for k in range(candidates.shape[-1]):
+        idx = np.argwhere(candidates[..., k])
+        if not len(idx):
+            continue
+        minus = [arith.mul(L_iv, (caps[k, :, a, 0], caps[k, :, a, 1])) for a in range(3)]     # L a, (P,) each
+        alive = np.arange(len(idx))
+        for piece in itertools.product(range(split), repeat=3):
+            bounds = []
+            for a in range(3):
+                lo, hi = edges[a][idx[alive, a]], edges[a][idx[alive, a] + 1]
+                # the pieces share their split points (one float each), so their union is the cell
+                p_lo = lo if piece[a] == 0 else lo + (hi - lo) * (piece[a] / split)
+                p_hi = hi if piece[a] == split - 1 else lo + (hi - lo) * ((piece[a] + 1) / split)
+                bounds.append((p_lo, p_hi))
+            for patch in range(caps.shape[1]):
+                if not len(alive):
+                    break
+                i0, i1, ok = [], [], np.ones(len(alive), dtype=bool)
+                for a, (p_lo, p_hi) in enumerate(bounds):
+                    # w = p - L a over the piece and the patch, rounded outward
+                    w_lo = arith.down(p_lo - minus[a][1][patch])
+                    w_hi = arith.up(p_hi - minus[a][0][patch])
+                    j0, j1, inside = span(w_lo, w_hi, outside_edges[a])
+                    i0.append(j0)
+                    i1.append(j1)
+                    ok &= inside
+                count = (table[i1[0], i1[1], i1[2]] - table[i0[0], i1[1], i1[2]] - table[i1[0], i0[1], i1[2]]
+                         - table[i1[0], i1[1], i0[2]] + table[i0[0], i0[1], i1[2]] + table[i0[0], i1[1], i0[2]]
+                         + table[i1[0], i0[1], i0[2]] - table[i0[0], i0[1], i0[2]])
+                keep = ok & (count == (i1[0] - i0[0]) * (i1[1] - i0[1]) * (i1[2] - i0[2]))
+                alive = alive[keep]
+                bounds = [(p_lo[keep], p_hi[keep]) for p_lo, p_hi in bounds]
+        out[tuple(idx[alive].T) + (k,)] = True
     return out

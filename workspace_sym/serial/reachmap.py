@@ -46,8 +46,8 @@ from .model import reach_model
 from .stored import reach_problem
 from .tuning import DEFAULT
 
-__all__ = ["ReachMap", "reach_map", "sphere_directions", "covering_angle", "covered_cells", "map_problem",
-           "MAP_FORMAT", "MAP_METHOD", "SECTION_METHOD", "METHODS"]
+__all__ = ["ReachMap", "reach_map", "sphere_directions", "covering_angle", "covered_cells", "face_grid",
+           "map_problem", "MAP_FORMAT", "MAP_METHOD", "SECTION_METHOD", "METHODS"]
 
 MAP_FORMAT = 1
 """The version of the files :meth:`ReachMap.save` writes (a file of another version is refused)."""
@@ -58,13 +58,15 @@ MAP_METHOD = "union of pose pavings"
 SECTION_METHOD = "section proofs and the position paving"
 """The other way (``method="section"``): pairs proved reachable from certified solutions of the section of an arm
 turned by its first joint (:mod:`workspace_sym.serial.mapsection`), cells proved unreachable from its position
-paving."""
+paving, and pairs from the paving of its wrist point (:func:`~workspace_sym.serial.mapsection.wrist_unreachable`)."""
 
 METHODS = {"pavings": MAP_METHOD, "section": SECTION_METHOD}
 """The values of ``reach_map(method=...)`` and what each records as the map's method."""
 
-SECTION_OPTIONS: dict[str, int | None] = {"cell": None, "local": 64, "samples": 400_000, "split": 2}
-"""The section method's defaults (``cell``: the section cells' side, None for ``delta / 10``)."""
+SECTION_OPTIONS: dict[str, int | bool | None] = {"cell": None, "local": 64, "samples": 400_000, "split": 2,
+                                                 "wrist": True}
+"""The section method's defaults (``cell``: the section cells' side, None for ``delta / 10``; ``wrist``: the pairs
+proved unreachable from the wrist point's paving are tried)."""
 
 MAX_PIECES = 4096
 """The most pieces the exact union test splits one cell into before it leaves the cell undecided."""
@@ -288,6 +290,44 @@ def covered_cells(edges, boxes: np.ndarray, exterior: np.ndarray | None = None) 
         if _split_covered(cells[begin], boxes[owner[begin:end]], exterior):
             out.ravel()[flat[begin]] = True
     return out
+
+
+def face_grid(boxes: np.ndarray, ends, *, spacing: float, max_cells: int = 20_000_000) -> tuple:
+    """The edges of a grid for :func:`covered_cells` of ``boxes``: on each axis the boxes' faces within
+    ``ends`` and the ends themselves, so that each box is a union of cells and the cells inside one box are
+    found without splitting (a paving's boxes share their faces); when that grid would exceed ``max_cells``
+    cells, the uniform edges ``lo + i spacing`` from each end's ``lo`` past its ``hi`` instead.
+
+    Parameters
+    ----------
+    boxes : numpy.ndarray
+        ``(N, 3, 2)`` boxes.
+    ends : sequence of pair of float
+        ``(lo, hi)`` per axis: the grid's extent.
+    spacing : float
+        The uniform grid's spacing.
+    max_cells : int
+        The most cells of the faces' grid.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        Three increasing arrays of edges, each from ``lo`` to ``hi`` or past it.
+
+    Examples
+    --------
+    >>> b = np.array([[[0.0, 0.5], [0.0, 1.0], [0.0, 1.0]]])
+    >>> [e.tolist() for e in face_grid(b, [(0.0, 1.0)] * 3, spacing=0.25)]
+    [[0.0, 0.5, 1.0], [0.0, 1.0], [0.0, 1.0]]
+    """
+    boxes = np.asarray(boxes, dtype=float).reshape(-1, 3, 2)
+    faces = []
+    for a, (lo, hi) in enumerate(ends):
+        f = boxes[:, a].ravel()
+        faces.append(np.unique(np.r_[f[np.isfinite(f) & (f > lo) & (f < hi)], lo, hi]))
+    if math.prod(len(f) - 1 for f in faces) <= max_cells:
+        return tuple(faces)
+    return tuple(lo + np.arange(math.ceil((hi - lo) / spacing) + 1) * spacing for lo, hi in ends)
 
 
 def _split_covered(cell: np.ndarray, boxes: np.ndarray, exterior: np.ndarray | None = None) -> bool:
@@ -900,8 +940,9 @@ def reach_map(robot: DHRobot, *, delta: float, directions=26, cone: float = 30.0
         boxes.  ``"section"``, for an arm turned by its first joint (the Puma 560, the UR5, the KR16, the
         iiwa 14, the Panda): reachable pairs from certified solutions of the arm's section, solved once for all the
         directions (:mod:`~workspace_sym.serial.mapsection`), unreachable cells from the position paving (no
-        point of the cell is reached at all); faster and far more pairs proved reachable on such arms, but no
-        direction-specific unreachable pair (docs/methods.md section 9).
+        point of the cell is reached at all) and unreachable pairs of one direction from the paving of the wrist
+        point ``p - L a`` (where the last two axes have a common normal); faster and far more pairs proved
+        reachable on such arms (docs/methods.md section 9).
     stop : StopAt
         ``time_limit``: seconds for the whole map, shared among the directions not yet built (each gets what is
         left divided by their number); ``max_boxes``: a budget of each direction's paving.  What a stopped paving
@@ -1011,7 +1052,7 @@ def _section_map(robot, values, d, cone, delta, reach_delta, named, angle, stop,
     proofs for the reachable pairs (:mod:`~workspace_sym.serial.mapsection`).  The grid holds the bounding box
     of the paving's boxes not proved outer (inner, boundary, pending): every reachable point is in them, often
     a far smaller box than the enclosure over the joint limits (the Panda's: 0.9 m against 4.25 m)."""
-    from .mapsection import section_prover, section_reachable
+    from .mapsection import section_prover, section_reachable, wrist_offset, wrist_robot, wrist_unreachable
 
     for name in ("executor", "resume"):
         if getattr(run, name) is not None:
@@ -1024,34 +1065,66 @@ def _section_map(robot, values, d, cone, delta, reach_delta, named, angle, stop,
         raise InvalidParameterError(f"method: 'section' needs an arm turned by its first joint; {robot.name} is "
                                     f"not: {prover}; use method='pavings'", parameter="method")
     deadline = None if stop.time_limit is None else started + stop.time_limit
-    with progress_bar(run.progress, total=2, desc=f"reach map of {robot.name}", unit="stage") as bar:
+    with progress_bar(run.progress, total=4, desc=f"reach map of {robot.name}", unit="stage") as bar:
         position_stop = StopAt(max_boxes=stop.max_boxes,
                                time_limit=None if deadline is None else max(1e-3, 0.3 * stop.time_limit))
         position = reach(robot, delta=reach_delta, parameters=dict(values), stop=position_stop,
                          run=RunOn(progress=False))
         bar.update(1)
-        box = np.array([position.box.lower, position.box.upper], dtype=float).T
-        kept = np.concatenate([b.reshape(-1, 3, 2) for b in (position.inner, position.boundary, position.pending)])
-        root = box if not len(kept) else np.stack([np.maximum(kept[:, :, 0].min(axis=0), box[:, 0]),
-                                                   np.minimum(kept[:, :, 1].max(axis=0), box[:, 1])], 1)
+        root = _kept_root(position)
         origin, shape = _grid_of(root, delta)
         edges = tuple(origin[a] + np.arange(shape[a] + 1) * delta for a in range(3))
         outer = covered_cells(edges, position.outer.reshape(-1, 3, 2), exterior=root)
+        offset = wrist_offset(robot, values)
+        wrist = None
+        if offset is not None:
+            wrist = reach(wrist_robot(robot, offset), delta=reach_delta, parameters=dict(values),
+                          stop=StopAt(max_boxes=stop.max_boxes, time_limit=None if deadline is None else
+                                      max(1e-3, 0.2 * stop.time_limit)), run=RunOn(progress=False))
+        bar.update(1)
         options = {**SECTION_OPTIONS, "cell": delta / 10}
         inner = section_reachable(prover, edges, ~outer, d, cell=options["cell"],
                                   local=sphere_directions(options["local"]), samples=options["samples"],
                                   split=options["split"], deadline=deadline)
         bar.update(1)
-    codes = codes_from_masks(inner.ravel(), np.repeat(outer[..., None], len(d), axis=-1).ravel()).reshape(inner.shape)
-    complete = bool(position.complete) and (deadline is None or time.perf_counter() <= deadline)
+        unreachable = np.repeat(outer[..., None], len(d), axis=-1)
+        by_wrist = np.zeros_like(unreachable)
+        if wrist is not None and offset is not None:
+            # w's outside on the grid of the faces of its paving's boxes, holding every w = p - L a of the map
+            pad = abs(float(offset)) + delta
+            ends = [(edges[a][0] - pad, edges[a][-1] + pad) for a in range(3)]
+            w_edges = face_grid(np.concatenate([b.reshape(-1, 3, 2) for b in (wrist.outer, wrist.inner,
+                                                                              wrist.boundary, wrist.pending)]),
+                                ends, spacing=delta / 4)
+            w_out = covered_cells(w_edges, wrist.outer.reshape(-1, 3, 2), exterior=_kept_root(wrist))
+            by_wrist = wrist_unreachable(edges, ~inner & ~unreachable, d, cone, offset, w_out, w_edges)
+            unreachable |= by_wrist
+        bar.update(1)
+    codes = codes_from_masks(inner.ravel(), unreachable.ravel()).reshape(inner.shape)
+    complete = (bool(position.complete) and (wrist is None or bool(wrist.complete))
+                and (deadline is None or time.perf_counter() <= deadline))
     info = {"robot": robot.name, "units": robot.units, "method": SECTION_METHOD,
             "seconds": time.perf_counter() - started,
             "reach_delta": reach_delta, "covering_angle": angle, "root": root.tolist(),
             "direction_seconds": [None] * len(d), "direction_methods": [position.method] * len(d),
-            "complete": complete, "section": options, "proved_axis": prover.axis}
+            "complete": complete, "section": options, "proved_axis": prover.axis,
+            "wrist_offset": None if offset is None else float(offset),
+            "wrist_pairs": int(by_wrist.sum()),
+            "wrist_complete": None if wrist is None else bool(wrist.complete)}
     inside = bool(all(edges[a][0] <= root[a, 0] and root[a, 1] <= edges[a][-1] for a in range(3)))
     return ReachMap(directions=d, cone=cone, delta=delta, origin=origin, shape=shape, codes=codes,
                     outside_proved=inside, fingerprint=named, info=info)
+
+
+def _kept_root(position) -> np.ndarray:
+    """The bounding box ``(3, 2)`` of a paving's boxes not proved outer (inner, boundary, pending), within its
+    root box: every point of the workspace lies in it."""
+    box = np.array([position.box.lower, position.box.upper], dtype=float).T
+    kept = np.concatenate([b.reshape(-1, 3, 2) for b in (position.inner, position.boundary, position.pending)])
+    if not len(kept):
+        return box
+    return np.stack([np.maximum(kept[:, :, 0].min(axis=0), box[:, 0]),
+                     np.minimum(kept[:, :, 1].max(axis=0), box[:, 1])], 1)
 
 
 def _finish(answer: dict, codes: np.ndarray, done: dict, resume, named: Fingerprint, bar) -> None:

@@ -1,0 +1,157 @@
+"""Pairs of a section map proved unreachable by the wrist point ``w = p - L a`` (workspace_sym/serial/mapsection.py:
+wrist_offset, wrist_robot, cap_patches, wrist_unreachable; docs/methods.md section 9): the offset against the
+tables, the cap's patches against vectors built on the cone's rim, and every claim against sampled configurations,
+aimed where the claims are (a stretched arm, a wrist point whose whole workspace is a sphere)."""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+import sympy as sp
+from hypothesis import example, given, settings
+from hypothesis import strategies as st
+
+from reach_checks import industrial_arm
+from workspace_sym import reach, robots
+from workspace_sym.interval.driver import RunOn
+from workspace_sym.kinematics import DHJoint, DHRobot, numeric_function
+from workspace_sym.serial.mapsection import cap_patches, wrist_offset, wrist_robot, wrist_unreachable
+from workspace_sym.serial.reachmap import _kept_root, covered_cells, face_grid, reach_map, sphere_directions
+
+R = sp.Rational
+
+
+def _toy(last_a=0):
+    """A turn, a shoulder of 0.4, a wrist pitch and a roll carrying the tool point 0.15 along the approach: the
+    last two axes meet at the wrist point, whose workspace is the sphere of radius 0.4 about (0, 0, 0.2) (every
+    point of it on its boundary).  ``last_a``: an offset of the roll axis from the pitch axis."""
+    return DHRobot([DHJoint.revolute(1, d=R(1, 5), alpha=sp.pi / 2, limits=(-sp.pi, sp.pi)),
+                    DHJoint.revolute(2, a=R(2, 5), limits=(-sp.pi, sp.pi)),
+                    DHJoint.revolute(3, a=last_a, alpha=sp.pi / 2, limits=(-sp.pi, sp.pi)),
+                    DHJoint.revolute(4, d=R(3, 20), limits=(-sp.pi, sp.pi))], name="toy wrist")
+
+
+def test_the_wrist_offset_is_the_table_s_and_frees_w_of_the_last_joint():
+    # Reference: the DH tables themselves (exact): the UR5's d6 (0.0823, tests/data/dh/ur5.json), the Panda's
+    # d7 + tool z (0.107 + 0.103, modified DH, tests/data/dh/panda.json: the last axis is offset 0.088 from the
+    # one before it, so w is the foot of their common normal), the toy's d4; the Puma's tool point is its wrist
+    # centre (L = 0: nothing to gain); a toy whose last two axes are parallel has no common normal.
+    ur5, panda, toy = industrial_arm("ur5"), industrial_arm("panda"), _toy()
+    assert wrist_offset(ur5, ()) == ur5.joints[5].d == R(823, 10000)
+    assert wrist_offset(panda, ()) == panda.joints[6].d + panda.tool[2, 3] == R(21, 100)
+    assert wrist_offset(toy, ()) == R(3, 20)
+    assert wrist_offset(robots.build("puma560"), ()) is None
+    parallel = DHRobot([DHJoint.revolute(1, a=1), DHJoint.revolute(2, a=1), DHJoint.revolute(3, d=R(1, 10))])
+    assert wrist_offset(parallel, ()) is None
+    # w = p - L a at random configurations (floats of the two robots' own fk), and free of the last joint
+    # (exactly: SymPy's derivative simplifies to zero)
+    rng = np.random.default_rng(4)
+    for robot in (ur5, toy):
+        L = wrist_offset(robot, ())
+        moved = wrist_robot(robot, L)
+        assert all(sp.simplify(sp.diff(e, robot.q[-1])) == 0 for e in moved.position)
+        q = rng.uniform(-math.pi, math.pi, size=(50, robot.n))
+        T = numeric_function(robot.fk(), robot.q)(q)
+        w = numeric_function(moved.position, robot.q)(q)[:, :, 0]
+        assert np.allclose(w, T[:, :3, 3] - float(L) * T[:, :3, 2], atol=1e-12)
+
+
+def _on_cone(d, cone_deg, t_frac, phi):
+    """The unit vector at angle ``t_frac * cone`` from ``d``, turned by ``phi`` about it (floats)."""
+    d = np.asarray(d, dtype=float) / np.linalg.norm(d)
+    u = np.cross(d, [0.3, -0.7, 0.2])
+    if np.linalg.norm(u) < 1e-6:
+        u = np.cross(d, [1.0, 0.0, 0.0])
+    u /= np.linalg.norm(u)
+    v = np.cross(d, u)
+    t = math.radians(cone_deg) * t_frac
+    return math.cos(t) * d + math.sin(t) * (math.cos(phi) * u + math.sin(phi) * v)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.one_of(st.sampled_from([(0, 0, 1), (0, 0, -1), (1, 0, 0), (1, 1, 1), (1e-9, 0, -1), (1, 1e-12, 0)]),
+                 st.tuples(*[st.floats(-1, 1)] * 3).filter(lambda v: np.linalg.norm(v) > 1e-3)),
+       st.one_of(st.sampled_from([1e-6, 30.0, 90.0, 179.999, 180.0]), st.floats(1e-3, 180)),
+       st.sampled_from([0.0, 1 / 3, 0.5, 2 / 3, 1.0]) | st.floats(0, 1),
+       st.floats(-4 * math.pi, 4 * math.pi))
+@example((0, 0, 1), 180.0, 1.0, 0.0)                         # the whole sphere: -d itself
+@example((1, 1, 1), 30.0, 1.0, 2 * math.pi)                  # the rim at the seam of the arcs
+def test_the_cap_patches_hold_every_vector_of_the_cone(d, cone, t_frac, phi):
+    # Reference: vectors built on the cone, its rim and its axis included, in another frame than the patches'
+    # (cross products with another vector), so that no shared arithmetic hides an error.
+    a = _on_cone(d, cone, t_frac, phi)
+    boxes = cap_patches(np.array([d], dtype=float), cone)[0]
+    inside = ((boxes[:, :, 0] <= a) & (a <= boxes[:, :, 1])).all(axis=1)
+    assert inside.any(), (d, cone, t_frac, phi, a)
+
+
+def _sampled_pairs(robot, made_edges, directions, cone, q):
+    """The pairs (cell index, direction) that the configurations ``q`` reach, their approach at least 1e-9 inside
+    the cone (a sample on the rim in floats may be outside it exactly)."""
+    T = numeric_function(robot.fk(), robot.q)(q)
+    p, a = T[:, :3, 3], T[:, :3, 2]
+    index = np.stack([np.searchsorted(e, p[:, k], side="right") - 1 for k, e in enumerate(made_edges)], 1)
+    inside = ((index >= 0) & (index < np.array([len(e) - 1 for e in made_edges]))).all(axis=1)
+    hits = (a @ directions.T) >= math.cos(math.radians(cone)) + 1e-9
+    rows, ks = np.nonzero(hits & inside[:, None])
+    return index[rows], ks
+
+
+def test_sampled_configurations_never_fall_in_a_wrist_proved_pair_of_the_ur5():
+    # Reference: forward kinematics of 300,000 configurations (floats), a third of them stretched (the elbow
+    # within 0.1 rad of straight, where the tool point is farthest and the claims are), the rest uniform: none
+    # may land in a pair proved unreachable, on the UR5's grid of 0.1 with 26 directions of 30 deg.
+    ur5 = industrial_arm("ur5")
+    L = wrist_offset(ur5, ())
+    W = reach(wrist_robot(ur5, L), delta=0.05, run=RunOn(progress=False))
+    edges = tuple(np.arange(-1.0, 1.0 + 1e-9, 0.1) + (0.0 if a < 2 else 0.05) for a in range(3))
+    pad = float(L) + 0.1
+    ends = [(e[0] - pad, e[-1] + pad) for e in edges]
+    w_edges = face_grid(np.concatenate([b.reshape(-1, 3, 2) for b in (W.outer, W.inner, W.boundary, W.pending)]),
+                        ends, spacing=0.025)
+    outside = covered_cells(w_edges, W.outer.reshape(-1, 3, 2), exterior=_kept_root(W))
+    directions = sphere_directions(26)
+    shape = tuple(len(e) - 1 for e in edges) + (26,)
+    proved = wrist_unreachable(edges, np.ones(shape, dtype=bool), directions, 30.0, L, outside, w_edges)
+    assert proved.sum() > 20_000 and (proved.any(axis=-1) & ~proved.all(axis=-1)).sum() > 100
+    rng = np.random.default_rng(11)
+    q = rng.uniform(-math.pi, math.pi, size=(300_000, 6))
+    q[:100_000, 2] = rng.uniform(-0.1, 0.1, size=100_000)
+    index, ks = _sampled_pairs(ur5, edges, directions, 30.0, q)
+    assert len(ks) > 500_000
+    assert not proved[index[:, 0], index[:, 1], index[:, 2], ks].any()
+
+
+def test_a_section_map_proves_pairs_unreachable_for_some_directions_and_samples_agree():
+    # Reference: 400,000 sampled configurations of the toy arm, whose wrist point lies on a sphere (every point of
+    # its workspace on its boundary: the wrist paving's outer boxes come as close to it as they can); none in a
+    # pair proved unreachable, and cells with both kinds of pairs exist (before the wrist stage a cell was -1
+    # for every direction or for none).
+    toy = _toy()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)           # 14 cones of 30 deg do not cover the sphere
+        made = reach_map(toy, delta=0.1, directions=14, cone=30, method="section")
+    codes = made.codes
+    mixed = (codes == -1).any(-1) & (codes != -1).any(-1)
+    assert mixed.sum() > 100 and made.info["wrist_offset"] == 0.15 and made.info["wrist_pairs"] > 400
+    q = np.random.default_rng(2).uniform(-math.pi, math.pi, size=(400_000, 4))
+    index, ks = _sampled_pairs(toy, made.edges, made.directions, made.cone, q)
+    assert len(ks) > 300_000
+    assert not (codes[index[:, 0], index[:, 1], index[:, 2], ks] == -1).any()
+
+
+@pytest.mark.parametrize("last_a", [0, R(1, 20)])
+def test_the_wrist_point_is_exact_for_any_offset(last_a):
+    # Reference: a property of the construction, checked at random configurations: whatever L (here the toy's
+    # and the toy with its roll axis moved 0.05 from the pitch axis, where w depends on every joint), the wrist
+    # robot's tool point is p - L a, so its paving holds every w (the soundness of the stage needs no more).
+    toy = _toy(last_a)
+    assert wrist_offset(toy, ()) == R(3, 20)          # the foot of the common normal is o_3 either way
+    q = np.random.default_rng(6).uniform(-math.pi, math.pi, size=(200, 4))
+    T = numeric_function(toy.fk(), toy.q)(q)
+    for L in (R(3, 20), R(1, 7), R(-2, 5)):
+        w = numeric_function(wrist_robot(toy, L).position, toy.q)(q)[:, :, 0]
+        assert np.allclose(w, T[:, :3, 3] - float(L) * T[:, :3, 2], atol=1e-12)
