@@ -11,7 +11,7 @@ import warnings
 import numpy as np
 import pytest
 import sympy as sp
-from hypothesis import example, given, settings
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 
 from reach_checks import industrial_arm
@@ -19,7 +19,7 @@ from workspace_sym import reach, robots
 from workspace_sym.interval.driver import RunOn
 from workspace_sym.kinematics import DHJoint, DHRobot, numeric_function
 from workspace_sym.serial.mapsection import cap_patches, wrist_offset, wrist_robot, wrist_unreachable
-from workspace_sym.serial.reachmap import _kept_root, covered_cells, face_grid, reach_map, sphere_directions
+from workspace_sym.serial.reachmap import free_cells, reach_map, sphere_directions
 
 R = sp.Rational
 
@@ -101,7 +101,7 @@ def _sampled_pairs(robot, made_edges, directions, cone, q):
 
 
 def test_sampled_configurations_never_fall_in_a_wrist_proved_pair_of_the_ur5():
-    # Reference: forward kinematics of 300,000 configurations (floats), a third of them stretched (the elbow
+    # Reference: forward kinematics of 240,000 configurations (floats), a third of them stretched (the elbow
     # within 0.1 rad of straight, where the tool point is farthest and the claims are), the rest uniform: none
     # may land in a pair proved unreachable, on the UR5's grid of 0.1 with 26 directions of 30 deg.
     ur5 = industrial_arm("ur5")
@@ -109,19 +109,17 @@ def test_sampled_configurations_never_fall_in_a_wrist_proved_pair_of_the_ur5():
     W = reach(wrist_robot(ur5, L), delta=0.05, run=RunOn(progress=False))
     edges = tuple(np.arange(-1.0, 1.0 + 1e-9, 0.1) + (0.0 if a < 2 else 0.05) for a in range(3))
     pad = float(L) + 0.1
-    ends = [(e[0] - pad, e[-1] + pad) for e in edges]
-    w_edges = face_grid(np.concatenate([b.reshape(-1, 3, 2) for b in (W.outer, W.inner, W.boundary, W.pending)]),
-                        ends, spacing=0.025)
-    outside = covered_cells(w_edges, W.outer.reshape(-1, 3, 2), exterior=_kept_root(W))
+    w_edges = tuple(np.arange(e[0] - pad, e[-1] + pad + 0.02, 0.0125) for e in edges)
+    outside = free_cells(w_edges, np.concatenate([b.reshape(-1, 3, 2) for b in (W.inner, W.boundary, W.pending)]))
     directions = sphere_directions(26)
     shape = tuple(len(e) - 1 for e in edges) + (26,)
     proved = wrist_unreachable(edges, np.ones(shape, dtype=bool), directions, 30.0, L, outside, w_edges)
     assert proved.sum() > 20_000 and (proved.any(axis=-1) & ~proved.all(axis=-1)).sum() > 100
     rng = np.random.default_rng(11)
-    q = rng.uniform(-math.pi, math.pi, size=(300_000, 6))
-    q[:100_000, 2] = rng.uniform(-0.1, 0.1, size=100_000)
+    q = rng.uniform(-math.pi, math.pi, size=(240_000, 6))
+    q[:80_000, 2] = rng.uniform(-0.1, 0.1, size=80_000)
     index, ks = _sampled_pairs(ur5, edges, directions, 30.0, q)
-    assert len(ks) > 500_000
+    assert len(ks) > 400_000
     assert not proved[index[:, 0], index[:, 1], index[:, 2], ks].any()
 
 
@@ -155,3 +153,51 @@ def test_the_wrist_point_is_exact_for_any_offset(last_a):
     for L in (R(3, 20), R(1, 7), R(-2, 5)):
         w = numeric_function(wrist_robot(toy, L).position, toy.q)(q)[:, :, 0]
         assert np.allclose(w, T[:, :3, 3] - float(L) * T[:, :3, 2], atol=1e-12)
+
+
+@settings(max_examples=120, deadline=None)
+@given(st.sampled_from([0.05, 0.1, 0.3]), st.floats(-1, 1), st.sampled_from([1e-9, 1e-4, 0.02, 0.2]),
+       st.sampled_from([-0.3, -0.05, 0.0823, 0.21, 1.0]), st.sampled_from([1.0, 30.0, 90.0, 180.0]),
+       st.tuples(*[st.integers(0, 8)] * 3), st.tuples(*[st.integers(0, 1)] * 3), st.floats(0, 1),
+       st.floats(0, 2 * math.pi), st.integers(0, 25))
+@example(0.1, 0.0, 1e-9, 0.21, 30.0, (4, 4, 4), (0, 0, 0), 1.0, 0.0, 12)   # a corner of four cells, the rim
+def test_a_tool_point_whose_wrist_point_lies_in_a_kept_box_is_never_claimed(h, shift, r, L, cone, at, face,
+                                                                           t_frac, phi, k):
+    # Reference: the definition, point by point: a tool point p put on a map cell's corner or face (the pieces'
+    # and the cells' edges), an approach a on the cone of direction k (its rim included), and a kept box of
+    # half-width r >= 1e-9 about w = p - L a (floats: the box holds the exact p - L a by far); the pair
+    # (any closed cell holding p, k) must not be claimed unreachable.
+    edges = tuple(shift + np.arange(10) * h for _ in range(3))
+    directions = sphere_directions(26)
+    a = _on_cone(directions[k], cone, t_frac, phi)
+    p = np.array([edges[i][at[i]] + (h / 2 if face[i] else 0.0) for i in range(3)])
+    w = p - L * a
+    kept = np.array([[[w[i] - r, w[i] + r] for i in range(3)]])
+    pad = abs(L) + h
+    w_edges = tuple(np.arange(e[0] - pad, e[-1] + pad + h, h / 2) for e in edges)
+    outside = free_cells(w_edges, kept)
+    shape = (9, 9, 9, 1)
+    proved = wrist_unreachable(edges, np.ones(shape, dtype=bool), directions[k:k + 1], cone, sp.nsimplify(L),
+                               outside, w_edges)
+    cells = [[j for j in (at[i] - 1, at[i]) if 0 <= j < 9 and edges[i][j] <= p[i] <= edges[i][j + 1]]
+             for i in range(3)]
+    assert not any(proved[i, j, l, 0] for i in cells[0] for j in cells[1] for l in cells[2])
+    if abs(L) <= 0.21 and cone <= 30:                  # short offsets and narrow cones: claims elsewhere
+        assert proved.sum() > 0
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.tuples(*[st.floats(-1, 1)] * 3, st.sampled_from([0.0, 1e-12, 0.1, 0.5])), min_size=1,
+                max_size=5), st.integers(0, 4), st.floats(0, 1), st.floats(0, 1), st.floats(0, 1))
+def test_free_cells_never_hold_a_point_of_a_box(boxes, which, u, v, w):
+    # Reference: points of the boxes (their corners and faces included: u, v, w of 0 or 1), located on the grid by
+    # comparisons: no closed cell holding one is free.
+    B = np.array([[[c - s, c + s] for c in centre] for *centre, s in boxes])
+    edges = tuple(np.linspace(-1.2, 1.2, 13) for _ in range(3))
+    free = free_cells(edges, B)
+    box = B[which % len(B)]
+    point = box[:, 0] + np.array([u, v, w]) * (box[:, 1] - box[:, 0])
+    point = np.clip(point, box[:, 0], box[:, 1])
+    cells = [[j for j in range(12) if e[j] <= x <= e[j + 1]] for e, x in zip(edges, point)]
+    assume(all(cells))                                   # a point beyond the grid is in no cell
+    assert not any(free[i, j, l] for i in cells[0] for j in cells[1] for l in cells[2])

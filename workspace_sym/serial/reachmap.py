@@ -46,7 +46,7 @@ from .model import reach_model
 from .stored import reach_problem
 from .tuning import DEFAULT
 
-__all__ = ["ReachMap", "reach_map", "sphere_directions", "covering_angle", "covered_cells", "face_grid",
+__all__ = ["ReachMap", "reach_map", "sphere_directions", "covering_angle", "covered_cells", "free_cells",
            "map_problem", "MAP_FORMAT", "MAP_METHOD", "SECTION_METHOD", "METHODS"]
 
 MAP_FORMAT = 1
@@ -67,6 +67,9 @@ SECTION_OPTIONS: dict[str, int | bool | None] = {"cell": None, "local": 64, "sam
                                                  "wrist": True}
 """The section method's defaults (``cell``: the section cells' side, None for ``delta / 10``; ``wrist``: the pairs
 proved unreachable from the wrist point's paving are tried)."""
+
+WRIST_CELLS = 50_000_000
+"""The most cells of the grid on which the section method reads the wrist point's paving (one byte each)."""
 
 MAX_PIECES = 4096
 """The most pieces the exact union test splits one cell into before it leaves the cell undecided."""
@@ -292,42 +295,43 @@ def covered_cells(edges, boxes: np.ndarray, exterior: np.ndarray | None = None) 
     return out
 
 
-def face_grid(boxes: np.ndarray, ends, *, spacing: float, max_cells: int = 20_000_000) -> tuple:
-    """The edges of a grid for :func:`covered_cells` of ``boxes``: on each axis the boxes' faces within
-    ``ends`` and the ends themselves, so that each box is a union of cells and the cells inside one box are
-    found without splitting (a paving's boxes share their faces); when that grid would exceed ``max_cells``
-    cells, the uniform edges ``lo + i spacing`` from each end's ``lo`` past its ``hi`` instead.
+def free_cells(edges, boxes: np.ndarray) -> np.ndarray:
+    """Which closed cells of the grid ``edges`` meet none of the closed ``boxes``, decided by comparisons.
+
+    A paving's inner, boundary and pending boxes hold every point of the set it paves (its outer boxes and the
+    outside of its root hold none), so a cell meeting none of them holds no point of the set.  The cells a box
+    meets are a range on each axis (``e_{i+1} >= lo`` and ``e_i <= hi``, by ``searchsorted``); a NaN bound
+    counts as the whole axis.
 
     Parameters
     ----------
+    edges : sequence of three numpy.ndarray
+        The increasing cell edges on each axis.
     boxes : numpy.ndarray
-        ``(N, 3, 2)`` boxes.
-    ends : sequence of pair of float
-        ``(lo, hi)`` per axis: the grid's extent.
-    spacing : float
-        The uniform grid's spacing.
-    max_cells : int
-        The most cells of the faces' grid.
+        ``(N, 3, 2)`` closed boxes.
 
     Returns
     -------
-    tuple of numpy.ndarray
-        Three increasing arrays of edges, each from ``lo`` to ``hi`` or past it.
+    numpy.ndarray
+        ``bool`` of the grid's shape.
 
     Examples
     --------
-    >>> b = np.array([[[0.0, 0.5], [0.0, 1.0], [0.0, 1.0]]])
-    >>> [e.tolist() for e in face_grid(b, [(0.0, 1.0)] * 3, spacing=0.25)]
-    [[0.0, 0.5, 1.0], [0.0, 1.0], [0.0, 1.0]]
+    >>> e = [np.array([0.0, 1.0, 2.0, 3.0])] * 3
+    >>> int(free_cells(e, np.array([[[1.0, 1.5], [0.5, 0.5], [0.0, 3.0]]])).sum())   # x cells 0, 1; y cell 0
+    21
     """
+    shape = tuple(len(e) - 1 for e in edges)
     boxes = np.asarray(boxes, dtype=float).reshape(-1, 3, 2)
-    faces = []
-    for a, (lo, hi) in enumerate(ends):
-        f = boxes[:, a].ravel()
-        faces.append(np.unique(np.r_[f[np.isfinite(f) & (f > lo) & (f < hi)], lo, hi]))
-    if math.prod(len(f) - 1 for f in faces) <= max_cells:
-        return tuple(faces)
-    return tuple(lo + np.arange(math.ceil((hi - lo) / spacing) + 1) * spacing for lo, hi in ends)
+    boxes = np.where(np.isnan(boxes), np.array([-np.inf, np.inf]), boxes)     # no bound: the whole axis
+    first = np.stack([np.clip(np.searchsorted(e, boxes[:, a, 0], side="left") - 1, 0, shape[a])
+                      for a, e in enumerate(edges)], 1)
+    last = np.stack([np.clip(np.searchsorted(e, boxes[:, a, 1], side="right"), 0, shape[a])
+                     for a, e in enumerate(edges)], 1)
+    met = np.zeros(shape, dtype=bool)
+    for (i0, j0, k0), (i1, j1, k1) in zip(first.tolist(), last.tolist()):
+        met[i0:i1, j0:j1, k0:k1] = True
+    return ~met
 
 
 def _split_covered(cell: np.ndarray, boxes: np.ndarray, exterior: np.ndarray | None = None) -> bool:
@@ -1078,7 +1082,7 @@ def _section_map(robot, values, d, cone, delta, reach_delta, named, angle, stop,
         offset = wrist_offset(robot, values)
         wrist = None
         if offset is not None:
-            wrist = reach(wrist_robot(robot, offset), delta=reach_delta, parameters=dict(values),
+            wrist = reach(wrist_robot(robot, offset), delta=reach_delta / 2, parameters=dict(values),
                           stop=StopAt(max_boxes=stop.max_boxes, time_limit=None if deadline is None else
                                       max(1e-3, 0.2 * stop.time_limit)), run=RunOn(progress=False))
         bar.update(1)
@@ -1090,13 +1094,14 @@ def _section_map(robot, values, d, cone, delta, reach_delta, named, angle, stop,
         unreachable = np.repeat(outer[..., None], len(d), axis=-1)
         by_wrist = np.zeros_like(unreachable)
         if wrist is not None and offset is not None:
-            # w's outside on the grid of the faces of its paving's boxes, holding every w = p - L a of the map
+            # the cells meeting none of w's kept boxes, on a grid holding every w = p - L a of the map: cells of
+            # delta / 8 (the boxes' size, reach_delta / 2 = delta / 4 across), at most WRIST_CELLS of them
             pad = abs(float(offset)) + delta
-            ends = [(edges[a][0] - pad, edges[a][-1] + pad) for a in range(3)]
-            w_edges = face_grid(np.concatenate([b.reshape(-1, 3, 2) for b in (wrist.outer, wrist.inner,
-                                                                              wrist.boundary, wrist.pending)]),
-                                ends, spacing=delta / 4)
-            w_out = covered_cells(w_edges, wrist.outer.reshape(-1, 3, 2), exterior=_kept_root(wrist))
+            extent = [edges[a][-1] - edges[a][0] + 2 * pad for a in range(3)]
+            fine = max(delta / 8, (math.prod(extent) / WRIST_CELLS) ** (1 / 3))
+            w_edges = tuple(edges[a][0] - pad + np.arange(math.ceil(extent[a] / fine) + 1) * fine for a in range(3))
+            w_out = free_cells(w_edges, np.concatenate([b.reshape(-1, 3, 2)
+                                                        for b in (wrist.inner, wrist.boundary, wrist.pending)]))
             by_wrist = wrist_unreachable(edges, ~inner & ~unreachable, d, cone, offset, w_out, w_edges)
             unreachable |= by_wrist
         bar.update(1)
