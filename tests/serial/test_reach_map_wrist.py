@@ -19,7 +19,7 @@ from workspace_sym import reach, robots
 from workspace_sym.interval.driver import RunOn
 from workspace_sym.kinematics import DHJoint, DHRobot, numeric_function
 from workspace_sym.serial.mapsection import cap_patches, wrist_offset, wrist_robot, wrist_unreachable
-from workspace_sym.serial.reachmap import free_cells, reach_map, sphere_directions
+from workspace_sym.serial.reachmap import ReachMap, free_cells, reach_map, sphere_directions
 
 R = sp.Rational
 
@@ -123,7 +123,7 @@ def test_sampled_configurations_never_fall_in_a_wrist_proved_pair_of_the_ur5():
     assert not proved[index[:, 0], index[:, 1], index[:, 2], ks].any()
 
 
-def test_a_section_map_proves_pairs_unreachable_for_some_directions_and_samples_agree():
+def test_a_section_map_proves_pairs_unreachable_for_some_directions_and_samples_agree(tmp_path):
     # Reference: 400,000 sampled configurations of the toy arm, whose wrist point lies on a sphere (every point of
     # its workspace on its boundary: the wrist paving's outer boxes come as close to it as they can); none in a
     # pair proved unreachable, and cells with both kinds of pairs exist (before the wrist stage a cell was -1
@@ -135,6 +135,9 @@ def test_a_section_map_proves_pairs_unreachable_for_some_directions_and_samples_
     codes = made.codes
     mixed = (codes == -1).any(-1) & (codes != -1).any(-1)
     assert mixed.sum() > 100 and made.info["wrist_offset"] == 0.15 and made.info["wrist_pairs"] > 400
+    saved = made.save(tmp_path / "toy.npz")                 # the stage's figures travel with the file
+    again = ReachMap.load(saved)
+    assert again.summary()["wrist_pairs"] == made.info["wrist_pairs"] and np.array_equal(again.codes, codes)
     q = np.random.default_rng(2).uniform(-math.pi, math.pi, size=(400_000, 4))
     index, ks = _sampled_pairs(toy, made.edges, made.directions, made.cone, q)
     assert len(ks) > 300_000

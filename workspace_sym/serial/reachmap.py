@@ -661,7 +661,8 @@ class ReachMap:
             ``robot``, ``units``, ``delta``, ``cone``, ``directions``, ``covering_angle``, ``grid`` (``origin``,
             ``shape``), ``pairs``, ``reachable``, ``unreachable``, ``undecided``, ``decided_fraction``,
             ``decided_fraction_in_box``, ``outside_proved``, ``seconds``, ``method``, ``reach_delta``,
-            ``complete``.
+            ``complete``; with ``method="section"``, ``wrist_offset`` (``L``, None without the stage) and
+            ``wrist_pairs`` (the pairs it proved unreachable).
         """
         c = self.codes
         inbox = c[self.bounding_mask()] if "root" in self.info else c
@@ -674,7 +675,8 @@ class ReachMap:
                 "decided_fraction_in_box": float((inbox != UNDECIDED).mean()) if inbox.size else 0.0,
                 "outside_proved": bool(self.outside_proved), "seconds": self.info.get("seconds"),
                 "method": self.method, "reach_delta": self.info.get("reach_delta"),
-                "complete": self.info.get("complete")}
+                "complete": self.info.get("complete"),
+                **{key: self.info[key] for key in ("wrist_offset", "wrist_pairs") if key in self.info}}
 
     def slice(self, axis: str = "z", value: float = 0.0, direction: int | None = None) -> np.ndarray:
         """The grid's layer of cells holding ``axis = value``: a direction's codes, or the lower capability bound.
