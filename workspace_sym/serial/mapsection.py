@@ -19,8 +19,8 @@ argument and its margins).
 Pairs proved unreachable for one direction come from the wrist point ``w = p - L a`` (:func:`wrist_offset`: the
 foot of the common normal of the last two axes, where they meet for the UR5 and a spherical wrist): a
 configuration with its tool point in a cell and its approach in a cone has ``w`` in the cell moved by ``-L``
-times the cone's cap, so a cell and cone whose moved boxes lie in the outer boxes of ``w``'s own position paving
-are reached by none (:func:`wrist_unreachable`).
+times the cone's cap, so a cell and cone whose moved boxes meet none of the boxes of ``w``'s own position paving
+that may hold its points (inner, boundary, pending) are reached by none (:func:`wrist_unreachable`).
 """
 
 from __future__ import annotations
