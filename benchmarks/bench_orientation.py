@@ -66,11 +66,13 @@ REF_SAMPLES = 4_000_000
 def arm_cases():
     """The issue 40 rows: (name, robot, options, deltas, time limit).  Under a time limit the constrained section's
     cells do not follow delta (docs/methods.md section 8), so two deltas show the bracket's independence of it."""
-    ur5, kr16, puma = industrial_arm("ur5"), industrial_arm("kr16"), robots.build("puma560")
+    ur5, ur10, kr16, puma = (industrial_arm("ur5"), industrial_arm("ur10"), industrial_arm("kr16"),
+                             robots.build("puma560"))
     down = dict(approach=(0, 0, -1), cone=20)
     tool_down = dict(rpy=(180, 0, 0))
     rows = [("Puma 560", puma, down, (0.05, 0.02), 120), ("Puma 560", puma, tool_down, (0.05, 0.02), 120),
             ("UR5", ur5, down, (0.05,), 300), ("UR5", ur5, tool_down, (0.05,), 300),
+            ("UR10", ur10, down, (0.05,), 300), ("UR10", ur10, tool_down, (0.05,), 300),
             ("KR16 (URDF)", kr16, down, (0.15, 0.1), 300), ("KR16 (URDF)", kr16, tool_down, (0.15,), 300)]
     # The seven-joint arms (first joint limited: the 3-D pairs, docs/methods.md section 8): the cone only, whose
     # sampled reference needs no solve (a tool down would need the spin of a last joint that turns less than a turn).

@@ -30,10 +30,10 @@ IIWA = XACRO / "kuka_description/kuka_lbr_iiwa/urdf/lbr_iiwa_14_r820.urdf"
 
 @functools.cache
 def industrial_arm(name):
-    """The UR5 (``tests/data/dh/ur5.json``), the KUKA KR16 or the LBR iiwa 14 (rtb-data's URDFs, limits from the
-    files) or the Panda (``tests/data/dh/panda.json``), one object per process so that the symbolic section is
-    prepared once."""
-    if name in ("ur5", "panda"):
+    """The UR5 and the UR10 (``tests/data/dh/ur5.json``, ``ur10.json``), the KUKA KR16 or the LBR iiwa 14 (rtb-data's
+    URDFs, limits from the files) or the Panda (``tests/data/dh/panda.json``), one object per process so that the
+    symbolic section is prepared once."""
+    if name in ("ur5", "ur10", "panda"):
         return DHRobot.from_file(DATA / "dh" / f"{name}.json")
     return DHRobot.from_urdf({"kr16": KR16, "iiwa": IIWA}[name])
 
