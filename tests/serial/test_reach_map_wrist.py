@@ -14,7 +14,7 @@ import sympy as sp
 from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 
-from reach_checks import industrial_arm
+from reach_checks import in_any_box, industrial_arm
 from workspace_sym import reach, robots
 from workspace_sym.interval.driver import RunOn
 from workspace_sym.kinematics import DHJoint, DHRobot, numeric_function
@@ -121,6 +121,10 @@ def test_sampled_configurations_never_fall_in_a_wrist_proved_pair_of_the_ur5():
     index, ks = _sampled_pairs(ur5, edges, directions, 30.0, q)
     assert len(ks) > 400_000
     assert not proved[index[:, 0], index[:, 1], index[:, 2], ks].any()
+    # the premise itself: every sampled wrist point lies in a kept box of its paving (widened by 1e-9)
+    w = numeric_function(wrist_robot(ur5, L).position, ur5.q)(q[:100_000])[:, :, 0]
+    kept = np.concatenate([b.reshape(-1, 3, 2) for b in (W.inner, W.boundary, W.pending)])
+    assert in_any_box(w, kept, pad=1e-9).all()
 
 
 def test_a_section_map_proves_pairs_unreachable_for_some_directions_and_samples_agree(tmp_path):
