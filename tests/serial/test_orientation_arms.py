@@ -123,6 +123,7 @@ def test_ur5_bracket_holds_the_sampled_volume(ur5, ur5_cone, ur5_down, options):
     assert 0 < lo <= reference <= hi
 
 
+@pytest.mark.slow          # another industrial arm's symbolic preparation, about 12 s (make test-fast leaves it out)
 @pytest.mark.parametrize("options", [CONE, TOOL_DOWN], ids=["cone", "tool down"])
 def test_the_ur10_is_paved_as_the_ur5_and_its_samples_agree(options):
     # Reference: the UR10 (tests/data/dh/ur10.json, roboticstoolbox-python's table of Universal Robots' published
