@@ -1102,8 +1102,7 @@ def _section_map(robot, values, d, cone, delta, reach_delta, named, angle, stop,
             extent = [edges[a][-1] - edges[a][0] + 2 * pad for a in range(3)]
             fine = max(delta / 8, (math.prod(extent) / WRIST_CELLS) ** (1 / 3))
             w_edges = tuple(edges[a][0] - pad + np.arange(math.ceil(extent[a] / fine) + 1) * fine for a in range(3))
-            w_out = free_cells(w_edges, np.concatenate([b.reshape(-1, 3, 2)
-                                                        for b in (wrist.inner, wrist.boundary, wrist.pending)]))
+            w_out = free_cells(w_edges, _kept(wrist))
             by_wrist = wrist_unreachable(edges, ~inner & ~unreachable, d, cone, offset, w_out, w_edges)
             unreachable |= by_wrist
         bar.update(1)
@@ -1123,11 +1122,17 @@ def _section_map(robot, values, d, cone, delta, reach_delta, named, angle, stop,
                     outside_proved=inside, fingerprint=named, info=info)
 
 
+def _kept(paving) -> np.ndarray:
+    """A paving's boxes not proved outer (inner, boundary, pending), ``(N, 3, 2)``: they hold every point of the
+    set it paves."""
+    return np.concatenate([b.reshape(-1, 3, 2) for b in (paving.inner, paving.boundary, paving.pending)])
+
+
 def _kept_root(position) -> np.ndarray:
     """The bounding box ``(3, 2)`` of a paving's boxes not proved outer (inner, boundary, pending), within its
     root box: every point of the workspace lies in it."""
     box = np.array([position.box.lower, position.box.upper], dtype=float).T
-    kept = np.concatenate([b.reshape(-1, 3, 2) for b in (position.inner, position.boundary, position.pending)])
+    kept = _kept(position)
     if not len(kept):
         return box
     return np.stack([np.maximum(kept[:, :, 0].min(axis=0), box[:, 0]),
