@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from fractions import Fraction
 
 import numpy as np
 import pytest
@@ -208,3 +209,60 @@ def test_free_cells_never_hold_a_point_of_a_box(boxes, which, u, v, w):
     cells = [[j for j in range(12) if e[j] <= x <= e[j + 1]] for e, x in zip(edges, point)]
     assume(all(cells))                                   # a point beyond the grid is in no cell
     assert not any(free[i, j, l] for i in cells[0] for j in cells[1] for l in cells[2])
+
+
+def _rational_unit(t):
+    """A unit vector of rational coordinates near the float unit vector ``t``: the inverse stereographic image
+    of a rational point near ``t``'s projection (from the pole farther from ``t``)."""
+    t = np.asarray(t, dtype=float) / np.linalg.norm(t)
+    pole = 1 if t[2] < 0 else -1                     # project from (0, 0, pole)
+    s = Fraction(float(t[0] / (1 - pole * t[2]))).limit_denominator(10**7)
+    u = Fraction(float(t[1] / (1 - pole * t[2]))).limit_denominator(10**7)
+    n = s * s + u * u
+    return (2 * s / (n + 1), 2 * u / (n + 1), pole * (n - 1) / (n + 1))
+
+
+def test_wrist_claims_hold_in_exact_rationals_at_cell_corners_and_the_cone_s_rim():
+    # Reference: exact rational arithmetic (fractions), not the floats of the stage.  For claims of the toy arm
+    # (its wrist point on a sphere: every kept box on the boundary), tool points p at the corners, the face
+    # centres and random rational points of claimed cells, approaches a with rational coordinates and a . a = 1
+    # exactly, within the cone (a . d >= |d| c, c a rational above cos 30 deg) and near its rim: w = p - L a,
+    # computed exactly, lies in none of the kept boxes (each bound read as the rational it is).
+    toy = _toy()
+    L = wrist_offset(toy, ())
+    W = reach(wrist_robot(toy, L), delta=0.05, run=RunOn(progress=False))
+    kept = np.concatenate([b.reshape(-1, 3, 2) for b in (W.inner, W.boundary, W.pending)])
+    edges = tuple(np.arange(-0.7, 0.75, 0.1) + (0.2 if a == 2 else 0.0) for a in range(3))
+    pad = float(L) + 0.1
+    w_edges = tuple(np.arange(e[0] - pad, e[-1] + pad + 0.02, 0.0125) for e in edges)
+    directions = sphere_directions(14)
+    shape = tuple(len(e) - 1 for e in edges) + (14,)
+    proved = wrist_unreachable(edges, np.ones(shape, dtype=bool), directions, 30.0, L, free_cells(w_edges, kept),
+                               w_edges)
+    pairs = np.argwhere(proved)
+    assert len(pairs) > 2000
+    cos_c = Fraction(math.cos(math.radians(30))) + Fraction(1, 10**12)        # above cos 30 deg
+    rng = np.random.default_rng(8)
+    lo_kept, hi_kept = kept[:, :, 0], kept[:, :, 1]
+    checked = 0
+    for i, j, l, k in pairs[rng.choice(len(pairs), size=150, replace=False)]:
+        cell = [(Fraction(edges[a][c]), Fraction(edges[a][c + 1])) for a, c in enumerate((i, j, l))]
+        points = [tuple(cell[a][b] for a, b in enumerate(bits)) for bits in ((0, 0, 0), (1, 1, 1), (0, 1, 0))]
+        points.append(tuple((x0 + x1) / 2 for x0, x1 in cell))
+        points.append(tuple(x0 + (x1 - x0) * Fraction(int(rng.integers(0, 1000)), 1000) for x0, x1 in cell))
+        d = [Fraction(float(x)) for x in directions[k]]
+        norm2 = sum(x * x for x in d)
+        for t_frac, phi in ((0.0, 0.0), (0.999, rng.uniform(0, 2 * math.pi)), (0.999, rng.uniform(0, 2 * math.pi))):
+            a = _rational_unit(_on_cone(directions[k], 30.0, t_frac, phi))
+            assert sum(x * x for x in a) == 1
+            dot = sum(x * y for x, y in zip(a, d))
+            if not (dot > 0 and dot * dot >= norm2 * cos_c * cos_c):
+                continue                                # rounded out of the cone: not a point of the claim
+            for p in points:
+                w = [p[m] - L * a[m] for m in range(3)]
+                wf = np.array([float(x) for x in w])
+                near = np.nonzero(((lo_kept <= wf + 1e-9) & (wf - 1e-9 <= hi_kept)).all(axis=1))[0]
+                for b in near:                          # exact: w is in no kept box
+                    assert not all(Fraction(lo_kept[b, m]) <= w[m] <= Fraction(hi_kept[b, m]) for m in range(3))
+                checked += 1
+    assert checked > 1000
