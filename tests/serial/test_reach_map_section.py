@@ -19,7 +19,8 @@ from workspace_sym import Pose, reach, robots
 from workspace_sym.errors import InvalidParameterError
 from workspace_sym.interval.driver import RunOn
 from workspace_sym.kinematics import DHJoint, DHRobot, numeric_function
-from workspace_sym.serial.mapsection import _cell_geometry, section_prover, section_reachable
+from workspace_sym.serial import mapsection
+from workspace_sym.serial.mapsection import _cell_geometry, local_directions, section_prover, section_reachable
 from workspace_sym.serial.reachmap import (
     ReachMap,
     _grid,
@@ -141,6 +142,65 @@ def test_points_of_aimed_section_pairs_are_reached_in_the_cone_at_50_digits(name
         cell = np.array([[edges[a][c], edges[a][c + 1]] for a, c in enumerate((i, j, l))])
         for target in (cell[np.arange(3), rng.integers(0, 2, 3)], rng.uniform(cell[:, 0], cell[:, 1])):
             assert arm_in_cone_at_50_digits(robot, target, directions[k], 30.0, rng) is not None, (target, k)
+
+
+def test_pairs_proved_by_the_second_branch_of_a_limited_first_joint_are_reached_at_50_digits(monkeypatch):
+    # The Panda (tests/data/dh/panda.json): its first joint within +-2.8973 rad, so theta_1 = psi - beta must avoid
+    # a forbidden arc, and its redundant section keeps a second proof per square with beta swung away from the
+    # first's (_SectionCells.second).  The same cells are proved without the second proofs (the method turned
+    # off): those pairs must be among the others (the second only adds candidates), and the pairs proved only
+    # with it are checked by the whole arm's 50-digit inverse kinematics, first joint's limits included.
+    # The box: map cells of 0.1 behind the base (x < 0), where the first proof's beta often forbids theta_1.
+    robot = industrial_arm("panda")
+    prover = section_prover(robot, (), 30.0)
+    assert prover.aims and prover.theta_range is not None
+    origin, shape, _ = _grid(robot, (), 0.1)
+    edges = tuple(origin[a] + np.arange(shape[a] + 1) * 0.1 for a in range(3))
+    centres = np.meshgrid(*[0.5 * (e[1:] + e[:-1]) for e in edges], indexing="ij")
+    box = ((-0.65, -0.25), (-0.1, 0.3), (0.3, 0.5))
+    candidates = np.logical_and.reduce([(lo < c) & (c < hi) for c, (lo, hi) in zip(centres, box)])
+    directions = sphere_directions(6)
+    options = dict(cell=0.01, local=sphere_directions(16), samples=40_000)
+    both = section_reachable(prover, edges, candidates, directions, **options)
+    monkeypatch.setattr(mapsection._SectionCells, "second", lambda self, s, l: np.zeros(0, dtype=np.int64))
+    first = section_reachable(prover, edges, candidates, directions, **options)
+    assert not (first & ~both).any() and not both[~candidates].any()
+    only = np.argwhere(both & ~first)
+    assert len(only) >= 2
+    rng = np.random.default_rng(3)
+    for i, j, l, k in only[rng.choice(len(only), size=2, replace=False)]:
+        cell = np.array([[edges[a][c], edges[a][c + 1]] for a, c in enumerate((i, j, l))])
+        for target in (cell[np.arange(3), rng.integers(0, 2, 3)], rng.uniform(cell[:, 0], cell[:, 1])):
+            assert arm_in_cone_at_50_digits(robot, target, directions[k], 30.0, rng) is not None, (target, k)
+
+
+class _Frame:
+    def __init__(self, rotation):
+        self.rotation = rotation
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(1, 30), st.integers(8, 200), st.integers(0, 2**32 - 1), st.booleans())
+def test_local_directions_lie_near_every_direction_seen_from_the_turning_frame(k, count, seed, turned):
+    # Reference: e(psi) = Rz(-psi) R^T d on a grid of 721 angles psi, for random map directions (vertical ones
+    # included) and a random rotation R: each within 60 deg of a local direction (at least three a circle, evenly
+    # spread); for the 26 cube directions and 96 local ones, within 7.95 deg (docs/methods.md section 9), below the
+    # 15.96 deg that sphere_directions(96) leaves.
+    rng = np.random.default_rng(seed)
+    d = rng.normal(size=(k, 3))
+    d[rng.random(k) < 0.2] = [0.0, 0.0, 1.0]
+    d /= np.linalg.norm(d, axis=1)[:, None]
+    R = np.linalg.qr(rng.normal(size=(3, 3)))[0] if turned else np.eye(3)
+    cases = [(d, count, 60.0 + 1e-9)] + ([(sphere_directions(26), 96, 7.95)] if not turned else [])
+    for dirs, n, bound in cases:
+        local = local_directions(_Frame(R), dirs, n)
+        assert np.allclose(np.linalg.norm(local, axis=1), 1.0)
+        psi = np.linspace(0.0, 2 * np.pi, 721)
+        seen = dirs @ R.T
+        for v in seen:
+            E = np.stack([np.cos(psi) * v[0] + np.sin(psi) * v[1], -np.sin(psi) * v[0] + np.cos(psi) * v[1],
+                          np.full_like(psi, v[2])], 1)
+            assert np.degrees(np.arccos(np.clip((E @ local.T).max(axis=1), -1, 1))).max() <= bound
 
 
 @settings(max_examples=300, deadline=None)

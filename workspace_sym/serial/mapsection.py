@@ -46,6 +46,7 @@ __all__ = ["SectionProver", "section_prover", "section_reachable", "wrist_offset
 
 BRANCHES = 8           # seeds per section cell when Newton cannot aim (fewer than four section joints)
 NEAREST = 6            # local directions tried per map direction and piece: the nearest to it
+SWINGS = (math.pi, 0.5 * math.pi, -0.5 * math.pi)   # beta's swings tried for a second proof, in turn
 MARGIN = 1e-9          # added to every float comparison of the cell test (far above its rounding, about 1e-15)
 
 
@@ -153,6 +154,42 @@ def section_prover(robot: DHRobot, values: tuple, cone_degrees: float) -> Sectio
     return SectionProver(square, quantities, b_float, b_jacobian, cone, theta_range, what, turn.inverse, rotation)
 
 
+def local_directions(prover: SectionProver, directions: np.ndarray, count: int) -> np.ndarray:
+    """About ``count`` local directions for Newton to aim at, on the circles where the map's directions are seen.
+
+    A map direction ``d`` is seen from the frame that turns with the point as ``e(psi) = Rz(-psi) R^T d``: as
+    ``psi`` runs, on the circle of the sphere at ``d``'s height in the first joint's frame.  So the local
+    directions lie on those circles (the poles once), evenly in angle, as many on each as its length asks
+    (at least three), about ``count`` in all: every ``e`` is then within half a step of one, where a cover of
+    the whole sphere by as many leaves some 20 degrees (64 points).  Only Newton's aim: the proofs hold for
+    any choice.
+
+    Parameters
+    ----------
+    prover : SectionProver
+        The robot's prover (its ``rotation`` into the first joint's frame).
+    directions : numpy.ndarray
+        ``(K, 3)`` unit vectors of the map.
+    count : int
+        About how many local directions.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(L, 3)`` unit vectors.
+    """
+    heights = np.clip((np.asarray(directions, dtype=float) @ prover.rotation.T)[:, 2], -1.0, 1.0)
+    heights = np.unique(np.round(heights, 9))
+    poles = np.abs(heights) > 1 - 1e-9
+    radii = np.sqrt(1 - heights[~poles] ** 2)
+    share = (count - int(poles.sum())) * radii / max(radii.sum(), 1e-300)
+    out = [np.array([[0.0, 0.0, math.copysign(1.0, z)]]) for z in heights[poles]]
+    for z, r, n in zip(heights[~poles], radii, np.maximum(3, np.round(share)).astype(int)):
+        angle = 2 * math.pi * np.arange(n) / n
+        out.append(np.stack([r * np.cos(angle), r * np.sin(angle), np.full(n, z)], 1))
+    return np.concatenate(out)
+
+
 def _columns(f, q: np.ndarray) -> np.ndarray:
     """``(N, r)`` floats of a column function (:func:`~workspace_sym.kinematics.numeric_function`) at ``q``."""
     return f(q)[:, :, 0]
@@ -178,13 +215,59 @@ def _aimed_newton(prover: SectionProver, targets, ell, q, steps: int = 10):
                 J = np.concatenate([J, np.einsum("ni,nik->nk", e1, Jb)[:, None], np.einsum("ni,nik->nk", e2, Jb)[:, None]],  # noqa: E501
                                    axis=1)
             JJ = np.einsum("nik,njk->nij", J, J) + 1e-12 * np.eye(J.shape[1])
-            q = q - np.einsum("nik,ni->nk", J, np.linalg.solve(JJ, f[:, :, None])[:, :, 0])
+            step = np.einsum("nik,ni->nk", J, np.linalg.solve(JJ, f[:, :, None])[:, :, 0])
+            # a joint held at its limit that the step would push beyond it is left out of the step (its column
+            # dropped), so that the others move instead of the iteration stalling at the limit
+            held = ~square.periodic & (((q <= lo) & (step > 0)) | ((q >= hi) & (step < 0)))
+            if held.any():
+                Jh = np.where(held[:, None, :], 0.0, J)
+                JJ = np.einsum("nik,njk->nij", Jh, Jh) + 1e-12 * np.eye(J.shape[1])
+                step = np.where(held.any(axis=1)[:, None],
+                                np.einsum("nik,ni->nk", Jh, np.linalg.solve(JJ, f[:, :, None])[:, :, 0]), step)
+            q = q - step
             q = np.where(square.periodic, lo + np.remainder(q - lo, hi - lo), np.clip(q, lo, hi))
+        tolerance = 1e-9 * (1 + np.abs(targets).max(axis=1))
         residual = np.abs(square.position_float(q) - targets).max(axis=1)
-        converged = np.isfinite(q).all(axis=1) & (residual < 1e-9 * (1 + np.abs(targets).max(axis=1)))
         if prover.aims:
-            converged &= np.einsum("ni,ni->n", _columns(prover.b_float, q), ell) > 0.99
-    return q, converged
+            # where the aim cannot be met, the joint steps settle between the position and the aim: a few steps
+            # on the position alone from there keep b near its best and give a section point to prove
+            off = np.nonzero(~(residual < tolerance))[0]
+            if len(off):
+                q[off], _ = square.newton(targets[off], q[off], steps=4)
+                residual[off] = np.abs(square.position_float(q[off]) - targets[off]).max(axis=1)
+        converged = np.isfinite(q).all(axis=1) & (residual < tolerance)
+        aimed = converged.copy()
+        if prover.aims:
+            aimed &= np.einsum("ni,ni->n", _columns(prover.b_float, q), ell) > 0.99
+    return q, converged, aimed
+
+
+def _steered_newton(prover: SectionProver, targets, ell, beta, q, steps: int = 12, largest: float = 0.4):
+    """Least-squares Newton steps towards ``(t, v) = targets``, ``b`` along ``ell`` and the polar angle of
+    ``(u, c)`` at ``beta`` (its residual wrapped into ``(-pi, pi]``, each step at most ``largest`` radians):
+    the self-motion of a redundant section swung to another ``beta``.  Floats, no proof (a seed)."""
+    square = prover.square
+    lo, hi = square.inner_limits[:, 0], square.inner_limits[:, 1]
+    e1 = np.cross(ell, np.where(np.abs(ell[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]]))
+    e1 /= np.linalg.norm(e1, axis=1)[:, None]
+    e2 = np.cross(ell, e1)
+    with np.errstate(all="ignore"):
+        for _ in range(steps):
+            w, Jw = square.lateral.position_float(q), square.lateral.jacobian_float(q)
+            b, Jb = _columns(prover.b_float, q), prover.b_jacobian(q)
+            r2 = w[:, 0] ** 2 + w[:, 1] ** 2
+            turn = np.angle(np.exp(1j * (np.arctan2(w[:, 1], w[:, 0]) - beta)))
+            d_beta = (w[:, 0, None] * Jw[:, 1] - w[:, 1, None] * Jw[:, 0]) / r2[:, None]
+            f = np.concatenate([square.position_float(q) - targets, np.einsum("ni,ni->n", b, e1)[:, None],
+                                np.einsum("ni,ni->n", b, e2)[:, None], turn[:, None]], axis=1)
+            J = np.concatenate([square.jacobian_float(q), np.einsum("ni,nik->nk", e1, Jb)[:, None],
+                                np.einsum("ni,nik->nk", e2, Jb)[:, None], d_beta[:, None]], axis=1)
+            JJ = np.einsum("nik,njk->nij", J, J) + 1e-9 * np.eye(J.shape[1])
+            step = np.einsum("nik,ni->nk", J, np.linalg.solve(JJ, f[:, :, None])[:, :, 0])
+            size = np.abs(step).max(axis=1, keepdims=True)
+            q = q - step * np.minimum(1.0, largest / np.maximum(size, 1e-300))
+            q = np.where(square.periodic, lo + np.remainder(q - lo, hi - lo), np.clip(q, lo, hi))
+    return q
 
 
 class _SectionCells:
@@ -198,12 +281,16 @@ class _SectionCells:
         self.lookup[self.index[:, 0], self.index[:, 1]] = np.arange(len(self.index))
         self.local = local
         S, L = len(self.index), len(local)
-        self.b_mid = np.full((S, L, 3), np.nan)
-        self.b_half = np.full((S, L, 3), np.inf)
-        self.uc_mid = np.full((S, L, 2), np.nan)
-        self.uc_half = np.full((S, L, 2), np.inf)
+        # columns l and, for a limited first joint, L + l: the proof aimed at local direction l, and a second one
+        # whose beta lies far from the first's (_SectionCells.second)
+        width = 2 * L if prover.theta_range is not None and prover.aims else L
+        self.b_mid = np.full((S, width, 3), np.nan)
+        self.b_half = np.full((S, width, 3), np.inf)
+        self.uc_mid = np.full((S, width, 2), np.nan)
+        self.uc_half = np.full((S, width, 2), np.inf)
         self.solution = np.full((S, L, prover.square.k), np.nan)
         self.converged = np.zeros((S, L), dtype=bool)
+        self.aimed = np.zeros((S, L), dtype=bool)        # the kept proof's b was aimed at the local direction
         self.tries = np.zeros((S, L), dtype=np.int8)
 
     def bounds(self, s):
@@ -214,14 +301,56 @@ class _SectionCells:
     def solve(self, s, l, seeds):
         """Newton aimed at the local directions ``l`` from ``seeds``, then the Krawczyk test of the cells ``s``;
         the enclosures of the proofs are kept.  Returns the rows that converged."""
-        prover, square = self.prover, self.prover.square
+        prover = self.prover
         r0, r1, z0, z1 = self.bounds(s)
         T = np.stack([np.stack([arith.down(r0 * r0), arith.up(r1 * r1)], 1), np.stack([z0, z1], 1)], 1)
-        q, converged = _aimed_newton(prover, 0.5 * (T[:, :, 0] + T[:, :, 1]), self.local[l], seeds.copy())
-        rows = np.nonzero(converged)[0]
+        q, converged, aimed = _aimed_newton(prover, 0.5 * (T[:, :, 0] + T[:, :, 1]), self.local[l], seeds.copy())
+        rows = np.nonzero(converged & ~self.aimed[s, l])[0]
+        # a proof kept: the first, replaced once by one whose b was aimed (either serves the directions it is near)
+        rows = self._prove(s, l, T, q, rows, lambda r: ~np.isfinite(self.b_mid[s[r], l[r], 0]) | aimed[r])
+        self.aimed[s[rows], l[rows]] |= aimed[rows]
+        ok = np.nonzero(aimed)[0]
+        self.solution[s[ok], l[ok]] = q[ok]
+        self.converged[s[ok], l[ok]] = True
+        return ok
+
+    def second(self, s, l):
+        """For a limited first joint (``theta_1 = psi - beta`` must lie in its range): a second proof of the pairs
+        ``(s, l)`` holding an aimed one, Newton steered to ``beta`` half a turn from the first proof's, kept in
+        column ``L + l`` where its ``beta`` lies at least the excluded arc (plus 0.2) from the first's, so that
+        no polar angle ``psi`` excludes both.  Returns the rows kept."""
+        prover, square, L = self.prover, self.prover.square, len(self.local)
+        lo, hi = prover.theta_range
+        r0, r1, z0, z1 = self.bounds(s)
+        T = np.stack([np.stack([arith.down(r0 * r0), arith.up(r1 * r1)], 1), np.stack([z0, z1], 1)], 1)
+        targets = 0.5 * (T[:, :, 0] + T[:, :, 1])
+        first = np.arctan2(self.uc_mid[s, l, 1], self.uc_mid[s, l, 0])
+        stored = []
+        todo = np.arange(len(s))
+        for swing in SWINGS:
+            q = _steered_newton(prover, targets[todo], self.local[l[todo]], first[todo] + swing,
+                                self.solution[s[todo], l[todo]].copy())
+            q, _converged, aimed = _aimed_newton(prover, targets[todo], self.local[l[todo]], q)
+            with np.errstate(all="ignore"):
+                w = square.lateral.position_float(q)
+            apart = np.abs(np.angle(np.exp(1j * (np.arctan2(w[:, 1], w[:, 0]) - first[todo]))))
+            rows = np.nonzero(aimed & (apart > 2 * math.pi - (hi - lo) + 0.2))[0]
+            kept = self._prove(s[todo], l[todo] + L, T[todo], q, rows, lambda r: np.ones(len(r), dtype=bool))
+            stored.append(todo[kept])
+            todo = np.setdiff1d(todo, todo[kept])
+            if not len(todo):
+                break
+        return np.concatenate(stored)
+
+    def _prove(self, s, col, T, q, rows, keep):
+        """The Krawczyk test of ``rows`` (of the cells ``s`` at ``q``); where it succeeds and ``keep(rows)``, the
+        enclosures of ``b`` and ``(u, c) / rho`` over the proof's box go to column ``col``.  Returns the rows
+        stored."""
+        prover, square = self.prover, self.prover.square
+        r0, r1 = self.bounds(s)[:2]
         proved, U = square.prove_inside_boxes(T[rows], q[rows], inflations=2)
         rows, U = rows[proved], U[proved]
-        new = ~np.isfinite(self.b_mid[s[rows], l[rows], 0])
+        new = keep(rows)
         rows, U = rows[new], U[new]
         if len(rows):
             X = [(U[:, j, 0], U[:, j, 1]) for j in range(square.k)]
@@ -234,12 +363,9 @@ class _SectionCells:
                              for i, p in enumerate(parts)], 1)
             good = np.isfinite(mid).all(axis=1) & np.isfinite(half).all(axis=1)
             rows, mid, half = rows[good], mid[good], half[good]
-            self.b_mid[s[rows], l[rows]], self.b_half[s[rows], l[rows]] = mid[:, :3], half[:, :3]
-            self.uc_mid[s[rows], l[rows]], self.uc_half[s[rows], l[rows]] = mid[:, 3:], half[:, 3:]
-        ok = np.nonzero(converged)[0]
-        self.solution[s[ok], l[ok]] = q[ok]
-        self.converged[s[ok], l[ok]] = True
-        return ok
+            self.b_mid[s[rows], col[rows]], self.b_half[s[rows], col[rows]] = mid[:, :3], half[:, :3]
+            self.uc_mid[s[rows], col[rows]], self.uc_half[s[rows], col[rows]] = mid[:, 3:], half[:, 3:]
+        return rows
 
 
 def _cell_geometry(X: np.ndarray, Y: np.ndarray):
@@ -411,6 +537,12 @@ def section_reachable(prover: SectionProver, edges: tuple, candidates: np.ndarra
         cs, cl, cq = cs[fresh], cl[fresh], cq[fresh]
         _, first = np.unique(cs * L + cl, return_index=True)
         todo = (cs[first], cl[first], cq[first])
+    if grid.b_mid.shape[1] > L:         # a limited first joint: second proofs, beta swung half a turn
+        s_t, l_t = np.nonzero(grid.aimed)
+        for start in range(0, len(s_t), chunk):
+            if deadline is not None and time.perf_counter() > deadline:
+                break
+            grid.second(s_t[start:start + chunk], l_t[start:start + chunk])
     # the map cells: every piece, every section cell it meets, some proof serving the direction (of the local
     # directions nearest e = Rz(-psi) d, the others being too far to pass: choosing fewer only proves less)
     D = np.asarray(directions, dtype=float) @ prover.rotation.T        # the directions in the first joint's frame
@@ -438,6 +570,8 @@ def section_reachable(prover: SectionProver, edges: tuple, candidates: np.ndarra
             c, s_ = math.cos(psi[n]), math.sin(psi[n])
             E = np.stack([c * D[:, 0] + s_ * D[:, 1], -s_ * D[:, 0] + c * D[:, 1], D[:, 2]], 1)    # Rz(-psi) d, (K, 3)
             near = np.argsort(-(E @ ells.T), axis=1)[:, :tried] if prover.aims else np.tile(np.arange(L), (len(D), 1))
+            if grid.b_mid.shape[1] > L:
+                near = np.concatenate([near, near + L], axis=1)
             mid, half = grid.b_mid[ss][:, near], grid.b_half[ss][:, near]                        # (S, K, n, 3)
             with np.errstate(invalid="ignore"):
                 value = np.einsum("sknc,kc->skn", mid, E) - np.einsum("sknc,kc->skn", half, np.abs(E))

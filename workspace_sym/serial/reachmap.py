@@ -63,7 +63,7 @@ paving, and pairs from the paving of its wrist point (:func:`~workspace_sym.seri
 METHODS = {"pavings": MAP_METHOD, "section": SECTION_METHOD}
 """The values of ``reach_map(method=...)`` and what each records as the map's method."""
 
-SECTION_OPTIONS: dict[str, int | bool | None] = {"cell": None, "local": 64, "samples": 400_000, "split": 2,
+SECTION_OPTIONS: dict[str, int | bool | None] = {"cell": None, "local": 96, "samples": 1_000_000, "split": 2,
                                                  "wrist": True}
 """The section method's defaults (``cell``: the section cells' side, None for ``delta / 10``; ``wrist``: the pairs
 proved unreachable from the wrist point's paving are tried)."""
@@ -1058,7 +1058,14 @@ def _section_map(robot, values, d, cone, delta, reach_delta, named, angle, stop,
     proofs for the reachable pairs (:mod:`~workspace_sym.serial.mapsection`).  The grid holds the bounding box
     of the paving's boxes not proved outer (inner, boundary, pending): every reachable point is in them, often
     a far smaller box than the enclosure over the joint limits (the Panda's: 0.9 m against 4.25 m)."""
-    from .mapsection import section_prover, section_reachable, wrist_offset, wrist_robot, wrist_unreachable
+    from .mapsection import (
+        local_directions,
+        section_prover,
+        section_reachable,
+        wrist_offset,
+        wrist_robot,
+        wrist_unreachable,
+    )
 
     for name in ("executor", "resume"):
         if getattr(run, name) is not None:
@@ -1090,7 +1097,7 @@ def _section_map(robot, values, d, cone, delta, reach_delta, named, angle, stop,
         bar.update(1)
         options = {**SECTION_OPTIONS, "cell": delta / 10}
         inner = section_reachable(prover, edges, ~outer, d, cell=options["cell"],
-                                  local=sphere_directions(options["local"]), samples=options["samples"],
+                                  local=local_directions(prover, d, options["local"]), samples=options["samples"],
                                   split=options["split"], deadline=deadline)
         bar.update(1)
         unreachable = np.repeat(outer[..., None], len(d), axis=-1)
