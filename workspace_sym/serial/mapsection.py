@@ -160,9 +160,9 @@ def local_directions(prover: SectionProver, directions: np.ndarray, count: int) 
     A map direction ``d`` is seen from the frame that turns with the point as ``e(psi) = Rz(-psi) R^T d``: as
     ``psi`` runs, on the circle of the sphere at ``d``'s height in the first joint's frame.  So the local
     directions lie on those circles (the poles once), evenly in angle, as many on each as its length asks
-    (at least three), about ``count`` in all: every ``e`` is then within half a step of one, where a cover of
-    the whole sphere by as many leaves some 20 degrees (64 points).  Only Newton's aim: the proofs hold for
-    any choice.
+    (at least three), about ``count`` in all: every ``e`` is then within half a step of one (the 26 cube
+    directions, 96 asked: 95 local directions, every ``e`` within 7.95 degrees), where as many spread over the
+    whole sphere leave 16 degrees.  Only Newton's aim: the proofs hold for any choice.
 
     Parameters
     ----------
@@ -316,9 +316,10 @@ class _SectionCells:
 
     def second(self, s, l):
         """For a limited first joint (``theta_1 = psi - beta`` must lie in its range): a second proof of the pairs
-        ``(s, l)`` holding an aimed one, Newton steered to ``beta`` half a turn from the first proof's, kept in
-        column ``L + l`` where its ``beta`` lies at least the excluded arc (plus 0.2) from the first's, so that
-        no polar angle ``psi`` excludes both.  Returns the rows kept."""
+        ``(s, l)`` holding an aimed one, Newton steered to ``beta`` half a turn from the first proof's (then a
+        quarter either way, ``SWINGS``, for the pairs still without), kept in column ``L + l`` where its
+        ``beta`` lies more than the forbidden arc's width (plus 0.2) from the first's, so that no polar angle
+        ``psi`` forbids both.  Returns the rows kept."""
         prover, square, L = self.prover, self.prover.square, len(self.local)
         lo, hi = prover.theta_range
         r0, r1, z0, z1 = self.bounds(s)
@@ -389,7 +390,7 @@ def _cell_geometry(X: np.ndarray, Y: np.ndarray):
 
 
 def section_reachable(prover: SectionProver, edges: tuple, candidates: np.ndarray, directions: np.ndarray, *,  # noqa: C901
-                      cell: float, local: np.ndarray, samples: int = 400_000, split: int = 2, seed: int = 0,
+                      cell: float, local: np.ndarray, samples: int = 1_000_000, split: int = 2, seed: int = 0,
                       deadline: float | None = None) -> np.ndarray:
     """The pairs (map cell, direction) proved reachable by the section method (module docstring).
 
@@ -406,7 +407,7 @@ def section_reachable(prover: SectionProver, edges: tuple, candidates: np.ndarra
     cell : float
         The section cells' side.
     local : numpy.ndarray
-        ``(L, 3)`` unit vectors: the local directions Newton aims at in each section cell.
+        ``(L, 3)`` unit vectors: the local directions Newton aims at in each section cell (:func:`local_directions`).
     samples : int
         Random configurations whose section points seed Newton.
     split : int
