@@ -20,7 +20,13 @@ from workspace_sym.errors import InvalidParameterError
 from workspace_sym.interval.driver import RunOn
 from workspace_sym.kinematics import DHJoint, DHRobot, numeric_function
 from workspace_sym.serial import mapsection
-from workspace_sym.serial.mapsection import _cell_geometry, local_directions, section_prover, section_reachable
+from workspace_sym.serial.mapsection import (
+    _cell_geometry,
+    _least_norm_step,
+    local_directions,
+    section_prover,
+    section_reachable,
+)
 from workspace_sym.serial.reachmap import (
     ReachMap,
     _grid,
@@ -172,6 +178,18 @@ def test_pairs_proved_by_the_second_branch_of_a_limited_first_joint_are_reached_
         cell = np.array([[edges[a][c], edges[a][c + 1]] for a, c in enumerate((i, j, l))])
         for target in (cell[np.arange(3), rng.integers(0, 2, 3)], rng.uniform(cell[:, 0], cell[:, 1])):
             assert arm_in_cone_at_50_digits(robot, target, directions[k], 30.0, rng) is not None, (target, k)
+
+
+def test_newton_s_step_survives_a_batch_with_an_exactly_singular_system():
+    # The KR16's map stopped on numpy's LinAlgError: a joint held at its limit (its column dropped) in a square
+    # system whose entries swallow the damping.  Reference: the least-norm solution J^T (J J^T)^+ f, checked by
+    # its residual and its norm, beside a regular row (the exact step) and a NaN row (NaN, as before).
+    J = np.array([[[1e5, 0.0], [1e5, 0.0]], [[2.0, 1.0], [0.0, 1.0]], [[np.nan, 0.0], [0.0, 1.0]]])
+    f = np.array([[2e5, 2e5], [3.0, 1.0], [1.0, 1.0]])
+    step = _least_norm_step(J, f, 1e-12)
+    assert np.allclose(np.einsum("ik,k->i", J[0], step[0]), f[0], rtol=1e-9) and np.allclose(step[0], [2.0, 0.0])
+    assert np.allclose(np.einsum("ik,k->i", J[1], step[1]), f[1], rtol=1e-9)
+    assert np.isnan(step[2]).all()
 
 
 class _Frame:

@@ -214,16 +214,13 @@ def _aimed_newton(prover: SectionProver, targets, ell, q, steps: int = 10):
                                    axis=1)
                 J = np.concatenate([J, np.einsum("ni,nik->nk", e1, Jb)[:, None], np.einsum("ni,nik->nk", e2, Jb)[:, None]],  # noqa: E501
                                    axis=1)
-            JJ = np.einsum("nik,njk->nij", J, J) + 1e-12 * np.eye(J.shape[1])
-            step = np.einsum("nik,ni->nk", J, np.linalg.solve(JJ, f[:, :, None])[:, :, 0])
+            step = _least_norm_step(J, f, 1e-12)
             # a joint held at its limit that the step would push beyond it is left out of the step (its column
             # dropped), so that the others move instead of the iteration stalling at the limit
             held = ~square.periodic & (((q <= lo) & (step > 0)) | ((q >= hi) & (step < 0)))
             if held.any():
-                Jh = np.where(held[:, None, :], 0.0, J)
-                JJ = np.einsum("nik,njk->nij", Jh, Jh) + 1e-12 * np.eye(J.shape[1])
                 step = np.where(held.any(axis=1)[:, None],
-                                np.einsum("nik,ni->nk", Jh, np.linalg.solve(JJ, f[:, :, None])[:, :, 0]), step)
+                                _least_norm_step(np.where(held[:, None, :], 0.0, J), f, 1e-12), step)
             q = q - step
             q = np.where(square.periodic, lo + np.remainder(q - lo, hi - lo), np.clip(q, lo, hi))
         tolerance = 1e-9 * (1 + np.abs(targets).max(axis=1))
@@ -240,6 +237,22 @@ def _aimed_newton(prover: SectionProver, targets, ell, q, steps: int = 10):
         if prover.aims:
             aimed &= np.einsum("ni,ni->n", _columns(prover.b_float, q), ell) > 0.99
     return q, converged, aimed
+
+
+def _least_norm_step(J: np.ndarray, f: np.ndarray, damping: float) -> np.ndarray:
+    """``J^T (J J^T + damping I)^-1 f`` per row (``J``: ``(N, m, k)``, ``f``: ``(N, m)``), Newton's least-norm step.
+
+    A batch holding an exactly singular matrix (a joint column dropped from a square system, with entries whose
+    rounding swallows the damping: the KR16's section) is solved by the pseudo-inverse instead of raising."""
+    JJ = np.einsum("nik,njk->nij", J, J) + damping * np.eye(J.shape[1])
+    try:
+        y = np.linalg.solve(JJ, f[:, :, None])[:, :, 0]
+    except np.linalg.LinAlgError:
+        bad = ~(np.isfinite(JJ).all(axis=(1, 2)) & np.isfinite(f).all(axis=1))     # NaN rows stay NaN, as solve's
+        JJ[bad] = np.eye(J.shape[1])
+        y = np.einsum("nij,nj->ni", np.linalg.pinv(JJ), np.where(bad[:, None], 0.0, f))
+        y[bad] = np.nan
+    return np.einsum("nik,ni->nk", J, y)
 
 
 def _steered_newton(prover: SectionProver, targets, ell, beta, q, steps: int = 12, largest: float = 0.4):
@@ -262,8 +275,7 @@ def _steered_newton(prover: SectionProver, targets, ell, beta, q, steps: int = 1
                                 np.einsum("ni,ni->n", b, e2)[:, None], turn[:, None]], axis=1)
             J = np.concatenate([square.jacobian_float(q), np.einsum("ni,nik->nk", e1, Jb)[:, None],
                                 np.einsum("ni,nik->nk", e2, Jb)[:, None], d_beta[:, None]], axis=1)
-            JJ = np.einsum("nik,njk->nij", J, J) + 1e-9 * np.eye(J.shape[1])
-            step = np.einsum("nik,ni->nk", J, np.linalg.solve(JJ, f[:, :, None])[:, :, 0])
+            step = _least_norm_step(J, f, 1e-9)
             size = np.abs(step).max(axis=1, keepdims=True)
             q = q - step * np.minimum(1.0, largest / np.maximum(size, 1e-300))
             q = np.where(square.periodic, lo + np.remainder(q - lo, hi - lo), np.clip(q, lo, hi))
