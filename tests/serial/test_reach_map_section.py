@@ -110,6 +110,24 @@ def test_a_section_that_cannot_aim_with_a_limited_first_joint_is_proved_at_50_di
             assert arm_in_cone_at_50_digits(scara, target, made.directions[d], 30.0, rng) is not None, (target, d)
 
 
+def _cells_in(robot, box):
+    """The map cells of 0.1 (the robot's enclosure grid) whose centres lie strictly inside ``box``."""
+    origin, shape, _ = _grid(robot, (), 0.1)
+    edges = tuple(origin[a] + np.arange(shape[a] + 1) * 0.1 for a in range(3))
+    centres = np.meshgrid(*[0.5 * (e[1:] + e[:-1]) for e in edges], indexing="ij")
+    return edges, np.logical_and.reduce([(lo < c) & (c < hi) for c, (lo, hi) in zip(centres, box)])
+
+
+def _reached_at_50_digits(robot, edges, pairs, directions, size):
+    """A corner and a random point of ``size`` of the proved ``pairs`` (cell, direction), drawn with seed 3, each
+    reached by the whole arm's 50-digit inverse kinematics within the limits, the approach within 30 deg."""
+    rng = np.random.default_rng(3)
+    for i, j, l, k in pairs[rng.choice(len(pairs), size=size, replace=False)]:
+        cell = np.array([[edges[a][c], edges[a][c + 1]] for a, c in enumerate((i, j, l))])
+        for target in (cell[np.arange(3), rng.integers(0, 2, 3)], rng.uniform(cell[:, 0], cell[:, 1])):
+            assert arm_in_cone_at_50_digits(robot, target, directions[k], 30.0, rng) is not None, (target, k)
+
+
 @pytest.mark.parametrize("name", ["ur5", "kr16 (URDF, base upside down)", "ur5 on a tilted base"])
 def test_points_of_aimed_section_pairs_are_reached_in_the_cone_at_50_digits(name):
     # Reference: the 50-digit inverse kinematics of the whole arm, base included (reach_checks.
@@ -133,21 +151,14 @@ def test_points_of_aimed_section_pairs_are_reached_in_the_cone_at_50_digits(name
     prover = section_prover(robot, (), 30.0)
     assert not isinstance(prover, str) and prover.aims and (prover.inverse is None) == (name == "ur5")
     assert name != "ur5" or prover.theta_range is None
-    origin, shape, _ = _grid(robot, (), 0.1)
-    edges = tuple(origin[a] + np.arange(shape[a] + 1) * 0.1 for a in range(3))
-    centres = np.meshgrid(*[0.5 * (e[1:] + e[:-1]) for e in edges], indexing="ij")
-    candidates = np.logical_and.reduce([(lo < c) & (c < hi) for c, (lo, hi) in zip(centres, box)])
+    edges, candidates = _cells_in(robot, box)
     directions = sphere_directions(6)
     proved = section_reachable(prover, edges, candidates, directions, cell=0.01, local=sphere_directions(16),
                                 samples=40_000)
     assert not proved[~candidates].any()
     pairs = np.argwhere(proved)
     assert len(pairs) >= 6
-    rng = np.random.default_rng(3)
-    for i, j, l, k in pairs[rng.choice(len(pairs), size=3, replace=False)]:
-        cell = np.array([[edges[a][c], edges[a][c + 1]] for a, c in enumerate((i, j, l))])
-        for target in (cell[np.arange(3), rng.integers(0, 2, 3)], rng.uniform(cell[:, 0], cell[:, 1])):
-            assert arm_in_cone_at_50_digits(robot, target, directions[k], 30.0, rng) is not None, (target, k)
+    _reached_at_50_digits(robot, edges, pairs, directions, 3)
 
 
 def test_pairs_proved_by_the_second_branch_of_a_limited_first_joint_are_reached_at_50_digits(monkeypatch):
@@ -160,11 +171,7 @@ def test_pairs_proved_by_the_second_branch_of_a_limited_first_joint_are_reached_
     robot = industrial_arm("panda")
     prover = section_prover(robot, (), 30.0)
     assert prover.aims and prover.theta_range is not None
-    origin, shape, _ = _grid(robot, (), 0.1)
-    edges = tuple(origin[a] + np.arange(shape[a] + 1) * 0.1 for a in range(3))
-    centres = np.meshgrid(*[0.5 * (e[1:] + e[:-1]) for e in edges], indexing="ij")
-    box = ((-0.65, -0.25), (-0.1, 0.3), (0.3, 0.5))
-    candidates = np.logical_and.reduce([(lo < c) & (c < hi) for c, (lo, hi) in zip(centres, box)])
+    edges, candidates = _cells_in(robot, ((-0.65, -0.25), (-0.1, 0.3), (0.3, 0.5)))
     directions = sphere_directions(6)
     options = dict(cell=0.01, local=sphere_directions(16), samples=40_000)
     both = section_reachable(prover, edges, candidates, directions, **options)
@@ -173,11 +180,7 @@ def test_pairs_proved_by_the_second_branch_of_a_limited_first_joint_are_reached_
     assert not (first & ~both).any() and not both[~candidates].any()
     only = np.argwhere(both & ~first)
     assert len(only) >= 2
-    rng = np.random.default_rng(3)
-    for i, j, l, k in only[rng.choice(len(only), size=2, replace=False)]:
-        cell = np.array([[edges[a][c], edges[a][c + 1]] for a, c in enumerate((i, j, l))])
-        for target in (cell[np.arange(3), rng.integers(0, 2, 3)], rng.uniform(cell[:, 0], cell[:, 1])):
-            assert arm_in_cone_at_50_digits(robot, target, directions[k], 30.0, rng) is not None, (target, k)
+    _reached_at_50_digits(robot, edges, only, directions, 2)
 
 
 def test_newton_s_step_survives_a_batch_with_an_exactly_singular_system():
