@@ -22,8 +22,9 @@ within the limits whose approach lies in the cone; for the tool down, uniform co
 are then solved by Newton (floats) for the approach (0, 0, -1); their tool points binned in (rho, z) cells of side
 ``REF_CELL`` and turned by Pappus (``tests/helpers/reach_checks.py`` ``arcs_volume``: an estimate, no bound).
 
-Run: python benchmarks/bench_orientation.py [--quick | --arms [NAME ...] [--cone]]   (e.g. ``--arms iiwa panda``: the
-rows whose robot's name holds one of the names; ``--cone``: the cone rows only)
+Run: python benchmarks/bench_orientation.py [--quick | --arms [NAME ...] [--cone | --down]]   (e.g. ``--arms iiwa
+panda``: the rows whose robot's name holds one of the names; ``--cone``: the cone rows only; ``--down``: the tool-down
+rows only)
 """
 
 import datetime
@@ -37,7 +38,7 @@ import sympy as sp
 from _common import machine
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "helpers"))
-from reach_checks import admissible_configurations, arcs_volume, in_any_box, industrial_arm
+from reach_checks import admissible_configurations, arcs_volume, in_any_box, industrial_arm, oriented_configurations
 from workspace_sym import StopAt, robots
 from workspace_sym.interval.image import ImageMap
 from workspace_sym.kinematics import DHRobot
@@ -74,15 +75,22 @@ def arm_cases():
             ("UR5", ur5, down, (0.05,), 300), ("UR5", ur5, tool_down, (0.05,), 300),
             ("UR10", ur10, down, (0.05,), 300), ("UR10", ur10, tool_down, (0.05,), 300),
             ("KR16 (URDF)", kr16, down, (0.15, 0.1), 300), ("KR16 (URDF)", kr16, tool_down, (0.15,), 300)]
-    # The seven-joint arms (first joint limited: the 3-D pairs, docs/methods.md section 8): the cone only, whose
-    # sampled reference needs no solve (a tool down would need the spin of a last joint that turns less than a turn).
+    # The seven-joint arms (first joint limited, docs/methods.md section 8): the iiwa through its wrist centre (the
+    # cone since session 24, tool down since session 29), the Panda by the 3-D pairs.
     iiwa, panda = industrial_arm("iiwa"), industrial_arm("panda")
-    rows += [("LBR iiwa 14 (URDF)", iiwa, down, (0.1,), 300), ("Panda", panda, down, (0.1,), 300)]
+    rows += [("LBR iiwa 14 (URDF)", iiwa, down, (0.1,), 300), ("LBR iiwa 14 (URDF)", iiwa, tool_down, (0.1,), 300),
+             ("Panda", panda, down, (0.1,), 300), ("Panda", panda, tool_down, (0.1,), 300)]
     return rows
 
 
 def reference_volume(robot, options, n=REF_SAMPLES):
-    """The sampled reference volume (module docstring) and the admissible samples' tool points."""
+    """The sampled reference volume (module docstring) and the admissible samples' tool points; a seven-joint arm's
+    tool down: its wrist (joints 5 and 6) points the approach and its last joint, which turns less than a turn, is
+    turned to the frame's spin and kept within its limits (``oriented_configurations``)."""
+    if "rpy" in options and robot.n == 7:
+        R = np.array(constraint_from(**options).matrix, dtype=float)
+        q, points = oriented_configurations(robot, n, 0, R, wrist=(4, 5))
+        return arcs_volume(robot, q[:, 0], points, REF_CELL), points
     q, _, points = admissible_configurations(robot, n, 0, approach=options.get("approach", (0, 0, -1)),
                                              cone=options.get("cone"))
     return arcs_volume(robot, q[:, 0], points, REF_CELL), points
@@ -96,7 +104,8 @@ def arms():
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     chosen = [a.lower() for a in sys.argv[sys.argv.index("--arms") + 1:] if not a.startswith("--")]
     for name, robot, options, deltas, limit in arm_cases():
-        if (chosen and not any(c in name.lower() for c in chosen)) or ("--cone" in sys.argv and "cone" not in options):
+        if (chosen and not any(c in name.lower() for c in chosen)) or ("--cone" in sys.argv and "cone" not in options) \
+                or ("--down" in sys.argv and "rpy" not in options):
             continue
         constraint = constraint_from(**options)
         reach(robot, delta=0.4, stop=StopAt(time_limit=60), pose=Pose(**options))   # compile once

@@ -390,28 +390,35 @@ def arm_in_cone_at_50_digits(robot, target, direction, cone_deg, rng, starts=60)
         x = fit.x
         if np.linalg.norm(np.array(pose_float(x)[:3], dtype=float) - target) > 1e-8:
             continue
-        J = np.array(j_float(*x), dtype=float)
-        cols = max(itertools.combinations(range(len(q)), 3), key=lambda c: abs(np.linalg.det(J[:, list(c)])))
         with mpmath.workdps(50):
             goal = [mpmath.mpf(float(v)) for v in target]
-            fixed = [mpmath.mpf(float(v)) for v in x]
-
-            def residual(*y, cols=cols, fixed=fixed, goal=goal):
-                full = list(fixed)
-                for i, c in enumerate(cols):
-                    full[c] = y[i]
-                return [p - g for p, g in zip(position(*full), goal)]
-
-            try:
-                sol = mpmath.findroot(residual, [fixed[c] for c in cols])
-            except (ValueError, ZeroDivisionError):
-                continue
-            full = list(fixed)
-            for i, c in enumerate(cols):
-                full[c] = sol[i]
-            if _holds_at_50_digits(position, approach, full, goal, lim, direction, cone_deg):
+            full = _refined_at_50_digits(position, goal, x, np.array(j_float(*x), dtype=float))
+            if full is not None and _holds_at_50_digits(position, approach, full, goal, lim, direction, cone_deg):
                 return full
     return None
+
+
+def _refined_at_50_digits(equations, goal, x, J):
+    """``equations(*q) = goal`` solved by mpmath ``findroot`` at the working precision in the joints of the
+    best-conditioned square minor of the float Jacobian ``J`` at ``x``, the others kept at ``x``; None when it
+    fails."""
+    cols = max(itertools.combinations(range(len(x)), len(goal)), key=lambda c: abs(np.linalg.det(J[:, list(c)])))
+    fixed = [mpmath.mpf(float(v)) for v in x]
+
+    def residual(*y):
+        full = list(fixed)
+        for i, c in enumerate(cols):
+            full[c] = y[i]
+        return [e - g for e, g in zip(equations(*full), goal)]
+
+    try:
+        sol = mpmath.findroot(residual, [fixed[c] for c in cols])
+    except (ValueError, ZeroDivisionError):
+        return None
+    full = list(fixed)
+    for i, c in enumerate(cols):
+        full[c] = sol[i]
+    return full
 
 
 def _holds_at_50_digits(position, approach, full, goal, lim, direction, cone_deg):
@@ -423,3 +430,67 @@ def _holds_at_50_digits(position, approach, full, goal, lim, direction, cone_deg
     dot = sum(x * y for x, y in zip(approach(*full), dd))
     return residual < mpmath.mpf(10) ** -40 and within and dot >= mpmath.sqrt(sum(v * v for v in dd)) * mpmath.cos(
         mpmath.radians(mpmath.mpf(float(cone_deg))))
+
+
+def oriented_configurations(robot, n, seed, rotation, *, wrist=(4, 5)):
+    """Configurations within the limits whose tool frame is exactly ``rotation`` (a 3 x 3 array whose third column
+    is vertical), with their tool points ``(q, p)``: :func:`admissible_configurations` points the approach (Newton on
+    the two ``wrist`` joints), then the last joint, which spins the tool about its approach, is turned to the
+    frame's spin and kept when within its limits (the rotation checked to 1e-9 by the robot's own ``fk_numeric``).
+    No proof: a sample of the constant-orientation workspace, for the soundness tests and reference volumes."""
+    R = np.asarray(rotation, dtype=float)
+    q, Rs, _ = admissible_configurations(robot, n, seed, approach=R[:, 2], cone=None, wrist=wrist)
+    M = np.einsum("ji,njk->nik", R, Rs)                   # R^T R(q): a turn about z by delta
+    delta = np.arctan2(M[:, 1, 0], M[:, 0, 0])
+    lo, hi = robot.joint_limits()[-1]
+    for sign in (1.0, -1.0):                               # the last joint's sense about the approach
+        turned = q.copy()
+        turned[:, -1] = np.remainder(q[:, -1] - sign * delta - lo, 2 * np.pi) + lo
+        T = robot.fk_numeric(turned)
+        exact = np.abs(T[:, :3, :3] - R).max(axis=(1, 2)) < 1e-9
+        if exact.mean() > 0.5:
+            keep = exact & (turned[:, -1] <= hi)
+            return turned[keep], T[keep, :3, 3]
+    raise AssertionError("the last joint does not spin the tool about its approach")
+
+
+def arm_in_pose_at_50_digits(robot, target, rotation, rng, starts=40):
+    """A configuration of a robot of six joints or more putting the tool point at ``target`` with the tool frame
+    exactly ``rotation``, at 50 digits and within the limits; None if none is found.  Float search: least squares on
+    the position and the frame (scipy, within the limits) from random starts; then mpmath ``findroot`` on the
+    position and three entries of ``rotation^T R(q) - I`` in the six joints of the best-conditioned minor, the
+    others kept, and the whole frame, the position and the limits checked again at 50 digits."""
+    T = robot.substitute(robot.fk())
+    q = robot.q
+    R = sp.Matrix(rotation)
+    err = R.T * T[:3, :3]
+    conditions = list(T[:3, 3]) + [err[2, 1], err[0, 2], err[1, 0]]
+    equations = sp.lambdify(q, conditions, modules="mpmath")
+    frame = sp.lambdify(q, list(T[:3, :3]), modules="mpmath")
+    pose_float = sp.lambdify([q], list(T[:3, 3]) + list(T[:3, :3]), modules="numpy")
+    j_float = sp.lambdify(q, sp.Matrix(conditions).jacobian(q), modules="numpy")
+    Rf = np.array(R, dtype=float)
+    lim = robot.joint_limits()
+    inner = np.stack([lim[:, 0] + 1e-9, lim[:, 1] - 1e-9], 1)
+    target = np.asarray(target, dtype=float)
+    for _ in range(starts):
+        q0 = rng.uniform(inner[:, 0], inner[:, 1])
+        fit = _least_squares()(lambda x: np.r_[np.array(pose_float(x)[:3], dtype=float) - target,
+                                            0.3 * (np.array(pose_float(x)[3:], dtype=float) - Rf.ravel())],
+                            q0, bounds=(inner[:, 0], inner[:, 1]), xtol=1e-15, ftol=1e-15, gtol=1e-15)
+        x = fit.x
+        if np.abs(fit.fun).max() > 1e-8:
+            continue
+        with mpmath.workdps(50):
+            goal = [mpmath.mpf(float(v)) for v in target] + [mpmath.mpf(0)] * 3
+            full = _refined_at_50_digits(equations, goal, x, np.array(j_float(*x), dtype=float))
+            if full is None:
+                continue
+            tiny = mpmath.mpf(10) ** -40
+            position = equations(*full)[:3]
+            within = all(mpmath.mpf(float(lim[i, 0])) <= full[i] <= mpmath.mpf(float(lim[i, 1]))
+                         for i in range(len(full)))
+            exact = all(abs(e - mpmath.mpf(str(sp.N(r, 60)))) < tiny for e, r in zip(frame(*full), R))
+            if within and exact and max(abs(p - g) for p, g in zip(position, goal[:3])) < tiny:
+                return full
+    return None

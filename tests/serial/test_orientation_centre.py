@@ -280,7 +280,7 @@ def test_an_asymmetric_pitch_reaches_the_smaller_of_its_two_sides():
     tool = sp.Matrix(iiwa.tool) * sp.Matrix([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, -sp.Rational(63, 500)],
                                              [0, 0, 0, 1]])
     moved = DHRobot(joints, convention=iiwa.convention, tool=tool)
-    _, psi, wrist = wrist_cap(moved, None, moved.substitute(moved.fk()), half_turn=True)
+    _, psi, wrist, _ = wrist_cap(moved, None, moved.substitute(moved.fk()), half_turn=True)
     assert wrist == (4, 5) and sp.simplify(psi - sp.pi / 3) == 0
 
 
@@ -292,7 +292,7 @@ def test_a_side_map_proves_its_condition_or_nothing():
 
     q = sp.symbols("q1:4")
     lateral = ImageMap([q[0] + q[1], q[1] * q[2], q[2]], q, [(-1, 1)] * 3, [False] * 3)
-    side = SideMap(lateral, q[0], 0.5)
+    side = SideMap(lateral, [(q[0], 0.5)])
     boxes = np.array([[[0.6, 0.7], [0, 0], [0, 0]], [[0.4, 0.7], [0, 0], [0, 0]], [[0.5, 0.5], [-1, 1], [0, 1]]])
     assert side.admissible(boxes).tolist() == [True, False, True]
     seeds = side.random_configurations(500, np.random.default_rng(0))

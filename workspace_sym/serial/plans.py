@@ -24,6 +24,7 @@ from typing import Any
 
 import numpy as np
 
+from ..interval import arith
 from ..interval.boxes import Box, Paving, StoredPaving
 from ..interval.driver import RunBudget, RunOn, paving_of, read_checkpoint, refuse_storage, store_for, write_checkpoint
 from ..interval.executor import runner_for
@@ -50,12 +51,15 @@ from .stored import reach_problem, save_section, saved_section
 from .structure import Product, Revolved, structure_of
 from .tuning import DEFAULT, Tuning
 from .turn import (
+    SPIN_TURNS,
     LimitedTurnTest,
     ToolSectionTest,
     budgeted_width,
     limited_turn,
     limited_volume,
     pave_limited,
+    shifted_section,
+    spin_volume,
     tool_section,
 )
 
@@ -694,11 +698,15 @@ CENTRE_SECONDS = 15.0      # seconds a tilt's section takes at Tuning.budget_cel
 
 
 class WristCentrePlan(PoseSectionPlan):
-    """A cone about the vertical through the wrist centre (:class:`~workspace_sym.serial.pose.WristCentre`, the
-    LBR iiwa): the section of the chain to the wrist centre paved as a limited turn (its directions proved with
-    the roll axis within ``psi - c`` of ``d``), the tool points' section derived from it
-    (:func:`~workspace_sym.serial.turn.tool_section`), the task boxes classified from that by the driver and the
-    volume by Pappus's theorem on the tool's section (docs/methods.md section 8).
+    """A cone about the vertical, or a constant orientation with a vertical approach, through the wrist centre
+    (:class:`~workspace_sym.serial.pose.WristCentre`, the LBR iiwa): the section of the chain to the wrist centre
+    paved as a limited turn (its directions proved with the roll axis within ``psi - c`` of ``d``; for an
+    orientation, on the sectors of the first joint's turn where the wrist's spin is proved), the tool points'
+    section derived from it (:func:`~workspace_sym.serial.turn.tool_section`; for an exact approach, the wrist
+    centre's translated, :func:`~workspace_sym.serial.turn.shifted_section`), the task boxes classified from that
+    by the driver and the volume by Pappus's theorem on the tool's section (for an exact approach, the wrist
+    centre's pieces with the share of the polar angle proved, :func:`~workspace_sym.serial.turn.limited_volume`,
+    :func:`~workspace_sym.serial.turn.spin_volume`) (docs/methods.md section 8).
 
     Parameters
     ----------
@@ -737,32 +745,48 @@ class WristCentrePlan(PoseSectionPlan):
         # (CENTRE_SECONDS for budget_cells, the cost growing as the cells' count), with seeds in proportion.
         width = budgeted_width(centre.limited, tuning)
         levels = centre.levels()
+        # a constant orientation proves 4 M directions (turn.SPIN_TURNS), each about as costly as one of four
+        seconds = CENTRE_SECONDS * (1 if centre.spin is None else SPIN_TURNS)
         start, ends = budget.seconds, None
         if budget.time_limit is not None:
             share = tuning.pose_section_share * max(budget.time_limit - start, 0.0) / len(levels)
-            finer = min(3.0, max(1.0, (share / CENTRE_SECONDS) ** 0.5))
+            finer = min(3.0, max(1.0, (share / seconds) ** 0.5))
             width /= finer
             tuning = dataclasses.replace(tuning, direction_samples=int(tuning.direction_samples * finer ** 2))
             ends = [start + share * (i + 1) for i in range(len(levels))]
         sections, evaluated, reason = [], 0, ""
         for i, (tilt, limited) in enumerate(levels):
+            state: dict = {}                        # each tilt's own proofs (the last one's read below)
             level = budget if ends is None else SectionShare(budget, ends[i], tuning.section_reserve)
             with section_bar(budget.showing) as show:
-                grid, classes, _, count, reason = pave_limited(limited, width, level, show=show, tuning=tuning)
+                grid, classes, proved, count, reason = pave_limited(limited, width, level, show=show,
+                                                                    tuning=tuning, state=state)
             if reason == SectionShare.REASON:       # this tilt's share of the time is spent: not the run's
                 reason = ""
             evaluated += count
             sections.append((grid, classes, tilt))
             if reason:
                 break
-        tool, codes = tool_section(sections, centre.length, centre.cone, centre.sign)
-        rho, z = tool.box
+        if centre.cone == 0:            # an exact approach: the wrist centre's section translated by L d
+            tool, codes = sections[0][0], sections[0][1]
+            shift = shifted_section(tool, centre.length, centre.sign)
+            rho, (z0, z1) = tool.box
+            z = (float(arith.down(z0 + shift[0])), float(arith.up(z1 + shift[1])))
+            # the volume (a translation keeps it) with the share of each piece's solid its proofs reach
+            volume = (limited_volume(limited, tool, codes, proved, tuning) if centre.spin is None
+                      else spin_volume(limited, tool, codes, proved, state["sectors"], tuning))
+        else:
+            tool, codes = tool_section(sections, centre.length, centre.cone, centre.sign)
+            shift = None
+            rho, z = tool.box
+            volume = turned_volume(tool, codes)
         root = np.array([[-rho[1], rho[1]], [-rho[1], rho[1]], [z[0], z[1]]])
         check_root(root, self.delta, self.size, self.robot)
         box = Box(TASK, tuple(root[:, 0]), tuple(root[:, 1]))
         budget.show(0.0, evaluated)
-        return Section(box, tool, codes, evaluated, reason, ToolSectionTest(centre.limited.plan, tool, codes),
-                       turned_volume(tool, codes), section_digest(tool, codes))
+        test = ToolSectionTest(centre.limited.plan, tool, codes, shift)
+        return Section(box, tool, codes, evaluated, reason, test, volume,
+                       section_digest(tool, codes) + ("" if shift is None else f" shifted {shift[0]!r} {shift[1]!r}"))
 
 
 class SectionShare:

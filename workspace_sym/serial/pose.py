@@ -68,7 +68,12 @@ length ``L`` along the approach from such a wrist (a half turn of roll suffices
 there, :func:`wrist_cap`) on an arm turned by a limited first joint (the LBR
 iiwa), a cone about the vertical is paved through the wrist centre: its section
 with the roll axis proved within ``psi - t`` of ``d``, the tool's section derived
-from it (:class:`WristCentre`, :func:`~workspace_sym.serial.turn.tool_section`).
+from it (:class:`WristCentre`, :func:`~workspace_sym.serial.turn.tool_section`);
+so is a constant orientation whose approach is vertical, when the last joint
+spins the tool about its approach through half a turn or more: the direction
+proofs then hold on sectors of the first joint's turn where one of the wrist's
+two solutions is within the limits (:class:`SpinCondition`,
+:class:`~workspace_sym.serial.turn.SpinSectors`).
 For a cone through a tool point along the approach, outer proofs also drop
 pairs on the enclosure of the admissible positions (:class:`_OffsetEnclosure`).
 
@@ -957,24 +962,13 @@ def _free_of(expressions, q) -> bool:
 
 def _spin_reduction(robot: DHRobot, params, constraint: PoseConstraint, T) -> PoseConstraint:
     """A constant orientation ``R`` as the exact direction ``R z`` when the last joint spins the tool about its
-    approach axis through a full turn (docs/methods.md section 8), else the constraint itself.
-
-    The tool frame is ``R_pre Rz(theta_n) C`` with ``R_pre`` and ``C`` free of ``q_n`` when ``q_n`` enters only
-    ``theta_n``; an approach axis ``R_pre Rz(theta_n) C z`` free of ``q_n`` makes ``C z = +-z``, so turning
-    ``theta_n`` by ``phi`` turns the frame about its own ``z`` by ``+-phi`` at a fixed position (the position
-    being free of ``q_n``): when ``q_n``'s range spans a period, every frame with the approach ``R z`` at that
-    position is reached, ``R`` among them.
+    approach axis through a full turn (:func:`_spin_range`, docs/methods.md section 8), else the constraint
+    itself: every frame with the approach ``R z`` at that position is reached, ``R`` among them.
     """
     if constraint.kind != "orientation":
         return constraint
-    k = robot.n - 1
-    joint = robot.joints[k]
-    q = joint.variable
-    others = [joint.d, joint.a, joint.alpha] + [e for j in robot.joints[:k] for e in (j.theta, j.d, j.a, j.alpha)]
-    others += [e for M in (robot.base, robot.tool) if M is not None for e in M]
-    if joint.kind != "R" or not _free_of(others, q) or not _free_of(list(T[:3, 2]) + list(T[:3, 3]), q):
-        return constraint
-    if not joint_range(robot, k, params)[1]:
+    spin = _spin_range(robot, params, T)
+    if spin is None or not spin[1]:
         return constraint
     return PoseConstraint("cone", tuple(constraint.matrix[:, 2]), sp.S.Zero, 0.0, False)
 
@@ -1019,7 +1013,7 @@ def wrist_reduction(robot: DHRobot, params, constraint: PoseConstraint, T):
     cap = wrist_cap(robot, params, T)
     if isinstance(cap, str):
         return cap
-    axis, psi, wrist = cap
+    axis, psi, wrist, _ = cap
     c = constraint.cone
     if constraint.every and c != 0:
         if not bool(psi - c >= 0):
@@ -1057,8 +1051,9 @@ def wrist_cap(robot: DHRobot, params, T, *, half_turn: bool = False):
     Returns
     -------
     tuple or str
-        ``(z, psi, (j, k))``: the roll axis (three expressions in the arm joints), ``psi`` (exact, radians) and
-        the roll and pitch joints' indices; or why there is no such wrist.
+        ``(z, psi, (j, k), phi)``: the roll axis (three expressions in the arm joints), ``psi`` (exact, radians),
+        the roll and pitch joints' indices and the pitch's phase ``phi`` (``a . z = cos(q_k + phi)``); or why there
+        is no such wrist.
     """
     if robot.convention != "standard":
         return f"its table is in {robot.convention} DH (the wrist is recognised in standard DH only)"
@@ -1110,7 +1105,7 @@ def wrist_cap(robot: DHRobot, params, T, *, half_turn: bool = False):
                 "limits (the wrist reaches a ring of directions, not a cap)")
     below, above = 2 * sp.pi * turns - lo - phi, hi + phi - 2 * sp.pi * turns    # the pitch's reach either side
     if full:
-        return axis, sp.Min(sp.pi, sp.Max(below, above)), (j, k)
+        return axis, sp.Min(sp.pi, sp.Max(below, above)), (j, k), phi
     (r_lo, r_hi), _ = joint_range(robot, j, params)
     slope = sp.diff(robot.substitute(sp.Matrix([robot.joints[j].theta]), params)[0], roll)
     if slope.free_symbols or abs(slope) != 1 or not bool(r_hi - r_lo >= sp.pi):
@@ -1121,7 +1116,7 @@ def wrist_cap(robot: DHRobot, params, T, *, half_turn: bool = False):
     if any(sp.simplify(sp.expand_trig(f - e)) != 0 for f, e in zip(flipped, direction)):
         return (f"the roll joint {named([j])} turns less than a full turn and the wrist's second solution "
                 f"(roll + pi, pitch mirrored) does not give the same approach axis")
-    return axis, sp.Min(sp.pi, below, above), (j, k)
+    return axis, sp.Min(sp.pi, below, above), (j, k), phi
 
 
 def _tool_offset(robot: DHRobot, params, constraint: PoseConstraint, T):
@@ -1271,10 +1266,11 @@ def _summed_angles(robot: DHRobot, params, expressions, variables, limits, perio
 
 @dataclass(frozen=True)
 class WristCentre:
-    """A cone about the vertical for a tool point at the length ``L`` along the approach from a wrist centre
-    ``o_k`` (the LBR iiwa: 0.126 m), with a roll-pitch wrist at ``o_k`` reaching every direction within ``psi`` of
-    its roll axis (:func:`wrist_cap`, a half turn of roll or more), on an arm turned by a limited first joint
-    (docs/methods.md section 8, "A cone through the wrist centre").
+    """A cone about the vertical, or a constant orientation whose approach is vertical, for a tool point at the
+    length ``L`` along the approach from a wrist centre ``o_k`` (the LBR iiwa: 0.126 m), with a roll-pitch wrist at
+    ``o_k`` reaching every direction within ``psi`` of its roll axis (:func:`wrist_cap`, a half turn of roll or
+    more), on an arm turned by a limited first joint (docs/methods.md section 8, "A cone through the wrist
+    centre" and "A constant orientation through the wrist centre").
 
     Parameters
     ----------
@@ -1287,11 +1283,15 @@ class WristCentre:
     length : sympy.Expr
         ``L``: the tool point is ``o_k + L a``.
     cone : sympy.Expr
-        The cone's half-angle (radians).
+        The cone's half-angle (radians; 0 for an exact direction or an orientation).
     sign : int
         ``d = (0, 0, sign)``.
     psi : sympy.Expr
         The wrist's reach from its roll axis (radians).
+    spin : SpinCondition, optional
+        For an orientation: what the wrist's two solutions ask of the roll and the last joint (the direction
+        proofs then hold at the polar angles of the first joint's sectors where one solution is within the
+        limits, :class:`~workspace_sym.serial.turn.SpinSectors`); None for a cone.
     """
 
     robot: DHRobot
@@ -1301,12 +1301,14 @@ class WristCentre:
     cone: sp.Expr
     sign: int
     psi: sp.Expr
+    spin: SpinCondition | None = None
 
     def levels(self, count: int = 3) -> list:
         """``(tilt, LimitedTurn)`` pairs: the tilts ``0, c / (count - 1), ..., c`` of the approach from ``d``
-        and the section whose direction proofs also prove the roll axis within ``psi - tilt`` of ``d``
-        (:func:`~workspace_sym.serial.turn.constrained_turn`): from its wrist centres the wrist reaches every
-        approach tilted by at most ``tilt`` from ``d``.
+        (the tilt 0 alone for a cone of 0) and the section whose direction proofs also prove the roll axis within
+        ``psi - tilt`` of ``d`` (:func:`~workspace_sym.serial.turn.constrained_turn`): from its wrist centres
+        the wrist reaches every approach tilted by at most ``tilt`` from ``d``; with ``spin``, the proofs hold at
+        the polar angles where one of the wrist's solutions is within the limits.
 
         Parameters
         ----------
@@ -1318,21 +1320,150 @@ class WristCentre:
         list
             The pairs, the tilt exact.
         """
-        tilts = [self.cone * sp.Rational(i, count - 1) for i in range(count)]
-        return [(tilt, constrained_turn(self.limited, self.side, numpy_constant(sp.cos(self.psi - tilt))[1]))
+        tilts = [self.cone * sp.Rational(i, count - 1) for i in range(count)] if self.cone != 0 else [sp.S.Zero]
+        return [(tilt, constrained_turn(self.limited, [(self.side, numpy_constant(sp.cos(self.psi - tilt))[1])],
+                                        self.spin))
                 for tilt in tilts]
+
+
+def _spin_range(robot: DHRobot, params, T):
+    """The last joint's range ``((lo, hi), full)`` when it spins the tool frame about its approach axis at a
+    fixed position, else None.
+
+    The tool frame is ``R_pre Rz(theta_n) C`` with ``R_pre`` and ``C`` free of ``q_n`` when ``q_n`` enters only
+    ``theta_n``; an approach axis ``R_pre Rz(theta_n) C z`` free of ``q_n`` makes ``C z = +-z``, so turning
+    ``theta_n`` by ``phi`` turns the frame about its own ``z`` by ``+-phi`` at a fixed position (the position
+    being free of ``q_n``)."""
+    k = robot.n - 1
+    joint = robot.joints[k]
+    q = joint.variable
+    others = [joint.d, joint.a, joint.alpha] + [e for j in robot.joints[:k] for e in (j.theta, j.d, j.a, j.alpha)]
+    others += [e for M in (robot.base, robot.tool) if M is not None for e in M]
+    if joint.kind != "R" or not _free_of(others, q) or not _free_of(list(T[:3, 2]) + list(T[:3, 3]), q):
+        return None
+    return joint_range(robot, k, params)
+
+
+@dataclass(frozen=True)
+class SpinCondition:
+    """What a constant orientation ``R`` with a vertical approach ``d`` asks of the wrist at a wrist centre
+    reached with the roll axis within ``psi`` of ``d`` (docs/methods.md section 8, "A constant orientation through
+    the wrist centre"): the wrist has two solutions, labelled by the pitch axis ``+-(z x d) / V`` (``z`` the roll
+    axis, ``V = |z x d|``); the ``+`` one lies within the roll's and the last joint's limits iff ``-X >= cos(h_r) V``
+    and ``-Y >= cos(h_n) V``, the ``-`` one iff ``X >= cos(h_r) V`` and ``Y >= cos(h_n) V`` (:func:`_spin_condition`).
+
+    Parameters
+    ----------
+    turn : sympy.Symbol
+        The first joint's DH angle ``theta_1``, the variable of ``Y`` besides the section's joints.
+    X : sympy.Expr
+        In the section's joints.
+    Y : sympy.Expr
+        In ``turn`` and the section's joints.
+    V2 : sympy.Expr
+        ``V^2 = 1 - (z . d)^2``, in the section's joints.
+    roll : sympy.Expr or None
+        ``cos(h_r)^2`` (the roll's half range ``h_r`` at least a quarter turn); None: the roll turns fully.
+    spin : sympy.Expr
+        ``cos(h_n)^2``, the last joint's.
+    """
+
+    turn: sp.Symbol
+    X: sp.Expr
+    Y: sp.Expr
+    V2: sp.Expr
+    roll: sp.Expr | None
+    spin: sp.Expr
+
+
+def _range_centre(robot: DHRobot, params, i: int):
+    """``(mu, h, full)`` of joint ``i``: ``theta_i = s q_i + c`` with ``s = +-1`` (None otherwise), its limits
+    ``m +- h`` (exact: a float limit as the binary fraction the engine uses), ``mu = c + s m``."""
+    q = robot.q[i]
+    theta = robot.substitute(sp.Matrix([robot.joints[i].theta]), params)[0]
+    slope = sp.diff(theta, q)
+    if slope.free_symbols or abs(slope) != 1:
+        return None
+    (lo, hi), full = joint_range(robot, i, params)
+    lo, hi = exact_constants(sp.sympify(lo)), exact_constants(sp.sympify(hi))
+    m, h = (lo + hi) / 2, (hi - lo) / 2
+    return exact_constants(theta.subs(q, 0)) + slope * m, h, full
+
+
+def _spin_condition(robot: DHRobot, params, wrist: tuple, rotation: sp.Matrix, sign: int):
+    """The :class:`SpinCondition` of a constant orientation ``rotation`` whose approach is ``d = (0, 0, sign)``
+    on a roll-pitch wrist (:func:`wrist_cap`: roll ``j``, pitch ``k = j + 1``) followed by the last joint
+    ``n = k + 1``, which spins the tool about its approach through half a turn or more; None when the structure is
+    not there.
+
+    Theorem (docs/methods.md section 8).  With ``cos(alpha) = 0`` on the roll's and the pitch's DH rows (checked),
+    the pitch axis ``p = R_j (sin(alpha_r) sin(theta_j), -sin(alpha_r) cos(theta_j), 0)`` is normal to the roll
+    axis ``z`` and to the last joint's axis ``z' = R_(n-1) e_z``, which is ``e_C d`` (``C e_z = e_C e_z``,
+    checked, ``C`` the rotation after ``Rz(theta_n)``): pointing the tool along ``d`` needs ``p = +-(z x d) /
+    V``.  For the ``+`` solution, ``(cos, sin)(theta_j) = -sin(alpha_r) (v_x, v_y) / V`` (``v = R_j^T d``), so
+    ``cos(theta_j - mu_r) = -X / V`` with ``X = sin(alpha_r) (v_x cos(mu_r) + v_y sin(mu_r))``, and the roll lies
+    in ``m_r +- h_r`` iff that cosine is at least ``cos(h_r)``.  The last frame's x axis is ``sin(alpha_p) (p x
+    z')`` (``alpha_p`` the pitch row's), that is ``-sin(alpha_p) e_C h / V`` with ``h`` the horizontal part of
+    ``z``; the tool frame is ``R`` iff ``R_(n-1) Rz(theta_n) e_x = x_t = R C^T e_x``, so ``cos(theta_n - mu_n) =
+    -Y / V`` with ``Y = sin(alpha_p) e_C (z . e_n)``, ``e_n = x_t cos(mu_n) + sin(mu_n) (x_t x z')``.  The ``-``
+    solution flips both signs.  Both solutions' pitches lie within the limits when ``angle(z, d) <= psi``."""
+    j, k = wrist
+    n = robot.n
+    if k != j + 1 or n - 1 != k + 1:
+        return None
+    T = robot.substitute(robot.fk(), params)
+    spin = _spin_range(robot, params, T)
+    roll_range, spin_range = _range_centre(robot, params, j), _range_centre(robot, params, n - 1)
+    if spin is None or spin[1] or roll_range is None or spin_range is None:
+        return None
+    mu_r, h_r, roll_full = roll_range
+    mu_n, h_n, _ = spin_range
+    if not bool(2 * h_n >= sp.pi) or not (roll_full or bool(2 * h_r >= sp.pi)):
+        return None
+    roll_row = robot.substitute(robot.row_matrix(j + 1), params)
+    pitch_row = robot.substitute(robot.row_matrix(k + 1), params)
+    if sp.simplify(roll_row[2, 2]) != 0 or sp.simplify(pitch_row[2, 2]) != 0:
+        return None
+    s_r, s_p = sp.simplify(roll_row[2, 1]), sp.simplify(pitch_row[2, 1])       # sin(alpha), +-1
+    tail = robot.substitute(robot.row_matrix(n), params) * (sp.eye(4) if robot.tool is None
+                                                              else sp.Matrix(robot.tool))
+    last = robot.q[n - 1]
+    e_c = sp.simplify(tail[2, 2])
+    if [sp.simplify(tail[0, 2]), sp.simplify(tail[1, 2])] != [0, 0] or e_c not in (1, -1):
+        return None
+    theta_n = robot.substitute(sp.Matrix([robot.joints[n - 1].theta]), params)[0]
+    C = (rot_z(-theta_n)[:3, :3] * tail[:3, :3]).applyfunc(lambda e: sp.simplify(sp.expand_trig(e)))
+    if last in C.free_symbols:
+        return None
+    d = sp.Matrix([0, 0, sign])
+    x_t = sp.Matrix(rotation) * C.T * sp.Matrix([1, 0, 0])
+    z_last = e_c * d
+    e_n = x_t * sp.cos(mu_n) + sp.sin(mu_n) * x_t.cross(z_last)
+    axis = robot.substitute(robot.fk(j), params)
+    z = axis[:3, 2]
+    turn = sp.Symbol("theta_turn")
+    theta_1 = robot.substitute(sp.Matrix([robot.joints[0].theta]), params)[0]
+    q1 = robot.q[0]
+    s1 = sp.diff(theta_1, q1)
+    if s1.free_symbols or abs(s1) != 1:
+        return None
+    Y = (s_p * e_c * (z.T * e_n)[0]).subs(q1, s1 * (turn - theta_1.subs(q1, 0)))
+    X = s_r * sign * (axis[2, 0] * sp.cos(mu_r) + axis[2, 1] * sp.sin(mu_r))
+    V2 = 1 - (sign * z[2]) ** 2
+    return SpinCondition(turn, X, Y, V2, None if roll_full else sp.cos(h_r) ** 2, sp.cos(h_n) ** 2)
 
 
 def wrist_centre(robot: DHRobot, parameters: tuple, constraint: PoseConstraint) -> WristCentre | None:
     """The structure of :class:`WristCentre` when ``robot`` and ``constraint`` have it, else None (the pairs
     method then paves the constraint).
 
-    Conditions, each checked (symbolically where it matters): a cone of positive half-angle ``c`` about
-    ``(0, 0, +-1)`` (not ``every``); standard DH without a base; the tool point at ``o_k + L a`` (tail offset
-    ``(0, 0, L)``, :func:`_tail_offset`); with the tool point moved to ``o_k``, a roll-pitch wrist
-    (:func:`wrist_cap` with ``half_turn``) reaching ``psi > c`` from its roll axis ``z``; ``z . d`` free of the
-    first joint and of every joint outside the section of the chain to ``o_k``, which is a turn of a limited
-    first joint (:func:`~workspace_sym.serial.turn.limited_turn`).
+    Conditions, each checked (symbolically where it matters): a cone of half-angle ``c >= 0`` about ``(0, 0,
+    +-1)`` (not ``every``), or a constant orientation whose approach is ``(0, 0, +-1)``; standard DH without a
+    base; the tool point at ``o_k + L a`` (tail offset ``(0, 0, L)``, :func:`_tail_offset`); with the tool point
+    moved to ``o_k``, a roll-pitch wrist (:func:`wrist_cap` with ``half_turn``) reaching ``psi > c`` from its roll
+    axis ``z``; ``z . d`` free of the first joint and of every joint outside the section of the chain to ``o_k``,
+    which is a turn of a limited first joint (:func:`~workspace_sym.serial.turn.limited_turn`); for an orientation,
+    the structure of :func:`_spin_condition`, its ``X`` and ``Y`` in the same joints.
 
     Parameters
     ----------
@@ -1348,9 +1479,12 @@ def wrist_centre(robot: DHRobot, parameters: tuple, constraint: PoseConstraint) 
     WristCentre or None
         The structure, or None.
     """
-    if constraint.kind != "cone" or constraint.cone == 0 or constraint.every:
-        return None
-    d = [sp.sympify(e) for e in constraint.direction]
+    if constraint.kind == "cone":
+        if constraint.every:
+            return None
+        d, c = [sp.sympify(e) for e in constraint.direction], constraint.cone
+    else:
+        d, c = list(constraint.matrix[:, 2]), sp.S.Zero
     if d[0] != 0 or d[1] != 0 or robot.base is not None or robot.convention != "standard":
         return None
     params = dict(parameters) or None
@@ -1364,20 +1498,26 @@ def wrist_centre(robot: DHRobot, parameters: tuple, constraint: PoseConstraint) 
     cap = wrist_cap(moved, params, moved.substitute(moved.fk(), params), half_turn=True)
     if isinstance(cap, str):
         return None
-    axis, psi, _ = cap
-    c = constraint.cone
+    axis, psi, wrist, _ = cap
     if not bool(psi - c > 0):
         return None
+    sign = 1 if d[2] > 0 else -1
+    spin = None
+    if constraint.kind == "orientation":
+        spin = _spin_condition(robot, params, wrist, constraint.matrix, sign)
+        if spin is None:
+            return None
     chain = DHRobot(list(robot.joints[:k]), convention=robot.convention, name=f"{robot.name} (wrist centre)",
                     parameters=robot.parameters, units=robot.units)
     limited = limited_turn(structure_of(chain, parameters), reach_model(chain, parameters))
     if limited is None or limited.plan.inverse is not None:
         return None
-    sign = 1 if d[2] > 0 else -1
     side = sp.simplify(sign * axis[2])                 # z . d / |d|, which the first joint's turn leaves alone
-    if not side.free_symbols <= set(limited.plan.section.lateral.variables):
+    joints = set(limited.plan.section.lateral.variables)
+    if not side.free_symbols <= joints or (spin is not None and not (spin.X.free_symbols <= joints and
+                                                                     spin.Y.free_symbols <= joints | {spin.turn})):
         return None
-    return WristCentre(chain, limited, side, t[2], c, sign, psi)
+    return WristCentre(chain, limited, side, t[2], c, sign, psi, spin)
 
 
 @dataclass(frozen=True)
@@ -1645,7 +1785,9 @@ def pose_structure(robot: DHRobot, parameters: tuple, constraint: PoseConstraint
                                                                        section_robot, tuning, along)
     if structure is not None:
         return structure
-    centre = None if along is None else wrist_centre(robot, parameters, reduced)
+    # A tool along the approach from a wrist centre (a cone) or a constant orientation the last joint cannot spin
+    # through a full turn: through the wrist centre's section when the structure is there
+    centre = wrist_centre(robot, parameters, reduced) if along is not None or reduced.kind == "orientation" else None
     if centre is not None:
         return PoseStructure(None, centre=centre)
     rotation = T[:3, :3]

@@ -78,8 +78,12 @@ from .tuning import DEFAULT, Tuning
 
 __all__ = ["DIRECTIONS", "LimitedTurn", "limited_turn", "covering_pairs", "DirectionMap", "direction_seeds",
            "prove_directions", "full_turn_cells", "limited_volume", "pieces_upper", "cell_level", "LimitedTurnTest",
-           "pave_limited", "budgeted_width", "SideMap", "constrained_turn", "tool_section", "ToolSectionTest"]
+           "pave_limited", "budgeted_width", "SideMap", "constrained_turn", "tool_section", "shifted_section",
+           "SpinSectors", "direction_maps", "turned_map", "spin_volume", "ToolSectionTest"]
 
+SPIN_SECTORS = 36                # sectors of the first joint's range for a constant orientation (SpinSectors)
+SPIN_BINS = 720                  # bins of the circle their cover is read on
+SPIN_TURNS = 4                   # M: a constant orientation's proofs at 4 M directions (direction_maps)
 DIRECTIONS = 4                   # the axis directions k pi / 2 of the first joint's frame (not a tuning: the
                                  # covering pairs and the proofs are written for these four)
 
@@ -227,11 +231,90 @@ class DirectionMap:
         """
         return self.lateral.prove_inside(self.boxes(T), seeds) & (T[:, 0, 1] >= 0)
 
+    def prove_sectors(self, T: np.ndarray, seeds: np.ndarray, spin: SpinSectors):
+        """:meth:`prove_inside` with the sectors of the first joint's range at which the proof holds
+        (:meth:`SpinSectors.masks` over each Krawczyk box); a cell counts as proved when one sector passes.
 
-def direction_seeds(lateral: ImageMap, grid, n: int = DEFAULT.direction_samples, seed: int = 0):
+        Parameters
+        ----------
+        T : numpy.ndarray
+            ``(N, 2, 2)`` cells of ``(rho, z)``.
+        seeds : numpy.ndarray
+            ``(N, k')`` joint values from which Newton's method starts.
+        spin : SpinSectors
+            The sectors' test.
+
+        Returns
+        -------
+        proved : numpy.ndarray
+            ``(N,)`` booleans.
+        masks : numpy.ndarray
+            ``(N,)`` ``uint64``: bit ``i`` set where sector ``i`` passes (0 where not proved).
+        """
+        lateral = self.lateral
+        masks = np.zeros(len(T), dtype=np.uint64)
+        if lateral.k < lateral.m or not len(T):
+            return np.zeros(len(T), dtype=bool), masks
+        W = self.boxes(T)
+        q, _ = lateral.newton(0.5 * (W[:, :, 0] + W[:, :, 1]), seeds, steps=8)
+        proved, U = lateral.prove_inside_boxes(W, q)
+        proved &= T[:, 0, 1] >= 0
+        masks[proved] = spin.masks(U[proved])
+        return proved & (masks != 0), masks
+
+
+def direction_maps(lateral: ImageMap) -> list:
+    """The inner tests of a section map's directions: the four axis directions ``k pi / 2``
+    (:class:`DirectionMap`), or, when ``lateral`` carries ``M - 1`` copies turned by ``j pi / (2 M)`` (``turned``,
+    :class:`SideMap` copies of :func:`constrained_turn` with a :class:`SpinSectors`), the ``4 M`` directions ``k
+    pi / (2 M)``, direction ``k`` proved on the axes of copy ``k mod M`` (the map itself for 0).
+
+    Parameters
+    ----------
+    lateral : ImageMap
+        The map ``q' -> (u, c, v)``.
+
+    Returns
+    -------
+    list of DirectionMap
+        Direction ``k`` at the polar angle ``k 2 pi / len(list)``.
+    """
+    maps = [lateral] + list(getattr(lateral, "turned", None) or ())
+    return [DirectionMap(maps[k % len(maps)], k // len(maps)) for k in range(DIRECTIONS * len(maps))]
+
+
+def turned_map(lateral: ImageMap, angle) -> ImageMap:
+    """``lateral`` with its outputs ``(u, c)`` turned by ``-angle`` about the first joint's axis: its direction
+    ``k pi / 2`` is ``lateral``'s ``angle + k pi / 2`` (the same joints, limits and periodicity; the exact
+    rotation compiled with the map, so its proofs are as sound as ``lateral``'s).
+
+    Parameters
+    ----------
+    lateral : ImageMap
+        The map ``q' -> (u, c, v)``.
+    angle : sympy.Expr
+        The angle, exact.
+
+    Returns
+    -------
+    ImageMap
+        The turned map.
+    """
+    c, s = sp.cos(angle), sp.sin(angle)
+    u, v, z = lateral.expressions
+    turned = ImageMap([c * u + s * v, -s * u + c * v, z], lateral.variables, [(0.0, 0.0)] * lateral.k,
+                      lateral.periodic)
+    turned.limits, turned.face_limits = lateral.limits.copy(), lateral.face_limits.copy()
+    turned.inner_limits = lateral.inner_limits.copy()
+    return turned
+
+
+def direction_seeds(lateral: ImageMap, grid, n: int = DEFAULT.direction_samples, seed: int = 0,
+                    directions: int = DIRECTIONS):
     """``(index, q)``: for each cell of ``grid`` and each direction ``k``, a sampled configuration reaching the
-    cell with its polar angle nearest ``k pi / 2`` (within ``pi / 4``): ``index[k]`` the ``(M, 2)`` cells,
-    ``q[k]`` the ``(M, k')`` configurations (floats: they only choose where a proof starts).
+    cell with its polar angle nearest ``k 2 pi / directions`` (``k pi / 2`` for the four axis directions):
+    ``index[k]`` the ``(M, 2)`` cells, ``q[k]`` the ``(M, k')`` configurations (floats: they only choose where a
+    proof starts).
 
     Parameters
     ----------
@@ -243,6 +326,8 @@ def direction_seeds(lateral: ImageMap, grid, n: int = DEFAULT.direction_samples,
         Configurations sampled.
     seed : int
         The seed of the random generator.
+    directions : int
+        Directions, evenly spaced from the first joint's x axis (4, or 8 with :func:`direction_maps`).
 
     Returns
     -------
@@ -257,10 +342,11 @@ def direction_seeds(lateral: ImageMap, grid, n: int = DEFAULT.direction_samples,
     rz = np.stack([np.hypot(w[:, 0], w[:, 1]), w[:, 2]], axis=1)
     cell, _ = grid.span(np.repeat(rz[:, :, None], 2, axis=2))
     angle = np.arctan2(w[:, 1], w[:, 0])
-    direction = np.remainder(np.rint(angle / (np.pi / 2)).astype(int), DIRECTIONS)
-    off = np.abs(np.remainder(angle - direction * np.pi / 2 + np.pi, 2 * np.pi) - np.pi)
+    step = 2 * np.pi / directions
+    direction = np.remainder(np.rint(angle / step).astype(int), directions)
+    off = np.abs(np.remainder(angle - direction * step + np.pi, 2 * np.pi) - np.pi)
     index, seeds = [], []
-    for k in range(DIRECTIONS):
+    for k in range(directions):
         mine = np.nonzero(direction == k)[0]
         mine = mine[np.argsort(off[mine], kind="stable")]        # the nearest angle first: np.unique keeps it
         cells, first = np.unique(cell[mine], axis=0, return_index=True)
@@ -345,12 +431,17 @@ def prove_directions(lateral: ImageMap, grid, candidates: np.ndarray, *, budget=
     """
     budget = budget or (lambda evaluated, ahead=0.0: "")
     F = 2 ** depth
+    maps = direction_maps(lateral)
+    D = len(maps)
     if state is None or not state:
         state = {} if state is None else state
-        state["pieces"] = np.zeros((DIRECTIONS, grid.shape[0] * F, grid.shape[1] * F), dtype=bool)
-        state["tried"] = np.zeros((depth + 1, DIRECTIONS) + grid.shape, dtype=bool)
+        state["pieces"] = np.zeros((D, grid.shape[0] * F, grid.shape[1] * F), dtype=bool)
+        state["tried"] = np.zeros((depth + 1, D) + grid.shape, dtype=bool)
     pieces, tried = state["pieces"], state["tried"]
-    index, seeds = sampled if sampled is not None else direction_seeds(lateral, grid)
+    spin = getattr(lateral, "spin", None)
+    if spin is not None and "sectors" not in state:
+        state["sectors"] = np.zeros(pieces.shape, dtype=np.uint64)
+    index, seeds = sampled if sampled is not None else direction_seeds(lateral, grid, directions=D)
     count = [evaluated]
     pace = [0.0]
 
@@ -359,8 +450,8 @@ def prove_directions(lateral: ImageMap, grid, candidates: np.ndarray, *, budget=
 
     stopped = ""
     for level in range(depth + 1):
-        for k in range(DIRECTIONS):
-            image = DirectionMap(lateral, k)
+        for k in range(D):
+            image = maps[k]
             at = tuple(index[k].T)
             todo = np.nonzero(candidates[at] & ~cell_level(pieces[k], grid)[at] & ~tried[level, k][at])[0]
 
@@ -376,9 +467,16 @@ def prove_directions(lateral: ImageMap, grid, candidates: np.ndarray, *, budget=
                     done &= pieces[k][rows + a, cols + b]
                 count[0] += int((~done).sum())
                 inside = np.zeros(len(boxes), dtype=bool)
-                inside[~done] = image.prove_inside(boxes[~done], seeds[k][part][owner[~done]])
+                if spin is None:
+                    inside[~done] = image.prove_inside(boxes[~done], seeds[k][part][owner[~done]])
+                else:
+                    masks = np.zeros(len(boxes), dtype=np.uint64)
+                    inside[~done], masks[~done] = image.prove_sectors(boxes[~done], seeds[k][part][owner[~done]],
+                                                                      spin)
                 for a, b in itertools.product(range(size), repeat=2):
                     pieces[k][rows[inside] + a, cols[inside] + b] = True
+                    if spin is not None:
+                        state["sectors"][k][rows[inside] + a, cols[inside] + b] = masks[inside]
 
             stopped = in_chunks(todo, max(1, chunk // 4 ** level), ask, prove, pace, 4 ** level)
             if stopped:
@@ -386,10 +484,12 @@ def prove_directions(lateral: ImageMap, grid, candidates: np.ndarray, *, budget=
     return pieces, count[0], stopped
 
 
-def full_turn_cells(limited: LimitedTurn, classes: np.ndarray, pieces: np.ndarray) -> np.ndarray:
+def full_turn_cells(limited: LimitedTurn, classes: np.ndarray, pieces: np.ndarray,
+                    sectors: np.ndarray | None = None) -> np.ndarray:
     """Classes of the cells for every polar angle: inner where two directions of a qualifying pair are proved
-    (every piece of the cell, ``pieces`` as :func:`prove_directions` gives them), outer where the section's
-    cell is, undecided elsewhere.
+    (every piece of the cell, ``pieces`` as :func:`prove_directions` gives them), or, with ``sectors``, where the
+    sectors proved at the four directions cover the circle (:meth:`SpinSectors.covered`, every piece); outer
+    where the section's cell is, undecided elsewhere.
 
     Parameters
     ----------
@@ -399,6 +499,9 @@ def full_turn_cells(limited: LimitedTurn, classes: np.ndarray, pieces: np.ndarra
         The verdict code of each cell of the section (only its outer cells are read).
     pieces : numpy.ndarray
         The pieces proved at each direction.
+    sectors : numpy.ndarray, optional
+        The sectors' masks of each piece at each direction (``uint64``, :func:`prove_directions` with a
+        :class:`SpinSectors` map), read with the map's ``spin``.
 
     Returns
     -------
@@ -407,7 +510,14 @@ def full_turn_cells(limited: LimitedTurn, classes: np.ndarray, pieces: np.ndarra
     """
     full = np.zeros(classes.shape, dtype=bool)
     F = pieces.shape[-2] // classes.shape[0]
-    for j, k in limited.pairs:
+    spin = getattr(limited.plan.section.lateral, "spin", None)
+    if spin is not None:
+        covered = np.zeros(pieces.shape[1:], dtype=bool)
+        if sectors is not None:
+            some = np.nonzero(pieces.sum(axis=0) >= 2)             # one direction's arc is short of a turn
+            covered[some] = spin.covered(sectors[(slice(None),) + some])
+        full = np.asarray(covered.reshape(classes.shape[0], F, classes.shape[1], F).all(axis=(1, 3)))
+    for j, k in () if spin is not None else limited.pairs:
         full |= (pieces[j] & pieces[k]).reshape(classes.shape[0], F, classes.shape[1], F).all(axis=(1, 3))
     out = np.full(classes.shape, UNDECIDED, dtype=np.int8)
     out[full & (classes != OUTER)] = INNER
@@ -465,6 +575,64 @@ def limited_volume(limited: LimitedTurn, grid, full: np.ndarray, pieces: np.ndar
     with np.errstate(all="ignore"):
         extra = arith.mul((part, part), (limited.share, limited.share))[0]
         total = arith.add(arith.add((cells, cells), (low, low)), (extra, extra))[0]
+    return float(total), high
+
+
+def spin_volume(limited: LimitedTurn, grid, full: np.ndarray, pieces: np.ndarray, sectors: np.ndarray,
+                tuning: Tuning = DEFAULT) -> tuple[float, float]:
+    """A proved bracket of the volume swept by a constant orientation's section (:class:`SpinSectors` on
+    ``limited``'s map): each piece not in an outer cell gives the share of its solid of the bins of polar angle
+    its sectors cover (:meth:`SpinSectors.bins_covered`, rounded down), a cell inner at every polar angle its
+    whole solid; the upper bound as :func:`limited_volume`'s.
+
+    Parameters
+    ----------
+    limited : LimitedTurn
+        The structure (its map's ``spin`` set, :func:`constrained_turn`).
+    grid : CellGrid
+        The grid of the section ``(rho, z)``.
+    full : numpy.ndarray
+        The full-turn verdict code of each cell (:func:`full_turn_cells`).
+    pieces : numpy.ndarray
+        The pieces proved at each direction.
+    sectors : numpy.ndarray
+        Their sectors' masks (``pave_limited``'s ``state["sectors"]``).
+    tuning : Tuning
+        As for :func:`limited_volume`.
+
+    Returns
+    -------
+    lo : float
+        A lower bound of the volume.
+    hi : float
+        An upper bound.
+    """
+    spin = getattr(limited.plan.section.lateral, "spin", None)
+    if spin is None:
+        raise ValueError("spin_volume needs a section map with sectors (constrained_turn with a spin condition)")
+    high = turned_volume(grid, full)[1]
+    if limited.plan.section.reach is not None:
+        high = min(high, pieces_upper(limited.plan.section.reach, grid, full, tuning.shoulder_pieces,
+                                       tuning.reach_tolerance, elbow=limited.elbow))
+    F = pieces.shape[-2] // grid.shape[0]
+    whole = full == INNER
+    cells = turned_volume(grid, np.where(whole, INNER, OUTER).astype(np.int8))[0]
+    cell_of = np.repeat(np.repeat(whole | (full == OUTER), F, axis=0), F, axis=1)
+    some = np.nonzero((pieces.sum(axis=0) >= 2) & ~cell_of)
+    counts = np.zeros(pieces.shape[1:], dtype=np.int64)
+    counts[some] = spin.bins_covered(sectors[(slice(None),) + some])
+    at = np.argwhere((counts > 0).reshape(grid.shape[0], F, grid.shape[1], F).any(axis=(1, 3)))
+    if not len(at):
+        return float(cells), high
+    boxes, owner, offset = _split(grid.cells(at), F.bit_length() - 1)
+    rows, cols = at[owner, 0] * F + offset[:, 0], at[owner, 1] * F + offset[:, 1]
+    volumes = solid_volumes(boxes[:, 0, 0], boxes[:, 0, 1], boxes[:, 1, 0], boxes[:, 1, 1])[0]
+    got = counts[rows, cols].astype(float)
+    with np.errstate(all="ignore"):
+        share = arith.div((got, got), (float(spin.bins), float(spin.bins)))[0]
+        parts = arith.mul((volumes, volumes), (share, share))[0]
+    low = ExactSum.of(np.maximum(parts[got > 0], 0.0)).value_down
+    total = arith.add((cells, cells), (low, low))[0]
     return float(total), high
 
 
@@ -606,7 +774,7 @@ def budgeted_width(limited: LimitedTurn, tuning: Tuning = DEFAULT) -> float:
 
 
 def pave_limited(limited: LimitedTurn, width: float, run, *, show=None, boxes: int | None = None,
-                 tuning: Tuning = DEFAULT):
+                 tuning: Tuning = DEFAULT, state: dict | None = None):
     """``(grid, full classes, pieces, evaluated, reason)`` over a grid of the given width on the section's
     enclosure: its cells tried at the four directions (:func:`prove_directions`, whose pieces are returned),
     then blocks of cells proved outside the section (stage 2 of
@@ -632,6 +800,9 @@ def pave_limited(limited: LimitedTurn, width: float, run, *, show=None, boxes: i
     tuning : Tuning
         ``reach_tolerance``, ``direction_samples``, ``direction_depth`` (``timed_depth`` with a time limit),
         ``direction_chunk``, ``directions_share``, ``blocks_end``, ``section_pairs``.
+    state : dict, optional
+        An empty dict, filled with the direction proofs' state (:func:`prove_directions`: ``"sectors"`` for a
+        constant orientation's map, read by :func:`spin_volume`).
 
     Returns
     -------
@@ -660,16 +831,18 @@ def pave_limited(limited: LimitedTurn, width: float, run, *, show=None, boxes: i
         at = np.argwhere(~outside)
         outside[tuple(at.T)] = limited.elbow.outside(e0[at[:, 0]], e0[at[:, 0] + 1], e1[at[:, 1]],
                                                      e1[at[:, 1] + 1], grid.width, tuning.reach_tolerance)
-    sampled = direction_seeds(section.lateral, grid, tuning.direction_samples)
+    sampled = direction_seeds(section.lateral, grid, tuning.direction_samples,
+                              directions=len(direction_maps(section.lateral)))
     reached = np.zeros(grid.shape, dtype=np.int8)
     for index in sampled[0]:
         reached[tuple(index.T)] = 1
-    state: dict = {}
+    state = {} if state is None else state
     depth = tuning.direction_depth if limit is None else tuning.timed_depth
     proved, evaluated, reason = prove_directions(section.lateral, grid, ~outside,
                                                  budget=until(tuning.directions_share, "share"), sampled=sampled,
                                                  state=state, depth=depth, chunk=tuning.direction_chunk)
-    classes = full_turn_cells(limited, np.where(outside, OUTER, UNDECIDED).astype(np.int8), proved)
+    classes = full_turn_cells(limited, np.where(outside, OUTER, UNDECIDED).astype(np.int8), proved,
+                              state.get("sectors"))
     if reason != "share" and reason:
         return grid, classes, proved, evaluated, reason
     found = classes.copy()
@@ -681,37 +854,48 @@ def pave_limited(limited: LimitedTurn, width: float, run, *, show=None, boxes: i
                                                      budget=until(tuning.blocks_end, "share"), sampled=sampled,
                                                      evaluated=evaluated, state=state, depth=depth,
                                                      chunk=tuning.direction_chunk)
-        classes = full_turn_cells(limited, classes, proved)
+        classes = full_turn_cells(limited, classes, proved, state.get("sectors"))
     return grid, classes, proved, evaluated, "" if reason == "share" else reason
 
 
 # ----------------------------------------------------------------------------------------------- a tool along the
 # approach from a wrist centre (docs/methods.md section 8, "A cone through the wrist centre")
 class SideMap(ImageMap):
-    """The section map ``q' -> (u, c, v)`` of a limited turn whose inner proofs also prove a side condition
-    ``s(q') >= bound`` over each Krawczyk box (the hook :meth:`~workspace_sym.interval.image.ImageMap.admissible`);
-    it shares the compiled map of ``lateral``.  Its random configurations satisfy the condition in floats (they
+    """The section map ``q' -> (u, c, v)`` of a limited turn whose inner proofs also prove side conditions
+    ``s_i(q') >= bound_i`` over each Krawczyk box (the hook :meth:`~workspace_sym.interval.image.ImageMap.admissible`);
+    it shares the compiled map of ``lateral``.  Its random configurations satisfy the conditions in floats (they
     only choose where proofs start).
 
     Parameters
     ----------
     lateral : ImageMap
         The section map.
-    side : sympy.Expr
-        ``s``, in ``lateral``'s variables.
-    bound : float
-        A float at least the exact bound (an outward enclosure's upper end): ``s >= bound`` proves the condition.
+    sides : sequence of tuple
+        ``(s_i, bound_i)`` pairs: ``s_i`` in ``lateral``'s variables, ``bound_i`` a float at least the exact
+        bound (an outward enclosure's upper end): ``s_i >= bound_i`` proves the condition.
+
+    Attributes
+    ----------
+    spin : SpinSectors or None
+        The sectors of the first joint's range at which a proof holds (:func:`prove_directions` reads it);
+        None: every polar angle of the direction's arc.
+    turned : list of SideMap
+        The same map turned by ``j pi / (2 M)``, ``j = 1 .. M - 1`` (:func:`turned_map`): ``4 M`` directions
+        (:func:`direction_maps`); empty: the four axis directions.
     """
 
-    def __init__(self, lateral: ImageMap, side, bound: float):
+    def __init__(self, lateral: ImageMap, sides):
         self.__dict__.update(lateral.__dict__)        # the same compiled map: no second symbolic preparation
-        self.side_expression = side
-        self._side = compile_expr(side, self.variables)
-        self._side_float = sp.lambdify([self.variables], side, modules="numpy")
-        self.bound = float(bound)
+        self.spin: SpinSectors | None = None          # set by constrained_turn for a constant orientation
+        self.turned: list = []
+        self.sides = tuple((sp.sympify(side), float(bound)) for side, bound in sides)
+        if not self.sides:
+            raise ValueError("a side map needs at least one side condition")
+        self._sides = [compile_expr(side, self.variables) for side, _ in self.sides]
+        self._sides_float = [sp.lambdify([self.variables], side, modules="numpy") for side, _ in self.sides]
 
     def admissible(self, box: np.ndarray) -> np.ndarray:
-        """Mask of the joint boxes on which ``s >= bound`` is proved (outward-rounded; NaN: not proved).
+        """Mask of the joint boxes on which every ``s_i >= bound_i`` is proved (outward-rounded; NaN: not proved).
 
         Parameters
         ----------
@@ -724,12 +908,14 @@ class SideMap(ImageMap):
             ``(N,)`` booleans.
         """
         X = [(box[:, j, 0], box[:, j, 1]) for j in range(box.shape[1])]
+        proved = np.ones(len(box), dtype=bool)
         with np.errstate(all="ignore"):
-            lo, _ = self._side(X)
-        return np.broadcast_to(lo, (len(box),)) >= self.bound
+            for side, (_, bound) in zip(self._sides, self.sides):
+                proved &= np.broadcast_to(side(X)[0], (len(box),)) >= bound
+        return proved
 
     def random_configurations(self, n: int, rng) -> np.ndarray:
-        """Up to ``n`` configurations uniform within the limits on which ``s > bound`` in floats.
+        """Up to ``n`` configurations uniform within the limits on which every ``s_i > bound_i`` in floats.
 
         Parameters
         ----------
@@ -741,32 +927,185 @@ class SideMap(ImageMap):
         Returns
         -------
         numpy.ndarray
-            ``(M, k)`` joint values, ``M <= n`` (fewer when the condition is rarely met).
+            ``(M, k)`` joint values, ``M <= n`` (fewer when the conditions are rarely met).
         """
         kept: list = []
         for _ in range(8):
             q = super().random_configurations(n, rng)
+            good = np.ones(len(q), dtype=bool)
             with np.errstate(all="ignore"):
-                side = np.broadcast_to(np.asarray(self._side_float(q.T), dtype=float), (len(q),))
-            kept.append(q[side > self.bound])
+                for side, (_, bound) in zip(self._sides_float, self.sides):
+                    good &= np.broadcast_to(np.asarray(side(q.T), dtype=float), (len(q),)) > bound
+            kept.append(q[good])
             if sum(map(len, kept)) >= n:
                 break
         return np.concatenate(kept)[:n]
 
 
-def constrained_turn(limited: LimitedTurn, side, bound: float) -> LimitedTurn:
-    """``limited`` whose direction proofs also prove ``side >= bound`` (:class:`SideMap`); its outer proofs are
-    unchanged (the distances from the shoulder and the elbow, the blocks: outside the section is outside any part
-    of it).
+class SpinSectors:
+    """Where a direction proof of a constant orientation holds (docs/methods.md section 8, "A constant orientation
+    through the wrist centre"): the first joint's range ``[a, b]`` (the floats of ``inner_range``) is cut into
+    ``count`` sectors; over a sector and a Krawczyk box of the section's joints, one of the wrist's two solutions
+    is proved within the limits of the roll and of the last joint (:class:`~workspace_sym.serial.pose.
+    SpinCondition`, every bound outward-rounded).  A proof at the direction ``k`` (polar angle ``beta_k``) then
+    holds at the polar angles ``theta_1 + beta_k`` of the sectors that pass.
+
+    Parameters
+    ----------
+    condition : SpinCondition
+        The condition's expressions.
+    variables : sequence of sympy.Symbol
+        The section's joints.
+    inner_range : tuple of float
+        ``(a, b)`` within the first joint's DH range.
+    count : int
+        Sectors (at most 64, one bit each).
+    bins : int
+        Bins of the circle for :meth:`covered`.
+    directions : int
+        The directions' count, evenly spaced from the first joint's x axis (:func:`direction_maps`).
+    """
+
+    MARGIN = 1e-9                 # radians: far above the float error of a sum of angles
+
+    def __init__(self, condition, variables, inner_range, count: int = SPIN_SECTORS, bins: int = SPIN_BINS,
+                 directions: int = DIRECTIONS):
+        if not 1 <= count <= 64:
+            raise ValueError(f"count: 1 to 64 sectors; got {count}")
+        variables = tuple(variables)
+        self.count, self.bins, self.directions = count, bins, directions
+        self._X = compile_expr(condition.X, variables)
+        self._Y = compile_expr(condition.Y, (condition.turn,) + variables)
+        self._spin = compile_expr(condition.spin * condition.V2 - condition.Y ** 2, (condition.turn,) + variables)
+        self._roll = (None if condition.roll is None
+                      else compile_expr(condition.roll * condition.V2 - condition.X ** 2, variables))
+        a, b = inner_range
+        edges = np.linspace(a, b, count + 1)
+        edges[0], edges[-1] = a, b
+        self.edges = edges
+        # For each direction and bin of the circle: whether the bin lies in the direction's arc, and the first
+        # and last sectors that may meet it (margins outward), read by covered().
+        width = 2 * math.pi / bins
+        start = np.arange(bins) * width
+        self._inside, self._first, self._last = [], [], []
+        for k in range(directions):
+            rel = np.remainder(start - (a + k * 2 * math.pi / directions), 2 * math.pi)
+            self._inside.append((rel >= self.MARGIN) & (rel + width <= (b - a) - self.MARGIN))
+            scale = count / (b - a)
+            self._first.append(np.clip(np.floor((rel - self.MARGIN) * scale), 0, count - 1).astype(int))
+            self._last.append(np.clip(np.floor((rel + width + self.MARGIN) * scale), 0, count - 1).astype(int))
+
+    def masks(self, U: np.ndarray) -> np.ndarray:
+        """The sectors at which one solution is proved within the limits over each joint box.
+
+        Parameters
+        ----------
+        U : numpy.ndarray
+            ``(N, k', 2)`` boxes of the section's joints (Krawczyk boxes).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N,)`` ``uint64``, bit ``i`` for sector ``i``.
+        """
+        N = len(U)
+        out = np.zeros(N, dtype=np.uint64)
+        if not N:
+            return out
+        Q = [(U[:, j, 0], U[:, j, 1]) for j in range(U.shape[1])]
+        with np.errstate(all="ignore"):
+            x = self._X(Q)
+            x = tuple(np.broadcast_to(v, (N,)) for v in x)
+            if self._roll is None:
+                plus_roll = minus_roll = np.ones(N, dtype=bool)
+            else:
+                roll = np.broadcast_to(self._roll(Q)[0], (N,)) >= 0
+                plus_roll, minus_roll = (x[1] <= 0) | roll, (x[0] >= 0) | roll
+            for i in range(self.count):
+                T = [(np.full(N, self.edges[i]), np.full(N, self.edges[i + 1]))] + Q
+                y = tuple(np.broadcast_to(v, (N,)) for v in self._Y(T))
+                spin = np.broadcast_to(self._spin(T)[0], (N,)) >= 0
+                ok = (plus_roll & ((y[1] <= 0) | spin)) | (minus_roll & ((y[0] >= 0) | spin))
+                out[ok] |= np.uint64(1 << i)
+        return out
+
+    def covered(self, masks: np.ndarray, chunk: int = 20_000) -> np.ndarray:
+        """Whether the sectors passing at the directions cover the circle (:meth:`bins_covered` all ``bins``).
+
+        Parameters
+        ----------
+        masks : numpy.ndarray
+            ``(directions, N)`` ``uint64`` masks (:meth:`masks`; 0 where a direction is not proved).
+        chunk : int
+            Pieces per step (memory).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N,)`` booleans.
+        """
+        return self.bins_covered(masks, chunk) == self.bins
+
+    def bins_covered(self, masks: np.ndarray, chunk: int = 20_000) -> np.ndarray:
+        """How many of the ``bins`` equal arcs of the circle the sectors passing at the directions cover
+        (:meth:`covered_bins`, summed).
+
+        Parameters
+        ----------
+        masks : numpy.ndarray
+            ``(directions, N)`` ``uint64`` masks (:meth:`masks`; 0 where a direction is not proved).
+        chunk : int
+            Pieces per step (memory).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N,)`` counts.
+        """
+        N = masks.shape[1]
+        out = np.zeros(N, dtype=np.int64)
+        for start in range(0, N, chunk):
+            out[start:start + chunk] = self.covered_bins(masks[:, start:start + chunk]).sum(axis=1)
+        return out
+
+    def covered_bins(self, masks: np.ndarray) -> np.ndarray:
+        """Which bins ``[b, b + 1] 2 pi / bins`` of polar angle the sectors passing at the directions cover: a bin
+        is covered by a direction when it lies in the direction's arc and every sector that may meet it passes
+        (margins outward), so every polar angle of a covered bin lies in a passing sector.
+
+        Parameters
+        ----------
+        masks : numpy.ndarray
+            ``(directions, N)`` ``uint64`` masks (:meth:`masks`; 0 where a direction is not proved).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, bins)`` booleans.
+        """
+        bits = np.uint64(1) << np.arange(self.count, dtype=np.uint64)
+        bins = np.zeros((masks.shape[1], self.bins), dtype=bool)
+        for k in range(self.directions):
+            passing = (masks[k][:, None] & bits[None, :]) != 0
+            bins |= passing[:, self._first[k]] & passing[:, self._last[k]] & self._inside[k][None, :]
+        return bins
+
+
+def constrained_turn(limited: LimitedTurn, sides, spin=None) -> LimitedTurn:
+    """``limited`` whose direction proofs also prove ``s_i >= bound_i`` for each of ``sides`` (:class:`SideMap`);
+    its outer proofs are unchanged (the distances from the shoulder and the elbow, the blocks: outside the section
+    is outside any part of it).
 
     Parameters
     ----------
     limited : LimitedTurn
         The structure.
-    side : sympy.Expr
-        The side condition's expression, in the section's joints.
-    bound : float
-        Its bound (see :class:`SideMap`).
+    sides : sequence of tuple
+        ``(expression, bound)`` pairs, the expressions in the section's joints (see :class:`SideMap`).
+    spin : SpinCondition, optional
+        A constant orientation's condition on the wrist's solutions
+        (:class:`~workspace_sym.serial.pose.SpinCondition`): the proofs then hold at the sectors of the first
+        joint's range where it is proved (:class:`SpinSectors`).
 
     Returns
     -------
@@ -774,7 +1113,13 @@ def constrained_turn(limited: LimitedTurn, side, bound: float) -> LimitedTurn:
         The same structure with the constrained section map.
     """
     section = limited.plan.section
-    radial = RadialMap(section.square, SideMap(section.lateral, side, bound), section.reach)
+    lateral = SideMap(section.lateral, sides)
+    if spin is not None:        # 4 M directions: the turned copies prove those off the axes
+        lateral.spin = SpinSectors(spin, section.lateral.variables, limited.inner_range,
+                                   directions=DIRECTIONS * SPIN_TURNS)
+        lateral.turned = [SideMap(turned_map(section.lateral, sp.pi * j / (2 * SPIN_TURNS)), sides)
+                          for j in range(1, SPIN_TURNS)]
+    radial = RadialMap(section.square, lateral, section.reach)
     return replace(limited, plan=replace(limited.plan, section=radial))
 
 
@@ -858,20 +1203,74 @@ def tool_section(sections, length, cone, sign: int, *, offsets: int = 8):
     return tool, codes.reshape(tool.shape)
 
 
+def shifted_section(grid, length, sign: int) -> tuple[float, float]:
+    """For an exact approach ``d = (0, 0, sign)``: the enclosure ``[s0, s1]`` of the tool point's height over
+    the wrist centre's, ``L sign`` (``p = w + L d``), and the tool section is the wrist centre's translated by it
+    (no new grid: a tool cell ``[z0, z1]`` is the wrist cell ``[z0 - s, z1 - s]``, which a grid of its own would
+    straddle by the float rounding of the shift).  Its Pappus volume is the wrist centre's (a vertical
+    translation); :class:`ToolSectionTest` with ``shift`` reads a world box on the wrist centre's grid.
+
+    Parameters
+    ----------
+    grid : CellGrid
+        The wrist centre's section grid (its box is checked finite).
+    length : sympy.Expr
+        ``L``, exact.
+    sign : int
+        ``d``'s vertical sign, 1 or -1.
+
+    Returns
+    -------
+    tuple of float
+        ``(s0, s1)``, rounded outward.
+    """
+    L = numpy_constant(length)
+    shift = L if sign > 0 else (-L[1], -L[0])
+    if not np.isfinite(grid.box).all():
+        raise ValueError("the wrist centre's section box is not finite")
+    return float(shift[0]), float(shift[1])
+
+
 class ToolSectionTest(TurnedTest):
     """Classify world boxes of ``(x, y, z)`` from the tool's section cells (:func:`tool_section`), each proved at
     every polar angle (inner) or outside: a box is inner when its ``(rho, z)`` rectangle lies in inner cells, outer
-    when in outer cells or beyond the grid.
+    when in outer cells or beyond the grid.  With ``shift`` (:func:`shifted_section`), the cells are the wrist
+    centre's and a box's heights are first lowered by the shift (outward).
 
     Parameters
     ----------
     plan : Turned
         The wrist centre's structure (for its base, the identity here).
     grid : CellGrid
-        The tool's section grid.
+        The tool's section grid (with ``shift``, the wrist centre's).
     classes : numpy.ndarray
         Its verdict codes.
+    shift : tuple of float, optional
+        The enclosure of the tool's height over the wrist centre's (None: the grid is the tool's own).
     """
+
+    def __init__(self, plan, grid, classes, shift: tuple[float, float] | None = None):
+        super().__init__(plan, grid, classes)
+        self.shift = shift
+
+    def rectangles(self, X: np.ndarray) -> np.ndarray:
+        """``(N, 2, 2)`` rectangles of ``(rho, z)`` on the test's grid holding the points of the world boxes
+        ``X`` (their heights lowered by ``shift`` when set), outward-rounded.
+
+        Parameters
+        ----------
+        X : numpy.ndarray
+            ``(N, 3, 2)`` world boxes.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, 2, 2)`` rectangles.
+        """
+        rect = super().rectangles(X)
+        if self.shift is not None:
+            rect[:, 1] = np.stack(arith.sub((rect[:, 1, 0], rect[:, 1, 1]), self.shift), axis=1)
+        return rect
 
     def __call__(self, X: np.ndarray):
         rect = self.rectangles(X)

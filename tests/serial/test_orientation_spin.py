@@ -1,0 +1,186 @@
+"""Issue 40: a constant orientation (tool down) of the LBR iiwa 14 (rtb-data URDF) through its wrist centre
+(docs/methods.md section 8, "A constant orientation through the wrist centre"): the tool point is the wrist centre
+plus 0.126 m straight down; of the wrist's two solutions, the one within the limits of the roll (joint 5, 340 deg)
+and of the last joint (joint 7, 350 deg, which spins the tool about its approach) depends on the first joint's turn,
+so each direction proof holds on sectors of that turn (turn.SpinSectors), at sixteen directions.
+
+References: a least-squares wrist solution within the limits (scipy) for the wrist's condition, configurations
+sampled within the limits with the frame made exact by Newton (floats), an inverse kinematics at 50 digits
+(mpmath) for points of inner boxes, and a brute-force reading of the sectors' cover at random angles.
+"""
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+import sympy as sp
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from reach_checks import (
+    admissible_configurations,
+    arcs_volume,
+    arm_in_pose_at_50_digits,
+    in_any_box,
+    industrial_arm,
+    oriented_configurations,
+)
+from workspace_sym.serial import Pose, reach
+from workspace_sym.serial.pose import SpinCondition, constraint_from, pose_structure
+from workspace_sym.serial.tuning import DEFAULT
+from workspace_sym.serial.turn import SpinSectors
+
+TOOL_DOWN = dict(rpy=(180, 0, 0))
+# Coarse cells and few seeds: a bracket in seconds (300 s give [1.64, 1.94] m^3, BENCHMARKS.md session 29)
+TUNING = dataclasses.replace(DEFAULT, budget_cells=16, direction_samples=20_000)
+
+
+@pytest.fixture(scope="module")
+def iiwa():
+    return industrial_arm("iiwa")
+
+
+@pytest.fixture(scope="module")
+def paving(iiwa):
+    return reach(iiwa, delta=0.2, pose=Pose(**TOOL_DOWN), tuning=TUNING)
+
+
+@pytest.fixture(scope="module")
+def oriented(iiwa):
+    """Tool-down configurations of the iiwa (floats) and their tool points."""
+    R = np.array(constraint_from(**TOOL_DOWN).matrix, dtype=float)
+    return oriented_configurations(iiwa, 600_000, 5, R)
+
+
+@pytest.mark.slow
+def test_the_iiwa_tool_down_goes_through_its_wrist_centre(iiwa, paving):
+    """The structure is recognised with the URDF's numbers (flange 63/500 m, an exact approach, the spin's
+    condition) and the run proves boxes of both kinds with a bracket."""
+    centre = pose_structure(iiwa, (), constraint_from(**TOOL_DOWN), TUNING).centre
+    assert centre is not None and centre.cone == 0 and centre.spin is not None
+    assert centre.length == sp.Rational(63, 500) and centre.sign == -1
+    assert paving.method == "section" and paving.counts["inner"] > 0 and paving.counts["outer"] > 0
+    lo, hi = paving.measure_bounds
+    assert 0 < lo < hi
+
+
+@pytest.mark.slow
+def test_tool_down_configurations_never_land_in_an_outer_box_and_the_bracket_holds_their_volume(iiwa, paving,
+                                                                                               oriented):
+    """Sampled configurations within the limits with the tool frame exactly down: their tool points never lie in
+    an outer box (narrowed by 1e-9 for float rounding), and their volume estimate (cells of 0.02 with their arcs,
+    ``arcs_volume``: no bound, about half a cell high along the boundary; 1.85 m^3 here, 1.98 at cells of 0.04,
+    1.81 at 0.01 with 6.1e5 points, session 29) lies in the bracket."""
+    q, points = oriented
+    assert len(points) > 50_000
+    assert not in_any_box(points, paving.outer, pad=-1e-9).any()
+    lo, hi = paving.measure_bounds
+    assert lo <= arcs_volume(iiwa, q[:, 0], points, 0.02) <= hi
+
+
+@pytest.mark.slow
+def test_points_of_inner_boxes_are_reached_tool_down_at_50_digits(iiwa, paving):
+    """A point drawn in each of 4 inner boxes is the tool point of a configuration within the limits whose tool
+    frame is exactly Rx(pi), found by least squares and refined at 50 digits (checked there)."""
+    rng = np.random.default_rng(8)
+    R = constraint_from(**TOOL_DOWN).matrix
+    for box in paving.inner[rng.choice(len(paving.inner), 4, replace=False)]:
+        point = rng.uniform(box[:, 0], box[:, 1])
+        assert arm_in_pose_at_50_digits(iiwa, point, R, rng) is not None, point
+
+
+@pytest.mark.slow
+def test_an_exact_approach_is_the_wrist_centres_section_translated(iiwa):
+    """An exact approach straight down (a cone of 0: no spin asked) goes through the wrist centre with one tilt;
+    configurations with the approach made exact by Newton on joints 5 and 6 (floats) never land in an outer box,
+    and their volume estimate (cells of 0.02 with their arcs) lies in the bracket."""
+    exact = dict(approach=(0, 0, -1), cone=0)
+    centre = pose_structure(iiwa, (), constraint_from(**exact), TUNING).centre
+    assert centre is not None and centre.cone == 0 and centre.spin is None
+    paving = reach(iiwa, delta=0.2, pose=Pose(**exact), tuning=TUNING)
+    q, _, points = admissible_configurations(iiwa, 300_000, 6, approach=(0, 0, -1), wrist=(4, 5))
+    assert len(points) > 20_000
+    assert not in_any_box(points, paving.outer, pad=-1e-9).any()
+    lo, hi = paving.measure_bounds
+    assert 0 < lo <= arcs_volume(iiwa, q[:, 0], points, 0.02) <= hi
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("yaw", [0, 135])
+def test_the_spin_condition_agrees_with_a_wrist_solved_within_the_limits(iiwa, yaw):
+    """Second method for SpinCondition: at arm configurations with the roll axis within the wrist's reach of straight
+    down (joint 3 near 0, where one wrist solution leaves the roll's limits), one of the two solutions is within
+    the limits per the condition (floats) iff one of the wrist's solutions (joints 5-7 by least squares from 12
+    starts, without limits, then wrapped into them by whole turns) lies within the limits; 12 configurations the
+    condition admits and 12 it refuses (drawn until both counts are met)."""
+    from scipy.optimize import least_squares
+
+    con = constraint_from(rpy=(180, 0, yaw))
+    centre = pose_structure(iiwa, (), con).centre
+    spin, R = centre.spin, np.array(con.matrix, dtype=float)
+    q_all = list(iiwa.q)
+    X, V2, side = (sp.lambdify([q_all], e) for e in (spin.X, spin.V2, centre.side))
+    Y = sp.lambdify([[spin.turn] + q_all], spin.Y)
+    theta_1 = sp.lambdify([q_all], iiwa.joints[0].theta)
+    c_roll, c_spin = float(spin.roll) ** 0.5, float(spin.spin) ** 0.5
+    limits = iiwa.joint_limits()
+    rng = np.random.default_rng(yaw)
+    wanted = {True: 12, False: 12}
+    answers = []
+    for _ in range(200_000):
+        if not any(wanted.values()):
+            break
+        q = rng.uniform(limits[:, 0], limits[:, 1])
+        q[2] = rng.uniform(-0.15, 0.15)
+        if side(q) < math.cos(float(centre.psi)) + 0.02:
+            continue
+        x, v, y = X(q), math.sqrt(max(V2(q), 0.0)), Y([theta_1(q)] + list(q))
+        margins = [-x + c_roll * v, x + c_roll * v, -y + c_spin * v, y + c_spin * v]
+        predicted = bool((margins[0] >= 0 and margins[2] >= 0) or (margins[1] >= 0 and margins[3] >= 0))
+        if min(abs(m) for m in margins) < 1e-3 or not wanted[predicted]:
+            continue                                 # near the condition's boundary for floats, or enough
+        wanted[predicted] -= 1
+
+        def residual(w, q=q):
+            return (iiwa.fk_numeric(np.r_[q[:4], w][None])[0][:3, :3] - R).ravel()
+
+        # the wrist's solutions without limits (two, modulo a turn), each wrapped into the limits and checked
+        fits = [least_squares(residual, rng.uniform(-np.pi, np.pi, 3), xtol=1e-15, ftol=1e-15, gtol=1e-15)
+                for _ in range(12)]
+        low, high = limits[4:, 0], limits[4:, 1]
+        wrapped = [np.remainder(fit.x - low, 2 * np.pi) + low for fit in fits if np.abs(fit.fun).max() < 1e-9]
+        assert wrapped
+        answers.append((predicted, any(bool((w <= high).all()) for w in wrapped)))
+    assert not any(wanted.values())
+    assert all(p == a for p, a in answers), [(i, p, a) for i, (p, a) in enumerate(answers) if p != a]
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.integers(0, 2 ** 12 - 1), min_size=16, max_size=16), st.integers(0, 10 ** 6))
+def test_covered_bins_hold_only_angles_of_passing_sectors(masks, seed):
+    """SpinSectors.covered_bins: every angle of a bin it marks lies in a sector that passes at some direction
+    (checked at 50 random angles per covered bin and at its two ends, each direction's sector found from the
+    angle and the sectors' edges); and with every sector passing at two opposite directions, the whole circle is
+    covered (reference: two arcs of 340 deg half a turn apart cover it)."""
+    t = sp.Symbol("t")
+    condition = SpinCondition(t, sp.S.Zero, t, sp.S.One, None, sp.S.Zero)     # the masks are given, not computed
+    a, b = -2.9668 + math.pi, 2.9668 + math.pi
+    spin = SpinSectors(condition, (), (a, b), count=12, bins=180, directions=16)
+    bits = np.array([[m] for m in masks], dtype=np.uint64)
+    covered = spin.covered_bins(bits)[0]
+    assert spin.bins_covered(bits)[0] == covered.sum()
+    rng = np.random.default_rng(seed)
+    width = 2 * math.pi / spin.bins
+    for b_ in np.nonzero(covered)[0]:
+        for psi in np.r_[b_ * width, (b_ + 1) * width, rng.uniform(b_ * width, (b_ + 1) * width, 50)]:
+            assert any(_sector_passes(spin, masks[k], psi, k) for k in range(16)), (b_, psi)
+    full = np.zeros((16, 1), dtype=np.uint64)
+    full[[0, 8]] = (1 << 12) - 1
+    assert spin.covered(full)[0]
+
+
+def _sector_passes(spin, mask, psi, k):
+    """Whether the polar angle ``psi`` is ``theta_1 + k 2 pi / 16`` for a ``theta_1`` in a passing sector of ``k``."""
+    theta = np.remainder(psi - k * 2 * math.pi / 16 - spin.edges[0], 2 * math.pi) + spin.edges[0]
+    return any(spin.edges[i] <= theta <= spin.edges[i + 1] and mask >> i & 1 for i in range(spin.count))
