@@ -327,7 +327,7 @@ def direction_seeds(lateral: ImageMap, grid, n: int = DEFAULT.direction_samples,
     seed : int
         The seed of the random generator.
     directions : int
-        Directions, evenly spaced from the first joint's x axis (4, or 8 with :func:`direction_maps`).
+        Directions, evenly spaced from the first joint's x axis (4, or the 4 M of :func:`direction_maps`).
 
     Returns
     -------
