@@ -280,7 +280,7 @@ def test_an_asymmetric_pitch_reaches_the_smaller_of_its_two_sides():
     tool = sp.Matrix(iiwa.tool) * sp.Matrix([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, -sp.Rational(63, 500)],
                                              [0, 0, 0, 1]])
     moved = DHRobot(joints, convention=iiwa.convention, tool=tool)
-    _, psi, wrist, _ = wrist_cap(moved, None, moved.substitute(moved.fk()), half_turn=True)
+    _, psi, wrist = wrist_cap(moved, None, moved.substitute(moved.fk()), half_turn=True)
     assert wrist == (4, 5) and sp.simplify(psi - sp.pi / 3) == 0
 
 

@@ -177,7 +177,7 @@ def test_covered_bins_hold_only_angles_of_passing_sectors(masks, seed):
             assert any(_sector_passes(spin, masks[k], psi, k) for k in range(16)), (b_, psi)
     full = np.zeros((16, 1), dtype=np.uint64)
     full[[0, 8]] = (1 << 12) - 1
-    assert spin.covered(full)[0]
+    assert spin.bins_covered(full)[0] == spin.bins
 
 
 def _sector_passes(spin, mask, psi, k):

@@ -769,7 +769,7 @@ class WristCentrePlan(PoseSectionPlan):
                 break
         if centre.cone == 0:            # an exact approach: the wrist centre's section translated by L d
             tool, codes = sections[0][0], sections[0][1]
-            shift = shifted_section(tool, centre.length, centre.sign)
+            shift = shifted_section(centre.length, centre.sign)
             rho, (z0, z1) = tool.box
             z = (float(arith.down(z0 + shift[0])), float(arith.up(z1 + shift[1])))
             # the volume (a translation keeps it) with the share of each piece's solid its proofs reach

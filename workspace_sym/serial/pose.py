@@ -1013,7 +1013,7 @@ def wrist_reduction(robot: DHRobot, params, constraint: PoseConstraint, T):
     cap = wrist_cap(robot, params, T)
     if isinstance(cap, str):
         return cap
-    axis, psi, wrist, _ = cap
+    axis, psi, wrist = cap
     c = constraint.cone
     if constraint.every and c != 0:
         if not bool(psi - c >= 0):
@@ -1051,9 +1051,8 @@ def wrist_cap(robot: DHRobot, params, T, *, half_turn: bool = False):
     Returns
     -------
     tuple or str
-        ``(z, psi, (j, k), phi)``: the roll axis (three expressions in the arm joints), ``psi`` (exact, radians),
-        the roll and pitch joints' indices and the pitch's phase ``phi`` (``a . z = cos(q_k + phi)``); or why there
-        is no such wrist.
+        ``(z, psi, (j, k))``: the roll axis (three expressions in the arm joints), ``psi`` (exact, radians) and
+        the roll and pitch joints' indices; or why there is no such wrist.
     """
     if robot.convention != "standard":
         return f"its table is in {robot.convention} DH (the wrist is recognised in standard DH only)"
@@ -1105,7 +1104,7 @@ def wrist_cap(robot: DHRobot, params, T, *, half_turn: bool = False):
                 "limits (the wrist reaches a ring of directions, not a cap)")
     below, above = 2 * sp.pi * turns - lo - phi, hi + phi - 2 * sp.pi * turns    # the pitch's reach either side
     if full:
-        return axis, sp.Min(sp.pi, sp.Max(below, above)), (j, k), phi
+        return axis, sp.Min(sp.pi, sp.Max(below, above)), (j, k)
     (r_lo, r_hi), _ = joint_range(robot, j, params)
     slope = sp.diff(robot.substitute(sp.Matrix([robot.joints[j].theta]), params)[0], roll)
     if slope.free_symbols or abs(slope) != 1 or not bool(r_hi - r_lo >= sp.pi):
@@ -1116,7 +1115,7 @@ def wrist_cap(robot: DHRobot, params, T, *, half_turn: bool = False):
     if any(sp.simplify(sp.expand_trig(f - e)) != 0 for f, e in zip(flipped, direction)):
         return (f"the roll joint {named([j])} turns less than a full turn and the wrist's second solution "
                 f"(roll + pi, pitch mirrored) does not give the same approach axis")
-    return axis, sp.Min(sp.pi, below, above), (j, k), phi
+    return axis, sp.Min(sp.pi, below, above), (j, k)
 
 
 def _tool_offset(robot: DHRobot, params, constraint: PoseConstraint, T):
@@ -1498,7 +1497,7 @@ def wrist_centre(robot: DHRobot, parameters: tuple, constraint: PoseConstraint) 
     cap = wrist_cap(moved, params, moved.substitute(moved.fk(), params), half_turn=True)
     if isinstance(cap, str):
         return None
-    axis, psi, wrist, _ = cap
+    axis, psi, wrist = cap
     if not bool(psi - c > 0):
         return None
     sign = 1 if d[2] > 0 else -1

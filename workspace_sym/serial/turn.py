@@ -488,7 +488,7 @@ def full_turn_cells(limited: LimitedTurn, classes: np.ndarray, pieces: np.ndarra
                     sectors: np.ndarray | None = None) -> np.ndarray:
     """Classes of the cells for every polar angle: inner where two directions of a qualifying pair are proved
     (every piece of the cell, ``pieces`` as :func:`prove_directions` gives them), or, with ``sectors``, where the
-    sectors proved at the four directions cover the circle (:meth:`SpinSectors.covered`, every piece); outer
+    sectors proved at the directions cover the circle (:meth:`SpinSectors.bins_covered`, every piece); outer
     where the section's cell is, undecided elsewhere.
 
     Parameters
@@ -508,17 +508,21 @@ def full_turn_cells(limited: LimitedTurn, classes: np.ndarray, pieces: np.ndarra
     numpy.ndarray
         Verdict codes (``int8``) of the cells for every polar angle.
     """
-    full = np.zeros(classes.shape, dtype=bool)
     F = pieces.shape[-2] // classes.shape[0]
+
+    def whole(mask):                    # cells all of whose pieces are in mask
+        return mask.reshape(classes.shape[0], F, classes.shape[1], F).all(axis=(1, 3))
+
     spin = getattr(limited.plan.section.lateral, "spin", None)
-    if spin is not None:
+    full = np.zeros(classes.shape, dtype=bool)
+    if spin is None:
+        for j, k in limited.pairs:
+            full |= whole(pieces[j] & pieces[k])
+    elif sectors is not None:
         covered = np.zeros(pieces.shape[1:], dtype=bool)
-        if sectors is not None:
-            some = np.nonzero(pieces.sum(axis=0) >= 2)             # one direction's arc is short of a turn
-            covered[some] = spin.covered(sectors[(slice(None),) + some])
-        full = np.asarray(covered.reshape(classes.shape[0], F, classes.shape[1], F).all(axis=(1, 3)))
-    for j, k in () if spin is not None else limited.pairs:
-        full |= (pieces[j] & pieces[k]).reshape(classes.shape[0], F, classes.shape[1], F).all(axis=(1, 3))
+        some = np.nonzero(pieces.sum(axis=0) >= 2)             # one direction's arc is short of a turn
+        covered[some] = spin.bins_covered(sectors[(slice(None),) + some]) == spin.bins
+        full = whole(covered)
     out = np.full(classes.shape, UNDECIDED, dtype=np.int8)
     out[full & (classes != OUTER)] = INNER
     out[classes == OUTER] = OUTER
@@ -1029,23 +1033,6 @@ class SpinSectors:
                 out[ok] |= np.uint64(1 << i)
         return out
 
-    def covered(self, masks: np.ndarray, chunk: int = 20_000) -> np.ndarray:
-        """Whether the sectors passing at the directions cover the circle (:meth:`bins_covered` all ``bins``).
-
-        Parameters
-        ----------
-        masks : numpy.ndarray
-            ``(directions, N)`` ``uint64`` masks (:meth:`masks`; 0 where a direction is not proved).
-        chunk : int
-            Pieces per step (memory).
-
-        Returns
-        -------
-        numpy.ndarray
-            ``(N,)`` booleans.
-        """
-        return self.bins_covered(masks, chunk) == self.bins
-
     def bins_covered(self, masks: np.ndarray, chunk: int = 20_000) -> np.ndarray:
         """How many of the ``bins`` equal arcs of the circle the sectors passing at the directions cover
         (:meth:`covered_bins`, summed).
@@ -1203,7 +1190,7 @@ def tool_section(sections, length, cone, sign: int, *, offsets: int = 8):
     return tool, codes.reshape(tool.shape)
 
 
-def shifted_section(grid, length, sign: int) -> tuple[float, float]:
+def shifted_section(length, sign: int) -> tuple[float, float]:
     """For an exact approach ``d = (0, 0, sign)``: the enclosure ``[s0, s1]`` of the tool point's height over
     the wrist centre's, ``L sign`` (``p = w + L d``), and the tool section is the wrist centre's translated by it
     (no new grid: a tool cell ``[z0, z1]`` is the wrist cell ``[z0 - s, z1 - s]``, which a grid of its own would
@@ -1212,8 +1199,6 @@ def shifted_section(grid, length, sign: int) -> tuple[float, float]:
 
     Parameters
     ----------
-    grid : CellGrid
-        The wrist centre's section grid (its box is checked finite).
     length : sympy.Expr
         ``L``, exact.
     sign : int
@@ -1225,10 +1210,7 @@ def shifted_section(grid, length, sign: int) -> tuple[float, float]:
         ``(s0, s1)``, rounded outward.
     """
     L = numpy_constant(length)
-    shift = L if sign > 0 else (-L[1], -L[0])
-    if not np.isfinite(grid.box).all():
-        raise ValueError("the wrist centre's section box is not finite")
-    return float(shift[0]), float(shift[1])
+    return (float(L[0]), float(L[1])) if sign > 0 else (float(-L[1]), float(-L[0]))
 
 
 class ToolSectionTest(TurnedTest):
