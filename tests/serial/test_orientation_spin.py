@@ -11,6 +11,7 @@ sampled within the limits with the frame made exact by Newton (floats), an inver
 
 import dataclasses
 import math
+from fractions import Fraction
 
 import numpy as np
 import pytest
@@ -187,36 +188,44 @@ def _sector_passes(spin, mask, psi, k):
 
 
 @pytest.mark.slow
-def test_a_passing_sector_holds_a_solution_within_the_limits_at_sampled_points(iiwa):
-    """SpinSectors.masks against the condition in floats: over small random boxes of joints 2-4 with the roll axis
-    within the wrist's reach, every sector marked as passing has, at 5 random points of (sector x box), one of
-    the two solutions within the roll's and the last joint's limits by SpinCondition's inequalities (to 1e-12),
-    and some sectors pass and some fail."""
+def test_a_passing_sector_holds_a_solution_within_the_limits_at_exact_points(iiwa):
+    """SpinSectors.masks against SpinCondition's exact inequalities: over small random boxes of joints 2-4 with the
+    roll axis within the wrist's reach, every sector marked as passing has, at 2 random rational points of (sector
+    x box) and at the box's corner with the sector's ends, one of the two solutions within the roll's and the last
+    joint's limits, the inequalities evaluated at 50 digits with no tolerance (the limits' constants exact); and
+    some sectors pass and some fail."""
+    import mpmath
+
     con = constraint_from(**TOOL_DOWN)
     centre = pose_structure(iiwa, (), con).centre
     (_, limited), = centre.levels()
     lateral = limited.plan.section.lateral
     spin, condition = lateral.spin, centre.spin
-    names = lateral.variables
-    X, V2 = (sp.lambdify([names], e) for e in (condition.X, condition.V2))
-    Y = sp.lambdify([[condition.turn] + list(names)], condition.Y)
-    c_roll, c_spin = float(condition.roll) ** 0.5, float(condition.spin) ** 0.5
+    names = list(lateral.variables)
+    X, V2, roll, turn = (sp.lambdify([names], e, modules="mpmath")
+                         for e in (condition.X, condition.V2, sp.sqrt(condition.roll), sp.sqrt(condition.spin)))
+    Y = sp.lambdify([[condition.turn] + names], condition.Y, modules="mpmath")
     rng = np.random.default_rng(3)
-    centres = lateral.random_configurations(100, rng)
+    centres = lateral.random_configurations(50, rng)
     U = np.stack([centres - 0.01, centres + 0.01], axis=2)
     masks = spin.masks(U)
     passing = failing = 0
-    for box, mask in zip(U, masks):
-        for i in range(spin.count):
-            if not int(mask) >> i & 1:
-                failing += 1
-                continue
-            passing += 1
-            for _ in range(5):
-                q = rng.uniform(box[:, 0], box[:, 1])
-                t = rng.uniform(spin.edges[i], spin.edges[i + 1])
-                x, v, y = X(q), math.sqrt(max(V2(q), 0.0)), Y([t] + list(q))
-                plus = -x >= -c_roll * v - 1e-12 and -y >= -c_spin * v - 1e-12
-                minus = x >= -c_roll * v - 1e-12 and y >= -c_spin * v - 1e-12
-                assert plus or minus, (box, i, t, q)
-    assert passing > 500 and failing > 10
+    with mpmath.workdps(50):
+        c_roll, c_spin = roll(names), turn(names)         # constants: |cos(h)|, exact to 50 digits
+        for box, mask in zip(U, masks):
+            for i in range(spin.count):
+                if not int(mask) >> i & 1:
+                    failing += 1
+                    continue
+                passing += 1
+                corners = [(box[:, 0], spin.edges[i]), (box[:, 1], spin.edges[i + 1])]
+                points = corners + [(rng.uniform(box[:, 0], box[:, 1]), rng.uniform(spin.edges[i], spin.edges[i + 1]))
+                                    for _ in range(2)]
+                for q, t in points:
+                    q = [mpmath.mpf(Fraction(float(v)).numerator) / Fraction(float(v)).denominator for v in q]
+                    t = mpmath.mpf(Fraction(float(t)).numerator) / Fraction(float(t)).denominator
+                    x, v, y = X(q), mpmath.sqrt(max(V2(q), 0)), Y([t] + q)
+                    plus = -x >= -c_roll * v and -y >= -c_spin * v
+                    minus = x >= -c_roll * v and y >= -c_spin * v
+                    assert plus or minus, (box, i, t, q)
+    assert passing > 250 and failing > 10
