@@ -23,22 +23,25 @@ collect_ignore = ["workspace_sym/__main__.py"]
 # collector off, 37.7 s: the rest is not the collector's).  Only when the collector runs changes, not what it frees.
 gc.set_threshold(50_000, 20, 100)
 
-# The test files that take longest, longest first (their summed test times in `make test` on 2 cores, session 18;
-# the group of SAME_WORKER below counted as one): `make test` gives each pytest-xdist worker whole files
-# (--dist=loadfile), in the order collected (--no-loadscope-reorder), so the long ones start at once and the short
-# ones fill in around them; a long file handed out last would run alone at the end.  Files not listed keep their
-# order after these.  Only the order changes: no test depends on another.
+# The test files that take longest, longest first (their summed test times in `make test` on 2 cores, from a JUnit
+# report of the whole suite, 1,654 s of test time in 14:35 on a shared machine; the group of SAME_WORKER below
+# counted as one): `make test` gives each pytest-xdist worker whole files (--dist=loadfile), in the order collected
+# (--no-loadscope-reorder), so the long ones start at once and the short ones fill in around them; a long file
+# handed out last would run alone at the end.  Files not listed keep their order after these.  Only the order
+# changes: no test depends on another.
 LONGEST_FIRST = [
-    # the industrial arms' group (SAME_WORKER), about 80 s on one worker
+    # the industrial arms' group (SAME_WORKER), about a quarter of the suite's test time, on one worker
     "test_serial_workspace.py", "test_reach_map_section.py", "test_reach_real_arms.py", "test_orientation_arms.py",
-    "test_reach_shoulder.py", "test_reach_pieces.py", "test_orientation_centre.py",
-    "test_kinematics.py", "test_reach_turn.py", "test_boundary.py", "test_notebooks.py", "test_kinematics_anytable.py",
-    "test_docs_site.py", "test_reach_section.py", "test_reach_map_wrist.py", "test_typing.py", "test_report.py",
-    "test_grading_teacher.py",
-    "test_cli.py", "test_orthoglide.py", "test_exercise_keys.py", "test_reach_store.py", "test_executor.py",
-    "test_reach_critical3d.py", "test_charpoly.py", "test_symbolic.py", "test_orientation.py", "test_reach_turn3d.py",
-    "test_urdf.py", "test_orientation_wrist.py", "test_fingerprint.py", "test_mjcf.py", "test_codegen.py",
-    "test_untrusted_input.py", "test_reach_map.py", "test_soundness.py",
+    "test_reach_shoulder.py", "test_reach_pieces.py", "test_orientation_centre.py", "test_orientation_spin.py",
+    "test_orientation_offset.py", "test_notebooks.py", "test_report.py", "test_kinematics.py", "test_cli.py",
+    "test_executor.py",
+    "test_grading_teacher.py", "test_kinematics_anytable.py", "test_boundary.py", "test_orthoglide.py",
+    "test_charpoly.py", "test_docs_site.py", "test_reach_map_wrist.py", "test_reach_turn.py", "test_exercise_keys.py",
+    "test_reach_section.py", "test_untrusted_input.py", "test_symbolic.py", "test_reach_critical3d.py",
+    "test_typing.py", "test_reach_store.py", "test_orientation.py", "test_display.py", "test_hostile_robot_files.py",
+    "test_mjcf.py", "test_urdf.py", "test_cli_report.py", "test_docstrings.py", "test_soundness.py",
+    "test_fingerprint.py", "test_reach_turn3d.py", "test_codegen.py", "test_paving.py", "test_orientation_wrist.py",
+    "test_reach_map.py",
 ]
 
 
@@ -46,10 +49,12 @@ LONGEST_FIRST = [
 # session's Puma and SCARA of tests/conftest.py): one worker runs them one after the other, so that each symbolic
 # preparation (a few seconds an arm) is done once and not once on each worker.  Together they took 80 s of test
 # time against 90 s one file per process.  The group is handed out where its first file comes in LONGEST_FIRST.
+# test_orientation_spin.py's iiwa after the others had prepared it: its URDF read, structure and wrist centre done,
+# 23 s for its tool-down paving and exact approach's structure against 38 s in a fresh process.
 SAME_WORKER = {
     "industrial arms": ["test_serial_workspace.py", "test_reach_map_section.py", "test_reach_real_arms.py",
                         "test_orientation_arms.py", "test_reach_shoulder.py", "test_reach_pieces.py",
-                        "test_orientation_centre.py"],
+                        "test_orientation_centre.py", "test_orientation_spin.py"],
 }
 _GROUP_OF = {name: group for group, names in SAME_WORKER.items() for name in names}
 

@@ -130,17 +130,26 @@ def admissible_configurations(robot, n, seed, *, approach=None, cone=None, wrist
             T = robot.fk_numeric(q)
             ok = T[:, :3, 2] @ d >= np.cos(np.radians(cone)) + 1e-9
         else:
+            # Newton's steps only on the rows not yet converged: a row whose components are below 1e-15 (far below
+            # the 1e-10 it is kept at) would move by less than that; the others take the same steps as with all rows
+            active = np.arange(len(q))
             for _ in range(12):
-                g = robot.fk_numeric(q)[:, :3, 2] @ normal.T
-                J = np.empty((len(q), 2, 2))
+                g = robot.fk_numeric(q[active])[:, :3, 2] @ normal.T
+                moving = np.abs(g).max(axis=1) >= 1e-15
+                active, g = active[moving], g[moving]
+                if not len(active):
+                    break
+                qa = q[active]
+                J = np.empty((len(qa), 2, 2))
                 for c, j in enumerate(wrist):
                     dq = np.zeros(robot.n)
                     dq[j] = 1e-7
-                    turned = robot.fk_numeric(q + dq)[:, :3, 2] - robot.fk_numeric(q - dq)[:, :3, 2]
+                    turned = robot.fk_numeric(qa + dq)[:, :3, 2] - robot.fk_numeric(qa - dq)[:, :3, 2]
                     J[:, :, c] = turned @ normal.T / 2e-7
                 with np.errstate(all="ignore"):
                     step = np.linalg.solve(J + 1e-12 * np.eye(2), g[:, :, None])[:, :, 0]
-                q[:, list(wrist)] -= np.where(np.isfinite(step), step, 0.0)
+                qa[:, list(wrist)] -= np.where(np.isfinite(step), step, 0.0)
+                q[active] = qa
             T = robot.fk_numeric(q)
             within = ((q >= limits[:, 0]) & (q <= limits[:, 1])).all(axis=1)
             ok = within & (np.abs(T[:, :3, 2] @ normal.T).max(axis=1) < 1e-10) & (T[:, :3, 2] @ d > 0)
@@ -321,6 +330,42 @@ def check_sampled_and_reached(robot, paving, *, samples: int, seed: int, chunk: 
         assert reached_at_50_digits(model, rng.uniform(box[:, 0], box[:, 1]), q, pos), box
 
 
+@functools.lru_cache(maxsize=16)
+def _wrist_arm_functions(robot):
+    """The tool point and the approach of ``robot`` (mpmath), and the tool point, its Jacobian and the approach
+    (numpy), lambdified once per robot object (lambdify took a third of a 50-digit check)."""
+    T = robot.substitute(robot.fk())
+    q = robot.q
+    return (sp.lambdify(q, list(T[:3, 3]), modules="mpmath"), sp.lambdify(q, list(T[:3, 2]), modules="mpmath"),
+            sp.lambdify(q, list(T[:3, 3]), modules="numpy"), sp.lambdify(q, T[:3, 3].jacobian(q), modules="numpy"),
+            sp.lambdify(q, list(T[:3, 2]), modules="numpy"))
+
+
+@functools.lru_cache(maxsize=16)
+def _cone_arm_functions(robot):
+    """The tool point and the approach of ``robot`` (mpmath), both together and the tool point's Jacobian (numpy),
+    lambdified once per robot object."""
+    T = robot.substitute(robot.fk())
+    q = robot.q
+    return (sp.lambdify(q, list(T[:3, 3]), modules="mpmath"), sp.lambdify(q, list(T[:3, 2]), modules="mpmath"),
+            sp.lambdify([q], list(T[:3, 3]) + list(T[:3, 2]), modules="numpy"),
+            sp.lambdify(q, T[:3, 3].jacobian(q), modules="numpy"))
+
+
+@functools.lru_cache(maxsize=16)
+def _pose_arm_functions(robot, R):
+    """For the tool frame ``R`` (an immutable matrix): the tool point and three entries of ``R^T R(q) - I`` and the
+    frame (mpmath), the tool point and the frame and the conditions' Jacobian (numpy), once per robot object and
+    frame."""
+    T = robot.substitute(robot.fk())
+    q = robot.q
+    err = R.T * T[:3, :3]
+    conditions = list(T[:3, 3]) + [err[2, 1], err[0, 2], err[1, 0]]
+    return (sp.lambdify(q, conditions, modules="mpmath"), sp.lambdify(q, list(T[:3, :3]), modules="mpmath"),
+            sp.lambdify([q], list(T[:3, 3]) + list(T[:3, :3]), modules="numpy"),
+            sp.lambdify(q, sp.Matrix(conditions).jacobian(q), modules="numpy"))
+
+
 def wrist_arm_in_cone_at_50_digits(robot, target, direction, cone_deg, rng, starts=300):
     """A configuration of an arm whose last three joints do not move the tool point (the Puma 560) putting the
     tool point at ``target`` with the approach axis (z of the tool frame) within ``cone_deg`` of ``direction``, at
@@ -328,13 +373,7 @@ def wrist_arm_in_cone_at_50_digits(robot, target, direction, cone_deg, rng, star
     first three joints from random starts, then a wrist among random ones whose approach is in the cone (a
     margin of 1e-6); then mpmath ``findroot`` on the position in the three arm joints at 50 digits, the wrist
     kept, and every condition checked again at 50 digits."""
-    T = robot.substitute(robot.fk())
-    q = robot.q
-    position = sp.lambdify(q, list(T[:3, 3]), modules="mpmath")
-    approach = sp.lambdify(q, list(T[:3, 2]), modules="mpmath")
-    p_float = sp.lambdify(q, list(T[:3, 3]), modules="numpy")
-    j_float = sp.lambdify(q, T[:3, 3].jacobian(q), modules="numpy")
-    a_float = sp.lambdify(q, list(T[:3, 2]), modules="numpy")
+    position, approach, p_float, j_float, a_float = _wrist_arm_functions(robot)
     d = np.asarray(direction, dtype=float) / np.linalg.norm(direction)
     cos_c = np.cos(np.radians(cone_deg))
     lim = robot.joint_limits()
@@ -373,12 +412,7 @@ def arm_in_cone_at_50_digits(robot, target, direction, cone_deg, rng, starts=60)
     least squares on the position and on the approach aimed at ``direction`` (scipy, within the limits) from
     random starts; then mpmath ``findroot`` on the position in the three joints of the best-conditioned minor,
     the others kept, and every condition checked again at 50 digits."""
-    T = robot.substitute(robot.fk())
-    q = robot.q
-    position = sp.lambdify(q, list(T[:3, 3]), modules="mpmath")
-    approach = sp.lambdify(q, list(T[:3, 2]), modules="mpmath")
-    pose_float = sp.lambdify([q], list(T[:3, 3]) + list(T[:3, 2]), modules="numpy")
-    j_float = sp.lambdify(q, T[:3, 3].jacobian(q), modules="numpy")
+    position, approach, pose_float, j_float = _cone_arm_functions(robot)
     d = np.asarray(direction, dtype=float) / np.linalg.norm(direction)
     lim = robot.joint_limits()
     inner = np.stack([lim[:, 0] + 1e-9, lim[:, 1] - 1e-9], 1)
@@ -460,15 +494,8 @@ def arm_in_pose_at_50_digits(robot, target, rotation, rng, starts=40):
     the position and the frame (scipy, within the limits) from random starts; then mpmath ``findroot`` on the
     position and three entries of ``rotation^T R(q) - I`` in the six joints of the best-conditioned minor, the
     others kept, and the whole frame, the position and the limits checked again at 50 digits."""
-    T = robot.substitute(robot.fk())
-    q = robot.q
-    R = sp.Matrix(rotation)
-    err = R.T * T[:3, :3]
-    conditions = list(T[:3, 3]) + [err[2, 1], err[0, 2], err[1, 0]]
-    equations = sp.lambdify(q, conditions, modules="mpmath")
-    frame = sp.lambdify(q, list(T[:3, :3]), modules="mpmath")
-    pose_float = sp.lambdify([q], list(T[:3, 3]) + list(T[:3, :3]), modules="numpy")
-    j_float = sp.lambdify(q, sp.Matrix(conditions).jacobian(q), modules="numpy")
+    R = sp.ImmutableMatrix(rotation)
+    equations, frame, pose_float, j_float = _pose_arm_functions(robot, R)
     Rf = np.array(R, dtype=float)
     lim = robot.joint_limits()
     inner = np.stack([lim[:, 0] + 1e-9, lim[:, 1] - 1e-9], 1)

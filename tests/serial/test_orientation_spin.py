@@ -173,18 +173,25 @@ def test_covered_bins_hold_only_angles_of_passing_sectors(masks, seed):
     assert spin.bins_covered(bits)[0] == covered.sum()
     rng = np.random.default_rng(seed)
     width = 2 * math.pi / spin.bins
-    for b_ in np.nonzero(covered)[0]:
-        for psi in np.r_[b_ * width, (b_ + 1) * width, rng.uniform(b_ * width, (b_ + 1) * width, 50)]:
-            assert any(_sector_passes(spin, masks[k], psi, k) for k in range(16)), (b_, psi)
+    at = np.nonzero(covered)[0][:, None]                 # each covered bin's two ends and 50 angles drawn in it
+    psi = np.concatenate([at * width, (at + 1) * width, rng.uniform(at * width, (at + 1) * width, (len(at), 50))], 1)
+    passes = np.zeros(psi.shape, dtype=bool)
+    for k in range(16):
+        passes |= _sector_passes(spin, masks[k], psi, k)
+    assert passes.all(), (at[:, 0][~passes.all(axis=1)], psi[~passes])
     full = np.zeros((16, 1), dtype=np.uint64)
     full[[0, 8]] = (1 << 12) - 1
     assert spin.bins_covered(full)[0] == spin.bins
 
 
 def _sector_passes(spin, mask, psi, k):
-    """Whether the polar angle ``psi`` is ``theta_1 + k 2 pi / 16`` for a ``theta_1`` in a passing sector of ``k``."""
+    """Whether each polar angle of the array ``psi`` is ``theta_1 + k 2 pi / 16`` for a ``theta_1`` in a passing sector
+    of ``k`` (the sectors' closed intervals between consecutive edges, read one by one with numpy's comparisons)."""
     theta = np.remainder(psi - k * 2 * math.pi / 16 - spin.edges[0], 2 * math.pi) + spin.edges[0]
-    return any(spin.edges[i] <= theta <= spin.edges[i + 1] and mask >> i & 1 for i in range(spin.count))
+    edges = np.asarray(spin.edges, dtype=float)
+    passing = np.array([bool(mask >> i & 1) for i in range(spin.count)])
+    inside = (edges[:-1] <= theta[..., None]) & (theta[..., None] <= edges[1:])
+    return (inside & passing).any(axis=-1)
 
 
 @pytest.mark.slow

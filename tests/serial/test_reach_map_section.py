@@ -167,11 +167,14 @@ def test_pairs_proved_by_the_second_branch_of_a_limited_first_joint_are_reached_
     # first's (_SectionCells.second).  The same cells are proved without the second proofs (the method turned
     # off): those pairs must be among the others (the second only adds candidates), and the pairs proved only
     # with it are checked by the whole arm's 50-digit inverse kinematics, first joint's limits included.
-    # The box: map cells of 0.1 behind the base (x < 0), where the first proof's beta often forbids theta_1.
+    # The box: eight map cells of 0.1 behind the base (x < 0), where the first proof's beta forbids theta_1: the
+    # first proofs alone prove none of their pairs there, the second ones 8 (the box of 32 cells (-0.65, -0.25) x
+    # (-0.1, 0.3) x (0.3, 0.5) of before: 12 pairs, all by the second proofs, in twice the time).
     robot = industrial_arm("panda")
     prover = section_prover(robot, (), 30.0)
     assert prover.aims and prover.theta_range is not None
-    edges, candidates = _cells_in(robot, ((-0.65, -0.25), (-0.1, 0.3), (0.3, 0.5)))
+    edges, candidates = _cells_in(robot, ((-0.55, -0.35), (-0.1, 0.1), (0.3, 0.5)))
+    assert candidates.sum() == 8
     directions = sphere_directions(6)
     options = dict(cell=0.01, local=sphere_directions(16), samples=40_000)
     both = section_reachable(prover, edges, candidates, directions, **options)

@@ -107,7 +107,8 @@ def test_sampled_configurations_never_fall_in_a_wrist_proved_pair_of_the_ur5():
     # may land in a pair proved unreachable, on the UR5's grid of 0.1 with 26 directions of 30 deg.
     ur5 = industrial_arm("ur5")
     L = wrist_offset(ur5, ())
-    W = reach(wrist_robot(ur5, L), delta=0.05, run=RunOn(progress=False))
+    moved = wrist_robot(ur5, L)                 # one object: its symbolic position is derived once
+    W = reach(moved, delta=0.05, run=RunOn(progress=False))
     edges = tuple(np.arange(-1.0, 1.0 + 1e-9, 0.1) + (0.0 if a < 2 else 0.05) for a in range(3))
     pad = float(L) + 0.1
     w_edges = tuple(np.arange(e[0] - pad, e[-1] + pad + 0.02, 0.0125) for e in edges)
@@ -123,7 +124,7 @@ def test_sampled_configurations_never_fall_in_a_wrist_proved_pair_of_the_ur5():
     assert len(ks) > 400_000
     assert not proved[index[:, 0], index[:, 1], index[:, 2], ks].any()
     # the premise itself: every sampled wrist point lies in a kept box of its paving (widened by 1e-9)
-    w = numeric_function(wrist_robot(ur5, L).position, ur5.q)(q[::8])[:, :, 0]
+    w = numeric_function(moved.position, ur5.q)(q[::8])[:, :, 0]
     kept = np.concatenate([b.reshape(-1, 3, 2) for b in (W.inner, W.boundary, W.pending)])
     assert in_any_box(w, kept, pad=1e-9).all()
 
