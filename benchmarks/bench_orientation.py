@@ -76,7 +76,8 @@ def arm_cases():
             ("UR10", ur10, down, (0.05,), 300), ("UR10", ur10, tool_down, (0.05,), 300),
             ("KR16 (URDF)", kr16, down, (0.15, 0.1), 300), ("KR16 (URDF)", kr16, tool_down, (0.15,), 300)]
     # The seven-joint arms (first joint limited, docs/methods.md section 8): the iiwa through its wrist centre (the
-    # cone since session 24, tool down since session 29), the Panda by the 3-D pairs.
+    # cone since session 24, tool down since session 29), the Panda's cone by the 3-D pairs, its tool down through the
+    # sections of its wrist's two solutions (session 30).
     iiwa, panda = industrial_arm("iiwa"), industrial_arm("panda")
     rows += [("LBR iiwa 14 (URDF)", iiwa, down, (0.1,), 300), ("LBR iiwa 14 (URDF)", iiwa, tool_down, (0.1,), 300),
              ("Panda", panda, down, (0.1,), 300), ("Panda", panda, tool_down, (0.1,), 300)]

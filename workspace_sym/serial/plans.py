@@ -58,6 +58,7 @@ from .turn import (
     limited_turn,
     limited_volume,
     pave_limited,
+    roots_volume,
     shifted_section,
     spin_volume,
     tool_section,
@@ -697,6 +698,37 @@ class PoseSectionPlan(Plan):
 CENTRE_SECONDS = 15.0      # seconds a tilt's section takes at Tuning.budget_cells on the LBR iiwa (session 24)
 
 
+def timed_sections(budget, tuning: Tuning, count: int, seconds: float):
+    """``(finer, tuning, ends)`` for ``count`` sections paved one after the other under a time limit: each gets an
+    equal share of ``tuning.pose_section_share`` of the time left, its cells finer by the square root of that share
+    over ``seconds`` (what a section takes at the default cells; at most 3x), its seeds in proportion to the cells,
+    and ends at ``ends[i]`` seconds of the run; without a time limit ``(1.0, tuning, None)``.
+
+    Parameters
+    ----------
+    budget : RunBudget
+        The run's budget.
+    tuning : Tuning
+        The run's tuning.
+    count : int
+        The sections.
+    seconds : float
+        A section's seconds at the default cells.
+
+    Returns
+    -------
+    tuple
+        ``(finer, tuning, ends)``.
+    """
+    if budget.time_limit is None:
+        return 1.0, tuning, None
+    start = budget.seconds
+    share = tuning.pose_section_share * max(budget.time_limit - start, 0.0) / count
+    finer = min(3.0, max(1.0, (share / seconds) ** 0.5))
+    tuning = dataclasses.replace(tuning, direction_samples=int(tuning.direction_samples * finer ** 2))
+    return finer, tuning, [start + share * (i + 1) for i in range(count)]
+
+
 class WristCentrePlan(PoseSectionPlan):
     """A cone about the vertical, or a constant orientation with a vertical approach, through the wrist centre
     (:class:`~workspace_sym.serial.pose.WristCentre`, the LBR iiwa): the section of the chain to the wrist centre
@@ -747,13 +779,8 @@ class WristCentrePlan(PoseSectionPlan):
         levels = centre.levels()
         # a constant orientation proves 4 M directions (turn.SPIN_TURNS), each about as costly as one of four
         seconds = CENTRE_SECONDS * (1 if centre.spin is None else SPIN_TURNS)
-        start, ends = budget.seconds, None
-        if budget.time_limit is not None:
-            share = tuning.pose_section_share * max(budget.time_limit - start, 0.0) / len(levels)
-            finer = min(3.0, max(1.0, (share / seconds) ** 0.5))
-            width /= finer
-            tuning = dataclasses.replace(tuning, direction_samples=int(tuning.direction_samples * finer ** 2))
-            ends = [start + share * (i + 1) for i in range(len(levels))]
+        finer, tuning, ends = timed_sections(budget, tuning, len(levels), seconds)
+        width /= finer
         sections, evaluated, reason = [], 0, ""
         for i, (tilt, limited) in enumerate(levels):
             state: dict = {}                        # each tilt's own proofs (the last one's read below)
@@ -787,6 +814,88 @@ class WristCentrePlan(PoseSectionPlan):
         test = ToolSectionTest(centre.limited.plan, tool, codes, shift)
         return Section(box, tool, codes, evaluated, reason, test, volume,
                        section_digest(tool, codes) + ("" if shift is None else f" shifted {shift[0]!r} {shift[1]!r}"))
+
+
+class FlangePlan(PoseSectionPlan):
+    """A constant orientation with a vertical approach on an arm whose flange is offset sideways from its last
+    joint's axis (:class:`~workspace_sym.serial.pose.OffsetFlange`, the Panda): the section of each wrist
+    solution's tool points paved as a limited turn on one grid (its directions proved with that solution's pitch
+    within the limits, on the sectors of the first joint's turn where its roll and last joint are), the cells
+    swept at every polar angle and the volume bracket from their union
+    (:func:`~workspace_sym.serial.turn.roots_volume`), the task boxes classified from that by the driver
+    (docs/methods.md section 8, "A flange offset sideways").
+
+    Parameters
+    ----------
+    *args
+        Those of :class:`Plan`.
+    structure : PoseStructure
+        Its ``flange``.
+    """
+
+    def pave(self, budget, run):
+        """Each solution's section on one grid (:func:`~workspace_sym.serial.turn.pave_limited`, its cells as
+        wide as a time-limited position run's whatever delta, finer under a longer time limit), then their union.
+
+        Parameters
+        ----------
+        budget : RunBudget
+            The run's budget (clock, box budget, bar).
+        run : RunOn
+            Not read (storage options are refused by :func:`pose_plan`).
+
+        Returns
+        -------
+        Section
+            The root task box (the tool's section turned a full circle), the grid and classes, their test, the
+            volume bracket and the digest of the cells.
+
+        Raises
+        ------
+        InvalidParameterError
+            ``delta`` exceeds the size of the root task box.
+        """
+        flange, tuning = self.structure.flange, self.tuning
+        assert flange is not None                   # pose_plan chooses this plan for a flange only
+        roots = [limited for _, limited in flange.roots]
+        enclosures = [limited.plan.section.enclose(limited.plan.section.limits[None])[0] for limited in roots]
+        box = np.stack([np.min([e[:, 0] for e in enclosures], axis=0), np.max([e[:, 1] for e in enclosures],
+                                                                               axis=0)], axis=1)
+        width = min(budgeted_width(limited, tuning) for limited in roots)
+        finer, tuning, ends = timed_sections(budget, tuning, len(roots), CENTRE_SECONDS * SPIN_TURNS)
+        width /= finer
+        # Each solution's section needs its blocks (the outer cells are those outer in both), but its directions
+        # only where its conditions hold: their share of the time follows the share of sampled configurations
+        # meeting the conditions (floats: they only share the time).
+        rng = np.random.default_rng(0)
+        met = [len(limited.plan.section.lateral.random_configurations(4_000, rng)) for limited in roots]
+        parts, evaluated, reason, grid = [], 0, "", None
+        for i, limited in enumerate(roots):
+            state: dict = {}
+            level = budget if ends is None else SectionShare(budget, ends[i], tuning.section_reserve)
+            mine = dataclasses.replace(tuning, directions_share=max(0.1, tuning.flange_directions * met[i] /
+                                                                    max(max(met), 1)))
+            with section_bar(budget.showing) as show:
+                grid, classes, proved, count, reason = pave_limited(limited, width, level, show=show, tuning=mine,
+                                                                    state=state, box=box)
+            if reason == SectionShare.REASON:       # this solution's share of the time is spent: not the run's
+                reason = ""
+            evaluated += count
+            parts.append((limited, classes, proved, state.get("sectors", np.zeros(proved.shape, dtype=np.uint64))))
+            if reason:
+                break
+        assert grid is not None
+        if len(parts) < len(roots):     # stopped before every solution was paved: no cell is outer
+            parts = [(limited, np.where(classes == OUTSIDE, UNDECIDED, classes).astype(np.int8), proved, sectors)
+                     for limited, classes, proved, sectors in parts]
+        codes, volume = roots_volume(parts, grid)
+        rho, z = grid.box
+        root = np.array([[-rho[1], rho[1]], [-rho[1], rho[1]], [z[0], z[1]]])
+        check_root(root, self.delta, self.size, self.robot)
+        task = Box(TASK, tuple(root[:, 0]), tuple(root[:, 1]))
+        budget.show(0.0, evaluated)
+        test = ToolSectionTest(roots[0].plan, grid, codes)
+        return Section(task, grid, codes, evaluated, reason, test, volume, section_digest(grid, codes))
 
 
 class SectionShare:
@@ -1096,6 +1205,12 @@ def pose_plan(robot: DHRobot, values: tuple, constraint: PoseConstraint, structu
                        supported="the section method of a cone about the vertical on an arm turned by a whole turn "
                                  "and reach without a pose")
         return WristCentrePlan(*args, structure=structure)
+    if structure.flange is not None:
+        refuse_storage(f"reach with {constraint} on {robot.name} (through the wrist's solutions)", run,
+                       why="derives its section from the solutions' sections in memory",
+                       supported="the section method of a cone about the vertical on an arm turned by a whole turn "
+                                 "and reach without a pose")
+        return FlangePlan(*args, structure=structure)
     if not structure.sectioned:
         refuse_storage(f"reach with {constraint} on {robot.name} (the pairs method)", run,
                        why="keeps its boxes in memory",

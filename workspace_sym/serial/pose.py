@@ -120,7 +120,7 @@ from ..transforms import rot_x, rot_y, rot_z, translation
 from .angles import ANGLE_PAD
 from .model import TASK, joint_range, reach_model
 from .pairs import caps, pave_pairs, prove_in_pieces, split_pairs
-from .section import SquareMap, Turned, section_bar, squared_enclosures, to_first_frame, turned
+from .section import RadialMap, SquareMap, Turned, section_bar, squared_enclosures, to_first_frame, turned
 from .structure import Revolved, revolved, structure_of
 from .tuning import DEFAULT, Tuning
 from .turn import LimitedTurn, constrained_turn, limited_turn
@@ -1365,6 +1365,9 @@ class SpinCondition:
         ``cos(h_r)^2`` (the roll's half range ``h_r`` at least a quarter turn); None: the roll turns fully.
     spin : sympy.Expr
         ``cos(h_n)^2``, the last joint's.
+    root : int
+        0: either solution will do; ``+1`` or ``-1``: only that one (a map of one root's tool points,
+        :class:`OffsetFlange`).
     """
 
     turn: sp.Symbol
@@ -1373,6 +1376,7 @@ class SpinCondition:
     V2: sp.Expr
     roll: sp.Expr | None
     spin: sp.Expr
+    root: int = 0
 
 
 def _range_centre(robot: DHRobot, params, i: int):
@@ -1519,6 +1523,211 @@ def wrist_centre(robot: DHRobot, parameters: tuple, constraint: PoseConstraint) 
     return WristCentre(chain, limited, side, t[2], c, sign, psi, spin)
 
 
+class FlangeMap(ImageMap):
+    """``q' -> p = b(q') - f (u_x, u_y, 0)``: the tool point of one wrist solution on an arm whose flange is offset
+    sideways from its last joint's axis (:class:`OffsetFlange`), with ``b = w + L d`` and ``u = h / |h|`` the
+    horizontal unit of the roll axis.  Its enclosures clip each component of ``u`` to ``[-1, 1]`` (where the roll
+    axis is near the vertical, ``u``'s own enclosure is unbounded, but ``u`` is a unit vector); its Jacobian and
+    floats are those of the whole expression.
+
+    Parameters
+    ----------
+    base : sequence of sympy.Expr
+        ``b``, three expressions.
+    unit : sequence of sympy.Expr
+        ``(u_x, u_y)``.
+    factor : sympy.Expr
+        ``f``, exact.
+    variables, limits, periodic
+        As for :class:`~workspace_sym.interval.image.ImageMap`.
+    """
+
+    def __init__(self, base, unit, factor, variables, limits, periodic):
+        expressions = [base[0] - factor * unit[0], base[1] - factor * unit[1], base[2]]
+        super().__init__(expressions, variables, limits, periodic)
+        self._base = compile_batch(list(base), self.variables)
+        self._unit = compile_batch(list(unit), self.variables)
+        self.factor = numpy_constant(factor)
+
+    def enclose(self, Q: np.ndarray) -> np.ndarray:
+        """``(N, 3, 2)`` enclosures of ``p`` over joint boxes ``Q``, ``u`` clipped to ``[-1, 1]`` (outward-rounded).
+
+        Parameters
+        ----------
+        Q : numpy.ndarray
+            ``(N, k, 2)`` joint boxes.
+
+        Returns
+        -------
+        numpy.ndarray
+            The enclosures; a coordinate with no enclosure is ``[-inf, inf]``.
+        """
+        E = batch_enclosures(self._base, Q, self.k, 3)
+        U = batch_enclosures(self._unit, Q, self.k, 2)
+        U = np.clip(np.where(np.isnan(U), np.array([-1.0, 1.0]), U), -1.0, 1.0)
+        with np.errstate(all="ignore"):
+            for i in range(2):
+                side = arith.mul((U[:, i, 0], U[:, i, 1]), self.factor)
+                E[:, i, 0], E[:, i, 1] = arith.sub((E[:, i, 0], E[:, i, 1]), side)
+        return np.where(np.isnan(E), np.inf * np.array([-1.0, 1.0]), E)
+
+
+def _same_limits(image: ImageMap, like: ImageMap) -> ImageMap:
+    """``image`` with the limits of ``like`` (the same joints): outward for enclosures, inward for proofs."""
+    image.limits, image.face_limits = like.limits.copy(), like.face_limits.copy()
+    image.inner_limits = like.inner_limits.copy()
+    return image
+
+
+@dataclass(frozen=True)
+class OffsetFlange:
+    """A constant orientation with a vertical approach ``d`` on an arm in modified DH whose flange is offset
+    sideways by ``e`` from its last joint's axis (the Panda: ``e = 0.088`` m), after a roll-pitch wrist and a last
+    joint that spins the tool about its approach (docs/methods.md section 8, "A flange offset sideways").
+
+    With the approach fixed, the wrist has two solutions ``sigma = +-1`` (the pitch axis ``sigma (z x d) / V``,
+    ``z`` the roll axis, ``V = |z x d|``), and the tool point of each is ``p_sigma = w + L d - sigma s_n e h / V``
+    (``w`` the roll frame's origin, ``h`` the horizontal part of ``z``, ``s_n`` the sine of the last row's twist):
+    a map of the arm's joints before the roll, turned by the first.  Each root is paved as a limited turn of its
+    own map, its direction proofs also proving its pitch within the limits (a side condition) and, per sector of
+    the first joint's turn, its roll and last joint within theirs (:class:`SpinCondition` with its ``root``).
+
+    Parameters
+    ----------
+    roots : tuple
+        ``(sigma, LimitedTurn)`` pairs, each turn's map a :class:`FlangeMap` with its conditions
+        (:func:`~workspace_sym.serial.turn.constrained_turn`).
+    sign : int
+        ``d = (0, 0, sign)``.
+    """
+
+    roots: tuple
+    sign: int
+
+
+def _offset_rows(robot: DHRobot, params):
+    """``(j, e_factor, L, s_k, s_n)`` of a modified-DH wrist whose flange is offset sideways
+    (:class:`OffsetFlange`): the roll ``j = n - 3``, then a pitch row with ``a = d = 0`` and ``cos(alpha) = 0``,
+    then the last row with ``a = e != 0`` and ``cos(alpha) = 0``, a tool rotated about its ``z`` and translated
+    along it by ``t``: ``L = d_n + t``, ``e_factor = s_n e``, ``s_k`` and ``s_n`` the pitch row's and the last
+    row's ``sin(alpha)``; None when a condition fails."""
+    n = robot.n
+    if n < 5 or robot.convention != "modified" or robot.base is not None:
+        return None
+    pitch, last = robot.joints[n - 2], robot.joints[n - 1]
+    if any(joint.kind != "R" for joint in robot.joints[n - 3:]):
+        return None
+    row = [robot.substitute(sp.Matrix([e]), params)[0] for e in (pitch.a, pitch.d, pitch.alpha, last.a,
+                                                                  last.alpha, last.d)]
+    if any(e.free_symbols for e in row) or row[0] != 0 or row[1] != 0 or row[3] == 0:
+        return None
+    if sp.simplify(sp.cos(row[2])) != 0 or sp.simplify(sp.cos(row[4])) != 0:
+        return None
+    tool = sp.eye(4) if robot.tool is None else sp.Matrix(robot.tool)
+    if list(tool[:3, 2]) != [0, 0, 1] or tool[0, 3] != 0 or tool[1, 3] != 0:
+        return None
+    s_k, s_n = sp.simplify(sp.sin(row[2])), sp.simplify(sp.sin(row[4]))
+    return n - 3, s_n * row[3], row[5] + tool[2, 3], s_k, s_n
+
+
+def offset_flange(robot: DHRobot, parameters: tuple, constraint: PoseConstraint) -> OffsetFlange | None:
+    """The structure of :class:`OffsetFlange` when ``robot`` and ``constraint`` have it, else None.
+
+    Conditions, each checked: a constant orientation whose approach is ``(0, 0, +-1)``; the rows of
+    :func:`_offset_rows`; the roll, the pitch and the last joint each ``theta = +-q + c`` with a range of at
+    least half a turn, the last joint spinning the tool about its approach (:func:`_spin_range`); the chain to the
+    roll frame's origin a limited turn of its first joint (:func:`~workspace_sym.serial.turn.limited_turn`) whose
+    section moves with the joints before the roll, and the roll axis free of the roll.
+
+    Parameters
+    ----------
+    robot : DHRobot
+        The robot.
+    parameters : tuple
+        Its parameter values as ``(name, value)`` pairs.
+    constraint : PoseConstraint
+        The constraint.
+
+    Returns
+    -------
+    OffsetFlange or None
+        The structure, or None.
+    """
+    if constraint.kind != "orientation":
+        return None
+    d = list(constraint.matrix[:, 2])
+    if d[0] != 0 or d[1] != 0:
+        return None
+    params = dict(parameters) or None
+    rows = _offset_rows(robot, params)
+    if rows is None:
+        return None
+    j, factor, length, s_k, s_n = rows
+    T = robot.substitute(robot.fk(), params)
+    spin = _spin_range(robot, params, T)
+    ranges = [_range_centre(robot, params, i) for i in (j, j + 1, j + 2)]
+    if spin is None or spin[1] or any(r is None for r in ranges):
+        return None
+    (mu_r, h_r, roll_full), (mu_p, h_p, _), (mu_n, h_n, _) = ranges
+    if not bool(2 * h_n >= sp.pi) or not (roll_full or bool(2 * h_r >= sp.pi)):
+        return None
+    sign = 1 if d[2] > 0 else -1
+    chain = DHRobot(list(robot.joints[:j + 1]), convention=robot.convention, name=f"{robot.name} (roll frame)",
+                    parameters=robot.parameters, units=robot.units)
+    limited = limited_turn(structure_of(chain, parameters), reach_model(chain, parameters))
+    if limited is None or limited.plan.inverse is not None:
+        return None
+    F = chain.substitute(chain.fk(), params)
+    q1, roll = robot.q[0], robot.q[j]
+    theta_1 = robot.substitute(sp.Matrix([robot.joints[0].theta]), params)[0]
+    s1 = sp.diff(theta_1, q1)
+    if s1.free_symbols or abs(s1) != 1 or roll in F[:3, 2].free_symbols:
+        return None
+    variables = list(limited.plan.section.lateral.variables)
+    at_zero = {q1: -theta_1.subs(q1, 0) / s1}
+    w = [sp.sympify(e).subs(at_zero) for e in F[:3, 3]]
+    z = [sp.sympify(e).subs(at_zero) for e in F[:3, 2]]
+    if not set().union(*(e.free_symbols for e in w + z)) <= set(variables):
+        return None
+    # the roll frame before its turn (theta_j = 0): v = R^T d in it
+    theta_j = robot.substitute(sp.Matrix([robot.joints[j].theta]), params)[0]
+    before = F[:3, :3].subs(roll, sp.solve(theta_j, roll)[0])
+    v_x, v_y = sign * before[2, 0], sign * before[2, 1]
+    X = s_k * (v_x * sp.cos(mu_r) + v_y * sp.sin(mu_r))
+    v_z = sign * z[2]
+    V2 = 1 - v_z ** 2
+    V = sp.sqrt(z[0] ** 2 + z[1] ** 2)
+    # the last joint: x_r the frame's x axis before the tool's turn about z; Y in the first joint's turn
+    tool = sp.eye(4) if robot.tool is None else sp.Matrix(robot.tool)
+    x_r = sp.Matrix(constraint.matrix) * tool[:3, :3].T * sp.Matrix([1, 0, 0])
+    turn = sp.Symbol("theta_turn")
+    world = sp.Matrix([sp.sympify(e) for e in F[:3, 2]]).subs(q1, s1 * (turn - theta_1.subs(q1, 0)))
+    dv = sp.Matrix([0, 0, sign])
+    Y = s_n * ((world.T * x_r)[0] * sp.cos(mu_n) - (world.cross(dv).T * x_r)[0] * sp.sin(mu_n))
+    base = [w[0], w[1], w[2] + length * sign]
+    unit = [z[0] / V, z[1] / V]
+    cos_p = numpy_constant(sp.cos(h_p))[1]
+    section = limited.plan.section.lateral
+    zero, periodic = [(0.0, 0.0)] * len(variables), section.periodic
+    roots = []
+    for sigma in (1, -1):
+        lateral = _same_limits(FlangeMap(base, unit, sigma * factor, variables, zero, periodic), section)
+        p = lateral.expressions
+        square = _same_limits(SquareMap(p[0] ** 2 + p[1] ** 2, p, variables, zero, periodic, lateral=lateral),
+                              section)
+        plan = Turned(RadialMap(square, lateral, None), None, False)
+        turned_root = replace(limited, plan=plan, elbow=None)
+        # the pitch within its limits, and the roll within its own (both free of the first joint's turn): every
+        # configuration of this solution meets them, so its outer proofs leave the joint boxes that break one
+        sides = [(-s_k * s_n * (v_z * sp.cos(mu_p) + sigma * V * sp.sin(mu_p)), cos_p)]
+        if not roll_full:
+            sides.append((-sigma * X - sp.cos(h_r) * V, 0.0))
+        condition = SpinCondition(turn, X, Y, V2, None if roll_full else sp.cos(h_r) ** 2, sp.cos(h_n) ** 2,
+                                  root=sigma)
+        roots.append((sigma, constrained_turn(turned_root, sides, condition, prune=True)))
+    return OffsetFlange(tuple(roots), sign)
+
+
 @dataclass(frozen=True)
 class PoseStructure:
     """How the constrained workspace is paved: ``model`` over ``(x, y, z)``, or over the section ``(u, v)`` of
@@ -1537,12 +1746,16 @@ class PoseStructure:
     centre : WristCentre, optional
         A cone about the vertical through the wrist centre's section (:class:`WristCentre`); ``model`` is then
         None.
+    flange : OffsetFlange, optional
+        A constant orientation with a vertical approach through the sections of the wrist's solutions
+        (:class:`OffsetFlange`); ``model`` is then None.
     """
 
     model: PoseModel | None
     revolved: Revolved | None = None
     turned: Turned | None = None
     centre: WristCentre | None = None
+    flange: OffsetFlange | None = None
 
     @property
     def sectioned(self) -> bool:
@@ -1789,6 +2002,9 @@ def pose_structure(robot: DHRobot, parameters: tuple, constraint: PoseConstraint
     centre = wrist_centre(robot, parameters, reduced) if along is not None or reduced.kind == "orientation" else None
     if centre is not None:
         return PoseStructure(None, centre=centre)
+    flange = offset_flange(robot, parameters, reduced) if reduced.kind == "orientation" else None
+    if flange is not None:
+        return PoseStructure(None, flange=flange)
     rotation = T[:3, :3]
     quantities = axis if reduced.kind == "cone" else list(rotation)
     variables, limits, periodic = _joints_of(robot, position + quantities, params)

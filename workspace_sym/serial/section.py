@@ -132,13 +132,15 @@ class SquareMap(ImageMap):
         Their ``(lo, hi)`` limits, exact or floats.
     periodic : sequence of bool
         As for :class:`~workspace_sym.interval.image.ImageMap`.
+    lateral : ImageMap, optional
+        The map ``q' -> (u, c, v)`` when it is built already (its own enclosures); None: compiled from ``w``.
     """
 
     INFLATIONS = 0
 
-    def __init__(self, rho2, w, variables, limits, periodic):
+    def __init__(self, rho2, w, variables, limits, periodic, lateral: ImageMap | None = None):
         super().__init__([rho2, w[2]], variables, limits, periodic)
-        self.lateral = ImageMap(w, variables, limits, periodic)
+        self.lateral = ImageMap(w, variables, limits, periodic) if lateral is None else lateral
 
     def enclose(self, Q: np.ndarray) -> np.ndarray:
         """Enclosures of ``(u^2 + c^2, v)`` from those of ``u``, ``c`` and ``v``.
@@ -222,7 +224,9 @@ class RadialMap:
         Returns
         -------
         numpy.ndarray
-            ``(N, 2, 2)`` outward-rounded enclosures (infinite where the arithmetic gives NaN).
+            ``(N, 2, 2)`` outward-rounded enclosures (infinite where the arithmetic gives NaN; empty, ``[inf,
+            -inf]``, where ``lateral`` proves broken over the box a side condition every configuration must meet:
+            :meth:`~workspace_sym.serial.turn.SideMap.refused`, with its ``prune``).
         """
         W = self.lateral.enclose(Q)
         E = np.empty((len(Q), 2, 2))
@@ -230,7 +234,12 @@ class RadialMap:
             r2 = arith.add(arith.sqr((W[:, 0, 0], W[:, 0, 1])), arith.sqr((W[:, 1, 0], W[:, 1, 1])))
             E[:, 0, 0], E[:, 0, 1] = arith.sqrt((np.maximum(r2[0], 0.0), r2[1]))
         E[:, 1] = W[:, 2]
-        return np.where(np.isnan(E), np.inf * np.array([-1.0, 1.0]), E)
+        E = np.where(np.isnan(E), np.inf * np.array([-1.0, 1.0]), E)
+        # joint boxes proved to break a condition every configuration meets hold none of them: empty
+        refused = getattr(self.lateral, "refused", None) if getattr(self.lateral, "prune", False) else None
+        if refused is not None:
+            E[refused(Q)] = np.array([np.inf, -np.inf])
+        return E
 
     def _rows(self, Q: np.ndarray):
         """Interval Jacobian rows ``u u_j + c c_j`` (half the derivative of ``rho^2``) and ``v_j`` over ``Q``,

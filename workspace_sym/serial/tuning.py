@@ -60,6 +60,10 @@ class Tuning:
     direction_chunk, direction_samples : int
         A first joint limited to part of a turn (:mod:`workspace_sym.serial.turn`): cells proved at a direction
         between two looks at the budget, and the sampled configurations giving the seeds of the proofs.
+    flange_directions : float
+        An offset flange's sections (:class:`~workspace_sym.serial.plans.FlangePlan`): the share of a
+        solution's time its directions take when its conditions hold the most often (less in proportion to
+        how often they hold), the blocks the rest until ``blocks_end``.
     direction_depth, timed_depth : int
         A cell failing whole is tried in ``4^level`` pieces, level up to ``direction_depth`` (``timed_depth``
         with a time limit: the deepest level takes the time the other stages leave).
@@ -124,6 +128,7 @@ class Tuning:
     section_depth: int = 6
     direction_chunk: int = 2_000
     direction_samples: int = 400_000
+    flange_directions: float = 0.6
     direction_depth: int = 2
     timed_depth: int = 3
     directions_share: float = 0.75

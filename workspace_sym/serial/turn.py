@@ -79,7 +79,7 @@ from .tuning import DEFAULT, Tuning
 __all__ = ["DIRECTIONS", "LimitedTurn", "limited_turn", "covering_pairs", "DirectionMap", "direction_seeds",
            "prove_directions", "full_turn_cells", "limited_volume", "pieces_upper", "cell_level", "LimitedTurnTest",
            "pave_limited", "budgeted_width", "SideMap", "constrained_turn", "tool_section", "shifted_section",
-           "SpinSectors", "direction_maps", "turned_map", "spin_volume", "ToolSectionTest"]
+           "SpinSectors", "direction_maps", "turned_map", "spin_volume", "roots_volume", "ToolSectionTest"]
 
 SPIN_SECTORS = 36                # sectors of the first joint's range for a constant orientation (SpinSectors)
 SPIN_BINS = 720                  # bins of the circle their cover is read on
@@ -640,6 +640,69 @@ def spin_volume(limited: LimitedTurn, grid, full: np.ndarray, pieces: np.ndarray
     return float(total), high
 
 
+def roots_volume(parts, grid, chunk: int = 20_000):
+    """``(codes, (lo, hi))``: the cells of one grid swept at every polar angle and a proved volume bracket, from
+    the sections of a tool point's several maps (a wrist's solutions, :class:`~workspace_sym.serial.pose.
+    OffsetFlange`), each paved on ``grid`` (:func:`pave_limited` with its ``box``) with its own sectors
+    (:class:`SpinSectors`).  A point is swept at a polar angle when one map's proofs reach it there, so the bins a
+    piece covers are the union of each map's (:meth:`SpinSectors.covered_bins`); a cell is inner when every piece
+    of it covers every bin (or one map's cell is inner), outer when every map's cell is outer.  The lower bound
+    takes each piece's share of its solid of the bins covered (rounded down), the upper bound Pappus's theorem on
+    the cells not outer.
+
+    Parameters
+    ----------
+    parts : sequence of tuple
+        ``(limited, full, pieces, sectors)`` per map: its structure (the map's ``spin`` set), full-turn codes
+        (:func:`full_turn_cells`), pieces proved at each direction and their sectors' masks (``state["sectors"]``).
+    grid : CellGrid
+        The grid of all of them.
+    chunk : int
+        Pieces per step (memory).
+
+    Returns
+    -------
+    codes : numpy.ndarray
+        Verdict codes (``int8``) of the cells for every polar angle.
+    bracket : tuple of float
+        ``(lo, hi)`` of the volume swept.
+    """
+    F = parts[0][2].shape[-2] // grid.shape[0]
+    outer = np.logical_and.reduce([full == OUTER for _, full, _, _ in parts])
+    inner = np.logical_or.reduce([full == INNER for _, full, _, _ in parts]) & ~outer
+    skip = np.repeat(np.repeat(outer | inner, F, axis=0), F, axis=1)
+    some = np.nonzero(np.logical_or.reduce([pieces.any(axis=0) for _, _, pieces, _ in parts]) & ~skip)
+    counts = np.zeros(parts[0][2].shape[1:], dtype=np.int64)
+    bins = 0
+    for start in range(0, len(some[0]), chunk):
+        window = tuple(a[start:start + chunk] for a in some)
+        covered = np.zeros((len(window[0]), 1), dtype=bool)
+        for limited, _, _, sectors in parts:
+            spin = limited.plan.section.lateral.spin
+            covered = covered | spin.covered_bins(sectors[(slice(None),) + window])
+            bins = spin.bins
+        counts[window] = covered.sum(axis=1)
+    if bins:
+        inner |= (counts == bins).reshape(grid.shape[0], F, grid.shape[1], F).all(axis=(1, 3)) & ~outer
+    codes = np.full(grid.shape, UNDECIDED, dtype=np.int8)
+    codes[inner] = INNER
+    codes[outer] = OUTER
+    high = turned_volume(grid, codes)[1]
+    cells = turned_volume(grid, np.where(inner, INNER, OUTER).astype(np.int8))[0]
+    counts[np.repeat(np.repeat(inner | outer, F, axis=0), F, axis=1)] = 0
+    at = np.argwhere((counts > 0).reshape(grid.shape[0], F, grid.shape[1], F).any(axis=(1, 3)))
+    if not len(at):
+        return codes, (float(cells), high)
+    boxes, owner, offset = _split(grid.cells(at), F.bit_length() - 1)
+    rows, cols = at[owner, 0] * F + offset[:, 0], at[owner, 1] * F + offset[:, 1]
+    volumes = solid_volumes(boxes[:, 0, 0], boxes[:, 0, 1], boxes[:, 1, 0], boxes[:, 1, 1])[0]
+    got = counts[rows, cols].astype(float)
+    with np.errstate(all="ignore"):
+        share = arith.div((got, got), (float(bins), float(bins)))[0]
+        parts_volume = arith.mul((volumes, volumes), (share, share))[0]
+    low = ExactSum.of(np.maximum(parts_volume[got > 0], 0.0)).value_down
+    return codes, (float(arith.add((cells, cells), (low, low))[0]), high)
+
 def pieces_upper(reach, grid, classes: np.ndarray, pieces: int = DEFAULT.shoulder_pieces,
                  tolerance: float = DEFAULT.reach_tolerance, elbow: ElbowReach | None = None) -> float:
     """An upper bound of the volume of the solid of revolution of the section from its classes and the distance
@@ -778,7 +841,7 @@ def budgeted_width(limited: LimitedTurn, tuning: Tuning = DEFAULT) -> float:
 
 
 def pave_limited(limited: LimitedTurn, width: float, run, *, show=None, boxes: int | None = None,
-                 tuning: Tuning = DEFAULT, state: dict | None = None):
+                 tuning: Tuning = DEFAULT, state: dict | None = None, box: np.ndarray | None = None):
     """``(grid, full classes, pieces, evaluated, reason)`` over a grid of the given width on the section's
     enclosure: its cells tried at the four directions (:func:`prove_directions`, whose pieces are returned),
     then blocks of cells proved outside the section (stage 2 of
@@ -807,6 +870,9 @@ def pave_limited(limited: LimitedTurn, width: float, run, *, show=None, boxes: i
     state : dict, optional
         An empty dict, filled with the direction proofs' state (:func:`prove_directions`: ``"sectors"`` for a
         constant orientation's map, read by :func:`spin_volume`).
+    box : numpy.ndarray, optional
+        The ``(2, 2)`` box of the grid, holding the section's enclosure (several sections on one grid,
+        :func:`roots_volume`); None: the enclosure.
 
     Returns
     -------
@@ -826,7 +892,7 @@ def pave_limited(limited: LimitedTurn, width: float, run, *, show=None, boxes: i
             return run.stop_reason(count) or (why if late or spent else "")
         return budget
 
-    grid = CellGrid(section.enclose(section.limits[None])[0], width)
+    grid = CellGrid(section.enclose(section.limits[None])[0] if box is None else box, width)
     # The cells beyond the greatest distance from the shoulder, or within the least: outside, in two proofs.
     outside = (np.zeros(grid.shape, dtype=bool) if section.reach is None
                else section.reach.outside_cells(grid, tuning.reach_tolerance))
@@ -877,6 +943,11 @@ class SideMap(ImageMap):
     sides : sequence of tuple
         ``(s_i, bound_i)`` pairs: ``s_i`` in ``lateral``'s variables, ``bound_i`` a float at least the exact
         bound (an outward enclosure's upper end): ``s_i >= bound_i`` proves the condition.
+    prune : bool
+        Every configuration the section stands for meets the conditions (a wrist solution's joints within their
+        limits, :class:`~workspace_sym.serial.pose.OffsetFlange`), so the outer proofs leave the joint boxes
+        that break one (:meth:`refused`); False (a cone's tilt, which only chooses the inner cells): they do
+        not.
 
     Attributes
     ----------
@@ -888,8 +959,10 @@ class SideMap(ImageMap):
         (:func:`direction_maps`); empty: the four axis directions.
     """
 
-    def __init__(self, lateral: ImageMap, sides):
+    def __init__(self, lateral: ImageMap, sides, prune: bool = False):
         self.__dict__.update(lateral.__dict__)        # the same compiled map: no second symbolic preparation
+        self.prune = prune
+        self._enclose = lateral.enclose               # and its own enclosures (a FlangeMap clips its unit vector)
         self.spin: SpinSectors | None = None          # set by constrained_turn for a constant orientation
         self.turned: list = []
         self.sides = tuple((sp.sympify(side), float(bound)) for side, bound in sides)
@@ -897,6 +970,21 @@ class SideMap(ImageMap):
             raise ValueError("a side map needs at least one side condition")
         self._sides = [compile_expr(side, self.variables) for side, _ in self.sides]
         self._sides_float = [sp.lambdify([self.variables], side, modules="numpy") for side, _ in self.sides]
+
+    def enclose(self, Q: np.ndarray) -> np.ndarray:
+        """The enclosures of the map it was made from (:meth:`~workspace_sym.interval.image.ImageMap.enclose`).
+
+        Parameters
+        ----------
+        Q : numpy.ndarray
+            ``(N, k, 2)`` joint boxes.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, 3, 2)`` outward-rounded enclosures.
+        """
+        return self._enclose(Q)
 
     def admissible(self, box: np.ndarray) -> np.ndarray:
         """Mask of the joint boxes on which every ``s_i >= bound_i`` is proved (outward-rounded; NaN: not proved).
@@ -917,6 +1005,28 @@ class SideMap(ImageMap):
             for side, (_, bound) in zip(self._sides, self.sides):
                 proved &= np.broadcast_to(side(X)[0], (len(box),)) >= bound
         return proved
+
+    def refused(self, box: np.ndarray) -> np.ndarray:
+        """Mask of the joint boxes on which some ``s_i < bound_i`` is proved (outward-rounded, a margin of 1e-12
+        below ``bound_i`` for the exact bound it rounds up): no configuration of such a box meets the conditions, so
+        the outer proofs may leave it (:meth:`~workspace_sym.serial.section.RadialMap.enclose`).
+
+        Parameters
+        ----------
+        box : numpy.ndarray
+            ``(N, k, 2)`` joint boxes.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N,)`` booleans.
+        """
+        X = [(box[:, j, 0], box[:, j, 1]) for j in range(box.shape[1])]
+        out = np.zeros(len(box), dtype=bool)
+        with np.errstate(all="ignore"):
+            for side, (_, bound) in zip(self._sides, self.sides):
+                out |= np.broadcast_to(side(X)[1], (len(box),)) < bound - 1e-12
+        return out
 
     def random_configurations(self, n: int, rng) -> np.ndarray:
         """Up to ``n`` configurations uniform within the limits on which every ``s_i > bound_i`` in floats.
@@ -950,9 +1060,10 @@ class SpinSectors:
     """Where a direction proof of a constant orientation holds (docs/methods.md section 8, "A constant orientation
     through the wrist centre"): the first joint's range ``[a, b]`` (the floats of ``inner_range``) is cut into
     ``count`` sectors; over a sector and a Krawczyk box of the section's joints, one of the wrist's two solutions
-    is proved within the limits of the roll and of the last joint (:class:`~workspace_sym.serial.pose.
-    SpinCondition`, every bound outward-rounded).  A proof at the direction ``k`` (polar angle ``beta_k``) then
-    holds at the polar angles ``theta_1 + beta_k`` of the sectors that pass.
+    (the one the condition's ``root`` names, when it names one) is proved within the limits of the roll and of
+    the last joint (:class:`~workspace_sym.serial.pose.SpinCondition`, every bound outward-rounded).  A proof at
+    the direction ``k`` (polar angle ``beta_k``) then holds at the polar angles ``theta_1 + beta_k`` of the
+    sectors that pass.
 
     Parameters
     ----------
@@ -965,9 +1076,16 @@ class SpinSectors:
     count : int
         Sectors (at most 64, one bit each).
     bins : int
-        Bins of the circle for :meth:`covered`.
+        Bins of the circle for :meth:`covered_bins`.
     directions : int
         The directions' count, evenly spaced from the first joint's x axis (:func:`direction_maps`).
+
+    Attributes
+    ----------
+    condition : SpinCondition
+        The condition (its expressions, for the tests' second methods).
+    root : int
+        The condition's ``root``: 0 for either solution, else the one solution proved.
     """
 
     MARGIN = 1e-9                 # radians: far above the float error of a sum of angles
@@ -978,6 +1096,7 @@ class SpinSectors:
             raise ValueError(f"count: 1 to 64 sectors; got {count}")
         variables = tuple(variables)
         self.count, self.bins, self.directions = count, bins, directions
+        self.condition, self.root = condition, getattr(condition, "root", 0)
         self._X = compile_expr(condition.X, variables)
         self._Y = compile_expr(condition.Y, (condition.turn,) + variables)
         self._spin = compile_expr(condition.spin * condition.V2 - condition.Y ** 2, (condition.turn,) + variables)
@@ -1029,7 +1148,8 @@ class SpinSectors:
                 T = [(np.full(N, self.edges[i]), np.full(N, self.edges[i + 1]))] + Q
                 y = tuple(np.broadcast_to(v, (N,)) for v in self._Y(T))
                 spin = np.broadcast_to(self._spin(T)[0], (N,)) >= 0
-                ok = (plus_roll & ((y[1] <= 0) | spin)) | (minus_roll & ((y[0] >= 0) | spin))
+                plus, minus = plus_roll & ((y[1] <= 0) | spin), minus_roll & ((y[0] >= 0) | spin)
+                ok = plus if self.root > 0 else minus if self.root < 0 else plus | minus
                 out[ok] |= np.uint64(1 << i)
         return out
 
@@ -1078,10 +1198,10 @@ class SpinSectors:
         return bins
 
 
-def constrained_turn(limited: LimitedTurn, sides, spin=None) -> LimitedTurn:
+def constrained_turn(limited: LimitedTurn, sides, spin=None, prune: bool = False) -> LimitedTurn:
     """``limited`` whose direction proofs also prove ``s_i >= bound_i`` for each of ``sides`` (:class:`SideMap`);
     its outer proofs are unchanged (the distances from the shoulder and the elbow, the blocks: outside the section
-    is outside any part of it).
+    is outside any part of it), unless ``prune``.
 
     Parameters
     ----------
@@ -1093,6 +1213,8 @@ def constrained_turn(limited: LimitedTurn, sides, spin=None) -> LimitedTurn:
         A constant orientation's condition on the wrist's solutions
         (:class:`~workspace_sym.serial.pose.SpinCondition`): the proofs then hold at the sectors of the first
         joint's range where it is proved (:class:`SpinSectors`).
+    prune : bool
+        As for :class:`SideMap`.
 
     Returns
     -------
@@ -1100,7 +1222,7 @@ def constrained_turn(limited: LimitedTurn, sides, spin=None) -> LimitedTurn:
         The same structure with the constrained section map.
     """
     section = limited.plan.section
-    lateral = SideMap(section.lateral, sides)
+    lateral = SideMap(section.lateral, sides, prune)
     if spin is not None:        # 4 M directions: the turned copies prove those off the axes
         lateral.spin = SpinSectors(spin, section.lateral.variables, limited.inner_range,
                                    directions=DIRECTIONS * SPIN_TURNS)
