@@ -874,7 +874,8 @@ class FlangePlan(PoseSectionPlan):
             state: dict = {}
             level = budget if ends is None else SectionShare(budget, ends[i], tuning.section_reserve)
             mine = dataclasses.replace(tuning, directions_share=max(0.1, tuning.flange_directions * met[i] /
-                                                                    max(max(met), 1)))
+                                                                    max(max(met), 1)),
+                                       section_pairs=tuning.flange_pairs)
             with section_bar(budget.showing) as show:
                 grid, classes, proved, count, reason = pave_limited(limited, width, level, show=show, tuning=mine,
                                                                     state=state, box=box)

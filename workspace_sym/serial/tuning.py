@@ -64,6 +64,10 @@ class Tuning:
         An offset flange's sections (:class:`~workspace_sym.serial.plans.FlangePlan`): the share of a
         solution's time its directions take when its conditions hold the most often (less in proportion to
         how often they hold), the blocks the rest until ``blocks_end``.
+    flange_pairs : int
+        The ``section_pairs`` of an offset flange's blocks: its joint boxes' enclosures are wider (the unit
+        vector of the offset), and four times the default's pairs narrowed the Panda's upper bound from 2.52 to
+        2.30 m³ in the same time (BENCHMARKS.md, session 30).
     direction_depth, timed_depth : int
         A cell failing whole is tried in ``4^level`` pieces, level up to ``direction_depth`` (``timed_depth``
         with a time limit: the deepest level takes the time the other stages leave).
@@ -129,6 +133,7 @@ class Tuning:
     direction_chunk: int = 2_000
     direction_samples: int = 400_000
     flange_directions: float = 0.6
+    flange_pairs: int = 240_000
     direction_depth: int = 2
     timed_depth: int = 3
     directions_share: float = 0.75
