@@ -729,6 +729,18 @@ def timed_sections(budget, tuning: Tuning, count: int, seconds: float):
     return finer, tuning, [start + share * (i + 1) for i in range(count)]
 
 
+def _pave_share(limited, width: float, budget, end, tuning: Tuning, box=None):
+    """:func:`~workspace_sym.serial.turn.pave_limited` under the run's budget until ``end`` seconds of the run
+    (None: the whole budget), with its bar: ``(grid, classes, pieces, evaluated, reason, state)``, the reason
+    ``""`` when only its share of the time is spent (not a reason to stop the run)."""
+    state: dict = {}
+    level = budget if end is None else SectionShare(budget, end, tuning.section_reserve)
+    with section_bar(budget.showing) as show:
+        grid, classes, proved, count, reason = pave_limited(limited, width, level, show=show, tuning=tuning,
+                                                            state=state, box=box)
+    return grid, classes, proved, count, "" if reason == SectionShare.REASON else reason, state
+
+
 class WristCentrePlan(PoseSectionPlan):
     """A cone about the vertical, or a constant orientation with a vertical approach, through the wrist centre
     (:class:`~workspace_sym.serial.pose.WristCentre`, the LBR iiwa): the section of the chain to the wrist centre
@@ -782,14 +794,9 @@ class WristCentrePlan(PoseSectionPlan):
         finer, tuning, ends = timed_sections(budget, tuning, len(levels), seconds)
         width /= finer
         sections, evaluated, reason = [], 0, ""
-        for i, (tilt, limited) in enumerate(levels):
-            state: dict = {}                        # each tilt's own proofs (the last one's read below)
-            level = budget if ends is None else SectionShare(budget, ends[i], tuning.section_reserve)
-            with section_bar(budget.showing) as show:
-                grid, classes, proved, count, reason = pave_limited(limited, width, level, show=show,
-                                                                    tuning=tuning, state=state)
-            if reason == SectionShare.REASON:       # this tilt's share of the time is spent: not the run's
-                reason = ""
+        for i, (tilt, limited) in enumerate(levels):      # each tilt's own proofs (the last one's read below)
+            grid, classes, proved, count, reason, state = _pave_share(limited, width, budget,
+                                                                      None if ends is None else ends[i], tuning)
             evaluated += count
             sections.append((grid, classes, tilt))
             if reason:
@@ -871,16 +878,11 @@ class FlangePlan(PoseSectionPlan):
         met = [len(limited.plan.section.lateral.random_configurations(4_000, rng)) for limited in roots]
         parts, evaluated, reason, grid = [], 0, "", None
         for i, limited in enumerate(roots):
-            state: dict = {}
-            level = budget if ends is None else SectionShare(budget, ends[i], tuning.section_reserve)
             mine = dataclasses.replace(tuning, directions_share=max(0.1, tuning.flange_directions * met[i] /
                                                                     max(max(met), 1)),
                                        section_pairs=tuning.flange_pairs)
-            with section_bar(budget.showing) as show:
-                grid, classes, proved, count, reason = pave_limited(limited, width, level, show=show, tuning=mine,
-                                                                    state=state, box=box)
-            if reason == SectionShare.REASON:       # this solution's share of the time is spent: not the run's
-                reason = ""
+            grid, classes, proved, count, reason, state = _pave_share(limited, width, budget,
+                                                                      None if ends is None else ends[i], mine, box)
             evaluated += count
             parts.append((limited, classes, proved, state.get("sectors", np.zeros(proved.shape, dtype=np.uint64))))
             if reason:

@@ -625,19 +625,27 @@ def spin_volume(limited: LimitedTurn, grid, full: np.ndarray, pieces: np.ndarray
     some = np.nonzero((pieces.sum(axis=0) >= 2) & ~cell_of)
     counts = np.zeros(pieces.shape[1:], dtype=np.int64)
     counts[some] = spin.bins_covered(sectors[(slice(None),) + some])
+    low = _binned_volume(grid, counts, spin.bins)
+    if not low:
+        return float(cells), high
+    return float(arith.add((cells, cells), (low, low))[0]), high
+
+
+def _binned_volume(grid, counts: np.ndarray, bins: int) -> float:
+    """A lower bound (rounded down) of the solids of the pieces of ``grid``'s cells turned through the share
+    ``counts / bins`` of the circle each covers (``counts`` over the pieces, ``(n0 F, n1 F)``); 0 when none."""
+    F = counts.shape[-2] // grid.shape[0]
     at = np.argwhere((counts > 0).reshape(grid.shape[0], F, grid.shape[1], F).any(axis=(1, 3)))
     if not len(at):
-        return float(cells), high
+        return 0.0
     boxes, owner, offset = _split(grid.cells(at), F.bit_length() - 1)
     rows, cols = at[owner, 0] * F + offset[:, 0], at[owner, 1] * F + offset[:, 1]
     volumes = solid_volumes(boxes[:, 0, 0], boxes[:, 0, 1], boxes[:, 1, 0], boxes[:, 1, 1])[0]
     got = counts[rows, cols].astype(float)
     with np.errstate(all="ignore"):
-        share = arith.div((got, got), (float(spin.bins), float(spin.bins)))[0]
+        share = arith.div((got, got), (float(bins), float(bins)))[0]
         parts = arith.mul((volumes, volumes), (share, share))[0]
-    low = ExactSum.of(np.maximum(parts[got > 0], 0.0)).value_down
-    total = arith.add((cells, cells), (low, low))[0]
-    return float(total), high
+    return float(ExactSum.of(np.maximum(parts[got > 0], 0.0)).value_down)
 
 
 def roots_volume(parts, grid, chunk: int = 20_000):
@@ -690,17 +698,9 @@ def roots_volume(parts, grid, chunk: int = 20_000):
     high = turned_volume(grid, codes)[1]
     cells = turned_volume(grid, np.where(inner, INNER, OUTER).astype(np.int8))[0]
     counts[np.repeat(np.repeat(inner | outer, F, axis=0), F, axis=1)] = 0
-    at = np.argwhere((counts > 0).reshape(grid.shape[0], F, grid.shape[1], F).any(axis=(1, 3)))
-    if not len(at):
+    low = _binned_volume(grid, counts, bins) if bins else 0.0
+    if not low:
         return codes, (float(cells), high)
-    boxes, owner, offset = _split(grid.cells(at), F.bit_length() - 1)
-    rows, cols = at[owner, 0] * F + offset[:, 0], at[owner, 1] * F + offset[:, 1]
-    volumes = solid_volumes(boxes[:, 0, 0], boxes[:, 0, 1], boxes[:, 1, 0], boxes[:, 1, 1])[0]
-    got = counts[rows, cols].astype(float)
-    with np.errstate(all="ignore"):
-        share = arith.div((got, got), (float(bins), float(bins)))[0]
-        parts_volume = arith.mul((volumes, volumes), (share, share))[0]
-    low = ExactSum.of(np.maximum(parts_volume[got > 0], 0.0)).value_down
     return codes, (float(arith.add((cells, cells), (low, low))[0]), high)
 
 def pieces_upper(reach, grid, classes: np.ndarray, pieces: int = DEFAULT.shoulder_pieces,
@@ -999,11 +999,9 @@ class SideMap(ImageMap):
         numpy.ndarray
             ``(N,)`` booleans.
         """
-        X = [(box[:, j, 0], box[:, j, 1]) for j in range(box.shape[1])]
         proved = np.ones(len(box), dtype=bool)
-        with np.errstate(all="ignore"):
-            for side, (_, bound) in zip(self._sides, self.sides):
-                proved &= np.broadcast_to(side(X)[0], (len(box),)) >= bound
+        for lo, _, bound in self._side_enclosures(box):
+            proved &= lo >= bound
         return proved
 
     def refused(self, box: np.ndarray) -> np.ndarray:
@@ -1021,12 +1019,18 @@ class SideMap(ImageMap):
         numpy.ndarray
             ``(N,)`` booleans.
         """
-        X = [(box[:, j, 0], box[:, j, 1]) for j in range(box.shape[1])]
         out = np.zeros(len(box), dtype=bool)
+        for _, hi, bound in self._side_enclosures(box):
+            out |= hi < bound - 1e-12
+        return out
+
+    def _side_enclosures(self, box: np.ndarray):
+        """``(lo, hi, bound_i)`` per side: the outward enclosures of ``s_i`` over the boxes (NaN where none)."""
+        X = [(box[:, j, 0], box[:, j, 1]) for j in range(box.shape[1])]
         with np.errstate(all="ignore"):
             for side, (_, bound) in zip(self._sides, self.sides):
-                out |= np.broadcast_to(side(X)[1], (len(box),)) < bound - 1e-12
-        return out
+                lo, hi = side(X)
+                yield np.broadcast_to(lo, (len(box),)), np.broadcast_to(hi, (len(box),)), bound
 
     def random_configurations(self, n: int, rng) -> np.ndarray:
         """Up to ``n`` configurations uniform within the limits on which every ``s_i > bound_i`` in floats.
