@@ -10,7 +10,9 @@ inverse kinematics at 50 digits (mpmath) for points of inner boxes.
 """
 
 import dataclasses
+import functools
 
+import mpmath
 import numpy as np
 import pytest
 import sympy as sp
@@ -288,3 +290,42 @@ def test_the_union_of_one_section_is_its_spin_volume(sections):
     assert ((codes == -1) == ((parts[0][1] == -1) & (parts[1][1] == -1))).all()
     assert lo < hi and hi >= max(spin_volume(limited, grid, full, pieces, sectors, tuning)[1]
                                  for limited, full, pieces, sectors in parts)
+
+
+@functools.cache
+def _at_50_digits(lateral):
+    """The map's three coordinates and its side conditions, lambdified for mpmath (evaluated at 50 digits)."""
+    return (sp.lambdify(lateral.variables, lateral.expressions, modules="mpmath"),
+            [sp.lambdify(lateral.variables, side, modules="mpmath") for side, _ in lateral.sides])
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.integers(0, 2 ** 32 - 1))
+def test_boxes_the_outer_proofs_leave_break_a_condition_at_exact_points(flange, seed):
+    """Exact-rational property for the pruning of the outer proofs (SideMap.refused): over 20 random joint boxes
+    per root, at 3 rational points of each box refused, some side condition (pitch or roll within its limits) is
+    broken by more than the 1e-12 margin, evaluated at 50 digits; and the map's clipped enclosure (FlangeMap) holds
+    the tool point at a rational point of every box, at 50 digits."""
+    rng = np.random.default_rng(seed)
+    refused_seen = 0
+    for _, limited in flange.roots:
+        lateral = limited.plan.section.lateral
+        position, sides = _at_50_digits(lateral)
+        lo, hi = lateral.inner_limits[:, 0], lateral.inner_limits[:, 1]
+        centres = rng.uniform(lo, hi, size=(20, 3))
+        size = rng.uniform(1e-3, 0.1, size=(20, 1))
+        boxes = np.stack([np.maximum(centres - size, lo), np.minimum(centres + size, hi)], axis=2)
+        refused, E = lateral.refused(boxes), lateral.enclose(boxes)
+        with mpmath.workdps(50):
+            margin = mpmath.mpf(10) ** -12
+            for b in range(len(boxes)):
+                for _ in range(3 if refused[b] else 1):
+                    # a float is a binary fraction: mpf holds it exactly, a rational point of the box
+                    point = [mpmath.mpf(float(rng.uniform(boxes[b, j, 0], boxes[b, j, 1]))) for j in range(3)]
+                    p = position(*point)
+                    assert all(E[b, i, 0] <= p[i] <= E[b, i, 1] for i in range(3)), (b, p, E[b])
+                    if refused[b]:
+                        refused_seen += 1
+                        assert any(side(*point) < bound - margin
+                                   for side, (_, bound) in zip(sides, lateral.sides)), (b, point)
+    assert refused_seen > 0
