@@ -33,8 +33,8 @@ LONGEST_FIRST = [
     # the industrial arms' group (SAME_WORKER), about a quarter of the suite's test time, on one worker
     "test_serial_workspace.py", "test_reach_map_section.py", "test_reach_real_arms.py", "test_orientation_arms.py",
     "test_reach_shoulder.py", "test_reach_pieces.py", "test_orientation_centre.py", "test_orientation_spin.py",
-    "test_orientation_offset.py", "test_notebooks.py", "test_report.py", "test_kinematics.py", "test_cli.py",
-    "test_executor.py",
+    "test_orientation_offset.py", "test_orientation_offset_cone.py", "test_notebooks.py", "test_report.py",
+    "test_kinematics.py", "test_cli.py", "test_executor.py",
     "test_grading_teacher.py", "test_kinematics_anytable.py", "test_boundary.py", "test_orthoglide.py",
     "test_charpoly.py", "test_docs_site.py", "test_reach_map_wrist.py", "test_reach_turn.py", "test_exercise_keys.py",
     "test_reach_section.py", "test_untrusted_input.py", "test_symbolic.py", "test_reach_critical3d.py",

@@ -76,11 +76,12 @@ def arm_cases():
             ("UR10", ur10, down, (0.05,), 300), ("UR10", ur10, tool_down, (0.05,), 300),
             ("KR16 (URDF)", kr16, down, (0.15, 0.1), 300), ("KR16 (URDF)", kr16, tool_down, (0.15,), 300)]
     # The seven-joint arms (first joint limited, docs/methods.md section 8): the iiwa through its wrist centre (the
-    # cone since session 24, tool down since session 29), the Panda's cone by the 3-D pairs, its tool down through the
-    # sections of its wrist's two solutions (session 30).
+    # cone since session 24, tool down since session 29); the Panda's tool down (session 30), exact approach and cone
+    # (session 31) through the sections of its wrist's two solutions.
     iiwa, panda = industrial_arm("iiwa"), industrial_arm("panda")
     rows += [("LBR iiwa 14 (URDF)", iiwa, down, (0.1,), 300), ("LBR iiwa 14 (URDF)", iiwa, tool_down, (0.1,), 300),
-             ("Panda", panda, down, (0.1,), 300), ("Panda", panda, tool_down, (0.1,), 300)]
+             ("Panda", panda, down, (0.1,), 300), ("Panda", panda, dict(approach=(0, 0, -1), cone=0), (0.1,), 300),
+             ("Panda", panda, tool_down, (0.1,), 300)]
     return rows
 
 
@@ -92,8 +93,10 @@ def reference_volume(robot, options, n=REF_SAMPLES):
         R = np.array(constraint_from(**options).matrix, dtype=float)
         q, points = oriented_configurations(robot, n, 0, R, wrist=(4, 5))
         return arcs_volume(robot, q[:, 0], points, REF_CELL), points
+    exact = options.get("cone") == 0             # the approach made exact by Newton on the wrist's two joints
     q, _, points = admissible_configurations(robot, n, 0, approach=options.get("approach", (0, 0, -1)),
-                                             cone=options.get("cone"))
+                                             cone=None if exact else options.get("cone"),
+                                             wrist=(4, 5) if exact and robot.n == 7 else (3, 4))
     return arcs_volume(robot, q[:, 0], points, REF_CELL), points
 
 

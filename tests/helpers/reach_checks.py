@@ -406,20 +406,26 @@ def wrist_arm_in_cone_at_50_digits(robot, target, direction, cone_deg, rng, star
     return None
 
 
-def arm_in_cone_at_50_digits(robot, target, direction, cone_deg, rng, starts=60):
+def arm_in_cone_at_50_digits(robot, target, direction, cone_deg, rng, starts=60, *, anywhere=False):
     """A configuration of any arm of three joints or more putting the tool point at ``target`` with the approach
     axis within ``cone_deg`` of ``direction``, at 50 digits and within the limits; None if none is found.  Float search:
     least squares on the position and on the approach aimed at ``direction`` (scipy, within the limits) from
-    random starts; then mpmath ``findroot`` on the position in the three joints of the best-conditioned minor,
-    the others kept, and every condition checked again at 50 digits."""
+    random starts (``anywhere``: the approach only kept within the cone less 0.2 deg, by a penalty that vanishes
+    inside it, for points reached only near the rim); then mpmath ``findroot`` on the position in the three joints
+    of the best-conditioned minor, the others kept, and every condition checked again at 50 digits."""
     position, approach, pose_float, j_float = _cone_arm_functions(robot)
     d = np.asarray(direction, dtype=float) / np.linalg.norm(direction)
     lim = robot.joint_limits()
     inner = np.stack([lim[:, 0] + 1e-9, lim[:, 1] - 1e-9], 1)
+    rim = np.cos(np.radians(max(cone_deg - 0.2, 0.0)))
+
+    def aim(a):
+        return [3.0 * max(0.0, rim - float(a @ d))] if anywhere else 0.3 * (a - d)
+
     for _ in range(starts):
         q0 = rng.uniform(inner[:, 0], inner[:, 1])
         fit = _least_squares()(lambda x: np.r_[np.array(pose_float(x)[:3], dtype=float) - target,
-                                            0.3 * (np.array(pose_float(x)[3:], dtype=float) - d)],
+                                            aim(np.array(pose_float(x)[3:], dtype=float))],
                             q0, bounds=(inner[:, 0], inner[:, 1]), xtol=1e-15, ftol=1e-15, gtol=1e-15)
         x = fit.x
         if np.linalg.norm(np.array(pose_float(x)[:3], dtype=float) - target) > 1e-8:
@@ -521,3 +527,46 @@ def arm_in_pose_at_50_digits(robot, target, rotation, rng, starts=40):
             if within and exact and max(abs(p - g) for p, g in zip(position, goal[:3])) < tiny:
                 return full
     return None
+
+
+class FreeRun:
+    """A run of :func:`~workspace_sym.serial.turn.pave_limited` without a time limit nor a count: every stage to its
+    end."""
+
+    time_limit, seconds = None, 0.0
+
+    @staticmethod
+    def stop_reason(count):
+        return ""
+
+
+def piece_point(grid, pieces, k, a, b, rng, arc):
+    """A point drawn uniformly in piece ``(a, b)`` of a limited turn's section grid (``pieces`` the ``(D, n0 F,
+    n1 F)`` masks of :func:`~workspace_sym.serial.turn.prove_directions`), turned to a polar angle drawn in ``arc``
+    (a pair of floats) plus direction ``k``'s angle ``k 2 pi / D``: a point the proof at that direction covers
+    when ``arc`` lies within the first joint's range."""
+    F = pieces.shape[-1] // grid.shape[1]
+    cell = grid.cells(np.array([[a // F, b // F]]))[0]
+    size = (cell[:, 1] - cell[:, 0]) / F
+    low = cell[:, 0] + size * np.array([a % F, b % F])
+    rho, z = rng.uniform(low, low + size)
+    angle = rng.uniform(arc[0], arc[1]) + k * 2 * np.pi / len(pieces)
+    return np.array([rho * np.cos(angle), rho * np.sin(angle), z])
+
+
+def paved_roots(roots, width, tuning, boxes):
+    """Several limited turns' sections paved on one grid holding all their enclosures, as ``FlangePlan`` paves a
+    wrist's solutions, without a time limit and with a budget of ``boxes`` each: ``(grid, parts)``, ``parts`` the
+    ``(limited, full classes, pieces, sectors)`` that :func:`~workspace_sym.serial.turn.roots_volume` reads."""
+    from workspace_sym.serial.turn import pave_limited
+
+    enclosures = [limited.plan.section.enclose(limited.plan.section.limits[None])[0] for limited in roots]
+    box = np.stack([np.min([e[:, 0] for e in enclosures], axis=0), np.max([e[:, 1] for e in enclosures], axis=0)],
+                   axis=1)
+    parts, grid = [], None
+    for limited in roots:
+        state: dict = {}
+        grid, full, pieces, _, _ = pave_limited(limited, width, FreeRun(), tuning=tuning, state=state, box=box,
+                                                boxes=boxes)
+        parts.append((limited, full, pieces, state["sectors"]))
+    return grid, parts

@@ -19,11 +19,19 @@ import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from reach_checks import arcs_volume, arm_in_pose_at_50_digits, in_any_box, industrial_arm, oriented_configurations
+from reach_checks import (
+    arcs_volume,
+    arm_in_pose_at_50_digits,
+    in_any_box,
+    industrial_arm,
+    oriented_configurations,
+    paved_roots,
+    piece_point,
+)
 from workspace_sym.serial import Pose, reach
 from workspace_sym.serial.pose import constraint_from, offset_flange, pose_structure
 from workspace_sym.serial.tuning import DEFAULT
-from workspace_sym.serial.turn import pave_limited, roots_volume, spin_volume
+from workspace_sym.serial.turn import roots_volume, spin_volume
 
 TOOL_DOWN = dict(rpy=(180, 0, 0))
 # Coarse cells and few seeds: outer boxes in seconds, no inner cell (a 300 s limit: BENCHMARKS.md, session 30)
@@ -70,7 +78,8 @@ def test_the_panda_tool_down_goes_through_the_wrists_two_solutions(panda, flange
     for sigma, limited in flange.roots:
         lateral = limited.plan.section.lateral
         assert lateral.spin is not None and lateral.spin.root == sigma and len(lateral.sides) == 2 and lateral.prune
-    assert offset_flange(panda, (), constraint_from(approach=(0, 0, -1), cone=20)) is None     # a cone: not this
+    every = constraint_from(approach=(0, 0, -1), cone=20, every=True)
+    assert offset_flange(panda, (), every) is None                      # every direction of a cone: not this
     assert paving.method == "section" and paving.counts["outer"] > 0
     lo, hi = paving.measure_bounds
     assert 0 <= lo < hi
@@ -209,31 +218,12 @@ def test_tool_down_configurations_never_land_in_an_outer_box_and_the_bracket_hol
     assert lo <= arcs_volume(panda, q[:, 0], points, 0.02) <= hi
 
 
-class _Free:
-    """A run of pave_limited without a time limit nor a count: every stage to its end."""
-
-    time_limit, seconds = None, 0.0
-
-    @staticmethod
-    def stop_reason(count):
-        return ""
-
-
 @pytest.fixture(scope="module")
 def sections(flange):
     """Both roots' sections paved on one grid of 0.03 m (no time limit, few seeds, pieces of 7.5 mm, a budget of
     boxes), as FlangePlan paves them, with their union (roots_volume)."""
     tuning = dataclasses.replace(DEFAULT, direction_samples=40_000, direction_depth=2)
-    roots = [limited for _, limited in flange.roots]
-    enclosures = [limited.plan.section.enclose(limited.plan.section.limits[None])[0] for limited in roots]
-    box = np.stack([np.min([e[:, 0] for e in enclosures], axis=0), np.max([e[:, 1] for e in enclosures], axis=0)],
-                   axis=1)
-    parts = []
-    for limited in roots:
-        state: dict = {}
-        grid, full, pieces, _, _ = pave_limited(limited, 0.03, _Free(), tuning=tuning, state=state, box=box,
-                                                boxes=BOXES)
-        parts.append((limited, full, pieces, state["sectors"]))
+    grid, parts = paved_roots([limited for _, limited in flange.roots], 0.03, tuning, BOXES)
     return grid, parts, tuning
 
 
@@ -250,15 +240,9 @@ def test_points_of_proved_pieces_are_reached_tool_down_at_50_digits(panda, secti
     for p, k, a, b in [found[i] for i in rng.choice(len(found), 6, replace=False)]:
         limited, _, pieces, sectors = parts[p]
         spin = limited.plan.section.lateral.spin
-        F = pieces.shape[-1] // grid.shape[1]
-        cell = grid.cells(np.array([[a // F, b // F]]))[0]
-        size = (cell[:, 1] - cell[:, 0]) / F
-        low = cell[:, 0] + size * np.array([a % F, b % F])
-        rho, z = rng.uniform(low, low + size)
         passing = [i for i in range(spin.count) if int(sectors[k, a, b]) >> i & 1]
         i = rng.choice(passing)
-        angle = rng.uniform(spin.edges[i], spin.edges[i + 1]) + k * 2 * np.pi / len(pieces)
-        point = np.array([rho * np.cos(angle), rho * np.sin(angle), z])
+        point = piece_point(grid, pieces, k, a, b, rng, spin.edges[i:i + 2])
         assert arm_in_pose_at_50_digits(panda, point, R, rng) is not None, (p, k, point)
 
 

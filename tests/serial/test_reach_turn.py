@@ -23,6 +23,7 @@ import sympy as sp
 
 from reach_checks import (
     IIWA_LIKE,
+    FreeRun,
     arcs_volume,
     check_sampled_and_reached,
     offset_arm,
@@ -153,7 +154,7 @@ def test_a_budget_of_boxes_stops_the_limited_section_at_its_shares(limited_pavin
     turn = limited_turn(structure_of(robot, ()), reach_model(robot, ()))
     budget = 3000                       # of the 70,425 the stages take to their ends on these cells
     width = DEFAULT.section_ratio * cell_width(0.25, "diameter", 3)
-    _, _, pieces, evaluated, reason = pave_limited(turn, width, _Free(), boxes=budget)
+    _, _, pieces, evaluated, reason = pave_limited(turn, width, FreeRun(), boxes=budget)
     assert reason == "" and DEFAULT.blocks_end * budget <= evaluated < budget + DEFAULT.direction_chunk
     cut = paved_alike_twice(robot, 0.25, StopAt(section_boxes=2500))      # cells of budgeted_width
     assert cut.complete and 0 < len(cut.inner) < len(free.inner) and len(cut.outer)
@@ -226,15 +227,6 @@ def test_the_hole_around_the_shoulder_is_outside_at_every_angle():
     assert pieces_upper(reach_, grid, classes, 1) == pytest.approx(coarse, rel=1e-15)
 
 
-class _Free:
-    """A run of :func:`pave_limited` without a time limit nor a count: every stage to its end."""
-
-    time_limit, seconds = None, 0.0
-
-    @staticmethod
-    def stop_reason(count):
-        return ""
-
 
 def test_pieces_of_cut_cells_count_for_the_volume_and_are_reached(limited_paving):
     """The cells of the swing arm's section that fail whole (cut by its boundary) keep the pieces proved at two
@@ -244,7 +236,7 @@ def test_pieces_of_cut_cells_count_for_the_volume_and_are_reached(limited_paving
     an inverse kinematics at 50 digits (independent numerics)."""
     robot, _ = limited_paving                   # the swing arm, its section prepared once for the module
     turn = limited_turn(structure_of(robot, ()), reach_model(robot, ()))
-    grid, classes, pieces, _, reason = pave_limited(turn, 0.08, _Free())     # cells of 0.08: cut ones already
+    grid, classes, pieces, _, reason = pave_limited(turn, 0.08, FreeRun())     # cells of 0.08: cut ones already
     assert reason == ""
     lo, hi = limited_volume(turn, grid, classes, pieces)
     F = pieces.shape[1] // grid.shape[0]

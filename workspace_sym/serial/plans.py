@@ -51,10 +51,12 @@ from .stored import reach_problem, save_section, saved_section
 from .structure import Product, Revolved, structure_of
 from .tuning import DEFAULT, Tuning
 from .turn import (
+    DIRECTIONS,
     SPIN_TURNS,
     LimitedTurnTest,
     ToolSectionTest,
     budgeted_width,
+    direction_maps,
     limited_turn,
     limited_volume,
     pave_limited,
@@ -824,10 +826,11 @@ class WristCentrePlan(PoseSectionPlan):
 
 
 class FlangePlan(PoseSectionPlan):
-    """A constant orientation with a vertical approach on an arm whose flange is offset sideways from its last
-    joint's axis (:class:`~workspace_sym.serial.pose.OffsetFlange`, the Panda): the section of each wrist
-    solution's tool points paved as a limited turn on one grid (its directions proved with that solution's pitch
-    within the limits, on the sectors of the first joint's turn where its roll and last joint are), the cells
+    """A constant orientation with a vertical approach, or an exact vertical approach, on an arm whose flange is
+    offset sideways from its last joint's axis (:class:`~workspace_sym.serial.pose.OffsetFlange`, the Panda): the
+    section of each wrist solution's tool points paved as a limited turn on one grid (its directions proved with
+    that solution's pitch and roll within the limits; for an orientation, on the sectors of the first joint's turn
+    where its last joint is), the cells
     swept at every polar angle and the volume bracket from their union
     (:func:`~workspace_sym.serial.turn.roots_volume`), the task boxes classified from that by the driver
     (docs/methods.md section 8, "A flange offset sideways").
@@ -865,22 +868,28 @@ class FlangePlan(PoseSectionPlan):
         flange, tuning = self.structure.flange, self.tuning
         assert flange is not None                   # pose_plan chooses this plan for a flange only
         roots = [limited for _, limited in flange.roots]
-        enclosures = [limited.plan.section.enclose(limited.plan.section.limits[None])[0] for limited in roots]
+        # a cone's outer proofs are made on its own map (the tool point's section, flange.outer), the solutions'
+        # sections at the exact approach giving inner proofs only
+        maps = roots + ([] if flange.outer is None else [flange.outer])
+        enclosures = [limited.plan.section.enclose(limited.plan.section.limits[None])[0] for limited in maps]
         box = np.stack([np.min([e[:, 0] for e in enclosures], axis=0), np.max([e[:, 1] for e in enclosures],
                                                                                axis=0)], axis=1)
-        width = min(budgeted_width(limited, tuning) for limited in roots)
-        finer, tuning, ends = timed_sections(budget, tuning, len(roots), CENTRE_SECONDS * SPIN_TURNS)
+        width = min(budgeted_width(limited, tuning) for limited in maps)
+        # a constant orientation proves 4 M directions (turn.SPIN_TURNS), an exact approach the four axis ones
+        turns = len(direction_maps(roots[0].plan.section.lateral)) // DIRECTIONS
+        finer, tuning, ends = timed_sections(budget, tuning, len(maps), CENTRE_SECONDS * turns)
         width /= finer
         # Each solution's section needs its blocks (the outer cells are those outer in both), but its directions
         # only where its conditions hold: their share of the time follows the share of sampled configurations
-        # meeting the conditions (floats: they only share the time).
+        # meeting the conditions (floats: they only share the time).  A cone's solutions prove directions only,
+        # its own map mostly blocks.
         rng = np.random.default_rng(0)
         met = [len(limited.plan.section.lateral.random_configurations(4_000, rng)) for limited in roots]
         parts, evaluated, reason, grid = [], 0, "", None
-        for i, limited in enumerate(roots):
-            mine = dataclasses.replace(tuning, directions_share=max(0.1, tuning.flange_directions * met[i] /
-                                                                    max(max(met), 1)),
-                                       section_pairs=tuning.flange_pairs)
+        for i, limited in enumerate(maps):
+            share = (max(0.1, tuning.flange_directions * met[i] / max(max(met), 1)) if i < len(roots)
+                     else tuning.cone_directions)
+            mine = dataclasses.replace(tuning, directions_share=share, section_pairs=tuning.flange_pairs)
             grid, classes, proved, count, reason, state = _pave_share(limited, width, budget,
                                                                       None if ends is None else ends[i], mine, box)
             evaluated += count
@@ -888,10 +897,16 @@ class FlangePlan(PoseSectionPlan):
             if reason:
                 break
         assert grid is not None
-        if len(parts) < len(roots):     # stopped before every solution was paved: no cell is outer
+        if len(parts) < len(maps):      # stopped before every section was paved: no cell is outer
             parts = [(limited, np.where(classes == OUTSIDE, UNDECIDED, classes).astype(np.int8), proved, sectors)
                      for limited, classes, proved, sectors in parts]
-        codes, volume = roots_volume(parts, grid)
+        outer = None
+        if flange.outer is not None and len(parts) == len(maps):
+            # outside the cone's set: outside both solutions' sections widened to every approach, or outside the
+            # tool point's section pruned where the approach leaves the cone (two proofs, either will do)
+            outer = np.logical_and.reduce([classes == OUTSIDE for _, classes, _, _ in parts[:-1]])
+            outer |= parts[-1][1] == OUTSIDE
+        codes, volume = roots_volume(parts, grid, outer=outer)
         rho, z = grid.box
         root = np.array([[-rho[1], rho[1]], [-rho[1], rho[1]], [z[0], z[1]]])
         check_root(root, self.delta, self.size, self.robot)

@@ -1530,6 +1530,10 @@ class FlangeMap(ImageMap):
     axis is near the vertical, ``u``'s own enclosure is unbounded, but ``u`` is a unit vector); its Jacobian and
     floats are those of the whole expression.
 
+    With a ``cone`` (an approach ``a`` within ``c`` of ``d``, docs/methods.md section 8), :meth:`enclose_outer`
+    holds the tool point ``w + L a - f u_a`` of every such approach (``u_a`` the unit of ``z - (z . a) a``), for
+    the outer proofs; :meth:`enclose` stays that of ``a = d`` (the inner proofs are made at ``d``).
+
     Parameters
     ----------
     base : sequence of sympy.Expr
@@ -1540,14 +1544,33 @@ class FlangeMap(ImageMap):
         ``f``, exact.
     variables, limits, periodic
         As for :class:`~workspace_sym.interval.image.ImageMap`.
+    axis : sequence of sympy.Expr, optional
+        The roll axis ``z`` (three expressions), with ``cone``.
+    cone : sympy.Expr, optional
+        The cone's half-angle ``c`` (exact, radians, below a quarter turn).
+    length : sympy.Expr, optional
+        ``L``, exact, with ``cone``.
+    sign : int
+        ``d = (0, 0, sign)``.
     """
 
-    def __init__(self, base, unit, factor, variables, limits, periodic):
+    def __init__(self, base, unit, factor, variables, limits, periodic, *, axis=None, cone=None, length=None,
+                 sign: int = -1):
         expressions = [base[0] - factor * unit[0], base[1] - factor * unit[1], base[2]]
         super().__init__(expressions, variables, limits, periodic)
         self._base = compile_batch(list(base), self.variables)
         self._unit = compile_batch(list(unit), self.variables)
         self.factor = numpy_constant(factor)
+        self.cone = None
+        if cone is not None and cone != 0:
+            self.cone = cone
+            self._axis = compile_batch(list(axis), self.variables)
+            c = sp.sympify(cone)
+            # the constants of enclose_outer, each an outward enclosure of the exact value
+            self._c, self._sin, self._cos = numpy_constant(c), numpy_constant(sp.sin(c)), numpy_constant(sp.cos(c))
+            self._chord = numpy_constant(2 * sp.sin(c / 2))
+            self._length = numpy_constant(length)
+            self._lift = numpy_constant(sign * length * (sp.cos(c) - 1))
 
     def enclose(self, Q: np.ndarray) -> np.ndarray:
         """``(N, 3, 2)`` enclosures of ``p`` over joint boxes ``Q``, ``u`` clipped to ``[-1, 1]`` (outward-rounded).
@@ -1563,12 +1586,68 @@ class FlangeMap(ImageMap):
             The enclosures; a coordinate with no enclosure is ``[-inf, inf]``.
         """
         E = batch_enclosures(self._base, Q, self.k, 3)
-        U = batch_enclosures(self._unit, Q, self.k, 2)
-        U = np.clip(np.where(np.isnan(U), np.array([-1.0, 1.0]), U), -1.0, 1.0)
+        U = self._clipped_unit(Q)
         with np.errstate(all="ignore"):
             for i in range(2):
                 side = arith.mul((U[:, i, 0], U[:, i, 1]), self.factor)
                 E[:, i, 0], E[:, i, 1] = arith.sub((E[:, i, 0], E[:, i, 1]), side)
+        return np.where(np.isnan(E), np.inf * np.array([-1.0, 1.0]), E)
+
+    def _clipped_unit(self, Q: np.ndarray) -> np.ndarray:
+        U = batch_enclosures(self._unit, Q, self.k, 2)
+        return np.clip(np.where(np.isnan(U), np.array([-1.0, 1.0]), U), -1.0, 1.0)
+
+    def enclose_outer(self, Q: np.ndarray) -> np.ndarray:
+        """``(N, 3, 2)`` enclosures of the tool point ``w + L a - f u_a`` over joint boxes ``Q`` and every
+        approach ``a`` of the cone (outward-rounded); without a cone, :meth:`enclose`.
+
+        ``L a`` lies in ``L d + L ([-sin c, sin c]^2 x sign [cos c - 1, 0])``.  Along the arc from ``d`` to ``a``
+        (at most ``c`` long) ``u_a`` moves by at most ``|da| / sin(phi)``, ``phi`` the angle from ``z`` to the
+        approach, at least ``s = V cos c - |z_z| sin c`` in sine (``V = |z x d|``), and its horizontal part by at
+        most ``|da| sqrt(sin(c)^2 + cot(phi)^2)``, ``|cos(phi)| <= min(1, |z_z| + V sin c)``: so each horizontal
+        component of ``u_a`` lies within the lesser of ``c / s`` and ``c sqrt(sin(c)^2 + cot^2)`` of ``u_d``'s
+        (where ``s > 0``; else anywhere in ``[-1, 1]``), and ``|u_z| = |u_a . (d - a)| <= 2 sin(c / 2)``.
+
+        Parameters
+        ----------
+        Q : numpy.ndarray
+            ``(N, k, 2)`` joint boxes.
+
+        Returns
+        -------
+        numpy.ndarray
+            The enclosures; a coordinate with no enclosure is ``[-inf, inf]``.
+        """
+        if self.cone is None:
+            return self.enclose(Q)
+        N = len(Q)
+        E = batch_enclosures(self._base, Q, self.k, 3)
+        U = self._clipped_unit(Q)
+        Z = batch_enclosures(self._axis, Q, self.k, 3)
+        with np.errstate(all="ignore"):
+            horizontal = arith.sqrt(arith.add(arith.sqr((Z[:, 0, 0], Z[:, 0, 1])),
+                                              arith.sqr((Z[:, 1, 0], Z[:, 1, 1]))))
+            vertical = arith.iabs((Z[:, 2, 0], Z[:, 2, 1]))
+            low = arith.sub(arith.mul(horizontal, self._cos), arith.mul(vertical, self._sin))[0]
+            # |du| <= c / sin(phi); its horizontal part <= c sqrt(sin(c)^2 + cot(phi)^2), |cos(phi)| at most
+            # min(1, |z_z| + V sin c) along the arc
+            cosine = np.minimum(arith.add(vertical, arith.mul(horizontal, self._sin))[1], 1.0)
+            cot = arith.div((cosine, cosine), (low, low))[1]
+            level = arith.sqrt(arith.add(arith.sqr(self._sin), arith.sqr((cot, cot))))[1]
+            radius = np.minimum(arith.div(self._c, (low, low))[1], arith.mul(self._c, (level, level))[1])
+            radius = np.where(np.isnan(low) | ~(low > 0) | np.isnan(radius), np.inf, radius)
+            sideways = arith.mul(arith.mul(arith.const(-1.0, 1.0, (N,)), self._sin), self._length)   # L a_x, a_y
+            for i in range(2):
+                lo = np.clip(np.nan_to_num(arith.sub((U[:, i, 0], U[:, i, 0]), (radius, radius))[0], nan=-1.0),
+                             -1.0, 1.0)
+                hi = np.clip(np.nan_to_num(arith.add((U[:, i, 1], U[:, i, 1]), (radius, radius))[1], nan=1.0),
+                             -1.0, 1.0)
+                E[:, i, 0], E[:, i, 1] = arith.sub(arith.add((E[:, i, 0], E[:, i, 1]), sideways),
+                                                   arith.mul((lo, hi), self.factor))
+            lift = (np.full(N, min(self._lift[0], 0.0)), np.full(N, max(self._lift[1], 0.0)))      # L (a_z - d_z)
+            chord = arith.mul(arith.const(-1.0, 1.0, (N,)), self._chord)                           # u_z
+            E[:, 2, 0], E[:, 2, 1] = arith.sub(arith.add((E[:, 2, 0], E[:, 2, 1]), lift),
+                                               arith.mul(chord, self.factor))
         return np.where(np.isnan(E), np.inf * np.array([-1.0, 1.0]), E)
 
 
@@ -1603,6 +1682,7 @@ class OffsetFlange:
 
     roots: tuple
     sign: int
+    outer: LimitedTurn | None = None
 
 
 def _offset_rows(robot: DHRobot, params):
@@ -1653,9 +1733,14 @@ def offset_flange(robot: DHRobot, parameters: tuple, constraint: PoseConstraint)
     OffsetFlange or None
         The structure, or None.
     """
-    if constraint.kind != "orientation":
+    oriented = constraint.kind == "orientation"
+    cone = sp.S.Zero if oriented else sp.sympify(constraint.cone)
+    if oriented:
+        d = list(constraint.matrix[:, 2])
+    elif cone == 0 or (not constraint.every and bool(2 * cone < sp.pi)):
+        d = list(constraint.direction)
+    else:                       # every direction of a cone, or a cone of a quarter turn or more: not this structure
         return None
-    d = list(constraint.matrix[:, 2])
     if d[0] != 0 or d[1] != 0:
         return None
     params = dict(parameters) or None
@@ -1665,12 +1750,17 @@ def offset_flange(robot: DHRobot, parameters: tuple, constraint: PoseConstraint)
     j, factor, length, s_k, s_n = rows
     T = robot.substitute(robot.fk(), params)
     spin = _spin_range(robot, params, T)
-    ranges = [_range_centre(robot, params, i) for i in (j, j + 1, j + 2)]
-    if spin is None or spin[1] or any(r is None for r in ranges):
+    ranges = [_range_centre(robot, params, i) for i in ((j, j + 1, j + 2) if oriented else (j, j + 1))]
+    # (an exact approach leaves the spin free: the last joint's range does not matter)
+    if spin is None or (oriented and spin[1]) or any(r is None for r in ranges):
         return None
-    (mu_r, h_r, roll_full), (mu_p, h_p, _), (mu_n, h_n, _) = ranges
-    if not bool(2 * h_n >= sp.pi) or not (roll_full or bool(2 * h_r >= sp.pi)):
+    (mu_r, h_r, roll_full), (mu_p, h_p, _) = ranges[:2]
+    if not (roll_full or bool(2 * h_r >= sp.pi)):
         return None
+    if oriented:
+        mu_n, h_n, _ = ranges[2]
+        if not bool(2 * h_n >= sp.pi):
+            return None
     sign = 1 if d[2] > 0 else -1
     chain = DHRobot(list(robot.joints[:j + 1]), convention=robot.convention, name=f"{robot.name} (roll frame)",
                     parameters=robot.parameters, units=robot.units)
@@ -1697,21 +1787,28 @@ def offset_flange(robot: DHRobot, parameters: tuple, constraint: PoseConstraint)
     v_z = sign * z[2]
     V2 = 1 - v_z ** 2
     V = sp.sqrt(z[0] ** 2 + z[1] ** 2)
-    # the last joint: x_r the frame's x axis before the tool's turn about z; Y in the first joint's turn
-    tool = sp.eye(4) if robot.tool is None else sp.Matrix(robot.tool)
-    x_r = sp.Matrix(constraint.matrix) * tool[:3, :3].T * sp.Matrix([1, 0, 0])
-    turn = sp.Symbol("theta_turn")
-    world = sp.Matrix([sp.sympify(e) for e in F[:3, 2]]).subs(q1, s1 * (turn - theta_1.subs(q1, 0)))
-    dv = sp.Matrix([0, 0, sign])
-    Y = s_n * ((world.T * x_r)[0] * sp.cos(mu_n) - (world.cross(dv).T * x_r)[0] * sp.sin(mu_n))
+    condition = None
+    if oriented:
+        # the last joint: x_r the frame's x axis before the tool's turn about z; Y in the first joint's turn
+        tool = sp.eye(4) if robot.tool is None else sp.Matrix(robot.tool)
+        x_r = sp.Matrix(constraint.matrix) * tool[:3, :3].T * sp.Matrix([1, 0, 0])
+        turn = sp.Symbol("theta_turn")
+        world = sp.Matrix([sp.sympify(e) for e in F[:3, 2]]).subs(q1, s1 * (turn - theta_1.subs(q1, 0)))
+        dv = sp.Matrix([0, 0, sign])
+        Y = s_n * ((world.T * x_r)[0] * sp.cos(mu_n) - (world.cross(dv).T * x_r)[0] * sp.sin(mu_n))
     base = [w[0], w[1], w[2] + length * sign]
     unit = [z[0] / V, z[1] / V]
     cos_p = numpy_constant(sp.cos(h_p))[1]
     section = limited.plan.section.lateral
     zero, periodic = [(0.0, 0.0)] * len(variables), section.periodic
     roots = []
+    # A cone's outer proofs hold every approach a within c of d: the map's outer enclosures (FlangeMap.enclose_outer)
+    # and its conditions, which move by at most c (the pitch: the angle from z to the approach moves by c) and 2 c
+    # (the roll: X and V are 1-Lipschitz in the approach) when a leaves d (docs/methods.md section 8)
+    slack = None if cone == 0 else (numpy_constant(cone)[1], numpy_constant(2 * cone)[1])
     for sigma in (1, -1):
-        lateral = _same_limits(FlangeMap(base, unit, sigma * factor, variables, zero, periodic), section)
+        lateral = _same_limits(FlangeMap(base, unit, sigma * factor, variables, zero, periodic, axis=z, cone=cone,
+                                         length=length, sign=sign), section)
         p = lateral.expressions
         square = _same_limits(SquareMap(p[0] ** 2 + p[1] ** 2, p, variables, zero, periodic, lateral=lateral),
                               section)
@@ -1722,10 +1819,25 @@ def offset_flange(robot: DHRobot, parameters: tuple, constraint: PoseConstraint)
         sides = [(-s_k * s_n * (v_z * sp.cos(mu_p) + sigma * V * sp.sin(mu_p)), cos_p)]
         if not roll_full:
             sides.append((-sigma * X - sp.cos(h_r) * V, 0.0))
-        condition = SpinCondition(turn, X, Y, V2, None if roll_full else sp.cos(h_r) ** 2, sp.cos(h_n) ** 2,
-                                  root=sigma)
-        roots.append((sigma, constrained_turn(turned_root, sides, condition, prune=True)))
-    return OffsetFlange(tuple(roots), sign)
+        if oriented:
+            condition = SpinCondition(turn, X, Y, V2, None if roll_full else sp.cos(h_r) ** 2, sp.cos(h_n) ** 2,
+                                      root=sigma)
+        # an exact approach: the conditions are free of the first joint's turn, each proof holds on its arc
+        roots.append((sigma, constrained_turn(turned_root, sides, condition, prune=True, arcs=not oriented,
+                                              slack=None if slack is None else slack[:len(sides)])))
+    outer = None
+    if cone != 0:
+        # The cone's outer proofs: the tool point's own section (the joints before the last), its joint boxes
+        # left where the approach is proved outside the cone (a_z, free of the first joint's turn); its direction
+        # proofs are inner proofs of the cone too (the approach proved within it over each Krawczyk box)
+        whole = limited_turn(structure_of(robot, parameters), reach_model(robot, parameters))
+        if whole is None or whole.plan.inverse is not None:
+            return None
+        a_z = sign * sp.sympify(T[2, 2]).subs(at_zero)
+        if not a_z.free_symbols <= set(whole.plan.section.lateral.variables):
+            return None
+        outer = constrained_turn(whole, [(a_z, numpy_constant(sp.cos(cone))[1])], prune=True, arcs=True)
+    return OffsetFlange(tuple(roots), sign, outer)
 
 
 @dataclass(frozen=True)
@@ -2002,7 +2114,7 @@ def pose_structure(robot: DHRobot, parameters: tuple, constraint: PoseConstraint
     centre = wrist_centre(robot, parameters, reduced) if along is not None or reduced.kind == "orientation" else None
     if centre is not None:
         return PoseStructure(None, centre=centre)
-    flange = offset_flange(robot, parameters, reduced) if reduced.kind == "orientation" else None
+    flange = offset_flange(robot, parameters, reduced)
     if flange is not None:
         return PoseStructure(None, flange=flange)
     rotation = T[:3, :3]

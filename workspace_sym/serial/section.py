@@ -228,7 +228,7 @@ class RadialMap:
             -inf]``, where ``lateral`` proves broken over the box a side condition every configuration must meet:
             :meth:`~workspace_sym.serial.turn.SideMap.refused`, with its ``prune``).
         """
-        W = self.lateral.enclose(Q)
+        W = getattr(self.lateral, "enclose_outer", self.lateral.enclose)(Q)     # (a cone's every approach)
         E = np.empty((len(Q), 2, 2))
         with np.errstate(all="ignore"):
             r2 = arith.add(arith.sqr((W[:, 0, 0], W[:, 0, 1])), arith.sqr((W[:, 1, 0], W[:, 1, 1])))

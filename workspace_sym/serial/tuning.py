@@ -68,6 +68,9 @@ class Tuning:
         The ``section_pairs`` of an offset flange's blocks: its joint boxes' enclosures are wider (the unit
         vector of the offset), and four times the default's pairs narrowed the Panda's upper bound from 2.52 to
         2.30 m³ in the same time (BENCHMARKS.md, session 30).
+    cone_directions : float
+        A cone on an offset flange: the share of its own map's time (the tool point's section, whose blocks give
+        the outer proofs) its directions take; the wrist's solutions at the exact approach take all of theirs.
     direction_depth, timed_depth : int
         A cell failing whole is tried in ``4^level`` pieces, level up to ``direction_depth`` (``timed_depth``
         with a time limit: the deepest level takes the time the other stages leave).
@@ -134,6 +137,7 @@ class Tuning:
     direction_samples: int = 400_000
     flange_directions: float = 0.6
     flange_pairs: int = 240_000
+    cone_directions: float = 0.1
     direction_depth: int = 2
     timed_depth: int = 3
     directions_share: float = 0.75

@@ -52,7 +52,7 @@ import numpy as np
 import sympy as sp
 
 from ..interval import arith
-from ..interval.compiler import compile_expr
+from ..interval.compiler import CompiledExpr, compile_expr
 from ..interval.graph import numpy_constant
 from ..interval.image import CellGrid, ImageMap
 from ..interval.search import split_every_axis
@@ -648,7 +648,7 @@ def _binned_volume(grid, counts: np.ndarray, bins: int) -> float:
     return float(ExactSum.of(np.maximum(parts[got > 0], 0.0)).value_down)
 
 
-def roots_volume(parts, grid, chunk: int = 20_000):
+def roots_volume(parts, grid, chunk: int = 20_000, outer: np.ndarray | None = None):
     """``(codes, (lo, hi))``: the cells of one grid swept at every polar angle and a proved volume bracket, from
     the sections of a tool point's several maps (a wrist's solutions, :class:`~workspace_sym.serial.pose.
     OffsetFlange`), each paved on ``grid`` (:func:`pave_limited` with its ``box``) with its own sectors
@@ -667,6 +667,8 @@ def roots_volume(parts, grid, chunk: int = 20_000):
         The grid of all of them.
     chunk : int
         Pieces per step (memory).
+    outer : numpy.ndarray, optional
+        The cells proved outside the whole set (a cone's, proved on its own map); None: those outer for every map.
 
     Returns
     -------
@@ -676,7 +678,8 @@ def roots_volume(parts, grid, chunk: int = 20_000):
         ``(lo, hi)`` of the volume swept.
     """
     F = parts[0][2].shape[-2] // grid.shape[0]
-    outer = np.logical_and.reduce([full == OUTER for _, full, _, _ in parts])
+    if outer is None:
+        outer = np.logical_and.reduce([full == OUTER for _, full, _, _ in parts])
     inner = np.logical_or.reduce([full == INNER for _, full, _, _ in parts]) & ~outer
     skip = np.repeat(np.repeat(outer | inner, F, axis=0), F, axis=1)
     some = np.nonzero(np.logical_or.reduce([pieces.any(axis=0) for _, _, pieces, _ in parts]) & ~skip)
@@ -948,6 +951,10 @@ class SideMap(ImageMap):
         limits, :class:`~workspace_sym.serial.pose.OffsetFlange`), so the outer proofs leave the joint boxes
         that break one (:meth:`refused`); False (a cone's tilt, which only chooses the inner cells): they do
         not.
+    slack : sequence of float, optional
+        Per side, how far below its bound a configuration the outer proofs stand for may bring it (a cone's
+        approaches other than the one proved, :class:`~workspace_sym.serial.pose.OffsetFlange`): :meth:`refused`
+        leaves only the boxes below ``bound_i - slack_i``; None: 0 each.
 
     Attributes
     ----------
@@ -959,15 +966,19 @@ class SideMap(ImageMap):
         (:func:`direction_maps`); empty: the four axis directions.
     """
 
-    def __init__(self, lateral: ImageMap, sides, prune: bool = False):
+    def __init__(self, lateral: ImageMap, sides, prune: bool = False, slack=None):
         self.__dict__.update(lateral.__dict__)        # the same compiled map: no second symbolic preparation
         self.prune = prune
         self._enclose = lateral.enclose               # and its own enclosures (a FlangeMap clips its unit vector)
+        self._enclose_outer = getattr(lateral, "enclose_outer", lateral.enclose)
         self.spin: SpinSectors | None = None          # set by constrained_turn for a constant orientation
         self.turned: list = []
         self.sides = tuple((sp.sympify(side), float(bound)) for side, bound in sides)
         if not self.sides:
             raise ValueError("a side map needs at least one side condition")
+        self.slack = tuple(float(x) for x in (slack or (0.0,) * len(self.sides)))
+        if len(self.slack) != len(self.sides) or min(self.slack) < 0:
+            raise ValueError(f"slack: one bound at least 0 per side condition; got {slack!r}")
         self._sides = [compile_expr(side, self.variables) for side, _ in self.sides]
         self._sides_float = [sp.lambdify([self.variables], side, modules="numpy") for side, _ in self.sides]
 
@@ -985,6 +996,22 @@ class SideMap(ImageMap):
             ``(N, 3, 2)`` outward-rounded enclosures.
         """
         return self._enclose(Q)
+
+    def enclose_outer(self, Q: np.ndarray) -> np.ndarray:
+        """The outer proofs' enclosures of the map it was made from (a cone's every approach,
+        :meth:`~workspace_sym.serial.pose.FlangeMap.enclose_outer`; else :meth:`enclose`).
+
+        Parameters
+        ----------
+        Q : numpy.ndarray
+            ``(N, k, 2)`` joint boxes.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(N, 3, 2)`` outward-rounded enclosures.
+        """
+        return self._enclose_outer(Q)
 
     def admissible(self, box: np.ndarray) -> np.ndarray:
         """Mask of the joint boxes on which every ``s_i >= bound_i`` is proved (outward-rounded; NaN: not proved).
@@ -1005,9 +1032,9 @@ class SideMap(ImageMap):
         return proved
 
     def refused(self, box: np.ndarray) -> np.ndarray:
-        """Mask of the joint boxes on which some ``s_i < bound_i`` is proved (outward-rounded, a margin of 1e-12
-        below ``bound_i`` for the exact bound it rounds up): no configuration of such a box meets the conditions, so
-        the outer proofs may leave it (:meth:`~workspace_sym.serial.section.RadialMap.enclose`).
+        """Mask of the joint boxes on which some ``s_i < bound_i - slack_i`` is proved (outward-rounded, a margin
+        of 1e-12 below ``bound_i`` for the exact bound it rounds up): no configuration of such a box meets the
+        conditions, so the outer proofs may leave it (:meth:`~workspace_sym.serial.section.RadialMap.enclose`).
 
         Parameters
         ----------
@@ -1020,8 +1047,8 @@ class SideMap(ImageMap):
             ``(N,)`` booleans.
         """
         out = np.zeros(len(box), dtype=bool)
-        for _, hi, bound in self._side_enclosures(box):
-            out |= hi < bound - 1e-12
+        for (_, hi, bound), slack in zip(self._side_enclosures(box), self.slack):
+            out |= hi < bound - slack - 1e-12
         return out
 
     def _side_enclosures(self, box: np.ndarray):
@@ -1071,8 +1098,9 @@ class SpinSectors:
 
     Parameters
     ----------
-    condition : SpinCondition
-        The condition's expressions.
+    condition : SpinCondition or None
+        The condition's expressions; None: no condition, every sector passes wherever a direction is proved (the
+        arcs of several maps' proofs read together, :func:`roots_volume`; give ``count=1``).
     variables : sequence of sympy.Symbol
         The section's joints.
     inner_range : tuple of float
@@ -1101,11 +1129,17 @@ class SpinSectors:
         variables = tuple(variables)
         self.count, self.bins, self.directions = count, bins, directions
         self.condition, self.root = condition, getattr(condition, "root", 0)
-        self._X = compile_expr(condition.X, variables)
-        self._Y = compile_expr(condition.Y, (condition.turn,) + variables)
-        self._spin = compile_expr(condition.spin * condition.V2 - condition.Y ** 2, (condition.turn,) + variables)
-        self._roll = (None if condition.roll is None
-                      else compile_expr(condition.roll * condition.V2 - condition.X ** 2, variables))
+        # without a condition, the proofs' arcs only: every sector passes where a direction is proved
+        self._X: CompiledExpr | None = None
+        self._Y: CompiledExpr | None = None
+        self._spin: CompiledExpr | None = None
+        self._roll: CompiledExpr | None = None
+        if condition is not None:
+            self._X = compile_expr(condition.X, variables)
+            self._Y = compile_expr(condition.Y, (condition.turn,) + variables)
+            self._spin = compile_expr(condition.spin * condition.V2 - condition.Y ** 2, (condition.turn,) + variables)
+            if condition.roll is not None:
+                self._roll = compile_expr(condition.roll * condition.V2 - condition.X ** 2, variables)
         a, b = inner_range
         edges = np.linspace(a, b, count + 1)
         edges[0], edges[-1] = a, b
@@ -1139,6 +1173,8 @@ class SpinSectors:
         out = np.zeros(N, dtype=np.uint64)
         if not N:
             return out
+        if self._X is None or self._Y is None or self._spin is None:         # no condition: every sector
+            return np.full(N, np.uint64((1 << self.count) - 1), dtype=np.uint64)
         Q = [(U[:, j, 0], U[:, j, 1]) for j in range(U.shape[1])]
         with np.errstate(all="ignore"):
             x = self._X(Q)
@@ -1202,7 +1238,8 @@ class SpinSectors:
         return bins
 
 
-def constrained_turn(limited: LimitedTurn, sides, spin=None, prune: bool = False) -> LimitedTurn:
+def constrained_turn(limited: LimitedTurn, sides, spin=None, prune: bool = False, *,
+                     arcs: bool = False, slack=None) -> LimitedTurn:
     """``limited`` whose direction proofs also prove ``s_i >= bound_i`` for each of ``sides`` (:class:`SideMap`);
     its outer proofs are unchanged (the distances from the shoulder and the elbow, the blocks: outside the section
     is outside any part of it), unless ``prune``.
@@ -1219,6 +1256,12 @@ def constrained_turn(limited: LimitedTurn, sides, spin=None, prune: bool = False
         joint's range where it is proved (:class:`SpinSectors`).
     prune : bool
         As for :class:`SideMap`.
+    arcs : bool
+        Without ``spin``: keep where each piece's proofs hold (the arcs of the four directions, a
+        :class:`SpinSectors` without a condition and with one sector), so that several maps' proofs can be read
+        together (:func:`roots_volume`).
+    slack : sequence of float, optional
+        As for :class:`SideMap`.
 
     Returns
     -------
@@ -1226,12 +1269,14 @@ def constrained_turn(limited: LimitedTurn, sides, spin=None, prune: bool = False
         The same structure with the constrained section map.
     """
     section = limited.plan.section
-    lateral = SideMap(section.lateral, sides, prune)
+    lateral = SideMap(section.lateral, sides, prune, slack)
     if spin is not None:        # 4 M directions: the turned copies prove those off the axes
         lateral.spin = SpinSectors(spin, section.lateral.variables, limited.inner_range,
                                    directions=DIRECTIONS * SPIN_TURNS)
         lateral.turned = [SideMap(turned_map(section.lateral, sp.pi * j / (2 * SPIN_TURNS)), sides)
                           for j in range(1, SPIN_TURNS)]
+    elif arcs:
+        lateral.spin = SpinSectors(None, section.lateral.variables, limited.inner_range, count=1)
     radial = RadialMap(section.square, lateral, section.reach)
     return replace(limited, plan=replace(limited.plan, section=radial))
 
