@@ -868,8 +868,7 @@ class FlangePlan(PoseSectionPlan):
         flange, tuning = self.structure.flange, self.tuning
         assert flange is not None                   # pose_plan chooses this plan for a flange only
         roots = [limited for _, limited in flange.roots]
-        # a cone's outer proofs are made on its own map (the tool point's section, flange.outer), the solutions'
-        # sections at the exact approach giving inner proofs only
+        # a cone adds the tool point's own section pruned by the cone (flange.outer): outer proofs, and inner ones
         maps = roots + ([] if flange.outer is None else [flange.outer])
         enclosures = [limited.plan.section.enclose(limited.plan.section.limits[None])[0] for limited in maps]
         box = np.stack([np.min([e[:, 0] for e in enclosures], axis=0), np.max([e[:, 1] for e in enclosures],
@@ -881,8 +880,7 @@ class FlangePlan(PoseSectionPlan):
         width /= finer
         # Each solution's section needs its blocks (the outer cells are those outer in both), but its directions
         # only where its conditions hold: their share of the time follows the share of sampled configurations
-        # meeting the conditions (floats: they only share the time).  A cone's solutions prove directions only,
-        # its own map mostly blocks.
+        # meeting the conditions (floats: they only share the time); a cone's own map mostly its blocks.
         rng = np.random.default_rng(0)
         met = [len(limited.plan.section.lateral.random_configurations(4_000, rng)) for limited in roots]
         parts, evaluated, reason, grid = [], 0, "", None
