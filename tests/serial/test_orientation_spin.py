@@ -184,6 +184,37 @@ def test_covered_bins_hold_only_angles_of_passing_sectors(masks, seed):
     assert spin.bins_covered(full)[0] == spin.bins
 
 
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2 ** 32 - 1), st.floats(1e-4, 0.5), st.integers(1, 64))
+def test_sectors_read_from_the_linear_form_hold_at_random_points(seed, size, count):
+    """SpinSectors.masks from ``Y = A cos(t) + B sin(t) + C`` (SpinCondition.linear: three enclosures a box, the
+    sectors' intersection of the natural and mean-value forms) against brute force: ``A, B, C, V^2`` are the box's
+    own variables, the last joint's half range 120 deg; wherever a sector is marked, one solution's inequality
+    (``-Y >= cos(h) V`` or ``Y >= cos(h) V``) holds at all of 400 random points of (sector x box) and its corners;
+    with narrow sectors, boxes of width zero pass somewhere."""
+    a, b, c, v, t = sp.symbols("a b c v t")
+    condition = SpinCondition(t, sp.S.Zero, a * sp.cos(t) + b * sp.sin(t) + c, v, None, sp.Rational(1, 4),
+                              linear=(a, b, c))
+    spin = SpinSectors(condition, (a, b, c, v), (-2.9, 2.9), count=count, bins=72, directions=4)
+    rng = np.random.default_rng(seed)
+    centre = np.concatenate([rng.uniform(-1, 1, (30, 3)), rng.uniform(0.05, 1, (30, 1))], axis=1)
+    U = np.stack([centre - size, centre + size], axis=2)
+    U[:, 3, 0] = np.maximum(U[:, 3, 0], 0.0)
+    masks = spin.masks(U)
+    for box, mask in zip(U, masks):
+        for i in range(count):
+            if not int(mask) >> i & 1:
+                continue
+            pts = rng.uniform(box[:, 0], box[:, 1], (400, 4))
+            ts = rng.uniform(spin.edges[i], spin.edges[i + 1], 400)
+            pts[:2], ts[:2] = box[:, [0, 1]].T, spin.edges[i:i + 2]
+            y = pts[:, 0] * np.cos(ts) + pts[:, 1] * np.sin(ts) + pts[:, 2]
+            bound = -0.5 * np.sqrt(pts[:, 3])
+            assert (-y >= bound - 1e-12).all() or (y >= bound - 1e-12).all(), (box, i)
+    if count >= 16:                 # narrow sectors: boxes of width zero pass somewhere (the test is not empty)
+        assert spin.masks(np.repeat(centre[:, :, None], 2, axis=2)).any()
+
+
 def _sector_passes(spin, mask, psi, k):
     """Whether each polar angle of the array ``psi`` is ``theta_1 + k 2 pi / 16`` for a ``theta_1`` in a passing sector
     of ``k`` (the sectors' closed intervals between consecutive edges, read one by one with numpy's comparisons)."""

@@ -1368,6 +1368,10 @@ class SpinCondition:
     root : int
         0: either solution will do; ``+1`` or ``-1``: only that one (a map of one root's tool points,
         :class:`OffsetFlange`).
+    linear : tuple, optional
+        ``(A, B, C)`` in the section's joints with ``Y = A cos(turn) + B sin(turn) + C`` by construction
+        (:func:`_turned_linear`): the sectors then read ``Y`` from three enclosures (:class:`~workspace_sym.serial.
+        turn.SpinSectors`); None: ``Y`` is evaluated over each sector.
     """
 
     turn: sp.Symbol
@@ -1377,6 +1381,26 @@ class SpinCondition:
     roll: sp.Expr | None
     spin: sp.Expr
     root: int = 0
+    linear: tuple | None = None
+
+
+def _turned_linear(robot: DHRobot, z0, vector, turn: sp.Symbol):
+    """``(A, B, C)`` with ``(Rz(turn) z0) . vector = A cos(turn) + B sin(turn) + C`` (``z0`` an axis in the first
+    joint's frame at ``theta_1 = 0``, ``vector`` constant), when the robot's frames after the first joint are
+    ``Rz(theta_1)`` times frames free of it (no base; standard DH, or modified DH with ``alpha_0 = 0``; the first
+    joint's variable in its ``theta`` only): the world axis is then ``Rz(turn) z0`` exactly; else None."""
+    q1 = robot.q[0]
+    if robot.base is not None:
+        return None
+    first = robot.joints[0]
+    if robot.convention == "modified" and sp.simplify(sp.cos(first.alpha) - 1) != 0:
+        return None
+    others = [first.d, first.a, first.alpha] + [e for j in robot.joints[1:] for e in (j.theta, j.d, j.a, j.alpha)]
+    if not _free_of(others, q1):
+        return None
+    e = [sp.sympify(v) for v in vector]
+    z = [sp.sympify(v) for v in z0]
+    return (z[0] * e[0] + z[1] * e[1], z[0] * e[1] - z[1] * e[0], z[2] * e[2])
 
 
 def _range_centre(robot: DHRobot, params, i: int):
@@ -1450,10 +1474,14 @@ def _spin_condition(robot: DHRobot, params, wrist: tuple, rotation: sp.Matrix, s
     s1 = sp.diff(theta_1, q1)
     if s1.free_symbols or abs(s1) != 1:
         return None
-    Y = (s_p * e_c * (z.T * e_n)[0]).subs(q1, s1 * (turn - theta_1.subs(q1, 0)))
     X = s_r * sign * (axis[2, 0] * sp.cos(mu_r) + axis[2, 1] * sp.sin(mu_r))
     V2 = 1 - (sign * z[2]) ** 2
-    return SpinCondition(turn, X, Y, V2, None if roll_full else sp.cos(h_r) ** 2, sp.cos(h_n) ** 2)
+    linear = _turned_linear(robot, z.subs(q1, -theta_1.subs(q1, 0) / s1), s_p * e_c * e_n, turn)
+    if linear is None:
+        Y = (s_p * e_c * (z.T * e_n)[0]).subs(q1, s1 * (turn - theta_1.subs(q1, 0)))
+    else:
+        Y = linear[0] * sp.cos(turn) + linear[1] * sp.sin(turn) + linear[2]
+    return SpinCondition(turn, X, Y, V2, None if roll_full else sp.cos(h_r) ** 2, sp.cos(h_n) ** 2, linear=linear)
 
 
 def wrist_centre(robot: DHRobot, parameters: tuple, constraint: PoseConstraint) -> WristCentre | None:
@@ -1793,9 +1821,14 @@ def offset_flange(robot: DHRobot, parameters: tuple, constraint: PoseConstraint)
         tool = sp.eye(4) if robot.tool is None else sp.Matrix(robot.tool)
         x_r = sp.Matrix(constraint.matrix) * tool[:3, :3].T * sp.Matrix([1, 0, 0])
         turn = sp.Symbol("theta_turn")
-        world = sp.Matrix([sp.sympify(e) for e in F[:3, 2]]).subs(q1, s1 * (turn - theta_1.subs(q1, 0)))
         dv = sp.Matrix([0, 0, sign])
-        Y = s_n * ((world.T * x_r)[0] * sp.cos(mu_n) - (world.cross(dv).T * x_r)[0] * sp.sin(mu_n))
+        # (z x d) . x_r = z . (d x x_r): Y = s_n z . (x_r cos(mu_n) - (d x x_r) sin(mu_n)), z the world roll axis
+        linear = _turned_linear(robot, z, s_n * (x_r * sp.cos(mu_n) - dv.cross(x_r) * sp.sin(mu_n)), turn)
+        if linear is None:
+            world = sp.Matrix([sp.sympify(e) for e in F[:3, 2]]).subs(q1, s1 * (turn - theta_1.subs(q1, 0)))
+            Y = s_n * ((world.T * x_r)[0] * sp.cos(mu_n) - (world.cross(dv).T * x_r)[0] * sp.sin(mu_n))
+        else:
+            Y = linear[0] * sp.cos(turn) + linear[1] * sp.sin(turn) + linear[2]
     base = [w[0], w[1], w[2] + length * sign]
     unit = [z[0] / V, z[1] / V]
     cos_p = numpy_constant(sp.cos(h_p))[1]
@@ -1821,7 +1854,7 @@ def offset_flange(robot: DHRobot, parameters: tuple, constraint: PoseConstraint)
             sides.append((-sigma * X - sp.cos(h_r) * V, 0.0))
         if oriented:
             condition = SpinCondition(turn, X, Y, V2, None if roll_full else sp.cos(h_r) ** 2, sp.cos(h_n) ** 2,
-                                      root=sigma)
+                                      root=sigma, linear=linear)
         # an exact approach: the conditions are free of the first joint's turn, each proof holds on its arc
         roots.append((sigma, constrained_turn(turned_root, sides, condition, prune=True, arcs=not oriented,
                                               slack=None if slack is None else slack[:len(sides)])))

@@ -52,9 +52,9 @@ import numpy as np
 import sympy as sp
 
 from ..interval import arith
-from ..interval.compiler import CompiledExpr, compile_expr
+from ..interval.compiler import CompiledExpr, compile_batch, compile_expr
 from ..interval.graph import numpy_constant
-from ..interval.image import CellGrid, ImageMap
+from ..interval.image import CellGrid, ImageMap, batch_enclosures
 from ..interval.search import split_every_axis
 from ..interval.store import ExactSum
 from ..interval.verdict import INSIDE as INNER
@@ -1140,10 +1140,22 @@ class SpinSectors:
             self._spin = compile_expr(condition.spin * condition.V2 - condition.Y ** 2, (condition.turn,) + variables)
             if condition.roll is not None:
                 self._roll = compile_expr(condition.roll * condition.V2 - condition.X ** 2, variables)
+        self._linear = None
+        if condition is not None and getattr(condition, "linear", None) is not None:
+            # Y = A cos(t) + B sin(t) + C: A, B, C and V^2 enclosed once per box, Y per sector from them
+            self._linear = compile_batch(list(condition.linear) + [condition.V2], variables)
+            self._cos2 = numpy_constant(condition.spin)
         a, b = inner_range
         edges = np.linspace(a, b, count + 1)
         edges[0], edges[-1] = a, b
         self.edges = edges
+        # each sector's cosine and sine, and at its middle, with the offsets from the middle (outward)
+        lo, hi = edges[:-1], edges[1:]
+        middle = 0.5 * (lo + hi)
+        with np.errstate(all="ignore"):
+            self._trig = (arith.cos((lo, hi)), arith.sin((lo, hi)), arith.cos((middle, middle)),
+                          arith.sin((middle, middle)), (arith.sub((lo, lo), (middle, middle))[0],
+                                                        arith.sub((hi, hi), (middle, middle))[1]))
         # For each direction and bin of the circle: whether the bin lies in the direction's arc, and the first
         # and last sectors that may meet it (margins outward), read by covered().
         width = 2 * math.pi / bins
@@ -1155,6 +1167,10 @@ class SpinSectors:
             scale = count / (b - a)
             self._first.append(np.clip(np.floor((rel - self.MARGIN) * scale), 0, count - 1).astype(int))
             self._last.append(np.clip(np.floor((rel + width + self.MARGIN) * scale), 0, count - 1).astype(int))
+        # the bits a bin needs at each direction (its first and last sectors), read as one word
+        one = np.uint64(1)
+        self._need = [(one << first.astype(np.uint64)) | (one << last.astype(np.uint64))
+                      for first, last in zip(self._first, self._last)]
 
     def masks(self, U: np.ndarray) -> np.ndarray:
         """The sectors at which one solution is proved within the limits over each joint box.
@@ -1184,14 +1200,33 @@ class SpinSectors:
             else:
                 roll = np.broadcast_to(self._roll(Q)[0], (N,)) >= 0
                 plus_roll, minus_roll = (x[1] <= 0) | roll, (x[0] >= 0) | roll
+            linear = None if self._linear is None else batch_enclosures(self._linear, U, U.shape[1], 4)
             for i in range(self.count):
-                T = [(np.full(N, self.edges[i]), np.full(N, self.edges[i + 1]))] + Q
-                y = tuple(np.broadcast_to(v, (N,)) for v in self._Y(T))
-                spin = np.broadcast_to(self._spin(T)[0], (N,)) >= 0
+                if linear is None:
+                    T = [(np.full(N, self.edges[i]), np.full(N, self.edges[i + 1]))] + Q
+                    y = tuple(np.broadcast_to(v, (N,)) for v in self._Y(T))
+                    spin = np.broadcast_to(self._spin(T)[0], (N,)) >= 0
+                else:
+                    y, spin = self._linear_sector(linear, i)
                 plus, minus = plus_roll & ((y[1] <= 0) | spin), minus_roll & ((y[0] >= 0) | spin)
                 ok = plus if self.root > 0 else minus if self.root < 0 else plus | minus
                 out[ok] |= np.uint64(1 << i)
         return out
+
+    def _linear_sector(self, linear: np.ndarray, i: int):
+        """``(y, spin)`` over sector ``i`` from the enclosures ``(N, 4, 2)`` of ``A, B, C, V^2``: ``Y = A cos(t) + B
+        sin(t) + C`` enclosed as the intersection of its natural form and its mean-value form about the sector's
+        middle ``m`` (``Y(m) + (B cos(t) - A sin(t)) (t - m)``), and whether ``cos(h_n)^2 V^2 - Y^2 >= 0`` is proved
+        (every bound outward-rounded)."""
+        A, B, C, V2 = ((linear[:, j, 0], linear[:, j, 1]) for j in range(4))
+        cos_s, sin_s, cos_m, sin_m, offset = (tuple(np.full(len(linear), v[i]) for v in pair) for pair in self._trig)
+        natural = arith.add(arith.add(arith.mul(A, cos_s), arith.mul(B, sin_s)), C)
+        slope = arith.sub(arith.mul(B, cos_s), arith.mul(A, sin_s))
+        middle = arith.add(arith.add(arith.mul(A, cos_m), arith.mul(B, sin_m)), C)
+        mean = arith.add(middle, arith.mul(slope, offset))
+        y = (np.maximum(natural[0], mean[0]), np.minimum(natural[1], mean[1]))
+        spin = arith.sub(arith.mul(V2, self._cos2), arith.sqr(y))[0] >= 0
+        return y, spin
 
     def bins_covered(self, masks: np.ndarray, chunk: int = 20_000) -> np.ndarray:
         """How many of the ``bins`` equal arcs of the circle the sectors passing at the directions cover
@@ -1230,11 +1265,12 @@ class SpinSectors:
         numpy.ndarray
             ``(N, bins)`` booleans.
         """
-        bits = np.uint64(1) << np.arange(self.count, dtype=np.uint64)
         bins = np.zeros((masks.shape[1], self.bins), dtype=bool)
         for k in range(self.directions):
-            passing = (masks[k][:, None] & bits[None, :]) != 0
-            bins |= passing[:, self._first[k]] & passing[:, self._last[k]] & self._inside[k][None, :]
+            rows = np.nonzero(masks[k])[0]          # the pieces proved at this direction
+            if len(rows):
+                need = self._need[k][None, :]
+                bins[rows] |= ((masks[k][rows, None] & need) == need) & self._inside[k][None, :]
         return bins
 
 
