@@ -876,7 +876,8 @@ class FlangePlan(PoseSectionPlan):
         width = min(budgeted_width(limited, tuning) for limited in maps)
         # a constant orientation proves 4 M directions (turn.SPIN_TURNS), an exact approach the four axis ones
         turns = len(direction_maps(roots[0].plan.section.lateral)) // DIRECTIONS
-        finer, tuning, ends = timed_sections(budget, tuning, len(maps), CENTRE_SECONDS * turns)
+        shared = dataclasses.replace(tuning, pose_section_share=tuning.flange_section_share)
+        finer, tuning, ends = timed_sections(budget, shared, len(maps), CENTRE_SECONDS * turns)
         width /= finer
         # Each solution's section needs its blocks (the outer cells are those outer in both), but its directions
         # only where its conditions hold: their share of the time follows the share of sampled configurations

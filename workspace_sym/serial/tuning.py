@@ -63,14 +63,20 @@ class Tuning:
     flange_directions : float
         An offset flange's sections (:class:`~workspace_sym.serial.plans.FlangePlan`): the share of a
         solution's time its directions take when its conditions hold the most often (less in proportion to
-        how often they hold), the blocks the rest until ``blocks_end``.
+        how often they hold), the blocks the rest until ``blocks_end`` (0.5 since the sectors were read from the
+        spin's linear form: 30.6 % against 31.5 % with 0.6 and 32.7 % with 0.4, BENCHMARKS.md, session 31).
     flange_pairs : int
         The ``section_pairs`` of an offset flange's blocks: its joint boxes' enclosures are wider (the unit
         vector of the offset), and four times the default's pairs narrowed the Panda's upper bound from 2.52 to
-        2.30 m³ in the same time (BENCHMARKS.md, session 30).
+        2.30 m³ in the same time (BENCHMARKS.md, session 30); eight times gave 27.4 % beside another run and
+        32.1 % alone against this default's 30.6 % (session 31): not kept.
     cone_directions : float
         A cone on an offset flange: the share of its own map's time (the tool point's section, whose blocks give
-        the outer proofs) its directions take; the wrist's solutions at the exact approach take all of theirs.
+        the outer proofs) its directions take.
+    flange_section_share : float
+        An offset flange's sections take this share of the time left (``pose_section_share`` for the other
+        pose plans): the task boxes are read from their cells in a few seconds (the Panda's tool down: 32.0 %
+        against 34.1 % with 0.8 in 300 s, BENCHMARKS.md, session 31).
     direction_depth, timed_depth : int
         A cell failing whole is tried in ``4^level`` pieces, level up to ``direction_depth`` (``timed_depth``
         with a time limit: the deepest level takes the time the other stages leave).
@@ -135,9 +141,10 @@ class Tuning:
     section_depth: int = 6
     direction_chunk: int = 2_000
     direction_samples: int = 400_000
-    flange_directions: float = 0.6
+    flange_directions: float = 0.5
     flange_pairs: int = 240_000
     cone_directions: float = 0.1
+    flange_section_share: float = 0.95
     direction_depth: int = 2
     timed_depth: int = 3
     directions_share: float = 0.75
