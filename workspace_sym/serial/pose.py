@@ -1384,7 +1384,7 @@ class SpinCondition:
     linear: tuple | None = None
 
 
-def _turned_linear(robot: DHRobot, z0, vector, turn: sp.Symbol):
+def _turned_linear(robot: DHRobot, z0, vector):
     """``(A, B, C)`` with ``(Rz(turn) z0) . vector = A cos(turn) + B sin(turn) + C`` (``z0`` an axis in the first
     joint's frame at ``theta_1 = 0``, ``vector`` constant), when the robot's frames after the first joint are
     ``Rz(theta_1)`` times frames free of it (no base; standard DH, or modified DH with ``alpha_0 = 0``; the first
@@ -1476,7 +1476,7 @@ def _spin_condition(robot: DHRobot, params, wrist: tuple, rotation: sp.Matrix, s
         return None
     X = s_r * sign * (axis[2, 0] * sp.cos(mu_r) + axis[2, 1] * sp.sin(mu_r))
     V2 = 1 - (sign * z[2]) ** 2
-    linear = _turned_linear(robot, z.subs(q1, -theta_1.subs(q1, 0) / s1), s_p * e_c * e_n, turn)
+    linear = _turned_linear(robot, z.subs(q1, -theta_1.subs(q1, 0) / s1), s_p * e_c * e_n)
     if linear is None:
         Y = (s_p * e_c * (z.T * e_n)[0]).subs(q1, s1 * (turn - theta_1.subs(q1, 0)))
     else:
@@ -1823,7 +1823,7 @@ def offset_flange(robot: DHRobot, parameters: tuple, constraint: PoseConstraint)
         turn = sp.Symbol("theta_turn")
         dv = sp.Matrix([0, 0, sign])
         # (z x d) . x_r = z . (d x x_r): Y = s_n z . (x_r cos(mu_n) - (d x x_r) sin(mu_n)), z the world roll axis
-        linear = _turned_linear(robot, z, s_n * (x_r * sp.cos(mu_n) - dv.cross(x_r) * sp.sin(mu_n)), turn)
+        linear = _turned_linear(robot, z, s_n * (x_r * sp.cos(mu_n) - dv.cross(x_r) * sp.sin(mu_n)))
         if linear is None:
             world = sp.Matrix([sp.sympify(e) for e in F[:3, 2]]).subs(q1, s1 * (turn - theta_1.subs(q1, 0)))
             Y = s_n * ((world.T * x_r)[0] * sp.cos(mu_n) - (world.cross(dv).T * x_r)[0] * sp.sin(mu_n))
