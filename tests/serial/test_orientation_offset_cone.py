@@ -263,3 +263,41 @@ def test_the_widening_of_the_offsets_direction_holds_on_random_axes_and_approach
     assert ok.sum() > n // 10
     assert (np.abs(u_a - u_d)[ok, :2].max(axis=1) <= bound[ok] * (1 + 1e-9) + 1e-12).all()
     assert (np.abs(u_a[:, 2]) <= 2 * np.sin(c / 2) + 1e-12).all()
+
+
+@settings(max_examples=15, deadline=None)
+@given(st.integers(0, 2 ** 32 - 1))
+def test_the_widened_enclosures_hold_the_formula_at_exact_points(panda, cone, seed):
+    """Exact-rational property for the cone's outer proofs (FlangeMap.enclose_outer): over 10 random joint boxes of
+    joints 2-4 (1e-4 to 0.3 rad), at 3 rational points of each and approaches of rational tilt (a third exactly on
+    the rim, 20 deg) and azimuth, the tool point ``w + L a - sigma e u_a`` of each solution, evaluated at 50 digits
+    from the robot's own roll frame (``L`` = 0.107 + 0.103 m and ``e`` = 0.088 m of the table), lies in that
+    solution's widened enclosure."""
+    import mpmath
+
+    frame = sp.lambdify([list(panda.q)], list(panda.substitute(panda.fk(5))[:3, 2:4]), modules="mpmath")
+    rng = np.random.default_rng(seed)
+    with mpmath.workdps(50):
+        L, e, c = mpmath.mpf("0.107") + mpmath.mpf("0.103"), mpmath.mpf("0.088"), mpmath.radians(CONE)
+        for sigma, limited in cone.roots:
+            lateral = limited.plan.section.lateral
+            lo, hi = lateral.inner_limits[:, 0], lateral.inner_limits[:, 1]
+            centres = rng.uniform(lo, hi, size=(10, 3))
+            size = rng.uniform(1e-4, 0.3, size=(10, 1))
+            boxes = np.stack([np.maximum(centres - size, lo), np.minimum(centres + size, hi)], axis=2)
+            E = lateral.enclose_outer(boxes)
+            for b in range(len(boxes)):
+                for i in range(3):
+                    q = [mpmath.mpf(0)] + [mpmath.mpf(float(rng.uniform(boxes[b, j, 0], boxes[b, j, 1])))
+                                           for j in range(3)] + [mpmath.mpf(0)] * 3
+                    values = frame(q)
+                    z, w = values[0::2], values[1::2]          # the rows of (z | o), flattened
+                    tilt = c if i == 0 else c * mpmath.mpf(float(rng.uniform(0, 1)))
+                    azimuth = mpmath.mpf(float(rng.uniform(-np.pi, np.pi)))
+                    a = [mpmath.sin(tilt) * mpmath.cos(azimuth), mpmath.sin(tilt) * mpmath.sin(azimuth),
+                         -mpmath.cos(tilt)]
+                    za = sum(x * y for x, y in zip(z, a))
+                    h = [x - za * y for x, y in zip(z, a)]
+                    norm = mpmath.sqrt(sum(x * x for x in h))
+                    p = [w[k] + L * a[k] - sigma * e * h[k] / norm for k in range(3)]
+                    assert all(E[b, k, 0] <= p[k] <= E[b, k, 1] for k in range(3)), (sigma, b, p, E[b])
