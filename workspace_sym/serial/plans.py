@@ -46,6 +46,7 @@ from .pose import (
     section_volume_bracket,
     squared_volume_bracket,
 )
+from .ring import ring_outer_cells
 from .section import Turned, TurnedTest, section_bar, section_paving, turned_volume
 from .stored import reach_problem, save_section, saved_section
 from .structure import Product, Revolved, structure_of
@@ -905,6 +906,12 @@ class FlangePlan(PoseSectionPlan):
             # tool point's section pruned where the approach leaves the cone (two proofs, either will do)
             outer = np.logical_and.reduce([classes == OUTSIDE for _, classes, _, _ in parts[:-1]])
             outer |= parts[-1][1] == OUTSIDE
+        elif len(parts) == len(maps):
+            outer = np.logical_and.reduce([classes == OUTSIDE for _, classes, _, _ in parts])
+        if flange.ring is not None:
+            # a third proof: the wrist's ring cannot come near enough to the shoulder (closed form, every cell)
+            ring = ring_outer_cells(grid.edges, flange.ring, flange.sign, flange.cone)
+            outer = ring if outer is None else outer | ring
         codes, volume = roots_volume(parts, grid, outer=outer)
         rho, z = grid.box
         root = np.array([[-rho[1], rho[1]], [-rho[1], rho[1]], [z[0], z[1]]])

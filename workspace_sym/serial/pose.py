@@ -120,6 +120,7 @@ from ..transforms import rot_x, rot_y, rot_z, translation
 from .angles import ANGLE_PAD
 from .model import TASK, joint_range, reach_model
 from .pairs import caps, pave_pairs, prove_in_pieces, split_pairs
+from .ring import WristRing, wrist_ring
 from .section import RadialMap, SquareMap, Turned, section_bar, squared_enclosures, to_first_frame, turned
 from .structure import Revolved, revolved, structure_of
 from .tuning import DEFAULT, Tuning
@@ -1706,11 +1707,20 @@ class OffsetFlange:
         (:func:`~workspace_sym.serial.turn.constrained_turn`).
     sign : int
         ``d = (0, 0, sign)``.
+    outer : LimitedTurn, optional
+        A cone's: the tool point's own section, pruned where the approach leaves the cone.
+    cone : float
+        The cone's half-angle, radians (0: an exact approach or a constant orientation).
+    ring : WristRing, optional
+        The arm's :class:`~workspace_sym.serial.ring.WristRing`: its outer proofs of the section's cells
+        (:func:`~workspace_sym.serial.ring.ring_outer_cells`).
     """
 
     roots: tuple
     sign: int
     outer: LimitedTurn | None = None
+    cone: float = 0.0
+    ring: WristRing | None = None
 
 
 def _offset_rows(robot: DHRobot, params):
@@ -1870,7 +1880,7 @@ def offset_flange(robot: DHRobot, parameters: tuple, constraint: PoseConstraint)
         if not a_z.free_symbols <= set(whole.plan.section.lateral.variables):
             return None
         outer = constrained_turn(whole, [(a_z, numpy_constant(sp.cos(cone))[1])], prune=True, arcs=True)
-    return OffsetFlange(tuple(roots), sign, outer)
+    return OffsetFlange(tuple(roots), sign, outer, float(cone), wrist_ring(robot, parameters))
 
 
 @dataclass(frozen=True)

@@ -661,8 +661,9 @@ class ReachMap:
             ``robot``, ``units``, ``delta``, ``cone``, ``directions``, ``covering_angle``, ``grid`` (``origin``,
             ``shape``), ``pairs``, ``reachable``, ``unreachable``, ``undecided``, ``decided_fraction``,
             ``decided_fraction_in_box``, ``outside_proved``, ``seconds``, ``method``, ``reach_delta``,
-            ``complete``; with ``method="section"``, ``wrist_offset`` (``L``, None without the stage) and
-            ``wrist_pairs`` (the pairs it proved unreachable).
+            ``complete``; with ``method="section"``, ``wrist_offset`` (``L``, None without the stage),
+            ``wrist_pairs`` (the pairs it proved unreachable) and ``ring_pairs`` (those the wrist's ring proved
+            unreachable besides).
         """
         c = self.codes
         inbox = c[self.bounding_mask()] if "root" in self.info else c
@@ -676,7 +677,7 @@ class ReachMap:
                 "outside_proved": bool(self.outside_proved), "seconds": self.info.get("seconds"),
                 "method": self.method, "reach_delta": self.info.get("reach_delta"),
                 "complete": self.info.get("complete"),
-                **{key: self.info[key] for key in ("wrist_offset", "wrist_pairs") if key in self.info}}
+                **{key: self.info[key] for key in ("wrist_offset", "wrist_pairs", "ring_pairs") if key in self.info}}
 
     def slice(self, axis: str = "z", value: float = 0.0, direction: int | None = None) -> np.ndarray:
         """The grid's layer of cells holding ``axis = value``: a direction's codes, or the lower capability bound.
@@ -1066,6 +1067,7 @@ def _section_map(robot, values, d, cone, delta, reach_delta, named, angle, stop,
         wrist_robot,
         wrist_unreachable,
     )
+    from .ring import ring_unreachable, wrist_ring
 
     for name in ("executor", "resume"):
         if getattr(run, name) is not None:
@@ -1112,6 +1114,11 @@ def _section_map(robot, values, d, cone, delta, reach_delta, named, angle, stop,
             w_out = free_cells(w_edges, _kept(wrist))
             by_wrist = wrist_unreachable(edges, ~inner & ~unreachable, d, cone, offset, w_out, w_edges)
             unreachable |= by_wrist
+        ring = wrist_ring(robot, values)
+        by_ring = np.zeros_like(unreachable)
+        if ring is not None:
+            by_ring = ring_unreachable(edges, ~inner & ~unreachable, d, cone, ring)
+            unreachable |= by_ring
         bar.update(1)
     codes = codes_from_masks(inner.ravel(), unreachable.ravel()).reshape(inner.shape)
     complete = (bool(position.complete) and (wrist is None or bool(wrist.complete))
@@ -1123,6 +1130,7 @@ def _section_map(robot, values, d, cone, delta, reach_delta, named, angle, stop,
             "complete": complete, "section": options, "proved_axis": prover.axis,
             "wrist_offset": None if offset is None else float(offset),
             "wrist_pairs": int(by_wrist.sum()),
+            "ring_pairs": int(by_ring.sum()),
             "wrist_complete": None if wrist is None else bool(wrist.complete)}
     inside = bool(all(edges[a][0] <= root[a, 0] and root[a, 1] <= edges[a][-1] for a in range(3)))
     return ReachMap(directions=d, cone=cone, delta=delta, origin=origin, shape=shape, codes=codes,
