@@ -72,7 +72,9 @@ class Tuning:
         32.1 % alone against this default's 30.6 % (session 31): not kept.
     cone_directions : float
         A cone on an offset flange: the share of its own map's time (the tool point's section, whose blocks give
-        the outer proofs) its directions take.
+        outer proofs and whose directions inner ones over the whole cone) its directions take.  With the wrist's
+        ring proving the outer cells, the directions take most (the Panda's cone of 20 deg in 300 s: 45.2 % at
+        0.1, 18.5 % at 0.6, 14.4 % at 0.85; BENCHMARKS.md, session 32).
     flange_section_share : float
         An offset flange's sections take this share of the time left (``pose_section_share`` for the other
         pose plans): the task boxes are read from their cells in a few seconds (the Panda's tool down: 32.0 %
@@ -143,7 +145,7 @@ class Tuning:
     direction_samples: int = 400_000
     flange_directions: float = 0.5
     flange_pairs: int = 240_000
-    cone_directions: float = 0.1
+    cone_directions: float = 0.85
     flange_section_share: float = 0.95
     direction_depth: int = 2
     timed_depth: int = 3
