@@ -89,7 +89,9 @@ def test_the_panda_tool_down_goes_through_the_wrists_two_solutions(panda, flange
 def test_each_roots_map_is_the_tool_point_of_the_configurations_of_that_root(flange, oriented):
     """Second method for the map: the tool points of tool-down configurations (the robot's own forward kinematics)
     are those of the map of their root, read from the pitch (``sin(theta_6) = -sigma |z x d|`` for the Panda's
-    twists), to 1e-9; both roots occur."""
+    twists), to 1e-9; both roots occur.  The structure carries the wrist's ring for its outer cells (its own
+    tests: tests/serial/test_reach_map_ring.py)."""
+    assert flange.ring is not None and flange.cone == 0 and flange.sign == -1
     q, points = oriented
     maps = dict(flange.roots)
     sigma = -np.sign(np.sin(q[:, 5]))

@@ -121,7 +121,16 @@ from .angles import ANGLE_PAD
 from .model import TASK, joint_range, reach_model
 from .pairs import caps, pave_pairs, prove_in_pieces, split_pairs
 from .ring import WristRing, wrist_ring
-from .section import RadialMap, SquareMap, Turned, section_bar, squared_enclosures, to_first_frame, turned
+from .section import (
+    RadialMap,
+    SquareMap,
+    Turned,
+    first_frame,
+    section_bar,
+    squared_enclosures,
+    to_first_frame,
+    turned,
+)
 from .structure import Revolved, revolved, structure_of
 from .tuning import DEFAULT, Tuning
 from .turn import LimitedTurn, constrained_turn, limited_turn
@@ -1880,7 +1889,9 @@ def offset_flange(robot: DHRobot, parameters: tuple, constraint: PoseConstraint)
         if not a_z.free_symbols <= set(whole.plan.section.lateral.variables):
             return None
         outer = constrained_turn(whole, [(a_z, numpy_constant(sp.cos(cone))[1])], prune=True, arcs=True)
-    return OffsetFlange(tuple(roots), sign, outer, float(cone), wrist_ring(robot, parameters))
+    # the ring's cells are read about the first joint's axis: its frame must not be turned from the world's
+    upright = first_frame(robot, dict(parameters) or None)[:3, :3] == sp.eye(3)
+    return OffsetFlange(tuple(roots), sign, outer, float(cone), wrist_ring(robot, parameters) if upright else None)
 
 
 @dataclass(frozen=True)
