@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import functools
 import itertools
+import math
 from pathlib import Path
 
 import mpmath
@@ -17,7 +18,7 @@ import sympy as sp
 
 from paths import DATA
 from workspace_sym.interval.verdict import INSIDE
-from workspace_sym.kinematics import DHJoint, DHRobot
+from workspace_sym.kinematics import DHJoint, DHRobot, numeric_function
 from workspace_sym.serial import ReachModel
 from workspace_sym.serial.section import to_first_frame
 from workspace_sym.serial.structure import structure_of
@@ -570,3 +571,27 @@ def paved_roots(roots, width, tuning, boxes):
                                                 boxes=boxes)
         parts.append((limited, full, pieces, state["sectors"]))
     return grid, parts
+
+
+def on_cone(d, cone_deg, t_frac, phi):
+    """The unit vector at angle ``t_frac * cone_deg`` degrees from ``d``, turned by ``phi`` about it (floats)."""
+    d = np.asarray(d, dtype=float) / np.linalg.norm(d)
+    u = np.cross(d, [0.3, -0.7, 0.2])
+    if np.linalg.norm(u) < 1e-6:
+        u = np.cross(d, [1.0, 0.0, 0.0])
+    u /= np.linalg.norm(u)
+    v = np.cross(d, u)
+    t = math.radians(cone_deg) * t_frac
+    return math.cos(t) * d + math.sin(t) * (math.cos(phi) * u + math.sin(phi) * v)
+
+
+def sampled_pairs(robot, edges, directions, cone, q):
+    """The reach-map pairs (cell index, direction) that the configurations ``q`` reach, their approach at least
+    1e-9 inside the cone (a sample on the rim in floats may be outside it exactly)."""
+    T = numeric_function(robot.fk(), robot.q)(q)
+    p, a = T[:, :3, 3], T[:, :3, 2]
+    index = np.stack([np.searchsorted(e, p[:, k], side="right") - 1 for k, e in enumerate(edges)], 1)
+    inside = ((index >= 0) & (index < np.array([len(e) - 1 for e in edges]))).all(axis=1)
+    hits = (a @ directions.T) >= math.cos(math.radians(cone)) + 1e-9
+    rows, ks = np.nonzero(hits & inside[:, None])
+    return index[rows], ks

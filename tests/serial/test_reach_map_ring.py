@@ -12,7 +12,7 @@ import sympy as sp
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-from reach_checks import industrial_arm
+from reach_checks import industrial_arm, on_cone, sampled_pairs
 from workspace_sym import robots
 from workspace_sym.kinematics import numeric_function
 from workspace_sym.serial.reachmap import sphere_directions
@@ -66,16 +66,6 @@ def test_sampled_configurations_lie_within_the_rings_bound_and_come_near_it():
         assert g.max() <= ring.reach and g.max() >= ring.reach - 1e-3
 
 
-def _on_cone(d, cone_deg, t_frac, phi):
-    """The unit vector at angle ``t_frac * cone`` from ``d``, turned by ``phi`` about it (floats)."""
-    d = np.asarray(d, dtype=float) / np.linalg.norm(d)
-    u = np.cross(d, [0.3, -0.7, 0.2])
-    u /= np.linalg.norm(u)
-    v = np.cross(d, u)
-    t = math.radians(cone_deg) * t_frac
-    return math.cos(t) * d + math.sin(t) * (math.cos(phi) * u + math.sin(phi) * v)
-
-
 @settings(max_examples=120, deadline=None)
 @given(st.sampled_from([0.05, 0.1, 0.3]), st.floats(-1, 1), st.sampled_from([0.0, 0.0823, 0.21, -0.3]),
        st.sampled_from([0.0, 0.088, 0.3]), st.sampled_from([1.0, 30.0, 90.0, 180.0]),
@@ -90,7 +80,7 @@ def test_a_tool_point_whose_ring_reaches_the_bound_is_never_claimed(h, shift, L,
     # configuration may sit there, so the pair (any closed cell holding p, k) must not be claimed unreachable.
     edges = tuple(shift + np.arange(10) * h for _ in range(3))
     directions = sphere_directions(26)
-    a = _on_cone(directions[k], cone, t_frac, phi)
+    a = on_cone(directions[k], cone, t_frac, phi)
     p = np.array([edges[i][at[i]] + (h / 2 if face[i] else 0.0) for i in range(3)])
     centre = np.array([[0.1, 0.1], [-0.05, -0.05], [shift, shift]])
     probe = WristRing((L, L), (rho, rho), centre, (shift, shift), 0.0)
@@ -100,18 +90,6 @@ def test_a_tool_point_whose_ring_reaches_the_bound_is_never_claimed(h, shift, L,
     cells = [[j for j in (at[i] - 1, at[i]) if 0 <= j < 9 and edges[i][j] <= p[i] <= edges[i][j + 1]]
              for i in range(3)]
     assert not any(proved[i, j, m, 0] for i in cells[0] for j in cells[1] for m in cells[2])
-
-
-def _sampled_pairs(robot, edges, directions, cone, q):
-    """The pairs (cell index, direction) that the configurations ``q`` reach, their approach at least 1e-9 inside
-    the cone."""
-    T = numeric_function(robot.fk(), robot.q)(q)
-    p, a = T[:, :3, 3], T[:, :3, 2]
-    index = np.stack([np.searchsorted(e, p[:, k], side="right") - 1 for k, e in enumerate(edges)], 1)
-    inside = ((index >= 0) & (index < np.array([len(e) - 1 for e in edges]))).all(axis=1)
-    hits = (a @ directions.T) >= math.cos(math.radians(cone)) + 1e-9
-    rows, ks = np.nonzero(hits & inside[:, None])
-    return index[rows], ks
 
 
 def test_sampled_configurations_never_fall_in_a_ring_proved_pair():
@@ -137,7 +115,7 @@ def test_sampled_configurations_never_fall_in_a_ring_proved_pair():
         q = np.random.default_rng(5).uniform(lim[:, 0], lim[:, 1], size=(300_000, robot.n))
         q[:150_000, elbow] = np.clip(stretched + np.random.default_rng(6).uniform(-0.1, 0.1, 150_000),
                                      lim[elbow, 0], lim[elbow, 1])
-        index, ks = _sampled_pairs(robot, edges, directions, 30.0, q)
+        index, ks = sampled_pairs(robot, edges, directions, 30.0, q)
         assert len(ks) > 300_000
         assert not proved[index[:, 0], index[:, 1], index[:, 2], ks].any()
 
@@ -182,7 +160,7 @@ def test_a_section_point_whose_ring_reaches_the_bound_is_never_claimed_outer(h, 
     edges = (np.arange(9) * h - h, s_z - 4 * h + np.arange(9) * h)          # rho from -h (a padded grid), z about S
     point = (max(edges[0][i] + (h / 2 if face[0] else 0.0), 0.0), edges[1][j] + (h / 2 if face[1] else 0.0))
     p = np.array([point[0] * math.cos(psi), point[0] * math.sin(psi), point[1]])
-    a = _on_cone((0.0, 0.0, sign), math.degrees(cone), t_frac, phi) if cone else np.array([0.0, 0.0, sign])
+    a = on_cone((0.0, 0.0, sign), math.degrees(cone), t_frac, phi) if cone else np.array([0.0, 0.0, sign])
     centre = np.array([[0.0, 0.0], [0.0, 0.0], [s_z, s_z]])
     probe = WristRing((L, L), (rho, rho), centre, (s_z, s_z), 0.0)
     g = float(_ring_distance(probe, p, a)) * (1 + 1e-12) + slack

@@ -15,7 +15,7 @@ import sympy as sp
 from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 
-from reach_checks import in_any_box, industrial_arm
+from reach_checks import in_any_box, industrial_arm, on_cone, sampled_pairs
 from workspace_sym import reach, robots
 from workspace_sym.interval.driver import RunOn
 from workspace_sym.kinematics import DHJoint, DHRobot, numeric_function
@@ -60,18 +60,6 @@ def test_the_wrist_offset_is_the_table_s_and_frees_w_of_the_last_joint():
         assert np.allclose(w, T[:, :3, 3] - float(L) * T[:, :3, 2], atol=1e-12)
 
 
-def _on_cone(d, cone_deg, t_frac, phi):
-    """The unit vector at angle ``t_frac * cone`` from ``d``, turned by ``phi`` about it (floats)."""
-    d = np.asarray(d, dtype=float) / np.linalg.norm(d)
-    u = np.cross(d, [0.3, -0.7, 0.2])
-    if np.linalg.norm(u) < 1e-6:
-        u = np.cross(d, [1.0, 0.0, 0.0])
-    u /= np.linalg.norm(u)
-    v = np.cross(d, u)
-    t = math.radians(cone_deg) * t_frac
-    return math.cos(t) * d + math.sin(t) * (math.cos(phi) * u + math.sin(phi) * v)
-
-
 @settings(max_examples=300, deadline=None)
 @given(st.one_of(st.sampled_from([(0, 0, 1), (0, 0, -1), (1, 0, 0), (1, 1, 1), (1e-9, 0, -1), (1, 1e-12, 0)]),
                  st.tuples(*[st.floats(-1, 1)] * 3).filter(lambda v: np.linalg.norm(v) > 1e-3)),
@@ -83,22 +71,10 @@ def _on_cone(d, cone_deg, t_frac, phi):
 def test_the_cap_patches_hold_every_vector_of_the_cone(d, cone, t_frac, phi):
     # Reference: vectors built on the cone, its rim and its axis included, in another frame than the patches'
     # (cross products with another vector), so that no shared arithmetic hides an error.
-    a = _on_cone(d, cone, t_frac, phi)
+    a = on_cone(d, cone, t_frac, phi)
     boxes = cap_patches(np.array([d], dtype=float), cone)[0]
     inside = ((boxes[:, :, 0] <= a) & (a <= boxes[:, :, 1])).all(axis=1)
     assert inside.any(), (d, cone, t_frac, phi, a)
-
-
-def _sampled_pairs(robot, made_edges, directions, cone, q):
-    """The pairs (cell index, direction) that the configurations ``q`` reach, their approach at least 1e-9 inside
-    the cone (a sample on the rim in floats may be outside it exactly)."""
-    T = numeric_function(robot.fk(), robot.q)(q)
-    p, a = T[:, :3, 3], T[:, :3, 2]
-    index = np.stack([np.searchsorted(e, p[:, k], side="right") - 1 for k, e in enumerate(made_edges)], 1)
-    inside = ((index >= 0) & (index < np.array([len(e) - 1 for e in made_edges]))).all(axis=1)
-    hits = (a @ directions.T) >= math.cos(math.radians(cone)) + 1e-9
-    rows, ks = np.nonzero(hits & inside[:, None])
-    return index[rows], ks
 
 
 def test_sampled_configurations_never_fall_in_a_wrist_proved_pair_of_the_ur5():
@@ -120,7 +96,7 @@ def test_sampled_configurations_never_fall_in_a_wrist_proved_pair_of_the_ur5():
     rng = np.random.default_rng(11)
     q = rng.uniform(-math.pi, math.pi, size=(240_000, 6))
     q[:80_000, 2] = rng.uniform(-0.1, 0.1, size=80_000)
-    index, ks = _sampled_pairs(ur5, edges, directions, 30.0, q)
+    index, ks = sampled_pairs(ur5, edges, directions, 30.0, q)
     assert len(ks) > 400_000
     assert not proved[index[:, 0], index[:, 1], index[:, 2], ks].any()
     # the premise itself: every sampled wrist point lies in a kept box of its paving (widened by 1e-9)
@@ -145,7 +121,7 @@ def test_a_section_map_proves_pairs_unreachable_for_some_directions_and_samples_
     again = ReachMap.load(saved)
     assert again.summary()["wrist_pairs"] == made.info["wrist_pairs"] and np.array_equal(again.codes, codes)
     q = np.random.default_rng(2).uniform(-math.pi, math.pi, size=(400_000, 4))
-    index, ks = _sampled_pairs(toy, made.edges, made.directions, made.cone, q)
+    index, ks = sampled_pairs(toy, made.edges, made.directions, made.cone, q)
     assert len(ks) > 300_000
     assert not (codes[index[:, 0], index[:, 1], index[:, 2], ks] == -1).any()
 
@@ -178,7 +154,7 @@ def test_a_tool_point_whose_wrist_point_lies_in_a_kept_box_is_never_claimed(h, s
     # (any closed cell holding p, k) must not be claimed unreachable.
     edges = tuple(shift + np.arange(10) * h for _ in range(3))
     directions = sphere_directions(26)
-    a = _on_cone(directions[k], cone, t_frac, phi)
+    a = on_cone(directions[k], cone, t_frac, phi)
     p = np.array([edges[i][at[i]] + (h / 2 if face[i] else 0.0) for i in range(3)])
     w = p - L * a
     kept = np.array([[[w[i] - r, w[i] + r] for i in range(3)]])
@@ -254,7 +230,7 @@ def test_wrist_claims_hold_in_exact_rationals_at_cell_corners_and_the_cone_s_rim
         d = [Fraction(float(x)) for x in directions[k]]
         norm2 = sum(x * x for x in d)
         for t_frac, phi in ((0.0, 0.0), (0.999, rng.uniform(0, 2 * math.pi)), (0.999, rng.uniform(0, 2 * math.pi))):
-            a = _rational_unit(_on_cone(directions[k], 30.0, t_frac, phi))
+            a = _rational_unit(on_cone(directions[k], 30.0, t_frac, phi))
             assert sum(x * x for x in a) == 1
             dot = sum(x * y for x, y in zip(a, d))
             if not (dot > 0 and dot * dot >= norm2 * cos_c * cos_c):
