@@ -25,6 +25,7 @@ from reach_checks import industrial_arm
 from workspace_sym.interval.image import CellGrid
 from workspace_sym.interval.verdict import INSIDE as INNER
 from workspace_sym.interval.verdict import OUTSIDE as OUTER
+from workspace_sym.kinematics import DHJoint, DHRobot
 from workspace_sym.serial.section import ShoulderReach, section_paving, shoulder_distance, turned_volume
 from workspace_sym.serial.structure import structure_of
 
@@ -197,6 +198,24 @@ def test_shoulder_distance_of_seven_joint_arms_keeps_the_elbow_and_wrist_only(na
     origin = frames[1 if robot.convention == "standard" else 2][:, :3, 3]
     values = sp.lambdify([variables], h, "numpy")(q[:, 3:6].T)
     assert np.max(np.abs(values - np.sum((p - origin) ** 2, axis=1))) < 1e-12
+
+
+def test_shoulder_distance_is_cached_per_robot_parameters_and_joint():
+    """A second request for the same robot, parameter values (a dict in any order) and joint is the same
+    expression, in a list of its own (the caller may change it); other values or another joint are not served
+    from that entry: exact SymPy identities against the distance derived with the values substituted."""
+    a, b = sp.symbols("a b")
+    robot = DHRobot([DHJoint.revolute(1, a=a), DHJoint.revolute(2, a=b)], parameters={a: 1, b: 1})
+    q2 = robot.q[1]
+    h, variables = shoulder_distance(robot, {a: 2, b: 3}, 0)
+    again, more = shoulder_distance(robot, {b: 3, a: 2}, 0)
+    assert again is h and more == variables and more is not variables
+    more.append(a)
+    assert shoulder_distance(robot, {a: 2, b: 3}, 0)[1] == [q2]
+    other, _ = shoulder_distance(robot, {a: 5, b: 3}, 0)
+    assert sp.expand(other - (25 + 9 + 30 * sp.cos(q2))) == 0
+    assert sp.expand(h - (4 + 9 + 12 * sp.cos(q2))) == 0
+    assert sp.expand(shoulder_distance(robot, {a: 2, b: 3}, 1)[0] - 9) == 0
 
 
 @settings(max_examples=12, deadline=None, derandomize=True)

@@ -52,6 +52,7 @@ import math
 import time
 from contextlib import contextmanager
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import cast
 
 import numpy as np
@@ -736,8 +737,11 @@ def first_joint_turn(model):
     return q1, theta, slope
 
 
+@lru_cache(maxsize=16)
 def turned(model) -> Turned | None:
-    """The structure of the module docstring in a :class:`~workspace_sym.serial.model.ReachModel`, or None.
+    """The structure of the module docstring in a :class:`~workspace_sym.serial.model.ReachModel`, or None
+    (cached per model, as :func:`~workspace_sym.serial.model.reach_model` caches the models: a pose structure
+    and the position plans of one robot share it; every user only reads it).
 
     Parameters
     ----------
@@ -816,6 +820,16 @@ def shoulder_distance(robot, parameters, joint: int):
     variables : list of sympy.Symbol
         The joints ``h`` depends on, in the robot's order.
     """
+    key = None if not parameters else tuple(sorted(dict(parameters).items(), key=lambda item: str(item[0])))
+    h, variables = _shoulder_distance(robot, key, joint)
+    return h, list(variables)
+
+
+@lru_cache(maxsize=64)
+def _shoulder_distance(robot, parameters: tuple | None, joint: int) -> tuple:
+    """:func:`shoulder_distance` with hashable parameters, cached: the turned structure, the elbow's reach and
+    an offset flange's planes ask for the same distances (the Panda's at its second joint: 2 to 3 s each)."""
+    parameters = dict(parameters) if parameters else None
     frame = joint + (robot.convention == "modified")
     joints = set(robot.q)
     s = sp.zeros(3, 1)
@@ -834,7 +848,7 @@ def shoulder_distance(robot, parameters, joint: int):
     if sp.count_ops(h) <= REACH_SIMPLIFY_OPS:
         short = sp.expand(sp.fu(h))                # products of sines and cosines to sums of angles
         h = short if sp.count_ops(short) < sp.count_ops(h) else h
-    return h, [q for q in robot.q if q in h.free_symbols]
+    return h, tuple(q for q in robot.q if q in h.free_symbols)
 
 
 def _shoulder_reach(model, B, at_zero, joint: int) -> ShoulderReach | None:
