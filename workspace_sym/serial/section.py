@@ -826,10 +826,10 @@ def shoulder_distance(robot, parameters, joint: int):
 
 
 @lru_cache(maxsize=64)
-def _shoulder_distance(robot, parameters: tuple | None, joint: int) -> tuple:
-    """:func:`shoulder_distance` with hashable parameters, cached: the turned structure, the elbow's reach and
-    an offset flange's planes ask for the same distances (the Panda's at its second joint: 2 to 3 s each)."""
-    parameters = dict(parameters) if parameters else None
+def _shoulder_distance(robot, values: tuple | None, joint: int) -> tuple:
+    """:func:`shoulder_distance` with hashable parameter values, cached: the turned structure, the elbow's reach
+    and an offset flange's planes ask for the same distances (the Panda's at its second joint: 2 to 3 s each)."""
+    parameters = dict(values) if values else None
     frame = joint + (robot.convention == "modified")
     joints = set(robot.q)
     s = sp.zeros(3, 1)
