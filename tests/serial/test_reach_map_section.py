@@ -23,6 +23,7 @@ from workspace_sym.serial import mapsection
 from workspace_sym.serial.mapsection import (
     _cell_geometry,
     _least_norm_step,
+    _turning,
     local_directions,
     section_prover,
     section_reachable,
@@ -184,6 +185,52 @@ def test_pairs_proved_by_the_second_branch_of_a_limited_first_joint_are_reached_
     only = np.argwhere(both & ~first)
     assert len(only) >= 2
     _reached_at_50_digits(robot, edges, only, directions, 2)
+
+
+def test_pairs_proved_near_the_axis_by_the_turning_bound_are_reached_at_50_digits(monkeypatch):
+    # The cell test allows b within c - gamma r of E = e(psi_c), r = sin of the direction's angle from the first
+    # axis (mapsection._turning: e(psi) turns by at most r |psi - psi_c|), where it allowed c - gamma: a vertical
+    # direction does not turn at all.  The box: 36 UR5 map cells of 0.1 beside and below the base (x in (-0.3,
+    # 0.3), y in (0, 0.3), z in (-0.3, -0.1)), whose pieces are seen from the axis under polar spreads of up to
+    # 45 deg: with the spread counted in full (_turning made 1) none of their pairs is proved, with the bound
+    # 36, all of them for +-z.  Reference: the 50-digit inverse kinematics of the whole arm at a corner and a
+    # random point of two of them, the approach within 30 deg of the direction.
+    robot = industrial_arm("ur5")
+    prover = section_prover(robot, (), 30.0)
+    edges, candidates = _cells_in(robot, ((-0.3, 0.3), (0.0, 0.3), (-0.3, -0.1)))
+    assert candidates.sum() == 36
+    directions = sphere_directions(6)
+    options = dict(cell=0.01, local=sphere_directions(16), samples=40_000)
+    bound = section_reachable(prover, edges, candidates, directions, **options)
+    monkeypatch.setattr(mapsection, "_turning", lambda D: np.ones(len(D)))
+    full = section_reachable(prover, edges, candidates, directions, **options)
+    assert not (full & ~bound).any() and not bound[~candidates].any()
+    only = np.argwhere(bound & ~full)
+    assert len(only) >= 20 and set(only[:, 3]) <= {2, 3}          # +-z: sphere_directions(6)[2:4]
+    _reached_at_50_digits(robot, edges, only, directions, 2)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.sampled_from([(0.0, 0.0, 1.0), (1.0, 0.0, 0.0), (0.6, -0.8, 0.0), (1e-9, 0.0, -1.0), (0.3, 0.2, 0.9)])
+       | st.tuples(st.floats(-1, 1), st.floats(-1, 1), st.floats(-1, 1)).filter(lambda v: max(map(abs, v)) > 1e-6),
+       st.floats(-np.pi, np.pi), st.floats(0, np.pi))
+def test_the_turning_bounds_the_angle_a_direction_turns_through_at_50_digits(d, psi, t):
+    # Reference: the angle between Rz(-psi) d and Rz(-psi - t) d at 50 digits (mpmath, the float d as it is; by
+    # atan2 of the cross and dot products, accurate at 0 and pi where asin of the chord is not):
+    # at most t times _turning(d), for directions on the axis, normal to it, nearly on it, and any.
+    bound = _turning(np.array([d]))[0]
+    with mpmath.workdps(50):
+        v = [mpmath.mpf(x) for x in d]
+        n = mpmath.sqrt(sum(x * x for x in v))
+
+        def e(angle):
+            c, s = mpmath.cos(angle), mpmath.sin(angle)
+            return [(c * v[0] + s * v[1]) / n, (-s * v[0] + c * v[1]) / n, v[2] / n]
+
+        a, b = e(mpmath.mpf(psi)), e(mpmath.mpf(psi) + mpmath.mpf(t))
+        cross = [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+        angle = mpmath.atan2(mpmath.sqrt(sum(x * x for x in cross)), sum(x * y for x, y in zip(a, b)))
+        assert angle <= mpmath.mpf(t) * mpmath.mpf(float(bound)) + mpmath.mpf(10) ** -40, (angle, bound)
 
 
 def test_newton_s_step_survives_a_batch_with_an_exactly_singular_system():

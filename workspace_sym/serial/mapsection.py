@@ -401,6 +401,14 @@ def _cell_geometry(X: np.ndarray, Y: np.ndarray):
     return rmin, rmax, psi, np.abs(rel).max(axis=1) + MARGIN
 
 
+def _turning(D: np.ndarray) -> np.ndarray:
+    """Per direction ``d`` (rows of ``D``), an upper bound of the angle ``e(psi) = Rz(-psi) d`` turns through per
+    radian of ``psi``: ``sin`` of ``d``'s angle from the axis, rounded up (``e(psi)`` runs on the circle of the
+    unit sphere at ``d``'s height, of radius ``r``; the angle between two of its points ``t`` apart in ``psi`` is
+    ``2 asin(r sin(t / 2)) <= r t``).  0 for the axis, 1 for a direction normal to it."""
+    return np.minimum(np.hypot(D[:, 0], D[:, 1]) / np.linalg.norm(D, axis=1) * (1 + 1e-12), 1.0)
+
+
 def section_reachable(prover: SectionProver, edges: tuple, candidates: np.ndarray, directions: np.ndarray, *,  # noqa: C901
                       cell: float, local: np.ndarray, samples: int = 1_000_000, split: int = 2, seed: int = 0,
                       deadline: float | None = None) -> np.ndarray:
@@ -464,12 +472,14 @@ def section_reachable(prover: SectionProver, edges: tuple, candidates: np.ndarra
         ok = (e[i0] <= lo) & (e[i1 + 1] >= hi)
         return i0, i1, ok
 
+    D = np.asarray(directions, dtype=float) @ prover.rotation.T        # the directions in the first joint's frame
+    turning = _turning(D)
     spans = []
     needed = np.zeros((n_rho, n_z), dtype=bool)
     for rmin, rmax, _psi, gamma, zs in pieces:
         i0, i1, rok = span(rmin, rmax, rho_edges)
         j0, j1, zok = span(zs[:, 0], zs[:, 1], z_edges)
-        usable = rok & zok & np.isfinite(gamma) & (rmin > 1e-3 * h) & (gamma < prover.cone)
+        usable = rok & zok & np.isfinite(gamma) & (rmin > 1e-3 * h) & (gamma * turning.min() + MARGIN < prover.cone)
         spans.append((i0, i1, j0, j1, usable))
         for piece in np.nonzero(usable)[0]:
             needed[i0[piece]:i1[piece] + 1, j0[piece]:j1[piece] + 1] = True
@@ -558,7 +568,6 @@ def section_reachable(prover: SectionProver, edges: tuple, candidates: np.ndarra
             grid.second(s_t[start:start + chunk], l_t[start:start + chunk])
     # the map cells: every piece, every section cell it meets, some proof serving the direction (of the local
     # directions nearest e = Rz(-psi) d, the others being too far to pass: choosing fewer only proves less)
-    D = np.asarray(directions, dtype=float) @ prover.rotation.T        # the directions in the first joint's frame
     tried = min(NEAREST, L)
     limited = prover.theta_range
     if limited is not None:
@@ -586,9 +595,12 @@ def section_reachable(prover: SectionProver, edges: tuple, candidates: np.ndarra
             if grid.b_mid.shape[1] > L:
                 near = np.concatenate([near, near + L], axis=1)
             mid, half = grid.b_mid[ss][:, near], grid.b_half[ss][:, near]                        # (S, K, n, 3)
+            # angle(b, E) <= c - spread and angle(E, e(psi)) <= spread at every psi of the piece
+            spread = gamma[n] * turning + MARGIN
+            least = np.where(spread < prover.cone, np.cos(np.minimum(prover.cone - spread, math.pi)) + MARGIN, np.inf)
             with np.errstate(invalid="ignore"):
                 value = np.einsum("sknc,kc->skn", mid, E) - np.einsum("sknc,kc->skn", half, np.abs(E))
-            passes = np.where(np.isnan(value), False, value >= math.cos(prover.cone - gamma[n]) + MARGIN)
+            passes = np.where(np.isnan(value), False, value >= least[None, :, None])
             if limited is not None:
                 phi = psi[n] - centre
                 f = np.array([math.cos(phi), math.sin(phi)])
