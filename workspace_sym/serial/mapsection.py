@@ -197,7 +197,42 @@ def _columns(f, q: np.ndarray) -> np.ndarray:
 
 def _aimed_newton(prover: SectionProver, targets, ell, q, steps: int = 10):
     """Least-squares Newton steps towards ``(t, v) = targets`` with ``b`` along ``ell`` (when the prover aims);
-    the mask of the converged rows (floats: a hint where a proof is tried, not a proof)."""
+    the mask of the converged rows (floats: a hint where a proof is tried, not a proof).
+
+    ``b . e_1 = b . e_2 = 0`` holds at ``b = -ell`` as well as at ``ell``, and an aim may not be met at all: the
+    rows left without ``b . ell > 0.99`` take damped least-squares steps towards ``b = ell``
+    (:func:`_nearest_aim`), then Newton's again; where that still misses, four steps on the position alone from
+    the nearest ``b`` found (their proof is kept too: its ``b`` serves the directions it is near)."""
+    square = prover.square
+    seeds, q = q, _aim_steps(prover, targets, ell, q, steps)
+    with np.errstate(all="ignore"):
+        tolerance = 1e-9 * (1 + np.abs(targets).max(axis=1))
+        residual = np.abs(square.position_float(q) - targets).max(axis=1)
+        if prover.aims:
+            along = np.einsum("ni,ni->n", _columns(prover.b_float, q), ell)
+            off = np.nonzero(~(residual < tolerance) | ~(along > 0.99))[0]
+            if len(off):
+                # from the seeds (b = -ell, where Newton may have gone, is a critical point of |b - ell|^2)
+                near = _nearest_aim(prover, targets[off], ell[off], seeds[off])
+                q[off] = _aim_steps(prover, targets[off], ell[off], near, steps // 2)
+                residual[off] = np.abs(square.position_float(q[off]) - targets[off]).max(axis=1)
+                along = np.einsum("ni,ni->n", _columns(prover.b_float, q[off]), ell[off])
+                missed = ~(residual[off] < tolerance[off]) | ~(along > 0.99)
+                # the aim not met (or met at -ell): the position alone from the nearest b to ell
+                still = off[missed]
+                if len(still):
+                    q[still], _ = square.newton(targets[still], near[missed], steps=4)
+                    residual[still] = np.abs(square.position_float(q[still]) - targets[still]).max(axis=1)
+        converged = np.isfinite(q).all(axis=1) & (residual < tolerance)
+        aimed = converged.copy()
+        if prover.aims:
+            aimed &= np.einsum("ni,ni->n", _columns(prover.b_float, q), ell) > 0.99
+    return q, converged, aimed
+
+
+def _aim_steps(prover: SectionProver, targets, ell, q, steps: int):
+    """Newton's least-norm steps on the position and, when the prover aims, ``b . e_1 = b . e_2 = 0`` (``e_1,
+    e_2`` normal to ``ell``)."""
     square = prover.square
     lo, hi = square.inner_limits[:, 0], square.inner_limits[:, 1]
     if prover.aims:
@@ -223,20 +258,27 @@ def _aimed_newton(prover: SectionProver, targets, ell, q, steps: int = 10):
                                 _least_norm_step(np.where(held[:, None, :], 0.0, J), f, 1e-12), step)
             q = q - step
             q = np.where(square.periodic, lo + np.remainder(q - lo, hi - lo), np.clip(q, lo, hi))
-        tolerance = 1e-9 * (1 + np.abs(targets).max(axis=1))
-        residual = np.abs(square.position_float(q) - targets).max(axis=1)
-        if prover.aims:
-            # where the aim cannot be met, the joint steps settle between the position and the aim: a few steps
-            # on the position alone from there keep b near its best and give a section point to prove
-            off = np.nonzero(~(residual < tolerance))[0]
-            if len(off):
-                q[off], _ = square.newton(targets[off], q[off], steps=4)
-                residual[off] = np.abs(square.position_float(q[off]) - targets[off]).max(axis=1)
-        converged = np.isfinite(q).all(axis=1) & (residual < tolerance)
-        aimed = converged.copy()
-        if prover.aims:
-            aimed &= np.einsum("ni,ni->n", _columns(prover.b_float, q), ell) > 0.99
-    return q, converged, aimed
+    return q
+
+
+def _nearest_aim(prover: SectionProver, targets, ell, q, steps: int = 8, weight: float = 0.1, damping: float = 1e-3):
+    """Damped least-squares steps (Levenberg-Marquardt) on the position and ``weight (b - ell)``: where the aim
+    cannot be met, a configuration whose ``b`` is near the nearest it can be to ``ell`` (floats, a seed)."""
+    square = prover.square
+    lo, hi = square.inner_limits[:, 0], square.inner_limits[:, 1]
+    with np.errstate(all="ignore"):
+        for _ in range(steps):
+            b, Jb = _columns(prover.b_float, q), prover.b_jacobian(q)
+            f = np.concatenate([square.position_float(q) - targets, weight * (b - ell)], axis=1)
+            J = np.concatenate([square.jacobian_float(q), weight * Jb], axis=1)
+            JtJ = np.einsum("nik,nil->nkl", J, J) + damping * np.eye(J.shape[2])
+            bad = ~(np.isfinite(JtJ).all(axis=(1, 2)) & np.isfinite(f).all(axis=1))     # rows left as they are
+            JtJ[bad], f[bad] = np.eye(J.shape[2]), 0.0
+            step = np.linalg.solve(JtJ, np.einsum("nik,ni->nk", np.where(bad[:, None, None], 0.0, J), f)[:, :, None])
+            step = step[:, :, 0]
+            q = np.where(np.isfinite(step), q - step, q)
+            q = np.where(square.periodic, lo + np.remainder(q - lo, hi - lo), np.clip(q, lo, hi))
+    return q
 
 
 def _least_norm_step(J: np.ndarray, f: np.ndarray, damping: float) -> np.ndarray:
