@@ -63,7 +63,7 @@ paving, and pairs from the paving of its wrist point (:func:`~workspace_sym.seri
 METHODS = {"pavings": MAP_METHOD, "section": SECTION_METHOD}
 """The values of ``reach_map(method=...)`` and what each records as the map's method."""
 
-SECTION_OPTIONS: dict[str, int | bool | None] = {"cell": None, "local": 96, "samples": 1_000_000, "split": 2,
+SECTION_OPTIONS: dict[str, int | bool | None] = {"cell": None, "local": 96, "samples": 1_000_000, "split": 4,
                                                  "wrist": True}
 """The section method's defaults (``cell``: the section cells' side, None for ``delta / 10``; ``wrist``: the pairs
 proved unreachable from the wrist point's paving are tried)."""
