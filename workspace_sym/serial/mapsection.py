@@ -271,12 +271,9 @@ def _nearest_aim(prover: SectionProver, targets, ell, q, steps: int = 8, weight:
             b, Jb = _columns(prover.b_float, q), prover.b_jacobian(q)
             f = np.concatenate([square.position_float(q) - targets, weight * (b - ell)], axis=1)
             J = np.concatenate([square.jacobian_float(q), weight * Jb], axis=1)
-            JtJ = np.einsum("nik,nil->nkl", J, J) + damping * np.eye(J.shape[2])
-            bad = ~(np.isfinite(JtJ).all(axis=(1, 2)) & np.isfinite(f).all(axis=1))     # rows left as they are
-            JtJ[bad], f[bad] = np.eye(J.shape[2]), 0.0
-            step = np.linalg.solve(JtJ, np.einsum("nik,ni->nk", np.where(bad[:, None, None], 0.0, J), f)[:, :, None])
-            step = step[:, :, 0]
-            q = np.where(np.isfinite(step), q - step, q)
+            # (J^T J + damping I)^-1 J^T f = J^T (J J^T + damping I)^-1 f: the least-norm step with the damping
+            step = _least_norm_step(J, f, damping)
+            q = np.where(np.isfinite(step), q - step, q)             # rows without a step are left as they are
             q = np.where(square.periodic, lo + np.remainder(q - lo, hi - lo), np.clip(q, lo, hi))
     return q
 
