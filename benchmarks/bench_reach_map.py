@@ -66,7 +66,7 @@ URDFS = {"kr16": "kuka_description/kuka_kr16/urdf/kr16_2.urdf",
          "iiwa": "kuka_description/kuka_lbr_iiwa/urdf/lbr_iiwa_14_r820.urdf"}
 
 
-def _robot(name):
+def robot_named(name):
     """A catalogue robot, a table of tests/data/dh, or the KR16 / iiwa 14 of rtb-data's URDFs (their limits)."""
     if name in URDFS:
         import rtbdata
@@ -88,7 +88,7 @@ def main():
     parser.add_argument("--method", default="pavings", choices=("pavings", "section"))
     parser.add_argument("--save", default=None, help="write the map to this .npz")
     args = parser.parse_args()
-    robot = _robot(args.robot)
+    robot = robot_named(args.robot)
     load = os.getloadavg()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)

@@ -27,7 +27,7 @@ import math
 import time
 
 import numpy as np
-from bench_reach_map import _robot
+from bench_reach_map import robot_named
 
 from workspace_sym.interval import arith
 from workspace_sym.kinematics import numeric_function
@@ -99,7 +99,7 @@ def main():
     parser.add_argument("--steps", type=int, default=4)
     parser.add_argument("--samples", type=int, default=8_000_000)
     args = parser.parse_args()
-    robot = _robot(args.robot)
+    robot = robot_named(args.robot)
     made = ReachMap.load(args.map)
     ring = wrist_ring(robot, ())
     if ring is None:

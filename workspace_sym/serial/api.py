@@ -35,7 +35,7 @@ from ..interval.driver import RunBudget, RunOn, StopAt
 from ..kinematics import DHRobot
 from ..numbers import fmt_bracket
 from ..symbolic import symbolic_budget
-from .model import check_root, reach_model
+from .model import check_root, parameter_values, reach_model
 from .plans import choose_plans, pose_plan
 from .pose import PoseConstraint, constraint_from, pose_structure
 from .stored import reach_problem
@@ -572,7 +572,7 @@ def reach(robot: DHRobot, *, delta: float, size: str = "diameter", parameters: d
     check_delta(delta)
     if size not in ("diameter", "width"):
         raise InvalidParameterError(f"size must be one of 'diameter', 'width'; got {size!r}", parameter="size")
-    values = tuple(sorted((parameters or {}).items(), key=lambda item: str(item[0])))  # hashable
+    values = parameter_values(parameters)
     # The time limit bounds the whole call: the clock starts before the symbolic preparation of the model.
     budget = RunBudget(stop, "reach", run.progress)
     model = root = None
@@ -633,7 +633,7 @@ def _reach_pose(robot: DHRobot, *, delta, size, parameters, method, stop: StopAt
         raise InvalidParameterError(f"run: reach with a tool constraint decides its boxes in this process; executor "
                                     f"and chunk do not apply; got {given}; they apply to reach without a pose",
                                     parameter="run")
-    values = tuple(sorted((parameters or {}).items(), key=lambda item: str(item[0])))
+    values = parameter_values(parameters)
     budget = RunBudget(stop, "reach", run.progress)
     try:
         with prepared_within(robot, budget):

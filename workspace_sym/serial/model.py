@@ -26,7 +26,7 @@ from ..interval.graph import exact_constants
 from ..interval.image import ImageMap
 from ..kinematics import DHRobot
 
-__all__ = ["TASK", "period", "joint_range", "ReachModel", "reach_model", "cell_width", "check_root"]
+__all__ = ["TASK", "period", "joint_range", "ReachModel", "reach_model", "cell_width", "check_root", "parameter_values"]
 
 TASK = (sp.Symbol("x"), sp.Symbol("y"), sp.Symbol("z"))
 
@@ -172,6 +172,23 @@ class ReachModel(ImageMap):
         self.task_variables = tuple(TASK[i] for i in self.coordinates)
         super().__init__([position[i] for i in self.coordinates], [robot.q[k] for k in self.joints],
                          [r for r, _ in ranges], [p for _, p in ranges])
+
+
+def parameter_values(parameters) -> tuple:
+    """Parameter values as the hashable key the cached models and structures take: ``(name, value)`` pairs
+    sorted by name.
+
+    Parameters
+    ----------
+    parameters : dict or None
+        Values of a robot's symbolic parameters (None or empty: the robot's own).
+
+    Returns
+    -------
+    tuple
+        The pairs; empty for None.
+    """
+    return tuple(sorted((parameters or {}).items(), key=lambda item: str(item[0])))
 
 
 @lru_cache(maxsize=16)

@@ -42,7 +42,7 @@ from ..interval.verdict import CODE, INSIDE, OUTSIDE, UNDECIDED, codes_from_mask
 from ..kinematics import DHRobot
 from ..progress import progress_bar
 from .api import Pose, reach
-from .model import reach_model
+from .model import parameter_values, reach_model
 from .stored import reach_problem
 from .tuning import DEFAULT
 
@@ -883,7 +883,7 @@ def map_problem(robot: DHRobot, *, delta: float, directions=26, cone: float = 30
     cone = _check_cone(cone)
     reach_delta = float(delta) / 2 if reach_delta is None else float(reach_delta)
     check_delta(reach_delta)
-    values = tuple(sorted((parameters or {}).items(), key=lambda item: str(item[0])))
+    values = parameter_values(parameters)
     fields = reach_problem(robot, values, float(delta), "diameter", DEFAULT,
                            directions=[[float(v) for v in row] for row in d], cone=cone, reach_delta=reach_delta,
                            method=METHODS[method], map_format=MAP_FORMAT)
@@ -999,7 +999,7 @@ def reach_map(robot: DHRobot, *, delta: float, directions=26, cone: float = 30.0
         warnings.warn(f"reach_map: the cones of {cone:g} deg do not cover the sphere (the {len(d)} directions' "
                       f"covering angle is {angle:.4g} deg): approach vectors farther than {cone:g} deg from every "
                       "direction are held by no cone and queried as undecided", UserWarning, stacklevel=3)
-    values = tuple(sorted((parameters or {}).items(), key=lambda item: str(item[0])))
+    values = parameter_values(parameters)
     named = map_problem(robot, delta=delta, directions=d, cone=cone, parameters=parameters, reach_delta=reach_delta,
                         method=method)
     reach_delta = float(delta) / 2 if reach_delta is None else float(reach_delta)

@@ -70,6 +70,7 @@ from ..interval.verdict import UNDECIDED
 from ..progress import progress_bar
 from ..symbolic import simplified
 from ..transforms import inverse_transform, matrix_product, rot_x, translation
+from .model import parameter_values
 from .tuning import DEFAULT, Tuning
 
 __all__ = ["Pieces", "RadialMap", "SquareMap", "ShoulderReach", "Turned", "turned", "first_joint_turn",
@@ -820,13 +821,12 @@ def shoulder_distance(robot, parameters, joint: int):
     variables : list of sympy.Symbol
         The joints ``h`` depends on, in the robot's order.
     """
-    key = None if not parameters else tuple(sorted(dict(parameters).items(), key=lambda item: str(item[0])))
-    h, variables = _shoulder_distance(robot, key, joint)
+    h, variables = _shoulder_distance(robot, parameter_values(parameters), joint)
     return h, list(variables)
 
 
 @lru_cache(maxsize=64)
-def _shoulder_distance(robot, values: tuple | None, joint: int) -> tuple:
+def _shoulder_distance(robot, values: tuple, joint: int) -> tuple:
     """:func:`shoulder_distance` with hashable parameter values, cached: the turned structure, the elbow's reach
     and an offset flange's planes ask for the same distances (the Panda's at its second joint: 2 to 3 s each)."""
     parameters = dict(values) if values else None
