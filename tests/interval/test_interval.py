@@ -470,3 +470,49 @@ def test_an_image_map_encloses_as_its_entries_do():
                 lo, hi = compile_expr(sp.diff(e, q[j]), q)(X)
                 assert np.array_equal(J[i][j][0], np.broadcast_to(lo, (50,)))
                 assert np.array_equal(J[i][j][1], np.broadcast_to(hi, (50,)))
+
+
+_Q = sp.symbols("q1:4")
+
+
+@settings(derandomize=True, max_examples=60, deadline=None)
+@given(st.floats(-3.0, 3.0), st.one_of(st.floats(-3.0, 3.0), st.floats(-1e-3, 1e-3), st.floats(3.1, 3.14159)),
+       st.floats(-3.0, 3.0), st.sampled_from([0.0, 0.5, 1.0]), st.sampled_from([1e-9, 1e-3, 0.02, 0.1]))
+@example(0.3, 1e-4, 0.2, 1.0, 0.02)        # almost stretched: the widest boxes
+@example(0.3, 1.0, 0.0, 0.0, 0.1)          # a zero-length link
+def test_a_krawczyk_proof_box_holds_a_solution_for_every_target_at_50_digits(q1, q2, q3, length, half):
+    """:meth:`~workspace_sym.interval.image.ImageMap.prove_inside_boxes` returns, with each proof, a joint box
+    holding a solution for every target of its task box: the Krawczyk box ``U``, then ``K(U)`` and its
+    contractions (``CONTRACTIONS``).  A planar 3R chain (a link of 0, 0.5 or 1, the elbow near straight, folded
+    or anywhere), task boxes of 1e-9 to 0.1 around a reached point.  Reference: a 50-digit Newton (mpmath.
+    findroot) from the box's middle, the fixed joint held, reaches each corner and the centre of the task box
+    inside the box; and the contracted box lies inside the uncontracted one (the same test, CONTRACTIONS 0)."""
+    from workspace_sym.interval.image import ImageMap
+
+    p = [sp.cos(_Q[0]) + length * sp.cos(_Q[0] + _Q[1]) + sp.cos(_Q[0] + _Q[1] + _Q[2]) * 3 / 10,
+         sp.sin(_Q[0]) + length * sp.sin(_Q[0] + _Q[1]) + sp.sin(_Q[0] + _Q[1] + _Q[2]) * 3 / 10]
+    image = ImageMap(p, _Q, [(-4, 4)] * 3, [False] * 3)
+    q = np.array([[q1, q2, q3]])
+    y = image.position_float(q)[0]
+    T = np.stack([y - half, y + half], axis=1)[None]
+    proved, U = image.prove_inside_boxes(T, q)
+    image.CONTRACTIONS = 0
+    proved0, U0 = image.prove_inside_boxes(T, q)
+    assert proved[0] == proved0[0]
+    if not proved[0]:
+        return
+    box = U[0]
+    assert (box[:, 0] >= U0[0, :, 0]).all() and (box[:, 1] <= U0[0, :, 1]).all()
+    varied = [j for j in range(3) if box[j, 1] > box[j, 0]]
+    assert len(varied) == 2 and all(box[j, 0] == box[j, 1] == q[0, j] for j in range(3) if j not in varied)
+    with mpmath.workdps(50):
+        for target in [(T[0, 0, a], T[0, 1, b]) for a in (0, 1) for b in (0, 1)] + [tuple(y)]:
+            def equations(*x, target=target):
+                values = dict(zip(_Q, [mpmath.mpf(float(v)) for v in q[0]]))
+                values.update({_Q[j]: x[i] for i, j in enumerate(varied)})
+                return [sp.lambdify(_Q, e, "mpmath")(*[values[s] for s in _Q]) - mpmath.mpf(float(t))
+                        for e, t in zip(p, target)]
+            start = [mpmath.mpf(float(0.5 * (box[j, 0] + box[j, 1]))) for j in varied]
+            root = mpmath.findroot(equations, start, tol=mpmath.mpf(10) ** -40)
+            for i, j in enumerate(varied):
+                assert box[j, 0] <= root[i] <= box[j, 1], (target, j, root[i], box[j])

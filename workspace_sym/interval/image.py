@@ -106,6 +106,7 @@ class ImageMap:
 
     COMBOS_TRIED = 3       # choices of the m joints of the inner test tried per box, best-conditioned first
     INFLATIONS = 2         # epsilon-inflations of the Krawczyk box after a failed test (each a new test)
+    CONTRACTIONS = 1       # Krawczyk contractions of a proof's box after the box K(U) itself
 
     def __init__(self, expressions, variables, limits, periodic):
         expressions = [as_sympy(e) for e in expressions]    # text is read, never evaluated
@@ -480,6 +481,10 @@ class ImageMap:
         proved = np.zeros(N, dtype=bool)
         proofs = np.repeat(np.asarray(q, dtype=float)[:, :, None], 2, axis=2)
         rows = np.nonzero(usable)[0]
+        p0 = np.full((N, self.m, 2), np.nan)
+        if len(rows):
+            with np.errstate(all="ignore"):
+                p0[rows] = self.enclose(np.repeat(q[rows, :, None], 2, axis=2))      # f(q), outward-rounded
         for _ in range(inflations + 1):
             if not len(rows):
                 break
@@ -488,23 +493,38 @@ class ImageMap:
             box[:, sub, 1] = q[rows][:, sub] + radius[rows]
             within = (box[:, :, 0] >= self.inner_limits[:, 0]) & (box[:, :, 1] <= self.inner_limits[:, 1])
             allowed = (within | self.periodic).all(axis=1) & self.admissible(box)
-            K = self._krawczyk_image(T[rows], q[rows], C[rows], box, sub)
+            K = self._krawczyk_image(T[rows], q[rows], C[rows], box, sub, p0[rows])
             ok = allowed & (K[:, :, 0] > box[:, sub, 0]).all(axis=1) & (K[:, :, 1] < box[:, sub, 1]).all(axis=1)
             proved[rows[ok]] = True
-            proofs[rows[ok]] = box[ok]
+            # the solutions in U lie in K(U), so K(U) holds one for every y in T; and every solution in a box X
+            # lies in K(X): each contraction X <- K(X) & X keeps them (a narrower box for its users)
+            # (the mean-value form behind K(X) needs the segment from q to each point of X in X: only boxes
+            # holding q are contracted)
+            tight = box[ok]
+            tight[:, sub] = K[ok]
+            at_q = q[rows[ok]][:, sub]
+            for _ in range(self.CONTRACTIONS):
+                centred = ((tight[:, sub, 0] <= at_q) & (at_q <= tight[:, sub, 1])).all(axis=1)
+                if not centred.any():
+                    break
+                at, inner = rows[ok][centred], tight[centred]
+                K2 = self._krawczyk_image(T[at], q[at], C[at], inner, sub, p0[at])
+                inner[:, sub, 0] = np.maximum(inner[:, sub, 0], K2[:, :, 0])
+                inner[:, sub, 1] = np.minimum(inner[:, sub, 1], K2[:, :, 1])
+                tight[centred] = inner
+            proofs[rows[ok]] = tight
             grow = np.maximum(np.abs(K[:, :, 0] - q[rows][:, sub]), np.abs(K[:, :, 1] - q[rows][:, sub]))
             retry = ~ok & allowed & np.isfinite(grow).all(axis=1)
             radius[rows[retry]] = np.maximum(radius[rows[retry]], 1.2 * grow[retry])
             rows = rows[retry]
         return proved, proofs
 
-    def _krawczyk_image(self, T, q, C, box, sub):
-        """``K = q - C (f(q) - T) + (I - C J(U)) (U - q)`` over the joints ``sub``, outward-rounded: ``(N, m, 2)``."""
+    def _krawczyk_image(self, T, q, C, box, sub, p0):
+        """``K = q - C (f(q) - T) + (I - C J(U)) (U - q)`` over the joints ``sub``, outward-rounded: ``(N, m, 2)``
+        (``p0``: ``f(q)`` enclosed, :meth:`enclose` of the point boxes ``q``)."""
         m = self.m
-        point = np.repeat(q[:, :, None], 2, axis=2)
         K = np.empty((len(T), m, 2))
         with np.errstate(all="ignore"):
-            p0 = self.enclose(point)                              # f(q), outward-rounded
             JU = self.jacobian_enclosure(box, columns=sub)          # the columns of the joints that vary
             R = [arith.sub((p0[:, i, 0], p0[:, i, 1]), (T[:, i, 0], T[:, i, 1])) for i in range(m)]
             D = [arith.sub((box[:, j, 0], box[:, j, 1]), (q[:, j], q[:, j])) for j in sub]
