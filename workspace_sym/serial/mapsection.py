@@ -47,6 +47,7 @@ __all__ = ["SectionProver", "section_prover", "section_reachable", "wrist_offset
 BRANCHES = 8           # seeds per section cell when Newton cannot aim (fewer than four section joints)
 NEAREST = 6            # local directions tried per map direction and piece: the nearest to it
 SWINGS = (math.pi, 0.5 * math.pi, -0.5 * math.pi)   # beta's swings tried for a second proof, in turn
+FEW = 32               # a failing direction's aims are tried again where it fails at this many section cells or fewer
 MARGIN = 1e-9          # added to every float comparison of the cell test (far above its rounding, about 1e-15)
 
 
@@ -349,13 +350,19 @@ class _SectionCells:
         i, j = self.index[s, 0], self.index[s, 1]
         return i * self.h, (i + 1) * self.h, self.z0 + j * self.h, self.z0 + (j + 1) * self.h
 
-    def solve(self, s, l, seeds):
+    def solve(self, s, l, seeds, aim=None):
         """Newton aimed at the local directions ``l`` from ``seeds``, then the Krawczyk test of the cells ``s``;
-        the enclosures of the proofs are kept.  Returns the rows that converged."""
+        the enclosures of the proofs are kept.  Returns the rows that converged.
+
+        With ``aim`` (``(N, 3)``), Newton aims there instead and each proof replaces the one kept in column
+        ``l`` (a retry for the directions near ``aim``: :func:`_retry_aims`); returns the rows proved."""
         prover = self.prover
         r0, r1, z0, z1 = self.bounds(s)
         T = np.stack([np.stack([arith.down(r0 * r0), arith.up(r1 * r1)], 1), np.stack([z0, z1], 1)], 1)
-        q, converged, aimed = _aimed_newton(prover, 0.5 * (T[:, :, 0] + T[:, :, 1]), self.local[l], seeds.copy())
+        ell = self.local[l] if aim is None else aim
+        q, converged, aimed = _aimed_newton(prover, 0.5 * (T[:, :, 0] + T[:, :, 1]), ell, seeds.copy())
+        if aim is not None:
+            return self._prove(s, l, T, q, np.nonzero(converged)[0], lambda r: np.ones(len(r), dtype=bool))
         rows = np.nonzero(converged & ~self.aimed[s, l])[0]
         # a proof kept: the first, replaced once by one whose b was aimed (either serves the directions it is near)
         rows = self._prove(s, l, T, q, rows, lambda r: ~np.isfinite(self.b_mid[s[r], l[r], 0]) | aimed[r])
@@ -449,8 +456,8 @@ def _turning(D: np.ndarray) -> np.ndarray:
 
 
 def section_reachable(prover: SectionProver, edges: tuple, candidates: np.ndarray, directions: np.ndarray, *,  # noqa: C901
-                      cell: float, local: np.ndarray, samples: int = 1_000_000, split: int = 2, seed: int = 0,
-                      deadline: float | None = None) -> np.ndarray:
+                      cell: float, local: np.ndarray, samples: int = 1_000_000, split: int = 2, retries: int = 0,
+                      seed: int = 0, deadline: float | None = None) -> np.ndarray:
     """The pairs (map cell, direction) proved reachable by the section method (module docstring).
 
     Parameters
@@ -471,6 +478,10 @@ def section_reachable(prover: SectionProver, edges: tuple, candidates: np.ndarra
         Random configurations whose section points seed Newton.
     split : int
         Each map cell is tested as ``split x split`` pieces in ``xy`` (a smaller polar spread each).
+    retries : int
+        Random starts per aim tried again: where a direction of a cell fails at ``FEW`` section cells or fewer,
+        Newton aims at its ``e(psi)`` there from ``retries`` random configurations, the proofs replace those of
+        the nearest local direction, and the cells that failed are tested again (0: no second try).
     seed : int
         The random draws' seed.
     deadline : float, optional
@@ -605,13 +616,6 @@ def section_reachable(prover: SectionProver, edges: tuple, candidates: np.ndarra
             if deadline is not None and time.perf_counter() > deadline:
                 break
             grid.second(s_t[start:start + chunk], l_t[start:start + chunk])
-    # the map cells: every piece, every section cell it meets, some proof serving the direction (of the local
-    # directions nearest e = Rz(-psi) d, the others being too far to pass: choosing fewer only proves less)
-    tried = min(NEAREST, L)
-    limited = prover.theta_range
-    if limited is not None:
-        lo, hi = limited
-        centre, cos_h = 0.5 * (lo + hi) + math.pi, math.cos(math.pi - 0.5 * (hi - lo))
     # a filter, not a proof: the cells where every section cell met by every piece holds some proof at all
     # (block sums of a prefix table of the solved section cells)
     solved = np.zeros((n_rho + 1, n_z + 1), dtype=np.int64)
@@ -621,36 +625,139 @@ def section_reachable(prover: SectionProver, edges: tuple, candidates: np.ndarra
     for i0, i1, j0, j1, usable in spans:
         count = solved[i1 + 1, j1 + 1] - solved[i0, j1 + 1] - solved[i1 + 1, j0] + solved[i0, j0]
         worth &= usable & (count == (i1 - i0 + 1) * (j1 - j0 + 1))
-    for n in np.nonzero(worth)[0]:
-        good = np.ones(len(D), dtype=bool)
-        for (_rmin, _rmax, psi, gamma, _zs), (i0, i1, j0, j1, usable) in zip(pieces, spans):
+    cells = np.nonzero(worth)[0]
+    test = _CellTest(grid, pieces, spans, D, turning)
+    good = test(cells)
+    if prover.aims and retries and (deadline is None or time.perf_counter() < deadline):
+        # a direction failing at few section cells (FEW), where its local directions' proofs serve it not:
+        # Newton aimed at its E itself there, from random starts, then the failing cells tested again
+        failing = cells[~good.all(axis=1)]
+        wanted = test.wanted(failing, good[~good.all(axis=1)])
+        if len(wanted[0]):
+            _retry_aims(grid, wanted, retries, rng, chunk, deadline)
+            # a proof replaced by a retried one was a proof all the same: what the first test proved stays
+            good[~good.all(axis=1)] |= test(failing)
+    for n, row in zip(cells, good):
+        out[tuple(idx[n])] = row
+    return out
+
+
+class _CellTest:
+    """The test of map cells against the section's proofs: every piece, every section cell it meets, some proof
+    serving the direction (of the local directions nearest ``e = Rz(-psi) d``, the others being too far to pass:
+    choosing fewer only proves less)."""
+
+    def __init__(self, grid: _SectionCells, pieces: list, spans: list, D: np.ndarray, turning: np.ndarray):
+        self.grid, self.pieces, self.spans, self.D, self.turning = grid, pieces, spans, D, turning
+        prover = grid.prover
+        self.tried = min(NEAREST, len(grid.local)) if prover.aims else len(grid.local)
+        self.limited = prover.theta_range
+        if self.limited is not None:
+            lo, hi = self.limited
+            self.centre, self.cos_h = 0.5 * (lo + hi) + math.pi, math.cos(math.pi - 0.5 * (hi - lo))
+
+    def _pieces(self, n: int):
+        """Per usable piece of cell ``n``: its section cells, the local directions nearest each ``E`` and the
+        mask ``(S, K)`` of the section cells and directions some of their proofs serve; None for a piece
+        that is not usable."""
+        grid, D, L = self.grid, self.D, len(self.grid.local)
+        prover = grid.prover
+        for (_rmin, _rmax, psi, gamma, _zs), (i0, i1, j0, j1, usable) in zip(self.pieces, self.spans):
             if not usable[n]:
-                good[:] = False
-                break
+                yield None
+                return
             ss = grid.lookup[i0[n]:i1[n] + 1, j0[n]:j1[n] + 1].ravel()
             c, s_ = math.cos(psi[n]), math.sin(psi[n])
             E = np.stack([c * D[:, 0] + s_ * D[:, 1], -s_ * D[:, 0] + c * D[:, 1], D[:, 2]], 1)    # Rz(-psi) d, (K, 3)
-            near = np.argsort(-(E @ ells.T), axis=1)[:, :tried] if prover.aims else np.tile(np.arange(L), (len(D), 1))
-            if grid.b_mid.shape[1] > L:
-                near = np.concatenate([near, near + L], axis=1)
-            mid, half = grid.b_mid[ss][:, near], grid.b_half[ss][:, near]                        # (S, K, n, 3)
+            if prover.aims:
+                near = np.argsort(-(E @ grid.local.T), axis=1)[:, :self.tried]
+            else:
+                near = np.tile(np.arange(L), (len(D), 1))
+            columns = np.concatenate([near, near + L], axis=1) if grid.b_mid.shape[1] > L else near
+            mid, half = grid.b_mid[ss][:, columns], grid.b_half[ss][:, columns]                  # (S, K, n, 3)
             # angle(b, E) <= c - spread and angle(E, e(psi)) <= spread at every psi of the piece
-            spread = gamma[n] * turning + MARGIN
+            spread = gamma[n] * self.turning + MARGIN
             least = np.where(spread < prover.cone, np.cos(np.minimum(prover.cone - spread, math.pi)) + MARGIN, np.inf)
             with np.errstate(invalid="ignore"):
                 value = np.einsum("sknc,kc->skn", mid, E) - np.einsum("sknc,kc->skn", half, np.abs(E))
             passes = np.where(np.isnan(value), False, value >= least[None, :, None])
-            if limited is not None:
-                phi = psi[n] - centre
+            if self.limited is not None:
+                phi = psi[n] - self.centre
                 f = np.array([math.cos(phi), math.sin(phi)])
                 with np.errstate(invalid="ignore"):
                     top = grid.uc_mid[ss] @ f + grid.uc_half[ss] @ np.abs(f) + gamma[n]           # (S, L)
-                passes &= np.where(np.isnan(top), False, top <= cos_h - MARGIN)[:, near]
-            good &= passes.any(axis=2).all(axis=0)
-            if not good.any():
-                break
-        out[tuple(idx[n])] = good
-    return out
+                passes &= np.where(np.isnan(top), False, top <= self.cos_h - MARGIN)[:, columns]
+            yield ss, near, passes.any(axis=2), E
+
+    def __call__(self, cells: np.ndarray) -> np.ndarray:
+        """``(len(cells), K)``: the directions proved reachable over every point of each cell."""
+        out = np.zeros((len(cells), len(self.D)), dtype=bool)
+        for row, n in enumerate(cells):
+            good = np.ones(len(self.D), dtype=bool)
+            for piece in self._pieces(n):
+                if piece is None:
+                    good[:] = False
+                    break
+                good &= piece[2].all(axis=0)
+                if not good.any():
+                    break
+            out[row] = good
+        return out
+
+    def wanted(self, cells: np.ndarray, good: np.ndarray):
+        """Where a direction of ``cells`` not proved (``good`` False) finds no proof serving it at ``FEW`` section
+        cells of its pieces or fewer: those section cells, the local direction nearest ``E`` and ``E`` itself, once
+        per (section cell, local direction): ``(W,)``, ``(W,)`` and ``(W, 3)``.  (A direction failing at many is
+        most often out of reach there: not worth the solves.)"""
+        ss_all, l_all, e_all = [], [], []
+        for n, row in zip(cells, good):
+            found = []
+            for piece in self._pieces(n):
+                if piece is None:
+                    break
+                ss, near, served, E = piece
+                s_i, k_i = np.nonzero(~served & ~row[None, :])
+                found.append((ss[s_i], near[k_i, 0], E[k_i], k_i))
+            if not found:
+                continue
+            k_all = np.concatenate([f[3] for f in found])
+            few = np.bincount(k_all, minlength=len(row)) <= FEW
+            for ss_i, l_i, E_i, k_i in found:
+                keep = few[k_i]
+                ss_all.append(ss_i[keep])
+                l_all.append(l_i[keep])
+                e_all.append(E_i[keep])
+        if not ss_all:
+            return np.zeros(0, dtype=np.int64), np.zeros(0, dtype=np.int64), np.zeros((0, 3))
+        ss, ls, es = np.concatenate(ss_all), np.concatenate(l_all), np.concatenate(e_all)
+        _, first = np.unique(ss * len(self.grid.local) + ls, return_index=True)
+        return ss[first], ls[first], es[first]
+
+
+def _retry_aims(grid: _SectionCells, wanted: tuple, starts: int, rng, chunk: int, deadline) -> None:
+    """Newton aimed at ``E`` itself (not its nearest local direction) for the ``wanted`` section cells, from
+    ``starts`` random configurations each; the start whose ``b`` comes nearest ``E`` seeds a proof that replaces
+    the one kept for that local direction (:meth:`_SectionCells.solve`)."""
+    prover, square = grid.prover, grid.prover.square
+    s_all, l_all, e_all = wanted
+    per = max(1, chunk // starts)
+    for begin in range(0, len(s_all), per):
+        if deadline is not None and time.perf_counter() > deadline:
+            return
+        s, l, E = s_all[begin:begin + per], l_all[begin:begin + per], e_all[begin:begin + per]
+        r0, r1, z0, z1 = grid.bounds(s)
+        targets = np.stack([0.5 * (r0 * r0 + r1 * r1), 0.5 * (z0 + z1)], 1)        # the centres solve aims at
+        rows = np.repeat(np.arange(len(s)), starts)
+        starts_q = square.random_configurations(len(rows), rng)
+        q, converged, _aimed = _aimed_newton(prover, targets[rows], E[rows], starts_q)
+        with np.errstate(invalid="ignore"):
+            along = np.where(converged, np.einsum("ni,ni->n", _columns(prover.b_float, q), E[rows]), -np.inf)
+        best = np.full(len(s), -np.inf)
+        np.maximum.at(best, rows, along)
+        pick = np.nonzero(np.isfinite(along) & (along == best[rows]))[0]
+        pair, first = np.unique(rows[pick], return_index=True)
+        if len(pair):
+            grid.solve(s[pair], l[pair], q[pick[first]], aim=E[pair])
 
 
 # ------------------------------------------------------------------ unreachable pairs: the wrist point

@@ -64,7 +64,7 @@ METHODS = {"pavings": MAP_METHOD, "section": SECTION_METHOD}
 """The values of ``reach_map(method=...)`` and what each records as the map's method."""
 
 SECTION_OPTIONS: dict[str, int | bool | None] = {"cell": None, "local": 96, "samples": 1_000_000, "split": 4,
-                                                 "wrist": True}
+                                                 "retries": 16, "wrist": True}
 """The section method's defaults (``cell``: the section cells' side, None for ``delta / 10``; ``wrist``: the pairs
 proved unreachable from the wrist point's paving are tried)."""
 
@@ -1100,7 +1100,7 @@ def _section_map(robot, values, d, cone, delta, reach_delta, named, angle, stop,
         options = {**SECTION_OPTIONS, "cell": delta / 10}
         inner = section_reachable(prover, edges, ~outer, d, cell=options["cell"],
                                   local=local_directions(prover, d, options["local"]), samples=options["samples"],
-                                  split=options["split"], deadline=deadline)
+                                  split=options["split"], retries=options["retries"], deadline=deadline)
         bar.update(1)
         unreachable = np.repeat(outer[..., None], len(d), axis=-1)
         by_wrist = np.zeros_like(unreachable)
