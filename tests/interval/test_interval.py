@@ -505,13 +505,14 @@ def test_a_krawczyk_proof_box_holds_a_solution_for_every_target_at_50_digits(q1,
     assert (box[:, 0] >= U0[0, :, 0]).all() and (box[:, 1] <= U0[0, :, 1]).all()
     varied = [j for j in range(3) if box[j, 1] > box[j, 0]]
     assert len(varied) == 2 and all(box[j, 0] == box[j, 1] == q[0, j] for j in range(3) if j not in varied)
+    position = sp.lambdify(_Q, p, "mpmath")
     with mpmath.workdps(50):
         for target in [(T[0, 0, a], T[0, 1, b]) for a in (0, 1) for b in (0, 1)] + [tuple(y)]:
             def equations(*x, target=target):
-                values = dict(zip(_Q, [mpmath.mpf(float(v)) for v in q[0]]))
-                values.update({_Q[j]: x[i] for i, j in enumerate(varied)})
-                return [sp.lambdify(_Q, e, "mpmath")(*[values[s] for s in _Q]) - mpmath.mpf(float(t))
-                        for e, t in zip(p, target)]
+                values = [mpmath.mpf(float(v)) for v in q[0]]
+                for i, j in enumerate(varied):
+                    values[j] = x[i]
+                return [v - mpmath.mpf(float(t)) for v, t in zip(position(*values), target)]
             start = [mpmath.mpf(float(0.5 * (box[j, 0] + box[j, 1]))) for j in varied]
             root = mpmath.findroot(equations, start, tol=mpmath.mpf(10) ** -40)
             for i, j in enumerate(varied):
