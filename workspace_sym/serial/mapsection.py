@@ -350,6 +350,11 @@ class _SectionCells:
         i, j = self.index[s, 0], self.index[s, 1]
         return i * self.h, (i + 1) * self.h, self.z0 + j * self.h, self.z0 + (j + 1) * self.h
 
+    def tasks(self, s):
+        """The task boxes ``[down(rho_0^2), up(rho_1^2)] x [z_0, z_1]`` of section cells ``s``: ``(N, 2, 2)``."""
+        r0, r1, z0, z1 = self.bounds(s)
+        return np.stack([np.stack([arith.down(r0 * r0), arith.up(r1 * r1)], 1), np.stack([z0, z1], 1)], 1)
+
     def solve(self, s, l, seeds, aim=None):
         """Newton aimed at the local directions ``l`` from ``seeds``, then the Krawczyk test of the cells ``s``;
         the enclosures of the proofs are kept.  Returns the rows that converged.
@@ -357,8 +362,7 @@ class _SectionCells:
         With ``aim`` (``(N, 3)``), Newton aims there instead and each proof replaces the one kept in column
         ``l`` (a retry for the directions near ``aim``: :func:`_retry_aims`); returns the rows proved."""
         prover = self.prover
-        r0, r1, z0, z1 = self.bounds(s)
-        T = np.stack([np.stack([arith.down(r0 * r0), arith.up(r1 * r1)], 1), np.stack([z0, z1], 1)], 1)
+        T = self.tasks(s)
         ell = self.local[l] if aim is None else aim
         q, converged, aimed = _aimed_newton(prover, 0.5 * (T[:, :, 0] + T[:, :, 1]), ell, seeds.copy())
         if aim is not None:
@@ -380,8 +384,7 @@ class _SectionCells:
         ``psi`` forbids both.  Returns the rows kept."""
         prover, square, L = self.prover, self.prover.square, len(self.local)
         lo, hi = prover.theta_range
-        r0, r1, z0, z1 = self.bounds(s)
-        T = np.stack([np.stack([arith.down(r0 * r0), arith.up(r1 * r1)], 1), np.stack([z0, z1], 1)], 1)
+        T = self.tasks(s)
         targets = 0.5 * (T[:, :, 0] + T[:, :, 1])
         first = np.arctan2(self.uc_mid[s, l, 1], self.uc_mid[s, l, 0])
         stored = []
@@ -745,8 +748,8 @@ def _retry_aims(grid: _SectionCells, wanted: tuple, starts: int, rng, chunk: int
         if deadline is not None and time.perf_counter() > deadline:
             return
         s, l, E = s_all[begin:begin + per], l_all[begin:begin + per], e_all[begin:begin + per]
-        r0, r1, z0, z1 = grid.bounds(s)
-        targets = np.stack([0.5 * (r0 * r0 + r1 * r1), 0.5 * (z0 + z1)], 1)        # the centres solve aims at
+        T = grid.tasks(s)
+        targets = 0.5 * (T[:, :, 0] + T[:, :, 1])                                 # the centres solve aims at
         rows = np.repeat(np.arange(len(s)), starts)
         starts_q = square.random_configurations(len(rows), rng)
         q, converged, _aimed = _aimed_newton(prover, targets[rows], E[rows], starts_q)
