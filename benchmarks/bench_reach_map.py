@@ -98,6 +98,7 @@ def main():
     codes = made.codes
     out = {"date": datetime.datetime.now(datetime.UTC).isoformat(timespec="minutes"), "machine": machine(),
            "load_before": [round(v, 2) for v in load], "robot": args.robot, "method": args.method, "summary": s,
+           "stage_seconds": made.info.get("stage_seconds"),
            "direction_seconds": [round(v or 0, 1) for v in made.info["direction_seconds"]],
            "direction_methods": made.info["direction_methods"], "sampled": []}
     for n in (int(v) for v in args.samples.split(",")):

@@ -180,7 +180,16 @@ def test_pairs_proved_by_the_second_branch_of_a_limited_first_joint_are_reached_
     assert candidates.sum() == 8
     directions = sphere_directions(6)
     options = dict(cell=0.01, local=sphere_directions(16), samples=40_000)
+    asked, second = [], mapsection._SectionCells.second
+
+    def counted(self, s, l):
+        asked.append((len(s), int(self.aimed.sum())))
+        return second(self, s, l)
+
+    monkeypatch.setattr(mapsection._SectionCells, "second", counted)
     both = section_reachable(prover, edges, candidates, directions, **options)
+    # second proofs only where a failing pair needs them (_CellTest.wanted_second): far fewer than the first ones
+    assert asked and sum(n for n, _ in asked) < 0.5 * asked[-1][1]
     monkeypatch.setattr(mapsection._SectionCells, "second", lambda self, s, l: np.zeros(0, dtype=np.int64))
     first = section_reachable(prover, edges, candidates, directions, **options)
     assert not (first & ~both).any() and not both[~candidates].any()

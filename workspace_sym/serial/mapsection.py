@@ -49,6 +49,7 @@ NEAREST = 6            # local directions tried per map direction and piece: the
 SWINGS = (math.pi, 0.5 * math.pi, -0.5 * math.pi)   # beta's swings tried for a second proof, in turn
 FEW = 32               # a failing direction's aims are tried again where it fails at this many section cells or fewer
 MARGIN = 1e-9          # added to every float comparison of the cell test (far above its rounding, about 1e-15)
+SOLVED = 1e-13         # Newton's rows stop within this (relative) of their targets: floats, where a proof is tried
 
 
 @dataclass(frozen=True, eq=False)
@@ -233,32 +234,44 @@ def _aimed_newton(prover: SectionProver, targets, ell, q, steps: int = 10):
 
 def _aim_steps(prover: SectionProver, targets, ell, q, steps: int):
     """Newton's least-norm steps on the position and, when the prover aims, ``b . e_1 = b . e_2 = 0`` (``e_1,
-    e_2`` normal to ``ell``)."""
+    e_2`` normal to ``ell``).  A row leaves the iteration once its residuals are within ``SOLVED`` of its
+    targets (one more step would move it by about the rounding): most rows start from a neighbouring square's
+    solution and need two or three of the steps."""
     square = prover.square
     lo, hi = square.inner_limits[:, 0], square.inner_limits[:, 1]
+    q = np.array(q, dtype=float)
     if prover.aims:
         e1 = np.cross(ell, np.where(np.abs(ell[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]]))
         e1 /= np.linalg.norm(e1, axis=1)[:, None]
         e2 = np.cross(ell, e1)
+    solved = SOLVED * (1 + np.abs(targets).max(axis=1))
+    active = np.arange(len(q))
     with np.errstate(all="ignore"):
         for _ in range(steps):
-            f = square.position_float(q) - targets
-            J = square.jacobian_float(q)
+            qa = q[active]
+            f = square.position_float(qa) - targets[active]
             if prover.aims:
-                b, Jb = _columns(prover.b_float, q), prover.b_jacobian(q)
-                f = np.concatenate([f, np.einsum("ni,ni->n", b, e1)[:, None], np.einsum("ni,ni->n", b, e2)[:, None]],
-                                   axis=1)
-                J = np.concatenate([J, np.einsum("ni,nik->nk", e1, Jb)[:, None], np.einsum("ni,nik->nk", e2, Jb)[:, None]],  # noqa: E501
-                                   axis=1)
+                b = _columns(prover.b_float, qa)
+                f = np.concatenate([f, np.einsum("ni,ni->n", b, e1[active])[:, None],
+                                    np.einsum("ni,ni->n", b, e2[active])[:, None]], axis=1)
+            going = ~(np.abs(f).max(axis=1) <= solved[active])
+            active, qa, f = active[going], qa[going], f[going]
+            if not len(active):
+                break
+            J = square.jacobian_float(qa)
+            if prover.aims:
+                Jb = prover.b_jacobian(qa)
+                J = np.concatenate([J, np.einsum("ni,nik->nk", e1[active], Jb)[:, None],
+                                    np.einsum("ni,nik->nk", e2[active], Jb)[:, None]], axis=1)
             step = _least_norm_step(J, f, 1e-12)
             # a joint held at its limit that the step would push beyond it is left out of the step (its column
             # dropped), so that the others move instead of the iteration stalling at the limit
-            held = ~square.periodic & (((q <= lo) & (step > 0)) | ((q >= hi) & (step < 0)))
+            held = ~square.periodic & (((qa <= lo) & (step > 0)) | ((qa >= hi) & (step < 0)))
             if held.any():
                 step = np.where(held.any(axis=1)[:, None],
                                 _least_norm_step(np.where(held[:, None, :], 0.0, J), f, 1e-12), step)
-            q = q - step
-            q = np.where(square.periodic, lo + np.remainder(q - lo, hi - lo), np.clip(q, lo, hi))
+            qa = qa - step
+            q[active] = np.where(square.periodic, lo + np.remainder(qa - lo, hi - lo), np.clip(qa, lo, hi))
     return q
 
 
@@ -344,6 +357,7 @@ class _SectionCells:
         self.converged = np.zeros((S, L), dtype=bool)
         self.aimed = np.zeros((S, L), dtype=bool)        # the kept proof's b was aimed at the local direction
         self.tries = np.zeros((S, L), dtype=np.int8)
+        self.swung = np.zeros((S, L), dtype=bool)        # a second proof was tried (_SectionCells.second)
 
     def bounds(self, s):
         """The rectangles of section cells ``s``: ``(rho0, rho1, z0, z1)``, neighbours sharing their edges."""
@@ -367,9 +381,10 @@ class _SectionCells:
         q, converged, aimed = _aimed_newton(prover, 0.5 * (T[:, :, 0] + T[:, :, 1]), ell, seeds.copy())
         if aim is not None:
             return self._prove(s, l, T, q, np.nonzero(converged)[0], lambda r: np.ones(len(r), dtype=bool))
-        rows = np.nonzero(converged & ~self.aimed[s, l])[0]
-        # a proof kept: the first, replaced once by one whose b was aimed (either serves the directions it is near)
-        rows = self._prove(s, l, T, q, rows, lambda r: ~np.isfinite(self.b_mid[s[r], l[r], 0]) | aimed[r])
+        # a proof kept: the first, replaced once by one whose b was aimed (either serves the directions it is near);
+        # only those are tried
+        rows = np.nonzero(converged & ~self.aimed[s, l] & (aimed | ~np.isfinite(self.b_mid[s, l, 0])))[0]
+        rows = self._prove(s, l, T, q, rows, lambda r: np.ones(len(r), dtype=bool))
         self.aimed[s[rows], l[rows]] |= aimed[rows]
         ok = np.nonzero(aimed)[0]
         self.solution[s[ok], l[ok]] = q[ok]
@@ -384,6 +399,7 @@ class _SectionCells:
         ``psi`` forbids both.  Returns the rows kept."""
         prover, square, L = self.prover, self.prover.square, len(self.local)
         lo, hi = prover.theta_range
+        self.swung[s, l] = True
         T = self.tasks(s)
         targets = 0.5 * (T[:, :, 0] + T[:, :, 1])
         first = np.arctan2(self.uc_mid[s, l, 1], self.uc_mid[s, l, 0])
@@ -613,12 +629,6 @@ def section_reachable(prover: SectionProver, edges: tuple, candidates: np.ndarra
         cs, cl, cq = cs[fresh], cl[fresh], cq[fresh]
         _, first = np.unique(cs * L + cl, return_index=True)
         todo = (cs[first], cl[first], cq[first])
-    if grid.b_mid.shape[1] > L:         # a limited first joint: second proofs, beta swung half a turn
-        s_t, l_t = np.nonzero(grid.aimed)
-        for start in range(0, len(s_t), chunk):
-            if deadline is not None and time.perf_counter() > deadline:
-                break
-            grid.second(s_t[start:start + chunk], l_t[start:start + chunk])
     # a filter, not a proof: the cells where every section cell met by every piece holds some proof at all
     # (block sums of a prefix table of the solved section cells)
     solved = np.zeros((n_rho + 1, n_z + 1), dtype=np.int64)
@@ -631,6 +641,17 @@ def section_reachable(prover: SectionProver, edges: tuple, candidates: np.ndarra
     cells = np.nonzero(worth)[0]
     test = _CellTest(grid, pieces, spans, D, turning)
     good = test(cells)
+    if grid.b_mid.shape[1] > L and (deadline is None or time.perf_counter() < deadline):
+        # a limited first joint: second proofs, beta swung half a turn, where a first proof serves a failing
+        # direction but for the first joint's range; then the failing cells tested again
+        failing = cells[~good.all(axis=1)]
+        s_t, l_t = test.wanted_second(failing, good[~good.all(axis=1)])
+        for start in range(0, len(s_t), chunk):
+            if deadline is not None and time.perf_counter() > deadline:
+                break
+            grid.second(s_t[start:start + chunk], l_t[start:start + chunk])
+        if len(s_t):
+            good[~good.all(axis=1)] |= test(failing)
     if prover.aims and retries and (deadline is None or time.perf_counter() < deadline):
         # a direction failing at few section cells (FEW), where its local directions' proofs serve it not:
         # Newton aimed at its E itself there, from random starts, then the failing cells tested again
@@ -660,9 +681,10 @@ class _CellTest:
             self.centre, self.cos_h = 0.5 * (lo + hi) + math.pi, math.cos(math.pi - 0.5 * (hi - lo))
 
     def _pieces(self, n: int):
-        """Per usable piece of cell ``n``: its section cells, the local directions nearest each ``E`` and the
-        mask ``(S, K)`` of the section cells and directions some of their proofs serve; None for a piece
-        that is not usable."""
+        """Per usable piece of cell ``n``: its section cells, the local directions nearest each ``E``, the mask
+        ``(S, K)`` of the section cells and directions some of their proofs serve, ``E`` itself, and the mask
+        ``(S, K, columns)`` of the proofs whose ``b`` serves ``E`` but whose ``beta`` the first joint's range
+        refuses (:meth:`wanted_second`); None for a piece that is not usable."""
         grid, D, L = self.grid, self.D, len(self.grid.local)
         prover = grid.prover
         for (_rmin, _rmax, psi, gamma, _zs), (i0, i1, j0, j1, usable) in zip(self.pieces, self.spans):
@@ -683,14 +705,15 @@ class _CellTest:
             least = np.where(spread < prover.cone, np.cos(np.minimum(prover.cone - spread, math.pi)) + MARGIN, np.inf)
             with np.errstate(invalid="ignore"):
                 value = np.einsum("sknc,kc->skn", mid, E) - np.einsum("sknc,kc->skn", half, np.abs(E))
-            passes = np.where(np.isnan(value), False, value >= least[None, :, None])
+            aimed = np.where(np.isnan(value), False, value >= least[None, :, None])
+            passes = aimed
             if self.limited is not None:
                 phi = psi[n] - self.centre
                 f = np.array([math.cos(phi), math.sin(phi)])
                 with np.errstate(invalid="ignore"):
-                    top = grid.uc_mid[ss] @ f + grid.uc_half[ss] @ np.abs(f) + gamma[n]           # (S, L)
-                passes &= np.where(np.isnan(top), False, top <= self.cos_h - MARGIN)[:, columns]
-            yield ss, near, passes.any(axis=2), E
+                    top = grid.uc_mid[ss] @ f + grid.uc_half[ss] @ np.abs(f) + gamma[n]           # (S, 2 L)
+                passes = aimed & np.where(np.isnan(top), False, top <= self.cos_h - MARGIN)[:, columns]
+            yield ss, near, passes.any(axis=2), E, aimed & ~passes
 
     def __call__(self, cells: np.ndarray) -> np.ndarray:
         """``(len(cells), K)``: the directions proved reachable over every point of each cell."""
@@ -707,6 +730,27 @@ class _CellTest:
             out[row] = good
         return out
 
+    def wanted_second(self, cells: np.ndarray, good: np.ndarray):
+        """For a limited first joint: where a direction of ``cells`` not proved (``good`` False) is refused at a
+        section cell by the first joint's range alone (a first proof's ``b`` serves its ``E``, its ``beta`` puts
+        ``theta_1`` in the forbidden arc), those section cells and local directions whose second proof was not
+        tried yet, once each: ``(W,)`` and ``(W,)``."""
+        grid = self.grid
+        s_all, l_all = [np.zeros(0, dtype=np.int64)], [np.zeros(0, dtype=np.int64)]
+        for n, row in zip(cells, good):
+            for piece in self._pieces(n):
+                if piece is None:
+                    break
+                ss, near, served, _E, refused = piece
+                first = refused[:, :, :near.shape[1]] & ~served[:, :, None] & ~row[None, :, None]
+                s_i, k_i, j_i = np.nonzero(first)
+                s_all.append(ss[s_i])
+                l_all.append(near[k_i, j_i])
+        ss, ls = np.concatenate(s_all), np.concatenate(l_all)
+        keep = grid.aimed[ss, ls] & ~grid.swung[ss, ls]
+        _, first = np.unique(ss[keep] * len(grid.local) + ls[keep], return_index=True)
+        return ss[keep][first], ls[keep][first]
+
     def wanted(self, cells: np.ndarray, good: np.ndarray):
         """Where a direction of ``cells`` not proved (``good`` False) finds no proof serving it at ``FEW`` section
         cells of its pieces or fewer: those section cells, the local direction nearest ``E`` and ``E`` itself, once
@@ -718,7 +762,7 @@ class _CellTest:
             for piece in self._pieces(n):
                 if piece is None:
                     break
-                ss, near, served, E = piece
+                ss, near, served, E, _ = piece
                 s_i, k_i = np.nonzero(~served & ~row[None, :])
                 found.append((ss[s_i], near[k_i, 0], E[k_i], k_i))
             if not found:

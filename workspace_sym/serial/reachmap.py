@@ -1085,6 +1085,7 @@ def _section_map(robot, values, d, cone, delta, reach_delta, named, angle, stop,
                                time_limit=None if deadline is None else max(1e-3, 0.3 * stop.time_limit))
         position = reach(robot, delta=reach_delta, parameters=dict(values), stop=position_stop,
                          run=RunOn(progress=False))
+        stages = {"position": time.perf_counter() - started}
         bar.update(1)
         root = _kept_root(position)
         origin, shape = _grid_of(root, delta)
@@ -1096,11 +1097,13 @@ def _section_map(robot, values, d, cone, delta, reach_delta, named, angle, stop,
             wrist = reach(wrist_robot(robot, offset), delta=reach_delta / 2, parameters=dict(values),
                           stop=StopAt(max_boxes=stop.max_boxes, time_limit=None if deadline is None else
                                       max(1e-3, 0.2 * stop.time_limit)), run=RunOn(progress=False))
+        stages["wrist"] = time.perf_counter() - started - sum(stages.values())
         bar.update(1)
         options = {**SECTION_OPTIONS, "cell": delta / 10}
         inner = section_reachable(prover, edges, ~outer, d, cell=options["cell"],
                                   local=local_directions(prover, d, options["local"]), samples=options["samples"],
                                   split=options["split"], retries=options["retries"], deadline=deadline)
+        stages["section"] = time.perf_counter() - started - sum(stages.values())
         bar.update(1)
         unreachable = np.repeat(outer[..., None], len(d), axis=-1)
         by_wrist = np.zeros_like(unreachable)
@@ -1119,6 +1122,7 @@ def _section_map(robot, values, d, cone, delta, reach_delta, named, angle, stop,
         if ring is not None:
             by_ring = ring_unreachable(edges, ~inner & ~unreachable, d, cone, ring)
             unreachable |= by_ring
+        stages["unreachable"] = time.perf_counter() - started - sum(stages.values())
         bar.update(1)
     codes = codes_from_masks(inner.ravel(), unreachable.ravel()).reshape(inner.shape)
     complete = (bool(position.complete) and (wrist is None or bool(wrist.complete))
@@ -1131,7 +1135,8 @@ def _section_map(robot, values, d, cone, delta, reach_delta, named, angle, stop,
             "wrist_offset": None if offset is None else float(offset),
             "wrist_pairs": int(by_wrist.sum()),
             "ring_pairs": int(by_ring.sum()),
-            "wrist_complete": None if wrist is None else bool(wrist.complete)}
+            "wrist_complete": None if wrist is None else bool(wrist.complete),
+            "stage_seconds": {name: round(seconds, 1) for name, seconds in stages.items()}}
     inside = bool(all(edges[a][0] <= root[a, 0] and root[a, 1] <= edges[a][-1] for a in range(3)))
     return ReachMap(directions=d, cone=cone, delta=delta, origin=origin, shape=shape, codes=codes,
                     outside_proved=inside, fingerprint=named, info=info)
