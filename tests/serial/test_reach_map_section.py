@@ -188,7 +188,7 @@ def test_pairs_proved_by_the_second_branch_of_a_limited_first_joint_are_reached_
 
     monkeypatch.setattr(mapsection._SectionCells, "second", counted)
     both = section_reachable(prover, edges, candidates, directions, **options)
-    # second proofs only where a failing pair needs them (_CellTest.wanted_second): far fewer than the first ones
+    # second proofs only where a failing pair needs them (asked for by the first cell test): far fewer than first ones
     assert asked and sum(n for n, _ in asked) < 0.5 * asked[-1][1]
     monkeypatch.setattr(mapsection._SectionCells, "second", lambda self, s, l: np.zeros(0, dtype=np.int64))
     first = section_reachable(prover, edges, candidates, directions, **options)
@@ -239,6 +239,34 @@ def test_pairs_proved_by_aims_tried_again_are_reached_at_50_digits():
     only = np.argwhere(again & ~once)
     assert len(only) >= 8
     _reached_at_50_digits(robot, edges, only, directions, 2)
+
+
+def test_a_cell_test_of_some_directions_gives_their_verdicts_of_the_whole_test(monkeypatch):
+    # The section tests failing cells again on their failing directions only (_CellTest(todo=...)): on the Panda's
+    # eight cells behind its base (the second proofs' box above), every random choice of directions gets exactly
+    # the verdicts the whole test gives them, and False elsewhere.  Independent of the proofs: the same grid read
+    # twice.
+    robot = industrial_arm("panda")
+    prover = section_prover(robot, (), 30.0)
+    edges, candidates = _cells_in(robot, ((-0.55, -0.35), (-0.1, 0.1), (0.3, 0.5)))
+    tests = []
+
+    class Kept(mapsection._CellTest):
+        def __init__(self, *args):
+            super().__init__(*args)
+            tests.append(self)
+
+    monkeypatch.setattr(mapsection, "_CellTest", Kept)
+    directions = sphere_directions(6)
+    proved = section_reachable(prover, edges, candidates, directions, cell=0.01, local=sphere_directions(16),
+                               samples=40_000)
+    test, cells = tests[0], np.arange(int(candidates.sum()))
+    whole = test(cells)
+    assert whole.any() and not whole.all() and whole.sum() <= proved.sum()
+    rng = np.random.default_rng(5)
+    for _ in range(4):
+        todo = rng.random(whole.shape) < 0.5
+        assert (test(cells, todo) == (whole & todo)).all()
 
 
 @settings(max_examples=200, deadline=None)

@@ -640,27 +640,28 @@ def section_reachable(prover: SectionProver, edges: tuple, candidates: np.ndarra
         worth &= usable & (count == (i1 - i0 + 1) * (j1 - j0 + 1))
     cells = np.nonzero(worth)[0]
     test = _CellTest(grid, pieces, spans, D, turning)
-    good = test(cells)
-    if grid.b_mid.shape[1] > L and (deadline is None or time.perf_counter() < deadline):
+    limited = grid.b_mid.shape[1] > L
+    seconds: list = []
+    good = test(cells, seconds=seconds if limited else None)
+    if seconds and (deadline is None or time.perf_counter() < deadline):
         # a limited first joint: second proofs, beta swung half a turn, where a first proof serves a failing
-        # direction but for the first joint's range; then the failing cells tested again
-        failing = cells[~good.all(axis=1)]
-        s_t, l_t = test.wanted_second(failing, good[~good.all(axis=1)])
+        # direction but for the first joint's range; then the failing directions tested again
+        s_t, l_t = seconds[0]
         for start in range(0, len(s_t), chunk):
             if deadline is not None and time.perf_counter() > deadline:
                 break
             grid.second(s_t[start:start + chunk], l_t[start:start + chunk])
-        if len(s_t):
-            good[~good.all(axis=1)] |= test(failing)
+        failing = ~good.all(axis=1)
+        good[failing] |= test(cells[failing], ~good[failing])
     if prover.aims and retries and (deadline is None or time.perf_counter() < deadline):
         # a direction failing at few section cells (FEW), where its local directions' proofs serve it not:
-        # Newton aimed at its E itself there, from random starts, then the failing cells tested again
-        failing = cells[~good.all(axis=1)]
-        wanted = test.wanted(failing, good[~good.all(axis=1)])
+        # Newton aimed at its E itself there, from random starts, then the failing directions tested again
+        failing = ~good.all(axis=1)
+        wanted = test.wanted(cells[failing], good[failing])
         if len(wanted[0]):
             _retry_aims(grid, wanted, retries, rng, chunk, deadline)
             # a proof replaced by a retried one was a proof all the same: what the first test proved stays
-            good[~good.all(axis=1)] |= test(failing)
+            good[failing] |= test(cells[failing], ~good[failing])
     for n, row in zip(cells, good):
         out[tuple(idx[n])] = row
     return out
@@ -669,7 +670,8 @@ def section_reachable(prover: SectionProver, edges: tuple, candidates: np.ndarra
 class _CellTest:
     """The test of map cells against the section's proofs: every piece, every section cell it meets, some proof
     serving the direction (of the local directions nearest ``e = Rz(-psi) d``, the others being too far to pass:
-    choosing fewer only proves less)."""
+    choosing fewer only proves less).  Each pass reads only the directions it is given (a cell's failing ones
+    when it is tested again) and leaves a cell at its first piece that proves none of them."""
 
     def __init__(self, grid: _SectionCells, pieces: list, spans: list, D: np.ndarray, turning: np.ndarray):
         self.grid, self.pieces, self.spans, self.D, self.turning = grid, pieces, spans, D, turning
@@ -680,13 +682,14 @@ class _CellTest:
             lo, hi = self.limited
             self.centre, self.cos_h = 0.5 * (lo + hi) + math.pi, math.cos(math.pi - 0.5 * (hi - lo))
 
-    def _pieces(self, n: int):
-        """Per usable piece of cell ``n``: its section cells, the local directions nearest each ``E``, the mask
-        ``(S, K)`` of the section cells and directions some of their proofs serve, ``E`` itself, and the mask
-        ``(S, K, columns)`` of the proofs whose ``b`` serves ``E`` but whose ``beta`` the first joint's range
-        refuses (:meth:`wanted_second`); None for a piece that is not usable."""
-        grid, D, L = self.grid, self.D, len(self.grid.local)
+    def _pieces(self, n: int, ks: np.ndarray):
+        """Per usable piece of cell ``n``, for the directions ``ks``: its section cells, the local directions
+        nearest each ``E``, the mask ``(S, len(ks))`` of the section cells and directions some of their proofs
+        serve, ``E`` itself, and the mask ``(S, len(ks), columns)`` of the proofs whose ``b`` serves ``E`` but
+        whose ``beta`` the first joint's range refuses; None for a piece that is not usable."""
+        grid, D, L = self.grid, self.D[ks], len(self.grid.local)
         prover = grid.prover
+        turning = self.turning[ks]
         for (_rmin, _rmax, psi, gamma, _zs), (i0, i1, j0, j1, usable) in zip(self.pieces, self.spans):
             if not usable[n]:
                 yield None
@@ -701,7 +704,7 @@ class _CellTest:
             columns = np.concatenate([near, near + L], axis=1) if grid.b_mid.shape[1] > L else near
             mid, half = grid.b_mid[ss][:, columns], grid.b_half[ss][:, columns]                  # (S, K, n, 3)
             # angle(b, E) <= c - spread and angle(E, e(psi)) <= spread at every psi of the piece
-            spread = gamma[n] * self.turning + MARGIN
+            spread = gamma[n] * turning + MARGIN
             least = np.where(spread < prover.cone, np.cos(np.minimum(prover.cone - spread, math.pi)) + MARGIN, np.inf)
             with np.errstate(invalid="ignore"):
                 value = np.einsum("sknc,kc->skn", mid, E) - np.einsum("sknc,kc->skn", half, np.abs(E))
@@ -715,41 +718,45 @@ class _CellTest:
                 passes = aimed & np.where(np.isnan(top), False, top <= self.cos_h - MARGIN)[:, columns]
             yield ss, near, passes.any(axis=2), E, aimed & ~passes
 
-    def __call__(self, cells: np.ndarray) -> np.ndarray:
-        """``(len(cells), K)``: the directions proved reachable over every point of each cell."""
-        out = np.zeros((len(cells), len(self.D)), dtype=bool)
+    def __call__(self, cells: np.ndarray, todo: np.ndarray | None = None, seconds: list | None = None) -> np.ndarray:
+        """``(len(cells), K)``: the directions proved reachable over every point of each cell, of those ``todo``
+        (``(len(cells), K)``, default all).  With ``seconds`` (a limited first joint), the section cells and local
+        directions whose first proof serves a direction left unproved but for the first joint's range, and that
+        hold no second proof tried yet, are appended to it as ``(s, l)`` arrays."""
+        grid, K = self.grid, len(self.D)
+        out = np.zeros((len(cells), K), dtype=bool)
         for row, n in enumerate(cells):
-            good = np.ones(len(self.D), dtype=bool)
-            for piece in self._pieces(n):
+            ks = np.arange(K) if todo is None else np.nonzero(todo[row])[0]
+            if not len(ks):
+                continue
+            good = np.ones(len(ks), dtype=bool)
+            # the directions a second proof may still prove: at every section cell where no proof serves them, a
+            # first proof refused by the first joint's range alone
+            mended = np.full(len(ks), seconds is not None)
+            asked = []
+            for piece in self._pieces(n, ks):
                 if piece is None:
-                    good[:] = False
-                    break
-                good &= piece[2].all(axis=0)
-                if not good.any():
-                    break
-            out[row] = good
-        return out
-
-    def wanted_second(self, cells: np.ndarray, good: np.ndarray):
-        """For a limited first joint: where a direction of ``cells`` not proved (``good`` False) is refused at a
-        section cell by the first joint's range alone (a first proof's ``b`` serves its ``E``, its ``beta`` puts
-        ``theta_1`` in the forbidden arc), those section cells and local directions whose second proof was not
-        tried yet, once each: ``(W,)`` and ``(W,)``."""
-        grid = self.grid
-        s_all, l_all = [np.zeros(0, dtype=np.int64)], [np.zeros(0, dtype=np.int64)]
-        for n, row in zip(cells, good):
-            for piece in self._pieces(n):
-                if piece is None:
+                    good[:] = mended[:] = False
                     break
                 ss, near, served, _E, refused = piece
-                first = refused[:, :, :near.shape[1]] & ~served[:, :, None] & ~row[None, :, None]
-                s_i, k_i, j_i = np.nonzero(first)
-                s_all.append(ss[s_i])
-                l_all.append(near[k_i, j_i])
-        ss, ls = np.concatenate(s_all), np.concatenate(l_all)
-        keep = grid.aimed[ss, ls] & ~grid.swung[ss, ls]
-        _, first = np.unique(ss[keep] * len(grid.local) + ls[keep], return_index=True)
-        return ss[keep][first], ls[keep][first]
+                if mended.any():
+                    first = refused[:, :, :near.shape[1]] & ~served[:, :, None]
+                    mended &= (served | first.any(axis=2)).all(axis=0)
+                    s_i, k_i, j_i = np.nonzero(first)
+                    asked.append((ss[s_i], near[k_i, j_i], k_i))
+                good &= served.all(axis=0)
+                if not (good | mended).any():
+                    break
+            out[row, ks] = good
+            for s_i, l_i, k_i in asked:
+                keep = ~good[k_i]
+                seconds.append((s_i[keep], l_i[keep]))
+        if seconds:
+            ss, ls = (np.concatenate(v) for v in zip(*seconds))
+            keep = grid.aimed[ss, ls] & ~grid.swung[ss, ls]
+            _, first_at = np.unique(ss[keep] * len(grid.local) + ls[keep], return_index=True)
+            seconds[:] = [(ss[keep][first_at], ls[keep][first_at])]
+        return out
 
     def wanted(self, cells: np.ndarray, good: np.ndarray):
         """Where a direction of ``cells`` not proved (``good`` False) finds no proof serving it at ``FEW`` section
@@ -758,17 +765,20 @@ class _CellTest:
         most often out of reach there: not worth the solves.)"""
         ss_all, l_all, e_all = [], [], []
         for n, row in zip(cells, good):
+            ks = np.nonzero(~row)[0]
+            if not len(ks):
+                continue
             found = []
-            for piece in self._pieces(n):
+            for piece in self._pieces(n, ks):
                 if piece is None:
                     break
                 ss, near, served, E, _ = piece
-                s_i, k_i = np.nonzero(~served & ~row[None, :])
+                s_i, k_i = np.nonzero(~served)
                 found.append((ss[s_i], near[k_i, 0], E[k_i], k_i))
             if not found:
                 continue
             k_all = np.concatenate([f[3] for f in found])
-            few = np.bincount(k_all, minlength=len(row)) <= FEW
+            few = np.bincount(k_all, minlength=len(ks)) <= FEW
             for ss_i, l_i, E_i, k_i in found:
                 keep = few[k_i]
                 ss_all.append(ss_i[keep])
