@@ -49,6 +49,7 @@ NEAREST = 6            # local directions tried per map direction and piece: the
 SWINGS = (math.pi, 0.5 * math.pi, -0.5 * math.pi)   # beta's swings tried for a second proof, in turn
 FEW = 32               # a failing direction's aims are tried again where it fails at this many section cells or fewer
 MARGIN = 1e-9          # added to every float comparison of the cell test (far above its rounding, about 1e-15)
+SOLVES_SHARE = 0.75    # the continuation's share of a section's time limit (the second proofs and retries: the rest)
 SOLVED = 1e-13         # Newton's rows stop within this (relative) of their targets: floats, where a proof is tried
 
 
@@ -504,13 +505,16 @@ def section_reachable(prover: SectionProver, edges: tuple, candidates: np.ndarra
     seed : int
         The random draws' seed.
     deadline : float, optional
-        ``time.perf_counter()`` value after which no more section cells are solved.
+        ``time.perf_counter()`` value after which no more section cells are solved.  The first solves (the
+        continuation) stop at ``SOLVES_SHARE`` of the time left, so that the second proofs and the retries,
+        which come after the first cell test, keep the rest.
 
     Returns
     -------
     numpy.ndarray
         ``bool`` of shape ``(*grid, K)``.
     """
+    solves_by = None if deadline is None else time.perf_counter() + SOLVES_SHARE * (deadline - time.perf_counter())
     shape = tuple(len(e) - 1 for e in edges)
     out = np.zeros((*shape, len(directions)), dtype=bool)
     idx = np.argwhere(candidates)
@@ -598,7 +602,7 @@ def section_reachable(prover: SectionProver, edges: tuple, candidates: np.ndarra
         grid.tries[s_t, l_t] += 1
         reached = []
         for start in range(0, len(s_t), chunk):
-            if deadline is not None and time.perf_counter() > deadline:
+            if solves_by is not None and time.perf_counter() > solves_by:
                 break
             part = slice(start, start + chunk)
             reached.append(start + grid.solve(s_t[part], l_t[part], q_t[part]))
