@@ -752,9 +752,10 @@ class _CellTest:
                 if not (good | mended).any():
                     break
             out[row, ks] = good
-            for s_i, l_i, k_i in asked:
-                keep = ~good[k_i]
-                seconds.append((s_i[keep], l_i[keep]))
+            if seconds is not None:
+                for s_i, l_i, k_i in asked:
+                    keep = ~good[k_i]
+                    seconds.append((s_i[keep], l_i[keep]))
         if seconds:
             ss, ls = (np.concatenate(v) for v in zip(*seconds))
             keep = grid.aimed[ss, ls] & ~grid.swung[ss, ls]
