@@ -198,6 +198,16 @@ def test_pairs_proved_by_the_second_branch_of_a_limited_first_joint_are_reached_
     _reached_at_50_digits(robot, edges, only, directions, 2)
 
 
+def _beside_the_ur5_base():
+    """The UR5's prover, the 36 map cells of 0.1 beside and below its base (x in (-0.3, 0.3), y in (0, 0.3), z in
+    (-0.3, -0.1)), six directions and the section options of the tests below."""
+    robot = industrial_arm("ur5")
+    edges, candidates = _cells_in(robot, ((-0.3, 0.3), (0.0, 0.3), (-0.3, -0.1)))
+    assert candidates.sum() == 36
+    options = dict(cell=0.01, local=sphere_directions(16), samples=40_000)
+    return robot, section_prover(robot, (), 30.0), edges, candidates, sphere_directions(6), options
+
+
 def test_pairs_proved_near_the_axis_by_the_turning_bound_are_reached_at_50_digits(monkeypatch):
     # The cell test allows b within c - gamma r of E = e(psi_c), r = sin of the direction's angle from the first
     # axis (mapsection._turning: e(psi) turns by at most r |psi - psi_c|), where it allowed c - gamma: a vertical
@@ -206,12 +216,7 @@ def test_pairs_proved_near_the_axis_by_the_turning_bound_are_reached_at_50_digit
     # 45 deg: with the spread counted in full (_turning made 1) none of their pairs is proved, with the bound
     # 36, all of them for +-z.  Reference: the 50-digit inverse kinematics of the whole arm at a corner and a
     # random point of two of them, the approach within 30 deg of the direction.
-    robot = industrial_arm("ur5")
-    prover = section_prover(robot, (), 30.0)
-    edges, candidates = _cells_in(robot, ((-0.3, 0.3), (0.0, 0.3), (-0.3, -0.1)))
-    assert candidates.sum() == 36
-    directions = sphere_directions(6)
-    options = dict(cell=0.01, local=sphere_directions(16), samples=40_000)
+    robot, prover, edges, candidates, directions, options = _beside_the_ur5_base()
     bound = section_reachable(prover, edges, candidates, directions, **options)
     monkeypatch.setattr(mapsection, "_turning", lambda D: np.ones(len(D)))
     full = section_reachable(prover, edges, candidates, directions, **options)
@@ -228,11 +233,7 @@ def test_pairs_proved_by_aims_tried_again_are_reached_at_50_digits():
     # and below the base as above: 36 pairs without the retries, 52 with 16 starts.  The pairs proved without
     # must stay proved (a replaced proof was a proof all the same), and two of those proved only with the retries
     # are checked by the whole arm's 50-digit inverse kinematics, the approach within 30 deg.
-    robot = industrial_arm("ur5")
-    prover = section_prover(robot, (), 30.0)
-    edges, candidates = _cells_in(robot, ((-0.3, 0.3), (0.0, 0.3), (-0.3, -0.1)))
-    directions = sphere_directions(6)
-    options = dict(cell=0.01, local=sphere_directions(16), samples=40_000)
+    robot, prover, edges, candidates, directions, options = _beside_the_ur5_base()
     once = section_reachable(prover, edges, candidates, directions, **options)
     again = section_reachable(prover, edges, candidates, directions, retries=16, **options)
     assert not (once & ~again).any() and not again[~candidates].any()

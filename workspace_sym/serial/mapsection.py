@@ -381,11 +381,11 @@ class _SectionCells:
         ell = self.local[l] if aim is None else aim
         q, converged, aimed = _aimed_newton(prover, 0.5 * (T[:, :, 0] + T[:, :, 1]), ell, seeds.copy())
         if aim is not None:
-            return self._prove(s, l, T, q, np.nonzero(converged)[0], lambda r: np.ones(len(r), dtype=bool))
+            return self._prove(s, l, T, q, np.nonzero(converged)[0])
         # a proof kept: the first, replaced once by one whose b was aimed (either serves the directions it is near);
         # only those are tried
         rows = np.nonzero(converged & ~self.aimed[s, l] & (aimed | ~np.isfinite(self.b_mid[s, l, 0])))[0]
-        rows = self._prove(s, l, T, q, rows, lambda r: np.ones(len(r), dtype=bool))
+        rows = self._prove(s, l, T, q, rows)
         self.aimed[s[rows], l[rows]] |= aimed[rows]
         ok = np.nonzero(aimed)[0]
         self.solution[s[ok], l[ok]] = q[ok]
@@ -414,23 +414,20 @@ class _SectionCells:
                 w = square.lateral.position_float(q)
             apart = np.abs(np.angle(np.exp(1j * (np.arctan2(w[:, 1], w[:, 0]) - first[todo]))))
             rows = np.nonzero(aimed & (apart > 2 * math.pi - (hi - lo) + 0.2))[0]
-            kept = self._prove(s[todo], l[todo] + L, T[todo], q, rows, lambda r: np.ones(len(r), dtype=bool))
+            kept = self._prove(s[todo], l[todo] + L, T[todo], q, rows)
             stored.append(todo[kept])
             todo = np.setdiff1d(todo, todo[kept])
             if not len(todo):
                 break
         return np.concatenate(stored)
 
-    def _prove(self, s, col, T, q, rows, keep):
-        """The Krawczyk test of ``rows`` (of the cells ``s`` at ``q``); where it succeeds and ``keep(rows)``, the
-        enclosures of ``b`` and ``(u, c) / rho`` over the proof's box go to column ``col``.  Returns the rows
-        stored."""
+    def _prove(self, s, col, T, q, rows):
+        """The Krawczyk test of ``rows`` (of the cells ``s`` at ``q``); where it succeeds, the enclosures of ``b``
+        and ``(u, c) / rho`` over the proof's box go to column ``col``.  Returns the rows stored."""
         prover, square = self.prover, self.prover.square
         r0, r1 = self.bounds(s)[:2]
         proved, U = square.prove_inside_boxes(T[rows], q[rows], inflations=2)
         rows, U = rows[proved], U[proved]
-        new = keep(rows)
-        rows, U = rows[new], U[new]
         if len(rows):
             X = [(U[:, j, 0], U[:, j, 1]) for j in range(square.k)]
             with np.errstate(all="ignore"):
