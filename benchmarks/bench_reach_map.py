@@ -16,15 +16,19 @@ cone``, floats); a (cell, direction) pair is "reached" when one sample lands in 
 
 Run: python benchmarks/bench_reach_map.py [--robot puma560] [--delta 0.05] [--directions 26] [--cone 30]
      [--time-limit 1200] [--samples 1000000,10000000] [--reach-delta D] [--method pavings|section] [--save PATH]
+     [--workers N] (processes the map is built on, default the cores: a spawned process pool)
      (--robot: a name of ``robots.build``, of a table in tests/data/dh (ur5, panda), or kr16, iiwa: rtb-data's URDFs)
 """
 
 from __future__ import annotations
 
 import argparse
+import concurrent.futures
+import contextlib
 import datetime
 import json
 import math
+import multiprocessing
 import os
 import time
 import warnings
@@ -33,7 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from _common import machine
-from workspace_sym import StopAt, robots
+from workspace_sym import RunOn, StopAt, robots
 from workspace_sym.kinematics import DHRobot, numeric_function
 from workspace_sym.serial.reachmap import reach_map
 
@@ -87,17 +91,24 @@ def main():
     parser.add_argument("--samples", default="1000000,10000000")
     parser.add_argument("--method", default="pavings", choices=("pavings", "section"))
     parser.add_argument("--save", default=None, help="write the map to this .npz")
+    parser.add_argument("--workers", type=int, default=os.cpu_count() or 1,
+                        help="processes the map is built on (default: the cores; 1: in this process)")
     args = parser.parse_args()
     robot = robot_named(args.robot)
     load = os.getloadavg()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UserWarning)
-        made = reach_map(robot, delta=args.delta, directions=args.directions, cone=args.cone,
-                         reach_delta=args.reach_delta, method=args.method, stop=StopAt(time_limit=args.time_limit))
+        with contextlib.ExitStack() as stack:
+            pool = None if args.workers <= 1 else stack.enter_context(concurrent.futures.ProcessPoolExecutor(
+                args.workers, mp_context=multiprocessing.get_context("spawn")))
+            made = reach_map(robot, delta=args.delta, directions=args.directions, cone=args.cone,
+                             reach_delta=args.reach_delta, method=args.method,
+                             stop=StopAt(time_limit=args.time_limit), run=RunOn(executor=pool))
     s = made.summary()
     codes = made.codes
     out = {"date": datetime.datetime.now(datetime.UTC).isoformat(timespec="minutes"), "machine": machine(),
-           "load_before": [round(v, 2) for v in load], "robot": args.robot, "method": args.method, "summary": s,
+           "load_before": [round(v, 2) for v in load], "robot": args.robot, "method": args.method,
+           "workers": args.workers, "summary": s,
            "stage_seconds": made.info.get("stage_seconds"),
            "direction_seconds": [round(v or 0, 1) for v in made.info["direction_seconds"]],
            "direction_methods": made.info["direction_methods"], "sampled": []}

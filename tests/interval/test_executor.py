@@ -173,6 +173,21 @@ def test_cli_reach_on_a_scheduler_equals_local(client, capsys):
         assert local[kind] == spread[kind]
 
 
+def test_cli_section_map_on_a_scheduler_equals_local(client, tmp_path, capsys):
+    """The section method's stages as Dask tasks: the pavings side by side, the section in two parts of its cells.
+    Reference: the map built in this process; the SCARA's two parts prove the same 126 pairs reachable (its
+    section cannot aim: the seeds are the solution branches) and its 4,140 unreachable pairs are the pavings'."""
+    from workspace_sym.serial.reachmap import ReachMap
+
+    argv = ["reach-map", "scara", "--delta", "0.05", "--directions", "6", "--method", "section", "--json"]
+    assert main([*argv, "--out", str(tmp_path / "here.npz")]) == 0
+    assert main([*argv, "--out", str(tmp_path / "there.npz"), "--scheduler", client.scheduler.address]) == 0
+    capsys.readouterr()
+    here, there = (ReachMap.load(tmp_path / name) for name in ("here.npz", "there.npz"))
+    assert np.array_equal(here.codes, there.codes) and (here.codes == 1).sum() == 126
+    assert here.info["section_parts"] == 1 and there.info["section_parts"] == 2
+
+
 def test_process_pool_equals_local(rpr2):
     with ProcessPoolExecutor(2) as pool:
         spread = pave(*rpr2, delta=0.08, run=RunOn(executor=pool))

@@ -36,7 +36,7 @@ from ..files import write_npz
 from ..interval import arith
 from ..interval.boxes import check_delta
 from ..interval.driver import RunOn, StopAt
-from ..interval.executor import refuse_result, runner_for
+from ..interval.executor import Inline, refuse_result, runner_for
 from ..interval.fingerprint import Fingerprint, check_fingerprint
 from ..interval.verdict import CODE, INSIDE, OUTSIDE, UNDECIDED, codes_from_masks
 from ..kinematics import DHRobot
@@ -958,8 +958,9 @@ def reach_map(robot: DHRobot, *, delta: float, directions=26, cone: float = 30.0
         ``executor``: directions sent to a ``concurrent.futures`` executor or a Dask client (a task a direction,
         each answer checked); ``resume``: a checkpoint file of the finished directions, written after each one and
         taken again (refused when it names another problem); ``progress``: a bar over the directions;
-        ``max_memory``, ``store``, ``chunk`` are refused (a map keeps one byte a pair in memory); with
-        ``method="section"`` (built in one process, in one piece), ``executor`` and ``resume`` too.
+        ``max_memory``, ``store``, ``chunk`` are refused (a map keeps one byte a pair in memory).  With
+        ``method="section"``, ``executor`` runs the position and the wrist pavings side by side, then the section
+        in as many parts as the executor has workers (a task each, each answer checked), and ``resume`` is refused.
 
     Returns
     -------
@@ -1058,88 +1059,210 @@ def _section_map(robot, values, d, cone, delta, reach_delta, named, angle, stop,
     """``reach_map(method="section")``: the position paving's outer cells for every direction, the section's
     proofs for the reachable pairs (:mod:`~workspace_sym.serial.mapsection`).  The grid holds the bounding box
     of the paving's boxes not proved outer (inner, boundary, pending): every reachable point is in them, often
-    a far smaller box than the enclosure over the joint limits (the Panda's: 0.9 m against 4.25 m)."""
-    from .mapsection import (
-        local_directions,
-        section_prover,
-        section_reachable,
-        wrist_offset,
-        wrist_robot,
-        wrist_unreachable,
-    )
+    a far smaller box than the enclosure over the joint limits (the Panda's: 0.9 m against 4.25 m).
+
+    With ``run.executor`` the stages run as tasks there: the position and the wrist pavings side by side, then
+    the section's candidate cells in as many parts as the executor has workers (whole layers of cells along the
+    first joint's axis, about as many cells each), every part solved and tested on its own until the deadline.
+    Without one they run in this process, one after the other."""
+    from .mapsection import wrist_offset, wrist_unreachable
     from .ring import ring_unreachable, wrist_ring
 
-    for name in ("executor", "resume"):
-        if getattr(run, name) is not None:
-            raise InvalidParameterError(f"method='section' builds the map in one process, in one piece, so "
-                                        f"{name} does not apply; got {name}={getattr(run, name)!r}; use "
-                                        "method='pavings' for directions sent to an executor or resumed",
-                                        parameter=name)
-    prover = section_prover(robot, values, cone)
+    if run.resume is not None:
+        raise InvalidParameterError(f"method='section' builds the map in one piece, so resume does not apply; got "
+                                    f"resume={run.resume!r}; use method='pavings' for a checkpoint per direction",
+                                    parameter="resume")
+    prover = _section_prover(named.digest, robot, values, cone)      # kept for the section in this process
     if isinstance(prover, str):
         raise InvalidParameterError(f"method: 'section' needs an arm turned by its first joint; {robot.name} is "
                                     f"not: {prover}; use method='pavings'", parameter="method")
     deadline = None if stop.time_limit is None else started + stop.time_limit
-    with progress_bar(run.progress, total=4, desc=f"reach map of {robot.name}", unit="stage") as bar:
-        position_stop = StopAt(max_boxes=stop.max_boxes,
-                               time_limit=None if deadline is None else max(1e-3, 0.3 * stop.time_limit))
-        position = reach(robot, delta=reach_delta, parameters=dict(values), stop=position_stop,
-                         run=RunOn(progress=False))
-        stages = {"position": time.perf_counter() - started}
-        bar.update(1)
-        root = _kept_root(position)
-        origin, shape = _grid_of(root, delta)
-        edges = tuple(origin[a] + np.arange(shape[a] + 1) * delta for a in range(3))
-        outer = covered_cells(edges, position.outer.reshape(-1, 3, 2), exterior=root)
-        offset = wrist_offset(robot, values)
-        wrist = None
-        if offset is not None:
-            wrist = reach(wrist_robot(robot, offset), delta=reach_delta / 2, parameters=dict(values),
-                          stop=StopAt(max_boxes=stop.max_boxes, time_limit=None if deadline is None else
-                                      max(1e-3, 0.2 * stop.time_limit)), run=RunOn(progress=False))
-        stages["wrist"] = time.perf_counter() - started - sum(stages.values())
-        bar.update(1)
-        options = {**SECTION_OPTIONS, "cell": delta / 10}
-        inner = section_reachable(prover, edges, ~outer, d, cell=options["cell"],
-                                  local=local_directions(prover, d, options["local"]), samples=options["samples"],
-                                  split=options["split"], retries=options["retries"], deadline=deadline)
-        stages["section"] = time.perf_counter() - started - sum(stages.values())
-        bar.update(1)
-        unreachable = np.repeat(outer[..., None], len(d), axis=-1)
-        by_wrist = np.zeros_like(unreachable)
-        if wrist is not None and offset is not None:
-            # the cells meeting none of w's kept boxes, on a grid holding every w = p - L a of the map: cells of
-            # delta / 8 (the boxes' size, reach_delta / 2 = delta / 4 across), at most WRIST_CELLS of them
-            pad = abs(float(offset)) + delta
-            extent = [edges[a][-1] - edges[a][0] + 2 * pad for a in range(3)]
-            fine = max(delta / 8, (math.prod(extent) / WRIST_CELLS) ** (1 / 3))
-            w_edges = tuple(edges[a][0] - pad + np.arange(math.ceil(extent[a] / fine) + 1) * fine for a in range(3))
-            w_out = free_cells(w_edges, _kept(wrist))
-            by_wrist = wrist_unreachable(edges, ~inner & ~unreachable, d, cone, offset, w_out, w_edges)
-            unreachable |= by_wrist
-        ring = wrist_ring(robot, values)
-        by_ring = np.zeros_like(unreachable)
-        if ring is not None:
-            by_ring = ring_unreachable(edges, ~inner & ~unreachable, d, cone, ring)
-            unreachable |= by_ring
-        stages["unreachable"] = time.perf_counter() - started - sum(stages.values())
-        bar.update(1)
+    offset = wrist_offset(robot, values)
+    pavings = _runner(run.executor, partial(_paving_stage, robot=robot, values=values, reach_delta=reach_delta,
+                                            offset=offset, max_boxes=stop.max_boxes))
+    sections = None
+    # the two pavings first, side by side on an executor
+    shares = {POSITION: 0.3, WRIST: 0.2}
+    tasks = {which: np.array([[which, math.nan if deadline is None else max(1e-3, share * stop.time_limit)]])
+             for which, share in shares.items() if which == POSITION or offset is not None}
+    futures: dict = {which: pavings.submit(task) for which, task in tasks.items()}
+    try:
+        with progress_bar(run.progress, total=4, desc=f"reach map of {robot.name}", unit="stage") as bar:
+            position = pavings.result(futures[POSITION], tasks[POSITION], _checked_paving)
+            bar.update(1)
+            root = _kept_root(position)
+            origin, shape = _grid_of(root, delta)
+            edges = tuple(origin[a] + np.arange(shape[a] + 1) * delta for a in range(3))
+            outer = covered_cells(edges, position["outer"], exterior=root)
+            options = {**SECTION_OPTIONS, "cell": delta / 10}
+            part_of = _section_parts(~outer, prover, 1 if run.executor is None else max(1, pavings.slots // 2))
+            check = partial(_checked_section, part_of=part_of, count=len(d))
+            sections = _runner(run.executor, partial(_section_stage, key=named.digest, robot=robot, values=values,
+                                                     cone=cone, directions=d, edges=edges, part_of=part_of,
+                                                     options=options))
+            ends = math.nan if deadline is None else time.time() + (deadline - time.perf_counter())
+            parts = {part: np.array([[part, ends]]) for part in range(int(part_of.max()) + 1)}
+            futures.update({("part", part): sections.submit(task) for part, task in parts.items()})
+            # in this process the wrist's paving comes before the section (its share of the limit is its own)
+            wrist = None if offset is None else pavings.result(futures[WRIST], tasks[WRIST], _checked_paving)
+            bar.update(1)
+            inner = np.zeros((*shape, len(d)), dtype=bool)
+            section_seconds = 0.0
+            for part, task in parts.items():
+                answer = sections.result(futures.pop(("part", part)), task, check)
+                inner |= answer["inner"]
+                section_seconds = max(section_seconds, answer["seconds"])
+            bar.update(1)
+            stages = {"position": position["seconds"], "wrist": 0.0 if wrist is None else wrist["seconds"],
+                      "section": section_seconds}
+            finding = time.perf_counter()
+            unreachable = np.repeat(outer[..., None], len(d), axis=-1)
+            by_wrist = np.zeros_like(unreachable)
+            if wrist is not None and offset is not None:
+                # the cells meeting none of w's kept boxes, on a grid holding every w = p - L a of the map: cells
+                # of delta / 8 (the boxes' size, reach_delta / 2 = delta / 4 across), at most WRIST_CELLS of them
+                pad = abs(float(offset)) + delta
+                extent = [edges[a][-1] - edges[a][0] + 2 * pad for a in range(3)]
+                fine = max(delta / 8, (math.prod(extent) / WRIST_CELLS) ** (1 / 3))
+                w_edges = tuple(edges[a][0] - pad + np.arange(math.ceil(extent[a] / fine) + 1) * fine
+                                for a in range(3))
+                w_out = free_cells(w_edges, wrist["kept"])
+                by_wrist = wrist_unreachable(edges, ~inner & ~unreachable, d, cone, offset, w_out, w_edges)
+                unreachable |= by_wrist
+            ring = wrist_ring(robot, values)
+            by_ring = np.zeros_like(unreachable)
+            if ring is not None:
+                by_ring = ring_unreachable(edges, ~inner & ~unreachable, d, cone, ring)
+                unreachable |= by_ring
+            stages["unreachable"] = time.perf_counter() - finding
+            bar.update(1)
+    finally:
+        for runner in (pavings, sections):
+            if runner is not None:
+                runner.cancel(list(futures.values()))
+                runner.close()
     codes = codes_from_masks(inner.ravel(), unreachable.ravel()).reshape(inner.shape)
-    complete = (bool(position.complete) and (wrist is None or bool(wrist.complete))
+    complete = (bool(position["complete"]) and (wrist is None or bool(wrist["complete"]))
                 and (deadline is None or time.perf_counter() <= deadline))
     info = {"robot": robot.name, "units": robot.units, "method": SECTION_METHOD,
             "seconds": time.perf_counter() - started,
             "reach_delta": reach_delta, "covering_angle": angle, "root": root.tolist(),
-            "direction_seconds": [None] * len(d), "direction_methods": [position.method] * len(d),
+            "direction_seconds": [None] * len(d), "direction_methods": [position["method"]] * len(d),
             "complete": complete, "section": options, "proved_axis": prover.axis,
             "wrist_offset": None if offset is None else float(offset),
             "wrist_pairs": int(by_wrist.sum()),
             "ring_pairs": int(by_ring.sum()),
-            "wrist_complete": None if wrist is None else bool(wrist.complete),
+            "wrist_complete": None if wrist is None else bool(wrist["complete"]),
+            "section_parts": len(parts),
             "stage_seconds": {name: round(seconds, 1) for name, seconds in stages.items()}}
     inside = bool(all(edges[a][0] <= root[a, 0] and root[a, 1] <= edges[a][-1] for a in range(3)))
     return ReachMap(directions=d, cone=cone, delta=delta, origin=origin, shape=shape, codes=codes,
                     outside_proved=inside, fingerprint=named, info=info)
+
+
+POSITION, WRIST = 0, 1       # the pavings of the section method's first stage: the tool point's, the wrist point's
+
+
+def _runner(executor, fn):
+    """Where the section method's stages run: this process, when asked for (no executor), or the executor."""
+    return Inline(fn) if executor is None else runner_for(executor, fn)
+
+
+_PROVERS: dict = {}
+
+
+def _section_prover(key: str, robot, values, cone):
+    """The section prover of the map problem ``key`` (its fingerprint's digest), made once in each process: the
+    map's own process and each worker that solves a part of its section (the last two problems kept)."""
+    from .mapsection import section_prover
+
+    if key not in _PROVERS:
+        if len(_PROVERS) >= 2:
+            _PROVERS.clear()
+        _PROVERS[key] = section_prover(robot, values, cone)
+    return _PROVERS[key]
+
+
+def _paving_stage(task: np.ndarray, *, robot, values, reach_delta, offset, max_boxes) -> dict:
+    """The position paving (``task[0, 0] == POSITION``) or the wrist point's (``WRIST``), within ``task[0, 1]``
+    seconds (NaN: no limit), as the arrays the map reads of it."""
+    from .mapsection import wrist_robot
+
+    which, seconds = int(task[0, 0]), float(task[0, 1])
+    began = time.perf_counter()
+    stop = StopAt(max_boxes=max_boxes, time_limit=None if math.isnan(seconds) else seconds)
+    if which == POSITION:
+        paving = reach(robot, delta=reach_delta, parameters=dict(values), stop=stop, run=RunOn(progress=False))
+    else:
+        paving = reach(wrist_robot(robot, offset), delta=reach_delta / 2, parameters=dict(values), stop=stop,
+                       run=RunOn(progress=False))
+    return {"which": which, "outer": np.ascontiguousarray(paving.outer.reshape(-1, 3, 2), dtype=float),
+            "kept": _kept(paving), "box": np.array([paving.box.lower, paving.box.upper], dtype=float).T,
+            "complete": bool(paving.complete), "method": str(paving.method),
+            "seconds": time.perf_counter() - began}
+
+
+def _checked_paving(value, task):
+    """A worker's paving for ``task``, refused unless it has the arrays the map reads, of their shapes."""
+    if type(value) is not dict or value.get("which") != int(task[0, 0]):
+        refuse_result("something other than the paving asked for", type(value).__name__)
+    for name in ("outer", "kept", "box"):
+        array = value.get(name)
+        if (type(array) is not np.ndarray or array.dtype != np.float64 or array.shape[-2:] != (3, 2)
+                or array.ndim != (2 if name == "box" else 3)):
+            refuse_result(f"a paving whose {name} are not float boxes", f"{getattr(array, 'dtype', '?')} "
+                          f"{getattr(array, 'shape', '?')}")
+    if type(value.get("complete")) is not bool or type(value.get("method")) is not str:
+        refuse_result("a paving without its completeness and method", repr(value.get("method")))
+    return value
+
+
+def _section_parts(candidates: np.ndarray, prover, parts: int) -> np.ndarray:
+    """``int`` of the grid's shape: the part of each candidate cell (-1: not a candidate).  Whole layers of cells
+    across the map axis nearest the first joint's, about as many candidates a part: a part's section cells are
+    then a band of heights of their own, and the continuation goes on within it."""
+    part_of = np.full(candidates.shape, -1, dtype=np.int64)
+    axis = int(np.argmax(np.abs(np.asarray(prover.rotation)[2])))
+    layers = np.moveaxis(candidates, axis, 0).reshape(candidates.shape[axis], -1).sum(axis=1)
+    total = int(layers.sum())
+    if not total:
+        return part_of
+    before = np.concatenate([[0], np.cumsum(layers)[:-1]])
+    layer_part = np.minimum((before + layers / 2) * parts // total, parts - 1).astype(np.int64)
+    across = np.moveaxis(candidates, axis, 0)
+    np.moveaxis(part_of, axis, 0)[across] = np.broadcast_to(layer_part[:, None, None], across.shape)[across]
+    return part_of
+
+
+def _section_stage(task: np.ndarray, *, key, robot, values, cone, directions, edges, part_of, options) -> dict:
+    """The pairs of the cells of part ``task[0, 0]`` proved reachable by the section method, solved until the
+    wall-clock time ``task[0, 1]`` (NaN: no limit)."""
+    from .mapsection import local_directions, section_reachable
+
+    part, ends = int(task[0, 0]), float(task[0, 1])
+    began = time.perf_counter()
+    prover = _section_prover(key, robot, values, cone)
+    deadline = None if math.isnan(ends) else time.perf_counter() + (ends - time.time())
+    inner = section_reachable(prover, edges, part_of == part, directions, cell=options["cell"],
+                              local=local_directions(prover, directions, options["local"]),
+                              samples=options["samples"], split=options["split"], retries=options["retries"],
+                              deadline=deadline)
+    return {"part": part, "inner": inner, "seconds": time.perf_counter() - began}
+
+
+def _checked_section(value, task, *, part_of, count):
+    """A worker's section part for ``task``, refused unless its pairs are of the grid and of that part's cells."""
+    if type(value) is not dict or value.get("part") != int(task[0, 0]):
+        refuse_result("something other than the section part asked for", type(value).__name__)
+    inner = value.get("inner")
+    if type(inner) is not np.ndarray or inner.dtype != np.bool_ or inner.shape != (*part_of.shape, count):
+        refuse_result(f"pairs that are not booleans of shape {(*part_of.shape, count)}",
+                      f"{getattr(inner, 'dtype', '?')} {getattr(inner, 'shape', '?')}")
+    if (inner & (part_of != value["part"])[..., None]).any():
+        refuse_result("pairs of cells outside its part", f"part {value['part']}")
+    if not isinstance(value.get("seconds"), float):
+        refuse_result("a part without its seconds", repr(value.get("seconds")))
+    return value
 
 
 def _kept(paving) -> np.ndarray:
@@ -1148,11 +1271,10 @@ def _kept(paving) -> np.ndarray:
     return np.concatenate([b.reshape(-1, 3, 2) for b in (paving.inner, paving.boundary, paving.pending)])
 
 
-def _kept_root(position) -> np.ndarray:
+def _kept_root(position: dict) -> np.ndarray:
     """The bounding box ``(3, 2)`` of a paving's boxes not proved outer (inner, boundary, pending), within its
-    root box: every point of the workspace lies in it."""
-    box = np.array([position.box.lower, position.box.upper], dtype=float).T
-    kept = _kept(position)
+    root box (:func:`_paving_stage`'s arrays): every point of the workspace lies in it."""
+    box, kept = position["box"], position["kept"]
     if not len(kept):
         return box
     return np.stack([np.maximum(kept[:, :, 0].min(axis=0), box[:, 0]),
