@@ -419,7 +419,8 @@ def test_a_worker_s_answer_is_refused_unless_it_is_what_its_task_asked_for():
     assert _checked_paving(paving, np.array([[0, 1.0]])) is paving
     for forged, what in (({**paving, "outer": np.zeros((5, 2, 2))}, "outer are not float boxes"),
                          ({**paving, "box": np.zeros((3, 2), dtype=np.float32)}, "box are not float boxes"),
-                         ({**paving, "which": 1}, "paving asked for"), ({**paving, "complete": 1}, "completeness")):
+                         ({**paving, "which": 1}, "paving asked for"), ({**paving, "complete": 1}, "completeness"),
+                         ({**paving, "seconds": "1"}, "seconds")):
         with pytest.raises(WorkerResultError, match=what):
             _checked_paving(forged, np.array([[0, 1.0]]))
 
