@@ -36,6 +36,7 @@ from workspace_sym.serial.reachmap import (
     _checked_paving,
     _checked_section,
     _grid,
+    _section_parts,
     covered_cells,
     map_problem,
     reach_map,
@@ -398,6 +399,28 @@ def test_a_section_map_built_in_parts_on_two_processes_proves_what_one_process_d
     for i, j, l, k in only[rng.choice(len(only), size=min(3, len(only)), replace=False)]:
         target = rng.uniform(*_cell(parts, i, j, l).T)
         assert wrist_arm_in_cone_at_50_digits(puma, target, parts.directions[k], parts.cone, rng) is not None
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2 ** 32 - 1), st.integers(1, 4), st.integers(0, 2), st.floats(0.0, 1.0))
+def test_the_section_parts_are_whole_layers_along_the_first_axis_and_hold_every_candidate(seed, parts, axis, fill):
+    # Reference: the definition (reachmap._section_parts), checked on random candidate masks, sparse to full, with
+    # the first joint's axis along x, y or z: every candidate in exactly one part of 0 .. parts - 1, no other cell
+    # in any, a layer across that axis in one part, the parts in order along it, and no part beyond an even share
+    # by more than one layer's candidates.
+    rng = np.random.default_rng(seed)
+    candidates = rng.random((5, 6, 7)) < fill
+    rotation = np.roll(np.eye(3), axis - 2, axis=1)            # row 2: the first joint's axis in the world
+    part_of = _section_parts(candidates, type("Prover", (), {"rotation": rotation})(), parts)
+    assert ((part_of >= 0) == candidates).all() and part_of.max(initial=-1) < parts
+    layers = np.moveaxis(part_of, axis, 0).reshape(candidates.shape[axis], -1)
+    owner = [set(row[row >= 0].tolist()) for row in layers]
+    assert all(len(o) <= 1 for o in owner)
+    order = [o.pop() for o in owner if o]
+    assert order == sorted(order)
+    counts = np.bincount(part_of[candidates], minlength=parts)
+    widest = np.moveaxis(candidates, axis, 0).reshape(candidates.shape[axis], -1).sum(axis=1).max(initial=0)
+    assert (np.abs(counts - candidates.sum() / parts) <= widest).all()
 
 
 def test_a_worker_s_answer_is_refused_unless_it_is_what_its_task_asked_for():
