@@ -26,7 +26,7 @@ import time
 import warnings
 import zipfile
 from dataclasses import dataclass, field
-from functools import partial
+from functools import lru_cache, partial
 from pathlib import Path
 
 import numpy as np
@@ -1074,7 +1074,7 @@ def _section_map(robot, values, d, cone, delta, reach_delta, named, angle, stop,
         raise InvalidParameterError(f"method='section' builds the map in one piece, so resume does not apply; got "
                                     f"resume={run.resume!r}; use method='pavings' for a checkpoint per direction",
                                     parameter="resume")
-    prover = _section_prover(named.digest, robot, values, cone)      # kept for the section in this process
+    prover = _section_prover(robot, values, cone)      # kept for the section in this process
     if isinstance(prover, str):
         raise InvalidParameterError(f"method: 'section' needs an arm turned by its first joint; {robot.name} is "
                                     f"not: {prover}; use method='pavings'", parameter="method")
@@ -1099,7 +1099,7 @@ def _section_map(robot, values, d, cone, delta, reach_delta, named, angle, stop,
             options = {**SECTION_OPTIONS, "cell": delta / 10}
             part_of = _section_parts(~outer, prover, 1 if run.executor is None else max(1, pavings.slots // 2))
             check = partial(_checked_section, part_of=part_of, count=len(d))
-            sections = _runner(run.executor, partial(_section_stage, key=named.digest, robot=robot, values=values,
+            sections = _runner(run.executor, partial(_section_stage, robot=robot, values=values,
                                                      cone=cone, directions=d, edges=edges, part_of=part_of,
                                                      options=options))
             ends = math.nan if deadline is None else time.time() + (deadline - time.perf_counter())
@@ -1170,19 +1170,14 @@ def _runner(executor, fn):
     return Inline(fn) if executor is None else runner_for(executor, fn)
 
 
-_PROVERS: dict = {}
-
-
-def _section_prover(key: str, robot, values, cone):
-    """The section prover of the map problem ``key`` (its fingerprint's digest), made once in each process: the
-    map's own process and each worker that solves a part of its section (the last two problems kept)."""
+@lru_cache(maxsize=4)
+def _section_prover(robot: DHRobot, values: tuple, cone: float):
+    """:func:`~workspace_sym.serial.mapsection.section_prover`, cached as :func:`~workspace_sym.serial.model.
+    reach_model` caches the models: made once in each process (the map's own and each worker that solves a part
+    of its section)."""
     from .mapsection import section_prover
 
-    if key not in _PROVERS:
-        if len(_PROVERS) >= 2:
-            _PROVERS.clear()
-        _PROVERS[key] = section_prover(robot, values, cone)
-    return _PROVERS[key]
+    return section_prover(robot, values, cone)
 
 
 def _paving_stage(task: np.ndarray, *, robot, values, reach_delta, offset, max_boxes) -> dict:
@@ -1237,14 +1232,14 @@ def _section_parts(candidates: np.ndarray, prover, parts: int) -> np.ndarray:
     return part_of
 
 
-def _section_stage(task: np.ndarray, *, key, robot, values, cone, directions, edges, part_of, options) -> dict:
+def _section_stage(task: np.ndarray, *, robot, values, cone, directions, edges, part_of, options) -> dict:
     """The pairs of the cells of part ``task[0, 0]`` proved reachable by the section method, solved until the
     wall-clock time ``task[0, 1]`` (NaN: no limit)."""
     from .mapsection import local_directions, section_reachable
 
     part, ends = int(task[0, 0]), float(task[0, 1])
     began = time.perf_counter()
-    prover = _section_prover(key, robot, values, cone)
+    prover = _section_prover(robot, values, cone)
     deadline = None if math.isnan(ends) else time.perf_counter() + (ends - time.time())
     inner = section_reachable(prover, edges, part_of == part, directions, cell=options["cell"],
                               local=local_directions(prover, directions, options["local"]),
